@@ -1,0 +1,19 @@
+//! pushlab-core: predicting and learning how a pushed object moves.
+//!
+//! This crate implements the combined prediction model of Gao, Ouyang and Tomizuka, "Online Learning
+//! in Planar Pushing with Combined Prediction Model": a small MLP predicts the contact point and the
+//! contact motion, Lynch's quasi-static model turns them into the object's motion, and a COM
+//! correction accounts for an off-centre centre of mass. The few physical parameters
+//! `θ_online = (COM offset, h)` are learned online, step by step.
+//!
+//! It knows nothing of any user interface: the app, the CLI and the tests all drive it the same way.
+//!
+//! Conventions, once for the whole crate:
+//! - SI units everywhere: metres, radians, seconds.
+//! - The **COM offset** is `COM − geometric centre`, in the object frame. The paper's `v` is its
+//!   negative (`v = centre − COM`); this crate never exposes `v`.
+//! - Frames are named in identifiers: `robot_in_object`, `world_from_object`.
+
+pub mod geometry;
+pub mod recording;
+pub mod trajectory;

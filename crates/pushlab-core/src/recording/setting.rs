@@ -1,0 +1,123 @@
+//! `setting.json`: what a recording set is about — the object, the pusher, the material and, when
+//! known, the true COM offset and `h`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::{Outline, OutlineError};
+
+/// The object's footprint as written in `setting.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "lowercase")]
+pub enum ObjectShape {
+    /// A box centred on the object frame: `width` along the object's x axis, `length` along y, metres.
+    Box { width: f64, length: f64 },
+    /// A convex polygon, vertices counter-clockwise in the object frame, metres.
+    Polygon { vertices: Vec<[f64; 2]> },
+}
+
+impl ObjectShape {
+    /// The outline of the footprint, checked for convexity.
+    pub fn outline(&self) -> Result<Outline, OutlineError> {
+        match self {
+            ObjectShape::Box { width, length } => Outline::rectangle(*width, *length),
+            ObjectShape::Polygon { vertices } => Outline::try_from(vertices.clone()),
+        }
+    }
+}
+
+/// Which face of the object the pusher pushes on.
+///
+/// `Front` is the face at −x pushed toward +x; `Left` is the face at +y pushed toward −y; `Back` and
+/// `Right` are their opposites.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PushSide {
+    Front,
+    Left,
+    Back,
+    Right,
+}
+
+impl PushSide {
+    /// All sides, in the order front, left, back, right.
+    pub const ALL: [PushSide; 4] = [
+        PushSide::Front,
+        PushSide::Left,
+        PushSide::Back,
+        PushSide::Right,
+    ];
+
+    /// The direction of a straight push on this side, object frame (unit vector).
+    pub fn push_direction(self) -> [f64; 2] {
+        match self {
+            PushSide::Front => [1.0, 0.0],
+            PushSide::Left => [0.0, -1.0],
+            PushSide::Back => [-1.0, 0.0],
+            PushSide::Right => [0.0, 1.0],
+        }
+    }
+
+    /// The lowercase name used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            PushSide::Front => "front",
+            PushSide::Left => "left",
+            PushSide::Back => "back",
+            PushSide::Right => "right",
+        }
+    }
+}
+
+/// One trajectory listed in `setting.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryEntry {
+    /// CSV file name, relative to the set's folder.
+    pub file: String,
+    /// Where along the pushed face the push started, metres from the face's middle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_offset: Option<f64>,
+    /// Angle of the push from the face normal, degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub push_angle_deg: Option<f64>,
+    /// Keys pushlab does not know: kept so that a rewrite never loses them.
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
+}
+
+/// The contents of `setting.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Setting {
+    /// Name of the setting, e.g. "box1-paper-center-front".
+    pub name: String,
+    /// The object's footprint.
+    pub object: ObjectShape,
+    /// Radius of the pusher disc, metres.
+    pub pusher_radius: f64,
+    /// Free-text name of the floor/object material pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// Floor friction coefficient, when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor_friction: Option<f64>,
+    /// Pusher–object friction coefficient, when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pusher_friction: Option<f64>,
+    /// True COM − geometric centre in the object frame, metres; `None` when unknown.
+    #[serde(default)]
+    pub com_offset: Option<[f64; 2]>,
+    /// True `h` of Lynch's model, metres; `None` when unknown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub h: Option<f64>,
+    /// The pushed face, when all trajectories of the set push the same one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub push_side: Option<PushSide>,
+    /// Nominal sampling rate, Hz.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_rate_hz: Option<f64>,
+    /// The trajectories of the set, in order.
+    #[serde(default)]
+    pub trajectories: Vec<TrajectoryEntry>,
+    /// Keys pushlab does not know: kept so that a rewrite never loses them.
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
+}

@@ -1,0 +1,40 @@
+//! Command-line parsing and dispatch. Each subcommand lives in its own module; this one only routes.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Predict and learn how a pushed object moves.
+///
+/// Without a subcommand, opens the desktop app on the bundled sample data.
+#[derive(Debug, Parser)]
+#[command(name = "pushlab", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {}
+
+/// Exit code for wrong arguments, as documented in the README.
+pub const EXIT_USAGE: u8 = 2;
+
+/// Parses the command line and runs the chosen command.
+pub fn run() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(err) => {
+            let code = if err.use_stderr() { EXIT_USAGE } else { 0 };
+            // Printing help or a usage error can only fail if stdout/stderr are gone.
+            let _ = err.print();
+            return ExitCode::from(code);
+        }
+    };
+    match cli.command {
+        None => {
+            eprintln!("pushlab: the desktop app is not built yet; see `pushlab --help`");
+            ExitCode::from(1)
+        }
+    }
+}
