@@ -15,5 +15,6 @@
 //! - Frames are named in identifiers: `robot_in_object`, `world_from_object`.
 
 pub mod geometry;
+pub mod labels;
 pub mod recording;
 pub mod trajectory;

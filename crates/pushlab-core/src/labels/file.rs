@@ -1,0 +1,606 @@
+//! The labels file, `pushlab-labels.json`, kept beside the recordings it describes.
+//!
+//! ```json
+//! {
+//!   "format": "pushlab-labels",
+//!   "version": 1,
+//!   "schema": { "labels": [ { "name": "sticking", "colour": "#1f77b4", "hotkey": "3",
+//!                              "kind": "range", "group": "contact mode" } ] },
+//!   "recordings": {
+//!     "push_000.csv": {
+//!       "meta": { "object": "box", "split": "offline", "com_offset": [0.01, -0.005] },
+//!       "segments": [ { "label": "sticking", "start": 0, "end": 40 } ],
+//!       "events": [ { "label": "contact made", "frame": 2 } ]
+//!     }
+//!   }
+//! }
+//! ```
+//!
+//! Segments are half-open (`end` is one past the last frame). Reading checks the format name and
+//! version first, so a file from a newer pushlab fails with a message naming both versions instead of
+//! a confusing field error; syntax and type errors name the file, line and column; rule violations
+//! (unknown label, overlapping exclusive labels) name the field. Writing is atomic: the new content
+//! goes to a temporary file in the same folder, is flushed to disk, then renamed over the old file,
+//! so a crash at any moment leaves either the old or the new file.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use serde::{Deserialize, Serialize};
+
+use super::schema::LabelSchema;
+use super::{LabelSet, RecordingLabels};
+
+/// The name of the labels file inside a recording set's folder.
+pub const LABELS_FILE_NAME: &str = "pushlab-labels.json";
+/// The value of the file's `"format"` field.
+pub const FORMAT: &str = "pushlab-labels";
+/// The version this pushlab writes, and the newest it reads.
+pub const VERSION: u64 = 1;
+/// The oldest version this pushlab reads (older ones would be migrated here).
+pub const OLDEST_VERSION: u64 = 1;
+
+/// Where the labels file of the recording set in `folder` lives.
+pub fn path_in(folder: &Path) -> PathBuf {
+    folder.join(LABELS_FILE_NAME)
+}
+
+/// Why a labels file could not be read or written. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum LabelFileError {
+    /// The file could not be opened or read.
+    #[error("cannot read labels file {}: {source}", path.display())]
+    Read { path: PathBuf, source: io::Error },
+    /// Not valid JSON, or a value of the wrong type.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    /// Valid JSON but not a pushlab labels file.
+    #[error("{}: not a pushlab labels file: expected \"format\": \"{FORMAT}\", found {found}", path.display())]
+    Format { path: PathBuf, found: String },
+    /// A version this pushlab cannot read.
+    #[error("{}: labels file version {found} is not supported: this pushlab reads versions {OLDEST_VERSION} to {VERSION}{hint}", path.display())]
+    Version {
+        path: PathBuf,
+        found: String,
+        hint: &'static str,
+    },
+    /// Well-formed but breaks a rule (unknown label, overlapping exclusive labels …).
+    #[error("{}: {field}: {message}", path.display())]
+    Invalid {
+        path: PathBuf,
+        field: String,
+        message: String,
+    },
+    /// Saving failed; the previous file on disk is unchanged.
+    #[error("cannot save labels to {}: {source}; the previous file is unchanged", path.display())]
+    Write { path: PathBuf, source: io::Error },
+}
+
+/// Version 1 of the file, as read.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileV1 {
+    #[allow(dead_code)]
+    format: String,
+    #[allow(dead_code)]
+    version: u64,
+    #[serde(default)]
+    schema: LabelSchema,
+    #[serde(default)]
+    recordings: BTreeMap<String, RecordingLabels>,
+}
+
+/// Version 1 of the file, as written (borrowing, so saving does not clone the labels).
+#[derive(Serialize)]
+struct FileV1Out<'a> {
+    format: &'static str,
+    version: u64,
+    schema: &'a LabelSchema,
+    recordings: BTreeMap<&'a str, &'a RecordingLabels>,
+}
+
+/// Reads the labels file at `path`.
+pub fn read(path: &Path) -> Result<LabelSet, LabelFileError> {
+    let text = fs::read_to_string(path).map_err(|source| LabelFileError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    parse(&text, path)
+}
+
+/// Reads the labels file at `path`, or starts an empty set with the default schema when there is
+/// no file yet (a set that was never labelled). Any other problem is an error.
+pub fn read_or_default(path: &Path) -> Result<LabelSet, LabelFileError> {
+    match fs::metadata(path) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(LabelSet::default()),
+        _ => read(path),
+    }
+}
+
+/// Parses the text of a labels file; `path` is only used in messages.
+pub fn parse(text: &str, path: &Path) -> Result<LabelSet, LabelFileError> {
+    let syntax = |e: serde_json::Error| LabelFileError::Syntax {
+        path: path.to_owned(),
+        line: e.line(),
+        column: e.column(),
+        message: e
+            .to_string()
+            .split(" at line ")
+            .next()
+            .unwrap_or_default()
+            .to_owned(),
+    };
+    let value: serde_json::Value = serde_json::from_str(text).map_err(syntax)?;
+    let format = value.get("format");
+    if format.and_then(|f| f.as_str()) != Some(FORMAT) {
+        return Err(LabelFileError::Format {
+            path: path.to_owned(),
+            found: format.map_or_else(|| "no \"format\" field".into(), |f| f.to_string()),
+        });
+    }
+    let version = match value.get("version") {
+        Some(v) => v.as_u64().ok_or_else(|| LabelFileError::Version {
+            path: path.to_owned(),
+            found: v.to_string(),
+            hint: " (the version must be a whole number)",
+        })?,
+        None => {
+            return Err(LabelFileError::Version {
+                path: path.to_owned(),
+                found: "missing (no \"version\" field)".into(),
+                hint: "",
+            });
+        }
+    };
+    // One arm per known version; an older version is migrated step by step to the current one here.
+    let file: FileV1 = match version {
+        1 => serde_json::from_str(text).map_err(syntax)?,
+        v if v > VERSION => {
+            return Err(LabelFileError::Version {
+                path: path.to_owned(),
+                found: v.to_string(),
+                hint: " (it was written by a newer pushlab; update pushlab to read it)",
+            });
+        }
+        v => {
+            return Err(LabelFileError::Version {
+                path: path.to_owned(),
+                found: v.to_string(),
+                hint: " (no pushlab ever wrote this version)",
+            });
+        }
+    };
+    let mut set = LabelSet {
+        schema: file.schema,
+        recordings: file.recordings,
+    };
+    set.normalise_and_validate()
+        .map_err(|(field, message)| LabelFileError::Invalid {
+            path: path.to_owned(),
+            field,
+            message,
+        })?;
+    Ok(set)
+}
+
+/// The text of the labels file for `set`, in the current version. Recordings with no labels are
+/// left out; keys are sorted so that files diff well.
+pub fn to_json(set: &LabelSet) -> String {
+    let out = FileV1Out {
+        format: FORMAT,
+        version: VERSION,
+        schema: &set.schema,
+        recordings: set
+            .recordings
+            .iter()
+            .filter(|(_, r)| !r.is_empty())
+            .map(|(k, r)| (k.as_str(), r))
+            .collect(),
+    };
+    // Serialising plain maps, strings and finite numbers cannot fail; fall back to an empty
+    // object text rather than panic if it ever did.
+    let mut text = serde_json::to_string_pretty(&out).unwrap_or_else(|_| String::from("{}"));
+    text.push('\n');
+    text
+}
+
+/// Writes `set` to `path` atomically (see the module docs).
+pub fn write(path: &Path, set: &LabelSet) -> Result<(), LabelFileError> {
+    write_atomic(path, to_json(set).as_bytes(), &mut |_| Ok(())).map_err(|source| {
+        LabelFileError::Write {
+            path: path.to_owned(),
+            source,
+        }
+    })
+}
+
+/// The steps of an atomic save at which a test may interrupt it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SaveStage {
+    /// The temporary file is complete and flushed; the rename has not happened.
+    TempWritten,
+}
+
+/// Writes `bytes` to `path` through a flushed temporary file in the same folder and a rename.
+/// `interrupt` is called between the steps; an error from it aborts the save like a real failure.
+pub(crate) fn write_atomic(
+    path: &Path,
+    bytes: &[u8],
+    interrupt: &mut dyn FnMut(SaveStage) -> io::Result<()>,
+) -> io::Result<()> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path names no file"))?;
+    // Hidden, and unique per process and save, so concurrent saves never share a temporary file.
+    let temp = folder.join(format!(
+        ".{}.tmp-{}-{}",
+        name.to_string_lossy(),
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let result = (|| {
+        let mut file = fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&temp)?;
+        if let Ok(old) = fs::metadata(path) {
+            file.set_permissions(old.permissions())?;
+        }
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        drop(file);
+        interrupt(SaveStage::TempWritten)?;
+        fs::rename(&temp, path)
+    })();
+    if result.is_err() {
+        // Best effort: a leftover hidden temporary file is harmless, the error below is what matters.
+        let _ = fs::remove_file(&temp);
+    }
+    result?;
+    sync_folder(folder);
+    Ok(())
+}
+
+/// Flushes the folder entry so the rename itself survives a power cut. Not every platform can open
+/// a folder for syncing; the data is already safe in either file, so failure is ignored.
+fn sync_folder(folder: &Path) {
+    #[cfg(unix)]
+    if let Ok(dir) = fs::File::open(folder) {
+        let _ = dir.sync_all();
+    }
+    #[cfg(not(unix))]
+    let _ = folder;
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use std::time::Duration;
+
+    use super::super::schema::names::*;
+    use super::super::{Event, RecordingMeta, Segment, Split};
+    use super::*;
+    use crate::recording::PushSide;
+
+    /// A fresh empty folder under the target directory's temp space.
+    pub(crate) fn temp_folder(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("pushlab-labels-test-{name}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    pub(crate) fn sample_set() -> LabelSet {
+        let mut set = LabelSet::default();
+        set.recordings.insert(
+            "push_000.csv".into(),
+            RecordingLabels {
+                meta: RecordingMeta {
+                    object: "rect1".into(),
+                    material: "abs".into(),
+                    com_offset: Some([0.0125, -0.004]),
+                    push_side: Some(PushSide::Left),
+                    split: Some(Split::Offline),
+                    notes: "pusher \"wobbles\" near the end\nsecond line".into(),
+                },
+                segments: vec![
+                    Segment::new(CONTACT, 3..90),
+                    Segment::new(STICKING, 3..40),
+                    Segment::new(SLIPPING, 40..90),
+                    Segment::new(BAD_TRACKING, 70..75),
+                ],
+                events: vec![
+                    Event {
+                        label: CONTACT_MADE.into(),
+                        frame: 3,
+                    },
+                    Event {
+                        label: CONTACT_LOST.into(),
+                        frame: 90,
+                    },
+                ],
+            },
+        );
+        set.recordings.insert(
+            "push_001.csv".into(),
+            RecordingLabels {
+                meta: RecordingMeta {
+                    split: Some(Split::HeldOut),
+                    ..Default::default()
+                },
+                ..Default::default()
+            },
+        );
+        set.normalise_and_validate().unwrap();
+        set
+    }
+
+    #[test]
+    fn set_round_trips_through_the_file() {
+        let set = sample_set();
+        let text = to_json(&set);
+        assert!(text.starts_with("{\n  \"format\": \"pushlab-labels\",\n  \"version\": 1,"));
+        let back = parse(&text, Path::new("x.json")).unwrap();
+        assert_eq!(back, set);
+        // Writing the read-back set gives the same bytes: saving is stable.
+        assert_eq!(to_json(&back), text);
+    }
+
+    #[test]
+    fn file_round_trips_through_disk() {
+        let dir = temp_folder("disk");
+        let path = path_in(&dir);
+        assert_eq!(read_or_default(&path).unwrap(), LabelSet::default());
+        write(&path, &sample_set()).unwrap();
+        assert_eq!(read(&path).unwrap(), sample_set());
+        let leftovers: Vec<_> = fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(leftovers, vec![std::ffi::OsString::from(LABELS_FILE_NAME)]);
+    }
+
+    #[test]
+    fn minimal_file_gets_the_default_schema() {
+        let text = r#"{"format": "pushlab-labels", "version": 1,
+            "recordings": {"a.csv": {"meta": {"split": "online"}}}}"#;
+        let set = parse(text, Path::new("l.json")).unwrap();
+        assert_eq!(set.schema, LabelSchema::default());
+        assert_eq!(set.split_of("a.csv"), Some(Split::Online));
+    }
+
+    fn error_of(text: &str) -> String {
+        parse(text, Path::new("/data/set/pushlab-labels.json"))
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn malformed_json_names_file_line_and_column() {
+        let msg = error_of("{\n  \"format\": \"pushlab-labels\",\n  \"version\": 1,,\n}");
+        assert_eq!(
+            msg,
+            "/data/set/pushlab-labels.json:3:16: key must be a string"
+        );
+        let msg = error_of(
+            "{\"format\": \"pushlab-labels\", \"version\": 1,\n \"recordings\": {\"a.csv\": {\"meta\": {\"split\": \"train\"}}}}",
+        );
+        assert!(msg.starts_with("/data/set/pushlab-labels.json:2:"), "{msg}");
+        assert!(msg.contains("unknown variant `train`"), "{msg}");
+        assert!(msg.contains("offline"), "{msg}");
+        let msg = error_of(
+            "{\"format\": \"pushlab-labels\", \"version\": 1, \"recordings\": {\"a.csv\": {\"segmnts\": []}}}",
+        );
+        assert!(msg.contains("unknown field `segmnts`"), "{msg}");
+    }
+
+    #[test]
+    fn newer_and_unknown_versions_fail_naming_both_versions() {
+        let msg = error_of(r#"{"format": "pushlab-labels", "version": 2, "recordings": {}}"#);
+        assert_eq!(
+            msg,
+            "/data/set/pushlab-labels.json: labels file version 2 is not supported: this pushlab \
+             reads versions 1 to 1 (it was written by a newer pushlab; update pushlab to read it)"
+        );
+        let msg = error_of(r#"{"format": "pushlab-labels", "version": 0}"#);
+        assert!(msg.contains("version 0 is not supported"), "{msg}");
+        assert!(msg.contains("no pushlab ever wrote this version"), "{msg}");
+        let msg = error_of(r#"{"format": "pushlab-labels", "version": "1"}"#);
+        assert!(msg.contains("version \"1\" is not supported"), "{msg}");
+        assert!(msg.contains("whole number"), "{msg}");
+        let msg = error_of(r#"{"format": "pushlab-labels"}"#);
+        assert!(msg.contains("version missing"), "{msg}");
+    }
+
+    #[test]
+    fn other_json_files_are_refused_by_format() {
+        let msg = error_of(r#"{"frames": []}"#);
+        assert_eq!(
+            msg,
+            "/data/set/pushlab-labels.json: not a pushlab labels file: expected \"format\": \
+             \"pushlab-labels\", found no \"format\" field"
+        );
+        let msg = error_of(r#"{"format": "pushlab-model", "version": 1}"#);
+        assert!(msg.ends_with("found \"pushlab-model\""), "{msg}");
+    }
+
+    #[test]
+    fn rule_violations_name_the_field() {
+        let msg = error_of(
+            r#"{"format": "pushlab-labels", "version": 1, "recordings": {"a.csv": {"segments": [
+                {"label": "sticking", "start": 0, "end": 10},
+                {"label": "slidng", "start": 10, "end": 20}]}}}"#,
+        );
+        assert!(
+            msg.starts_with("/data/set/pushlab-labels.json: recordings.\"a.csv\".segments[1].label: unknown label \"slidng\""),
+            "{msg}"
+        );
+        let msg = error_of(
+            r#"{"format": "pushlab-labels", "version": 1, "recordings": {"a.csv": {"segments": [
+                {"label": "sticking", "start": 0, "end": 10},
+                {"label": "slipping", "start": 5, "end": 20}]}}}"#,
+        );
+        assert!(msg.contains("recordings.\"a.csv\".segments: \"sticking\" (frames 0..10) and \"slipping\" (frames 5..20) overlap"), "{msg}");
+        let msg = error_of(
+            r#"{"format": "pushlab-labels", "version": 1, "recordings": {"a.csv": {"segments": [
+                {"label": "sticking", "start": 10, "end": 10}]}}}"#,
+        );
+        assert!(
+            msg.contains("segments[0].end: a segment must end after it starts"),
+            "{msg}"
+        );
+        let msg = error_of(
+            r#"{"format": "pushlab-labels", "version": 1, "recordings": {"a.csv": {"events": [
+                {"label": "sticking", "frame": 3}]}}}"#,
+        );
+        assert!(
+            msg.contains("events[0].label: \"sticking\" is a range label, expected a point event"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn hand_written_touching_segments_are_merged_on_load() {
+        let set = parse(
+            r#"{"format": "pushlab-labels", "version": 1, "recordings": {"a.csv": {"segments": [
+                {"label": "sticking", "start": 10, "end": 20},
+                {"label": "sticking", "start": 0, "end": 10}]}}}"#,
+            Path::new("l.json"),
+        )
+        .unwrap();
+        assert_eq!(
+            set.recordings["a.csv"].segments,
+            vec![Segment::new(STICKING, 0..20)]
+        );
+    }
+
+    #[test]
+    fn failed_save_leaves_the_old_file_and_no_temporary() {
+        let dir = temp_folder("interrupt");
+        let path = path_in(&dir);
+        write(&path, &sample_set()).unwrap();
+        let old = fs::read(&path).unwrap();
+        let mut changed = sample_set();
+        changed.recordings.remove("push_000.csv");
+        let err = write_atomic(&path, to_json(&changed).as_bytes(), &mut |stage| {
+            assert_eq!(stage, SaveStage::TempWritten);
+            // The temporary file is complete at this point: a valid new file beside the old one.
+            let temps: Vec<_> = fs::read_dir(&dir)
+                .unwrap()
+                .map(|e| e.unwrap().path())
+                .filter(|p| p != &path)
+                .collect();
+            assert_eq!(temps.len(), 1);
+            assert_eq!(read(&temps[0]).unwrap(), changed);
+            Err(io::Error::other("simulated crash before rename"))
+        })
+        .unwrap_err();
+        assert!(err.to_string().contains("simulated crash"));
+        assert_eq!(fs::read(&path).unwrap(), old);
+        assert_eq!(
+            fs::read_dir(&dir).unwrap().count(),
+            1,
+            "temporary file left behind"
+        );
+    }
+
+    #[test]
+    fn save_error_names_the_file_and_keeps_the_old_one() {
+        let dir = temp_folder("readonly");
+        let path = dir.join("missing-folder").join(LABELS_FILE_NAME);
+        let msg = write(&path, &sample_set()).unwrap_err().to_string();
+        assert!(msg.starts_with("cannot save labels to "), "{msg}");
+        assert!(msg.contains("missing-folder/pushlab-labels.json"), "{msg}");
+        assert!(msg.ends_with("the previous file is unchanged"), "{msg}");
+    }
+
+    const CHILD_ENV: &str = "PUSHLAB_LABELS_CHILD_SAVER";
+
+    /// Run as a child process by `killed_saves_leave_old_or_new_file`: saves two different label
+    /// sets alternately into the folder named by the environment, as fast as it can, until killed.
+    /// Without the variable (a normal test run) it returns at once.
+    #[test]
+    fn child_saver() {
+        let Some(dir) = std::env::var_os(CHILD_ENV) else {
+            return;
+        };
+        let path = path_in(Path::new(&dir));
+        let (a, b) = two_versions();
+        let deadline = std::time::Instant::now() + Duration::from_secs(30);
+        while std::time::Instant::now() < deadline {
+            write(&path, &a).unwrap();
+            write(&path, &b).unwrap();
+        }
+    }
+
+    /// Two label sets whose files differ a lot in size, so a torn write would be detectable.
+    fn two_versions() -> (LabelSet, LabelSet) {
+        let a = sample_set();
+        let mut b = sample_set();
+        for i in 0..200 {
+            b.recordings.insert(
+                format!("push_{i:03}_extra.csv"),
+                RecordingLabels {
+                    segments: vec![Segment::new(STICKING, i..i + 50)],
+                    ..Default::default()
+                },
+            );
+        }
+        (a, b)
+    }
+
+    /// Kills a process that is saving in a loop at many moments; after each kill the labels file
+    /// must parse and be exactly one of the two versions being saved.
+    #[test]
+    fn killed_saves_leave_old_or_new_file() {
+        let dir = temp_folder("kill");
+        let path = path_in(&dir);
+        let (a, b) = two_versions();
+        write(&path, &a).unwrap();
+        let exe = std::env::current_exe().unwrap();
+        let mut seen_b = false;
+        for round in 0..25u64 {
+            let mut child = std::process::Command::new(&exe)
+                .args([
+                    "--exact",
+                    "labels::file::tests::child_saver",
+                    "--nocapture",
+                    "--test-threads=1",
+                ])
+                .env(CHILD_ENV, &dir)
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .unwrap();
+            // Vary the moment of the kill: 20 to 80 ms into the child's life.
+            std::thread::sleep(Duration::from_millis(20 + (round * 37) % 61));
+            child.kill().unwrap();
+            child.wait().unwrap();
+            let on_disk = read(&path).unwrap_or_else(|e| panic!("round {round}: {e}"));
+            assert!(
+                on_disk == a || on_disk == b,
+                "round {round}: unexpected content"
+            );
+            seen_b |= on_disk == b;
+        }
+        assert!(
+            seen_b,
+            "the child never completed a save; the test did not exercise anything"
+        );
+    }
+}

@@ -1,0 +1,355 @@
+//! What training and evaluation ask of the labels: which recordings belong to a split, which frames
+//! to leave out, and per-label means of a per-frame value (loss while slipping vs. sticking).
+//!
+//! Nothing here knows the model: inputs are recording names, frame indices and plain `f64` series,
+//! so `pushlab train`/`eval` and the app's training all use the same functions.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use super::file::{self, LabelFileError};
+use super::metadata::Split;
+use super::{LabelSet, RecordingLabels};
+
+/// The labels key of a recording file: its file name (`push_003.csv`), as used in the labels file
+/// of its folder.
+pub fn key_of(recording_path: &Path) -> Option<String> {
+    recording_path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+}
+
+/// The labels file that describes the recording at `recording_path` (beside it).
+pub fn labels_file_beside(recording_path: &Path) -> PathBuf {
+    file::path_in(recording_path.parent().unwrap_or(Path::new(".")))
+}
+
+/// Names of the recordings labelled with `split`, sorted.
+pub fn recordings_in_split(set: &LabelSet, split: Split) -> Vec<&str> {
+    set.recordings
+        .iter()
+        .filter(|(_, r)| r.meta.split == Some(split))
+        .map(|(name, _)| name.as_str())
+        .collect()
+}
+
+/// Why a split could not be selected from a folder.
+#[derive(Debug, thiserror::Error)]
+pub enum SelectError {
+    /// The labels file is missing or broken.
+    #[error(transparent)]
+    Labels(#[from] LabelFileError),
+    /// No recording carries the split.
+    #[error("{}: no recording is labelled {split}; set splits in the app's metadata form or with `pushlab labels init-splits`", path.display())]
+    Empty { path: PathBuf, split: &'static str },
+    /// The labels name a recording that is not in the folder.
+    #[error("{}: {recording} is labelled {split}, but {} does not exist", path.display(), folder.join(recording).display())]
+    Missing {
+        path: PathBuf,
+        recording: String,
+        split: &'static str,
+        folder: PathBuf,
+    },
+}
+
+/// The paths of the recordings in `folder` that its labels file labels with `split`, sorted:
+/// what `pushlab train --split offline` trains on.
+pub fn select_split(folder: &Path, split: Split) -> Result<Vec<PathBuf>, SelectError> {
+    let path = file::path_in(folder);
+    let set = file::read(&path)?;
+    let names = recordings_in_split(&set, split);
+    if names.is_empty() {
+        return Err(SelectError::Empty {
+            path,
+            split: split.name(),
+        });
+    }
+    names
+        .into_iter()
+        .map(|name| {
+            let recording = folder.join(name);
+            if recording.is_file() {
+                Ok(recording)
+            } else {
+                Err(SelectError::Missing {
+                    path: path.clone(),
+                    recording: name.to_owned(),
+                    split: split.name(),
+                    folder: folder.to_owned(),
+                })
+            }
+        })
+        .collect()
+}
+
+/// One flag per frame: `true` where a label marked `skip_in_training` (`bad tracking`) covers the
+/// frame. Labels past `frame_count` are ignored; an unlabelled recording skips nothing.
+pub fn frames_to_skip(set: &LabelSet, recording: &str, frame_count: usize) -> Vec<bool> {
+    let mut mask = vec![false; frame_count];
+    let Some(labels) = set.recording(recording) else {
+        return mask;
+    };
+    for segment in &labels.segments {
+        if set
+            .schema
+            .get(&segment.label)
+            .is_some_and(|l| l.skip_in_training)
+        {
+            let end = segment.end.min(frame_count);
+            let start = segment.start.min(end);
+            mask[start..end].fill(true);
+        }
+    }
+    mask
+}
+
+/// One flag per transition `k → k+1` (a training sample uses both frames): `true` when either
+/// frame is skipped. One shorter than `frame_mask`.
+pub fn transitions_to_skip(frame_mask: &[bool]) -> Vec<bool> {
+    frame_mask.windows(2).map(|w| w[0] || w[1]).collect()
+}
+
+/// The mean of a value over the frames carrying one label.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LabelMean {
+    /// Label name, or `"all"` for every value given.
+    pub label: String,
+    /// Number of values averaged.
+    pub count: usize,
+    /// Their mean (NaN when `count` is 0).
+    pub mean: f64,
+}
+
+/// Why values could not be grouped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GroupError {
+    /// Frame indices and values must pair up.
+    #[error("{recording}: {frames} frame indices but {values} values; each value needs its frame")]
+    LengthMismatch {
+        recording: String,
+        frames: usize,
+        values: usize,
+    },
+}
+
+/// Accumulates a per-frame value (a loss, an error) by range label over many recordings, to report
+/// e.g. "mean loss while slipping 3.1 mm, while sticking 0.8 mm". A frame carrying several labels
+/// (`contact` and `slipping`) counts for each. Non-finite values are counted apart, not averaged.
+#[derive(Clone, Debug, Default)]
+pub struct PerLabelMeans {
+    sums: BTreeMap<String, (usize, f64)>,
+    all: (usize, f64),
+    non_finite: usize,
+}
+
+impl PerLabelMeans {
+    /// Nothing accumulated yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds `values[i]`, which belongs to frame `frames[i]` of `recording`, whose labels are
+    /// `labels` (`None` if it has none).
+    pub fn add(
+        &mut self,
+        recording: &str,
+        labels: Option<&RecordingLabels>,
+        frames: &[usize],
+        values: &[f64],
+    ) -> Result<(), GroupError> {
+        if frames.len() != values.len() {
+            return Err(GroupError::LengthMismatch {
+                recording: recording.to_owned(),
+                frames: frames.len(),
+                values: values.len(),
+            });
+        }
+        for (&frame, &value) in frames.iter().zip(values) {
+            if !value.is_finite() {
+                self.non_finite += 1;
+                continue;
+            }
+            self.all.0 += 1;
+            self.all.1 += value;
+            for segment in labels.into_iter().flat_map(|l| l.segments_at(frame)) {
+                let entry = self.sums.entry(segment.label.clone()).or_default();
+                entry.0 += 1;
+                entry.1 += value;
+            }
+        }
+        Ok(())
+    }
+
+    /// The mean over every finite value added.
+    pub fn all(&self) -> LabelMean {
+        mean("all", self.all)
+    }
+
+    /// Per-label means, in label-name order, for labels that covered at least one value.
+    pub fn by_label(&self) -> Vec<LabelMean> {
+        self.sums
+            .iter()
+            .map(|(label, &acc)| mean(label, acc))
+            .collect()
+    }
+
+    /// The mean for one label, if it covered any value.
+    pub fn get(&self, label: &str) -> Option<LabelMean> {
+        self.sums.get(label).map(|&acc| mean(label, acc))
+    }
+
+    /// How many values were NaN or infinite (left out of every mean).
+    pub fn non_finite(&self) -> usize {
+        self.non_finite
+    }
+}
+
+fn mean(label: &str, (count, sum): (usize, f64)) -> LabelMean {
+    LabelMean {
+        label: label.to_owned(),
+        count,
+        mean: if count == 0 {
+            f64::NAN
+        } else {
+            sum / count as f64
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use std::fs;
+
+    use super::super::file::tests::{sample_set, temp_folder};
+    use super::super::schema::names::*;
+    use super::super::{RecordingMeta, Segment};
+    use super::*;
+
+    #[test]
+    fn splits_select_recordings() {
+        let mut set = sample_set();
+        set.recordings.insert(
+            "push_002.csv".into(),
+            RecordingLabels {
+                meta: RecordingMeta {
+                    split: Some(Split::Offline),
+                    ..Default::default()
+                },
+                ..Default::default()
+            },
+        );
+        assert_eq!(
+            recordings_in_split(&set, Split::Offline),
+            vec!["push_000.csv", "push_002.csv"]
+        );
+        assert_eq!(
+            recordings_in_split(&set, Split::HeldOut),
+            vec!["push_001.csv"]
+        );
+        assert!(recordings_in_split(&set, Split::Online).is_empty());
+    }
+
+    #[test]
+    fn select_split_checks_the_folder() {
+        let dir = temp_folder("select");
+        file::write(&file::path_in(&dir), &sample_set()).unwrap();
+        let err = select_split(&dir, Split::Offline).unwrap_err().to_string();
+        assert!(
+            err.contains("push_000.csv is labelled offline, but"),
+            "{err}"
+        );
+        assert!(err.ends_with("push_000.csv does not exist"), "{err}");
+        fs::write(dir.join("push_000.csv"), "t\n").unwrap();
+        assert_eq!(
+            select_split(&dir, Split::Offline).unwrap(),
+            vec![dir.join("push_000.csv")]
+        );
+        let err = select_split(&dir, Split::Online).unwrap_err().to_string();
+        assert!(err.contains("no recording is labelled online"), "{err}");
+        let err = select_split(&dir.join("nowhere"), Split::Online)
+            .unwrap_err()
+            .to_string();
+        assert!(err.starts_with("cannot read labels file"), "{err}");
+        assert_eq!(
+            labels_file_beside(&dir.join("push_000.csv")),
+            file::path_in(&dir)
+        );
+        assert_eq!(key_of(&dir.join("push_000.csv")).unwrap(), "push_000.csv");
+    }
+
+    #[test]
+    fn bad_tracking_frames_are_skipped() {
+        let set = sample_set();
+        let mask = frames_to_skip(&set, "push_000.csv", 100);
+        let skipped: Vec<usize> = (0..100).filter(|&i| mask[i]).collect();
+        assert_eq!(skipped, vec![70, 71, 72, 73, 74]);
+        // A shorter recording clips the label; an unlabelled one skips nothing.
+        assert_eq!(
+            frames_to_skip(&set, "push_000.csv", 72)
+                .iter()
+                .filter(|&&m| m)
+                .count(),
+            2
+        );
+        assert_eq!(frames_to_skip(&set, "unknown.csv", 10), vec![false; 10]);
+        let transitions = transitions_to_skip(&mask);
+        assert_eq!(transitions.len(), 99);
+        assert!(transitions[69] && transitions[74] && !transitions[68] && !transitions[75]);
+    }
+
+    #[test]
+    fn per_label_means_separate_slipping_from_sticking() {
+        let labels = RecordingLabels {
+            segments: vec![
+                Segment::new(CONTACT, 0..6),
+                Segment::new(STICKING, 0..3),
+                Segment::new(SLIPPING, 3..6),
+            ],
+            ..Default::default()
+        };
+        let mut means = PerLabelMeans::new();
+        means
+            .add(
+                "a.csv",
+                Some(&labels),
+                &[0, 1, 2, 3, 4, 5, 6],
+                &[1.0, 2.0, 3.0, 10.0, 20.0, f64::NAN, 7.0],
+            )
+            .unwrap();
+        means.add("b.csv", None, &[0], &[4.0]).unwrap();
+        assert_eq!(means.get(STICKING).unwrap().mean, 2.0);
+        assert_eq!(
+            means.get(SLIPPING).unwrap(),
+            LabelMean {
+                label: SLIPPING.into(),
+                count: 2,
+                mean: 15.0
+            }
+        );
+        assert_eq!(means.get(CONTACT).unwrap().count, 5);
+        assert_eq!(
+            means.all(),
+            LabelMean {
+                label: "all".into(),
+                count: 7,
+                mean: 47.0 / 7.0
+            }
+        );
+        assert_eq!(means.non_finite(), 1);
+        assert_eq!(
+            means
+                .by_label()
+                .iter()
+                .map(|m| m.label.as_str())
+                .collect::<Vec<_>>(),
+            vec![CONTACT, SLIPPING, STICKING]
+        );
+        let err = means.add("c.csv", None, &[0, 1], &[1.0]).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "c.csv: 2 frame indices but 1 values; each value needs its frame"
+        );
+    }
+}
