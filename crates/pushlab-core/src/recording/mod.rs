@@ -1,13 +1,22 @@
 //! Recordings: what pushlab loads and what it knows about each push.
 //!
 //! A [`Recording`] is one push with the [`Setting`] it was recorded in. Native recording sets (a folder
-//! with `setting.json` and one CSV per push) and MIT Push Dataset files both load into it.
+//! with `setting.json` and one CSV per push) and MIT Push Dataset files both load into it, grouped
+//! into [`RecordingSet`]s. [`load_paths`] is the one entry point for opening whatever a user points at;
+//! [`write_set`] writes a native set.
 
+mod error;
+mod load;
+pub mod mit_push;
+pub mod native;
 mod setting;
 
 use std::path::PathBuf;
 use std::sync::Arc;
 
+pub use error::{CsvProblem, LoadError, MitProblem, WriteError};
+pub use load::{LoadReport, load_paths};
+pub use native::{read_set, write_set};
 pub use setting::{ObjectShape, PushSide, Setting, TrajectoryEntry};
 
 use crate::trajectory::Trajectory;
@@ -27,4 +36,16 @@ pub struct Recording {
     pub trajectory: Trajectory,
     /// Recoverable defects found while loading, each a sentence with numbers.
     pub warnings: Vec<String>,
+}
+
+/// Pushes that share one setting: a native set folder, or the MIT files of one surface and shape in
+/// one folder.
+#[derive(Clone, Debug)]
+pub struct RecordingSet {
+    /// The folder the set was read from.
+    pub dir: PathBuf,
+    /// The setting every recording of the set shares.
+    pub setting: Arc<Setting>,
+    /// The recordings that loaded, in the order `setting.json` lists them.
+    pub recordings: Vec<Recording>,
 }

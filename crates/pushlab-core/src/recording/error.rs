@@ -1,0 +1,163 @@
+//! What can go wrong reading or writing recordings.
+//!
+//! Every error names the file it is about and, where it can, the line or field and what was expected,
+//! so that a user can open the file and fix it without reading pushlab's code.
+
+use std::path::{Path, PathBuf};
+
+/// Why a recording (or a whole set) could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file or folder could not be read at all.
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A native CSV file is malformed at a given line (1-based, the header is line 1).
+    #[error("{} line {line}: {problem}", path.display())]
+    Csv {
+        path: PathBuf,
+        line: usize,
+        problem: CsvProblem,
+    },
+    /// `setting.json` is not valid JSON or does not match the schema.
+    #[error("{}: {message}", path.display())]
+    SettingJson { path: PathBuf, message: String },
+    /// `setting.json` parses but a field has an unusable value.
+    #[error("{}: field `{field}`: {problem}", path.display())]
+    SettingField {
+        path: PathBuf,
+        field: String,
+        problem: String,
+    },
+    /// `setting.json` lists a trajectory whose CSV is not in the folder.
+    #[error("{}: listed in setting.json but the file does not exist", path.display())]
+    MissingTrajectory { path: PathBuf },
+    /// A CSV passed on its own has no `setting.json` beside it.
+    #[error("{}: no setting.json in the same folder, expected a native recording set", path.display())]
+    NoSetting { path: PathBuf },
+    /// An MIT Push Dataset file that cannot be used.
+    #[error("{}: {problem}", path.display())]
+    Mit { path: PathBuf, problem: MitProblem },
+    /// A path that is none of the things pushlab can open.
+    #[error(
+        "{}: not a recording: expected a native set folder (with setting.json), a folder of sets, a CSV inside a set, or an MIT Push Dataset .json/.h5 file",
+        path.display()
+    )]
+    NotRecognised { path: PathBuf },
+    /// A folder in which no recording was found.
+    #[error("{}: no recordings found (no setting.json and no MIT Push Dataset files inside)", path.display())]
+    NothingFound { path: PathBuf },
+}
+
+impl LoadError {
+    /// The file or folder the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            LoadError::Io { path, .. }
+            | LoadError::Csv { path, .. }
+            | LoadError::SettingJson { path, .. }
+            | LoadError::SettingField { path, .. }
+            | LoadError::MissingTrajectory { path }
+            | LoadError::NoSetting { path }
+            | LoadError::Mit { path, .. }
+            | LoadError::NotRecognised { path }
+            | LoadError::NothingFound { path } => path,
+        }
+    }
+
+    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
+        LoadError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
+/// What is wrong at one line of a native CSV file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CsvProblem {
+    #[error("the file is empty, expected the header `{expected}`", expected = crate::recording::native::CSV_HEADER)]
+    Empty,
+    #[error("the line is not valid UTF-8 text")]
+    NotUtf8,
+    #[error("header is '{found}', expected `{expected}`", expected = crate::recording::native::CSV_HEADER)]
+    Header { found: String },
+    #[error("{found} fields, expected 6 ({expected})", expected = crate::recording::native::CSV_HEADER)]
+    FieldCount { found: usize },
+    #[error("{column} is '{text}', expected a number")]
+    NotANumber { column: &'static str, text: String },
+    #[error("{column} is '{text}', expected a finite number")]
+    NotFinite { column: &'static str, text: String },
+    #[error(
+        "time {time} is not after the previous row's {previous}, expected strictly increasing time"
+    )]
+    TimeNotIncreasing { time: f64, previous: f64 },
+    #[error("only {rows} data rows, expected at least 2")]
+    TooFewRows { rows: usize },
+}
+
+/// What is wrong with an MIT Push Dataset file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MitProblem {
+    #[error(
+        "file name is not an MIT Push Dataset name ({why}), expected motion_surface=<surface>_shape=<shape>_a=<mm/s²>_v=<mm/s>_i=<side>_s=<position>_t=<angle>"
+    )]
+    FileName { why: String },
+    #[error(
+        "unknown shape '{0}', expected one of rect1, rect2, rect3, tri1, tri2, tri3, ellip1, ellip2, ellip3, hex, butter"
+    )]
+    UnknownShape(String),
+    #[error("not valid JSON for an MIT push: {0}")]
+    Json(String),
+    #[error("not a readable HDF5 file: {0}")]
+    Hdf5(String),
+    #[error("missing `{0}`, expected the three streams tip_pose, object_pose and ft_wrench")]
+    MissingKey(&'static str),
+    #[error("`{key}` has shape {shape}, expected N x 4 float64")]
+    BadShape { key: &'static str, shape: String },
+    #[error("`{key}` row {row} column {column} is {value}, expected a finite number")]
+    NonFinite {
+        key: &'static str,
+        row: usize,
+        column: usize,
+        value: f64,
+    },
+    #[error("`{key}` has only {rows} usable rows, expected at least {min}")]
+    TooFewRows {
+        key: &'static str,
+        rows: usize,
+        min: usize,
+    },
+    #[error("the streams span {seconds:.0} s, expected a push shorter than {max} s (broken timestamps?)", max = crate::recording::mit_push::MAX_DURATION_S)]
+    TooLong { seconds: f64 },
+    #[error(
+        "the tip and object streams overlap for only {seconds:.3} s, expected at least {min} s"
+    )]
+    TooShort { seconds: f64, min: f64 },
+}
+
+/// Why a recording set could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    #[error("{}: cannot write: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("setting.json lists {entries} trajectories but {trajectories} were given")]
+    CountMismatch { entries: usize, trajectories: usize },
+    #[error("trajectory file name '{0}' must be a plain file name ending in .csv (no folders)")]
+    BadFileName(String),
+    #[error("trajectory '{file}' frame {frame}: {problem}")]
+    BadTrajectory {
+        file: String,
+        frame: usize,
+        problem: String,
+    },
+    #[error("cannot serialise setting.json: {0}")]
+    Json(String),
+}

@@ -1,0 +1,209 @@
+//! The one entry point the app and the CLI use to open recordings, whatever the user points at.
+
+use std::collections::{BTreeMap, HashSet};
+use std::path::{Path, PathBuf};
+
+use super::RecordingSet;
+use super::error::LoadError;
+use super::mit_push::{self, MitPush};
+use super::native::{self, SETTING_FILE};
+
+/// Deepest folder nesting searched below a path given by the user; deeper folders are not searched.
+const MAX_DEPTH: usize = 16;
+
+/// Everything that loaded and everything that did not.
+///
+/// Loading never stops at the first problem: a user opening a folder of fifty recordings with one
+/// broken file wants the forty-nine and a precise message about the fiftieth.
+#[derive(Debug, Default)]
+pub struct LoadReport {
+    /// The sets that loaded, each with at least one recording.
+    pub sets: Vec<RecordingSet>,
+    /// One error per file (or set) that could not be loaded.
+    pub errors: Vec<LoadError>,
+}
+
+impl LoadReport {
+    /// Number of recordings loaded across all sets.
+    pub fn recording_count(&self) -> usize {
+        self.sets.iter().map(|s| s.recordings.len()).sum()
+    }
+}
+
+/// Loads recordings from the given paths.
+///
+/// Each path may be
+/// - a native set folder (with `setting.json`),
+/// - a folder of sets and/or MIT files, searched recursively (symbolic links to folders are not
+///   followed): every set folder and every MIT Push Dataset file (`motion_*.json`/`.h5`) inside,
+/// - a single CSV inside a set, or that set's `setting.json`,
+/// - an MIT Push Dataset `.json` or `.h5` file.
+///
+/// MIT files are grouped into one set per folder, surface and shape, since those share an object
+/// outline and a material; the set's trajectories list the files. Input files are only ever read.
+/// A path reached twice (e.g. a folder and a file inside it) is loaded once.
+pub fn load_paths(paths: &[PathBuf]) -> LoadReport {
+    let mut loader = Loader::default();
+    for path in paths {
+        loader.add_path(path);
+    }
+    loader.finish()
+}
+
+#[derive(Default)]
+struct Loader {
+    report: LoadReport,
+    /// Set folders already loaded whole, and single files already loaded.
+    seen: HashSet<PathBuf>,
+    /// MIT pushes by (folder, surface, shape), in file-name order.
+    mit: BTreeMap<(PathBuf, String, String), Vec<(PathBuf, MitPush)>>,
+}
+
+impl Loader {
+    fn add_path(&mut self, path: &Path) {
+        let meta = match std::fs::metadata(path) {
+            Ok(m) => m,
+            Err(e) => return self.report.errors.push(LoadError::io(path, e)),
+        };
+        if meta.is_dir() {
+            if path.join(SETTING_FILE).is_file() {
+                self.add_set(path, None);
+            } else if !self.scan(path, 0) {
+                self.report.errors.push(LoadError::NothingFound {
+                    path: path.to_path_buf(),
+                });
+            }
+            return;
+        }
+        let dir = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+        match extension(path).as_deref() {
+            _ if file_name.as_deref() == Some(SETTING_FILE) => self.add_set(dir, None),
+            Some("csv") => {
+                if dir.join(SETTING_FILE).is_file() {
+                    self.add_set(dir, Some(path));
+                } else {
+                    self.report.errors.push(LoadError::NoSetting {
+                        path: path.to_path_buf(),
+                    });
+                }
+            }
+            Some("json" | "h5") => self.add_mit(path),
+            _ => self.report.errors.push(LoadError::NotRecognised {
+                path: path.to_path_buf(),
+            }),
+        }
+    }
+
+    /// Searches `dir` for sets and MIT files; returns whether anything recognisable was found.
+    fn scan(&mut self, dir: &Path, depth: usize) -> bool {
+        let entries = match std::fs::read_dir(dir) {
+            Ok(entries) => entries,
+            Err(e) => {
+                self.report.errors.push(LoadError::io(dir, e));
+                return true; // reported: not "nothing found"
+            }
+        };
+        let mut paths: Vec<(PathBuf, bool)> = entries
+            .filter_map(Result::ok)
+            .map(|e| (e.path(), e.file_type().is_ok_and(|t| t.is_dir())))
+            .collect();
+        paths.sort();
+        let mut found = false;
+        for (path, is_dir) in paths {
+            if is_dir {
+                if path.join(SETTING_FILE).is_file() {
+                    self.add_set(&path, None);
+                    found = true;
+                } else if depth < MAX_DEPTH {
+                    found |= self.scan(&path, depth + 1);
+                }
+            } else if is_mit_file(&path) && path.is_file() {
+                self.add_mit(&path);
+                found = true;
+            }
+        }
+        found
+    }
+
+    fn add_set(&mut self, dir: &Path, only: Option<&Path>) {
+        let whole = canonical(dir);
+        if self.seen.contains(&whole) {
+            return;
+        }
+        if let Some(file) = only {
+            if !self.seen.insert(canonical(file)) {
+                return;
+            }
+        } else {
+            self.seen.insert(whole);
+        }
+        match native::read_set_filtered(dir, only) {
+            Ok((set, errors)) => {
+                if !set.recordings.is_empty() {
+                    self.report.sets.push(set);
+                }
+                self.report.errors.extend(errors);
+            }
+            Err(e) => self.report.errors.push(e),
+        }
+    }
+
+    fn add_mit(&mut self, path: &Path) {
+        if !self.seen.insert(canonical(path)) {
+            return;
+        }
+        match mit_push::import_file(path) {
+            Ok(push) => {
+                let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+                let key = (dir, push.name.surface.clone(), push.name.shape.clone());
+                self.mit
+                    .entry(key)
+                    .or_default()
+                    .push((path.to_path_buf(), push));
+            }
+            Err(e) => self.report.errors.push(e),
+        }
+    }
+
+    fn finish(mut self) -> LoadReport {
+        for ((dir, surface, shape), mut pushes) in std::mem::take(&mut self.mit) {
+            pushes.sort_by(|a, b| a.0.cmp(&b.0));
+            let first = pushes.first().map(|(p, _)| p.clone()).unwrap_or_default();
+            match mit_push::recordings_for(&surface, &shape, pushes) {
+                Ok((setting, recordings)) => self.report.sets.push(RecordingSet {
+                    dir,
+                    setting,
+                    recordings,
+                }),
+                // Unreachable in practice: the shape was checked on import.
+                Err(problem) => self.report.errors.push(LoadError::Mit {
+                    path: first,
+                    problem,
+                }),
+            }
+        }
+        self.report
+    }
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+/// Whether a file found while searching a folder is an MIT Push Dataset file (by name: other JSON
+/// files, such as the dataset's `shapes.json`, are not recordings).
+fn is_mit_file(path: &Path) -> bool {
+    matches!(extension(path).as_deref(), Some("json" | "h5"))
+        && path
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("motion_"))
+}
+
+fn canonical(path: &Path) -> PathBuf {
+    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+}

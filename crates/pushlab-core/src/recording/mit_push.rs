@@ -1,0 +1,581 @@
+//! Import of the MIT Push Dataset (Yu, Bauza, Fazeli, Rodriguez, IROS 2016): one push per `.json` or
+//! `.h5` file, three unsynchronised streams (`tip_pose`, `object_pose`, `ft_wrench`, each N × 4 with
+//! its own timestamps) and the experiment's parameters in the file name.
+//!
+//! What the importer does, in order, and why:
+//! 1. Refuses files it cannot use (missing streams, rows that are not 4 numbers, non-finite values,
+//!    fewer than [`MIN_ROWS`] rows, streams overlapping for less than [`MIN_DURATION_S`]).
+//! 2. Drops samples whose timestamp does not increase (real files step back by up to ~2 ms); a
+//!    stream must be monotone to be interpolated. Counted and reported as a warning.
+//! 3. Unwraps the object's yaw, which the dataset keeps in (−π, π].
+//! 4. Resamples the tip and object streams by linear interpolation onto one grid of
+//!    [`RESAMPLE_HZ`] (the dataset's nominal rate) over the interval both cover, as every user of
+//!    this dataset does; yaw is interpolated after unwrapping. Time starts at 0 (the Unix time of
+//!    the first sample is kept in the trajectory entry as `mit_start_unix_s`).
+//! 5. Moves the object pose from the dataset's object frame to the geometric centre of the
+//!    footprint, pushlab's convention. For rectangles, ellipses and the hexagon these coincide; the
+//!    triangles' frame is not at their centroid (their right-angle corner sits at (45, 45) mm in it),
+//!    so for them the position changes by the centroid rotated into the world.
+//!
+//! The force stream is only checked (for being frozen), never imported: pushlab's model does not use
+//! forces.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::{Arc, OnceLock};
+
+use nalgebra::{Point2, Vector2};
+use serde::Deserialize;
+
+use super::error::{LoadError, MitProblem};
+use super::{ObjectShape, Recording, Setting, TrajectoryEntry};
+use crate::geometry::{Outline, Pose2, unwrap_angles};
+use crate::trajectory::{Frame, Trajectory};
+
+/// Rate of the common time grid the streams are resampled onto, Hz: the dataset's nominal rate.
+pub const RESAMPLE_HZ: f64 = 250.0;
+/// A gap between consecutive samples longer than this is reported, seconds.
+pub const GAP_WARN_S: f64 = 0.050;
+/// Fewest rows a tip or object stream must keep after cleaning.
+pub const MIN_ROWS: usize = 10;
+/// Shortest usable overlap of the tip and object streams, seconds.
+pub const MIN_DURATION_S: f64 = 0.1;
+/// Longest accepted push, seconds: a push lasts seconds; more means broken timestamps (and would
+/// make the resampled grid enormous).
+pub const MAX_DURATION_S: f64 = 600.0;
+/// Radius of the dataset's steel pusher, metres.
+pub const PUSHER_RADIUS: f64 = 0.00475;
+/// Pusher–object friction coefficient reported by the dataset's authors.
+pub const PUSHER_FRICTION: f64 = 0.25;
+
+/// The experiment's parameters, read from a file name such as
+/// `motion_surface=abs_shape=rect1_a=0_v=75_i=2.000_s=0.800_t=0.349`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MitName {
+    /// Surface material: abs, delrin, plywood or pu.
+    pub surface: String,
+    /// Object: rect1..3, tri1..3, ellip1..3, hex or butter.
+    pub shape: String,
+    /// Pusher acceleration, mm/s² (0 = constant speed).
+    pub accel_mm_s2: f64,
+    /// Pusher speed, mm/s.
+    pub speed_mm_s: f64,
+    /// Index of the pushed side of the object (the dataset's `i`).
+    pub side: f64,
+    /// Position of the contact along that side, 0..1 (the dataset's `s`).
+    pub side_position: f64,
+    /// Push angle from the side's normal, radians (the dataset's `t`).
+    pub angle_rad: f64,
+    /// Repetition number, when the name has one.
+    pub rep: Option<u32>,
+}
+
+/// Parses an MIT Push Dataset file stem (the name without `.json`/`.h5`).
+pub fn parse_file_name(stem: &str) -> Result<MitName, MitProblem> {
+    let bad = |why: String| MitProblem::FileName { why };
+    let rest = stem
+        .strip_prefix("motion_")
+        .ok_or_else(|| bad("it does not start with 'motion_'".into()))?;
+    let mut fields: HashMap<&str, &str> = HashMap::new();
+    for part in rest.split('_') {
+        let (key, value) = part
+            .split_once('=')
+            .ok_or_else(|| bad(format!("'{part}' is not key=value")))?;
+        fields.insert(key, value);
+    }
+    let text = |key: &str| {
+        fields
+            .get(key)
+            .copied()
+            .ok_or_else(|| bad(format!("no '{key}='")))
+    };
+    let number = |key: &str| -> Result<f64, MitProblem> {
+        let t = text(key)?;
+        t.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(format!("{key}='{t}' is not a finite number")))
+    };
+    let rep = match fields.get("rep") {
+        None => None,
+        Some(t) => Some(
+            t.parse::<u32>()
+                .map_err(|_| bad(format!("rep='{t}' is not a whole number")))?,
+        ),
+    };
+    Ok(MitName {
+        surface: text("surface")?.to_string(),
+        shape: text("shape")?.to_string(),
+        accel_mm_s2: number("a")?,
+        speed_mm_s: number("v")?,
+        side: number("i")?,
+        side_position: number("s")?,
+        angle_rad: number("t")?,
+        rep,
+    })
+}
+
+/// The three raw streams of one file, rows `[t, a, b, c]` as stored.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+pub struct Streams {
+    pub tip_pose: Vec<[f64; 4]>,
+    pub object_pose: Vec<[f64; 4]>,
+    pub ft_wrench: Vec<[f64; 4]>,
+}
+
+const KEYS: [&str; 3] = ["tip_pose", "object_pose", "ft_wrench"];
+
+/// Reads the streams of a `.json` file held in memory.
+pub fn parse_json(bytes: &[u8]) -> Result<Streams, MitProblem> {
+    // Keys are required: serde's "missing field `tip_pose`" is turned into our message.
+    #[derive(Deserialize)]
+    struct Raw {
+        tip_pose: Option<Vec<[f64; 4]>>,
+        object_pose: Option<Vec<[f64; 4]>>,
+        ft_wrench: Option<Vec<[f64; 4]>>,
+    }
+    let raw: Raw = serde_json::from_slice(bytes).map_err(|e| MitProblem::Json(e.to_string()))?;
+    Ok(Streams {
+        tip_pose: raw.tip_pose.ok_or(MitProblem::MissingKey(KEYS[0]))?,
+        object_pose: raw.object_pose.ok_or(MitProblem::MissingKey(KEYS[1]))?,
+        ft_wrench: raw.ft_wrench.ok_or(MitProblem::MissingKey(KEYS[2]))?,
+    })
+}
+
+/// Reads the streams of a `.h5` file held in memory with the pure-Rust `hdf5-pure` reader (no system
+/// HDF5 library needed).
+pub fn parse_h5(bytes: &[u8]) -> Result<Streams, MitProblem> {
+    let h5 = |e: hdf5_pure::Error| MitProblem::Hdf5(e.to_string());
+    let file = hdf5_pure::File::from_bytes(bytes.to_vec()).map_err(h5)?;
+    let read = |key: &'static str| -> Result<Vec<[f64; 4]>, MitProblem> {
+        let dataset = file.dataset(key).map_err(|_| MitProblem::MissingKey(key))?;
+        let shape = dataset.shape().map_err(h5)?;
+        let rows = match shape.as_slice() {
+            [rows, 4] => *rows,
+            _ => {
+                return Err(MitProblem::BadShape {
+                    key,
+                    shape: format!("{shape:?}"),
+                });
+            }
+        };
+        // The dataset's files are uncompressed float64: a claimed size beyond the file is corrupt
+        // (and reading it would try to allocate it).
+        if rows.saturating_mul(32) > bytes.len() as u64 {
+            return Err(MitProblem::BadShape {
+                key,
+                shape: format!("{shape:?} (larger than the file)"),
+            });
+        }
+        let values = dataset.read_f64().map_err(h5)?;
+        if values.len() as u64 != rows * 4 {
+            return Err(MitProblem::BadShape {
+                key,
+                shape: format!("{shape:?} with {} values", values.len()),
+            });
+        }
+        Ok(values
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect())
+    };
+    Ok(Streams {
+        tip_pose: read(KEYS[0])?,
+        object_pose: read(KEYS[1])?,
+        ft_wrench: read(KEYS[2])?,
+    })
+}
+
+/// One imported push, before it is grouped into a set with the others of its surface and shape.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MitPush {
+    pub name: MitName,
+    /// Resampled frames, object pose at the footprint's geometric centre, time from 0.
+    pub trajectory: Trajectory,
+    /// Unix time of the first frame, seconds.
+    pub start_unix_s: f64,
+    pub warnings: Vec<String>,
+}
+
+/// Imports one MIT file held in memory; the extension of `path` (`.json` or `.h5`) picks the
+/// reader and its stem gives the parameters. `path` is also used in messages.
+pub fn import_bytes(bytes: &[u8], path: &Path) -> Result<MitPush, LoadError> {
+    let fail = |problem| LoadError::Mit {
+        path: path.to_path_buf(),
+        problem,
+    };
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = parse_file_name(&stem).map_err(fail)?;
+    let shape = shape(&name.shape).map_err(fail)?;
+    let streams = if path.extension().is_some_and(|e| e == "h5") {
+        parse_h5(bytes)
+    } else {
+        parse_json(bytes)
+    }
+    .map_err(fail)?;
+    let (trajectory, start_unix_s, warnings) =
+        align(&streams, shape.centroid_in_mit_frame).map_err(fail)?;
+    Ok(MitPush {
+        name,
+        trajectory,
+        start_unix_s,
+        warnings,
+    })
+}
+
+/// Reads and imports one MIT file from disk.
+pub fn import_file(path: &Path) -> Result<MitPush, LoadError> {
+    let bytes = std::fs::read(path).map_err(|e| LoadError::io(path, e))?;
+    import_bytes(&bytes, path)
+}
+
+/// Cleans, checks and resamples the streams; returns the frames, the Unix start time and warnings.
+fn align(
+    streams: &Streams,
+    centroid_in_mit_frame: Vector2<f64>,
+) -> Result<(Trajectory, f64, Vec<String>), MitProblem> {
+    for (key, rows) in
+        KEYS.iter()
+            .zip([&streams.tip_pose, &streams.object_pose, &streams.ft_wrench])
+    {
+        for (row, values) in rows.iter().enumerate() {
+            if let Some(column) = values.iter().position(|v| !v.is_finite()) {
+                return Err(MitProblem::NonFinite {
+                    key,
+                    row,
+                    column,
+                    value: values[column],
+                });
+            }
+        }
+    }
+    let mut warnings = Vec::new();
+    let (n_tip, n_obj, n_ft) = (
+        streams.tip_pose.len(),
+        streams.object_pose.len(),
+        streams.ft_wrench.len(),
+    );
+    let tip = clean(KEYS[0], &streams.tip_pose, &mut warnings)?;
+    let mut object = clean(KEYS[1], &streams.object_pose, &mut warnings)?;
+    if streams.ft_wrench.is_empty() {
+        return Err(MitProblem::TooFewRows {
+            key: KEYS[2],
+            rows: 0,
+            min: 1,
+        });
+    }
+    if n_tip != n_obj || n_obj != n_ft {
+        warnings.push(format!(
+            "streams have unequal lengths (tip_pose {n_tip}, object_pose {n_obj}, ft_wrench {n_ft} rows); aligned by resampling at {RESAMPLE_HZ} Hz"
+        ));
+    }
+    let repeated = repeated_wrench_rows(&streams.ft_wrench);
+    if n_ft >= 2 && repeated as f64 > FROZEN_SHARE * (n_ft - 1) as f64 {
+        warnings.push(format!(
+            "ft_wrench is frozen: {repeated} of {} rows repeat the previous force/torque exactly (the force sensor was not recording)",
+            n_ft - 1
+        ));
+    }
+    let mut yaw: Vec<f64> = object.iter().map(|r| r[3]).collect();
+    let wraps = unwrap_angles(&mut yaw);
+    if wraps > 0 {
+        warnings.push(format!("object yaw wraps at ±π {wraps} time(s); unwrapped"));
+        for (row, y) in object.iter_mut().zip(&yaw) {
+            row[3] = *y;
+        }
+    }
+
+    let start = tip[0][0].max(object[0][0]);
+    let end = tip[tip.len() - 1][0].min(object[object.len() - 1][0]);
+    let duration = end - start;
+    if !(duration >= MIN_DURATION_S) {
+        return Err(MitProblem::TooShort {
+            seconds: duration.max(0.0),
+            min: MIN_DURATION_S,
+        });
+    }
+    if duration > MAX_DURATION_S {
+        return Err(MitProblem::TooLong { seconds: duration });
+    }
+    // Truncation is intended: the grid never reaches past the shorter stream. Bounded by
+    // MAX_DURATION_S × RESAMPLE_HZ.
+    let count = (duration * RESAMPLE_HZ).floor() as usize + 1;
+    let mut tip_at = Interpolator::new(&tip);
+    let mut object_at = Interpolator::new(&object);
+    let frames = (0..count)
+        .map(|k| {
+            let t = start + k as f64 / RESAMPLE_HZ;
+            let r = tip_at.at(t);
+            let o = object_at.at(t);
+            let mit_pose = Pose2::new(o[1], o[2], o[3]);
+            let centre = mit_pose.point_in_world(Point2::from(centroid_in_mit_frame));
+            Frame {
+                time: k as f64 / RESAMPLE_HZ,
+                robot: Point2::new(r[1], r[2]),
+                object: Pose2::new(centre.x, centre.y, o[3]),
+            }
+        })
+        .collect();
+    Ok((Trajectory::new(frames), start, warnings))
+}
+
+/// Keeps the rows whose timestamp increases, reporting backwards and repeated stamps and long gaps.
+fn clean(
+    key: &'static str,
+    rows: &[[f64; 4]],
+    warnings: &mut Vec<String>,
+) -> Result<Vec<[f64; 4]>, MitProblem> {
+    let mut kept: Vec<[f64; 4]> = Vec::with_capacity(rows.len());
+    let (mut backwards, mut worst, mut repeated) = (0usize, 0.0f64, 0usize);
+    for (i, row) in rows.iter().enumerate() {
+        if i > 0 {
+            let step = row[0] - rows[i - 1][0];
+            if step < 0.0 {
+                backwards += 1;
+                worst = worst.min(step);
+            } else if step == 0.0 {
+                repeated += 1;
+            }
+        }
+        if kept.last().is_none_or(|last| row[0] > last[0]) {
+            kept.push(*row);
+        }
+    }
+    let dropped = rows.len() - kept.len();
+    if backwards > 0 {
+        warnings.push(format!(
+            "{key}: {backwards} timestamp(s) step backwards (worst {:.1} ms); {dropped} row(s) out of order dropped",
+            worst * 1e3
+        ));
+    } else if repeated > 0 {
+        warnings.push(format!(
+            "{key}: {repeated} repeated timestamp(s); {dropped} row(s) dropped"
+        ));
+    }
+    if kept.len() < MIN_ROWS {
+        return Err(MitProblem::TooFewRows {
+            key,
+            rows: kept.len(),
+            min: MIN_ROWS,
+        });
+    }
+    let (mut gaps, mut longest) = (0usize, 0.0f64);
+    for pair in kept.windows(2) {
+        let step = pair[1][0] - pair[0][0];
+        if step > GAP_WARN_S {
+            gaps += 1;
+            longest = longest.max(step);
+        }
+    }
+    if gaps > 0 {
+        warnings.push(format!(
+            "{key}: {gaps} gap(s) over {:.0} ms (longest {:.1} ms); interpolated across",
+            GAP_WARN_S * 1e3,
+            longest * 1e3
+        ));
+    }
+    Ok(kept)
+}
+
+/// How many force/torque rows repeat the previous row exactly. A live sensor's readings never
+/// repeat to the last bit (noise alone changes them); a dead one repeats a stale value, with the odd
+/// real reading in between (the dataset's rect1 file here: 287 of 293).
+fn repeated_wrench_rows(rows: &[[f64; 4]]) -> usize {
+    rows.windows(2).filter(|w| w[0][1..] == w[1][1..]).count()
+}
+
+/// Share of repeated rows above which the force stream counts as frozen.
+const FROZEN_SHARE: f64 = 0.5;
+
+/// Linear interpolation in a time-sorted stream, for queries at increasing times (a moving cursor
+/// makes resampling linear in the number of rows). Queries outside the stream clamp to its ends.
+struct Interpolator<'a> {
+    rows: &'a [[f64; 4]],
+    cursor: usize,
+}
+
+impl<'a> Interpolator<'a> {
+    fn new(rows: &'a [[f64; 4]]) -> Self {
+        Self { rows, cursor: 0 }
+    }
+
+    fn at(&mut self, t: f64) -> [f64; 4] {
+        let rows = self.rows;
+        while self.cursor + 2 < rows.len() && rows[self.cursor + 1][0] <= t {
+            self.cursor += 1;
+        }
+        let (a, b) = (
+            rows[self.cursor],
+            rows[(self.cursor + 1).min(rows.len() - 1)],
+        );
+        let span = b[0] - a[0];
+        let w = if span > 0.0 {
+            ((t - a[0]) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        [
+            t,
+            a[1] + w * (b[1] - a[1]),
+            a[2] + w * (b[2] - a[2]),
+            a[3] + w * (b[3] - a[3]),
+        ]
+    }
+}
+
+/// One of the dataset's objects, from the shape data shipped with pushlab.
+#[derive(Clone, Debug)]
+pub struct MitShape {
+    /// Outline in pushlab's convention: centred on the footprint's geometric centre.
+    pub outline: Outline,
+    /// Where that centre lies in the dataset's object frame.
+    pub centroid_in_mit_frame: Vector2<f64>,
+    /// COM − geometric centre, object frame, when the dataset gives the COM.
+    pub com_offset: Option<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+struct ShapeFile {
+    shapes: HashMap<String, ShapeFact>,
+}
+
+#[derive(Deserialize)]
+struct ShapeFact {
+    vertices: Vec<[f64; 2]>,
+    com: Option<[f64; 2]>,
+}
+
+/// Outlines of the eleven objects (see `data/derive_mit_shapes.py` for how they were derived).
+const SHAPES_JSON: &str = include_str!("../../data/mit_shapes.json");
+
+/// The shape called `name` (rect1..3, tri1..3, ellip1..3, hex, butter).
+pub fn shape(name: &str) -> Result<MitShape, MitProblem> {
+    static SHAPES: OnceLock<HashMap<String, MitShape>> = OnceLock::new();
+    let shapes = SHAPES.get_or_init(|| {
+        // The file is ours and checked by a test; a broken one leaves every shape unknown.
+        let file: ShapeFile = serde_json::from_str(SHAPES_JSON).unwrap_or(ShapeFile {
+            shapes: HashMap::new(),
+        });
+        file.shapes
+            .into_iter()
+            .filter_map(|(name, fact)| {
+                let in_mit_frame = Outline::try_from(fact.vertices).ok()?;
+                let c = in_mit_frame.centroid().coords;
+                let centred: Vec<[f64; 2]> = in_mit_frame
+                    .vertices()
+                    .iter()
+                    .map(|v| [v.x - c.x, v.y - c.y])
+                    .collect();
+                let outline = Outline::try_from(centred).ok()?;
+                let com_offset = fact.com.map(|com| [com[0] - c.x, com[1] - c.y]);
+                Some((
+                    name,
+                    MitShape {
+                        outline,
+                        centroid_in_mit_frame: c,
+                        com_offset,
+                    },
+                ))
+            })
+            .collect()
+    });
+    shapes
+        .get(name)
+        .cloned()
+        .ok_or_else(|| MitProblem::UnknownShape(name.to_string()))
+}
+
+/// The setting shared by every push of one surface and shape; `files` are listed as its trajectories.
+pub fn setting_for(
+    surface: &str,
+    shape_name: &str,
+    pushes: &[(&str, &MitPush)],
+) -> Result<Setting, MitProblem> {
+    let shape = shape(shape_name)?;
+    let vertices = shape
+        .outline
+        .vertices()
+        .iter()
+        .map(|v| [v.x, v.y])
+        .collect();
+    let mut extra = serde_json::Map::new();
+    extra.insert("source".into(), "MIT Push Dataset".into());
+    extra.insert("mit_shape".into(), shape_name.into());
+    Ok(Setting {
+        name: format!("mit-{surface}-{shape_name}"),
+        object: ObjectShape::Polygon { vertices },
+        pusher_radius: PUSHER_RADIUS,
+        material: Some(surface.to_string()),
+        floor_friction: None,
+        pusher_friction: Some(PUSHER_FRICTION),
+        com_offset: shape.com_offset,
+        h: None,
+        push_side: None,
+        sample_rate_hz: Some(RESAMPLE_HZ),
+        trajectories: pushes
+            .iter()
+            .map(|(file, push)| entry_for(file, push))
+            .collect(),
+        extra,
+    })
+}
+
+/// The trajectory entry of one push: the push angle in degrees, the rest of the name's parameters
+/// under `mit_*` keys (the dataset's side index and side position do not map onto pushlab's four
+/// box faces, so they are kept as given).
+fn entry_for(file: &str, push: &MitPush) -> TrajectoryEntry {
+    let n = &push.name;
+    let mut extra = serde_json::Map::new();
+    extra.insert("mit_side".into(), n.side.into());
+    extra.insert("mit_side_position".into(), n.side_position.into());
+    extra.insert("mit_speed_mm_s".into(), n.speed_mm_s.into());
+    extra.insert("mit_accel_mm_s2".into(), n.accel_mm_s2.into());
+    if let Some(rep) = n.rep {
+        extra.insert("mit_rep".into(), rep.into());
+    }
+    extra.insert("mit_start_unix_s".into(), push.start_unix_s.into());
+    TrajectoryEntry {
+        file: file.to_string(),
+        contact_offset: None,
+        push_angle_deg: Some(n.angle_rad.to_degrees()),
+        extra,
+    }
+}
+
+/// Turns imported pushes of one surface and shape into recordings sharing one setting.
+pub(crate) fn recordings_for(
+    surface: &str,
+    shape_name: &str,
+    pushes: Vec<(std::path::PathBuf, MitPush)>,
+) -> Result<(Arc<Setting>, Vec<Recording>), MitProblem> {
+    let names: Vec<String> = pushes
+        .iter()
+        .map(|(p, _)| {
+            p.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        })
+        .collect();
+    let listed: Vec<(&str, &MitPush)> = names
+        .iter()
+        .map(String::as_str)
+        .zip(pushes.iter().map(|(_, p)| p))
+        .collect();
+    let setting = Arc::new(setting_for(surface, shape_name, &listed)?);
+    let recordings = pushes
+        .into_iter()
+        .enumerate()
+        .map(|(i, (path, push))| Recording {
+            name: super::native::file_stem(&path),
+            source: path,
+            setting: Arc::clone(&setting),
+            entry: setting.trajectories.get(i).cloned(),
+            trajectory: push.trajectory,
+            warnings: push.warnings,
+        })
+        .collect();
+    Ok((setting, recordings))
+}
