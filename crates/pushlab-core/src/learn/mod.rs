@@ -1,0 +1,13 @@
+//! Learning: the losses (eqs. 5–8), offline training of the network (eq. 12) and online learning of
+//! `θ_online` (eq. 13, Algorithm 1).
+
+mod adam;
+mod loss;
+mod offline;
+mod online;
+
+pub use loss::{Loss, LossScale, Nmse, mean_std_across, moving_average};
+pub use offline::{
+    TrainConfig, TrainError, TrainProgress, Trained, TrainingReport, train_combined, train_pure_nn,
+};
+pub use online::{OnlineConfig, OnlineLearner, OnlineModel, OnlineStep};

@@ -1,0 +1,489 @@
+//! Offline training (eq. 12): Adam on the network's weights over pre-recorded pushes, with
+//! `θ_online` fixed at `θ_online(0)` (or, optionally, trained too), seeded shuffling, a validation
+//! split by trajectory and early stopping.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use serde::{Deserialize, Serialize};
+
+use super::adam::{Adam, SmallAdam};
+use super::loss::LossScale;
+use crate::model::normalization::{InputNormalization, Stats1, Stats2};
+use crate::model::{
+    CombinedModel, Mlp, OnlineParams, OutputNormalization, Pass, PureNnModel, RealSample, Sample,
+    loss_weights, theta_real,
+};
+use crate::real::Real;
+use crate::rng::SplitMix64;
+
+/// How to train.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TrainConfig {
+    /// Passes over the training data at most.
+    pub epochs: usize,
+    /// Adam's learning rate (the paper: 0.005).
+    pub learning_rate: f64,
+    /// Samples per gradient step (the paper: 32).
+    pub batch_size: usize,
+    /// Seeds the weights, the validation split and the shuffling: same seed, same model, bit for bit.
+    pub seed: u64,
+    /// Fraction of the trajectories held out for validation (whole trajectories, so that neighbouring
+    /// frames of one push never sit on both sides). Zero disables validation and early stopping.
+    pub validation_fraction: f64,
+    /// Stop after this many epochs without a better validation loss; zero never stops early.
+    pub patience: usize,
+    /// Also train `θ_online(0)` offline (the paper's optional scheme).
+    pub train_online_params: bool,
+    /// `θ_online(0)`. `None` puts the COM at the centre and takes half the mean distance of the pusher
+    /// from the centre as `h` — a rough guess; pass [`OnlineParams::for_outline`] when the outline is
+    /// known.
+    pub theta0: Option<OnlineParams>,
+    /// The prediction horizon in frames the samples were made with (stored in the model).
+    pub horizon: usize,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        Self {
+            epochs: 100,
+            learning_rate: 0.005,
+            batch_size: 32,
+            seed: 0,
+            validation_fraction: 0.2,
+            patience: 15,
+            train_online_params: false,
+            theta0: None,
+            horizon: 1,
+        }
+    }
+}
+
+/// Reported after every epoch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrainProgress {
+    /// The epoch just finished, from 1.
+    pub epoch: usize,
+    /// The most epochs this run will take.
+    pub epochs: usize,
+    /// Mean loss ℓ over the epoch's training samples.
+    pub train_loss: f64,
+    /// Mean loss ℓ on the validation trajectories.
+    pub validation_loss: Option<f64>,
+    /// The best validation loss so far (the model that will be kept).
+    pub best_validation_loss: Option<f64>,
+}
+
+/// What a training run did.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrainingReport {
+    pub config: TrainConfig,
+    /// Epochs actually run.
+    pub epochs_run: usize,
+    /// The epoch whose weights were kept (the best validation loss, or the last one without validation).
+    pub best_epoch: usize,
+    /// Mean training loss ℓ of the kept epoch.
+    pub train_loss: f64,
+    /// Mean validation loss ℓ of the kept epoch.
+    pub validation_loss: Option<f64>,
+    pub training_samples: usize,
+    pub validation_samples: usize,
+    /// Stopped by the cancel flag (the best model so far is kept).
+    pub cancelled: bool,
+    /// Stopped because the validation loss stopped improving.
+    pub stopped_early: bool,
+    /// Training and validation loss per epoch.
+    pub history: Vec<(f64, Option<f64>)>,
+}
+
+/// A trained model and how it was trained.
+#[derive(Clone, Debug)]
+pub struct Trained<M> {
+    pub model: M,
+    pub report: TrainingReport,
+}
+
+/// Why training could not start.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TrainError {
+    #[error(
+        "no training samples: the recordings are shorter than the horizon ({horizon} frames) or empty"
+    )]
+    NoSamples { horizon: usize },
+    #[error("invalid training configuration: {0}")]
+    BadConfig(String),
+    #[error("the training data contains a non-finite value (sample at frame {frame})")]
+    NonFinite { frame: usize },
+}
+
+/// Trains the combined model (eq. 12) on trajectories of samples.
+pub fn train_combined(
+    trajectories: &[Vec<Sample>],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<CombinedModel>, TrainError> {
+    let split = Split::new(trajectories, config)?;
+    let theta0 = config
+        .theta0
+        .unwrap_or_else(|| default_theta0(&split.train))
+        .clamped();
+    let normalization = InputNormalization {
+        position: Stats2::of(split.train.iter().map(|s| {
+            let r = s.input.robot_in_object;
+            [r[0] - theta0.com_offset[0], r[1] - theta0.com_offset[1]]
+        })),
+        motion: Stats2::of(split.train.iter().map(|s| s.input.robot_motion_in_object)),
+    };
+    let loss_scale = LossScale::from_samples(&split.train);
+    let mut rng = SplitMix64::new(config.seed);
+    let network = Mlp::<f32>::random(&mut rng, 0.1);
+    let model = CombinedModel::from_parts(
+        network,
+        normalization,
+        theta0,
+        loss_scale,
+        config.horizon,
+    );
+    let mut trainee = CombinedTrainee {
+        model,
+        pass: Pass::default(),
+        theta: theta_real(&theta0),
+        theta_adam: config
+            .train_online_params
+            .then(|| SmallAdam::new(config.learning_rate)),
+        theta_grad: [0.0; 3],
+    };
+    let report = run(&mut trainee, &split, config, &mut rng, progress, cancel);
+    let mut model = trainee.model;
+    model.theta0 = OnlineParams {
+        com_offset: [trainee.theta[0].as_f64(), trainee.theta[1].as_f64()],
+        h: trainee.theta[2].as_f64(),
+    }
+    .clamped();
+    Ok(Trained { model, report })
+}
+
+/// Trains the pure network baseline (the paper's "Offline NN") on trajectories of samples.
+pub fn train_pure_nn(
+    trajectories: &[Vec<Sample>],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<PureNnModel>, TrainError> {
+    let split = Split::new(trajectories, config)?;
+    let input = InputNormalization {
+        position: Stats2::of(split.train.iter().map(|s| s.input.robot_in_object)),
+        motion: Stats2::of(split.train.iter().map(|s| s.input.robot_motion_in_object)),
+    };
+    let output = OutputNormalization {
+        translation: Stats2::of(split.train.iter().map(|s| s.target.translation)),
+        rotation: Stats1::of(split.train.iter().map(|s| s.target.rotation)),
+    };
+    let loss_scale = LossScale::from_samples(&split.train);
+    let mut rng = SplitMix64::new(config.seed);
+    let model = PureNnModel {
+        network: Mlp::<f32>::random(&mut rng, 0.1),
+        input,
+        output,
+        loss_scale,
+        horizon: config.horizon,
+    };
+    let mut trainee = PureNnTrainee {
+        model,
+        activations: Default::default(),
+    };
+    let report = run(&mut trainee, &split, config, &mut rng, progress, cancel);
+    Ok(Trained {
+        model: trainee.model,
+        report,
+    })
+}
+
+/// `θ_online(0)` when none is given: COM at the centre, `h` half the mean pusher distance.
+fn default_theta0(samples: &[Sample]) -> OnlineParams {
+    let mean_distance = samples
+        .iter()
+        .map(|s| {
+            let r = s.input.robot_in_object;
+            (r[0] * r[0] + r[1] * r[1]).sqrt()
+        })
+        .sum::<f64>()
+        / samples.len().max(1) as f64;
+    OnlineParams {
+        com_offset: [0.0, 0.0],
+        h: 0.5 * mean_distance,
+    }
+}
+
+/// The training and validation samples.
+struct Split {
+    train: Vec<Sample>,
+    validation: Vec<Sample>,
+}
+
+impl Split {
+    fn new(trajectories: &[Vec<Sample>], config: &TrainConfig) -> Result<Self, TrainError> {
+        if config.batch_size == 0 {
+            return Err(TrainError::BadConfig("batch size must be at least 1".into()));
+        }
+        if !(config.learning_rate.is_finite() && config.learning_rate > 0.0) {
+            return Err(TrainError::BadConfig(format!(
+                "learning rate must be positive, got {}",
+                config.learning_rate
+            )));
+        }
+        if !(0.0..1.0).contains(&config.validation_fraction) {
+            return Err(TrainError::BadConfig(format!(
+                "validation fraction must be in [0, 1), got {}",
+                config.validation_fraction
+            )));
+        }
+        for s in trajectories.iter().flatten() {
+            let i = &s.input;
+            let t = &s.target;
+            let values = [
+                i.robot_in_object[0],
+                i.robot_in_object[1],
+                i.robot_motion_in_object[0],
+                i.robot_motion_in_object[1],
+                t.translation[0],
+                t.translation[1],
+                t.rotation,
+            ];
+            if !values.iter().all(|v| v.is_finite()) {
+                return Err(TrainError::NonFinite { frame: s.frame });
+            }
+        }
+        let non_empty: Vec<&Vec<Sample>> = trajectories.iter().filter(|t| !t.is_empty()).collect();
+        if non_empty.is_empty() {
+            return Err(TrainError::NoSamples {
+                horizon: config.horizon,
+            });
+        }
+        // Hold out whole trajectories, chosen by the seed; keep at least one for training.
+        let mut order: Vec<usize> = (0..non_empty.len()).collect();
+        SplitMix64::new(config.seed ^ 0x5EED_5B17).shuffle(&mut order);
+        let held_out = if config.validation_fraction > 0.0 && non_empty.len() >= 2 {
+            ((non_empty.len() as f64 * config.validation_fraction).ceil() as usize)
+                .clamp(1, non_empty.len() - 1)
+        } else {
+            0
+        };
+        let mut train = Vec::new();
+        let mut validation = Vec::new();
+        for (rank, &i) in order.iter().enumerate() {
+            let target = if rank < held_out {
+                &mut validation
+            } else {
+                &mut train
+            };
+            target.extend_from_slice(non_empty[i]);
+        }
+        Ok(Self { train, validation })
+    }
+}
+
+/// What the shared training loop needs from a model.
+trait Trainee {
+    type Real: Real;
+    fn network_mut(&mut self) -> &mut Mlp<Self::Real>;
+    fn snapshot(&self) -> (Mlp<Self::Real>, [Self::Real; 3]);
+    fn restore(&mut self, snapshot: (Mlp<Self::Real>, [Self::Real; 3]));
+    fn loss_scale(&self) -> LossScale;
+    /// Adds the weight gradient of one sample's loss to `grad`; returns the loss.
+    fn accumulate(
+        &mut self,
+        sample: &RealSample<Self::Real>,
+        weights: &[Self::Real; 3],
+        grad: &mut Mlp<Self::Real>,
+    ) -> Self::Real;
+    /// The loss of one sample.
+    fn loss(&mut self, sample: &RealSample<Self::Real>, weights: &[Self::Real; 3]) -> Self::Real;
+    /// Called after each batch with its size: updates any non-network parameters.
+    fn after_batch(&mut self, _batch: usize) {}
+}
+
+struct CombinedTrainee {
+    model: CombinedModel,
+    pass: Pass<f32>,
+    theta: [f32; 3],
+    theta_adam: Option<SmallAdam<3>>,
+    theta_grad: [f64; 3],
+}
+
+impl Trainee for CombinedTrainee {
+    type Real = f32;
+    fn network_mut(&mut self) -> &mut Mlp<f32> {
+        &mut self.model.network
+    }
+    fn snapshot(&self) -> (Mlp<f32>, [f32; 3]) {
+        (self.model.network.clone(), self.theta)
+    }
+    fn restore(&mut self, snapshot: (Mlp<f32>, [f32; 3])) {
+        (self.model.network, self.theta) = snapshot;
+    }
+    fn loss_scale(&self) -> LossScale {
+        self.model.loss_scale
+    }
+    #[inline]
+    fn accumulate(&mut self, s: &RealSample<f32>, w: &[f32; 3], grad: &mut Mlp<f32>) -> f32 {
+        self.model.forward(&s.input, &self.theta, &mut self.pass);
+        let (loss, d_centre, d_rotation) = CombinedModel::loss_gradient(&self.pass, &s.target, w);
+        let g = self
+            .model
+            .backward(&self.pass, &self.theta, d_centre, d_rotation, Some(grad));
+        if self.theta_adam.is_some() {
+            for (acc, gi) in self.theta_grad.iter_mut().zip(g) {
+                *acc += f64::from(gi);
+            }
+        }
+        loss
+    }
+    fn loss(&mut self, s: &RealSample<f32>, w: &[f32; 3]) -> f32 {
+        self.model.forward(&s.input, &self.theta, &mut self.pass);
+        CombinedModel::loss_gradient(&self.pass, &s.target, w).0
+    }
+    fn after_batch(&mut self, batch: usize) {
+        let Some(adam) = &mut self.theta_adam else {
+            return;
+        };
+        // Adam in units of the length scale, like online learning.
+        let length = self.model.length_scale();
+        let mut scaled = self.theta.map(|t| f64::from(t) / length);
+        let grad = self.theta_grad.map(|g| g * length / batch as f64);
+        adam.step(&mut scaled, &grad);
+        let clamped = OnlineParams::from_array(scaled.map(|t| t * length));
+        self.theta = theta_real(&clamped);
+        self.theta_grad = [0.0; 3];
+    }
+}
+
+struct PureNnTrainee {
+    model: PureNnModel,
+    activations: crate::model::mlp::Activations<f32>,
+}
+
+impl Trainee for PureNnTrainee {
+    type Real = f32;
+    fn network_mut(&mut self) -> &mut Mlp<f32> {
+        &mut self.model.network
+    }
+    fn snapshot(&self) -> (Mlp<f32>, [f32; 3]) {
+        (self.model.network.clone(), [0.0; 3])
+    }
+    fn restore(&mut self, snapshot: (Mlp<f32>, [f32; 3])) {
+        self.model.network = snapshot.0;
+    }
+    fn loss_scale(&self) -> LossScale {
+        self.model.loss_scale
+    }
+    #[inline]
+    fn accumulate(&mut self, s: &RealSample<f32>, w: &[f32; 3], grad: &mut Mlp<f32>) -> f32 {
+        self.model
+            .accumulate_gradient(s, w, &mut self.activations, grad)
+    }
+    fn loss(&mut self, s: &RealSample<f32>, w: &[f32; 3]) -> f32 {
+        let y = self.model.forward(&s.input, &mut self.activations);
+        (0..3).fold(0.0, |acc, i| acc + w[i] * (y[i] - s.target[i]).powi(2))
+    }
+}
+
+/// The training loop shared by both models.
+fn run<M: Trainee>(
+    trainee: &mut M,
+    split: &Split,
+    config: &TrainConfig,
+    rng: &mut SplitMix64,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> TrainingReport {
+    let train: Vec<RealSample<M::Real>> = split.train.iter().map(RealSample::of).collect();
+    let validation: Vec<RealSample<M::Real>> =
+        split.validation.iter().map(RealSample::of).collect();
+    let weights = loss_weights::<M::Real>(&trainee.loss_scale());
+    let mut adam = Adam::<M::Real>::new(config.learning_rate);
+    let mut grad = Mlp::<M::Real>::zeros();
+    let mut order: Vec<usize> = (0..train.len()).collect();
+    let mut history = Vec::new();
+    let mut best: Option<(f64, usize, f64)> = None; // (validation loss, epoch, train loss)
+    let mut best_snapshot = trainee.snapshot();
+    let (mut cancelled, mut stopped_early) = (false, false);
+    let mut last_train_loss = f64::NAN;
+
+    'epochs: for epoch in 1..=config.epochs {
+        rng.shuffle(&mut order);
+        let mut epoch_loss = 0.0f64;
+        for batch in order.chunks(config.batch_size) {
+            if cancel.load(Ordering::Relaxed) {
+                cancelled = true;
+                break 'epochs;
+            }
+            grad.fill_zero();
+            let mut batch_loss = <M::Real as num_traits::Zero>::zero();
+            for &i in batch {
+                batch_loss = batch_loss + trainee.accumulate(&train[i], &weights, &mut grad);
+            }
+            epoch_loss += batch_loss.as_f64();
+            let inv = M::Real::of(1.0 / batch.len() as f64);
+            for g in grad.parameters_mut() {
+                *g = *g * inv;
+            }
+            adam.step(trainee.network_mut(), &grad);
+            trainee.after_batch(batch.len());
+        }
+        last_train_loss = epoch_loss / train.len().max(1) as f64;
+        let validation_loss = (!validation.is_empty()).then(|| {
+            validation
+                .iter()
+                .map(|s| trainee.loss(s, &weights).as_f64())
+                .sum::<f64>()
+                / validation.len() as f64
+        });
+        history.push((last_train_loss, validation_loss));
+        let improved = match (validation_loss, best) {
+            (Some(v), Some((b, _, _))) => v < b,
+            (Some(_), None) => true,
+            (None, _) => true,
+        };
+        if improved {
+            best = Some((
+                validation_loss.unwrap_or(last_train_loss),
+                epoch,
+                last_train_loss,
+            ));
+            best_snapshot = trainee.snapshot();
+        }
+        progress(&TrainProgress {
+            epoch,
+            epochs: config.epochs,
+            train_loss: last_train_loss,
+            validation_loss,
+            best_validation_loss: validation_loss.and(best.map(|b| b.0)),
+        });
+        if let (Some(_), Some((_, best_epoch, _))) = (validation_loss, best)
+            && config.patience > 0
+            && epoch - best_epoch >= config.patience
+        {
+            stopped_early = true;
+            break;
+        }
+    }
+    trainee.restore(best_snapshot);
+    let (validation_loss, best_epoch, train_loss) = match best {
+        Some((v, e, t)) => ((!validation.is_empty()).then_some(v), e, t),
+        None => (None, 0, last_train_loss),
+    };
+    TrainingReport {
+        config: *config,
+        epochs_run: history.len(),
+        best_epoch,
+        train_loss,
+        validation_loss,
+        training_samples: train.len(),
+        validation_samples: validation.len(),
+        cancelled,
+        stopped_early,
+        history,
+    }
+}

@@ -1,0 +1,260 @@
+//! Online learning of `θ_online` (eq. 13, Algorithm 1): at each step, predict with `θ_online(t)` and
+//! record the loss; then observe the outcome and take a few gradient-descent steps on `θ_online` only,
+//! with the gradient taken through the whole model.
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::loss::{Loss, LossScale};
+use crate::model::{
+    CombinedModel, OnlineParams, PhysicsOnlyModel, Prediction, RealSample, Sample, SampleInput,
+};
+use crate::real::Real;
+
+/// How online learning updates `θ_online` after each observed step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OnlineConfig {
+    /// Gradient-descent steps per observed step (the paper: 5). Zero gives the "fixed" model.
+    pub steps: usize,
+    /// Learning rate on `θ_online / L`, where `L` is the model's length scale (the paper: 0.005).
+    pub lr: f64,
+}
+
+impl Default for OnlineConfig {
+    fn default() -> Self {
+        Self { steps: 5, lr: 0.005 }
+    }
+}
+
+impl OnlineConfig {
+    /// The "fixed" model of the paper's figures: predicts, never updates.
+    pub fn fixed() -> Self {
+        Self {
+            steps: 0,
+            lr: 0.0,
+        }
+    }
+}
+
+/// Everything one online step did, so that a UI can show it and rewind to it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OnlineStep {
+    /// `θ_online(t)`: the parameters the prediction was made with.
+    pub theta_before: OnlineParams,
+    /// The prediction made with `theta_before`, before the outcome was observed.
+    pub prediction: Prediction,
+    /// Its loss against the observed outcome.
+    pub loss: Loss,
+    /// `∂ℓ/∂(com_x, com_y, h)` at `theta_before`, per metre.
+    pub gradient: [f64; 3],
+    /// `θ_online(t+1)`: the parameters after learning from this step.
+    pub theta_after: OnlineParams,
+}
+
+/// A model whose `θ_online` can be learned online.
+pub trait OnlineModel {
+    /// Where online learning starts.
+    fn theta0(&self) -> OnlineParams;
+    /// The length `L` that scales `θ_online` for gradient descent (see [`CombinedModel::length_scale`]).
+    fn length_scale(&self) -> f64;
+    /// The σ that normalise the losses.
+    fn loss_scale(&self) -> LossScale;
+    /// Predicts with the given `θ_online`.
+    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction;
+    /// The prediction for a sample, its loss, and the gradient of the loss with respect to
+    /// `θ_online` (`[com_x, com_y, h]`, per metre).
+    fn loss_and_gradient(&self, sample: &Sample, theta: &OnlineParams)
+    -> (Prediction, Loss, [f64; 3]);
+
+    /// One online step: predict with `theta`, then `config.steps` gradient-descent steps on
+    /// `θ_online / L` with learning rate `config.lr`, keeping `h` in range.
+    fn update(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
+        let theta_before = theta.clamped();
+        let (prediction, loss, gradient) = self.loss_and_gradient(sample, &theta_before);
+        let length = self.length_scale();
+        let mut th = theta_before;
+        let mut g = gradient;
+        for k in 0..config.steps {
+            if k > 0 {
+                g = self.loss_and_gradient(sample, &th).2;
+            }
+            let a = th.to_array();
+            let next = OnlineParams::from_array([
+                a[0] - config.lr * length * length * g[0],
+                a[1] - config.lr * length * length * g[1],
+                a[2] - config.lr * length * length * g[2],
+            ]);
+            if !next.com_offset.iter().all(|x| x.is_finite()) {
+                break;
+            }
+            th = next;
+        }
+        OnlineStep {
+            theta_before,
+            prediction,
+            loss,
+            gradient,
+            theta_after: th,
+        }
+    }
+}
+
+impl<T: Real> OnlineModel for CombinedModel<T> {
+    fn theta0(&self) -> OnlineParams {
+        CombinedModel::theta0(self)
+    }
+
+    fn length_scale(&self) -> f64 {
+        CombinedModel::length_scale(self)
+    }
+
+    fn loss_scale(&self) -> LossScale {
+        CombinedModel::loss_scale(self)
+    }
+
+    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
+        CombinedModel::predict(self, input, theta)
+    }
+
+    fn loss_and_gradient(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+    ) -> (Prediction, Loss, [f64; 3]) {
+        let step = self.update(sample, theta, &OnlineConfig::fixed());
+        (step.prediction, step.loss, step.gradient)
+    }
+
+    /// The fast path: the whole update runs in the model's float type without allocating.
+    fn update(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
+        let real = RealSample::<T>::of(sample);
+        let theta_before = theta.clamped();
+        let (prediction, gradient, theta_after) =
+            self.online_update(&real, &theta_before, config.steps, config.lr);
+        OnlineStep {
+            theta_before,
+            prediction,
+            loss: Loss::of(&prediction.motion, &sample.target, &self.loss_scale),
+            gradient,
+            theta_after,
+        }
+    }
+}
+
+/// The physics-only model learns `θ_online` too; its length scale is half the object's size.
+impl OnlineModel for PhysicsOnlyModel {
+    fn theta0(&self) -> OnlineParams {
+        OnlineParams::for_outline(self.outline())
+    }
+
+    fn length_scale(&self) -> f64 {
+        self.outline().size() / 2.0
+    }
+
+    fn loss_scale(&self) -> LossScale {
+        PhysicsOnlyModel::loss_scale(self)
+    }
+
+    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
+        PhysicsOnlyModel::predict(self, input, theta)
+    }
+
+    fn loss_and_gradient(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+    ) -> (Prediction, Loss, [f64; 3]) {
+        PhysicsOnlyModel::loss_and_gradient(self, sample, theta)
+    }
+}
+
+macro_rules! forward_online_model {
+    ($($wrapper:ty),*) => {$(
+        impl<M: OnlineModel + ?Sized> OnlineModel for $wrapper {
+            fn theta0(&self) -> OnlineParams { (**self).theta0() }
+            fn length_scale(&self) -> f64 { (**self).length_scale() }
+            fn loss_scale(&self) -> LossScale { (**self).loss_scale() }
+            fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
+                (**self).predict(input, theta)
+            }
+            fn loss_and_gradient(&self, sample: &Sample, theta: &OnlineParams) -> (Prediction, Loss, [f64; 3]) {
+                (**self).loss_and_gradient(sample, theta)
+            }
+            fn update(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
+                (**self).update(sample, theta, config)
+            }
+        }
+    )*};
+}
+forward_online_model!(&M, Arc<M>, Box<M>);
+
+/// Learns `θ_online` along a stream of samples (Algorithm 1).
+///
+/// Holds only the current `θ_online`: a caller that wants to rewind keeps the returned
+/// [`OnlineStep`]s (each has `theta_before`) and calls [`OnlineLearner::set_theta`].
+#[derive(Clone, Debug)]
+pub struct OnlineLearner<M> {
+    model: M,
+    config: OnlineConfig,
+    theta: OnlineParams,
+}
+
+impl<M: OnlineModel> OnlineLearner<M> {
+    /// A learner starting at the model's `θ_online(0)`.
+    pub fn new(model: M, config: OnlineConfig) -> Self {
+        let theta = model.theta0();
+        Self {
+            model,
+            config,
+            theta,
+        }
+    }
+
+    /// The model it learns for.
+    pub fn model(&self) -> &M {
+        &self.model
+    }
+
+    /// The current `θ_online(t)`.
+    pub fn theta(&self) -> OnlineParams {
+        self.theta
+    }
+
+    /// Sets `θ_online` (a user's slider, a rewind to a checkpoint); `h` is clamped into range.
+    pub fn set_theta(&mut self, theta: OnlineParams) {
+        self.theta = theta.clamped();
+    }
+
+    /// Back to `θ_online(0)`, as at the start of each trajectory when resetting per trajectory.
+    pub fn reset(&mut self) {
+        self.theta = self.model.theta0();
+    }
+
+    /// The update rule.
+    pub fn config(&self) -> OnlineConfig {
+        self.config
+    }
+
+    /// Changes the update rule (steps, learning rate) from the next step on.
+    pub fn set_config(&mut self, config: OnlineConfig) {
+        self.config = config;
+    }
+
+    /// Predicts for `sample` with `θ_online(t)`, records the loss, then learns from its outcome.
+    pub fn step(&mut self, sample: &Sample) -> OnlineStep {
+        let step = self.model.update(sample, &self.theta, &self.config);
+        self.theta = step.theta_after;
+        step
+    }
+
+    /// Predicts and scores `sample` with `θ_online(t)` without learning (the "fixed" run).
+    pub fn evaluate(&self, sample: &Sample) -> OnlineStep {
+        self.model.update(sample, &self.theta, &OnlineConfig::fixed())
+    }
+
+    /// Runs [`OnlineLearner::step`] over a trajectory's samples.
+    pub fn run(&mut self, samples: &[Sample]) -> Vec<OnlineStep> {
+        samples.iter().map(|s| self.step(s)).collect()
+    }
+}

@@ -1,0 +1,450 @@
+//! The combined prediction model of the paper's Fig. 4: COM correction (eq. 14) → MLP φ → Lynch's
+//! physical model → motion correction (eq. 15).
+
+use serde::{Deserialize, Serialize};
+
+use super::mlp::{Activations, Mlp};
+use super::normalization::InputNormalization;
+use super::params::OnlineParams;
+use super::physics::{ComMotion, centre_motion, centre_motion_backward, lynch, lynch_backward};
+use super::{ObjectMotion, Prediction, SampleInput};
+use crate::learn::LossScale;
+use crate::real::Real;
+
+/// The combined model: the offline part (the network and its normalisation) and the starting point of
+/// the online part, `θ_online(0)`.
+///
+/// `θ_online` itself is not stored here: it is an argument of every prediction, so that one trained
+/// model can serve many online learners (the app's "fixed" and "online" runs, one per trajectory).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(bound = "")]
+pub struct CombinedModel<T: Real = f32> {
+    /// The network φ: normalised (COM-relative pusher position, pusher motion) → normalised (contact
+    /// point relative to the COM, contact motion).
+    pub(crate) network: Mlp<T>,
+    pub(crate) normalization: InputNormalization,
+    pub(crate) theta0: OnlineParams,
+    pub(crate) loss_scale: LossScale,
+    pub(crate) horizon: usize,
+}
+
+/// Everything one forward pass computes that its backward pass needs.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Pass<T> {
+    activations: Activations<T>,
+    /// Contact point relative to the COM, object frame.
+    contact: [T; 2],
+    contact_motion: [T; 2],
+    com: ComMotion<T>,
+    /// Predicted motion of the geometric centre.
+    centre: [T; 2],
+}
+
+/// A sample converted once to the model's float type: `[p_x, p_y, u_x, u_y]` and
+/// `[Δp_x, Δp_y, Δω]`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RealSample<T> {
+    pub input: [T; 4],
+    pub target: [T; 3],
+}
+
+impl<T: Real> RealSample<T> {
+    pub fn of(sample: &super::Sample) -> Self {
+        let i = &sample.input;
+        let t = &sample.target;
+        Self {
+            input: [
+                T::of(i.robot_in_object[0]),
+                T::of(i.robot_in_object[1]),
+                T::of(i.robot_motion_in_object[0]),
+                T::of(i.robot_motion_in_object[1]),
+            ],
+            target: [
+                T::of(t.translation[0]),
+                T::of(t.translation[1]),
+                T::of(t.rotation),
+            ],
+        }
+    }
+}
+
+/// The inverse squared σ of each output, the weights of the loss.
+pub(crate) fn loss_weights<T: Real>(scale: &LossScale) -> [T; 3] {
+    [
+        T::of(1.0 / (scale.sigma_pos[0] * scale.sigma_pos[0])),
+        T::of(1.0 / (scale.sigma_pos[1] * scale.sigma_pos[1])),
+        T::of(1.0 / (scale.sigma_rot * scale.sigma_rot)),
+    ]
+}
+
+impl<T: Real> CombinedModel<T> {
+    /// A model from its parts (used by training and model files).
+    pub(crate) fn from_parts(
+        network: Mlp<T>,
+        normalization: InputNormalization,
+        theta0: OnlineParams,
+        loss_scale: LossScale,
+        horizon: usize,
+    ) -> Self {
+        Self {
+            network,
+            normalization,
+            theta0: theta0.clamped(),
+            loss_scale,
+            horizon,
+        }
+    }
+
+    /// `θ_online(0)`: where online learning starts.
+    pub fn theta0(&self) -> OnlineParams {
+        self.theta0
+    }
+
+    /// The prediction horizon in frames the model was trained for.
+    pub fn horizon(&self) -> usize {
+        self.horizon
+    }
+
+    /// The σ of the offline data that normalise the losses.
+    pub fn loss_scale(&self) -> LossScale {
+        self.loss_scale
+    }
+
+    /// The normalisation of the network's inputs.
+    pub fn normalization(&self) -> &InputNormalization {
+        &self.normalization
+    }
+
+    /// The length by which online learning divides `θ_online` before taking gradient steps: the RMS
+    /// standard deviation of the pusher position in the offline data. The paper's learning rate (0.005)
+    /// was meant for normalised units; in metres a step on `h` would be a hundred times too small.
+    pub fn length_scale(&self) -> f64 {
+        self.normalization.position.scale()
+    }
+
+    /// The same model in another float type (`f64` for gradient checks).
+    pub fn cast<U: Real>(&self) -> CombinedModel<U> {
+        CombinedModel {
+            network: self.network.cast(),
+            normalization: self.normalization,
+            theta0: self.theta0,
+            loss_scale: self.loss_scale,
+            horizon: self.horizon,
+        }
+    }
+
+    /// Predicts the object's motion for one input with the given `θ_online`.
+    pub fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
+        let sample = RealSample::<T>::of(&super::Sample {
+            input: *input,
+            target: ObjectMotion::default(),
+            frame: 0,
+        });
+        let theta = theta_real(theta);
+        let mut pass = Pass::default();
+        self.forward(&sample.input, &theta, &mut pass);
+        pass.prediction(&theta)
+    }
+
+    /// The forward pass in the model's float type. `theta` is `[com_x, com_y, h]`.
+    #[inline]
+    pub(crate) fn forward(&self, input: &[T; 4], theta: &[T; 3], pass: &mut Pass<T>) {
+        let n = &self.normalization;
+        let (pm, ps, mm, ms) = (n.position.mean, n.position.std, n.motion.mean, n.motion.std);
+        // Eq. 14: the pusher relative to the COM rather than to the centre.
+        let p = [input[0] - theta[0], input[1] - theta[1]];
+        let x = [
+            (p[0] - T::of(pm[0])) / T::of(ps[0]),
+            (p[1] - T::of(pm[1])) / T::of(ps[1]),
+            (input[2] - T::of(mm[0])) / T::of(ms[0]),
+            (input[3] - T::of(mm[1])) / T::of(ms[1]),
+        ];
+        let z = self.network.forward(&x, &mut pass.activations);
+        pass.contact = [
+            z[0] * T::of(ps[0]) + T::of(pm[0]),
+            z[1] * T::of(ps[1]) + T::of(pm[1]),
+        ];
+        pass.contact_motion = [
+            z[2] * T::of(ms[0]) + T::of(mm[0]),
+            z[3] * T::of(ms[1]) + T::of(mm[1]),
+        ];
+        pass.com = lynch(pass.contact, pass.contact_motion, theta[2]);
+        pass.centre = centre_motion(&pass.com, [theta[0], theta[1]]);
+    }
+
+    /// The backward pass: from the gradient of a scalar with respect to the predicted centre motion and
+    /// rotation, the gradient with respect to `θ_online` (`[com_x, com_y, h]`), and, when `network_grad`
+    /// is given, the gradient with respect to the network's weights added to it.
+    #[inline]
+    pub(crate) fn backward(
+        &self,
+        pass: &Pass<T>,
+        theta: &[T; 3],
+        d_centre: [T; 2],
+        d_rotation: T,
+        network_grad: Option<&mut Mlp<T>>,
+    ) -> [T; 3] {
+        let n = &self.normalization;
+        let offset = [theta[0], theta[1]];
+        let (d_com, mut d_offset) = centre_motion_backward(&pass.com, offset, d_centre, d_rotation);
+        let d_lynch = lynch_backward(pass.contact, pass.contact_motion, theta[2], &d_com);
+        let d_z = [
+            d_lynch.contact[0] * T::of(n.position.std[0]),
+            d_lynch.contact[1] * T::of(n.position.std[1]),
+            d_lynch.contact_motion[0] * T::of(n.motion.std[0]),
+            d_lynch.contact_motion[1] * T::of(n.motion.std[1]),
+        ];
+        let d_x = match network_grad {
+            Some(grad) => self.network.backward(&pass.activations, &d_z, grad),
+            None => self.network.input_gradient(&pass.activations, &d_z),
+        };
+        // p = input − offset, x = (p − mean) / std.
+        d_offset[0] = d_offset[0] - d_x[0] / T::of(n.position.std[0]);
+        d_offset[1] = d_offset[1] - d_x[1] / T::of(n.position.std[1]);
+        [d_offset[0], d_offset[1], d_lynch.h]
+    }
+
+    /// Loss (eq. 8) of one sample and its gradient with respect to the predicted outputs.
+    #[inline]
+    pub(crate) fn loss_gradient(
+        pass: &Pass<T>,
+        target: &[T; 3],
+        weights: &[T; 3],
+    ) -> (T, [T; 2], T) {
+        let e = [
+            pass.centre[0] - target[0],
+            pass.centre[1] - target[1],
+            pass.com.rotation - target[2],
+        ];
+        let two = T::one() + T::one();
+        let loss = weights[0] * e[0] * e[0] + weights[1] * e[1] * e[1] + weights[2] * e[2] * e[2];
+        (
+            loss,
+            [two * weights[0] * e[0], two * weights[1] * e[1]],
+            two * weights[2] * e[2],
+        )
+    }
+
+    /// One online update (Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps): predicts
+    /// with `theta`, then descends the loss of this sample in `θ_online` scaled by
+    /// [`CombinedModel::length_scale`]. Returns the prediction and gradient at `theta` and the updated
+    /// parameters. Runs entirely in the model's float type and allocates nothing.
+    pub(crate) fn online_update(
+        &self,
+        sample: &RealSample<T>,
+        theta: &OnlineParams,
+        steps: usize,
+        lr: f64,
+    ) -> (Prediction, [f64; 3], OnlineParams) {
+        let weights = loss_weights::<T>(&self.loss_scale);
+        let length = self.length_scale();
+        let step = T::of(lr * length * length);
+        let (h_min, h_max) = (T::of(super::params::H_MIN), T::of(super::params::H_MAX));
+        let mut th = theta_real(theta);
+        let mut pass = Pass::default();
+        self.forward(&sample.input, &th, &mut pass);
+        let prediction = pass.prediction(&th);
+        let mut first_gradient = [0.0; 3];
+        for k in 0..steps {
+            if k > 0 {
+                self.forward(&sample.input, &th, &mut pass);
+            }
+            let (_, d_centre, d_rotation) = Self::loss_gradient(&pass, &sample.target, &weights);
+            let g = self.backward(&pass, &th, d_centre, d_rotation, None);
+            if k == 0 {
+                first_gradient = g.map(|x| x.as_f64());
+            }
+            // Gradient descent on θ / L: θ ← θ − lr · L² · ∂ℓ/∂θ.
+            for (t, gi) in th.iter_mut().zip(g) {
+                *t = *t - step * gi;
+            }
+            th[2] = th[2].max(h_min).min(h_max);
+            if !th.iter().all(|t| t.is_finite()) {
+                // A degenerate sample (e.g. a NaN in the data) must not poison the learner.
+                th = theta_real(theta);
+                break;
+            }
+        }
+        if steps == 0 {
+            let (_, d_centre, d_rotation) = Self::loss_gradient(&pass, &sample.target, &weights);
+            first_gradient = self
+                .backward(&pass, &th, d_centre, d_rotation, None)
+                .map(|x| x.as_f64());
+        }
+        let after = OnlineParams {
+            com_offset: [th[0].as_f64(), th[1].as_f64()],
+            h: th[2].as_f64(),
+        }
+        .clamped();
+        (prediction, first_gradient, after)
+    }
+}
+
+/// `θ_online` as `[com_x, com_y, h]` in the model's float type.
+pub(crate) fn theta_real<T: Real>(theta: &OnlineParams) -> [T; 3] {
+    let t = theta.clamped();
+    [T::of(t.com_offset[0]), T::of(t.com_offset[1]), T::of(t.h)]
+}
+
+impl<T: Real> Pass<T> {
+    /// The public prediction of this pass.
+    fn prediction(&self, theta: &[T; 3]) -> Prediction {
+        let f = |x: T| x.as_f64();
+        Prediction {
+            motion: ObjectMotion {
+                translation: [f(self.centre[0]), f(self.centre[1])],
+                rotation: f(self.com.rotation),
+            },
+            contact: Some([
+                f(self.contact[0] + theta[0]),
+                f(self.contact[1] + theta[1]),
+            ]),
+            contact_motion: Some([f(self.contact_motion[0]), f(self.contact_motion[1])]),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Sample;
+    use crate::model::normalization::Stats2;
+    use crate::rng::SplitMix64;
+
+    /// A random model in f64 with plausible normalisation for a 0.3 m box pushed by a 0.05 m disc.
+    fn model_f64(seed: u64) -> CombinedModel<f64> {
+        let mut rng = SplitMix64::new(seed);
+        CombinedModel::from_parts(
+            Mlp::<f64>::random(&mut rng, 0.5),
+            InputNormalization {
+                position: Stats2 {
+                    mean: [-0.2, 0.01],
+                    std: [0.03, 0.06],
+                },
+                motion: Stats2 {
+                    mean: [0.01, 0.0],
+                    std: [0.004, 0.003],
+                },
+            },
+            OnlineParams {
+                com_offset: [0.01, -0.02],
+                h: 0.08,
+            },
+            LossScale {
+                sigma_pos: [0.004, 0.002],
+                sigma_rot: 0.02,
+            },
+            1,
+        )
+    }
+
+    fn sample() -> Sample {
+        Sample {
+            input: SampleInput {
+                robot_in_object: [-0.21, 0.04],
+                robot_motion_in_object: [0.012, -0.002],
+            },
+            target: ObjectMotion {
+                translation: [0.009, 0.001],
+                rotation: -0.03,
+            },
+            frame: 0,
+        }
+    }
+
+    /// The loss ℓ of the sample as a function of the network's parameters and θ.
+    fn loss_of(model: &CombinedModel<f64>, theta: &[f64; 3]) -> f64 {
+        let s = RealSample::<f64>::of(&sample());
+        let mut pass = Pass::default();
+        model.forward(&s.input, theta, &mut pass);
+        CombinedModel::loss_gradient(&pass, &s.target, &loss_weights(&model.loss_scale)).0
+    }
+
+    fn relative_error(a: f64, b: f64) -> f64 {
+        (a - b).abs() / a.abs().max(b.abs()).max(1e-12)
+    }
+
+    #[test]
+    fn gradients_of_weights_and_theta_match_central_differences() {
+        for seed in [1, 2, 3] {
+            let model = model_f64(seed);
+            let theta = [0.012, -0.018, 0.07];
+            let s = RealSample::<f64>::of(&sample());
+            let mut pass = Pass::default();
+            model.forward(&s.input, &theta, &mut pass);
+            let (_, d_centre, d_rotation) =
+                CombinedModel::loss_gradient(&pass, &s.target, &loss_weights(&model.loss_scale));
+            let mut grad = Mlp::zeros();
+            let g_theta = model.backward(&pass, &theta, d_centre, d_rotation, Some(&mut grad));
+
+            // θ_online, with a step relative to its size.
+            for k in 0..3 {
+                let eps = 1e-7;
+                let mut plus = theta;
+                plus[k] += eps;
+                let mut minus = theta;
+                minus[k] -= eps;
+                let numeric = (loss_of(&model, &plus) - loss_of(&model, &minus)) / (2.0 * eps);
+                assert!(
+                    relative_error(g_theta[k], numeric) <= 1e-5,
+                    "seed {seed} θ[{k}]: analytic {} numeric {numeric}",
+                    g_theta[k]
+                );
+            }
+
+            // Every weight and bias of the network.
+            let base = model.network.to_vec();
+            let analytic = grad.to_vec();
+            let mut checked = 0;
+            for k in 0..base.len() {
+                let eps = 1e-6;
+                let mut m = model.clone();
+                let mut p = base.clone();
+                p[k] += eps;
+                m.network = Mlp::from_slice(&p).expect("finite");
+                let lp = loss_of(&m, &theta);
+                p[k] -= 2.0 * eps;
+                m.network = Mlp::from_slice(&p).expect("finite");
+                let lm = loss_of(&m, &theta);
+                let numeric = (lp - lm) / (2.0 * eps);
+                if numeric.abs() < 1e-9 && analytic[k].abs() < 1e-9 {
+                    continue; // a dead unit: no gradient either way
+                }
+                assert!(
+                    relative_error(analytic[k], numeric) <= 1e-5,
+                    "seed {seed} weight {k}: analytic {} numeric {numeric}",
+                    analytic[k]
+                );
+                checked += 1;
+            }
+            assert!(checked > 100, "seed {seed}: only {checked} weights checked");
+        }
+    }
+
+    #[test]
+    fn online_update_descends_the_loss_and_keeps_h_in_range() {
+        let model = model_f64(4);
+        let s = sample();
+        let theta = model.theta0();
+        let real = RealSample::<f64>::of(&s);
+        let (_, g, after) = model.online_update(&real, &theta, 5, 0.005);
+        let before_loss = loss_of(&model, &theta_real(&theta));
+        let after_loss = loss_of(&model, &theta_real(&after));
+        assert!(after_loss < before_loss, "{after_loss} !< {before_loss}");
+        assert!(g.iter().any(|x| *x != 0.0));
+        // A huge learning rate can push h anywhere; it must stay in range.
+        let (_, _, wild) = model.online_update(&real, &theta, 5, 1e6);
+        assert!((crate::model::H_MIN..=crate::model::H_MAX).contains(&wild.h));
+    }
+
+    #[test]
+    fn f32_and_f64_models_agree() {
+        let model = model_f64(5);
+        let single: CombinedModel<f32> = model.cast();
+        let theta = model.theta0();
+        let a = model.predict(&sample().input, &theta);
+        let b = single.predict(&sample().input, &theta);
+        assert!((a.motion.translation[0] - b.motion.translation[0]).abs() < 1e-6);
+        assert!((a.motion.rotation - b.motion.rotation).abs() < 1e-5);
+    }
+}

@@ -1,0 +1,37 @@
+//! The prediction models: the paper's combined model and the two baselines, and what they share.
+//!
+//! - [`CombinedModel`]: COM correction → MLP → Lynch → motion correction (the paper's model).
+//! - [`PureNnModel`]: the MLP alone (the paper's "Offline NN").
+//! - [`PhysicsOnlyModel`]: geometry and Lynch, no network.
+
+mod combined;
+pub(crate) mod mlp;
+pub mod normalization;
+mod params;
+mod physics;
+mod physics_only;
+mod pure_nn;
+mod sample;
+
+pub use combined::CombinedModel;
+pub(crate) use combined::{Pass, RealSample, loss_weights, theta_real};
+pub use mlp::{HIDDEN, INPUTS, Mlp, OUTPUTS, PARAMETER_COUNT};
+pub use params::{H_MAX, H_MIN, OnlineParams};
+pub use physics::{ComMotion, LynchGradient, centre_motion, lynch, lynch_backward};
+pub use physics_only::PhysicsOnlyModel;
+pub use pure_nn::{OutputNormalization, PureNnModel};
+pub use sample::{ObjectMotion, Sample, SampleInput, samples_from_trajectory};
+
+use serde::{Deserialize, Serialize};
+
+/// What a model predicts for one sample, with the intermediate quantities a user may want to see.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Prediction {
+    /// The predicted motion of the object's geometric centre and its rotation.
+    pub motion: ObjectMotion,
+    /// The contact point `c`, object frame, relative to the geometric centre (the model computes it
+    /// relative to the estimated COM; it is shifted back for drawing). `None` for models without one.
+    pub contact: Option<[f64; 2]>,
+    /// The contact motion `u_c`, object frame. `None` for models without one.
+    pub contact_motion: Option<[f64; 2]>,
+}

@@ -1,0 +1,61 @@
+//! `θ_online`: the physical parameters learned online.
+
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::Outline;
+
+/// Smallest `h` the model accepts, metres. Lynch's equations divide by `h²`; below a millimetre the
+/// predicted rotation of any real object would be absurd.
+pub const H_MIN: f64 = 1e-3;
+/// Largest `h` the model accepts, metres: far beyond any tabletop or floor object's size.
+pub const H_MAX: f64 = 2.0;
+
+/// `θ_online = (COM offset, h)` in physical units.
+///
+/// The COM offset is `COM − geometric centre` in the object frame (the paper's `v` is its negative).
+/// `h` is Lynch's limit-surface parameter (ratio of the maximal friction torque to the maximal friction
+/// force), kept in [`H_MIN`, `H_MAX`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OnlineParams {
+    /// COM − geometric centre, object frame, metres.
+    pub com_offset: [f64; 2],
+    /// Lynch's `h`, metres.
+    pub h: f64,
+}
+
+impl OnlineParams {
+    /// Parameters with `h` clamped into [`H_MIN`, `H_MAX`] (and a non-finite `h` replaced by `H_MIN`).
+    pub fn clamped(self) -> Self {
+        let h = if self.h.is_finite() {
+            self.h.clamp(H_MIN, H_MAX)
+        } else {
+            H_MIN
+        };
+        Self { h, ..self }
+    }
+
+    /// A physically motivated starting point for an object whose outline is known: the COM at the
+    /// geometric centre and `h` of a uniform pressure over the footprint.
+    pub fn for_outline(outline: &Outline) -> Self {
+        let centroid = outline.centroid();
+        Self {
+            com_offset: [0.0, 0.0],
+            h: outline.uniform_pressure_h(centroid, 200),
+        }
+        .clamped()
+    }
+
+    /// As an array `[com_x, com_y, h]`, the order of gradients.
+    pub fn to_array(self) -> [f64; 3] {
+        [self.com_offset[0], self.com_offset[1], self.h]
+    }
+
+    /// From an array `[com_x, com_y, h]`, clamped.
+    pub fn from_array(a: [f64; 3]) -> Self {
+        Self {
+            com_offset: [a[0], a[1]],
+            h: a[2],
+        }
+        .clamped()
+    }
+}
