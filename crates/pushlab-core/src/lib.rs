@@ -17,4 +17,5 @@
 pub mod geometry;
 pub mod labels;
 pub mod recording;
+pub mod sim;
 pub mod trajectory;

@@ -1,0 +1,47 @@
+//! A quasi-static pusher–slider simulator: the source of truth with a known COM offset and `h`.
+//!
+//! Model (Lynch & Mason): a convex object slides on a floor with Coulomb friction; its limit surface is
+//! the ellipsoid centred at the COM whose torque axis is scaled by `h` = max friction torque / max
+//! friction force, computed from a pressure distribution over the footprint ([`pressure`]). A disc
+//! pusher follows its commanded path exactly (position control). While it presses on the object, the
+//! contact point sticks when the push lies inside the motion cone and slides along the edge on the
+//! cone's boundary otherwise ([`contact`]); the object never moves without contact and the pusher never
+//! penetrates ([`world`]). Inertia is ignored: the object stops the instant the pusher stops pressing.
+//!
+//! The pieces, from small to large: [`contact::pusher_slider_step`] (one step of the physics),
+//! [`world::PushWorld`] (contact detection and integration in substeps), [`record::simulate_push`]
+//! (sampling at a fixed rate with tracking noise), [`spec::generate_set`] (a whole recording set with
+//! its `setting.json`).
+
+pub mod contact;
+pub mod noise;
+pub mod path;
+pub mod pressure;
+pub mod record;
+pub mod spec;
+pub mod world;
+
+pub use contact::{ContactMode, ObjectStep, lynch_sticking, motion_cone, pusher_slider_step};
+pub use noise::SplitMix64;
+pub use path::{PlanError, PushPlan, PusherPath};
+pub use pressure::{PressureDistribution, PressureError, PressureModel, lynch_h};
+pub use record::{Sampling, SamplingError, SimulatedPush, TrackingNoise, simulate_push};
+pub use spec::{GeneratedSet, NoiseSpec, PushSpec, SampleSpec, SetSpec, SpecError, generate_set};
+pub use world::{PushWorld, SimObject, WorldError};
+
+use crate::geometry::OutlineError;
+
+/// Why a simulation could not run, naming the parameter at fault.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    #[error("object outline: {0}")]
+    Outline(#[from] OutlineError),
+    #[error("pressure distribution: {0}")]
+    Pressure(#[from] PressureError),
+    #[error("push {index}: {source}")]
+    Push { index: usize, source: PlanError },
+    #[error("{0}")]
+    World(#[from] WorldError),
+    #[error("sampling: {0}")]
+    Sampling(#[from] SamplingError),
+}

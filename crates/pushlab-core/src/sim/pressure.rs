@@ -1,0 +1,345 @@
+//! How the object's weight rests on the floor, and the `h` of Lynch's limit surface that follows.
+//!
+//! With Coulomb friction at the floor, the largest friction force is `μ∫p dA` and the largest friction
+//! torque about the COM is `μ∫p|r − com| dA`; their ratio is Lynch's `c`, the `h` of the paper. The
+//! ellipsoid limit surface uses only that ratio, so a pressure distribution matters here only through
+//! its pressure-weighted mean distance from the COM.
+//!
+//! A real object's pressure centre sits under its COM (otherwise it would tip). When the COM is moved
+//! off the centre (the paper puts a heavy object into a box), the simulator therefore reweights the
+//! material's base distribution by `exp(g·r)` with the `g` that puts its centroid on the COM: the
+//! smallest change, in the relative-entropy sense, that keeps every pressure positive.
+
+use nalgebra::{Matrix2, Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::Outline;
+
+/// Grid resolution (cells along the longer side of the bounding box) for area pressures.
+pub const DEFAULT_RESOLUTION: usize = 200;
+
+/// The shape of a material's base pressure distribution over the footprint.
+///
+/// `ρ` below is the footprint's gauge about its centroid: 0 at the centroid, 1 on the outline, and
+/// level sets that are scaled copies of the outline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PressureModel {
+    /// Equal pressure everywhere: a stiff flat bottom on a flat floor.
+    Uniform,
+    /// Pressure `∝ ρ⁴`, concentrated near the outline: a bottom that bows up (a cardboard box).
+    Rim,
+    /// Pressure `∝ (1 − ρ)²`, concentrated in the middle: a bottom that bulges down.
+    #[serde(alias = "center")]
+    Centre,
+    /// Equal weight on one foot per vertex, each 85 % of the way from the centroid to its vertex.
+    Feet,
+}
+
+impl PressureModel {
+    /// Every model, for help texts and tests.
+    pub const ALL: [PressureModel; 4] = [
+        PressureModel::Uniform,
+        PressureModel::Rim,
+        PressureModel::Centre,
+        PressureModel::Feet,
+    ];
+
+    /// The lowercase name used in files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            PressureModel::Uniform => "uniform",
+            PressureModel::Rim => "rim",
+            PressureModel::Centre => "centre",
+            PressureModel::Feet => "feet",
+        }
+    }
+
+    /// The model with this name (`center` is accepted for `centre`).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "uniform" => Some(PressureModel::Uniform),
+            "rim" => Some(PressureModel::Rim),
+            "centre" | "center" => Some(PressureModel::Centre),
+            "feet" => Some(PressureModel::Feet),
+            _ => None,
+        }
+    }
+}
+
+/// Why no pressure distribution balances the object.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PressureError {
+    #[error(
+        "the COM ({x:.4}, {y:.4}) m is not strictly inside the support of the {model} pressure; \
+         move it toward the centre"
+    )]
+    ComOutsideSupport { x: f64, y: f64, model: &'static str },
+    #[error("the pressure grid has no cell inside the outline; increase the resolution")]
+    Empty,
+}
+
+/// A pressure distribution as weighted points of the footprint, object frame; weights sum to 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PressureDistribution {
+    points: Vec<Point2<f64>>,
+    weights: Vec<f64>,
+}
+
+impl PressureDistribution {
+    /// The base distribution of `model` over `outline`. Area models are sampled at the centres of a
+    /// grid with `resolution` cells along the bounding box's longer side.
+    pub fn new(
+        outline: &Outline,
+        model: PressureModel,
+        resolution: usize,
+    ) -> Result<Self, PressureError> {
+        let centroid = outline.centroid();
+        if model == PressureModel::Feet {
+            let points: Vec<_> = outline
+                .vertices()
+                .iter()
+                .map(|v| centroid + (v - centroid) * 0.85)
+                .collect();
+            let weights = vec![1.0 / points.len() as f64; points.len()];
+            return Ok(Self { points, weights });
+        }
+        let (min, max) = outline.bounding_box();
+        let cell = (max.x - min.x).max(max.y - min.y) / resolution.max(1) as f64;
+        let (nx, ny) = (
+            ((max.x - min.x) / cell).ceil() as usize,
+            ((max.y - min.y) / cell).ceil() as usize,
+        );
+        let (mut points, mut weights) = (Vec::new(), Vec::new());
+        for i in 0..nx {
+            for j in 0..ny {
+                let p = Point2::new(
+                    min.x + (i as f64 + 0.5) * cell,
+                    min.y + (j as f64 + 0.5) * cell,
+                );
+                if !outline.contains(p) {
+                    continue;
+                }
+                let rho = gauge(outline, centroid, p);
+                let w = match model {
+                    PressureModel::Uniform | PressureModel::Feet => 1.0,
+                    PressureModel::Rim => rho.powi(4),
+                    PressureModel::Centre => (1.0 - rho).max(0.0).powi(2),
+                };
+                points.push(p);
+                weights.push(w);
+            }
+        }
+        let total: f64 = weights.iter().sum();
+        if points.is_empty() || total <= 0.0 {
+            return Err(PressureError::Empty);
+        }
+        weights.iter_mut().for_each(|w| *w /= total);
+        Ok(Self { points, weights })
+    }
+
+    /// The pressure centre (weighted centroid), object frame.
+    pub fn centroid(&self) -> Point2<f64> {
+        let mut c = Vector2::zeros();
+        for (p, w) in self.points.iter().zip(&self.weights) {
+            c += p.coords * *w;
+        }
+        Point2::from(c)
+    }
+
+    /// The pressure-weighted mean distance from `com`: Lynch's `h` (max friction torque about `com`
+    /// over max friction force), metres.
+    pub fn h_about(&self, com: Point2<f64>) -> f64 {
+        self.points
+            .iter()
+            .zip(&self.weights)
+            .map(|(p, w)| w * (p - com).norm())
+            .sum()
+    }
+
+    /// The distribution reweighted by `exp(g·r)` so that its pressure centre lies on `com`.
+    ///
+    /// `g` minimises the convex `log Σ wᵢ exp(g·(rᵢ − com))` (Newton's method with backtracking); a
+    /// minimum exists exactly when `com` is strictly inside the convex hull of the points.
+    pub fn balanced_at(
+        &self,
+        com: Point2<f64>,
+        model: PressureModel,
+    ) -> Result<Self, PressureError> {
+        let outside = || PressureError::ComOutsideSupport {
+            x: com.x,
+            y: com.y,
+            model: model.name(),
+        };
+        let offsets: Vec<Vector2<f64>> = self.points.iter().map(|p| p - com).collect();
+        let scale = offsets.iter().map(|d| d.norm()).fold(0.0, f64::max);
+        if scale <= 0.0 {
+            return Err(outside());
+        }
+        let objective = |g: Vector2<f64>| log_sum_exp(&self.weights, &offsets, g);
+        let mut g = Vector2::zeros();
+        for _ in 0..100 {
+            let tilted = tilted_weights(&self.weights, &offsets, g);
+            let mut mean = Vector2::zeros();
+            for (d, w) in offsets.iter().zip(&tilted) {
+                mean += d * *w;
+            }
+            let balanced = Self {
+                points: self.points.clone(),
+                weights: tilted,
+            };
+            // A pressure centre within 1e-9 of the object's size of the COM: far below any other
+            // error, and about where rounding in the sums stops Newton's method.
+            if mean.norm() <= 1e-9 * scale {
+                return Ok(balanced);
+            }
+            let mut covariance = Matrix2::zeros();
+            for (d, w) in offsets.iter().zip(&balanced.weights) {
+                let e = d - mean;
+                covariance += e * e.transpose() * *w;
+            }
+            let Some(inverse) = covariance.try_inverse() else {
+                return Err(outside());
+            };
+            let direction = -(inverse * mean);
+            let (f0, slope) = (objective(g), mean.dot(&direction));
+            let mut step = 1.0;
+            while objective(g + direction * step) > f0 + 1e-4 * step * slope {
+                step *= 0.5;
+                if step < 1e-12 {
+                    // No more progress: rounding, if the pressure centre is already that close.
+                    return if mean.norm() <= 1e-6 * scale {
+                        Ok(balanced)
+                    } else {
+                        Err(outside())
+                    };
+                }
+            }
+            g += direction * step;
+            if !(g.x.is_finite() && g.y.is_finite()) || g.norm() * scale > 700.0 {
+                return Err(outside());
+            }
+        }
+        Err(outside())
+    }
+}
+
+/// Lynch's `h` of an object whose weight rests on the floor by `model`, balanced over its COM at
+/// `com_offset` (COM − geometric centre, object frame; the object frame's origin is taken as the
+/// geometric centre).
+pub fn lynch_h(
+    outline: &Outline,
+    model: PressureModel,
+    com_offset: Vector2<f64>,
+    resolution: usize,
+) -> Result<f64, PressureError> {
+    let com = Point2::from(com_offset);
+    let base = PressureDistribution::new(outline, model, resolution)?;
+    Ok(base.balanced_at(com, model)?.h_about(com))
+}
+
+/// The gauge of a convex outline about an interior point: the smallest `s` with `p` inside the
+/// outline scaled by `s` about `centre`.
+fn gauge(outline: &Outline, centre: Point2<f64>, p: Point2<f64>) -> f64 {
+    outline
+        .edges()
+        .map(|(a, b)| {
+            let e = b - a;
+            let outward = Vector2::new(e.y, -e.x);
+            (p - centre).dot(&outward) / (a - centre).dot(&outward)
+        })
+        .fold(0.0, f64::max)
+}
+
+fn log_sum_exp(weights: &[f64], offsets: &[Vector2<f64>], g: Vector2<f64>) -> f64 {
+    let max = offsets.iter().map(|d| g.dot(d)).fold(f64::MIN, f64::max);
+    let sum: f64 = weights
+        .iter()
+        .zip(offsets)
+        .map(|(w, d)| w * (g.dot(d) - max).exp())
+        .sum();
+    max + sum.ln()
+}
+
+fn tilted_weights(weights: &[f64], offsets: &[Vector2<f64>], g: Vector2<f64>) -> Vec<f64> {
+    let max = offsets.iter().map(|d| g.dot(d)).fold(f64::MIN, f64::max);
+    let mut tilted: Vec<f64> = weights
+        .iter()
+        .zip(offsets)
+        .map(|(w, d)| w * (g.dot(d) - max).exp())
+        .collect();
+    let total: f64 = tilted.iter().sum();
+    tilted.iter_mut().for_each(|w| *w /= total);
+    tilted
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_disc_has_h_of_two_thirds_of_its_radius() {
+        // Closed form: (1/(πR²))∫∫ r dA = 2R/3.
+        let disc = Outline::ellipse(Point2::origin(), 0.1, 0.1, 256).unwrap();
+        let h = lynch_h(&disc, PressureModel::Uniform, Vector2::zeros(), 400).unwrap();
+        assert!((h - 0.2 / 3.0).abs() < 2e-4, "h = {h}");
+    }
+
+    #[test]
+    fn uniform_square_matches_the_closed_form() {
+        // Mean distance from the centre of a square of side s: s(√2 + ln(1 + √2))/6.
+        let s = 0.3;
+        let square = Outline::rectangle(s, s).unwrap();
+        let h = lynch_h(&square, PressureModel::Uniform, Vector2::zeros(), 400).unwrap();
+        let exact = s * (2f64.sqrt() + (1.0 + 2f64.sqrt()).ln()) / 6.0;
+        assert!((h - exact).abs() < 1e-5, "h = {h}, exact {exact}");
+    }
+
+    #[test]
+    fn feet_at_the_corners_give_their_distance() {
+        let s = 0.4;
+        let square = Outline::rectangle(s, s).unwrap();
+        let h = lynch_h(&square, PressureModel::Feet, Vector2::zeros(), 10).unwrap();
+        assert!((h - 0.85 * s / 2f64.sqrt()).abs() < 1e-12, "h = {h}");
+    }
+
+    #[test]
+    fn materials_order_h_from_rim_to_centre() {
+        let b = Outline::rectangle(0.3, 0.4).unwrap();
+        let h = |m| lynch_h(&b, m, Vector2::zeros(), 200).unwrap();
+        let (rim, uniform, centre) = (
+            h(PressureModel::Rim),
+            h(PressureModel::Uniform),
+            h(PressureModel::Centre),
+        );
+        assert!(
+            rim > uniform + 0.01 && uniform > centre + 0.01,
+            "{rim} {uniform} {centre}"
+        );
+    }
+
+    #[test]
+    fn balancing_puts_the_pressure_centre_on_the_com() {
+        let b = Outline::rectangle(0.3, 0.4).unwrap();
+        for model in PressureModel::ALL {
+            let base = PressureDistribution::new(&b, model, 100).unwrap();
+            let com = Point2::new(0.05, -0.06);
+            let balanced = base.balanced_at(com, model).unwrap();
+            assert!((balanced.centroid() - com).norm() < 1e-9, "{model:?}");
+            assert!(
+                balanced
+                    .weights
+                    .iter()
+                    .all(|w| *w > 0.0 || model != PressureModel::Uniform)
+            );
+        }
+    }
+
+    #[test]
+    fn a_com_outside_the_feet_is_refused() {
+        let b = Outline::rectangle(0.3, 0.4).unwrap();
+        let err = lynch_h(&b, PressureModel::Feet, Vector2::new(0.14, 0.0), 10).unwrap_err();
+        assert!(err.to_string().contains("not strictly inside"), "{err}");
+    }
+}
