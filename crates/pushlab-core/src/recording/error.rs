@@ -91,6 +91,12 @@ pub enum CsvProblem {
     NotANumber { column: &'static str, text: String },
     #[error("{column} is '{text}', expected a finite number")]
     NotFinite { column: &'static str, text: String },
+    #[error("{column} is '{text}', expected a magnitude of at most {limit:e}")]
+    OutOfRange {
+        column: &'static str,
+        text: String,
+        limit: f64,
+    },
     #[error(
         "time {time} is not after the previous row's {previous}, expected strictly increasing time"
     )]
@@ -124,6 +130,14 @@ pub enum MitProblem {
         row: usize,
         column: usize,
         value: f64,
+    },
+    #[error("`{key}` row {row} column {column} is {value}, expected {expected}")]
+    OutOfRange {
+        key: &'static str,
+        row: usize,
+        column: usize,
+        value: f64,
+        expected: &'static str,
     },
     #[error("`{key}` has only {rows} usable rows, expected at least {min}")]
     TooFewRows {

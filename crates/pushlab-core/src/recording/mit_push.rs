@@ -43,6 +43,8 @@ pub const MIN_DURATION_S: f64 = 0.1;
 /// Longest accepted push, seconds: a push lasts seconds; more means broken timestamps (and would
 /// make the resampled grid enormous).
 pub const MAX_DURATION_S: f64 = 600.0;
+/// Largest position magnitude accepted, metres from the robot base.
+pub const MAX_POSITION_M: f64 = 100.0;
 /// Radius of the dataset's steel pusher, metres.
 pub const PUSHER_RADIUS: f64 = 0.00475;
 /// Pusher–object friction coefficient reported by the dataset's authors.
@@ -252,6 +254,7 @@ fn align(
             }
         }
     }
+    check_ranges(streams)?;
     let mut warnings = Vec::new();
     let (n_tip, n_obj, n_ft) = (
         streams.tip_pose.len(),
@@ -320,6 +323,42 @@ fn align(
         })
         .collect();
     Ok((Trajectory::new(frames), start, warnings))
+}
+
+/// Refuses values no real file holds: positions beyond [`MAX_POSITION_M`] of the robot base and
+/// object yaw outside the dataset's (−π, π] (with slack). Such values are corruption, and would
+/// break angle unwrapping and interpolation later.
+fn check_ranges(streams: &Streams) -> Result<(), MitProblem> {
+    for (key, rows) in [
+        (KEYS[0], &streams.tip_pose),
+        (KEYS[1], &streams.object_pose),
+    ] {
+        for (row, values) in rows.iter().enumerate() {
+            for column in 1..3 {
+                if values[column].abs() > MAX_POSITION_M {
+                    return Err(MitProblem::OutOfRange {
+                        key,
+                        row,
+                        column,
+                        value: values[column],
+                        expected: "a position within 100 m of the robot base",
+                    });
+                }
+            }
+        }
+    }
+    for (row, values) in streams.object_pose.iter().enumerate() {
+        if values[3].abs() > 2.0 * std::f64::consts::PI {
+            return Err(MitProblem::OutOfRange {
+                key: KEYS[1],
+                row,
+                column: 3,
+                value: values[3],
+                expected: "a yaw in (−π, π] radians",
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Keeps the rows whose timestamp increases, reporting backwards and repeated stamps and long gaps.

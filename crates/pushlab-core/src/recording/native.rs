@@ -31,6 +31,11 @@ const COLUMNS: [&str; 6] = [
     "object_theta",
 ];
 
+/// Largest magnitude accepted per column: Unix times in seconds, metres, unwrapped radians. Larger
+/// values are corrupt data, and would overflow or lose all precision in later arithmetic
+/// (differences, angle unwrapping).
+const LIMITS: [f64; 6] = [1e12, 1e6, 1e6, 1e6, 1e6, 1e6];
+
 /// Longest piece of offending text quoted in an error; fuzzed junk must not make megabyte messages.
 const MAX_QUOTED: usize = 40;
 
@@ -80,7 +85,8 @@ pub fn parse_csv(bytes: &[u8], path: &Path) -> Result<ParsedCsv, LoadError> {
         let mut count = 0;
         for field in line.split(|&b| b == b',') {
             if count < 6 {
-                values[count] = parse_field(field, COLUMNS[count]).map_err(|p| err(line_no, p))?;
+                values[count] = parse_field(field, COLUMNS[count], LIMITS[count])
+                    .map_err(|p| err(line_no, p))?;
             }
             count += 1;
         }
@@ -133,11 +139,16 @@ fn strip_cr(line: &[u8]) -> &[u8] {
     line.strip_suffix(b"\r").unwrap_or(line)
 }
 
-fn parse_field(field: &[u8], column: &'static str) -> Result<f64, CsvProblem> {
+fn parse_field(field: &[u8], column: &'static str, limit: f64) -> Result<f64, CsvProblem> {
     let text = std::str::from_utf8(field).map_err(|_| CsvProblem::NotUtf8)?;
     let trimmed = text.trim();
     match trimmed.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) if v.is_finite() && v.abs() <= limit => Ok(v),
+        Ok(v) if v.is_finite() => Err(CsvProblem::OutOfRange {
+            column,
+            text: quote(trimmed),
+            limit,
+        }),
         Ok(_) => Err(CsvProblem::NotFinite {
             column,
             text: quote(trimmed),
