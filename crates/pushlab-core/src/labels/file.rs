@@ -362,6 +362,73 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn custom_schema_round_trips() {
+        use super::super::schema::{LabelDef, LabelKind, Rgb};
+        let mut set = LabelSet::default();
+        set.schema.labels = vec![
+            LabelDef {
+                hotkey: Some("F2".into()),
+                group: Some("wheel".into()),
+                ..LabelDef::range("rolling", Rgb::new(1, 2, 3))
+            },
+            LabelDef {
+                group: Some("wheel".into()),
+                skip_in_training: true,
+                ..LabelDef::range("skidding", Rgb::new(0xff, 0, 0x80))
+            },
+            LabelDef::event("bump", Rgb::new(0, 0, 0)),
+        ];
+        set.recordings.insert(
+            "r.json".into(),
+            RecordingLabels {
+                segments: vec![
+                    Segment::new("rolling", 0..5),
+                    Segment::new("skidding", 5..9),
+                ],
+                events: vec![Event {
+                    label: "bump".into(),
+                    frame: 5,
+                }],
+                ..Default::default()
+            },
+        );
+        let text = to_json(&set);
+        assert!(text.contains("\"colour\": \"#ff0080\""), "{text}");
+        let back = parse(&text, Path::new("l.json")).unwrap();
+        assert_eq!(back, set);
+        assert_eq!(back.schema.get("bump").unwrap().kind, LabelKind::Event);
+        assert!(back.schema.excludes("rolling", "skidding"));
+        // The default schema's labels are unknown to this file.
+        let err = parse(
+            &text.replace("\"label\": \"rolling\"", "\"label\": \"sticking\""),
+            Path::new("l.json"),
+        )
+        .unwrap_err();
+        assert!(
+            err.to_string().contains("unknown label \"sticking\""),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn opening_a_broken_file_reports_it() {
+        let dir = temp_folder("broken");
+        let path = path_in(&dir);
+        fs::write(
+            &path,
+            "{\"format\": \"pushlab-labels\", \"version\": 1, \"recordings\": {\n",
+        )
+        .unwrap();
+        let err = super::super::LabelDocument::open(&path)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with(&format!("{}:2:0: EOF while parsing", path.display())),
+            "{err}"
+        );
+    }
+
+    #[test]
     fn file_round_trips_through_disk() {
         let dir = temp_folder("disk");
         let path = path_in(&dir);
