@@ -16,6 +16,12 @@
 
 pub mod geometry;
 pub mod labels;
+pub mod learn;
+pub mod model;
+pub mod model_file;
+mod real;
+pub mod rng;
+mod simd;
 pub mod recording;
 pub mod sim;
 pub mod trajectory;

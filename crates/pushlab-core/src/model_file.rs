@@ -85,7 +85,9 @@ pub enum ModelFileError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{path}: not a pushlab model file (the \"format\" field is {found}, expected \"{FORMAT}\")")]
+    #[error(
+        "{path}: not a pushlab model file (the \"format\" field is {found}, expected \"{FORMAT}\")"
+    )]
     NotAModel { path: PathBuf, found: String },
     #[error(
         "{path}: model file version {found}, but this pushlab reads version {VERSION}; retrain the model or use a matching pushlab"

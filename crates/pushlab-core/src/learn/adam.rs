@@ -28,6 +28,7 @@ impl<T: Real> Adam<T> {
     }
 
     /// One update of `params` along the (mean) gradient `grad`.
+    #[inline(always)]
     pub fn step(&mut self, params: &mut Mlp<T>, grad: &Mlp<T>) {
         self.steps += 1;
         let (b1, b2) = (T::of(BETA1), T::of(BETA2));
@@ -93,7 +94,10 @@ mod tests {
             let g = [2.0 * (x[0] - 1.0), 2.0 * (x[1] + 0.5)];
             adam.step(&mut x, &g);
         }
-        assert!((x[0] - 1.0).abs() < 1e-3 && (x[1] + 0.5).abs() < 1e-3, "{x:?}");
+        assert!(
+            (x[0] - 1.0).abs() < 1e-3 && (x[1] + 0.5).abs() < 1e-3,
+            "{x:?}"
+        );
     }
 
     #[test]

@@ -10,8 +10,8 @@ use super::adam::{Adam, SmallAdam};
 use super::loss::LossScale;
 use crate::model::normalization::{InputNormalization, Stats1, Stats2};
 use crate::model::{
-    CombinedModel, Mlp, OnlineParams, OutputNormalization, Pass, PureNnModel, RealSample, Sample,
-    loss_weights, theta_real,
+    CombinedModel, Mlp, Network, OnlineParams, OutputNormalization, Pass, PureNnModel, RealSample,
+    Sample, loss_weights, theta_real,
 };
 use crate::real::Real;
 use crate::rng::SplitMix64;
@@ -137,14 +137,9 @@ pub fn train_combined(
     };
     let loss_scale = LossScale::from_samples(&split.train);
     let mut rng = SplitMix64::new(config.seed);
-    let network = Mlp::<f32>::random(&mut rng, 0.1);
-    let model = CombinedModel::from_parts(
-        network,
-        normalization,
-        theta0,
-        loss_scale,
-        config.horizon,
-    );
+    let network = Network::new(Mlp::<f32>::random(&mut rng, 0.1));
+    let model =
+        CombinedModel::from_parts(network, normalization, theta0, loss_scale, config.horizon);
     let mut trainee = CombinedTrainee {
         model,
         pass: Pass::default(),
@@ -183,7 +178,7 @@ pub fn train_pure_nn(
     let loss_scale = LossScale::from_samples(&split.train);
     let mut rng = SplitMix64::new(config.seed);
     let model = PureNnModel {
-        network: Mlp::<f32>::random(&mut rng, 0.1),
+        network: Network::new(Mlp::<f32>::random(&mut rng, 0.1)),
         input,
         output,
         loss_scale,
@@ -225,7 +220,9 @@ struct Split {
 impl Split {
     fn new(trajectories: &[Vec<Sample>], config: &TrainConfig) -> Result<Self, TrainError> {
         if config.batch_size == 0 {
-            return Err(TrainError::BadConfig("batch size must be at least 1".into()));
+            return Err(TrainError::BadConfig(
+                "batch size must be at least 1".into(),
+            ));
         }
         if !(config.learning_rate.is_finite() && config.learning_rate > 0.0) {
             return Err(TrainError::BadConfig(format!(
@@ -287,9 +284,9 @@ impl Split {
 /// What the shared training loop needs from a model.
 trait Trainee {
     type Real: Real;
-    fn network_mut(&mut self) -> &mut Mlp<Self::Real>;
-    fn snapshot(&self) -> (Mlp<Self::Real>, [Self::Real; 3]);
-    fn restore(&mut self, snapshot: (Mlp<Self::Real>, [Self::Real; 3]));
+    fn network_mut(&mut self) -> &mut Network<Self::Real>;
+    fn snapshot(&self) -> (Network<Self::Real>, [Self::Real; 3]);
+    fn restore(&mut self, snapshot: (Network<Self::Real>, [Self::Real; 3]));
     fn loss_scale(&self) -> LossScale;
     /// Adds the weight gradient of one sample's loss to `grad`; returns the loss.
     fn accumulate(
@@ -314,19 +311,19 @@ struct CombinedTrainee {
 
 impl Trainee for CombinedTrainee {
     type Real = f32;
-    fn network_mut(&mut self) -> &mut Mlp<f32> {
+    fn network_mut(&mut self) -> &mut Network<f32> {
         &mut self.model.network
     }
-    fn snapshot(&self) -> (Mlp<f32>, [f32; 3]) {
+    fn snapshot(&self) -> (Network<f32>, [f32; 3]) {
         (self.model.network.clone(), self.theta)
     }
-    fn restore(&mut self, snapshot: (Mlp<f32>, [f32; 3])) {
+    fn restore(&mut self, snapshot: (Network<f32>, [f32; 3])) {
         (self.model.network, self.theta) = snapshot;
     }
     fn loss_scale(&self) -> LossScale {
         self.model.loss_scale
     }
-    #[inline]
+    #[inline(always)]
     fn accumulate(&mut self, s: &RealSample<f32>, w: &[f32; 3], grad: &mut Mlp<f32>) -> f32 {
         self.model.forward(&s.input, &self.theta, &mut self.pass);
         let (loss, d_centre, d_rotation) = CombinedModel::loss_gradient(&self.pass, &s.target, w);
@@ -366,19 +363,19 @@ struct PureNnTrainee {
 
 impl Trainee for PureNnTrainee {
     type Real = f32;
-    fn network_mut(&mut self) -> &mut Mlp<f32> {
+    fn network_mut(&mut self) -> &mut Network<f32> {
         &mut self.model.network
     }
-    fn snapshot(&self) -> (Mlp<f32>, [f32; 3]) {
+    fn snapshot(&self) -> (Network<f32>, [f32; 3]) {
         (self.model.network.clone(), [0.0; 3])
     }
-    fn restore(&mut self, snapshot: (Mlp<f32>, [f32; 3])) {
+    fn restore(&mut self, snapshot: (Network<f32>, [f32; 3])) {
         self.model.network = snapshot.0;
     }
     fn loss_scale(&self) -> LossScale {
         self.model.loss_scale
     }
-    #[inline]
+    #[inline(always)]
     fn accumulate(&mut self, s: &RealSample<f32>, w: &[f32; 3], grad: &mut Mlp<f32>) -> f32 {
         self.model
             .accumulate_gradient(s, w, &mut self.activations, grad)
@@ -411,27 +408,22 @@ fn run<M: Trainee>(
     let (mut cancelled, mut stopped_early) = (false, false);
     let mut last_train_loss = f64::NAN;
 
-    'epochs: for epoch in 1..=config.epochs {
+    for epoch in 1..=config.epochs {
         rng.shuffle(&mut order);
-        let mut epoch_loss = 0.0f64;
-        for batch in order.chunks(config.batch_size) {
-            if cancel.load(Ordering::Relaxed) {
-                cancelled = true;
-                break 'epochs;
-            }
-            grad.fill_zero();
-            let mut batch_loss = <M::Real as num_traits::Zero>::zero();
-            for &i in batch {
-                batch_loss = batch_loss + trainee.accumulate(&train[i], &weights, &mut grad);
-            }
-            epoch_loss += batch_loss.as_f64();
-            let inv = M::Real::of(1.0 / batch.len() as f64);
-            for g in grad.parameters_mut() {
-                *g = *g * inv;
-            }
-            adam.step(trainee.network_mut(), &grad);
-            trainee.after_batch(batch.len());
-        }
+        let mut one_epoch = Epoch {
+            trainee: &mut *trainee,
+            train: &train,
+            order: &order,
+            weights: &weights,
+            adam: &mut adam,
+            grad: &mut grad,
+            batch_size: config.batch_size,
+            cancel,
+        };
+        let Some(epoch_loss) = one_epoch.run() else {
+            cancelled = true;
+            break;
+        };
         last_train_loss = epoch_loss / train.len().max(1) as f64;
         let validation_loss = (!validation.is_empty()).then(|| {
             validation
@@ -485,5 +477,65 @@ fn run<M: Trainee>(
         cancelled,
         stopped_early,
         history,
+    }
+}
+
+/// One pass over the training samples in a given order: the hot loop of training.
+struct Epoch<'a, M: Trainee> {
+    trainee: &'a mut M,
+    train: &'a [RealSample<M::Real>],
+    order: &'a [usize],
+    weights: &'a [M::Real; 3],
+    adam: &'a mut Adam<M::Real>,
+    grad: &'a mut Mlp<M::Real>,
+    batch_size: usize,
+    cancel: &'a AtomicBool,
+}
+
+impl<M: Trainee> Epoch<'_, M> {
+    /// Runs the epoch in the widest SIMD available; the summed loss, or `None` when cancelled.
+    fn run(&mut self) -> Option<f64> {
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::avx2_available() {
+            #[allow(unsafe_code)]
+            // SAFETY: `run_avx2` only requires AVX2, and the CPU was just checked to have it.
+            return unsafe { self.run_avx2() };
+        }
+        self.run_portable()
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn run_avx2(&mut self) -> Option<f64> {
+        self.run_portable()
+    }
+
+    #[inline(always)]
+    fn run_portable(&mut self) -> Option<f64> {
+        let mut epoch_loss = 0.0f64;
+        for batch in self.order.chunks(self.batch_size) {
+            if self.cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            self.grad.fill_zero();
+            let mut batch_loss = <M::Real as num_traits::Zero>::zero();
+            for &i in batch {
+                batch_loss = batch_loss
+                    + self
+                        .trainee
+                        .accumulate(&self.train[i], self.weights, self.grad);
+            }
+            epoch_loss += batch_loss.as_f64();
+            let inv = M::Real::of(1.0 / batch.len() as f64);
+            for g in self.grad.parameters_mut() {
+                *g = *g * inv;
+            }
+            let (adam, grad) = (&mut *self.adam, &*self.grad);
+            self.trainee
+                .network_mut()
+                .update(|params| adam.step(params, grad));
+            self.trainee.after_batch(batch.len());
+        }
+        Some(epoch_loss)
     }
 }

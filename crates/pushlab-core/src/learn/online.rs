@@ -23,17 +23,17 @@ pub struct OnlineConfig {
 
 impl Default for OnlineConfig {
     fn default() -> Self {
-        Self { steps: 5, lr: 0.005 }
+        Self {
+            steps: 5,
+            lr: 0.005,
+        }
     }
 }
 
 impl OnlineConfig {
     /// The "fixed" model of the paper's figures: predicts, never updates.
     pub fn fixed() -> Self {
-        Self {
-            steps: 0,
-            lr: 0.0,
-        }
+        Self { steps: 0, lr: 0.0 }
     }
 }
 
@@ -64,8 +64,11 @@ pub trait OnlineModel {
     fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction;
     /// The prediction for a sample, its loss, and the gradient of the loss with respect to
     /// `θ_online` (`[com_x, com_y, h]`, per metre).
-    fn loss_and_gradient(&self, sample: &Sample, theta: &OnlineParams)
-    -> (Prediction, Loss, [f64; 3]);
+    fn loss_and_gradient(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+    ) -> (Prediction, Loss, [f64; 3]);
 
     /// One online step: predict with `theta`, then `config.steps` gradient-descent steps on
     /// `θ_online / L` with learning rate `config.lr`, keeping `h` in range.
@@ -250,7 +253,8 @@ impl<M: OnlineModel> OnlineLearner<M> {
 
     /// Predicts and scores `sample` with `θ_online(t)` without learning (the "fixed" run).
     pub fn evaluate(&self, sample: &Sample) -> OnlineStep {
-        self.model.update(sample, &self.theta, &OnlineConfig::fixed())
+        self.model
+            .update(sample, &self.theta, &OnlineConfig::fixed())
     }
 
     /// Runs [`OnlineLearner::step`] over a trajectory's samples.

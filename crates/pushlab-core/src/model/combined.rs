@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::mlp::{Activations, Mlp};
+use super::mlp::{Activations, Mlp, Network};
 use super::normalization::InputNormalization;
 use super::params::OnlineParams;
 use super::physics::{ComMotion, centre_motion, centre_motion_backward, lynch, lynch_backward};
@@ -21,7 +21,7 @@ use crate::real::Real;
 pub struct CombinedModel<T: Real = f32> {
     /// The network φ: normalised (COM-relative pusher position, pusher motion) → normalised (contact
     /// point relative to the COM, contact motion).
-    pub(crate) network: Mlp<T>,
+    pub(crate) network: Network<T>,
     pub(crate) normalization: InputNormalization,
     pub(crate) theta0: OnlineParams,
     pub(crate) loss_scale: LossScale,
@@ -80,7 +80,7 @@ pub(crate) fn loss_weights<T: Real>(scale: &LossScale) -> [T; 3] {
 impl<T: Real> CombinedModel<T> {
     /// A model from its parts (used by training and model files).
     pub(crate) fn from_parts(
-        network: Mlp<T>,
+        network: Network<T>,
         normalization: InputNormalization,
         theta0: OnlineParams,
         loss_scale: LossScale,
@@ -140,14 +140,24 @@ impl<T: Real> CombinedModel<T> {
             target: ObjectMotion::default(),
             frame: 0,
         });
-        let theta = theta_real(theta);
+        self.predict_real(&sample.input, &theta_real(theta))
+    }
+
+    crate::simd::dispatch_simd! {
+        /// The forward pass to a [`Prediction`], in the widest SIMD available.
+        fn predict_real(&self, input: &[T; 4], theta: &[T; 3]) -> Prediction
+            => predict_portable, predict_avx2
+    }
+
+    #[inline(always)]
+    fn predict_portable(&self, input: &[T; 4], theta: &[T; 3]) -> Prediction {
         let mut pass = Pass::default();
-        self.forward(&sample.input, &theta, &mut pass);
-        pass.prediction(&theta)
+        self.forward(input, theta, &mut pass);
+        pass.prediction(theta)
     }
 
     /// The forward pass in the model's float type. `theta` is `[com_x, com_y, h]`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn forward(&self, input: &[T; 4], theta: &[T; 3], pass: &mut Pass<T>) {
         let n = &self.normalization;
         let (pm, ps, mm, ms) = (n.position.mean, n.position.std, n.motion.mean, n.motion.std);
@@ -175,7 +185,7 @@ impl<T: Real> CombinedModel<T> {
     /// The backward pass: from the gradient of a scalar with respect to the predicted centre motion and
     /// rotation, the gradient with respect to `θ_online` (`[com_x, com_y, h]`), and, when `network_grad`
     /// is given, the gradient with respect to the network's weights added to it.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn backward(
         &self,
         pass: &Pass<T>,
@@ -205,7 +215,7 @@ impl<T: Real> CombinedModel<T> {
     }
 
     /// Loss (eq. 8) of one sample and its gradient with respect to the predicted outputs.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn loss_gradient(
         pass: &Pass<T>,
         target: &[T; 3],
@@ -230,6 +240,23 @@ impl<T: Real> CombinedModel<T> {
     /// [`CombinedModel::length_scale`]. Returns the prediction and gradient at `theta` and the updated
     /// parameters. Runs entirely in the model's float type and allocates nothing.
     pub(crate) fn online_update(
+        &self,
+        sample: &RealSample<T>,
+        theta: &OnlineParams,
+        steps: usize,
+        lr: f64,
+    ) -> (Prediction, [f64; 3], OnlineParams) {
+        self.online_update_dispatch(sample, theta, steps, lr)
+    }
+
+    crate::simd::dispatch_simd! {
+        fn online_update_dispatch(&self, sample: &RealSample<T>, theta: &OnlineParams, steps: usize, lr: f64)
+            -> (Prediction, [f64; 3], OnlineParams)
+            => online_update_portable, online_update_avx2
+    }
+
+    #[inline(always)]
+    fn online_update_portable(
         &self,
         sample: &RealSample<T>,
         theta: &OnlineParams,
@@ -288,6 +315,7 @@ pub(crate) fn theta_real<T: Real>(theta: &OnlineParams) -> [T; 3] {
 
 impl<T: Real> Pass<T> {
     /// The public prediction of this pass.
+    #[inline(always)]
     fn prediction(&self, theta: &[T; 3]) -> Prediction {
         let f = |x: T| x.as_f64();
         Prediction {
@@ -295,10 +323,7 @@ impl<T: Real> Pass<T> {
                 translation: [f(self.centre[0]), f(self.centre[1])],
                 rotation: f(self.com.rotation),
             },
-            contact: Some([
-                f(self.contact[0] + theta[0]),
-                f(self.contact[1] + theta[1]),
-            ]),
+            contact: Some([f(self.contact[0] + theta[0]), f(self.contact[1] + theta[1])]),
             contact_motion: Some([f(self.contact_motion[0]), f(self.contact_motion[1])]),
         }
     }
@@ -315,7 +340,7 @@ mod tests {
     fn model_f64(seed: u64) -> CombinedModel<f64> {
         let mut rng = SplitMix64::new(seed);
         CombinedModel::from_parts(
-            Mlp::<f64>::random(&mut rng, 0.5),
+            Network::new(Mlp::<f64>::random(&mut rng, 0.5)),
             InputNormalization {
                 position: Stats2 {
                     mean: [-0.2, 0.01],
@@ -393,7 +418,7 @@ mod tests {
             }
 
             // Every weight and bias of the network.
-            let base = model.network.to_vec();
+            let base = model.network.parameters().to_vec();
             let analytic = grad.to_vec();
             let mut checked = 0;
             for k in 0..base.len() {
@@ -401,10 +426,10 @@ mod tests {
                 let mut m = model.clone();
                 let mut p = base.clone();
                 p[k] += eps;
-                m.network = Mlp::from_slice(&p).expect("finite");
+                m.network = Network::new(Mlp::from_slice(&p).expect("finite"));
                 let lp = loss_of(&m, &theta);
                 p[k] -= 2.0 * eps;
-                m.network = Mlp::from_slice(&p).expect("finite");
+                m.network = Network::new(Mlp::from_slice(&p).expect("finite"));
                 let lm = loss_of(&m, &theta);
                 let numeric = (lp - lm) / (2.0 * eps);
                 if numeric.abs() < 1e-9 && analytic[k].abs() < 1e-9 {

@@ -15,7 +15,7 @@ mod sample;
 
 pub use combined::CombinedModel;
 pub(crate) use combined::{Pass, RealSample, loss_weights, theta_real};
-pub use mlp::{HIDDEN, INPUTS, Mlp, OUTPUTS, PARAMETER_COUNT};
+pub use mlp::{HIDDEN, INPUTS, Mlp, Network, OUTPUTS, PARAMETER_COUNT};
 pub use params::{H_MAX, H_MIN, OnlineParams};
 pub use physics::{ComMotion, LynchGradient, centre_motion, lynch, lynch_backward};
 pub use physics_only::PhysicsOnlyModel;

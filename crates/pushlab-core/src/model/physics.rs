@@ -217,7 +217,8 @@ mod tests {
             let mut m = p;
             p[k] += eps;
             m[k] -= eps;
-            (f([p[0], p[1]], [p[2], p[3]], p[4]) - f([m[0], m[1]], [m[2], m[3]], m[4])) / (2.0 * eps)
+            (f([p[0], p[1]], [p[2], p[3]], p[4]) - f([m[0], m[1]], [m[2], m[3]], m[4]))
+                / (2.0 * eps)
         };
         let analytic = [
             g.contact[0],
@@ -228,7 +229,10 @@ mod tests {
         ];
         for (k, a) in analytic.iter().enumerate() {
             let n = num(k);
-            assert!((a - n).abs() / a.abs().max(n.abs()) <= 1e-5, "input {k}: {a} vs {n}");
+            assert!(
+                (a - n).abs() / a.abs().max(n.abs()) <= 1e-5,
+                "input {k}: {a} vs {n}"
+            );
         }
     }
 
@@ -265,7 +269,13 @@ mod tests {
         };
         let (g_com, g_o) = centre_motion_backward(&com, o, [wx, wy], wr);
         let eps = 1e-7;
-        let x0 = [com.translation[0], com.translation[1], com.rotation, o[0], o[1]];
+        let x0 = [
+            com.translation[0],
+            com.translation[1],
+            com.rotation,
+            o[0],
+            o[1],
+        ];
         let analytic = [
             g_com.translation[0],
             g_com.translation[1],
@@ -281,7 +291,10 @@ mod tests {
             let n = (f([p[0], p[1]], p[2], [p[3], p[4]]) - f([m[0], m[1]], m[2], [m[3], m[4]]))
                 / (2.0 * eps);
             let a = analytic[k];
-            assert!((a - n).abs() / a.abs().max(n.abs()) <= 1e-6, "input {k}: {a} vs {n}");
+            assert!(
+                (a - n).abs() / a.abs().max(n.abs()) <= 1e-6,
+                "input {k}: {a} vs {n}"
+            );
         }
     }
 }

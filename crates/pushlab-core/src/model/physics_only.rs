@@ -53,9 +53,11 @@ impl PhysicsOnlyModel {
 
     /// The contact, if the disc touches the outline and moves into it.
     fn contact(&self, input: &SampleInput) -> Option<Contact> {
-        let boundary =
-            self.outline
-                .disc_contact(input.robot_point(), self.pusher_radius, self.contact_tolerance)?;
+        let boundary = self.outline.disc_contact(
+            input.robot_point(),
+            self.pusher_radius,
+            self.contact_tolerance,
+        )?;
         let u = input.robot_motion_in_object;
         let inward = -(boundary.normal.x * u[0] + boundary.normal.y * u[1]);
         (inward > 0.0).then_some(Contact {
@@ -84,7 +86,8 @@ impl PhysicsOnlyModel {
                 contact: None,
                 contact_motion: None,
             };
-            let loss = target.map(|t| (Loss::of(&prediction.motion, t, &self.loss_scale), [0.0; 3]));
+            let loss =
+                target.map(|t| (Loss::of(&prediction.motion, t, &self.loss_scale), [0.0; 3]));
             return (prediction, loss);
         };
         let c = [contact.point[0] - o[0], contact.point[1] - o[1]];
@@ -118,8 +121,13 @@ impl PhysicsOnlyModel {
     }
 
     /// The loss of one sample and its gradient with respect to `θ_online`.
-    pub fn loss_and_gradient(&self, sample: &Sample, theta: &OnlineParams) -> (Prediction, Loss, [f64; 3]) {
-        let (prediction, lg) = self.predict_with_gradient(&sample.input, theta, Some(&sample.target));
+    pub fn loss_and_gradient(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+    ) -> (Prediction, Loss, [f64; 3]) {
+        let (prediction, lg) =
+            self.predict_with_gradient(&sample.input, theta, Some(&sample.target));
         let (loss, gradient) = lg.unwrap_or_default();
         (prediction, loss, gradient)
     }

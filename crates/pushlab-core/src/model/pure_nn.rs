@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::combined::RealSample;
-use super::mlp::{Activations, Mlp};
+use super::mlp::{Activations, Mlp, Network};
 use super::normalization::{InputNormalization, Stats1, Stats2};
 use super::{ObjectMotion, Prediction, SampleInput};
 use crate::learn::LossScale;
@@ -22,7 +22,7 @@ pub struct OutputNormalization {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(bound = "")]
 pub struct PureNnModel<T: Real = f32> {
-    pub(crate) network: Mlp<T>,
+    pub(crate) network: Network<T>,
     pub(crate) input: InputNormalization,
     pub(crate) output: OutputNormalization,
     pub(crate) loss_scale: LossScale,
@@ -61,7 +61,7 @@ impl<T: Real> PureNnModel<T> {
 
     /// The forward pass: `[Δp_x, Δp_y, Δω]` in metres and radians. The network's fourth output is
     /// unused (the paper's network has four outputs; the pure model needs three).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn forward(&self, input: &[T; 4], act: &mut Activations<T>) -> [T; 3] {
         let n = &self.input;
         let x = [
@@ -80,7 +80,7 @@ impl<T: Real> PureNnModel<T> {
     }
 
     /// Adds the weight gradient of `loss = Σ w_i (y_i − target_i)²` to `grad`; returns the loss.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn accumulate_gradient(
         &self,
         sample: &RealSample<T>,
