@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod simulate;
+
 /// Predict and learn how a pushed object moves.
 ///
 /// Without a subcommand, opens the desktop app on the bundled sample data.
@@ -15,7 +17,10 @@ struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
-enum Command {}
+enum Command {
+    /// Generate recording sets with the quasi-static push simulator (true COM offset and h known).
+    Simulate(Box<simulate::SimulateArgs>),
+}
 
 /// Exit code for wrong arguments, as documented in the README.
 pub const EXIT_USAGE: u8 = 2;
@@ -32,6 +37,13 @@ pub fn run() -> ExitCode {
         }
     };
     match cli.command {
+        Some(Command::Simulate(args)) => match simulate::run(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(err) => {
+                eprintln!("pushlab: {err:#}");
+                ExitCode::from(1)
+            }
+        },
         None => {
             eprintln!("pushlab: the desktop app is not built yet; see `pushlab --help`");
             ExitCode::from(1)

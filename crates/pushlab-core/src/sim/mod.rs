@@ -26,22 +26,52 @@ pub use noise::SplitMix64;
 pub use path::{PlanError, PushPlan, PusherPath};
 pub use pressure::{PressureDistribution, PressureError, PressureModel, lynch_h};
 pub use record::{Sampling, SamplingError, SimulatedPush, TrackingNoise, simulate_push};
-pub use spec::{GeneratedSet, NoiseSpec, PushSpec, SampleSpec, SetSpec, SpecError, generate_set};
+pub use spec::{
+    GeneratedSet, NoiseSpec, PushSpec, SampleSpec, SetSpec, SpecError, SpecFileError, generate_set,
+    read_sample_spec,
+};
 pub use world::{PushWorld, SimObject, WorldError};
 
 use crate::geometry::OutlineError;
 
 /// Why a simulation could not run, naming the parameter at fault.
+///
+/// Each message already contains its cause's, so no variant reports a separate `source()` (which would
+/// print the cause twice in an error chain).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimError {
     #[error("object outline: {0}")]
-    Outline(#[from] OutlineError),
+    Outline(OutlineError),
     #[error("pressure distribution: {0}")]
-    Pressure(#[from] PressureError),
-    #[error("push {index}: {source}")]
-    Push { index: usize, source: PlanError },
+    Pressure(PressureError),
+    #[error("push {index}: {problem}")]
+    Push { index: usize, problem: PlanError },
     #[error("{0}")]
-    World(#[from] WorldError),
+    World(WorldError),
     #[error("sampling: {0}")]
-    Sampling(#[from] SamplingError),
+    Sampling(SamplingError),
+}
+
+impl From<OutlineError> for SimError {
+    fn from(e: OutlineError) -> Self {
+        SimError::Outline(e)
+    }
+}
+
+impl From<PressureError> for SimError {
+    fn from(e: PressureError) -> Self {
+        SimError::Pressure(e)
+    }
+}
+
+impl From<WorldError> for SimError {
+    fn from(e: WorldError) -> Self {
+        SimError::World(e)
+    }
+}
+
+impl From<SamplingError> for SimError {
+    fn from(e: SamplingError) -> Self {
+        SimError::Sampling(e)
+    }
 }

@@ -71,8 +71,9 @@ impl PressureModel {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PressureError {
     #[error(
-        "the COM ({x:.4}, {y:.4}) m is not strictly inside the support of the {model} pressure; \
-         move it toward the centre"
+        "the COM at ({x:.4}, {y:.4}) m from the object frame's origin (the geometric centre) is not \
+         strictly inside the support of the {model} pressure; move it toward the middle of the \
+         footprint"
     )]
     ComOutsideSupport { x: f64, y: f64, model: &'static str },
     #[error("the pressure grid has no cell inside the outline; increase the resolution")]
