@@ -132,8 +132,9 @@ pub fn train_combined(
         position: Stats2::of(split.train.iter().map(|s| {
             let r = s.input.robot_in_object;
             [r[0] - theta0.com_offset[0], r[1] - theta0.com_offset[1]]
-        })),
-        motion: Stats2::of(split.train.iter().map(|s| s.input.robot_motion_in_object)),
+        }))
+        .isotropic(),
+        motion: Stats2::of(split.train.iter().map(|s| s.input.robot_motion_in_object)).isotropic(),
     };
     let loss_scale = LossScale::from_samples(&split.train);
     let mut rng = SplitMix64::new(config.seed);
@@ -156,6 +157,7 @@ pub fn train_combined(
         h: trainee.theta[2].as_f64(),
     }
     .clamped();
+    model.calibrate_theta_scales(&split.train);
     Ok(Trained { model, report })
 }
 
@@ -345,8 +347,8 @@ impl Trainee for CombinedTrainee {
         let Some(adam) = &mut self.theta_adam else {
             return;
         };
-        // Adam in units of the length scale, like online learning.
-        let length = self.model.length_scale();
+        // Adam in units of the pusher position's spread.
+        let length = self.model.normalization.position.scale();
         let mut scaled = self.theta.map(|t| f64::from(t) / length);
         let grad = self.theta_grad.map(|g| g * length / batch as f64);
         adam.step(&mut scaled, &grad);

@@ -17,7 +17,7 @@ use crate::real::Real;
 pub struct OnlineConfig {
     /// Gradient-descent steps per observed step (the paper: 5). Zero gives the "fixed" model.
     pub steps: usize,
-    /// Learning rate on `θ_online / L`, where `L` is the model's length scale (the paper: 0.005).
+    /// Learning rate on `θ_online` divided component-wise by the model's scales (the paper: 0.005).
     pub lr: f64,
 }
 
@@ -56,8 +56,9 @@ pub struct OnlineStep {
 pub trait OnlineModel {
     /// Where online learning starts.
     fn theta0(&self) -> OnlineParams;
-    /// The length `L` that scales `θ_online` for gradient descent (see [`CombinedModel::length_scale`]).
-    fn length_scale(&self) -> f64;
+    /// The scales `s` of `θ_online`'s components for gradient descent, metres (see
+    /// [`CombinedModel::theta_scales`]).
+    fn theta_scales(&self) -> [f64; 3];
     /// The σ that normalise the losses.
     fn loss_scale(&self) -> LossScale;
     /// Predicts with the given `θ_online`.
@@ -75,7 +76,7 @@ pub trait OnlineModel {
     fn update(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
         let theta_before = theta.clamped();
         let (prediction, loss, gradient) = self.loss_and_gradient(sample, &theta_before);
-        let length = self.length_scale();
+        let scales = self.theta_scales();
         let mut th = theta_before;
         let mut g = gradient;
         for k in 0..config.steps {
@@ -84,9 +85,9 @@ pub trait OnlineModel {
             }
             let a = th.to_array();
             let next = OnlineParams::from_array([
-                a[0] - config.lr * length * length * g[0],
-                a[1] - config.lr * length * length * g[1],
-                a[2] - config.lr * length * length * g[2],
+                a[0] - config.lr * scales[0] * scales[0] * g[0],
+                a[1] - config.lr * scales[1] * scales[1] * g[1],
+                a[2] - config.lr * scales[2] * scales[2] * g[2],
             ]);
             if !next.com_offset.iter().all(|x| x.is_finite()) {
                 break;
@@ -108,8 +109,8 @@ impl<T: Real> OnlineModel for CombinedModel<T> {
         CombinedModel::theta0(self)
     }
 
-    fn length_scale(&self) -> f64 {
-        CombinedModel::length_scale(self)
+    fn theta_scales(&self) -> [f64; 3] {
+        CombinedModel::theta_scales(self)
     }
 
     fn loss_scale(&self) -> LossScale {
@@ -145,14 +146,14 @@ impl<T: Real> OnlineModel for CombinedModel<T> {
     }
 }
 
-/// The physics-only model learns `θ_online` too; its length scale is half the object's size.
+/// The physics-only model learns `θ_online` too; each component is scaled by half the object's size.
 impl OnlineModel for PhysicsOnlyModel {
     fn theta0(&self) -> OnlineParams {
         OnlineParams::for_outline(self.outline())
     }
 
-    fn length_scale(&self) -> f64 {
-        self.outline().size() / 2.0
+    fn theta_scales(&self) -> [f64; 3] {
+        [self.outline().size() / 2.0; 3]
     }
 
     fn loss_scale(&self) -> LossScale {
@@ -176,7 +177,7 @@ macro_rules! forward_online_model {
     ($($wrapper:ty),*) => {$(
         impl<M: OnlineModel + ?Sized> OnlineModel for $wrapper {
             fn theta0(&self) -> OnlineParams { (**self).theta0() }
-            fn length_scale(&self) -> f64 { (**self).length_scale() }
+            fn theta_scales(&self) -> [f64; 3] { (**self).theta_scales() }
             fn loss_scale(&self) -> LossScale { (**self).loss_scale() }
             fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
                 (**self).predict(input, theta)

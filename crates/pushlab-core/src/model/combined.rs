@@ -26,6 +26,9 @@ pub struct CombinedModel<T: Real = f32> {
     pub(crate) theta0: OnlineParams,
     pub(crate) loss_scale: LossScale,
     pub(crate) horizon: usize,
+    /// Per-component scales of `θ_online` for online gradient descent, metres (see
+    /// [`CombinedModel::theta_scales`]).
+    pub(crate) theta_scales: [f64; 3],
 }
 
 /// Everything one forward pass computes that its backward pass needs.
@@ -86,12 +89,14 @@ impl<T: Real> CombinedModel<T> {
         loss_scale: LossScale,
         horizon: usize,
     ) -> Self {
+        let length = normalization.position.scale();
         Self {
             network,
             normalization,
             theta0: theta0.clamped(),
             loss_scale,
             horizon,
+            theta_scales: [length; 3],
         }
     }
 
@@ -115,11 +120,55 @@ impl<T: Real> CombinedModel<T> {
         &self.normalization
     }
 
-    /// The length by which online learning divides `θ_online` before taking gradient steps: the RMS
-    /// standard deviation of the pusher position in the offline data. The paper's learning rate (0.005)
-    /// was meant for normalised units; in metres a step on `h` would be a hundred times too small.
-    pub fn length_scale(&self) -> f64 {
-        self.normalization.position.scale()
+    /// The scales by which online learning divides each component of `θ_online` before taking
+    /// gradient steps, metres.
+    ///
+    /// The paper's learning rate (0.005) was meant for normalised units. Each component is scaled so
+    /// that the loss has unit curvature along it on the offline data (the Gauss–Newton diagonal, see
+    /// [`CombinedModel::calibrate_theta_scales`]): a single length (the spread of the pusher position)
+    /// is not enough, because the network is far steeper along the push — where the offline pushes never
+    /// moved the pusher — than across it, and one step size either diverged along the push or crawled
+    /// across it.
+    pub fn theta_scales(&self) -> [f64; 3] {
+        self.theta_scales
+    }
+
+    /// Sets [`CombinedModel::theta_scales`] from the Gauss–Newton diagonal of the loss at `θ_online(0)`
+    /// over `samples`: `s_i = 1 / sqrt(mean_samples Σ_k 2 w_k (∂ŷ_k/∂θ_i)²)`.
+    pub fn calibrate_theta_scales(&mut self, samples: &[super::Sample]) {
+        if samples.is_empty() {
+            return;
+        }
+        let weights = loss_weights::<T>(&self.loss_scale);
+        let theta = theta_real(&self.theta0);
+        let mut curvature = [0.0f64; 3];
+        let mut pass = Pass::default();
+        for sample in samples {
+            let real = RealSample::<T>::of(sample);
+            self.forward(&real.input, &theta, &mut pass);
+            for (k, w) in weights.iter().enumerate() {
+                let mut d_centre = [T::zero(); 2];
+                let mut d_rotation = T::zero();
+                if k < 2 {
+                    d_centre[k] = T::one();
+                } else {
+                    d_rotation = T::one();
+                }
+                let jacobian_row = self.backward(&pass, &theta, d_centre, d_rotation, None);
+                for (c, j) in curvature.iter_mut().zip(jacobian_row) {
+                    *c += 2.0 * w.as_f64() * j.as_f64() * j.as_f64();
+                }
+            }
+        }
+        let fallback = self.normalization.position.scale();
+        for (scale, c) in self.theta_scales.iter_mut().zip(curvature) {
+            let mean = c / samples.len() as f64;
+            *scale = if mean.is_finite() && mean > 0.0 {
+                1.0 / mean.sqrt()
+            } else {
+                fallback
+            };
+        }
     }
 
     /// The same model in another float type (`f64` for gradient checks).
@@ -130,6 +179,7 @@ impl<T: Real> CombinedModel<T> {
             theta0: self.theta0,
             loss_scale: self.loss_scale,
             horizon: self.horizon,
+            theta_scales: self.theta_scales,
         }
     }
 
@@ -237,7 +287,7 @@ impl<T: Real> CombinedModel<T> {
 
     /// One online update (Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps): predicts
     /// with `theta`, then descends the loss of this sample in `θ_online` scaled by
-    /// [`CombinedModel::length_scale`]. Returns the prediction and gradient at `theta` and the updated
+    /// [`CombinedModel::theta_scales`]. Returns the prediction and gradient at `theta` and the updated
     /// parameters. Runs entirely in the model's float type and allocates nothing.
     pub(crate) fn online_update(
         &self,
@@ -264,8 +314,7 @@ impl<T: Real> CombinedModel<T> {
         lr: f64,
     ) -> (Prediction, [f64; 3], OnlineParams) {
         let weights = loss_weights::<T>(&self.loss_scale);
-        let length = self.length_scale();
-        let step = T::of(lr * length * length);
+        let step = self.theta_scales.map(|s| T::of(lr * s * s));
         let (h_min, h_max) = (T::of(super::params::H_MIN), T::of(super::params::H_MAX));
         let mut th = theta_real(theta);
         let mut pass = Pass::default();
@@ -281,9 +330,9 @@ impl<T: Real> CombinedModel<T> {
             if k == 0 {
                 first_gradient = g.map(|x| x.as_f64());
             }
-            // Gradient descent on θ / L: θ ← θ − lr · L² · ∂ℓ/∂θ.
-            for (t, gi) in th.iter_mut().zip(g) {
-                *t = *t - step * gi;
+            // Gradient descent on θ_i / s_i: θ_i ← θ_i − lr · s_i² · ∂ℓ/∂θ_i.
+            for ((t, gi), si) in th.iter_mut().zip(g).zip(step) {
+                *t = *t - si * gi;
             }
             th[2] = th[2].max(h_min).min(h_max);
             if !th.iter().all(|t| t.is_finite()) {

@@ -1,0 +1,327 @@
+//! Learning checked against the simulator's ground truth: online learning recovers the true COM offset
+//! and `h`, online adaptation beats the fixed model where the COM moved, training is reproducible and
+//! cancellable, and model files round-trip and refuse what they cannot read.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use pushlab_core::learn::{
+    Nmse, OnlineConfig, OnlineLearner, OnlineModel, TrainConfig, train_combined, train_pure_nn,
+};
+use pushlab_core::model::{OnlineParams, PhysicsOnlyModel, Sample, samples_from_trajectory};
+use pushlab_core::model_file::{ModelFile, ModelFileError};
+use pushlab_core::recording::{ObjectShape, PushSide};
+use pushlab_core::sim::{GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, generate_set};
+
+/// A box pushed on its front face from many contact points and angles, recorded at 10 Hz, 4 mm per
+/// frame.
+fn simulated(
+    com_offset: [f64; 2],
+    pressure: PressureModel,
+    noise_m: f64,
+    seed: u64,
+) -> GeneratedSet {
+    simulated_on(PushSide::Front, com_offset, pressure, noise_m, seed)
+}
+
+/// As [`simulated`], pushing on the given side.
+fn simulated_on(
+    side: PushSide,
+    com_offset: [f64; 2],
+    pressure: PressureModel,
+    noise_m: f64,
+    seed: u64,
+) -> GeneratedSet {
+    let mut pushes = Vec::new();
+    for offset in [-0.12, -0.06, 0.0, 0.06, 0.12] {
+        for angle in [-20.0, 0.0, 20.0] {
+            pushes.push(PushSpec {
+                contact_offset: offset,
+                push_angle_deg: angle,
+                curvature: 0.0,
+                split: None,
+            });
+        }
+    }
+    let spec = SetSpec {
+        name: "test".into(),
+        object: ObjectShape::Box {
+            width: 0.3,
+            length: 0.4,
+        },
+        com_offset,
+        pressure,
+        material: None,
+        floor_friction: None,
+        // High pusher friction: every push sticks, as the physics-only model assumes.
+        pusher_friction: 0.9,
+        pusher_radius: 0.05,
+        push_side: side,
+        sample_rate_hz: 10.0,
+        duration_s: 6.0,
+        speed: 0.04,
+        approach: 0.0,
+        noise: NoiseSpec {
+            position_m: noise_m,
+            yaw_deg: 0.0,
+        },
+        start_position_spread_m: 0.2,
+        start_yaw_spread_deg: 90.0,
+        seed,
+        pushes,
+    };
+    generate_set(&spec, &mut |_, _| {}).expect("valid simulation spec")
+}
+
+fn samples(set: &GeneratedSet) -> Vec<Vec<Sample>> {
+    set.trajectories
+        .iter()
+        .map(|t| samples_from_trajectory(t, 1))
+        .collect()
+}
+
+fn mean_total(steps: &[pushlab_core::learn::OnlineStep]) -> f64 {
+    steps.iter().map(|s| s.loss.total()).sum::<f64>() / steps.len() as f64
+}
+
+#[test]
+fn physics_only_online_learning_recovers_the_true_com_offset_and_h() {
+    // Pushes on one face alone confound the COM offset along the push with h (both enter Lynch's
+    // equations as h² + c_x²), so the robot pushes the object from the front and from the left, in turn.
+    let truth_com = [0.03, -0.025];
+    let front = simulated_on(PushSide::Front, truth_com, PressureModel::Uniform, 0.0, 7);
+    let left = simulated_on(PushSide::Left, truth_com, PressureModel::Uniform, 0.0, 8);
+    let truth_h = front.setting.h.expect("the simulator writes the true h");
+    assert_eq!(left.setting.h, Some(truth_h));
+    let outline = front.setting.object.outline().expect("a box");
+    // The physics-only model assumes a sticking contact (u_c = u_r): feed it the pushes that stick.
+    let sticking = |set: &GeneratedSet| -> Vec<Vec<Sample>> {
+        samples(set)
+            .into_iter()
+            .zip(&set.sliding_fractions)
+            .filter(|(_, sliding)| **sliding == 0.0)
+            .map(|(s, _)| s)
+            .collect()
+    };
+    let (front_sticking, left_sticking) = (sticking(&front), sticking(&left));
+    assert!(front_sticking.len() >= 8 && left_sticking.len() >= 8);
+    let data: Vec<Vec<Sample>> = front_sticking
+        .into_iter()
+        .zip(left_sticking)
+        .flat_map(|(a, b)| [a, b])
+        .collect();
+    let scale = pushlab_core::learn::LossScale::from_samples(data.iter().flatten());
+    let model = PhysicsOnlyModel::new(outline, 0.05, 0.005, scale);
+    let start = model.theta0();
+    assert!(
+        (start.com_offset[0] - truth_com[0]).abs() > 0.02,
+        "learning must have somewhere to go"
+    );
+    // Carry θ over from push to push, as a robot pushing the same object again would.
+    let mut learner = OnlineLearner::new(&model, OnlineConfig::default());
+    let mut first_push_loss = None;
+    let mut last_push_loss = 0.0;
+    for trajectory in &data {
+        let steps = learner.run(trajectory);
+        first_push_loss.get_or_insert(mean_total(&steps));
+        last_push_loss = mean_total(&steps);
+    }
+    let learned = learner.theta();
+    let com_error = ((learned.com_offset[0] - truth_com[0]).powi(2)
+        + (learned.com_offset[1] - truth_com[1]).powi(2))
+    .sqrt();
+    assert!(
+        com_error <= 0.002,
+        "learned COM offset {:?}, true {truth_com:?}: {:.1} mm off",
+        learned.com_offset,
+        com_error * 1e3
+    );
+    let h_error = (learned.h - truth_h).abs() / truth_h;
+    assert!(
+        h_error <= 0.10,
+        "learned h {:.4} m, true {truth_h:.4} m: {:.1} % off",
+        learned.h,
+        h_error * 100.0
+    );
+    let first = first_push_loss.expect("at least one push");
+    assert!(
+        last_push_loss < 0.5 * first,
+        "loss {first} → {last_push_loss}"
+    );
+}
+
+#[test]
+fn combined_model_adapts_online_to_a_moved_com_and_beats_the_fixed_model() {
+    // Tracking noise of 0.2 mm against 4 mm of motion per frame: with more, noise alone sets the
+    // positional NMSE of any model near 1 and hides what learning does.
+    let offline = simulated([0.0, 0.0], PressureModel::Rim, 0.0002, 11);
+    let online = simulated([0.05, 0.05], PressureModel::Rim, 0.0002, 12);
+    let outline = offline.setting.object.outline().expect("a box");
+    let config = TrainConfig {
+        epochs: 60,
+        seed: 3,
+        theta0: Some(OnlineParams::for_outline(&outline)),
+        ..TrainConfig::default()
+    };
+    let trained = train_combined(
+        &samples(&offline),
+        &config,
+        &mut |_| {},
+        &AtomicBool::new(false),
+    )
+    .expect("trains");
+    let model = trained.model;
+
+    let (mut fixed, mut adaptive) = (Vec::new(), Vec::new());
+    for trajectory in samples(&online) {
+        // Reset per trajectory, as the paper's evaluation does.
+        let mut learner = OnlineLearner::new(&model, OnlineConfig::default());
+        let frozen = OnlineLearner::new(&model, OnlineConfig::fixed());
+        for sample in &trajectory {
+            fixed.push(frozen.evaluate(sample).loss);
+            adaptive.push(learner.step(sample).loss);
+        }
+    }
+    let (fixed, adaptive) = (Nmse::of(&fixed), Nmse::of(&adaptive));
+    let fixed_total = fixed.pos * 2.0 + fixed.rot;
+    let adaptive_total = adaptive.pos * 2.0 + adaptive.rot;
+    assert!(
+        adaptive_total < 0.9 * fixed_total,
+        "online {adaptive:?} should beat fixed {fixed:?} where the COM moved"
+    );
+}
+
+#[test]
+fn same_seed_gives_bit_identical_models_and_another_seed_does_not() {
+    let data = samples(&simulated([0.0, 0.0], PressureModel::Uniform, 0.001, 5));
+    let train = |seed| {
+        let config = TrainConfig {
+            epochs: 5,
+            seed,
+            ..TrainConfig::default()
+        };
+        let trained =
+            train_combined(&data, &config, &mut |_| {}, &AtomicBool::new(false)).expect("trains");
+        (trained.model, trained.report)
+    };
+    let (a, report_a) = train(42);
+    let (b, report_b) = train(42);
+    let (c, _) = train(43);
+    assert_eq!(a, b);
+    assert_eq!(report_a, report_b);
+    assert_ne!(a, c);
+    let nn = |seed| {
+        let config = TrainConfig {
+            epochs: 3,
+            seed,
+            ..TrainConfig::default()
+        };
+        train_pure_nn(&data, &config, &mut |_| {}, &AtomicBool::new(false))
+            .expect("trains")
+            .model
+    };
+    assert_eq!(nn(1), nn(1));
+}
+
+#[test]
+fn training_lowers_the_loss_reports_progress_and_stops_when_cancelled() {
+    let data = samples(&simulated([0.0, 0.0], PressureModel::Uniform, 0.0002, 6));
+    let cancel = AtomicBool::new(false);
+    let mut seen = Vec::new();
+    let config = TrainConfig {
+        epochs: 50,
+        patience: 0,
+        ..TrainConfig::default()
+    };
+    let trained = train_combined(
+        &data,
+        &config,
+        &mut |p| {
+            seen.push((p.epoch, p.train_loss));
+            if p.epoch == 20 {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        },
+        &cancel,
+    )
+    .expect("trains");
+    assert!(trained.report.cancelled);
+    assert_eq!(trained.report.epochs_run, 20);
+    assert_eq!(seen.len(), 20);
+    assert_eq!(seen[0].0, 1);
+    assert!(
+        seen[19].1 < 0.5 * seen[0].1,
+        "training loss {:?} → {:?}",
+        seen[0],
+        seen[19]
+    );
+    // The kept model is the one with the best validation loss, and it predicts better than the mean.
+    let validation = trained.report.validation_loss.expect("validation split");
+    assert!(
+        validation < 3.0,
+        "validation loss {validation} (3 = predicting the mean)"
+    );
+}
+
+#[test]
+fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
+    let data = samples(&simulated([0.0, 0.0], PressureModel::Uniform, 0.001, 8));
+    let config = TrainConfig {
+        epochs: 2,
+        ..TrainConfig::default()
+    };
+    let no = AtomicBool::new(false);
+    let combined = train_combined(&data, &config, &mut |_| {}, &no).expect("trains");
+    let pure = train_pure_nn(&data, &config, &mut |_| {}, &no).expect("trains");
+    let file = ModelFile {
+        combined: combined.model,
+        pure_nn: Some(pure.model),
+        training: pushlab_core::model_file::TrainingMetadata {
+            report: Some(combined.report),
+            pure_nn_report: Some(pure.report),
+            sources: vec!["sim".into()],
+            pushlab_version: "test".into(),
+        },
+    };
+    let dir = std::env::temp_dir().join(format!("pushlab-model-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("model.json");
+    file.save(&path).expect("saves");
+    let back = ModelFile::load(&path).expect("loads");
+    assert_eq!(back, file);
+    // Predictions are the same after the round trip.
+    let s = &data[0][3];
+    let theta = file.combined.theta0();
+    assert_eq!(
+        back.combined.predict(&s.input, &theta),
+        file.combined.predict(&s.input, &theta)
+    );
+
+    let text = std::fs::read_to_string(&path).expect("readable");
+    let newer = text.replacen("\"version\": 1", "\"version\": 7", 1);
+    let err = ModelFile::from_json(&path, newer.as_bytes()).expect_err("version 7");
+    assert!(matches!(err, ModelFileError::WrongVersion { .. }));
+    let message = err.to_string();
+    assert!(
+        message.contains("model.json") && message.contains("version 7") && message.contains('1'),
+        "{message}"
+    );
+
+    let mut json: serde_json::Value = serde_json::from_str(&text).expect("json");
+    json["combined"]["network"]
+        .as_array_mut()
+        .expect("a list")
+        .truncate(600);
+    let err = ModelFile::from_json(&path, json.to_string().as_bytes()).expect_err("short network");
+    let message = err.to_string();
+    assert!(
+        message.contains("600 parameters") && message.contains("692"),
+        "{message}"
+    );
+
+    let err = ModelFile::from_json(&path, b"{\"format\": \"something-else\"}").expect_err("format");
+    assert!(
+        err.to_string().contains("not a pushlab model file"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
