@@ -118,10 +118,13 @@ pub fn parse_file_name(stem: &str) -> Result<MitName, MitProblem> {
 }
 
 /// The three raw streams of one file, rows `[t, a, b, c]` as stored.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Streams {
+    /// `[t, x, y, yaw]` of the pusher centre (yaw ≈ 0, ignored).
     pub tip_pose: Vec<[f64; 4]>,
+    /// `[t, x, y, yaw]` of the dataset's object frame.
     pub object_pose: Vec<[f64; 4]>,
+    /// `[t, fx, fy, torque_z]` the object exerts on the pusher.
     pub ft_wrench: Vec<[f64; 4]>,
 }
 
@@ -191,11 +194,13 @@ pub fn parse_h5(bytes: &[u8]) -> Result<Streams, MitProblem> {
 /// One imported push, before it is grouped into a set with the others of its surface and shape.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MitPush {
+    /// The parameters from the file name.
     pub name: MitName,
     /// Resampled frames, object pose at the footprint's geometric centre, time from 0.
     pub trajectory: Trajectory,
     /// Unix time of the first frame, seconds.
     pub start_unix_s: f64,
+    /// Recoverable defects found, each a sentence with numbers.
     pub warnings: Vec<String>,
 }
 
@@ -527,8 +532,9 @@ pub fn shape(name: &str) -> Result<MitShape, MitProblem> {
         .ok_or_else(|| MitProblem::UnknownShape(name.to_string()))
 }
 
-/// The setting shared by every push of one surface and shape; `files` are listed as its trajectories.
-pub fn setting_for(
+/// The setting shared by every push of one surface and shape; the pushes (file name, push) are
+/// listed as its trajectories.
+pub(crate) fn setting_for(
     surface: &str,
     shape_name: &str,
     pushes: &[(&str, &MitPush)],

@@ -42,7 +42,9 @@ const MAX_QUOTED: usize = 40;
 /// One CSV parsed from bytes: the frames and the recoverable defects found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParsedCsv {
+    /// The frames, object yaw unwrapped.
     pub trajectory: Trajectory,
+    /// Recoverable defects (wrapped yaw), each a sentence with numbers.
     pub warnings: Vec<String>,
 }
 

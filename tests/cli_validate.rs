@@ -1,0 +1,110 @@
+//! `pushlab validate` end to end: the built binary on the real MIT files (skipped when absent), on a
+//! broken file and with wrong arguments; output lines and exit codes.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn validate(args: &[&Path]) -> (i32, Vec<String>) {
+    let Output { status, stdout, .. } = Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .arg("validate")
+        .args(args)
+        .output()
+        .expect("run pushlab");
+    let lines = String::from_utf8(stdout)
+        .expect("utf-8 output")
+        .lines()
+        .map(str::to_string)
+        .collect();
+    (status.code().expect("exit code"), lines)
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pushlab-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn real_mit_files_validate_with_one_line_each() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push");
+    if !dir.is_dir() {
+        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
+        return;
+    }
+    let (code, lines) = validate(&[&dir]);
+    assert_eq!(code, 0, "{lines:#?}");
+    assert_eq!(lines.len(), 5, "{lines:#?}");
+    let rect1 = lines
+        .iter()
+        .find(|l| l.contains("shape=rect1"))
+        .expect("a line for rect1");
+    assert!(rect1.starts_with("3 warnings: "), "{rect1}");
+    assert!(rect1.contains("ft_wrench is frozen"), "{rect1}");
+    assert_eq!(
+        lines[4],
+        "4 recording(s) loaded (4 with warnings), 0 error(s)"
+    );
+}
+
+#[test]
+fn broken_and_good_files_give_exit_1_and_a_line_each() {
+    let dir = temp_dir("broken");
+    let set = dir.join("set");
+    std::fs::create_dir_all(&set).unwrap();
+    std::fs::write(
+        set.join("setting.json"),
+        r#"{"name": "t", "object": {"shape": "box", "width": 0.1, "length": 0.1}, "pusher_radius": 0.005,
+            "trajectories": [{"file": "good.csv"}, {"file": "traj_003.csv"}]}"#,
+    )
+    .unwrap();
+    let header = "time,robot_x,robot_y,object_x,object_y,object_theta\n";
+    std::fs::write(
+        set.join("good.csv"),
+        format!("{header}0,0,0,0.1,0,0\n0.5,0.01,0,0.11,0,0\n"),
+    )
+    .unwrap();
+    std::fs::write(
+        set.join("traj_003.csv"),
+        format!("{header}0,0,0,0,0,0\n0.1,0,0,0,0,nan\n"),
+    )
+    .unwrap();
+
+    let (code, lines) = validate(&[&set]);
+    assert_eq!(code, 1, "{lines:#?}");
+    assert_eq!(
+        lines,
+        [
+            format!("ok: {} (2 frames, 0.50 s)", set.join("good.csv").display()),
+            format!(
+                "error: {} line 3: object_theta is 'nan', expected a finite number",
+                set.join("traj_003.csv").display()
+            ),
+            "1 recording(s) loaded (0 with warnings), 1 error(s)".to_string(),
+        ]
+    );
+
+    // The good file alone: exit 0.
+    let (code, lines) = validate(&[&set.join("good.csv")]);
+    assert_eq!(code, 0, "{lines:#?}");
+
+    // A missing path is a load error (1), not an argument error.
+    let (code, lines) = validate(&[&dir.join("nope")]);
+    assert_eq!(code, 1);
+    assert!(
+        lines[0].starts_with("error: ") && lines[0].contains("nope: cannot read"),
+        "{lines:#?}"
+    );
+}
+
+#[test]
+fn wrong_arguments_exit_2() {
+    let (code, _) = validate(&[]);
+    assert_eq!(code, 2, "no path given");
+    let status = Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["validate", "--no-such-flag", "x"])
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(2));
+}
