@@ -1,0 +1,90 @@
+//! `pushlab simulate` from the outside: the files it writes, the truth it records, and its refusals.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn pushlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(args)
+        .output()
+        .expect("the pushlab binary runs")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pushlab-cli-sim-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    dir
+}
+
+#[test]
+fn simulate_writes_a_set_with_the_true_com_and_h_and_refuses_to_overwrite_it() {
+    let dir = temp_dir("set");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "simulate",
+        "--out",
+        out,
+        "--box",
+        "0.2x0.3",
+        "--com-offset",
+        "0.02,-0.03",
+        "--pressure",
+        "rim",
+        "--pushes",
+        "2",
+        "--push-angles",
+        "-10,10",
+        "--rate",
+        "4",
+        "--duration",
+        "5",
+        "--seed",
+        "3",
+    ];
+    let first = pushlab(&args);
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let (set, errors) = pushlab_core::recording::read_set(&dir).unwrap();
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(set.setting.com_offset, Some([0.02, -0.03]));
+    assert!(set.setting.h.unwrap() > 0.05);
+    assert_eq!(set.recordings.len(), 4);
+    let csv = std::fs::read_to_string(dir.join("push_000.csv")).unwrap();
+    assert!(csv.starts_with("time,robot_x,robot_y,object_x,object_y,object_theta\n"));
+    assert_eq!(csv.lines().count(), 1 + 21);
+
+    let again = pushlab(&args);
+    assert_eq!(again.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        stderr.contains("already holds a recording set; pass --overwrite"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn simulate_names_the_bad_parameter() {
+    let dir = temp_dir("bad");
+    let out = dir.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["simulate", "--out", out];
+        args.extend_from_slice(extra);
+        let output = pushlab(&args);
+        assert_eq!(output.status.code(), Some(1));
+        String::from_utf8_lossy(&output.stderr).into_owned()
+    };
+    assert!(run(&["--pressure", "wood"]).contains(
+        "--pressure: 'wood' is not a pressure model, expected one of: uniform, rim, centre, feet"
+    ));
+    assert!(
+        run(&["--contact-offsets", "0.5"]).contains("contact offset 0.5 m is off the front face")
+    );
+    assert!(run(&["--box", "0.3by0.4"]).contains("--box: expected WIDTHxLENGTH"));
+    assert!(!dir.exists(), "a refused command wrote files");
+}
