@@ -38,15 +38,18 @@ impl<T: Real> Adam<T> {
         let correction2 = 1.0 - BETA2.powi(self.steps);
         let step = T::of(self.lr * correction2.sqrt() / correction1);
         let eps = T::of(EPSILON * correction2.sqrt());
-        for (((p, g), m), v) in params
-            .parameters_mut()
-            .zip(grad.parameters())
-            .zip(self.m.parameters_mut())
-            .zip(self.v.parameters_mut())
-        {
-            *m = b1 * *m + one_b1 * *g;
-            *v = b2 * *v + one_b2 * *g * *g;
-            *p = *p - step * *m / (v.sqrt() + eps);
+        let slices = params
+            .slices_mut()
+            .into_iter()
+            .zip(grad.slices())
+            .zip(self.m.slices_mut())
+            .zip(self.v.slices_mut());
+        for (((ps, gs), ms), vs) in slices {
+            for (((p, g), m), v) in ps.iter_mut().zip(gs).zip(ms.iter_mut()).zip(vs.iter_mut()) {
+                *m = b1 * *m + one_b1 * *g;
+                *v = b2 * *v + one_b2 * *g * *g;
+                *p = *p - step * *m / (v.sqrt() + eps);
+            }
         }
     }
 }

@@ -528,10 +528,7 @@ impl<M: Trainee> Epoch<'_, M> {
                         .accumulate(&self.train[i], self.weights, self.grad);
             }
             epoch_loss += batch_loss.as_f64();
-            let inv = M::Real::of(1.0 / batch.len() as f64);
-            for g in self.grad.parameters_mut() {
-                *g = *g * inv;
-            }
+            self.grad.scale(M::Real::of(1.0 / batch.len() as f64));
             let (adam, grad) = (&mut *self.adam, &*self.grad);
             self.trainee
                 .network_mut()

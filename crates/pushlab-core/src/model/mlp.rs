@@ -104,10 +104,46 @@ impl<T: Real> Mlp<T> {
             .chain(&mut self.b4)
     }
 
+    /// The parameters as eight contiguous slices, in the order of [`Mlp::parameters`]: for loops over
+    /// all parameters that should vectorise (a chain of eight iterators does not).
+    pub fn slices(&self) -> [&[T]; 8] {
+        [
+            self.w1.as_flattened(),
+            &self.b1,
+            self.w2.as_flattened(),
+            &self.b2,
+            self.w3.as_flattened(),
+            &self.b3,
+            self.w4.as_flattened(),
+            &self.b4,
+        ]
+    }
+
+    /// Mutable [`Mlp::slices`].
+    pub fn slices_mut(&mut self) -> [&mut [T]; 8] {
+        [
+            self.w1.as_flattened_mut(),
+            &mut self.b1,
+            self.w2.as_flattened_mut(),
+            &mut self.b2,
+            self.w3.as_flattened_mut(),
+            &mut self.b3,
+            self.w4.as_flattened_mut(),
+            &mut self.b4,
+        ]
+    }
+
     /// Sets every parameter to zero, keeping the allocation-free storage.
     pub fn fill_zero(&mut self) {
-        for p in self.parameters_mut() {
-            *p = T::zero();
+        *self = Self::zeros();
+    }
+
+    /// Multiplies every parameter by `factor`.
+    pub fn scale(&mut self, factor: T) {
+        for slice in self.slices_mut() {
+            for p in slice {
+                *p = *p * factor;
+            }
         }
     }
 
