@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod simulate;
+mod validate;
 
 /// Predict and learn how a pushed object moves.
 ///
@@ -20,6 +21,8 @@ struct Cli {
 enum Command {
     /// Generate recording sets with the quasi-static push simulator (true COM offset and h known).
     Simulate(Box<simulate::SimulateArgs>),
+    /// Load recordings and report, one line per recording, ok / warnings / error (exit 1 on any error).
+    Validate(validate::ValidateArgs),
 }
 
 /// Exit code for wrong arguments, as documented in the README.
@@ -37,6 +40,7 @@ pub fn run() -> ExitCode {
         }
     };
     match cli.command {
+        Some(Command::Validate(args)) => validate::run(&args),
         Some(Command::Simulate(args)) => match simulate::run(&args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(err) => {
