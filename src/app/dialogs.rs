@@ -1,0 +1,114 @@
+//! Native file dialogs (rfd, via the XDG desktop portal) on a worker thread, so that the window keeps
+//! drawing while a dialog is open. Results arrive through [`Dialogs::poll`].
+
+use std::path::PathBuf;
+use std::sync::mpsc::{Receiver, Sender, channel};
+
+/// What the user asked a dialog for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DialogRequest {
+    OpenFiles,
+    OpenFolder,
+    SaveScene,
+    SavePlots,
+    SaveLossCsv,
+    LoadModel,
+    SaveModel,
+}
+
+/// What a dialog returned (nothing arrives when it was cancelled).
+#[derive(Clone, Debug, PartialEq)]
+pub enum DialogResult {
+    Open(Vec<PathBuf>),
+    SaveScene(PathBuf),
+    SavePlots(PathBuf),
+    SaveLossCsv(PathBuf),
+    LoadModel(PathBuf),
+    SaveModel(PathBuf),
+}
+
+/// Dialogs in flight.
+pub struct Dialogs {
+    sender: Sender<Option<DialogResult>>,
+    receiver: Receiver<Option<DialogResult>>,
+    open: usize,
+}
+
+impl Default for Dialogs {
+    fn default() -> Self {
+        let (sender, receiver) = channel();
+        Self {
+            sender,
+            receiver,
+            open: 0,
+        }
+    }
+}
+
+impl Dialogs {
+    /// Shows a dialog on a worker thread.
+    pub fn open(&mut self, request: DialogRequest) {
+        let sender = self.sender.clone();
+        self.open += 1;
+        std::thread::spawn(move || {
+            let result = run_dialog(request);
+            // The receiver is gone only when the app closed.
+            let _ = sender.send(result);
+        });
+    }
+
+    /// Whether a dialog is showing (the app keeps polling while one is).
+    pub fn is_open(&self) -> bool {
+        self.open > 0
+    }
+
+    /// The next finished dialog's result, if any.
+    pub fn poll(&mut self) -> Option<DialogResult> {
+        while let Ok(result) = self.receiver.try_recv() {
+            self.open = self.open.saturating_sub(1);
+            if result.is_some() {
+                return result;
+            }
+        }
+        None
+    }
+}
+
+fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
+    use rfd::FileDialog;
+    let png = |name: &str| {
+        FileDialog::new()
+            .add_filter("PNG image", &["png"])
+            .set_file_name(name)
+            .save_file()
+    };
+    match request {
+        DialogRequest::OpenFiles => FileDialog::new()
+            .set_title("Open recordings")
+            .add_filter("Recordings", &["csv", "json", "h5"])
+            .pick_files()
+            .map(DialogResult::Open),
+        DialogRequest::OpenFolder => FileDialog::new()
+            .set_title("Open a folder of recordings")
+            .pick_folders()
+            .map(DialogResult::Open),
+        DialogRequest::SaveScene => png("scene.png").map(DialogResult::SaveScene),
+        DialogRequest::SavePlots => png("plots.png").map(DialogResult::SavePlots),
+        DialogRequest::SaveLossCsv => FileDialog::new()
+            .add_filter("CSV", &["csv"])
+            .set_file_name("losses.csv")
+            .save_file()
+            .map(DialogResult::SaveLossCsv),
+        DialogRequest::LoadModel => FileDialog::new()
+            .set_title("Load a model")
+            .add_filter("pushlab model", &["json"])
+            .pick_file()
+            .map(DialogResult::LoadModel),
+        DialogRequest::SaveModel => FileDialog::new()
+            .set_title("Save the model")
+            .add_filter("pushlab model", &["json"])
+            .set_file_name("model.json")
+            .save_file()
+            .map(DialogResult::SaveModel),
+    }
+}

@@ -1,0 +1,135 @@
+//! Files the app writes and reads besides recordings: PNG snapshots of a window region, the losses as
+//! CSV, and model files. Every write goes to a temporary file that is renamed into place, so a crash
+//! never leaves half a file under the user's chosen name.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::Context as _;
+use eframe::egui;
+use pushlab_core::model_file::ModelFile;
+
+use super::state::AppState;
+
+/// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .with_context(|| format!("{}: not a file name", path.display()))?;
+    let temp = dir.join(format!(
+        ".{}.{}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let mut file = std::fs::File::create(&temp)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        std::fs::rename(&temp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temp);
+    }
+    result.with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Crops `rect` (points) out of a window screenshot and saves it as PNG.
+pub fn save_region_png(
+    image: &egui::ColorImage,
+    rect: egui::Rect,
+    pixels_per_point: f32,
+    path: &Path,
+) -> anyhow::Result<()> {
+    let region = image.region(&rect, Some(pixels_per_point));
+    let [w, h] = region.size;
+    let rgba: Vec<u8> = region.pixels.iter().flat_map(|c| c.to_array()).collect();
+    let buffer = image::RgbaImage::from_raw(w as u32, h as u32, rgba)
+        .context("screenshot region has an inconsistent size")?;
+    let mut png = Vec::new();
+    buffer
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .context("cannot encode PNG")?;
+    write_atomic(path, &png)
+}
+
+/// The per-frame losses and θ of the selected recording as CSV: one row per sample, online values
+/// empty where nothing was learned yet. Returns the CSV text.
+pub fn losses_csv(state: &AppState) -> Option<String> {
+    let run = state.run.as_ref()?;
+    let recording = state.recording()?;
+    let frames = &recording.trajectory.frames;
+    let t0 = frames.first().map_or(0.0, |f| f.time);
+    let mut csv = String::from(
+        "frame,time,fixed_loss_pos,fixed_loss_rot,online_loss_pos,online_loss_rot,com_offset_x,com_offset_y,h\n",
+    );
+    for (k, fixed) in run.fixed().iter().enumerate() {
+        let time = frames.get(k).map_or(f64::NAN, |f| f.time - t0);
+        let _ = write!(csv, "{k},{time},{},{}", fixed.loss.pos(), fixed.loss.rot);
+        match run.steps().get(k).copied().flatten() {
+            Some(step) => {
+                let _ = write!(csv, ",{},{}", step.loss.pos(), step.loss.rot);
+            }
+            None => csv.push_str(",,"),
+        }
+        if k <= run.frontier() {
+            let theta = run.theta_at(k);
+            let _ = writeln!(
+                csv,
+                ",{},{},{}",
+                theta.com_offset[0], theta.com_offset[1], theta.h
+            );
+        } else {
+            csv.push_str(",,,\n");
+        }
+    }
+    Some(csv)
+}
+
+/// Saves [`losses_csv`]; returns the number of data rows.
+pub fn save_losses_csv(state: &AppState, path: &Path) -> anyhow::Result<usize> {
+    let csv = losses_csv(state).context("no recording selected: nothing to export")?;
+    write_atomic(path, csv.as_bytes())?;
+    Ok(csv.lines().count().saturating_sub(1))
+}
+
+/// The bundled pretrained model, if the build ships one.
+pub fn default_model_path() -> Option<PathBuf> {
+    let candidates = [
+        PathBuf::from("assets/default-model.json"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/default-model.json"),
+    ];
+    candidates.into_iter().find(|p| p.is_file())
+}
+
+/// Loads a model file and restarts online learning with it.
+pub fn load_model(state: &mut AppState, path: &Path) -> anyhow::Result<()> {
+    let file = ModelFile::load(path)?;
+    state.models.combined = Some(Arc::new(file.combined));
+    state.models.pure_nn = file.pure_nn.map(Arc::new);
+    state.models.training = file.training;
+    state.models.source = Some(path.display().to_string());
+    state.restart_run_keeping_frame();
+    Ok(())
+}
+
+/// Saves the combined model in use (and the pure-network baseline, if any) as a model file.
+pub fn save_model(state: &AppState, path: &Path) -> anyhow::Result<()> {
+    let combined = state
+        .models
+        .combined
+        .as_deref()
+        .context("no trained model to save: train one or load a model file first")?;
+    let file = ModelFile {
+        combined: combined.clone(),
+        pure_nn: state.models.pure_nn.as_deref().cloned(),
+        training: state.models.training.clone(),
+    };
+    file.save(path)?;
+    Ok(())
+}

@@ -1,0 +1,302 @@
+//! The desktop app: play back pushes, watch and steer online learning frame by frame.
+//!
+//! Layout like rerun's viewer: `state/` is plain Rust (time, selection, learning), `panels/` draws it,
+//! one module per panel. Each frame, `App::logic` advances time and learning, `App::ui` draws every
+//! panel, collecting [`state::Command`]s that are applied after the last panel.
+
+pub mod colors;
+pub mod dialogs;
+pub mod export;
+pub mod panels;
+pub mod state;
+
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, Sender, channel};
+
+use eframe::egui;
+
+use self::dialogs::{DialogRequest, DialogResult, Dialogs};
+use self::panels::scene::SceneView;
+use self::state::models::Models;
+use self::state::timeline::TimelineCommand;
+use self::state::{AppState, Command, Persisted};
+
+/// Key under which eframe persists [`Persisted`].
+const STORAGE_KEY: &str = "pushlab";
+
+/// The side panel's tabs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SideTab {
+    Steer,
+    Inspect,
+    Train,
+}
+
+/// View state that is not app state: camera, tabs, pending exports.
+pub struct View {
+    pub scene: SceneView,
+    pub side_tab: SideTab,
+    pub dialogs: Dialogs,
+    /// Messages from screenshots saved on the renderer's thread.
+    pub screenshot_status: (Sender<String>, Receiver<String>),
+    /// Where the scene and the plots were drawn last frame (for PNG export).
+    pub scene_rect: egui::Rect,
+    pub plots_rect: egui::Rect,
+}
+
+impl Default for View {
+    fn default() -> Self {
+        Self {
+            scene: SceneView::default(),
+            side_tab: SideTab::Steer,
+            dialogs: Dialogs::default(),
+            screenshot_status: channel(),
+            scene_rect: egui::Rect::NOTHING,
+            plots_rect: egui::Rect::NOTHING,
+        }
+    }
+}
+
+/// The app: its state and its view.
+pub struct PushlabApp {
+    pub state: AppState,
+    pub view: View,
+}
+
+impl PushlabApp {
+    /// An app with the given state.
+    pub fn new(state: AppState) -> Self {
+        Self {
+            state,
+            view: View::default(),
+        }
+    }
+
+    /// Draws every panel and applies the commands they produced. This is the whole UI; tests drive it
+    /// through `egui_kittest` exactly as the window does.
+    pub fn show(&mut self, ui: &mut egui::Ui) {
+        let mut commands = Vec::new();
+        keyboard_shortcuts(ui.ctx(), &mut commands);
+        dropped_files(ui.ctx(), &mut commands);
+
+        panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
+        panels::timeline::bottom_bar(ui, &self.state, &mut commands);
+        egui::Panel::left("browser")
+            .default_size(230.0)
+            .resizable(true)
+            .show(ui, |ui| {
+                panels::browser::ui(ui, &mut self.state, &mut commands)
+            });
+        egui::Panel::right("side")
+            .default_size(310.0)
+            .resizable(true)
+            .show(ui, |ui| self.side_panel(ui, &mut commands));
+        egui::Panel::bottom("plots")
+            .default_size(300.0)
+            .resizable(true)
+            .show(ui, |ui| {
+                self.view.plots_rect = ui.max_rect();
+                panels::plots::ui(ui, &self.state, &mut commands);
+            });
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            self.view.scene_rect = ui.max_rect();
+            panels::scene::ui(ui, &mut self.state, &mut self.view.scene, &mut commands);
+        });
+
+        for command in commands {
+            self.state.apply(command);
+        }
+        self.handle_dialog_results(ui.ctx());
+        self.handle_screenshots();
+    }
+
+    fn side_panel(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        ui.horizontal(|ui| {
+            for (tab, label) in [
+                (SideTab::Steer, "Steer"),
+                (SideTab::Inspect, "Inspect"),
+                (SideTab::Train, "Train"),
+            ] {
+                ui.selectable_value(&mut self.view.side_tab, tab, label);
+            }
+        });
+        ui.separator();
+        egui::ScrollArea::vertical().show(ui, |ui| match self.view.side_tab {
+            SideTab::Steer => panels::steer::ui(ui, &self.state, &mut self.view.scene, commands),
+            SideTab::Inspect => panels::inspector::ui(ui, &self.state),
+            SideTab::Train => {
+                panels::training::ui(ui, &mut self.state, &mut self.view.dialogs, commands)
+            }
+        });
+    }
+
+    fn handle_dialog_results(&mut self, ctx: &egui::Context) {
+        while let Some(result) = self.view.dialogs.poll() {
+            match result {
+                DialogResult::Open(paths) => self.state.apply(Command::Open(paths)),
+                DialogResult::SaveScene(path) => {
+                    self.request_screenshot(ctx, self.view.scene_rect, path)
+                }
+                DialogResult::SavePlots(path) => {
+                    self.request_screenshot(ctx, self.view.plots_rect, path)
+                }
+                DialogResult::SaveLossCsv(path) => {
+                    self.state.status = Some(match export::save_losses_csv(&self.state, &path) {
+                        Ok(rows) => format!("saved {rows} rows of losses to {}", path.display()),
+                        Err(e) => format!("could not save {}: {e:#}", path.display()),
+                    });
+                }
+                DialogResult::LoadModel(path) => {
+                    self.state.status = Some(match export::load_model(&mut self.state, &path) {
+                        Ok(()) => format!("model loaded from {}", path.display()),
+                        Err(e) => format!("{e:#}"),
+                    });
+                }
+                DialogResult::SaveModel(path) => {
+                    self.state.status = Some(match export::save_model(&self.state, &path) {
+                        Ok(()) => format!("model saved to {}", path.display()),
+                        Err(e) => format!("{e:#}"),
+                    });
+                }
+            }
+        }
+    }
+
+    /// Asks the renderer for a screenshot; the region is cropped and saved when it arrives.
+    fn request_screenshot(&mut self, ctx: &egui::Context, rect: egui::Rect, path: PathBuf) {
+        let ppp = ctx.pixels_per_point();
+        let sender = self.view.screenshot_status.0.clone();
+        let repaint = ctx.clone();
+        let callback = egui::ScreenshotCallback::new(move |image| {
+            let message = match export::save_region_png(&image, rect, ppp, &path) {
+                Ok(()) => format!("saved {}", path.display()),
+                Err(e) => format!("could not save {}: {e:#}", path.display()),
+            };
+            // The receiver is gone only when the app closed.
+            let _ = sender.send(message);
+            repaint.request_repaint();
+        });
+        ctx.send_viewport_cmd(egui::ViewportCommand::Screenshot(callback));
+    }
+
+    fn handle_screenshots(&mut self) {
+        while let Ok(message) = self.view.screenshot_status.1.try_recv() {
+            self.state.status = Some(message);
+        }
+    }
+}
+
+impl eframe::App for PushlabApp {
+    fn logic(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
+        let dt = ctx.input(|i| i.stable_dt) as f64;
+        // A frame can take long while the window was hidden; never jump more than a tenth of a second.
+        if self.state.advance(dt.min(0.1)) || self.view.dialogs.is_open() {
+            ctx.request_repaint();
+        }
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.show(ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STORAGE_KEY, &self.state.persisted());
+    }
+}
+
+/// Space, ←/→ (±1), Shift+←/→ (±10), Home/End, unless a text field has the keyboard.
+fn keyboard_shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
+    if ctx.egui_wants_keyboard_input() {
+        return;
+    }
+    use egui::{Key, Modifiers};
+    let shortcuts = [
+        (Modifiers::SHIFT, Key::ArrowRight, TimelineCommand::Step(10)),
+        (Modifiers::SHIFT, Key::ArrowLeft, TimelineCommand::Step(-10)),
+        (Modifiers::NONE, Key::ArrowRight, TimelineCommand::Step(1)),
+        (Modifiers::NONE, Key::ArrowLeft, TimelineCommand::Step(-1)),
+        (Modifiers::NONE, Key::Space, TimelineCommand::TogglePlay),
+        (Modifiers::NONE, Key::Home, TimelineCommand::JumpStart),
+        (Modifiers::NONE, Key::End, TimelineCommand::JumpEnd),
+    ];
+    ctx.input_mut(|i| {
+        for (modifiers, key, command) in shortcuts {
+            if i.consume_key(modifiers, key) {
+                commands.push(Command::Timeline(command));
+            }
+        }
+    });
+}
+
+/// Files and folders dropped on the window are opened like the Open dialog's.
+fn dropped_files(ctx: &egui::Context, commands: &mut Vec<Command>) {
+    let paths: Vec<PathBuf> = ctx.input(|i| {
+        i.raw
+            .dropped_files
+            .iter()
+            .map(|f| f.path().to_path_buf())
+            .filter(|p| !p.as_os_str().is_empty())
+            .collect()
+    });
+    if !paths.is_empty() {
+        commands.push(Command::Open(paths));
+    }
+}
+
+/// The bundled sample data: `sample-data/` next to the working directory, else in the source tree
+/// the binary was built from.
+pub fn sample_data_dir() -> PathBuf {
+    let local = PathBuf::from("sample-data");
+    if local.is_dir() {
+        local
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data")
+    }
+}
+
+/// The app state opened on `paths`, or on the bundled sample data when `paths` is empty, with the
+/// bundled default model when there is one. Used by the binary and by the UI tests.
+pub fn initial_state(paths: &[PathBuf], persisted: Persisted) -> AppState {
+    let mut state = AppState::new(persisted, Models::default());
+    if let Some(path) = export::default_model_path()
+        && let Err(e) = export::load_model(&mut state, &path)
+    {
+        state.status = Some(format!("{e:#}"));
+    }
+    let paths = if paths.is_empty() {
+        vec![sample_data_dir()]
+    } else {
+        paths.to_vec()
+    };
+    state.open_blocking(&paths);
+    state
+}
+
+/// Opens the app window; returns when it is closed.
+pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("pushlab")
+            .with_inner_size([1400.0, 900.0])
+            .with_min_inner_size([900.0, 600.0])
+            .with_drag_and_drop(true),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "pushlab",
+        options,
+        Box::new(move |cc| {
+            let persisted: Persisted = cc
+                .storage
+                .and_then(|s| eframe::get_value(s, STORAGE_KEY))
+                .unwrap_or_default();
+            Ok(Box::new(PushlabApp::new(initial_state(&paths, persisted))))
+        }),
+    )
+    .map_err(|e| anyhow::anyhow!("could not open the window: {e}"))
+}
+
+/// A request to open a native dialog (used by the menu).
+pub fn open_dialog(view: &mut View, request: DialogRequest) {
+    view.dialogs.open(request);
+}

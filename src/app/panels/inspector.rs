@@ -1,0 +1,120 @@
+//! The frame inspector: for the frame shown, the model's inputs, the network's outputs `c` and `u_c`,
+//! predicted vs true motion, the losses and the gradient on `θ_online` — what an engineer needs to
+//! debug one frame.
+
+use eframe::egui::{self, RichText};
+
+use crate::app::colors;
+use crate::app::state::AppState;
+
+/// Draws the inspector.
+pub fn ui(ui: &mut egui::Ui, state: &AppState) {
+    let frame = state.frame();
+    let (Some(run), Some(recording)) = (&state.run, state.recording()) else {
+        ui.weak("Select a recording to inspect its frames.");
+        return;
+    };
+    let Some(sample) = run.sample(frame) else {
+        ui.label(format!(
+            "Frame {frame} has no sample: it is within the prediction horizon of the end."
+        ));
+        return;
+    };
+    let Some(step) = run.evaluate(frame) else {
+        return;
+    };
+    let mm = |v: f64| format!("{:+.3} mm", v * 1e3);
+    let mm2 = |v: [f64; 2]| format!("({:+.3}, {:+.3}) mm", v[0] * 1e3, v[1] * 1e3);
+    let deg = |v: f64| format!("{:+.3}°", v.to_degrees());
+
+    let time = recording
+        .trajectory
+        .frames
+        .get(frame)
+        .map_or(0.0, |f| f.time);
+    ui.label(format!("Frame {frame}, t = {time:.3} s"));
+    ui.add_space(4.0);
+    section(ui, "Inputs (object frame at t)", |ui| {
+        row(ui, "robot position", mm2(sample.input.robot_in_object));
+        row(ui, "robot motion", mm2(sample.input.robot_motion_in_object));
+    });
+    section(ui, "θ_online at this frame", |ui| {
+        row(ui, "COM offset", mm2(step.theta_before.com_offset));
+        row(ui, "h", mm(step.theta_before.h));
+    });
+    section(ui, "Network outputs", |ui| {
+        row(
+            ui,
+            "contact c",
+            step.prediction.contact.map_or("—".to_owned(), mm2),
+        );
+        row(
+            ui,
+            "contact motion u_c",
+            step.prediction.contact_motion.map_or("—".to_owned(), mm2),
+        );
+    });
+    section(ui, "Motion: predicted vs true", |ui| {
+        let p = &step.prediction.motion;
+        let t = &sample.target;
+        let f = run.fixed().get(frame).map(|s| s.prediction.motion);
+        row_colored(ui, "online Δx, Δy", mm2(p.translation), colors::ONLINE);
+        row_colored(ui, "online Δθ", deg(p.rotation), colors::ONLINE);
+        if let Some(f) = f {
+            row_colored(ui, "fixed Δx, Δy", mm2(f.translation), colors::FIXED);
+            row_colored(ui, "fixed Δθ", deg(f.rotation), colors::FIXED);
+        }
+        row_colored(ui, "true Δx, Δy", mm2(t.translation), colors::TRUE);
+        row_colored(ui, "true Δθ", deg(t.rotation), colors::TRUE);
+    });
+    section(ui, "Losses (normalised)", |ui| {
+        let l = &step.loss;
+        row_colored(
+            ui,
+            "online: pos x, pos y, rot",
+            format!("{:.4}, {:.4}, {:.4}", l.pos_x, l.pos_y, l.rot),
+            colors::ONLINE,
+        );
+        row_colored(
+            ui,
+            "online: total",
+            format!("{:.4}", l.total()),
+            colors::ONLINE,
+        );
+        if let Some(f) = run.fixed().get(frame) {
+            row_colored(
+                ui,
+                "fixed: total",
+                format!("{:.4}", f.loss.total()),
+                colors::FIXED,
+            );
+        }
+    });
+    section(ui, "Gradient ∂ℓ/∂θ_online", |ui| {
+        let g = step.gradient;
+        row(ui, "∂ℓ/∂COM x", format!("{:+.4e} /m", g[0]));
+        row(ui, "∂ℓ/∂COM y", format!("{:+.4e} /m", g[1]));
+        row(ui, "∂ℓ/∂h", format!("{:+.4e} /m", g[2]));
+    });
+}
+
+fn section(ui: &mut egui::Ui, title: &str, body: impl FnOnce(&mut egui::Ui)) {
+    ui.label(RichText::new(title).strong());
+    egui::Grid::new(title)
+        .num_columns(2)
+        .spacing([12.0, 2.0])
+        .show(ui, body);
+    ui.add_space(6.0);
+}
+
+fn row(ui: &mut egui::Ui, name: &str, value: String) {
+    ui.label(name);
+    ui.monospace(value);
+    ui.end_row();
+}
+
+fn row_colored(ui: &mut egui::Ui, name: &str, value: String, color: egui::Color32) {
+    ui.colored_label(color, name);
+    ui.monospace(value);
+    ui.end_row();
+}

@@ -1,0 +1,13 @@
+//! One module per panel. Each draws from `&AppState` and pushes [`Command`]s; none mutates the state
+//! directly except its own view options (layers, camera).
+//!
+//! [`Command`]: crate::app::state::Command
+
+pub mod browser;
+pub mod inspector;
+pub mod menu;
+pub mod plots;
+pub mod scene;
+pub mod steer;
+pub mod timeline;
+pub mod training;

@@ -1,0 +1,168 @@
+//! Live plots: per-step losses (online vs fixed, positional and rotational, with moving averages) and
+//! `θ_online(t)` with the true values dashed. All share the x axis (seconds): zooming one zooms all,
+//! the current frame is a vertical cursor, and clicking a plot seeks there.
+
+use eframe::egui::{self, Color32, Id};
+use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine};
+use pushlab_core::learn::{Loss, moving_average};
+
+use crate::app::colors;
+use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::{AppState, Command};
+
+/// Samples in the moving average of the loss plots.
+pub const MOVING_AVERAGE: usize = 25;
+
+/// Draws the plots.
+pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let (Some(run), Some(recording)) = (&state.run, state.recording()) else {
+        ui.centered_and_justified(|ui| ui.weak("Plots appear when a recording is selected"));
+        return;
+    };
+    let frames = &recording.trajectory.frames;
+    let t0 = frames.first().map_or(0.0, |f| f.time);
+    let time_of = |k: usize| frames.get(k).map_or(0.0, |f| f.time - t0);
+    let now = time_of(state.frame());
+    // Per recording, so that a new selection starts with its whole duration in view.
+    let group = Id::unique(("pushlab-plots", state.session.selected));
+    let duration = recording.trajectory.duration().max(1e-3);
+
+    // Online series: only where a step was learned; fixed: every sample.
+    let online: Vec<(f64, Loss)> = run
+        .steps()
+        .iter()
+        .enumerate()
+        .filter_map(|(k, s)| s.map(|s| (time_of(k), s.loss)))
+        .collect();
+    let fixed: Vec<(f64, Loss)> = run
+        .fixed()
+        .iter()
+        .enumerate()
+        .map(|(k, s)| (time_of(k), s.loss))
+        .collect();
+
+    let mut seek: Option<f64> = None;
+    let row_height = ((ui.available_height() - 12.0) / 2.0).max(80.0);
+    ui.columns(2, |cols| {
+        for (col, (title, pick)) in cols.iter_mut().zip([
+            ("Position loss", (|l: &Loss| l.pos()) as fn(&Loss) -> f64),
+            ("Rotation loss", |l: &Loss| l.rot),
+        ]) {
+            let plot = base_plot(title, group, row_height, duration).legend(
+                Legend::default()
+                    .position(egui_plot::Corner::RightTop)
+                    .background_alpha(0.6),
+            );
+            let response = plot.show(col, |plot_ui| {
+                for (name, series, color) in [
+                    ("Fixed", &fixed, colors::FIXED),
+                    ("Online", &online, colors::ONLINE),
+                ] {
+                    let xs: Vec<f64> = series.iter().map(|(t, _)| *t).collect();
+                    let ys: Vec<f64> = series.iter().map(|(_, l)| pick(l)).collect();
+                    let raw: PlotPoints = xs.iter().zip(&ys).map(|(x, y)| [*x, *y]).collect();
+                    plot_ui.line(
+                        Line::new(format!("{name} (per step)"), raw)
+                            .color(color.gamma_multiply(0.35))
+                            .width(1.0),
+                    );
+                    let smooth: PlotPoints = xs
+                        .iter()
+                        .zip(moving_average(&ys, MOVING_AVERAGE))
+                        .map(|(x, y)| [*x, y])
+                        .collect();
+                    plot_ui.line(
+                        Line::new(format!("{name} (moving avg {MOVING_AVERAGE})"), smooth)
+                            .color(color)
+                            .width(2.0),
+                    );
+                }
+                cursor(plot_ui, now);
+                clicked_x(plot_ui)
+            });
+            seek = seek.or(response.inner);
+        }
+    });
+    ui.add_space(4.0);
+    let setting = &recording.setting;
+    let theta = run.checkpoints();
+    ui.columns(3, |cols| {
+        let truths = [
+            setting.com_offset.map(|c| c[0]),
+            setting.com_offset.map(|c| c[1]),
+            setting.h,
+        ];
+        for (index, col) in cols.iter_mut().enumerate() {
+            let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
+            let response = base_plot(title, group, row_height, duration).show(col, |plot_ui| {
+                let points: PlotPoints = theta
+                    .iter()
+                    .enumerate()
+                    .map(|(k, t)| [time_of(k), t.to_array()[index] * 1e3])
+                    .collect();
+                plot_ui.line(
+                    Line::new("θ_online", points)
+                        .color(colors::ONLINE)
+                        .width(2.0),
+                );
+                if let Some(truth) = truths[index] {
+                    plot_ui.hline(
+                        HLine::new("true", truth * 1e3)
+                            .color(colors::TRUE)
+                            .style(LineStyle::dashed_loose()),
+                    );
+                }
+                cursor(plot_ui, now);
+                clicked_x(plot_ui)
+            });
+            seek = seek.or(response.inner);
+        }
+    });
+
+    if let Some(t) = seek {
+        // The frame nearest to the clicked time.
+        let target = t0 + t;
+        let k = frames.partition_point(|f| f.time < target);
+        let k = if k > 0
+            && (k == frames.len() || target - frames[k - 1].time < frames[k].time - target)
+        {
+            k - 1
+        } else {
+            k
+        };
+        commands.push(Command::Timeline(TimelineCommand::SeekTo(k)));
+    }
+}
+
+fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static> {
+    Plot::new((title, group))
+        .height(height)
+        .link_axis(group, [true, false])
+        .link_cursor(group, [true, false])
+        .allow_zoom([true, false])
+        .allow_scroll([true, false])
+        .allow_drag([true, false])
+        .allow_boxed_zoom(false)
+        .y_axis_label(title.to_owned())
+        .y_axis_min_width(36.0)
+        .x_axis_formatter(|mark, _| format!("{:.0} s", mark.value))
+        .default_x_bounds(0.0, duration)
+        .auto_bounds([false, true])
+        .include_y(0.0)
+}
+
+fn cursor(plot_ui: &mut egui_plot::PlotUi<'_>, now: f64) {
+    plot_ui.vline(
+        VLine::new("now", now)
+            .color(Color32::from_gray(200))
+            .width(1.0),
+    );
+}
+
+fn clicked_x(plot_ui: &egui_plot::PlotUi<'_>) -> Option<f64> {
+    if plot_ui.response().clicked() {
+        plot_ui.pointer_coordinate().map(|p| p.x)
+    } else {
+        None
+    }
+}

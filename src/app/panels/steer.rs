@@ -1,0 +1,140 @@
+//! Steering `θ_online`: sliders for the COM offset and `h` (the prediction follows instantly), online
+//! learning by hand ("Learn this frame") or while playing, reset, and the update rule.
+
+use eframe::egui;
+use pushlab_core::learn::OnlineConfig;
+use pushlab_core::model::{H_MAX, H_MIN, OnlineParams};
+
+use crate::app::colors;
+use crate::app::panels::scene::SceneView;
+use crate::app::state::{AppState, Command};
+
+/// Draws the steering controls.
+pub fn ui(ui: &mut egui::Ui, state: &AppState, _view: &mut SceneView, commands: &mut Vec<Command>) {
+    let (Some(theta), Some(recording), Some(run)) = (state.theta(), state.recording(), &state.run)
+    else {
+        ui.weak("Select a recording to steer the model.");
+        return;
+    };
+    ui.label(format!("Learning with: {}", state.models.learner_name()));
+    ui.add_space(4.0);
+    ui.heading("θ_online at this frame");
+    // Slider ranges follow the object: the COM stays within its bounding box, h within its size.
+    let (half_x, half_y, size) = match recording.setting.object.outline() {
+        Ok(outline) => {
+            let (min, max) = outline.bounding_box();
+            (
+                min.x.abs().max(max.x.abs()),
+                min.y.abs().max(max.y.abs()),
+                outline.size(),
+            )
+        }
+        Err(_) => (0.1, 0.1, 0.2),
+    };
+    let mut mm = [
+        theta.com_offset[0] * 1e3,
+        theta.com_offset[1] * 1e3,
+        theta.h * 1e3,
+    ];
+    let mut changed = false;
+    let ranges = [
+        ("COM offset x", -half_x * 1e3..=half_x * 1e3),
+        ("COM offset y", -half_y * 1e3..=half_y * 1e3),
+        (
+            "h",
+            H_MIN * 1e3..=(size * 1e3).clamp(H_MIN * 1e3, H_MAX * 1e3),
+        ),
+    ];
+    ui.spacing_mut().slider_width = (ui.available_width() - 110.0).max(80.0);
+    for ((label, range), value) in ranges.into_iter().zip(mm.iter_mut()) {
+        changed |= ui
+            .add(
+                egui::Slider::new(value, range)
+                    .text(label)
+                    .suffix(" mm")
+                    .fixed_decimals(2)
+                    .clamping(egui::SliderClamping::Never),
+            )
+            .changed();
+    }
+    if changed {
+        commands.push(Command::SetTheta(OnlineParams {
+            com_offset: [mm[0] * 1e-3, mm[1] * 1e-3],
+            h: mm[2] * 1e-3,
+        }));
+    }
+    if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
+        ui.colored_label(
+            colors::TRUE,
+            format!(
+                "true: COM ({:.2}, {:.2}) mm{}",
+                com[0] * 1e3,
+                com[1] * 1e3,
+                h.map(|h| format!(", h {:.2} mm", h * 1e3))
+                    .unwrap_or_default()
+            ),
+        );
+    }
+    ui.weak("Or drag the orange COM marker in the scene.");
+
+    ui.add_space(8.0);
+    ui.heading("Online learning");
+    ui.horizontal(|ui| {
+        if ui
+            .button("Learn this frame")
+            .on_hover_text("One online update from this frame's sample")
+            .clicked()
+        {
+            commands.push(Command::LearnThisFrame);
+        }
+        if ui.button("Reset to θ_online(0)").clicked() {
+            commands.push(Command::ResetTheta);
+        }
+    });
+    let mut learn = state.learn_while_playing;
+    if ui
+        .checkbox(&mut learn, "Learn while playing")
+        .on_hover_text("Learn from every frame the timeline moves forward over")
+        .changed()
+    {
+        commands.push(Command::SetLearnWhilePlaying(learn));
+    }
+    let mut config = run.config;
+    let mut config_changed = false;
+    egui::Grid::new("online-config")
+        .num_columns(2)
+        .show(ui, |ui| {
+            let label = ui.label("GD steps per frame");
+            config_changed |= ui
+                .add(egui::DragValue::new(&mut config.steps).range(0..=100))
+                .labelled_by(label.id)
+                .changed();
+            ui.end_row();
+            let label = ui.label("Learning rate");
+            config_changed |= ui
+                .add(
+                    egui::DragValue::new(&mut config.lr)
+                        .range(0.0..=1.0)
+                        .speed(0.0005)
+                        .max_decimals(5),
+                )
+                .labelled_by(label.id)
+                .changed();
+            ui.end_row();
+        });
+    if config_changed {
+        commands.push(Command::SetOnlineConfig(config));
+    }
+    if config != OnlineConfig::default()
+        && ui
+            .small_button("Paper defaults (5 steps, lr 0.005)")
+            .clicked()
+    {
+        commands.push(Command::SetOnlineConfig(OnlineConfig::default()));
+    }
+    ui.weak(format!(
+        "Learned up to frame {} of {}. Scrubbing back restores θ at that frame; playing on re-learns.",
+        run.frontier(),
+        run.samples().len()
+    ));
+}

@@ -1,0 +1,146 @@
+//! Offline training from the app: choose recordings, train on a worker thread with a progress bar and
+//! a loss curve, cancel, and save or load model files.
+
+use eframe::egui;
+use egui_plot::{Legend, Line, Plot, PlotPoints};
+
+use crate::app::colors;
+use crate::app::dialogs::{DialogRequest, Dialogs};
+use crate::app::state::{AppState, Command};
+
+/// Draws the training panel.
+pub fn ui(
+    ui: &mut egui::Ui,
+    state: &mut AppState,
+    dialogs: &mut Dialogs,
+    commands: &mut Vec<Command>,
+) {
+    ui.heading("Train a combined model");
+    let running = state.training.is_running();
+    ui.label("Recordings to train on:");
+    ui.horizontal(|ui| {
+        if ui.small_button("All").clicked() {
+            let ids: Vec<_> = state.session.recordings().map(|(id, _)| id).collect();
+            for id in ids {
+                state.training.chosen.insert(id);
+            }
+        }
+        if ui.small_button("None").clicked() {
+            state.training.chosen.clear();
+        }
+    });
+    egui::ScrollArea::vertical()
+        .id_salt("train-choice")
+        .max_height(140.0)
+        .show(ui, |ui| {
+            let ids: Vec<_> = state
+                .session
+                .recordings()
+                .map(|(id, r)| {
+                    (
+                        id,
+                        format!("{} / {}", state.session.sets[id.set].setting.name, r.name),
+                    )
+                })
+                .collect();
+            for (id, label) in ids {
+                let mut on = state.training.chosen.contains(&id);
+                if ui.checkbox(&mut on, label).changed() {
+                    if on {
+                        state.training.chosen.insert(id);
+                    } else {
+                        state.training.chosen.remove(&id);
+                    }
+                }
+            }
+        });
+    ui.add_enabled_ui(!running, |ui| {
+        egui::Grid::new("train-config")
+            .num_columns(2)
+            .show(ui, |ui| {
+                let config = &mut state.training.config;
+                let label = ui.label("Epochs");
+                ui.add(egui::DragValue::new(&mut config.epochs).range(1..=10_000))
+                    .labelled_by(label.id);
+                ui.end_row();
+                let label = ui.label("Adam learning rate");
+                ui.add(
+                    egui::DragValue::new(&mut config.learning_rate)
+                        .range(1e-6..=1.0)
+                        .speed(0.0005)
+                        .max_decimals(5),
+                )
+                .labelled_by(label.id);
+                ui.end_row();
+                let label = ui.label("Horizon (frames)");
+                ui.add(egui::DragValue::new(&mut config.horizon).range(1..=100))
+                    .labelled_by(label.id);
+                ui.end_row();
+                let label = ui.label("Seed");
+                ui.add(egui::DragValue::new(&mut config.seed))
+                    .labelled_by(label.id);
+                ui.end_row();
+            });
+    });
+    ui.horizontal(|ui| {
+        if running {
+            if ui.button("Cancel training").clicked() {
+                commands.push(Command::CancelTraining);
+            }
+            ui.spinner();
+        } else if ui
+            .add_enabled(
+                !state.training.chosen.is_empty(),
+                egui::Button::new("Train"),
+            )
+            .clicked()
+        {
+            commands.push(Command::StartTraining);
+        }
+    });
+    if running || !state.training.history.is_empty() {
+        let last = state.training.history.last();
+        let text = last.map_or("starting…".to_owned(), |p| {
+            format!(
+                "epoch {} / {}, train loss {:.4}",
+                p.epoch, p.epochs, p.train_loss
+            )
+        });
+        ui.add(egui::ProgressBar::new(state.training.progress()).text(text));
+        let train: PlotPoints = state
+            .training
+            .history
+            .iter()
+            .map(|p| [p.epoch as f64, p.train_loss])
+            .collect();
+        let validation: PlotPoints = state
+            .training
+            .history
+            .iter()
+            .filter_map(|p| p.validation_loss.map(|v| [p.epoch as f64, v]))
+            .collect();
+        Plot::new("training-loss")
+            .height(150.0)
+            .legend(Legend::default())
+            .x_axis_label("epoch")
+            .show(ui, |plot_ui| {
+                plot_ui.line(Line::new("train", train).color(colors::ONLINE));
+                plot_ui.line(Line::new("validation", validation).color(colors::FIXED));
+            });
+    }
+    ui.separator();
+    ui.horizontal(|ui| {
+        if ui.button("Load model…").clicked() {
+            dialogs.open(DialogRequest::LoadModel);
+        }
+        if ui
+            .add_enabled(
+                state.models.combined.is_some(),
+                egui::Button::new("Save model…"),
+            )
+            .clicked()
+        {
+            dialogs.open(DialogRequest::SaveModel);
+        }
+    });
+}

@@ -1,0 +1,328 @@
+//! The app's state in plain Rust: no egui in here, so every rule is unit-tested headlessly.
+//!
+//! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
+//! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
+
+pub mod layers;
+pub mod models;
+pub mod online;
+pub mod session;
+pub mod timeline;
+pub mod training;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use pushlab_core::learn::{OnlineConfig, OnlineStep};
+use pushlab_core::model::{OnlineParams, samples_from_trajectory};
+use pushlab_core::model_file::TrainingMetadata;
+use pushlab_core::recording::Recording;
+use serde::{Deserialize, Serialize};
+
+use self::layers::Layers;
+use self::models::Models;
+use self::online::OnlineRun;
+use self::session::{RecordingId, Session};
+use self::timeline::{Timeline, TimelineCommand};
+use self::training::Training;
+
+/// Everything a panel can ask the app to do.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    Timeline(TimelineCommand),
+    /// Show another recording (starts a fresh online run on it).
+    Select(RecordingId),
+    /// Open recordings from these paths (files or folders) in the background.
+    Open(Vec<PathBuf>),
+    /// Steer: set `θ_online` at the current frame.
+    SetTheta(OnlineParams),
+    /// One online update from the current frame's sample.
+    LearnThisFrame,
+    /// Learn from every frame the timeline passes while moving forward.
+    SetLearnWhilePlaying(bool),
+    /// Back to `θ_online(0)` at frame 0, forgetting what was learned.
+    ResetTheta,
+    /// Change online steps / learning rate (from the current frame on).
+    SetOnlineConfig(OnlineConfig),
+    /// Train a combined model on the recordings chosen in the training panel (background thread).
+    StartTraining,
+    /// Stop training after the current epoch, keeping the best model so far.
+    CancelTraining,
+}
+
+/// What survives a restart (eframe persistence).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Persisted {
+    /// Most recently opened paths, newest first.
+    pub recent: Vec<PathBuf>,
+    pub layers: Layers,
+    pub speed: f64,
+    pub looping: bool,
+    pub learn_while_playing: bool,
+    pub online: OnlineConfig,
+}
+
+impl Default for Persisted {
+    fn default() -> Self {
+        Self {
+            recent: Vec::new(),
+            layers: Layers::default(),
+            speed: 1.0,
+            looping: false,
+            learn_while_playing: true,
+            online: OnlineConfig::default(),
+        }
+    }
+}
+
+/// How many recent paths the File menu remembers.
+pub const MAX_RECENT: usize = 10;
+
+/// The whole app state.
+pub struct AppState {
+    pub session: Session,
+    pub models: Models,
+    pub timeline: Timeline,
+    /// Online learning on the selected recording; `None` until a recording is selected.
+    pub run: Option<OnlineRun>,
+    pub learn_while_playing: bool,
+    pub online_config: OnlineConfig,
+    pub layers: Layers,
+    pub recent: Vec<PathBuf>,
+    pub training: Training,
+    /// A short message for the status bar (what just happened, or what went wrong).
+    pub status: Option<String>,
+}
+
+impl AppState {
+    /// A state with nothing open, restoring what was persisted.
+    pub fn new(persisted: Persisted, models: Models) -> Self {
+        let mut timeline = Timeline::new(Vec::new());
+        timeline.apply(TimelineCommand::SetSpeed(persisted.speed));
+        timeline.apply(TimelineCommand::SetLoop(persisted.looping));
+        Self {
+            session: Session::default(),
+            models,
+            timeline,
+            run: None,
+            learn_while_playing: persisted.learn_while_playing,
+            online_config: persisted.online,
+            layers: persisted.layers,
+            recent: persisted.recent,
+            training: Training::default(),
+            status: None,
+        }
+    }
+
+    /// What to persist.
+    pub fn persisted(&self) -> Persisted {
+        Persisted {
+            recent: self.recent.clone(),
+            layers: self.layers.clone(),
+            speed: self.timeline.speed,
+            looping: self.timeline.looping,
+            learn_while_playing: self.learn_while_playing,
+            online: self.online_config,
+        }
+    }
+
+    /// Opens paths on this thread (command line, tests) and selects the first new recording.
+    pub fn open_blocking(&mut self, paths: &[PathBuf]) {
+        self.remember(paths);
+        if self.session.open_blocking(paths) {
+            self.start_run();
+        }
+    }
+
+    /// The selected recording.
+    pub fn recording(&self) -> Option<&Recording> {
+        self.session.selected_recording()
+    }
+
+    /// Index of the frame shown.
+    pub fn frame(&self) -> usize {
+        self.timeline.frame()
+    }
+
+    /// `θ_online` at the frame shown (or `θ_online(0)` of the model when nothing is selected).
+    pub fn theta(&self) -> Option<OnlineParams> {
+        self.run.as_ref().map(|r| r.theta_at(self.frame()))
+    }
+
+    /// The prediction, loss and gradient at the frame shown, with θ at that frame.
+    pub fn current_step(&self) -> Option<OnlineStep> {
+        self.run.as_ref()?.evaluate(self.frame())
+    }
+
+    /// Applies one command.
+    pub fn apply(&mut self, command: Command) {
+        match command {
+            Command::Timeline(c) => {
+                let before = self.timeline.frame();
+                self.timeline.apply(c);
+                self.frame_moved(before);
+            }
+            Command::Select(id) => {
+                if self.session.get(id).is_some() {
+                    self.session.selected = Some(id);
+                    self.start_run();
+                }
+            }
+            Command::Open(paths) => {
+                self.remember(&paths);
+                self.session.start_loading(paths);
+            }
+            Command::SetTheta(theta) => {
+                let frame = self.frame();
+                if let Some(run) = &mut self.run {
+                    run.set_theta_at(frame, theta);
+                }
+            }
+            Command::LearnThisFrame => {
+                let frame = self.frame();
+                if let Some(run) = &mut self.run
+                    && run.learn_this_frame(frame).is_none()
+                {
+                    self.status = Some(format!(
+                        "frame {frame} has no sample: it is within the prediction horizon of the end"
+                    ));
+                }
+            }
+            Command::SetLearnWhilePlaying(on) => self.learn_while_playing = on,
+            Command::ResetTheta => {
+                if let Some(run) = &mut self.run {
+                    run.reset();
+                }
+            }
+            Command::StartTraining => self.start_training(),
+            Command::CancelTraining => self.training.cancel(),
+            Command::SetOnlineConfig(config) => {
+                self.online_config = config;
+                let frame = self.frame();
+                if let Some(run) = &mut self.run {
+                    run.config = config;
+                    // Steps learned after this frame used the old rule: learn them again.
+                    let theta = run.theta_at(frame);
+                    run.set_theta_at(frame, theta);
+                }
+            }
+        }
+    }
+
+    /// Advances time by `dt` seconds and merges finished background work. Returns whether anything
+    /// is still moving (so the caller keeps repainting).
+    pub fn advance(&mut self, dt: f64) -> bool {
+        if self.session.poll_loading() {
+            self.start_run();
+        }
+        if let Some(message) = self.training.poll() {
+            self.status = Some(message);
+        }
+        if let Some(trained) = self.training.take_finished() {
+            self.models.combined = Some(Arc::new(trained.model));
+            self.models.training = TrainingMetadata {
+                report: Some(trained.report),
+                pure_nn_report: None,
+                sources: self
+                    .training
+                    .chosen
+                    .iter()
+                    .filter_map(|&id| self.session.get(id))
+                    .map(|r| r.source.display().to_string())
+                    .collect(),
+                pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
+            };
+            self.models.source = Some("trained in the app (unsaved)".to_owned());
+            self.restart_run_keeping_frame();
+        }
+        let before = self.timeline.frame();
+        if self.timeline.update(dt) {
+            self.frame_moved(before);
+        }
+        self.timeline.playing || self.session.loading().is_some() || self.training.is_running()
+    }
+
+    /// Learning follows the timeline forward when "Learn while playing" is on.
+    fn frame_moved(&mut self, before: usize) {
+        let now = self.timeline.frame();
+        if self.learn_while_playing
+            && now > before
+            && let Some(run) = &mut self.run
+        {
+            run.learn_through(before, now);
+        }
+    }
+
+    /// A fresh timeline and online run for the selected recording.
+    pub fn start_run(&mut self) {
+        let Some(recording) = self.session.selected_recording() else {
+            self.run = None;
+            self.timeline = Timeline::new(Vec::new());
+            return;
+        };
+        let times = recording.trajectory.frames.iter().map(|f| f.time).collect();
+        let (speed, looping) = (self.timeline.speed, self.timeline.looping);
+        self.timeline = Timeline::new(times);
+        self.timeline.apply(TimelineCommand::SetSpeed(speed));
+        self.timeline.apply(TimelineCommand::SetLoop(looping));
+        self.run = match self.models.learner_for(recording) {
+            Ok((model, horizon)) => Some(OnlineRun::new(
+                model,
+                &recording.trajectory,
+                horizon,
+                self.online_config,
+            )),
+            Err(message) => {
+                self.status = Some(message);
+                None
+            }
+        };
+    }
+
+    /// A fresh online run with the current models, staying at the frame shown.
+    pub fn restart_run_keeping_frame(&mut self) {
+        let frame = self.frame();
+        self.start_run();
+        self.timeline.apply(TimelineCommand::SeekTo(frame));
+    }
+
+    fn start_training(&mut self) {
+        if self.training.is_running() {
+            return;
+        }
+        let horizon = self.training.config.horizon;
+        let trajectories: Vec<_> = self
+            .training
+            .chosen
+            .iter()
+            .filter_map(|&id| self.session.get(id))
+            .map(|r| samples_from_trajectory(&r.trajectory, horizon))
+            .collect();
+        if trajectories.is_empty() {
+            self.status = Some("choose at least one recording to train on".to_owned());
+            return;
+        }
+        // Start from the physically motivated θ of the first chosen object.
+        if let Some(outline) = self
+            .training
+            .chosen
+            .iter()
+            .find_map(|&id| self.session.get(id))
+            .and_then(|r| r.setting.object.outline().ok())
+        {
+            self.training.config.theta0 = Some(OnlineParams::for_outline(&outline));
+        }
+        self.training.start(trajectories);
+        self.status = Some("training…".to_owned());
+    }
+
+    fn remember(&mut self, paths: &[PathBuf]) {
+        for path in paths.iter().rev() {
+            let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+            self.recent.retain(|p| *p != path);
+            self.recent.insert(0, path);
+        }
+        self.recent.truncate(MAX_RECENT);
+    }
+}

@@ -1,0 +1,120 @@
+//! Offline training from the app: runs `train_combined` of pushlab-core on a worker thread, with
+//! progress, a loss history and cancel. The UI thread only polls.
+
+use std::collections::BTreeSet;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
+use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, Trained, train_combined};
+use pushlab_core::model::{CombinedModel, Sample};
+
+use super::session::RecordingId;
+
+enum Message {
+    Progress(TrainProgress),
+    Done(Result<Trained<CombinedModel>, TrainError>),
+}
+
+struct Job {
+    receiver: Receiver<Message>,
+    cancel: Arc<AtomicBool>,
+}
+
+/// Training state: what to train on, the running job, and its history.
+#[derive(Default)]
+pub struct Training {
+    /// Recordings chosen for training.
+    pub chosen: BTreeSet<RecordingId>,
+    /// Epochs, learning rate, horizon….
+    pub config: TrainConfig,
+    /// Progress reported after every epoch of the current or last run.
+    pub history: Vec<TrainProgress>,
+    /// A model that finished training and has not been taken into use yet.
+    finished: Option<Trained<CombinedModel>>,
+    job: Option<Job>,
+}
+
+impl Training {
+    /// Whether a training run is going on.
+    pub fn is_running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Starts training on per-trajectory samples on a worker thread.
+    pub fn start(&mut self, trajectories: Vec<Vec<Sample>>) {
+        if self.is_running() {
+            return;
+        }
+        self.history.clear();
+        let (sender, receiver) = channel();
+        let cancel = Arc::new(AtomicBool::new(false));
+        let config = self.config;
+        let worker_cancel = cancel.clone();
+        std::thread::spawn(move || {
+            let progress_sender = sender.clone();
+            let mut progress = |p: &TrainProgress| {
+                let _ = progress_sender.send(Message::Progress(*p));
+            };
+            let result = train_combined(&trajectories, &config, &mut progress, &worker_cancel);
+            // The receiver is gone only when the app closed.
+            let _ = sender.send(Message::Done(result));
+        });
+        self.job = Some(Job { receiver, cancel });
+    }
+
+    /// Asks the running job to stop after the current epoch; it still delivers its best model.
+    pub fn cancel(&self) {
+        if let Some(job) = &self.job {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// Collects progress; returns a status message when the run ended.
+    pub fn poll(&mut self) -> Option<String> {
+        let job = self.job.as_ref()?;
+        loop {
+            match job.receiver.try_recv() {
+                Ok(Message::Progress(p)) => self.history.push(p),
+                Ok(Message::Done(result)) => {
+                    self.job = None;
+                    return Some(match result {
+                        Ok(trained) => {
+                            let r = &trained.report;
+                            let message = format!(
+                                "training {} after {} epochs: train loss {:.4}{}",
+                                if r.cancelled { "cancelled" } else { "finished" },
+                                r.epochs_run,
+                                r.train_loss,
+                                r.validation_loss
+                                    .map(|v| format!(", validation loss {v:.4}"))
+                                    .unwrap_or_default()
+                            );
+                            self.finished = Some(trained);
+                            message
+                        }
+                        Err(e) => format!("training failed: {e}"),
+                    });
+                }
+                Err(TryRecvError::Empty) => return None,
+                Err(TryRecvError::Disconnected) => {
+                    self.job = None;
+                    return Some("training stopped unexpectedly".to_owned());
+                }
+            }
+        }
+    }
+
+    /// The model of a finished run, once.
+    pub fn take_finished(&mut self) -> Option<Trained<CombinedModel>> {
+        self.finished.take()
+    }
+
+    /// Fraction of epochs done, for the progress bar.
+    pub fn progress(&self) -> f32 {
+        match self.history.last() {
+            Some(p) if p.epochs > 0 => p.epoch as f32 / p.epochs as f32,
+            _ => 0.0,
+        }
+    }
+}

@@ -1,0 +1,211 @@
+//! The desktop app driven headlessly through its accessibility tree, as a user would: by the labels of
+//! its buttons and sliders. Each test opens the bundled sample data like `cargo run` does.
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::{Queryable, by};
+use pushlab::app::state::Persisted;
+use pushlab::app::{PushlabApp, initial_state};
+
+/// The app on the sample data in a 1400×900 window. Like `App::logic`, each frame first advances time
+/// by the frame's `dt`, then draws.
+fn app() -> Harness<'static, PushlabApp> {
+    let app = PushlabApp::new(initial_state(&[], Persisted::default()));
+    assert!(
+        app.state.session.recording_count() > 0,
+        "the sample data did not open: {:?}",
+        app.state.session.problems
+    );
+    Harness::builder()
+        .with_size([1400.0, 900.0])
+        .with_step_dt(0.05)
+        .build_ui_state(
+            |ui, app: &mut PushlabApp| {
+                let dt = ui.input(|i| i.stable_dt) as f64;
+                app.state.advance(dt);
+                app.show(ui);
+            },
+            app,
+        )
+}
+
+fn theta(harness: &Harness<'_, PushlabApp>) -> [f64; 3] {
+    harness
+        .state()
+        .state
+        .theta()
+        .expect("a recording is selected")
+        .to_array()
+}
+
+#[test]
+fn opening_the_sample_data_lists_its_recordings_and_selects_the_first() {
+    let mut harness = app();
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert!(
+        state.session.problems.is_empty(),
+        "{:?}",
+        state.session.problems
+    );
+    let first = state.recording().expect("first recording selected");
+    let name = first.name.clone();
+    let setting = first.setting.name.clone();
+    assert!(
+        harness.query_by_label_contains(&name).is_some(),
+        "browser lists {name}"
+    );
+    assert!(
+        harness.query_by_label_contains(&setting).is_some(),
+        "browser lists {setting}"
+    );
+}
+
+#[test]
+fn play_advances_frames_and_pause_stops_them() {
+    let mut harness = app();
+    harness.run_steps(1);
+    harness.get_by_label("Play").click();
+    harness.run_steps(10);
+    let frame = harness.state().state.frame();
+    assert!(frame > 0, "still at frame 0 after 0.5 s of playing");
+    harness.get_by_label("Pause").click();
+    harness.run_steps(1);
+    let paused_at = harness.state().state.frame();
+    harness.run_steps(10);
+    assert_eq!(harness.state().state.frame(), paused_at);
+}
+
+#[test]
+fn step_buttons_and_keys_move_exactly_one_or_ten_frames() {
+    let mut harness = app();
+    harness.run_steps(1);
+    harness.get_by_label("+1").click();
+    harness.run_steps(1);
+    assert_eq!(harness.state().state.frame(), 1);
+    harness.get_by_label("+10").click();
+    harness.run_steps(1);
+    assert_eq!(harness.state().state.frame(), 11);
+    harness.key_press(egui::Key::ArrowLeft);
+    harness.run_steps(1);
+    assert_eq!(harness.state().state.frame(), 10);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::ArrowRight);
+    harness.run_steps(1);
+    assert_eq!(harness.state().state.frame(), 20);
+    harness.key_press(egui::Key::Home);
+    harness.run_steps(1);
+    assert_eq!(harness.state().state.frame(), 0);
+    harness.key_press(egui::Key::Space);
+    harness.run_steps(1);
+    assert!(harness.state().state.timeline.playing);
+}
+
+#[test]
+fn learn_this_frame_changes_theta_and_lowers_the_loss() {
+    let mut harness = app();
+    harness.run_steps(1);
+    harness.get_by_label("+10").click();
+    harness.run_steps(1);
+    let before_theta = theta(&harness);
+    let before_loss = harness
+        .state()
+        .state
+        .current_step()
+        .expect("frame 10 has a sample")
+        .loss;
+    harness.get_by_label("Learn this frame").click();
+    harness.run_steps(1);
+    let after_theta = theta(&harness);
+    let after_loss = harness
+        .state()
+        .state
+        .current_step()
+        .expect("frame 10 has a sample")
+        .loss;
+    assert_ne!(before_theta, after_theta);
+    assert!(
+        after_loss.total() < before_loss.total(),
+        "loss {} → {}",
+        before_loss.total(),
+        after_loss.total()
+    );
+}
+
+#[test]
+fn moving_the_h_slider_changes_the_prediction() {
+    let mut harness = app();
+    harness.run_steps(1);
+    harness.get_by_label("+10").click();
+    harness.run_steps(1);
+    let before = harness
+        .state()
+        .state
+        .current_step()
+        .expect("sample")
+        .prediction;
+    let h = theta(&harness)[2];
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "h")
+        .set_value_accesskit(h * 1e3 * 0.5);
+    harness.run_steps(1);
+    let after_h = theta(&harness)[2];
+    assert!((after_h - h * 0.5).abs() < 1e-6, "h {h} → {after_h}");
+    let after = harness
+        .state()
+        .state
+        .current_step()
+        .expect("sample")
+        .prediction;
+    assert_ne!(
+        before.motion, after.motion,
+        "halving h did not change the prediction"
+    );
+}
+
+#[test]
+fn scrubbing_back_restores_the_earlier_theta() {
+    let mut harness = app();
+    harness.run_steps(1);
+    assert!(
+        harness.state().state.learn_while_playing,
+        "learning while playing is on by default"
+    );
+    for _ in 0..3 {
+        harness.get_by_label("+10").click();
+        harness.run_steps(1);
+    }
+    let at_30 = theta(&harness);
+    for _ in 0..3 {
+        harness.get_by_label("+10").click();
+        harness.run_steps(1);
+    }
+    let at_60 = theta(&harness);
+    assert_ne!(at_30, at_60, "θ did not learn between frames 30 and 60");
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::ArrowLeft);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::ArrowLeft);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::ArrowLeft);
+    harness.run_steps(1);
+    assert_eq!(harness.state().state.frame(), 30);
+    assert_eq!(theta(&harness), at_30);
+    // Replaying re-learns to exactly the same θ.
+    harness.get_by_label("+10").click();
+    harness.get_by_label("+10").click();
+    harness.get_by_label("+10").click();
+    harness.run_steps(1);
+    assert_eq!(theta(&harness), at_60);
+}
+
+#[test]
+fn every_slider_and_checkbox_has_an_accessible_name() {
+    let mut harness = app();
+    harness.run_steps(2);
+    for role in [
+        egui::accesskit::Role::Slider,
+        egui::accesskit::Role::CheckBox,
+    ] {
+        for node in harness.query_all(by().role(role)) {
+            let label = node.accesskit_node().label().unwrap_or_default().to_owned();
+            assert!(!label.trim().is_empty(), "a {role:?} without a name");
+        }
+    }
+}
