@@ -66,23 +66,25 @@ impl PushWorld {
         world_from_object: Pose2,
         pusher: Point2<f64>,
     ) -> Result<Self, WorldError> {
-        for (field, value, ok) in [
-            ("h", object.h, object.h > 0.0),
+        for (field, value, expected, ok) in [
+            ("h", object.h, "a finite length > 0", object.h > 0.0),
             (
                 "pusher_radius",
                 object.pusher_radius,
+                "a finite length ≥ 0",
                 object.pusher_radius >= 0.0,
             ),
             (
                 "pusher_friction",
                 object.pusher_friction,
+                "a finite coefficient ≥ 0",
                 object.pusher_friction >= 0.0,
             ),
         ] {
             if !(ok && value.is_finite()) {
                 return Err(WorldError::BadParameter {
                     field,
-                    expected: "finite and positive",
+                    expected,
                     value,
                 });
             }
@@ -156,8 +158,7 @@ impl PushWorld {
         };
         let start = self.pusher;
         let motion = target - start;
-        // Free motion until the disc touches the outline. The gap along a straight line is convex
-        // (distance to a convex set), so if it is negative at the end there is exactly one root.
+        // Free motion until the disc touches the outline.
         let start_gap = self.gap();
         if start_gap > CONTACT_TOLERANCE {
             // Both ends of the step may be clear while its middle grazes a corner, so when the disc
@@ -248,4 +249,32 @@ fn apply_twist(pose: &Pose2, step: &ObjectStep) -> Pose2 {
     let v = step.com_motion;
     let translation = Vector2::new(a * v.x - b * v.y, b * v.x + a * v.y);
     pose.moved_by(translation, w)
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    fn object(h: f64) -> SimObject {
+        SimObject {
+            outline: Outline::rectangle(0.2, 0.2).unwrap(),
+            com_offset: Vector2::zeros(),
+            h,
+            pusher_radius: 0.05,
+            pusher_friction: 0.3,
+        }
+    }
+
+    #[test]
+    fn a_pusher_starting_inside_or_a_bad_h_is_refused_with_the_reason() {
+        let pose = Pose2::new(0.0, 0.0, 0.0);
+        let inside = PushWorld::new(object(0.08), pose, Point2::new(-0.12, 0.0)).unwrap_err();
+        assert_eq!(
+            inside.to_string(),
+            "the pusher starts inside the object (overlap 0.030000 m)"
+        );
+        let bad_h = PushWorld::new(object(-1.0), pose, Point2::new(-0.5, 0.0)).unwrap_err();
+        assert_eq!(bad_h.to_string(), "h must be a finite length > 0, got -1");
+    }
 }
