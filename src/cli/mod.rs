@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod labels;
 mod simulate;
 mod validate;
 
@@ -19,6 +20,11 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Set splits, inspect and export a recording set's labels (`pushlab-labels.json`).
+    Labels {
+        #[command(subcommand)]
+        command: labels::LabelsCommand,
+    },
     /// Generate recording sets with the quasi-static push simulator (true COM offset and h known).
     Simulate(Box<simulate::SimulateArgs>),
     /// Load recordings and report, one line per recording, ok / warnings / error (exit 1 on any error).
@@ -40,6 +46,13 @@ pub fn run() -> ExitCode {
         }
     };
     match cli.command {
+        Some(Command::Labels { command }) => match labels::run(command) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(err) => {
+                eprintln!("pushlab: {err:#}");
+                ExitCode::from(1)
+            }
+        },
         Some(Command::Validate(args)) => validate::run(&args),
         Some(Command::Simulate(args)) => match simulate::run(&args) {
             Ok(()) => ExitCode::SUCCESS,
