@@ -88,11 +88,12 @@ impl PushlabApp {
                 panels::browser::ui(ui, &mut self.state, &mut commands)
             });
         egui::Panel::right("side")
-            .default_size(310.0)
+            .default_size(330.0)
+            .max_size(480.0)
             .resizable(true)
             .show(ui, |ui| self.side_panel(ui, &mut commands));
         egui::Panel::bottom("plots")
-            .default_size(300.0)
+            .default_size(360.0)
             .resizable(true)
             .show(ui, |ui| {
                 self.view.plots_rect = ui.max_rect();

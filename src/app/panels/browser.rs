@@ -9,7 +9,7 @@ use crate::app::state::{AppState, Command};
 pub fn ui(ui: &mut egui::Ui, state: &mut AppState, commands: &mut Vec<Command>) {
     ui.heading("Recordings");
     if state.session.sets.is_empty() {
-        ui.label("Nothing open. Use File → Open, or drop files or folders here.");
+        ui.label("Nothing open. Use File > Open, or drop files or folders here.");
     }
     egui::ScrollArea::vertical()
         .id_salt("browser")

@@ -90,11 +90,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
             );
         }
     });
-    section(ui, "Gradient ∂ℓ/∂θ_online", |ui| {
+    section(ui, "Gradient Gradient of the loss on θ_online", |ui| {
         let g = step.gradient;
-        row(ui, "∂ℓ/∂COM x", format!("{:+.4e} /m", g[0]));
-        row(ui, "∂ℓ/∂COM y", format!("{:+.4e} /m", g[1]));
-        row(ui, "∂ℓ/∂h", format!("{:+.4e} /m", g[2]));
+        row(ui, "d loss / d COM x", format!("{:+.4e} /m", g[0]));
+        row(ui, "d loss / d COM y", format!("{:+.4e} /m", g[1]));
+        row(ui, "d loss / d h", format!("{:+.4e} /m", g[2]));
     });
 }
 

@@ -50,8 +50,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         ]) {
             let plot = base_plot(title, group, row_height, duration).legend(
                 Legend::default()
-                    .position(egui_plot::Corner::RightTop)
-                    .background_alpha(0.6),
+                    .position(egui_plot::Corner::LeftTop)
+                    .background_alpha(0.5)
+                    .text_style(egui::TextStyle::Small),
             );
             let response = plot.show(col, |plot_ui| {
                 for (name, series, color) in [

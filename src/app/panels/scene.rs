@@ -83,7 +83,7 @@ pub fn ui(
         painter.text(
             rect.center(),
             egui::Align2::CENTER_CENTER,
-            "Open recordings with File → Open, or drop them here",
+            "Open recordings with File > Open, or drop them here",
             egui::FontId::proportional(16.0),
             Color32::GRAY,
         );
@@ -512,7 +512,7 @@ fn legend(ui: &mut egui::Ui, rect: Rect, layers: &mut Layers) {
                 ),
                 (
                     &mut layers.predicted_fixed,
-                    "Predicted: fixed θ₀",
+                    "Predicted: fixed θ(0)",
                     colors::FIXED,
                 ),
                 (

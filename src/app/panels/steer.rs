@@ -45,7 +45,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, _view: &mut SceneView, commands: 
             H_MIN * 1e3..=(size * 1e3).clamp(H_MIN * 1e3, H_MAX * 1e3),
         ),
     ];
-    ui.spacing_mut().slider_width = (ui.available_width() - 110.0).max(80.0);
+    ui.spacing_mut().slider_width = 170.0;
     for ((label, range), value) in ranges.into_iter().zip(mm.iter_mut()) {
         changed |= ui
             .add(

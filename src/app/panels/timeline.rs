@@ -14,20 +14,20 @@ pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
         ui.horizontal(|ui| {
             ui.add_enabled_ui(!timeline.is_empty(), |ui| {
                 if ui
-                    .button("⏮")
+                    .button("Start")
                     .on_hover_text("Jump to start (Home)")
                     .clicked()
                 {
                     send(TimelineCommand::JumpStart);
                 }
                 if ui
-                    .button("−10")
+                    .button("-10")
                     .on_hover_text("Back 10 frames (Shift+←)")
                     .clicked()
                 {
                     send(TimelineCommand::Step(-10));
                 }
-                if ui.button("−1").on_hover_text("Back 1 frame (←)").clicked() {
+                if ui.button("-1").on_hover_text("Back 1 frame (←)").clicked() {
                     send(TimelineCommand::Step(-1));
                 }
                 let play = if timeline.playing { "Pause" } else { "Play" };
@@ -48,7 +48,11 @@ pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
                 {
                     send(TimelineCommand::Step(10));
                 }
-                if ui.button("⏭").on_hover_text("Jump to end (End)").clicked() {
+                if ui
+                    .button("End")
+                    .on_hover_text("Jump to end (End)")
+                    .clicked()
+                {
                     send(TimelineCommand::JumpEnd);
                 }
                 let mut looping = timeline.looping;
