@@ -1,5 +1,6 @@
 //! Command-line parsing and dispatch. Each subcommand lives in its own module; this one only routes.
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -20,6 +21,12 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Open recordings (set folders, CSV files, MIT Push Dataset files, or folders of them) in the app.
+    Open {
+        /// Files or folders to open.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+    },
     /// Set splits, inspect and export a recording set's labels (`pushlab-labels.json`).
     Labels {
         #[command(subcommand)]
@@ -61,8 +68,17 @@ pub fn run() -> ExitCode {
                 ExitCode::from(1)
             }
         },
-        None => {
-            eprintln!("pushlab: the desktop app is not built yet; see `pushlab --help`");
+        None => run_app(Vec::new()),
+        Some(Command::Open { paths }) => run_app(paths),
+    }
+}
+
+/// Opens the desktop app on `paths` (the bundled sample data when empty).
+fn run_app(paths: Vec<PathBuf>) -> ExitCode {
+    match pushlab::app::run(paths) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("pushlab: {err:#}");
             ExitCode::from(1)
         }
     }
