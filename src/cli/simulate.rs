@@ -8,6 +8,7 @@
 //!
 //! An existing set folder is never overwritten unless `--overwrite` is given.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
@@ -135,7 +136,17 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
                 dir.display()
             );
         }
-        let set = generate_set(spec, &mut |_, _| {})
+        // A progress line on a terminal only, so that logs and pipes stay clean.
+        let on_terminal = std::io::stderr().is_terminal();
+        let mut progress = |done: usize, total: usize| {
+            if on_terminal {
+                eprint!("\r{}: push {done}/{total}\x1b[K", spec.name);
+                if done == total {
+                    eprint!("\r\x1b[K");
+                }
+            }
+        };
+        let set = generate_set(spec, &mut progress)
             .with_context(|| format!("simulating set '{}'", spec.name))?;
         remove_stale_csvs(&dir, &set)?;
         write_set(&dir, &set.setting, &set.trajectories)
