@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod experiment;
 mod labels;
 mod simulate;
 mod validate;
@@ -36,6 +37,10 @@ enum Command {
     Simulate(Box<simulate::SimulateArgs>),
     /// Load recordings and report, one line per recording, ok / warnings / error (exit 1 on any error).
     Validate(validate::ValidateArgs),
+    /// Train the combined model (and with --baseline the pure network) offline; write a model file.
+    Train(experiment::train::TrainArgs),
+    /// Reproduce the paper's tables: offline, fixed and online NMSE; optional JSON report and figure.
+    Eval(Box<experiment::eval::EvalArgs>),
 }
 
 /// Exit code for wrong arguments, as documented in the README.
@@ -61,6 +66,8 @@ pub fn run() -> ExitCode {
             }
         },
         Some(Command::Validate(args)) => validate::run(&args),
+        Some(Command::Train(args)) => experiment::exit_code(experiment::train::run(&args)),
+        Some(Command::Eval(args)) => experiment::exit_code(experiment::eval::run(&args)),
         Some(Command::Simulate(args)) => match simulate::run(&args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(err) => {

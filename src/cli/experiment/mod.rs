@@ -1,0 +1,90 @@
+//! `pushlab train` and `pushlab eval`: the paper's experiments from the command line, on any
+//! recordings the importer reads, with the same core code the app uses.
+//!
+//! - [`data`]: which recordings (and frames) an experiment uses;
+//! - [`training`]: offline training with a progress bar and Ctrl-C;
+//! - [`train`]: the `train` command;
+//! - [`eval`]: the `eval` command, its table and its JSON report;
+//! - [`plot`]: the paper-style figure.
+//!
+//! Exit codes: 0 done, 1 nothing usable / a file could not be written, 2 wrong arguments.
+
+pub mod data;
+pub mod eval;
+pub mod plot;
+pub mod train;
+pub mod training;
+
+use std::process::ExitCode;
+
+use clap::Args;
+
+/// How a command failed: wrong arguments (exit 2) or a run that could not complete (exit 1).
+#[derive(Debug)]
+pub enum Failure {
+    Usage(anyhow::Error),
+    Failed(anyhow::Error),
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(e: anyhow::Error) -> Self {
+        Failure::Failed(e)
+    }
+}
+
+/// Prints the failure and turns it into the documented exit code.
+pub fn exit_code(result: Result<(), Failure>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Usage(e)) => {
+            eprintln!("pushlab: {e:#}");
+            ExitCode::from(super::EXIT_USAGE)
+        }
+        Err(Failure::Failed(e)) => {
+            eprintln!("pushlab: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Options shared by `train` and `eval`.
+#[derive(Clone, Debug, Args)]
+pub struct TrainingArgs {
+    /// Prediction horizon in frames: each sample predicts the motion from frame t to t+K
+    /// [default: 1, or the horizon of --model].
+    #[arg(long, value_name = "K", value_parser = positive)]
+    pub horizon: Option<usize>,
+    /// Most epochs of offline training (it stops early when the validation loss stops improving).
+    #[arg(long, value_name = "N", default_value_t = 100, value_parser = positive)]
+    pub epochs: usize,
+    /// Seeds the weights, the validation split and the shuffling: same seed, same model.
+    #[arg(long, value_name = "S", default_value_t = 0)]
+    pub seed: u64,
+    /// Take from the given paths only the recordings whose split (in their folder's labels file, or
+    /// else in setting.json) matches the role: offline for --data and --offline, online for --online.
+    #[arg(long)]
+    pub split_from_labels: bool,
+}
+
+/// The default horizon in frames.
+pub const DEFAULT_HORIZON: usize = 1;
+
+/// A whole number of at least 1.
+pub fn positive(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        Ok(_) => Err("must be at least 1".into()),
+        Err(_) => Err(format!(
+            "expected a whole number of at least 1, got {text:?}"
+        )),
+    }
+}
+
+/// A finite number above 0.
+pub fn positive_real(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        Ok(_) => Err(format!("must be a finite number above 0, got {text:?}")),
+        Err(_) => Err(format!("expected a number, got {text:?}")),
+    }
+}

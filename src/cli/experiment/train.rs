@@ -1,0 +1,90 @@
+//! `pushlab train --data PATH... --out MODEL.json`: offline training of the combined model (and, with
+//! `--baseline`, the pure network) on any recordings the importer reads; writes a model file the app
+//! and `pushlab eval --model` open.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, anyhow};
+use clap::Args;
+use pushlab_core::labels::Split;
+use pushlab_core::learn::TrainConfig;
+use pushlab_core::model_file::{ModelFile, TrainingMetadata};
+
+use super::data::{self, Used};
+use super::training::{self, TrainedModels};
+use super::{DEFAULT_HORIZON, Failure, TrainingArgs};
+
+/// Arguments of `pushlab train`.
+#[derive(Debug, Args)]
+pub struct TrainArgs {
+    /// Recordings to train on: set folders, CSV files inside a set, MIT Push Dataset .json/.h5
+    /// files, or folders of them (searched recursively).
+    #[arg(long, required = true, num_args = 1.., value_name = "PATH")]
+    pub data: Vec<PathBuf>,
+    /// Where to write the model file (JSON; written atomically).
+    #[arg(long, value_name = "MODEL.json")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub training: TrainingArgs,
+    /// Also train the pure-network baseline (the paper's "Offline NN") into the same file.
+    #[arg(long)]
+    pub baseline: bool,
+}
+
+/// Runs `pushlab train`.
+pub fn run(args: &TrainArgs) -> Result<(), Failure> {
+    let horizon = args.training.horizon.unwrap_or(DEFAULT_HORIZON);
+    let split = args.training.split_from_labels.then_some(Split::Offline);
+    let loaded = data::load(&args.data, split);
+    data::print_summary("data", &loaded, horizon);
+    let trajectories: Vec<_> = loaded.used.iter().map(|u| u.samples(horizon)).collect();
+    if trajectories.iter().all(Vec::is_empty) {
+        return Err(Failure::Failed(anyhow!(
+            "nothing to train on: no recording in --data gives a sample at horizon {horizon} ({} recording(s) usable, {} skipped)",
+            loaded.used.len(),
+            loaded.skipped.len()
+        )));
+    }
+    let config = train_config(&args.training, horizon, &loaded.used);
+    let TrainedModels { combined, pure_nn } =
+        training::train_models(&trajectories, &config, args.baseline)?;
+    let file = ModelFile {
+        combined: combined.model,
+        pure_nn: pure_nn.as_ref().map(|t| t.model.clone()),
+        training: TrainingMetadata {
+            report: Some(combined.report),
+            pure_nn_report: pure_nn.map(|t| t.report),
+            sources: loaded.used.iter().map(Used::source).collect(),
+            pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
+        },
+    };
+    file.save(&args.out)
+        .with_context(|| format!("cannot save the model to {}", args.out.display()))?;
+    if args.baseline && file.pure_nn.is_none() {
+        println!("the pure network was not trained (stopped by Ctrl-C)");
+    }
+    println!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// The training configuration: the paper's (Adam, learning rate 0.005, batch 32) with the user's
+/// epochs, seed and horizon, and `θ_online(0)` from the object's outline when all recordings share one.
+pub fn train_config(args: &TrainingArgs, horizon: usize, used: &[Used]) -> TrainConfig {
+    let theta0 = data::theta0_for(used);
+    match theta0 {
+        Some(t) => println!(
+            "θ_online(0): COM offset ({:.4}, {:.4}) m, h {:.4} m (from the object's outline)",
+            t.com_offset[0], t.com_offset[1], t.h
+        ),
+        None => println!(
+            "θ_online(0): COM at the centre, h from the pusher distances (the recordings do not share one object outline)"
+        ),
+    }
+    TrainConfig {
+        epochs: args.epochs,
+        seed: args.seed,
+        horizon,
+        theta0,
+        ..TrainConfig::default()
+    }
+}

@@ -1,0 +1,132 @@
+//! Offline training as `train` and `eval` run it: a progress bar per epoch showing the current loss,
+//! and Ctrl-C stopping cleanly with the best model so far.
+
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use pushlab_core::learn::{
+    TrainConfig, TrainProgress, Trained, TrainingReport, train_combined, train_pure_nn,
+};
+use pushlab_core::model::{CombinedModel, PureNnModel, Sample};
+
+/// Set by Ctrl-C; training checks it between batches and keeps the best model so far.
+static CANCEL: AtomicBool = AtomicBool::new(false);
+
+/// The cancel flag, with the Ctrl-C handler installed on first use. A second Ctrl-C exits at once
+/// (code 130, as a shell reports an interrupted command).
+pub fn cancel_flag() -> &'static AtomicBool {
+    static INSTALLED: OnceLock<()> = OnceLock::new();
+    INSTALLED.get_or_init(|| {
+        let installed = ctrlc::set_handler(|| {
+            if CANCEL.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+            eprintln!("\nstopping after this batch; Ctrl-C again to quit at once");
+        });
+        if let Err(e) = installed {
+            eprintln!("note: Ctrl-C cannot stop training cleanly here ({e})");
+        }
+    });
+    &CANCEL
+}
+
+/// Whether Ctrl-C was pressed.
+pub fn cancelled() -> bool {
+    CANCEL.load(Ordering::SeqCst)
+}
+
+/// The trained models of one run.
+pub struct TrainedModels {
+    pub combined: Trained<CombinedModel>,
+    pub pure_nn: Option<Trained<PureNnModel>>,
+}
+
+/// Trains the combined model and, when `baseline`, the pure network, one progress bar each. When
+/// Ctrl-C stops the combined model's training, the pure network is not started.
+pub fn train_models(
+    trajectories: &[Vec<Sample>],
+    config: &TrainConfig,
+    baseline: bool,
+) -> anyhow::Result<TrainedModels> {
+    let cancel = cancel_flag();
+    let combined = with_progress("combined", config, |progress| {
+        train_combined(trajectories, config, progress, cancel)
+    })
+    .context("cannot train the combined model")?;
+    println!("{}", summary("combined model", &combined.report));
+    let pure_nn = if baseline && !combined.report.cancelled {
+        let trained = with_progress("pure NN", config, |progress| {
+            train_pure_nn(trajectories, config, progress, cancel)
+        })
+        .context("cannot train the pure network")?;
+        println!("{}", summary("pure NN", &trained.report));
+        Some(trained)
+    } else {
+        None
+    };
+    Ok(TrainedModels { combined, pure_nn })
+}
+
+/// Trains the pure network alone (when a loaded model file has none).
+pub fn train_baseline(
+    trajectories: &[Vec<Sample>],
+    config: &TrainConfig,
+) -> anyhow::Result<Trained<PureNnModel>> {
+    let cancel = cancel_flag();
+    let trained = with_progress("pure NN", config, |progress| {
+        train_pure_nn(trajectories, config, progress, cancel)
+    })
+    .context("cannot train the pure network")?;
+    println!("{}", summary("pure NN", &trained.report));
+    Ok(trained)
+}
+
+/// Runs `train` with a progress bar on stderr (hidden when stderr is not a terminal).
+fn with_progress<T, E>(
+    name: &str,
+    config: &TrainConfig,
+    train: impl FnOnce(&mut dyn FnMut(&TrainProgress)) -> Result<T, E>,
+) -> Result<T, E> {
+    let bar =
+        ProgressBar::with_draw_target(Some(config.epochs as u64), ProgressDrawTarget::stderr());
+    if let Ok(style) =
+        ProgressStyle::with_template("{prefix:>9} [{bar:30}] epoch {pos}/{len} {msg} ({elapsed})")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(name.to_owned());
+    let result = train(&mut |p: &TrainProgress| {
+        bar.set_position(p.epoch as u64);
+        bar.set_message(match p.validation_loss {
+            Some(v) => format!("loss {:.4}, validation {v:.4}", p.train_loss),
+            None => format!("loss {:.4}", p.train_loss),
+        });
+    });
+    bar.finish_and_clear();
+    result
+}
+
+/// One line saying how training went.
+pub fn summary(name: &str, report: &TrainingReport) -> String {
+    let how = if report.cancelled {
+        " (stopped by Ctrl-C; best model so far kept)"
+    } else if report.stopped_early {
+        " (stopped early: validation loss no longer improving)"
+    } else {
+        ""
+    };
+    let validation = report
+        .validation_loss
+        .map(|v| format!(", validation loss {v:.4}"))
+        .unwrap_or_default();
+    format!(
+        "{name}: {} epoch(s) run, kept epoch {}: training loss {:.4}{validation}; {} training / {} validation samples{how}",
+        report.epochs_run,
+        report.best_epoch,
+        report.train_loss,
+        report.training_samples,
+        report.validation_samples,
+    )
+}

@@ -1,0 +1,526 @@
+//! `pushlab train` and `pushlab eval` end to end: the built binary on a small subset of the sample
+//! data with few epochs; the JSON report's fields and values, the figure, exit codes 1 and 2 with their
+//! messages, labels (splits, bad tracking, per-label means) and a train → eval --model round trip.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn pushlab(args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(args)
+        .output()
+        .expect("run pushlab");
+    Run {
+        code: out.status.code().expect("exit code"),
+        stdout: String::from_utf8(out.stdout).expect("utf-8 stdout"),
+        stderr: String::from_utf8(out.stderr).expect("utf-8 stderr"),
+    }
+}
+
+fn sample(set: &str, file: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample-data")
+        .join(set)
+        .join(file)
+        .display()
+        .to_string()
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pushlab-eval-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Six offline pushes of box1 on paper with the COM at the centre.
+fn offline_subset() -> Vec<String> {
+    (0..6)
+        .map(|i| {
+            sample(
+                "box1-paper-center-front",
+                &format!("offline_{:03}.csv", i * 4),
+            )
+        })
+        .collect()
+}
+
+/// Two online pushes of the same box with the COM moved toward the upper right.
+fn online_subset() -> Vec<String> {
+    vec![
+        sample("box1-paper-ur-front", "online_000.csv"),
+        sample("box1-paper-ur-front", "online_004.csv"),
+    ]
+}
+
+fn eval_args<'a>(offline: &'a [String], online: &'a [String], extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["eval", "--offline"];
+    args.extend(offline.iter().map(String::as_str));
+    args.push("--online");
+    args.extend(online.iter().map(String::as_str));
+    args.extend_from_slice(extra);
+    args
+}
+
+fn nmse(v: &Value, what: &str) -> (f64, f64) {
+    let pos = v["pos"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{what}.pos: {v}"));
+    let rot = v["rot"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{what}.rot: {v}"));
+    assert!(
+        pos.is_finite() && pos > 0.0 && pos < 50.0,
+        "{what}.pos = {pos}"
+    );
+    assert!(
+        rot.is_finite() && rot > 0.0 && rot < 50.0,
+        "{what}.rot = {rot}"
+    );
+    (pos, rot)
+}
+
+#[test]
+fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
+    let dir = temp_dir("eval");
+    let broken = dir.join("motion_surface=abs_shape=rect1_broken.json");
+    std::fs::write(&broken, "{ this is not json").unwrap();
+    let json = dir.join("out.json");
+    let png = dir.join("out.png");
+    let offline = offline_subset();
+    let mut online = online_subset();
+    online.push(broken.display().to_string());
+    let (json_s, png_s) = (json.display().to_string(), png.display().to_string());
+    let args = eval_args(
+        &offline,
+        &online,
+        &[
+            "--epochs",
+            "3",
+            "--seed",
+            "7",
+            "--horizon",
+            "5",
+            "--steps",
+            "4",
+            "--lr",
+            "0.01",
+            "--physics",
+            "--json",
+            &json_s,
+            "--plot",
+            &png_s,
+        ],
+    );
+    let run = pushlab(&args);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+
+    // The files used and the broken one, by name with its reason.
+    assert!(
+        run.stdout.contains("offline: 6 recording(s)"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("online: 2 recording(s)"),
+        "{}",
+        run.stdout
+    );
+    assert!(run.stdout.contains("offline_020.csv"), "{}", run.stdout);
+    let skipped_line = run
+        .stdout
+        .lines()
+        .find(|l| l.contains("skipped:"))
+        .expect("a skipped line");
+    assert!(skipped_line.contains("rect1_broken.json"), "{skipped_line}");
+    // The table rows.
+    for row in [
+        "Offline NN",
+        "Offline ",
+        "Fixed ",
+        "Online ",
+        "Physics fixed",
+        "Physics online",
+    ] {
+        assert!(
+            run.stdout.lines().any(|l| l.starts_with(row)),
+            "no row {row:?}:\n{}",
+            run.stdout
+        );
+    }
+
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    for key in ["offline_nn", "offline", "fixed", "online"] {
+        nmse(&report[key], key);
+    }
+    let config = &report["config"];
+    assert_eq!(config["horizon"], 5);
+    assert_eq!(config["epochs"], 3);
+    assert_eq!(config["seed"], 7);
+    assert_eq!(config["steps"], 4);
+    assert_eq!(config["lr"], 0.01);
+    assert_eq!(config["model"], Value::Null);
+    assert_eq!(config["offline_sources"].as_array().unwrap().len(), 6);
+    let trajectories = report["trajectories"].as_array().unwrap();
+    assert_eq!(trajectories.len(), 2);
+    for (t, source) in trajectories.iter().zip(online_subset()) {
+        assert_eq!(t["source"].as_str().unwrap(), source);
+        // 100 frames at horizon 5 give 95 steps (the sample data has 10 s at 10 Hz plus one frame).
+        let steps = t["steps"].as_u64().unwrap();
+        assert!((90..=100).contains(&steps), "steps {steps}");
+        nmse(&t["fixed"], "fixed");
+        nmse(&t["online"], "online");
+        let learned = t["com_offset_learned"].as_array().unwrap();
+        assert_eq!(learned.len(), 2);
+        for c in learned {
+            let c = c.as_f64().unwrap();
+            assert!(
+                c.abs() < 0.3,
+                "learned COM offset {c} is outside a 0.3 × 0.4 m box"
+            );
+        }
+        let h = t["h_learned"].as_f64().unwrap();
+        assert!((0.001..=2.0).contains(&h), "h {h}");
+        assert_eq!(t["com_offset_true"], serde_json::json!([0.05, 0.05]));
+        let h_true = t["h_true"].as_f64().unwrap();
+        assert!(h_true > 0.05 && h_true < 0.3, "h_true {h_true}");
+    }
+    for key in ["offline", "fixed", "online"] {
+        nmse(&report["physics"][key], key);
+    }
+    let skipped = report["skipped"].as_array().unwrap();
+    assert_eq!(skipped.len(), 1, "{skipped:?}");
+    assert!(
+        skipped[0]["path"]
+            .as_str()
+            .unwrap()
+            .ends_with("rect1_broken.json")
+    );
+
+    // The figure: a valid PNG of the documented size, with both curve colours drawn.
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let image = image::load_from_memory(&bytes)
+        .expect("decodable PNG")
+        .to_rgb8();
+    assert_eq!(image.dimensions(), (1000, 400));
+    let has = |rgb: [u8; 3]| image.pixels().filter(|p| p.0 == rgb).count();
+    assert!(has([31, 119, 180]) > 500, "blue (fixed) curve missing");
+    assert!(has([255, 127, 14]) > 500, "orange (online) curve missing");
+    assert!(has([0, 0, 0]) > 500, "black offline line and text missing");
+}
+
+#[test]
+fn train_then_eval_with_the_model_gives_the_same_numbers() {
+    let dir = temp_dir("roundtrip");
+    let model = dir.join("model.json");
+    let model_s = model.display().to_string();
+    let offline = offline_subset();
+    let mut train = vec!["train", "--data"];
+    train.extend(offline.iter().map(String::as_str));
+    train.extend([
+        "--out",
+        &model_s,
+        "--epochs",
+        "2",
+        "--seed",
+        "3",
+        "--horizon",
+        "2",
+        "--baseline",
+    ]);
+    let run = pushlab(&train);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout.contains(&format!("wrote {model_s}")),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("pure NN: 2 epoch(s) run"),
+        "{}",
+        run.stdout
+    );
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    assert_eq!(file["format"], "pushlab-model");
+    assert_eq!(file["combined"]["horizon"], 2);
+    assert!(file["pure_nn"].is_object());
+    assert_eq!(file["training"]["sources"].as_array().unwrap().len(), 6);
+
+    let online = online_subset();
+    let (loaded_json, trained_json) = (dir.join("loaded.json"), dir.join("trained.json"));
+    let (loaded_s, trained_s) = (
+        loaded_json.display().to_string(),
+        trained_json.display().to_string(),
+    );
+    let with_model = pushlab(&eval_args(
+        &offline,
+        &online,
+        &["--model", &model_s, "--json", &loaded_s],
+    ));
+    assert_eq!(
+        with_model.code, 0,
+        "{}\n{}",
+        with_model.stdout, with_model.stderr
+    );
+    // Training in eval with the same data, seed, epochs and horizon makes the same models.
+    let trained = pushlab(&eval_args(
+        &offline,
+        &online,
+        &[
+            "--epochs",
+            "2",
+            "--seed",
+            "3",
+            "--horizon",
+            "2",
+            "--json",
+            &trained_s,
+        ],
+    ));
+    assert_eq!(trained.code, 0, "{}\n{}", trained.stdout, trained.stderr);
+    let a: Value = serde_json::from_str(&std::fs::read_to_string(&loaded_json).unwrap()).unwrap();
+    let b: Value = serde_json::from_str(&std::fs::read_to_string(&trained_json).unwrap()).unwrap();
+    assert_eq!(a["config"]["model"].as_str().unwrap(), model_s);
+    assert_eq!(a["config"]["horizon"], 2);
+    for key in ["offline_nn", "offline", "fixed", "online", "trajectories"] {
+        assert_eq!(
+            a[key], b[key],
+            "{key} differs between --model and training in eval"
+        );
+    }
+
+    // A --horizon that contradicts the model is a wrong argument.
+    let run = pushlab(&eval_args(
+        &offline,
+        &online,
+        &["--model", &model_s, "--horizon", "3"],
+    ));
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("--horizon 3 differs from the horizon the model was trained for (2)"),
+        "{}",
+        run.stderr
+    );
+    // A model file that is not one fails with its name.
+    let not_a_model = dir.join("not-a-model.json");
+    std::fs::write(&not_a_model, r#"{"format": "something else"}"#).unwrap();
+    let not_s = not_a_model.display().to_string();
+    let run = pushlab(&eval_args(&offline, &online, &["--model", &not_s]));
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("not-a-model.json: not a pushlab model file"),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
+fn nothing_usable_is_exit_1_and_wrong_arguments_exit_2() {
+    let dir = temp_dir("exit");
+    let missing = dir.join("no-such-folder").display().to_string();
+    let online = online_subset();
+    let run = pushlab(&eval_args(
+        std::slice::from_ref(&missing),
+        &online,
+        &["--epochs", "1"],
+    ));
+    assert_eq!(run.code, 1, "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr
+            .contains("nothing usable in --offline: no recording could be used (1 skipped)"),
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stdout
+            .contains(&format!("skipped: {missing}: cannot read")),
+        "{}",
+        run.stdout
+    );
+
+    let offline = offline_subset();
+    let run = pushlab(&eval_args(
+        &offline,
+        &online,
+        &["--horizon", "500", "--epochs", "1"],
+    ));
+    assert_eq!(run.code, 1);
+    assert!(
+        run.stderr.contains("nothing usable in --offline: its 6 recording(s) are shorter than the horizon (500 frames)"),
+        "{}",
+        run.stderr
+    );
+    let run = pushlab(&["train", "--data", &missing, "--out", "never-written.json"]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("nothing to train on"), "{}", run.stderr);
+    assert!(!Path::new("never-written.json").exists());
+
+    let run = pushlab(&["eval", "--offline", &offline[0]]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("--online"), "{}", run.stderr);
+    let run = pushlab(&eval_args(&offline, &online, &["--lr", "0"]));
+    assert_eq!(run.code, 2);
+    assert!(
+        run.stderr.contains("must be a finite number above 0"),
+        "{}",
+        run.stderr
+    );
+    let run = pushlab(&eval_args(&offline, &online, &["--horizon", "0"]));
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("must be at least 1"), "{}", run.stderr);
+    let run = pushlab(&["train", "--data", &offline[0]]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("--out"), "{}", run.stderr);
+}
+
+#[test]
+fn splits_and_bad_tracking_come_from_the_labels_file() {
+    // A copy of four pushes of one set, with labels: two offline, two online, bad tracking on
+    // frames 10..30 of one online push, and a slipping segment on the other.
+    let dir = temp_dir("labels");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data/box1-paper-ur-front");
+    let files = [
+        "offline_000.csv",
+        "offline_013.csv",
+        "online_001.csv",
+        "online_002.csv",
+    ];
+    for f in files {
+        std::fs::copy(source.join(f), dir.join(f)).unwrap();
+    }
+    let mut setting: Value =
+        serde_json::from_str(&std::fs::read_to_string(source.join("setting.json")).unwrap())
+            .unwrap();
+    let entries: Vec<Value> = setting["trajectories"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|t| files.contains(&t["file"].as_str().unwrap()))
+        .map(|t| {
+            // Drop the simulator's split so that only the labels file can give one.
+            let mut t = t.clone();
+            t.as_object_mut().unwrap().remove("split");
+            t
+        })
+        .collect();
+    setting["trajectories"] = Value::Array(entries);
+    std::fs::write(dir.join("setting.json"), setting.to_string()).unwrap();
+    std::fs::write(
+        dir.join("pushlab-labels.json"),
+        r#"{"format": "pushlab-labels", "version": 1, "recordings": {
+            "offline_000.csv": {"meta": {"split": "offline"}},
+            "offline_013.csv": {"meta": {"split": "offline"}},
+            "online_001.csv": {"meta": {"split": "online"},
+                               "segments": [{"label": "bad tracking", "start": 10, "end": 30}]},
+            "online_002.csv": {"meta": {"split": "online"},
+                               "segments": [{"label": "slipping", "start": 0, "end": 40}]}
+        }}"#,
+    )
+    .unwrap();
+    let json = dir.join("out.json");
+    let (dir_s, json_s) = (dir.display().to_string(), json.display().to_string());
+    let run = pushlab(&[
+        "eval",
+        "--offline",
+        &dir_s,
+        "--online",
+        &dir_s,
+        "--split-from-labels",
+        "--epochs",
+        "2",
+        "--json",
+        &json_s,
+    ]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .contains("(2 recording(s) with another split left out)"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout
+            .contains("(20 frame(s) labelled bad tracking left out)"),
+        "{}",
+        run.stdout
+    );
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let sources = |key: &str| -> Vec<String> {
+        report["config"][key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s.as_str().unwrap().rsplit('/').next().unwrap().to_owned())
+            .collect()
+    };
+    assert_eq!(
+        sources("offline_sources"),
+        ["offline_000.csv", "offline_013.csv"]
+    );
+    assert_eq!(
+        sources("online_sources"),
+        ["online_001.csv", "online_002.csv"]
+    );
+    let steps: Vec<u64> = report["trajectories"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["steps"].as_u64().unwrap())
+        .collect();
+    // Horizon 1: a sample is skipped when its frame t or t+1 is bad: frames 9..=29, 21 samples.
+    assert_eq!(steps[1] - steps[0], 21, "{steps:?}");
+    let per_label = &report["per_label"]["online"];
+    let slipping = per_label
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["label"] == "slipping")
+        .expect("a slipping mean");
+    assert_eq!(slipping["count"], 40);
+    assert!(slipping["mean"].as_f64().unwrap().is_finite());
+    assert_eq!(report["per_label"]["fixed"][0]["label"], "all");
+}
+
+#[test]
+fn real_mit_files_evaluate() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push");
+    if !dir.is_dir() {
+        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
+        return;
+    }
+    let file = |name: &str| dir.join(name).display().to_string();
+    let offline = [
+        file("motion_surface=abs_shape=rect1_a=0_v=75_i=2.000_s=0.800_t=0.349.h5"),
+        file("motion_surface=abs_shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.000.h5"),
+    ];
+    let online = [file(
+        "motion_surface=plywood_shape=hex_a=0_v=150_i=1.000_s=0.000_t=-0.349.json",
+    )];
+    let out = temp_dir("mit").join("mit.json");
+    let out_s = out.display().to_string();
+    let run = pushlab(&eval_args(
+        &offline,
+        &online,
+        &["--epochs", "2", "--json", &out_s],
+    ));
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    for key in ["offline_nn", "offline", "fixed", "online"] {
+        let v = &report[key];
+        assert!(v["pos"].as_f64().unwrap().is_finite(), "{key}: {v}");
+        assert!(v["rot"].as_f64().unwrap().is_finite(), "{key}: {v}");
+    }
+    assert_eq!(report["trajectories"][0]["com_offset_true"], Value::Null);
+}
