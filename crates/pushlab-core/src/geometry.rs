@@ -171,9 +171,7 @@ impl Outline {
             let b = outline.vertices[(i + 1) % n];
             let c = outline.vertices[(i + 2) % n];
             if cross(b - a, c - b) < -1e-12 {
-                return Err(OutlineError::NotConvexCcw {
-                    index: (i + 1) % n,
-                });
+                return Err(OutlineError::NotConvexCcw { index: (i + 1) % n });
             }
         }
         Ok(outline)
@@ -223,7 +221,10 @@ impl Outline {
 
     /// Signed area (positive for counter-clockwise), m².
     pub fn area(&self) -> f64 {
-        self.edges().map(|(a, b)| cross(a.coords, b.coords)).sum::<f64>() / 2.0
+        self.edges()
+            .map(|(a, b)| cross(a.coords, b.coords))
+            .sum::<f64>()
+            / 2.0
     }
 
     /// Area centroid of the footprint, object frame.
