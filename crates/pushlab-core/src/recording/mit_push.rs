@@ -299,7 +299,8 @@ fn align(
     let start = tip[0][0].max(object[0][0]);
     let end = tip[tip.len() - 1][0].min(object[object.len() - 1][0]);
     let duration = end - start;
-    if !(duration >= MIN_DURATION_S) {
+    // Written so that a NaN duration is refused too.
+    if duration.is_nan() || duration < MIN_DURATION_S {
         return Err(MitProblem::TooShort {
             seconds: duration.max(0.0),
             min: MIN_DURATION_S,
@@ -339,13 +340,13 @@ fn check_ranges(streams: &Streams) -> Result<(), MitProblem> {
         (KEYS[1], &streams.object_pose),
     ] {
         for (row, values) in rows.iter().enumerate() {
-            for column in 1..3 {
-                if values[column].abs() > MAX_POSITION_M {
+            for (column, value) in values.iter().enumerate().take(3).skip(1) {
+                if value.abs() > MAX_POSITION_M {
                     return Err(MitProblem::OutOfRange {
                         key,
                         row,
                         column,
-                        value: values[column],
+                        value: *value,
                         expected: "a position within 100 m of the robot base",
                     });
                 }
