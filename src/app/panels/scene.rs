@@ -51,7 +51,7 @@ struct Camera {
 }
 
 impl Camera {
-    fn to_screen(&self, p: Point2<f64>) -> Pos2 {
+    fn to_screen(self, p: Point2<f64>) -> Pos2 {
         let c = self.rect.center();
         Pos2::new(
             c.x + ((p.x - self.centre[0]) as f32) * self.scale,
@@ -59,7 +59,7 @@ impl Camera {
         )
     }
 
-    fn to_world(&self, p: Pos2) -> Point2<f64> {
+    fn to_world(self, p: Pos2) -> Point2<f64> {
         let c = self.rect.center();
         Point2::new(
             self.centre[0] + ((p.x - c.x) / self.scale) as f64,

@@ -13,7 +13,8 @@ use super::session::RecordingId;
 
 enum Message {
     Progress(TrainProgress),
-    Done(Result<Trained<CombinedModel>, TrainError>),
+    /// Boxed: a trained model is kilobytes, progress a few words, and both travel one channel.
+    Done(Box<Result<Trained<CombinedModel>, TrainError>>),
 }
 
 struct Job {
@@ -58,7 +59,7 @@ impl Training {
             };
             let result = train_combined(&trajectories, &config, &mut progress, &worker_cancel);
             // The receiver is gone only when the app closed.
-            let _ = sender.send(Message::Done(result));
+            let _ = sender.send(Message::Done(Box::new(result)));
         });
         self.job = Some(Job { receiver, cancel });
     }
@@ -78,7 +79,7 @@ impl Training {
                 Ok(Message::Progress(p)) => self.history.push(p),
                 Ok(Message::Done(result)) => {
                     self.job = None;
-                    return Some(match result {
+                    return Some(match *result {
                         Ok(trained) => {
                             let r = &trained.report;
                             let message = format!(
