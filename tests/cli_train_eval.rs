@@ -524,3 +524,70 @@ fn real_mit_files_evaluate() {
     }
     assert_eq!(report["trajectories"][0]["com_offset_true"], Value::Null);
 }
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_training_and_keeps_the_best_model() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+
+    let dir = temp_dir("ctrlc");
+    let model = dir.join("model.json");
+    // Without early stopping and with a million epochs, only Ctrl-C ends this run.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args([
+            "train",
+            "--epochs",
+            "1000000",
+            "--patience",
+            "0",
+            "--baseline",
+            "--out",
+        ])
+        .arg(&model)
+        .arg("--data")
+        .args(offline_subset())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start pushlab train");
+    let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
+    // The first line is printed after the Ctrl-C handler is installed.
+    let mut first = String::new();
+    stdout.read_line(&mut first).expect("first line");
+    assert!(first.starts_with("data: 6 recording(s)"), "{first}");
+    std::thread::sleep(Duration::from_millis(800));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(killed.success());
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "pushlab did not stop after Ctrl-C"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stdout, &mut rest).expect("rest of stdout");
+    assert_eq!(status.code(), Some(0), "{first}{rest}");
+    assert!(
+        rest.contains("(stopped by Ctrl-C; best model so far kept)"),
+        "{rest}"
+    );
+    assert!(
+        rest.contains("the pure network was not trained (stopped by Ctrl-C)"),
+        "{rest}"
+    );
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let report = &file["training"]["report"];
+    assert_eq!(report["cancelled"], true);
+    assert!(report["epochs_run"].as_u64().unwrap() < 1_000_000);
+    assert!(file["pure_nn"].is_null());
+}

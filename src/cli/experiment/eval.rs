@@ -160,6 +160,8 @@ impl From<LabelMean> for LabelMeanReport {
 /// Runs `pushlab eval`.
 pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     let started = Instant::now();
+    // Ctrl-C from here on stops training cleanly instead of killing the process.
+    training::cancel_flag();
     let model_file = match &args.model {
         Some(path) => Some(ModelFile::load(path).map_err(|e| anyhow!("{e}"))?),
         None => None,

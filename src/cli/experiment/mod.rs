@@ -60,6 +60,9 @@ pub struct TrainingArgs {
     /// Seeds the weights, the validation split and the shuffling: same seed, same model.
     #[arg(long, value_name = "S", default_value_t = 0)]
     pub seed: u64,
+    /// Stop after this many epochs without a better validation loss; 0 never stops early.
+    #[arg(long, value_name = "N", default_value_t = 15)]
+    pub patience: usize,
     /// Take from the given paths only the recordings whose split (in their folder's labels file, or
     /// else in setting.json) matches the role: offline for --data and --offline, online for --online.
     #[arg(long)]

@@ -33,6 +33,8 @@ pub struct TrainArgs {
 
 /// Runs `pushlab train`.
 pub fn run(args: &TrainArgs) -> Result<(), Failure> {
+    // Ctrl-C from here on stops training cleanly instead of killing the process.
+    training::cancel_flag();
     let horizon = args.training.horizon.unwrap_or(DEFAULT_HORIZON);
     let split = args.training.split_from_labels.then_some(Split::Offline);
     let loaded = data::load(&args.data, split);
@@ -83,6 +85,7 @@ pub fn train_config(args: &TrainingArgs, horizon: usize, used: &[Used]) -> Train
     TrainConfig {
         epochs: args.epochs,
         seed: args.seed,
+        patience: args.patience,
         horizon,
         theta0,
         ..TrainConfig::default()
