@@ -558,8 +558,9 @@ fn ctrl_c_stops_training_and_keeps_the_best_model() {
     stdout.read_line(&mut first).expect("first line");
     assert!(first.starts_with("data: 6 recording(s)"), "{first}");
     std::thread::sleep(Duration::from_millis(800));
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+    // The shell's built-in kill: no procps needed on a fresh machine.
+    let killed = Command::new("sh")
+        .args(["-c", &format!("kill -INT {}", child.id())])
         .status()
         .expect("run kill");
     assert!(killed.success());

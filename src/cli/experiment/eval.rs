@@ -285,7 +285,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         println!("wrote {}", path.display());
     }
     println!(
-        "eval took {:.1} s (training {:.1} s, evaluation {:.2} s)",
+        "eval took {:.2} s (training {:.2} s, evaluation {:.2} s)",
         started.elapsed().as_secs_f64(),
         training_time.as_secs_f64(),
         pass_time.as_secs_f64()
