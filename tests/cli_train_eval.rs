@@ -358,7 +358,9 @@ fn nothing_usable_is_exit_1_and_wrong_arguments_exit_2() {
     ));
     assert_eq!(run.code, 1);
     assert!(
-        run.stderr.contains("nothing usable in --offline: its 6 recording(s) are shorter than the horizon (500 frames)"),
+        run.stderr.contains(
+            "nothing usable in --offline: no recording could be used (6 without a sample at horizon 500 (shorter than 501 frames))"
+        ),
         "{}",
         run.stderr
     );

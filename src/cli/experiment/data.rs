@@ -73,10 +73,59 @@ pub struct Loaded {
     pub skipped: Vec<Skipped>,
     /// Recordings that loaded but carry another split (only with a split selection).
     pub other_split: usize,
+    /// Recordings that loaded but give no sample at the horizon (also listed in `skipped`).
+    pub too_short: usize,
 }
 
-/// Loads `paths`; with `split`, keeps only the recordings labelled with it.
-pub fn load(paths: &[PathBuf], split: Option<Split>) -> Loaded {
+impl Loaded {
+    /// Moves the recordings that give no sample at `horizon` (too short, or every sample on
+    /// bad-tracking frames) to `skipped`, so that no trajectory reports a loss over zero samples.
+    pub fn drop_short(&mut self, horizon: usize) {
+        let (kept, short): (Vec<Used>, Vec<Used>) = std::mem::take(&mut self.used)
+            .into_iter()
+            .partition(|u| !u.samples(horizon).is_empty());
+        self.used = kept;
+        self.too_short = short.len();
+        for u in short {
+            self.skipped.push(Skipped {
+                path: u.source(),
+                reason: format!(
+                    "no sample at horizon {horizon}: {} frame(s), {} of them labelled bad tracking",
+                    u.recording.trajectory.len(),
+                    u.skipped_frames()
+                ),
+            });
+        }
+    }
+
+    /// Why nothing is left, for the error message when `used` is empty.
+    pub fn why_nothing(&self, horizon: usize) -> String {
+        let mut parts = Vec::new();
+        let unreadable = self.skipped.len() - self.too_short;
+        if unreadable > 0 {
+            parts.push(format!("{unreadable} skipped"));
+        }
+        if self.too_short > 0 {
+            parts.push(format!(
+                "{} without a sample at horizon {horizon} (shorter than {} frames)",
+                self.too_short,
+                horizon + 1
+            ));
+        }
+        if self.other_split > 0 {
+            parts.push(format!("{} with another split", self.other_split));
+        }
+        if parts.is_empty() {
+            "no recording found".into()
+        } else {
+            format!("no recording could be used ({})", parts.join(", "))
+        }
+    }
+}
+
+/// Loads `paths`; with `split`, keeps only the recordings labelled with it; leaves out those without
+/// a sample at `horizon`.
+pub fn load(paths: &[PathBuf], split: Option<Split>, horizon: usize) -> Loaded {
     let report = load_paths(paths);
     let mut loaded = Loaded::default();
     for error in &report.errors {
@@ -144,6 +193,7 @@ pub fn load(paths: &[PathBuf], split: Option<Split>) -> Loaded {
             reason: format!("labels not used: {reason}"),
         });
     }
+    loaded.drop_short(horizon);
     loaded
 }
 

@@ -177,15 +177,21 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         (None, k) => k.unwrap_or(DEFAULT_HORIZON),
     };
     let by_split = args.training.split_from_labels;
-    let offline = data::load(&args.offline, by_split.then_some(Split::Offline));
-    let online = data::load(&args.online, by_split.then_some(Split::Online));
+    let offline = data::load(&args.offline, by_split.then_some(Split::Offline), horizon);
+    let online = data::load(&args.online, by_split.then_some(Split::Online), horizon);
     data::print_summary("offline", &offline, horizon);
     data::print_summary("online", &online, horizon);
     let offline_samples: Vec<Vec<Sample>> =
         offline.used.iter().map(|u| u.samples(horizon)).collect();
     let online_samples: Vec<Vec<Sample>> = online.used.iter().map(|u| u.samples(horizon)).collect();
-    nothing_usable("--offline", &offline, &offline_samples, horizon)?;
-    nothing_usable("--online", &online, &online_samples, horizon)?;
+    for (role, loaded) in [("--offline", &offline), ("--online", &online)] {
+        if loaded.used.is_empty() {
+            return Err(Failure::Failed(anyhow!(
+                "nothing usable in {role}: {}",
+                loaded.why_nothing(horizon)
+            )));
+        }
+    }
 
     let config = train_config(&args.training, horizon, &offline.used);
     let training_started = Instant::now();
@@ -291,35 +297,6 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         pass_time.as_secs_f64()
     );
     Ok(())
-}
-
-/// Fails (exit 1) when a role has no sample left, naming what was skipped.
-fn nothing_usable(
-    role: &str,
-    loaded: &Loaded,
-    samples: &[Vec<Sample>],
-    horizon: usize,
-) -> Result<(), Failure> {
-    if samples.iter().any(|s| !s.is_empty()) {
-        return Ok(());
-    }
-    let why = if loaded.used.is_empty() {
-        format!(
-            "no recording could be used ({} skipped{})",
-            loaded.skipped.len(),
-            if loaded.other_split > 0 {
-                format!(", {} with another split", loaded.other_split)
-            } else {
-                String::new()
-            }
-        )
-    } else {
-        format!(
-            "its {} recording(s) are shorter than the horizon ({horizon} frames)",
-            loaded.used.len()
-        )
-    };
-    Err(Failure::Failed(anyhow!("nothing usable in {role}: {why}")))
 }
 
 /// The training configuration that made the combined model.

@@ -37,14 +37,13 @@ pub fn run(args: &TrainArgs) -> Result<(), Failure> {
     training::cancel_flag();
     let horizon = args.training.horizon.unwrap_or(DEFAULT_HORIZON);
     let split = args.training.split_from_labels.then_some(Split::Offline);
-    let loaded = data::load(&args.data, split);
+    let loaded = data::load(&args.data, split, horizon);
     data::print_summary("data", &loaded, horizon);
     let trajectories: Vec<_> = loaded.used.iter().map(|u| u.samples(horizon)).collect();
-    if trajectories.iter().all(Vec::is_empty) {
+    if loaded.used.is_empty() {
         return Err(Failure::Failed(anyhow!(
-            "nothing to train on: no recording in --data gives a sample at horizon {horizon} ({} recording(s) usable, {} skipped)",
-            loaded.used.len(),
-            loaded.skipped.len()
+            "nothing to train on in --data: {}",
+            loaded.why_nothing(horizon)
         )));
     }
     let config = train_config(&args.training, horizon, &loaded.used);
