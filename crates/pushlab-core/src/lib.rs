@@ -14,6 +14,7 @@
 //!   negative (`v = centre − COM`); this crate never exposes `v`.
 //! - Frames are named in identifiers: `robot_in_object`, `world_from_object`.
 
+pub mod atomic_file;
 pub mod geometry;
 pub mod labels;
 pub mod learn;

@@ -10,11 +10,11 @@
 //! Files are written atomically (a temporary file in the same folder, then a rename), so a crash never
 //! leaves half a model behind.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::atomic_file::write_atomically;
 use crate::learn::TrainingReport;
 use crate::model::{CombinedModel, PureNnModel};
 
@@ -163,28 +163,4 @@ impl ModelFile {
             training: on_disk.training,
         })
     }
-}
-
-/// Writes `bytes` to a temporary file beside `path`, flushes it to disk, then renames it over `path`:
-/// readers see the old file or the new one, never a torn one.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "file".into());
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut file = std::fs::File::create(&tmp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }

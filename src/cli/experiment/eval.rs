@@ -17,13 +17,14 @@ use std::time::Instant;
 
 use anyhow::{Context, anyhow};
 use clap::Args;
+use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::labels::Split;
 use pushlab_core::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
 use pushlab_core::learn::{
     Loss, LossScale, Nmse, OnlineConfig, OnlineLearner, OnlineModel, TrainConfig,
 };
 use pushlab_core::model::{CombinedModel, OnlineParams, PhysicsOnlyModel, PureNnModel, Sample};
-use pushlab_core::model_file::{ModelFile, write_atomically};
+use pushlab_core::model_file::ModelFile;
 use serde::Serialize;
 
 use super::data::{self, Loaded, Skipped, Used};

@@ -16,8 +16,8 @@ use image::{ExtendedColorType, ImageEncoder};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
+use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::learn::{mean_std_across, moving_average};
-use pushlab_core::model_file::write_atomically;
 
 /// Size of the figure, pixels: two panels side by side, sized so that at the paper's column width
 /// (about 3.4 in) the text is still about 6 pt.

@@ -11,7 +11,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::file::write_atomic;
+use crate::atomic_file::write_atomically;
+
 use super::metadata::RecordingMeta;
 use super::schema::LabelKind;
 use super::{LabelSet, RecordingLabels};
@@ -205,7 +206,7 @@ pub fn to_json(set: &LabelSet, times: &impl FrameTimes) -> Result<String, Export
 
 /// Writes `text` to `path` atomically (an export never leaves a half-written file either).
 pub fn write(path: &Path, text: &str) -> Result<(), ExportError> {
-    write_atomic(path, text.as_bytes(), &mut |_| Ok(())).map_err(|source| ExportError::Write {
+    write_atomically(path, text.as_bytes()).map_err(|source| ExportError::Write {
         path: path.to_owned(),
         source,
     })

@@ -25,11 +25,12 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::io::{self, Write};
+use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use serde::{Deserialize, Serialize};
+
+use crate::atomic_file::write_atomically;
 
 use super::schema::LabelSchema;
 use super::{LabelSet, RecordingLabels};
@@ -214,75 +215,10 @@ pub fn to_json(set: &LabelSet) -> String {
 
 /// Writes `set` to `path` atomically (see the module docs).
 pub fn write(path: &Path, set: &LabelSet) -> Result<(), LabelFileError> {
-    write_atomic(path, to_json(set).as_bytes(), &mut |_| Ok(())).map_err(|source| {
-        LabelFileError::Write {
-            path: path.to_owned(),
-            source,
-        }
+    write_atomically(path, to_json(set).as_bytes()).map_err(|source| LabelFileError::Write {
+        path: path.to_owned(),
+        source,
     })
-}
-
-/// The steps of an atomic save at which a test may interrupt it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum SaveStage {
-    /// The temporary file is complete and flushed; the rename has not happened.
-    TempWritten,
-}
-
-/// Writes `bytes` to `path` through a flushed temporary file in the same folder and a rename.
-/// `interrupt` is called between the steps; an error from it aborts the save like a real failure.
-pub(crate) fn write_atomic(
-    path: &Path,
-    bytes: &[u8],
-    interrupt: &mut dyn FnMut(SaveStage) -> io::Result<()>,
-) -> io::Result<()> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path names no file"))?;
-    // Hidden, and unique per process and save, so concurrent saves never share a temporary file.
-    let temp = folder.join(format!(
-        ".{}.tmp-{}-{}",
-        name.to_string_lossy(),
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let result = (|| {
-        let mut file = fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&temp)?;
-        if let Ok(old) = fs::metadata(path) {
-            file.set_permissions(old.permissions())?;
-        }
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        interrupt(SaveStage::TempWritten)?;
-        fs::rename(&temp, path)
-    })();
-    if result.is_err() {
-        // Best effort: a leftover hidden temporary file is harmless, the error below is what matters.
-        let _ = fs::remove_file(&temp);
-    }
-    result?;
-    sync_folder(folder);
-    Ok(())
-}
-
-/// Flushes the folder entry so the rename itself survives a power cut. Not every platform can open
-/// a folder for syncing; the data is already safe in either file, so failure is ignored.
-fn sync_folder(folder: &Path) {
-    #[cfg(unix)]
-    if let Ok(dir) = fs::File::open(folder) {
-        let _ = dir.sync_all();
-    }
-    #[cfg(not(unix))]
-    let _ = folder;
 }
 
 #[cfg(test)]
@@ -294,6 +230,7 @@ pub(crate) mod tests {
     use super::super::schema::names::*;
     use super::super::{Event, RecordingMeta, Segment, Split};
     use super::*;
+    use crate::atomic_file::{SaveStage, write_with_interrupt};
     use crate::recording::PushSide;
 
     /// A fresh empty folder under the target directory's temp space.
@@ -564,7 +501,7 @@ pub(crate) mod tests {
         let old = fs::read(&path).unwrap();
         let mut changed = sample_set();
         changed.recordings.remove("push_000.csv");
-        let err = write_atomic(&path, to_json(&changed).as_bytes(), &mut |stage| {
+        let err = write_with_interrupt(&path, to_json(&changed).as_bytes(), &mut |stage| {
             assert_eq!(stage, SaveStage::TempWritten);
             // The temporary file is complete at this point: a valid new file beside the old one.
             let temps: Vec<_> = fs::read_dir(&dir)

@@ -5,7 +5,6 @@
 //! Values are written with Rust's shortest round-trip float formatting, so a write → read cycle
 //! gives back bit-identical numbers.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -442,27 +441,10 @@ fn csv_bytes(trajectory: &Trajectory) -> Vec<u8> {
     s.into_bytes()
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so readers see
-/// either the old file or the whole new one.
+/// Writes `bytes` to `path` atomically (see [`crate::atomic_file`]).
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    let io = |p: &Path| {
-        let p = p.to_path_buf();
-        move |source| WriteError::Io { path: p, source }
-    };
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut file = std::fs::File::create(&tmp).map_err(io(&tmp))?;
-        file.write_all(bytes).map_err(io(&tmp))?;
-        file.sync_all().map_err(io(&tmp))?;
-        std::fs::rename(&tmp, path).map_err(io(path))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    crate::atomic_file::write_atomically(path, bytes).map_err(|source| WriteError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
