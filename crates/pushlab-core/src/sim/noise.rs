@@ -3,10 +3,11 @@
 //! Written here rather than taken from a crate so that a seed gives the same sample data on every
 //! platform and every future version: the bundled `sample-data/` must be reproducible bit for bit.
 
-/// Sebastiano Vigna's SplitMix64: tiny, fast, and good enough for measurement noise.
+/// The crate's SplitMix64 ([`crate::rng::SplitMix64`]) with a Box–Muller generator that hands out both
+/// values of each pair: the sample data's noise stream, kept exactly as it was generated.
 #[derive(Clone, Debug)]
 pub struct SplitMix64 {
-    state: u64,
+    bits: crate::rng::SplitMix64,
     /// The second normal deviate of the last Box–Muller pair, not yet handed out.
     spare_normal: Option<f64>,
 }
@@ -15,23 +16,19 @@ impl SplitMix64 {
     /// A generator from a seed; equal seeds give equal sequences.
     pub fn new(seed: u64) -> Self {
         Self {
-            state: seed,
+            bits: crate::rng::SplitMix64::new(seed),
             spare_normal: None,
         }
     }
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.bits.next_u64()
     }
 
     /// Uniform in [0, 1), with 53 random bits.
     pub fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        self.bits.uniform()
     }
 
     /// Uniform in [low, high).
