@@ -285,22 +285,12 @@ impl<T: Real> CombinedModel<T> {
         )
     }
 
-    /// One online update (Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps): predicts
-    /// with `theta`, then descends the loss of this sample in `θ_online` scaled by
-    /// [`CombinedModel::theta_scales`]. Returns the prediction and gradient at `theta` and the updated
-    /// parameters. Runs entirely in the model's float type and allocates nothing.
-    pub(crate) fn online_update(
-        &self,
-        sample: &RealSample<T>,
-        theta: &OnlineParams,
-        steps: usize,
-        lr: f64,
-    ) -> (Prediction, [f64; 3], OnlineParams) {
-        self.online_update_dispatch(sample, theta, steps, lr)
-    }
-
     crate::simd::dispatch_simd! {
-        fn online_update_dispatch(&self, sample: &RealSample<T>, theta: &OnlineParams, steps: usize, lr: f64)
+        /// One online update (Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps): predicts
+        /// with `theta`, then descends the loss of this sample in `θ_online` scaled by
+        /// [`CombinedModel::theta_scales`]. Returns the prediction and gradient at `theta` and the updated
+        /// parameters. Runs entirely in the model's float type and allocates nothing.
+        pub(crate) fn online_update(&self, sample: &RealSample<T>, theta: &OnlineParams, steps: usize, lr: f64)
             -> (Prediction, [f64; 3], OnlineParams)
             => online_update_portable, online_update_avx2
     }
