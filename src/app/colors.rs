@@ -17,6 +17,8 @@ pub const PHYSICS: Color32 = Color32::from_rgb(200, 120, 230);
 pub const ROBOT: Color32 = Color32::from_rgb(240, 210, 70);
 /// The contact point `c` and contact motion `u_c`.
 pub const CONTACT: Color32 = Color32::from_rgb(255, 80, 80);
+/// The COM labelled in a recording's metadata.
+pub const COM_LABEL: Color32 = Color32::from_rgb(240, 90, 220);
 /// Grid lines.
 pub const GRID: Color32 = Color32::from_gray(55);
 /// Every tenth grid line.

@@ -14,6 +14,8 @@ pub enum DialogRequest {
     SaveLossCsv,
     LoadModel,
     SaveModel,
+    ExportLabelsCsv,
+    ExportLabelsJson,
 }
 
 /// What a dialog returned (nothing arrives when it was cancelled).
@@ -25,6 +27,14 @@ pub enum DialogResult {
     SaveLossCsv(PathBuf),
     LoadModel(PathBuf),
     SaveModel(PathBuf),
+    ExportLabels(PathBuf, LabelExportFormat),
+}
+
+/// The two label export formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LabelExportFormat {
+    Csv,
+    Json,
 }
 
 /// Dialogs in flight.
@@ -110,5 +120,17 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
             .set_file_name("model.json")
             .save_file()
             .map(DialogResult::SaveModel),
+        DialogRequest::ExportLabelsCsv => FileDialog::new()
+            .set_title("Export labels as CSV")
+            .add_filter("CSV", &["csv"])
+            .set_file_name("labels.csv")
+            .save_file()
+            .map(|p| DialogResult::ExportLabels(p, LabelExportFormat::Csv)),
+        DialogRequest::ExportLabelsJson => FileDialog::new()
+            .set_title("Export labels as JSON")
+            .add_filter("JSON", &["json"])
+            .set_file_name("labels-export.json")
+            .save_file()
+            .map(|p| DialogResult::ExportLabels(p, LabelExportFormat::Json)),
     }
 }

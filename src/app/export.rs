@@ -1,21 +1,58 @@
 //! Files the app writes and reads besides recordings: PNG snapshots of a window region, the losses as
-//! CSV, and model files. Every write goes to a temporary file that is renamed into place, so a crash
+//! CSV, label exports and model files. Every write goes to a temporary file that is renamed into place, so a crash
 //! never leaves half a file under the user's chosen name.
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::Context as _;
 use eframe::egui;
+use pushlab_core::labels::export as label_export;
+use pushlab_core::labels::pipeline::{key_of, labels_file_beside};
 use pushlab_core::model_file::ModelFile;
 
+use super::dialogs::LabelExportFormat;
 use super::state::AppState;
 
 /// Writes `bytes` to `path` atomically (see `pushlab_core::atomic_file`).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     pushlab_core::atomic_file::write_atomically(path, bytes)
         .with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Exports the labels file of the selected recording's folder (every recording in it, with frame
+/// times from the open recordings) as CSV or JSON. Returns the number of segment and event rows.
+pub fn export_labels(
+    state: &AppState,
+    path: &Path,
+    format: LabelExportFormat,
+) -> anyhow::Result<usize> {
+    let target = state
+        .label_target()
+        .context("select a recording whose labels to export")?;
+    let document = state
+        .labels
+        .document(&target.document)
+        .with_context(|| format!("{} could not be read", target.document.display()))?;
+    let times: BTreeMap<String, Vec<f64>> = state
+        .session
+        .recordings()
+        .filter(|(_, r)| labels_file_beside(&r.source) == target.document)
+        .filter_map(|(_, r)| {
+            let key = key_of(&r.source)?;
+            Some((key, r.trajectory.frames.iter().map(|f| f.time).collect()))
+        })
+        .collect();
+    let set = document.set();
+    let rows = label_export::rows(set, &times)?.len();
+    let text = match format {
+        LabelExportFormat::Csv => label_export::to_csv(set, &times)?,
+        LabelExportFormat::Json => label_export::to_json(set, &times)?,
+    };
+    label_export::write(path, &text)?;
+    Ok(rows)
 }
 
 /// Crops `rect` (points) out of a window screenshot and saves it as PNG.

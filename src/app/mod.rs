@@ -7,6 +7,7 @@
 pub mod colors;
 pub mod dialogs;
 pub mod export;
+pub mod keys;
 pub mod panels;
 pub mod state;
 
@@ -18,7 +19,6 @@ use eframe::egui;
 use self::dialogs::{DialogRequest, DialogResult, Dialogs};
 use self::panels::scene::SceneView;
 use self::state::models::Models;
-use self::state::timeline::TimelineCommand;
 use self::state::{AppState, Command, Persisted};
 
 /// Key under which eframe persists [`Persisted`].
@@ -30,6 +30,7 @@ pub enum SideTab {
     Steer,
     Inspect,
     Train,
+    Labels,
 }
 
 /// View state that is not app state: camera, tabs, pending exports.
@@ -42,6 +43,8 @@ pub struct View {
     /// Where the scene and the plots were drawn last frame (for PNG export).
     pub scene_rect: egui::Rect,
     pub plots_rect: egui::Rect,
+    /// Whether the keyboard cheat-sheet is showing.
+    pub show_shortcuts: bool,
 }
 
 impl Default for View {
@@ -53,6 +56,7 @@ impl Default for View {
             screenshot_status: channel(),
             scene_rect: egui::Rect::NOTHING,
             plots_rect: egui::Rect::NOTHING,
+            show_shortcuts: false,
         }
     }
 }
@@ -76,7 +80,12 @@ impl PushlabApp {
     /// through `egui_kittest` exactly as the window does.
     pub fn show(&mut self, ui: &mut egui::Ui) {
         let mut commands = Vec::new();
-        keyboard_shortcuts(ui.ctx(), &mut commands);
+        keys::handle(
+            ui.ctx(),
+            &self.state,
+            &mut self.view.show_shortcuts,
+            &mut commands,
+        );
         dropped_files(ui.ctx(), &mut commands);
 
         panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
@@ -103,6 +112,7 @@ impl PushlabApp {
             self.view.scene_rect = ui.max_rect();
             panels::scene::ui(ui, &mut self.state, &mut self.view.scene, &mut commands);
         });
+        panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
 
         for command in commands {
             self.state.apply(command);
@@ -117,6 +127,7 @@ impl PushlabApp {
                 (SideTab::Steer, "Steer"),
                 (SideTab::Inspect, "Inspect"),
                 (SideTab::Train, "Train"),
+                (SideTab::Labels, "Labels"),
             ] {
                 ui.selectable_value(&mut self.view.side_tab, tab, label);
             }
@@ -127,6 +138,9 @@ impl PushlabApp {
             SideTab::Inspect => panels::inspector::ui(ui, &self.state),
             SideTab::Train => {
                 panels::training::ui(ui, &mut self.state, &mut self.view.dialogs, commands)
+            }
+            SideTab::Labels => {
+                panels::labels::ui(ui, &self.state, &mut self.view.dialogs, commands)
             }
         });
     }
@@ -152,6 +166,13 @@ impl PushlabApp {
                         Ok(()) => format!("model loaded from {}", path.display()),
                         Err(e) => format!("{e:#}"),
                     });
+                }
+                DialogResult::ExportLabels(path, format) => {
+                    self.state.status =
+                        Some(match export::export_labels(&self.state, &path, format) {
+                            Ok(rows) => format!("exported {rows} label rows to {}", path.display()),
+                            Err(e) => format!("could not export labels: {e:#}"),
+                        });
                 }
                 DialogResult::SaveModel(path) => {
                     self.state.status = Some(match export::save_model(&self.state, &path) {
@@ -194,6 +215,16 @@ impl eframe::App for PushlabApp {
         if self.state.advance(dt.min(0.1)) || self.view.dialogs.is_open() {
             ctx.request_repaint();
         }
+        self.state.autosave_labels(ctx.input(|i| i.time));
+        if self.state.labels.any_unsaved() {
+            // Wake up to autosave even when nothing else moves.
+            ctx.request_repaint_after(std::time::Duration::from_millis(250));
+        }
+    }
+
+    fn on_exit(&mut self) {
+        // Closing the window must not lose labels that autosave had not written yet.
+        self.state.labels.save_all();
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
@@ -203,30 +234,6 @@ impl eframe::App for PushlabApp {
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, STORAGE_KEY, &self.state.persisted());
     }
-}
-
-/// Space, ←/→ (±1), Shift+←/→ (±10), Home/End, unless a text field has the keyboard.
-fn keyboard_shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
-    if ctx.egui_wants_keyboard_input() {
-        return;
-    }
-    use egui::{Key, Modifiers};
-    let shortcuts = [
-        (Modifiers::SHIFT, Key::ArrowRight, TimelineCommand::Step(10)),
-        (Modifiers::SHIFT, Key::ArrowLeft, TimelineCommand::Step(-10)),
-        (Modifiers::NONE, Key::ArrowRight, TimelineCommand::Step(1)),
-        (Modifiers::NONE, Key::ArrowLeft, TimelineCommand::Step(-1)),
-        (Modifiers::NONE, Key::Space, TimelineCommand::TogglePlay),
-        (Modifiers::NONE, Key::Home, TimelineCommand::JumpStart),
-        (Modifiers::NONE, Key::End, TimelineCommand::JumpEnd),
-    ];
-    ctx.input_mut(|i| {
-        for (modifiers, key, command) in shortcuts {
-            if i.consume_key(modifiers, key) {
-                commands.push(Command::Timeline(command));
-            }
-        }
-    });
 }
 
 /// Files and folders dropped on the window are opened like the Open dialog's.

@@ -1,9 +1,11 @@
-//! The top bar: the File menu (open, recent, export, models) and the status line.
+//! The top bar: the File menu (open, recent, export, models), the Edit menu (label undo/redo, save),
+//! Help, and the status line.
 
 use eframe::egui;
 
 use crate::app::View;
 use crate::app::dialogs::DialogRequest;
+use crate::app::state::labels::LabelAction;
 use crate::app::state::{AppState, Command};
 
 /// Draws the menu bar and the status line.
@@ -55,6 +57,59 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     .clicked()
                 {
                     view.dialogs.open(DialogRequest::SaveLossCsv);
+                }
+            });
+            ui.menu_button("Edit", |ui| {
+                let document = state
+                    .label_target()
+                    .and_then(|t| state.labels.document(&t.document).cloned());
+                let undo = document
+                    .as_ref()
+                    .and_then(|d| d.undo_description().map(str::to_owned));
+                let redo = document
+                    .as_ref()
+                    .and_then(|d| d.redo_description().map(str::to_owned));
+                let undo_text = undo.map_or("Undo label edit".to_owned(), |d| format!("Undo {d}"));
+                if ui
+                    .add_enabled(
+                        document
+                            .as_ref()
+                            .is_some_and(|d| d.undo_description().is_some()),
+                        egui::Button::new(undo_text).shortcut_text("Ctrl+Z"),
+                    )
+                    .clicked()
+                {
+                    commands.push(Command::Label(LabelAction::Undo));
+                }
+                let redo_text = redo.map_or("Redo label edit".to_owned(), |d| format!("Redo {d}"));
+                if ui
+                    .add_enabled(
+                        document
+                            .as_ref()
+                            .is_some_and(|d| d.redo_description().is_some()),
+                        egui::Button::new(redo_text).shortcut_text("Ctrl+Shift+Z"),
+                    )
+                    .clicked()
+                {
+                    commands.push(Command::Label(LabelAction::Redo));
+                }
+                ui.separator();
+                if ui
+                    .add_enabled(
+                        state.labels.any_unsaved(),
+                        egui::Button::new("Save labels").shortcut_text("Ctrl+S"),
+                    )
+                    .clicked()
+                {
+                    commands.push(Command::Label(LabelAction::SaveAll));
+                }
+            });
+            ui.menu_button("Help", |ui| {
+                if ui
+                    .add(egui::Button::new("Keyboard shortcuts").shortcut_text("?"))
+                    .clicked()
+                {
+                    view.show_shortcuts = true;
                 }
             });
             ui.separator();

@@ -5,9 +5,12 @@
 
 pub mod browser;
 pub mod inspector;
+pub mod label_bands;
+pub mod labels;
 pub mod menu;
 pub mod plots;
 pub mod scene;
+pub mod shortcuts;
 pub mod steer;
 pub mod timeline;
 pub mod training;

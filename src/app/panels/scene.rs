@@ -1,13 +1,15 @@
 //! The scene: a top view of the table in metres, with the robot, the object's true and predicted
 //! footprints, the COM estimates and the contact. Pan by dragging, zoom with the wheel; drag the
-//! orange COM marker to steer the COM offset.
+//! orange COM marker to steer the COM offset, and the magenta diamond to move the recording's COM label.
 
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Shape, Stroke, Vec2};
 use nalgebra::{Point2, Vector2};
 use pushlab_core::geometry::{Outline, Pose2};
+use pushlab_core::labels::MetaField;
 use pushlab_core::model::{ObjectMotion, Prediction};
 
 use crate::app::colors;
+use crate::app::state::labels::LabelAction;
 use crate::app::state::layers::Layers;
 use crate::app::state::models::physics_only;
 use crate::app::state::session::RecordingId;
@@ -29,6 +31,8 @@ pub struct SceneView {
     fitted_to: Option<RecordingId>,
     /// Whether the COM marker is being dragged.
     dragging_com: bool,
+    /// Whether the COM label (the recording's labelled COM) is being dragged.
+    dragging_com_label: bool,
 }
 
 impl Default for SceneView {
@@ -38,6 +42,7 @@ impl Default for SceneView {
             scale: 2000.0,
             fitted_to: None,
             dragging_com: false,
+            dragging_com_label: false,
         }
     }
 }
@@ -110,16 +115,51 @@ pub fn ui(
         centre: view.centre,
         scale: view.scale,
     };
-    let com_screen =
-        theta.map(|t| camera.to_screen(pose.point_in_world(Point2::from(t.com_offset))));
+    let com_screen = theta
+        .filter(|_| state.layers.com_estimated)
+        .map(|t| camera.to_screen(pose.point_in_world(Point2::from(t.com_offset))));
+    let label_target = state.label_target();
+    let com_label = label_target
+        .as_ref()
+        .filter(|t| state.layers.com_label && state.labels.read_only_reason(t).is_none())
+        .and_then(|t| state.labels.labels_of(t))
+        .and_then(|l| l.meta.com_offset);
+    let com_label_screen =
+        com_label.map(|c| camera.to_screen(pose.point_in_world(Point2::from(c))));
     if response.drag_started()
-        && let (Some(pointer), Some(marker)) = (response.interact_pointer_pos(), com_screen)
+        && let Some(pointer) = response.interact_pointer_pos()
     {
-        view.dragging_com =
-            state.layers.com_estimated && pointer.distance(marker) < COM_PICK_RADIUS;
+        // The nearer of the two markers within reach is picked up.
+        let reach = |marker: Option<Pos2>| {
+            marker
+                .map(|m| pointer.distance(m))
+                .filter(|&d| d < COM_PICK_RADIUS)
+        };
+        match (reach(com_screen), reach(com_label_screen)) {
+            (Some(a), Some(b)) if b < a => view.dragging_com_label = true,
+            (Some(_), _) => view.dragging_com = true,
+            (None, Some(_)) => view.dragging_com_label = true,
+            (None, None) => {}
+        }
+        if view.dragging_com_label {
+            commands.push(Command::Label(LabelAction::BeginGroup(
+                "move the COM label".to_owned(),
+            )));
+        }
     }
     if response.dragged() {
-        if view.dragging_com {
+        if view.dragging_com_label {
+            if let (Some(pointer), Some(target)) = (response.interact_pointer_pos(), &label_target)
+            {
+                let com_in_object = pose.point_in_object(camera.to_world(pointer));
+                commands.push(Command::Label(LabelAction::Edit(
+                    pushlab_core::labels::Command::SetMeta {
+                        recording: target.recording.clone(),
+                        field: MetaField::ComOffset(Some([com_in_object.x, com_in_object.y])),
+                    },
+                )));
+            }
+        } else if view.dragging_com {
             if let (Some(pointer), Some(theta)) = (response.interact_pointer_pos(), theta) {
                 let com_in_object = pose.point_in_object(camera.to_world(pointer));
                 let mut steered = theta;
@@ -133,7 +173,11 @@ pub fn ui(
         }
     }
     if response.drag_stopped() {
+        if view.dragging_com_label {
+            commands.push(Command::Label(LabelAction::EndGroup));
+        }
         view.dragging_com = false;
+        view.dragging_com_label = false;
     }
     if response.hovered() {
         let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
@@ -302,6 +346,27 @@ pub fn ui(
         let stroke = Stroke::new(2.0, colors::TRUE);
         painter.line_segment([p - Vec2::splat(s), p + Vec2::splat(s)], stroke);
         painter.line_segment([p + Vec2::new(-s, s), p + Vec2::new(s, -s)], stroke);
+    }
+    if let Some(p) = com_label_screen {
+        let hot = view.dragging_com_label
+            || response
+                .hover_pos()
+                .is_some_and(|h| h.distance(p) < COM_PICK_RADIUS);
+        let s = if hot { 8.0 } else { 6.5 };
+        let diamond = vec![
+            p + Vec2::new(0.0, -s),
+            p + Vec2::new(s, 0.0),
+            p + Vec2::new(0.0, s),
+            p + Vec2::new(-s, 0.0),
+        ];
+        painter.add(Shape::convex_polygon(
+            diamond,
+            colors::COM_LABEL,
+            Stroke::new(1.5, Color32::BLACK),
+        ));
+        if hot {
+            ui.ctx().set_cursor_icon(egui::CursorIcon::Grab);
+        }
     }
     if layers.com_estimated
         && let Some(theta) = theta
@@ -498,7 +563,7 @@ fn legend(ui: &mut egui::Ui, rect: Rect, layers: &mut Layers) {
         .fill(Color32::from_black_alpha(190))
         .show(&mut child, |ui| {
             ui.spacing_mut().item_spacing.y = 1.0;
-            let entries: [(&mut bool, &str, Color32); 11] = [
+            let entries: [(&mut bool, &str, Color32); 12] = [
                 (&mut layers.true_now, "True footprint now", colors::TRUE),
                 (
                     &mut layers.true_target,
@@ -531,6 +596,11 @@ fn legend(ui: &mut egui::Ui, rect: Rect, layers: &mut Layers) {
                     colors::ONLINE,
                 ),
                 (&mut layers.com_true, "True COM ×", colors::TRUE),
+                (
+                    &mut layers.com_label,
+                    "Labelled COM ◆ (drag me)",
+                    colors::COM_LABEL,
+                ),
                 (&mut layers.contact, "Contact c and u_c", colors::CONTACT),
                 (&mut layers.robot_path, "Robot path", colors::ROBOT),
                 (&mut layers.trails, "Trails", colors::ROBOT),

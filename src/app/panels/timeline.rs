@@ -3,12 +3,15 @@
 use eframe::egui;
 
 use crate::app::state::timeline::{MAX_SPEED, MIN_SPEED, TimelineCommand};
+use pushlab_core::labels::SaveState;
+
 use crate::app::state::{AppState, Command};
 
 /// Draws the timeline bar at the bottom of the window.
 pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     let timeline = &state.timeline;
-    let mut send = |c: TimelineCommand| commands.push(Command::Timeline(c));
+    let mut timeline_commands = Vec::new();
+    let mut send = |c: TimelineCommand| timeline_commands.push(Command::Timeline(c));
     egui::Panel::bottom("timeline").show(ui, |ui| {
         ui.add_space(4.0);
         ui.horizontal(|ui| {
@@ -77,11 +80,15 @@ pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
                     timeline.last_frame(),
                     timeline.elapsed()
                 ));
+                ui.separator();
+                saved_indicator(ui, state);
             });
         });
-        // The scrub slider takes the whole width.
+        // The label bands and the scrub slider take the whole width.
+        let width = (ui.available_width() - 70.0).max(100.0);
+        super::label_bands::ui(ui, state, width, commands);
         let mut frame = timeline.frame();
-        ui.spacing_mut().slider_width = (ui.available_width() - 70.0).max(100.0);
+        ui.spacing_mut().slider_width = width;
         let response = ui.add_enabled(
             !timeline.is_empty(),
             egui::Slider::new(&mut frame, 0..=timeline.last_frame())
@@ -93,4 +100,34 @@ pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
         }
         ui.add_space(2.0);
     });
+    commands.extend(timeline_commands);
+}
+
+/// Whether the selected recording's labels are on disk: "labels saved", "unsaved", the reason a
+/// save failed, or why the labels are read-only.
+fn saved_indicator(ui: &mut egui::Ui, state: &AppState) {
+    let Some(target) = state.label_target() else {
+        return;
+    };
+    let file = target.document.display().to_string();
+    if let Some(reason) = state.labels.read_only_reason(&target) {
+        ui.colored_label(egui::Color32::from_rgb(230, 90, 80), "labels read-only")
+            .on_hover_text(reason);
+        return;
+    }
+    match state.labels.save_state(&target) {
+        Some(SaveState::Saved) => {
+            ui.colored_label(egui::Color32::from_rgb(120, 200, 120), "labels saved")
+                .on_hover_text(format!("{file} holds every edit"));
+        }
+        Some(SaveState::Unsaved) => {
+            ui.colored_label(egui::Color32::from_rgb(240, 200, 80), "labels unsaved…")
+                .on_hover_text(format!("saving to {file} in a moment (Ctrl+S saves now)"));
+        }
+        Some(SaveState::Failed(message)) => {
+            ui.colored_label(egui::Color32::from_rgb(230, 90, 80), "labels NOT saved")
+                .on_hover_text(message);
+        }
+        None => {}
+    }
 }

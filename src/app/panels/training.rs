@@ -17,7 +17,7 @@ pub fn ui(
 ) {
     ui.heading("Train a combined model");
     let running = state.training.is_running();
-    ui.label("Recordings to train on:");
+    ui.label("Recordings to train on (frames labelled bad tracking are left out):");
     ui.horizontal(|ui| {
         if ui.small_button("All").clicked() {
             let ids: Vec<_> = state.session.recordings().map(|(id, _)| id).collect();
@@ -27,6 +27,13 @@ pub fn ui(
         }
         if ui.small_button("None").clicked() {
             state.training.chosen.clear();
+        }
+        if ui
+            .small_button("Labelled offline")
+            .on_hover_text("the recordings whose split is offline (Labels tab or setting.json)")
+            .clicked()
+        {
+            commands.push(Command::ChooseOfflineLabelled);
         }
     });
     egui::ScrollArea::vertical()

@@ -16,6 +16,8 @@ pub struct Layers {
     pub predicted_physics: bool,
     pub com_estimated: bool,
     pub com_true: bool,
+    /// The COM labelled in the recording's metadata (a draggable diamond).
+    pub com_label: bool,
     pub contact: bool,
     pub grid: bool,
     /// Target poses are drawn with their motion from the current pose multiplied by this, so that
@@ -36,6 +38,7 @@ impl Default for Layers {
             predicted_physics: false,
             com_estimated: true,
             com_true: true,
+            com_label: true,
             contact: true,
             grid: true,
             motion_gain: 10.0,

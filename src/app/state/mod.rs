@@ -3,6 +3,7 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
+pub mod labels;
 pub mod layers;
 pub mod models;
 pub mod online;
@@ -13,12 +14,15 @@ pub mod training;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use pushlab_core::labels::Split;
+use pushlab_core::labels::pipeline::frames_to_skip;
 use pushlab_core::learn::{OnlineConfig, OnlineStep};
-use pushlab_core::model::{OnlineParams, samples_from_trajectory};
+use pushlab_core::model::{OnlineParams, Sample, samples_from_trajectory};
 use pushlab_core::model_file::TrainingMetadata;
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
+use self::labels::{LabelAction, LabelTarget, Labeling};
 use self::layers::Layers;
 use self::models::Models;
 use self::online::OnlineRun;
@@ -48,6 +52,14 @@ pub enum Command {
     StartTraining,
     /// Stop training after the current epoch, keeping the best model so far.
     CancelTraining,
+    /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
+    ChooseOfflineLabelled,
+    /// Labeling on the selected recording at the frame shown.
+    Label(LabelAction),
+    /// Jump to the next (`true`) or previous label boundary of the selected recording.
+    JumpToLabel {
+        forward: bool,
+    },
 }
 
 /// What survives a restart (eframe persistence).
@@ -91,6 +103,8 @@ pub struct AppState {
     pub layers: Layers,
     pub recent: Vec<PathBuf>,
     pub training: Training,
+    /// The labels files of the open recordings, and the labeling tools' state.
+    pub labels: Labeling,
     /// A short message for the status bar (what just happened, or what went wrong).
     pub status: Option<String>,
 }
@@ -111,6 +125,7 @@ impl AppState {
             layers: persisted.layers,
             recent: persisted.recent,
             training: Training::default(),
+            labels: Labeling::default(),
             status: None,
         }
     }
@@ -130,8 +145,22 @@ impl AppState {
     /// Opens paths on this thread (command line, tests) and selects the first new recording.
     pub fn open_blocking(&mut self, paths: &[PathBuf]) {
         self.remember(paths);
-        if self.session.open_blocking(paths) {
+        let selected = self.session.open_blocking(paths);
+        self.labels.sync(&self.session);
+        if selected {
             self.start_run();
+        }
+    }
+
+    /// Where the selected recording's labels live.
+    pub fn label_target(&self) -> Option<LabelTarget> {
+        self.recording().and_then(LabelTarget::of)
+    }
+
+    /// Saves labels files whose autosave is due; `now_s` is any steady clock in seconds.
+    pub fn autosave_labels(&mut self, now_s: f64) {
+        if let Some(message) = self.labels.autosave(now_s) {
+            self.status = Some(message);
         }
     }
 
@@ -196,6 +225,34 @@ impl AppState {
                 }
             }
             Command::StartTraining => self.start_training(),
+            Command::ChooseOfflineLabelled => self.choose_offline_labelled(),
+            Command::Label(action) => {
+                let target = self.label_target();
+                let frame = self.frame();
+                if let Some(message) = self.labels.apply(target.as_ref(), frame, action) {
+                    self.status = Some(message);
+                }
+            }
+            Command::JumpToLabel { forward } => {
+                let frame = self.frame();
+                let boundary = self
+                    .label_target()
+                    .and_then(|t| self.labels.labels_of(&t).cloned())
+                    .and_then(|l| {
+                        if forward {
+                            l.next_boundary(frame)
+                        } else {
+                            l.previous_boundary(frame)
+                        }
+                    });
+                match boundary {
+                    Some(to) => self.apply(Command::Timeline(TimelineCommand::SeekTo(to))),
+                    None => {
+                        let which = if forward { "after" } else { "before" };
+                        self.status = Some(format!("no label {which} frame {frame}"));
+                    }
+                }
+            }
             Command::CancelTraining => self.training.cancel(),
             Command::SetOnlineConfig(config) => {
                 self.online_config = config;
@@ -213,7 +270,12 @@ impl AppState {
     /// Advances time by `dt` seconds and merges finished background work. Returns whether anything
     /// is still moving (so the caller keeps repainting).
     pub fn advance(&mut self, dt: f64) -> bool {
-        if self.session.poll_loading() {
+        let was_loading = self.session.loading().is_some();
+        let selected = self.session.poll_loading();
+        if was_loading && self.session.loading().is_none() {
+            self.labels.sync(&self.session);
+        }
+        if selected {
             self.start_run();
         }
         if let Some(message) = self.training.poll() {
@@ -243,9 +305,11 @@ impl AppState {
         self.timeline.playing || self.session.loading().is_some() || self.training.is_running()
     }
 
-    /// Learning follows the timeline forward when "Learn while playing" is on.
+    /// Learning follows the timeline forward when "Learn while playing" is on; a held label hotkey
+    /// paints every frame passed, in either direction.
     fn frame_moved(&mut self, before: usize) {
         let now = self.timeline.frame();
+        self.labels.stroke_to(now);
         if self.learn_while_playing
             && now > before
             && let Some(run) = &mut self.run
@@ -256,6 +320,8 @@ impl AppState {
 
     /// A fresh timeline and online run for the selected recording.
     pub fn start_run(&mut self) {
+        self.labels.end_stroke();
+        self.labels.in_point = None;
         let Some(recording) = self.session.selected_recording() else {
             self.run = None;
             self.timeline = Timeline::new(Vec::new());
@@ -287,18 +353,37 @@ impl AppState {
         self.timeline.apply(TimelineCommand::SeekTo(frame));
     }
 
+    /// The samples of the recordings chosen for training, one list per recording, at the training
+    /// horizon. Frames labelled "skip in training" (bad tracking) leave out every sample touching them,
+    /// exactly as `pushlab train` does.
+    pub fn training_samples(&self) -> Vec<Vec<Sample>> {
+        let horizon = self.training.config.horizon;
+        self.training
+            .chosen
+            .iter()
+            .filter_map(|&id| self.session.get(id))
+            .map(|r| {
+                let skip = LabelTarget::of(r)
+                    .and_then(|t| {
+                        let document = self.labels.document(&t.document)?;
+                        Some(frames_to_skip(document.set(), &t.recording, t.frames))
+                    })
+                    .unwrap_or_default();
+                let skipped = |frame: usize| skip.get(frame).copied().unwrap_or(false);
+                samples_from_trajectory(&r.trajectory, horizon)
+                    .into_iter()
+                    .filter(|s| !skipped(s.frame) && !skipped(s.frame + horizon.max(1)))
+                    .collect::<Vec<_>>()
+            })
+            .filter(|samples| !samples.is_empty())
+            .collect()
+    }
+
     fn start_training(&mut self) {
         if self.training.is_running() {
             return;
         }
-        let horizon = self.training.config.horizon;
-        let trajectories: Vec<_> = self
-            .training
-            .chosen
-            .iter()
-            .filter_map(|&id| self.session.get(id))
-            .map(|r| samples_from_trajectory(&r.trajectory, horizon))
-            .collect();
+        let trajectories = self.training_samples();
         if trajectories.is_empty() {
             self.status = Some("choose at least one recording to train on".to_owned());
             return;
@@ -315,6 +400,38 @@ impl AppState {
         }
         self.training.start(trajectories);
         self.status = Some("training…".to_owned());
+    }
+
+    /// Chooses for training the recordings in the offline split: by their labels file, else by the
+    /// `split` their `setting.json` entry names (the same rule as `pushlab train --split offline`).
+    fn choose_offline_labelled(&mut self) {
+        let offline: Vec<RecordingId> = self
+            .session
+            .recordings()
+            .filter(|(_, r)| {
+                let labelled = LabelTarget::of(r).and_then(|t| {
+                    self.labels
+                        .document(&t.document)?
+                        .set()
+                        .split_of(&t.recording)
+                });
+                let listed = || {
+                    r.entry
+                        .as_ref()
+                        .and_then(|e| e.extra.get("split"))
+                        .and_then(|v| v.as_str())
+                        .and_then(Split::from_name)
+                };
+                labelled.or_else(listed) == Some(Split::Offline)
+            })
+            .map(|(id, _)| id)
+            .collect();
+        self.status = Some(if offline.is_empty() {
+            "no open recording is labelled offline; set splits in the Labels tab".to_owned()
+        } else {
+            format!("chose the {} recordings labelled offline", offline.len())
+        });
+        self.training.chosen = offline.into_iter().collect();
     }
 
     fn remember(&mut self, paths: &[PathBuf]) {

@@ -1,0 +1,372 @@
+//! The Labels tab: which label to paint, in/out points, the labels at this frame, every segment and
+//! event of the recording (jump to it, delete it), the metadata form, undo/redo, save, revert and
+//! export. Every change is a [`LabelAction`], so undo covers it.
+
+use eframe::egui;
+use pushlab_core::labels::{
+    self, LabelKind, LabelSchema, MetaField, RecordingLabels, RecordingMeta, SaveState, Split,
+};
+use pushlab_core::recording::PushSide;
+
+use super::label_bands::color;
+use crate::app::dialogs::{DialogRequest, Dialogs};
+use crate::app::state::labels::{LabelAction, LabelTarget};
+use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::{AppState, Command};
+
+/// Draws the Labels tab.
+pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: &mut Vec<Command>) {
+    let Some(target) = state.label_target() else {
+        ui.weak("Select a recording to label it.");
+        return;
+    };
+    let mut act = |a: LabelAction| commands.push(Command::Label(a));
+    ui.label(format!("Labels of {}", target.recording));
+    ui.small(target.document.display().to_string());
+    if let Some(reason) = state.labels.read_only_reason(&target) {
+        ui.colored_label(
+            egui::Color32::from_rgb(230, 90, 80),
+            format!("Read-only, the labels file is left untouched: {reason}"),
+        );
+        return;
+    }
+    let Some(document) = state.labels.document(&target.document) else {
+        return;
+    };
+    ui.horizontal(|ui| {
+        let saved = match document.save_state() {
+            SaveState::Saved => "saved".to_owned(),
+            SaveState::Unsaved => "unsaved edits".to_owned(),
+            SaveState::Failed(message) => format!("NOT saved: {message}"),
+        };
+        ui.label(saved);
+        if ui
+            .add_enabled(document.is_dirty(), egui::Button::new("Save now"))
+            .on_hover_text("Ctrl+S; edits also save by themselves half a second after the last one")
+            .clicked()
+        {
+            act(LabelAction::SaveAll);
+        }
+    });
+    ui.horizontal(|ui| {
+        let undo = document.undo_description();
+        if ui
+            .add_enabled(undo.is_some(), egui::Button::new("Undo"))
+            .on_hover_text(undo.map_or("nothing to undo".to_owned(), |d| format!("{d} (Ctrl+Z)")))
+            .clicked()
+        {
+            act(LabelAction::Undo);
+        }
+        let redo = document.redo_description();
+        if ui
+            .add_enabled(redo.is_some(), egui::Button::new("Redo"))
+            .on_hover_text(redo.map_or("nothing to redo".to_owned(), |d| {
+                format!("{d} (Ctrl+Shift+Z)")
+            }))
+            .clicked()
+        {
+            act(LabelAction::Redo);
+        }
+    });
+    ui.separator();
+
+    let schema = document.schema();
+    let empty = RecordingLabels::default();
+    let labels = document.recording(&target.recording).unwrap_or(&empty);
+    let frame = state.frame();
+    palette(ui, schema, state.labels.active.as_deref(), &mut act);
+    ui.horizontal(|ui| {
+        match state.labels.in_point {
+            Some(f) => ui.label(format!("In point: frame {f}")),
+            None => ui.label("In point: not set"),
+        };
+        if ui.button("Set in").on_hover_text("I").clicked() {
+            act(LabelAction::SetInPoint);
+        }
+        if ui
+            .add_enabled(
+                state.labels.in_point.is_some() && state.labels.active.is_some(),
+                egui::Button::new("Paint in → here"),
+            )
+            .on_hover_text("O: paints the chosen label from the in point to this frame")
+            .clicked()
+        {
+            act(LabelAction::PaintFromInPoint);
+        }
+    });
+    let here: Vec<String> = labels
+        .segments_at(frame)
+        .map(|s| s.label.clone())
+        .chain(
+            labels
+                .events
+                .iter()
+                .filter(|e| e.frame == frame)
+                .map(|e| e.label.clone()),
+        )
+        .collect();
+    ui.label(if here.is_empty() {
+        format!("Frame {frame}: no labels")
+    } else {
+        format!("Frame {frame}: {}", here.join(", "))
+    });
+    ui.separator();
+    segment_list(ui, &target, schema, labels, commands);
+    ui.separator();
+    metadata_form(ui, state, &target, &labels.meta, commands);
+    ui.separator();
+    ui.horizontal(|ui| {
+        let recording = target.recording.clone();
+        if ui
+            .button("Revert recording")
+            .on_hover_text("Back to how its labels were when the file was opened (undoable)")
+            .clicked()
+        {
+            commands.push(Command::Label(LabelAction::Edit(
+                labels::Command::RevertRecording {
+                    recording: recording.clone(),
+                },
+            )));
+        }
+        if ui
+            .button("Clear recording")
+            .on_hover_text("Removes every label and field of this recording (undoable)")
+            .clicked()
+        {
+            commands.push(Command::Label(LabelAction::Edit(
+                labels::Command::ClearRecording { recording },
+            )));
+        }
+    });
+    ui.horizontal(|ui| {
+        if ui.button("Export labels as CSV…").clicked() {
+            dialogs.open(DialogRequest::ExportLabelsCsv);
+        }
+        if ui.button("as JSON…").clicked() {
+            dialogs.open(DialogRequest::ExportLabelsJson);
+        }
+    });
+    ui.small("Press ? for every keyboard shortcut.");
+}
+
+/// The labels of the schema: click a range label to choose it for in/out painting.
+fn palette(
+    ui: &mut egui::Ui,
+    schema: &LabelSchema,
+    active: Option<&str>,
+    act: &mut impl FnMut(LabelAction),
+) {
+    ui.label("Labels (hold the key to paint while stepping or playing):");
+    egui::Grid::new("label-palette")
+        .num_columns(3)
+        .show(ui, |ui| {
+            for label in &schema.labels {
+                let (rect, _) =
+                    ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+                ui.painter().rect_filled(rect, 2.0, color(label.colour));
+                let name = match label.kind {
+                    LabelKind::Range => label.name.clone(),
+                    LabelKind::Event => format!("{} (event)", label.name),
+                };
+                if label.kind == LabelKind::Range {
+                    if ui
+                        .selectable_label(active == Some(label.name.as_str()), name)
+                        .on_hover_text("use for in/out painting")
+                        .clicked()
+                    {
+                        act(LabelAction::SetActive(label.name.clone()));
+                    }
+                } else {
+                    ui.label(name);
+                }
+                ui.monospace(label.hotkey.as_deref().unwrap_or(""));
+                ui.end_row();
+            }
+        });
+}
+
+/// Every segment and event of the recording, each with Go and Delete.
+fn segment_list(
+    ui: &mut egui::Ui,
+    target: &LabelTarget,
+    schema: &LabelSchema,
+    labels: &RecordingLabels,
+    commands: &mut Vec<Command>,
+) {
+    ui.label(format!(
+        "{} segments, {} events",
+        labels.segments.len(),
+        labels.events.len()
+    ));
+    egui::ScrollArea::vertical()
+        .id_salt("segment-list")
+        .max_height(160.0)
+        .show(ui, |ui| {
+            for segment in &labels.segments {
+                ui.horizontal(|ui| {
+                    swatch(ui, schema, &segment.label);
+                    ui.label(format!(
+                        "{}: frames {}–{}",
+                        segment.label,
+                        segment.start,
+                        segment.last_frame()
+                    ));
+                    if ui.small_button("Go").clicked() {
+                        commands.push(Command::Timeline(TimelineCommand::SeekTo(segment.start)));
+                    }
+                    if ui.small_button("Delete").clicked() {
+                        commands.push(Command::Label(LabelAction::Edit(labels::Command::Erase {
+                            recording: target.recording.clone(),
+                            label: Some(segment.label.clone()),
+                            frames: segment.frames(),
+                        })));
+                    }
+                });
+            }
+            for event in &labels.events {
+                ui.horizontal(|ui| {
+                    swatch(ui, schema, &event.label);
+                    ui.label(format!("{}: frame {}", event.label, event.frame));
+                    if ui.small_button("Go").clicked() {
+                        commands.push(Command::Timeline(TimelineCommand::SeekTo(event.frame)));
+                    }
+                    if ui.small_button("Delete").clicked() {
+                        commands.push(Command::Label(LabelAction::Edit(
+                            labels::Command::RemoveEvent {
+                                recording: target.recording.clone(),
+                                label: event.label.clone(),
+                                frame: event.frame,
+                            },
+                        )));
+                    }
+                });
+            }
+        });
+}
+
+fn swatch(ui: &mut egui::Ui, schema: &LabelSchema, label: &str) {
+    let colour = schema
+        .get(label)
+        .map_or(egui::Color32::GRAY, |l| color(l.colour));
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 2.0, colour);
+}
+
+/// Object, material, COM label, pushing side, split and notes of the recording.
+fn metadata_form(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    target: &LabelTarget,
+    meta: &RecordingMeta,
+    commands: &mut Vec<Command>,
+) {
+    let mut set = |field: MetaField| {
+        commands.push(Command::Label(LabelAction::Edit(
+            labels::Command::SetMeta {
+                recording: target.recording.clone(),
+                field,
+            },
+        )));
+    };
+    let mut seal = false;
+    ui.label("What this recording is:");
+    egui::Grid::new("label-meta").num_columns(2).show(ui, |ui| {
+        let label = ui.label("Object");
+        let mut object = meta.object.clone();
+        let response = ui.text_edit_singleline(&mut object).labelled_by(label.id);
+        if response.changed() {
+            set(MetaField::Object(object));
+        }
+        seal |= response.lost_focus();
+        ui.end_row();
+
+        let label = ui.label("Material");
+        let mut material = meta.material.clone();
+        let response = ui.text_edit_singleline(&mut material).labelled_by(label.id);
+        if response.changed() {
+            set(MetaField::Material(material));
+        }
+        seal |= response.lost_focus();
+        ui.end_row();
+
+        ui.label("COM label");
+        ui.horizontal(|ui| match meta.com_offset {
+            Some([x, y]) => {
+                let mut mm = [x * 1e3, y * 1e3];
+                let mut changed = false;
+                for (value, axis) in mm.iter_mut().zip(["x", "y"]) {
+                    changed |= ui
+                        .add(
+                            egui::DragValue::new(value)
+                                .speed(0.5)
+                                .prefix(format!("{axis} "))
+                                .suffix(" mm")
+                                .max_decimals(1),
+                        )
+                        .changed();
+                }
+                if changed {
+                    set(MetaField::ComOffset(Some([mm[0] * 1e-3, mm[1] * 1e-3])));
+                }
+                if ui.small_button("Clear").clicked() {
+                    set(MetaField::ComOffset(None));
+                }
+            }
+            None => {
+                if ui
+                    .button("Place at estimated COM")
+                    .on_hover_text("then drag the diamond in the scene")
+                    .clicked()
+                {
+                    let at = state.theta().map_or([0.0, 0.0], |t| t.com_offset);
+                    set(MetaField::ComOffset(Some(at)));
+                }
+            }
+        });
+        ui.end_row();
+
+        ui.label("Pushing side");
+        let mut side = meta.push_side;
+        egui::ComboBox::from_id_salt("push-side")
+            .selected_text(side.map_or("—", PushSide::name))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut side, None, "—");
+                for s in PushSide::ALL {
+                    ui.selectable_value(&mut side, Some(s), s.name());
+                }
+            });
+        if side != meta.push_side {
+            set(MetaField::PushSide(side));
+        }
+        ui.end_row();
+
+        ui.label("Split");
+        let mut split = meta.split;
+        egui::ComboBox::from_id_salt("split")
+            .selected_text(split.map_or("—", Split::name))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut split, None, "—");
+                for s in Split::ALL {
+                    ui.selectable_value(&mut split, Some(s), s.name());
+                }
+            });
+        if split != meta.split {
+            set(MetaField::Split(split));
+        }
+        ui.end_row();
+
+        let label = ui.label("Notes");
+        let mut notes = meta.notes.clone();
+        let response = ui
+            .add(egui::TextEdit::multiline(&mut notes).desired_rows(2))
+            .labelled_by(label.id);
+        if response.changed() {
+            set(MetaField::Notes(notes));
+        }
+        seal |= response.lost_focus();
+        ui.end_row();
+    });
+    if seal {
+        commands.push(Command::Label(LabelAction::Seal));
+    }
+}

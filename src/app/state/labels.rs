@@ -1,0 +1,690 @@
+//! Labeling in the app: one editable [`LabelDocument`] per labels file (one per recording folder),
+//! the label chosen for in/out painting, the in point, the paint stroke of a held hotkey, and autosave.
+//!
+//! Every edit goes through a document's `apply`, so undo covers it by construction. A labels file
+//! that exists but cannot be read is never overwritten: its recordings stay read-only, with the
+//! reason shown, until the file is fixed and the folder opened again.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use pushlab_core::labels::pipeline::{key_of, labels_file_beside};
+use pushlab_core::labels::{
+    self, Autosave, LabelDocument, LabelKind, LabelSchema, RecordingLabels, SaveState,
+};
+use pushlab_core::recording::Recording;
+
+use super::session::Session;
+
+/// Where the labels of one recording live: its labels file and its key in that file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LabelTarget {
+    /// The labels file beside the recording (`pushlab-labels.json`).
+    pub document: PathBuf,
+    /// The recording's key in that file (its file name).
+    pub recording: String,
+    /// Number of frames of the recording; edits are clamped to it.
+    pub frames: usize,
+}
+
+impl LabelTarget {
+    /// The target of a loaded recording.
+    pub fn of(recording: &Recording) -> Option<Self> {
+        Some(Self {
+            document: labels_file_beside(&recording.source),
+            recording: key_of(&recording.source)?,
+            frames: recording.trajectory.len(),
+        })
+    }
+}
+
+/// Everything the labeling UI can ask for. Frame-based actions act at the frame shown.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LabelAction {
+    /// A label's hotkey went down: a range label starts a paint stroke at this frame (one undo step
+    /// until [`LabelAction::EndStroke`]); an event label toggles its event at this frame.
+    Hotkey(String),
+    /// The erase key went down: erases every range label at this frame and wherever the frame moves
+    /// until [`LabelAction::EndStroke`].
+    StartErase,
+    /// The held key was released.
+    EndStroke,
+    /// Chooses the range label that in/out painting uses.
+    SetActive(String),
+    /// Marks the in point at this frame.
+    SetInPoint,
+    /// Forgets the in point.
+    ClearInPoint,
+    /// Paints the active label from the in point to this frame, both included, and clears the in point.
+    PaintFromInPoint,
+    /// Any edit of the selected recording's labels file (metadata form, delete buttons, revert).
+    Edit(labels::Command),
+    /// Starts one undo step for many edits (dragging the COM label).
+    BeginGroup(String),
+    /// Ends it.
+    EndGroup,
+    /// The metadata text box lost focus: the next typing is a new undo step.
+    Seal,
+    Undo,
+    Redo,
+    /// Saves every labels file with unsaved edits now.
+    SaveAll,
+}
+
+/// A paint or erase stroke in progress: a hotkey is held while frames go by.
+#[derive(Clone, Debug, PartialEq)]
+struct Stroke {
+    target: LabelTarget,
+    /// The label painted, `None` when erasing.
+    label: Option<String>,
+    /// The last frame painted.
+    last: usize,
+    /// The schema hotkey held, so the keyboard handler knows which key ends the stroke.
+    hotkey: String,
+}
+
+/// The hotkey that erases while held (not a schema hotkey, so it cannot collide with a label).
+pub const ERASE_HOTKEY: &str = "Delete";
+
+/// The labeling state of the app.
+#[derive(Default)]
+pub struct Labeling {
+    documents: BTreeMap<PathBuf, LabelDocument>,
+    autosaves: BTreeMap<PathBuf, Autosave>,
+    /// Labels files that exist but could not be read, with the reason. Their recordings are
+    /// read-only so that the file is never overwritten.
+    pub unreadable: BTreeMap<PathBuf, String>,
+    /// The range label used by in/out painting.
+    pub active: Option<String>,
+    /// In point on the selected recording.
+    pub in_point: Option<usize>,
+    stroke: Option<Stroke>,
+}
+
+impl Labeling {
+    /// Opens the labels file of every recording folder not seen yet. A folder opened again keeps
+    /// its document, with its unsaved edits and undo history.
+    pub fn sync(&mut self, session: &Session) {
+        for (_, recording) in session.recordings() {
+            let path = labels_file_beside(&recording.source);
+            if self.documents.contains_key(&path) || self.unreadable.contains_key(&path) {
+                continue;
+            }
+            match LabelDocument::open(&path) {
+                Ok(document) => {
+                    self.autosaves.insert(path.clone(), Autosave::default());
+                    self.documents.insert(path, document);
+                }
+                Err(e) => {
+                    self.unreadable.insert(path, e.to_string());
+                }
+            }
+        }
+    }
+
+    /// The document at `path`, if it is open.
+    pub fn document(&self, path: &Path) -> Option<&LabelDocument> {
+        self.documents.get(path)
+    }
+
+    /// Every open document.
+    pub fn documents(&self) -> impl Iterator<Item = &LabelDocument> {
+        self.documents.values()
+    }
+
+    /// The labels of a target, `None` when it has none (or its file is unreadable).
+    pub fn labels_of(&self, target: &LabelTarget) -> Option<&RecordingLabels> {
+        self.document(&target.document)?
+            .recording(&target.recording)
+    }
+
+    /// The schema that applies to a target (the default schema while its file is unreadable).
+    pub fn schema_of(&self, target: &LabelTarget) -> Option<&LabelSchema> {
+        self.document(&target.document).map(LabelDocument::schema)
+    }
+
+    /// Why a target cannot be labelled, if it cannot.
+    pub fn read_only_reason(&self, target: &LabelTarget) -> Option<&str> {
+        self.unreadable.get(&target.document).map(String::as_str)
+    }
+
+    /// The hotkey held for the current stroke, so the keyboard handler can end it on release.
+    pub fn stroke_hotkey(&self) -> Option<&str> {
+        self.stroke.as_ref().map(|s| s.hotkey.as_str())
+    }
+
+    /// What the "saved" indicator shows for the labels file of `target`.
+    pub fn save_state(&self, target: &LabelTarget) -> Option<SaveState> {
+        self.document(&target.document)
+            .map(LabelDocument::save_state)
+    }
+
+    /// Whether any labels file has edits not yet on disk (the app then keeps waking up to autosave).
+    pub fn any_unsaved(&self) -> bool {
+        self.documents.values().any(LabelDocument::is_dirty)
+    }
+
+    /// Applies an action at `frame` of `target`. Returns a message for the status bar when there is
+    /// something to tell (what undo undid, why an edit was refused).
+    pub fn apply(
+        &mut self,
+        target: Option<&LabelTarget>,
+        frame: usize,
+        action: LabelAction,
+    ) -> Option<String> {
+        match action {
+            LabelAction::SaveAll => return self.save_all(),
+            LabelAction::SetActive(label) => {
+                self.active = Some(label);
+                return None;
+            }
+            LabelAction::EndStroke => {
+                self.end_stroke();
+                return None;
+            }
+            _ => {}
+        }
+        let target = target?;
+        if let Some(reason) = self.read_only_reason(target) {
+            return Some(format!("labels are read-only here: {reason}"));
+        }
+        let frame = frame.min(target.frames.saturating_sub(1));
+        let recording = target.recording.clone();
+        match action {
+            LabelAction::Hotkey(label) => {
+                let schema = self.schema_of(target)?;
+                let definition = schema.get(&label)?;
+                let hotkey = definition.hotkey.clone().unwrap_or_default();
+                if definition.kind == LabelKind::Range {
+                    self.active = Some(label.clone());
+                    self.start_stroke(target, Some(label), frame, hotkey);
+                    return None;
+                }
+                let present = self.labels_of(target).is_some_and(|r| {
+                    r.events
+                        .iter()
+                        .any(|e| e.frame == frame && e.label == label)
+                });
+                let command = if present {
+                    labels::Command::RemoveEvent {
+                        recording,
+                        label,
+                        frame,
+                    }
+                } else {
+                    labels::Command::AddEvent {
+                        recording,
+                        label,
+                        frame,
+                    }
+                };
+                return edit(self.documents.get_mut(&target.document)?, command);
+            }
+            LabelAction::StartErase => {
+                self.start_stroke(target, None, frame, ERASE_HOTKEY.to_owned());
+                return None;
+            }
+            _ => {}
+        }
+        let document = self.documents.get_mut(&target.document)?;
+        match action {
+            LabelAction::SetInPoint => {
+                self.in_point = Some(frame);
+                None
+            }
+            LabelAction::ClearInPoint => {
+                self.in_point = None;
+                None
+            }
+            LabelAction::PaintFromInPoint => {
+                let Some(label) = self.active.clone() else {
+                    return Some(
+                        "choose a range label first (its hotkey or the Labels tab)".into(),
+                    );
+                };
+                let Some(start) = self.in_point.take() else {
+                    return Some("set an in point first (I)".into());
+                };
+                let frames = start.min(frame)..start.max(frame) + 1;
+                edit(
+                    document,
+                    labels::Command::Paint {
+                        recording,
+                        label,
+                        frames,
+                    },
+                )
+            }
+            LabelAction::Edit(command) => edit(document, command),
+            LabelAction::BeginGroup(description) => {
+                document.begin_group(&description);
+                None
+            }
+            LabelAction::EndGroup => {
+                document.end_group();
+                None
+            }
+            LabelAction::Seal => {
+                document.seal();
+                None
+            }
+            LabelAction::Undo => {
+                self.stroke = None;
+                Some(match document.undo() {
+                    Some(description) => format!("undid: {description}"),
+                    None => "nothing to undo".to_owned(),
+                })
+            }
+            LabelAction::Redo => {
+                self.stroke = None;
+                Some(match document.redo() {
+                    Some(description) => format!("redid: {description}"),
+                    None => "nothing to redo".to_owned(),
+                })
+            }
+            LabelAction::Hotkey(_)
+            | LabelAction::StartErase
+            | LabelAction::SaveAll
+            | LabelAction::SetActive(_)
+            | LabelAction::EndStroke => None,
+        }
+    }
+
+    /// Extends the stroke in progress to `frame` (called whenever the shown frame moves).
+    pub fn stroke_to(&mut self, frame: usize) {
+        let Some(stroke) = &mut self.stroke else {
+            return;
+        };
+        let frame = frame.min(stroke.target.frames.saturating_sub(1));
+        if frame == stroke.last {
+            return;
+        }
+        let frames = stroke.last.min(frame)..stroke.last.max(frame) + 1;
+        stroke.last = frame;
+        let stroke = stroke.clone();
+        if let Some(document) = self.documents.get_mut(&stroke.target.document) {
+            // The label exists (the stroke started with it); nothing to report per frame.
+            let _ = document.apply(stroke_command(&stroke, frames));
+        }
+    }
+
+    /// Ends a stroke (the key was released, another recording was selected).
+    pub fn end_stroke(&mut self) {
+        if let Some(stroke) = self.stroke.take()
+            && let Some(document) = self.documents.get_mut(&stroke.target.document)
+        {
+            document.end_group();
+        }
+    }
+
+    /// Saves every document whose autosave is due at `now_s` (seconds on any steady clock). Returns
+    /// a message when a save failed.
+    pub fn autosave(&mut self, now_s: f64) -> Option<String> {
+        let mut failure = None;
+        for (path, document) in &mut self.documents {
+            let autosave = self.autosaves.entry(path.clone()).or_default();
+            if let Some(Err(e)) = autosave.poll(document, now_s) {
+                failure = Some(format!("labels not saved: {e}"));
+            }
+        }
+        failure
+    }
+
+    /// Saves every document with unsaved edits; the message says what happened.
+    pub fn save_all(&mut self) -> Option<String> {
+        let mut saved = 0;
+        let mut errors = Vec::new();
+        for document in self.documents.values_mut() {
+            match document.save_if_dirty() {
+                Ok(true) => saved += 1,
+                Ok(false) => {}
+                Err(e) => errors.push(e.to_string()),
+            }
+        }
+        Some(if errors.is_empty() {
+            match saved {
+                0 => "labels: nothing to save".to_owned(),
+                1 => "labels saved".to_owned(),
+                n => format!("labels saved ({n} files)"),
+            }
+        } else {
+            format!("labels not saved: {}", errors.join("; "))
+        })
+    }
+
+    fn start_stroke(
+        &mut self,
+        target: &LabelTarget,
+        label: Option<String>,
+        frame: usize,
+        hotkey: String,
+    ) {
+        self.end_stroke();
+        let Some(document) = self.documents.get_mut(&target.document) else {
+            return;
+        };
+        let stroke = Stroke {
+            target: target.clone(),
+            label,
+            last: frame,
+            hotkey,
+        };
+        let description = match &stroke.label {
+            Some(label) => format!("paint {label:?} on {}", target.recording),
+            None => format!("erase labels on {}", target.recording),
+        };
+        document.begin_group(&description);
+        let _ = document.apply(stroke_command(&stroke, frame..frame + 1));
+        self.stroke = Some(stroke);
+    }
+}
+
+/// Applies an edit; a refused edit becomes the status message.
+fn edit(document: &mut LabelDocument, command: labels::Command) -> Option<String> {
+    match document.apply(command) {
+        Ok(_) => None,
+        Err(e) => Some(e.to_string()),
+    }
+}
+
+fn stroke_command(stroke: &Stroke, frames: std::ops::Range<usize>) -> labels::Command {
+    let recording = stroke.target.recording.clone();
+    match &stroke.label {
+        Some(label) => labels::Command::Paint {
+            recording,
+            label: label.clone(),
+            frames,
+        },
+        None => labels::Command::Erase {
+            recording,
+            label: None,
+            frames,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use std::path::PathBuf;
+
+    use pushlab_core::labels::{LABELS_FILE_NAME, Split};
+
+    use super::*;
+    use crate::app::state::models::Models;
+    use crate::app::state::timeline::TimelineCommand;
+    use crate::app::state::{AppState, Command, Persisted};
+
+    /// A private copy of one sample-data set, so tests never write into the repository.
+    fn copy_of_sample_set(test: &str) -> Option<PathBuf> {
+        let source = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("sample-data")
+            .join("box1-paper-center-front");
+        if !source.is_dir() {
+            eprintln!("skipped: {} is missing", source.display());
+            return None;
+        }
+        let dir =
+            std::env::temp_dir().join(format!("pushlab-labels-{test}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        for entry in std::fs::read_dir(&source).unwrap() {
+            let entry = entry.unwrap();
+            std::fs::copy(entry.path(), dir.join(entry.file_name())).unwrap();
+        }
+        Some(dir)
+    }
+
+    fn state_on(dir: &std::path::Path) -> AppState {
+        let mut state = AppState::new(Persisted::default(), Models::default());
+        state.open_blocking(&[dir.to_path_buf()]);
+        assert!(state.recording().is_some(), "{:?}", state.session.problems);
+        state
+    }
+
+    fn label(state: &mut AppState, action: LabelAction) {
+        state.apply(Command::Label(action));
+    }
+
+    fn seek(state: &mut AppState, frame: usize) {
+        state.apply(Command::Timeline(TimelineCommand::SeekTo(frame)));
+    }
+
+    fn segments(state: &AppState) -> Vec<(String, std::ops::Range<usize>)> {
+        let target = state.label_target().unwrap();
+        state
+            .labels
+            .labels_of(&target)
+            .map(|l| {
+                l.segments
+                    .iter()
+                    .map(|s| (s.label.clone(), s.frames()))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    #[test]
+    fn a_held_hotkey_paints_every_frame_passed_as_one_undo_step() {
+        let Some(dir) = copy_of_sample_set("stroke") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        seek(&mut state, 5);
+        label(&mut state, LabelAction::Hotkey("contact".into()));
+        for _ in 0..3 {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+        // Stepping back inside the stroke keeps what was painted.
+        state.apply(Command::Timeline(TimelineCommand::Step(-1)));
+        label(&mut state, LabelAction::EndStroke);
+        assert_eq!(segments(&state), vec![("contact".to_owned(), 5..9)]);
+        assert_eq!(state.labels.active.as_deref(), Some("contact"));
+        label(&mut state, LabelAction::Undo);
+        assert_eq!(segments(&state), vec![]);
+        assert!(
+            state
+                .status
+                .as_deref()
+                .unwrap()
+                .contains("paint \"contact\"")
+        );
+        label(&mut state, LabelAction::Redo);
+        assert_eq!(segments(&state), vec![("contact".to_owned(), 5..9)]);
+    }
+
+    #[test]
+    fn painting_an_exclusive_label_cuts_the_other_and_erase_clears_frames() {
+        let Some(dir) = copy_of_sample_set("exclusive") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        seek(&mut state, 10);
+        label(&mut state, LabelAction::SetInPoint);
+        seek(&mut state, 19);
+        label(&mut state, LabelAction::SetActive("sticking".into()));
+        label(&mut state, LabelAction::PaintFromInPoint);
+        assert_eq!(segments(&state), vec![("sticking".to_owned(), 10..20)]);
+        assert_eq!(state.labels.in_point, None);
+        // Slipping over 15..=16 splits sticking in two.
+        seek(&mut state, 15);
+        label(&mut state, LabelAction::Hotkey("slipping".into()));
+        seek(&mut state, 16);
+        label(&mut state, LabelAction::EndStroke);
+        assert_eq!(
+            segments(&state),
+            vec![
+                ("sticking".to_owned(), 10..15),
+                ("slipping".to_owned(), 15..17),
+                ("sticking".to_owned(), 17..20)
+            ]
+        );
+        // Delete held from 12 back to 11 erases both frames of every label.
+        seek(&mut state, 12);
+        label(&mut state, LabelAction::StartErase);
+        state.apply(Command::Timeline(TimelineCommand::Step(-1)));
+        label(&mut state, LabelAction::EndStroke);
+        assert_eq!(
+            segments(&state),
+            vec![
+                ("sticking".to_owned(), 10..11),
+                ("sticking".to_owned(), 13..15),
+                ("slipping".to_owned(), 15..17),
+                ("sticking".to_owned(), 17..20)
+            ]
+        );
+    }
+
+    #[test]
+    fn out_point_without_in_point_or_label_says_what_is_missing() {
+        let Some(dir) = copy_of_sample_set("inout") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        label(&mut state, LabelAction::PaintFromInPoint);
+        assert!(state.status.as_deref().unwrap().contains("range label"));
+        label(&mut state, LabelAction::SetActive("contact".into()));
+        label(&mut state, LabelAction::PaintFromInPoint);
+        assert!(state.status.as_deref().unwrap().contains("in point"));
+        assert_eq!(segments(&state), vec![]);
+    }
+
+    #[test]
+    fn an_event_hotkey_toggles_its_event_and_label_keys_jump_between_boundaries() {
+        let Some(dir) = copy_of_sample_set("events") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        seek(&mut state, 7);
+        label(&mut state, LabelAction::Hotkey("contact made".into()));
+        let target = state.label_target().unwrap();
+        let events = |s: &AppState| {
+            s.labels
+                .labels_of(&target)
+                .map(|l| l.events.iter().map(|e| e.frame).collect::<Vec<_>>())
+                .unwrap_or_default()
+        };
+        assert_eq!(events(&state), vec![7]);
+        seek(&mut state, 20);
+        label(&mut state, LabelAction::SetInPoint);
+        seek(&mut state, 30);
+        label(&mut state, LabelAction::SetActive("contact".into()));
+        label(&mut state, LabelAction::PaintFromInPoint);
+        seek(&mut state, 0);
+        let mut visited = Vec::new();
+        for _ in 0..4 {
+            state.apply(Command::JumpToLabel { forward: true });
+            visited.push(state.frame());
+        }
+        assert_eq!(visited, vec![7, 20, 30, 30]);
+        assert!(
+            state
+                .status
+                .as_deref()
+                .unwrap()
+                .contains("no label after frame 30")
+        );
+        state.apply(Command::JumpToLabel { forward: false });
+        assert_eq!(state.frame(), 20);
+        seek(&mut state, 7);
+        label(&mut state, LabelAction::Hotkey("contact made".into()));
+        assert_eq!(events(&state), Vec::<usize>::new());
+    }
+
+    #[test]
+    fn autosave_writes_the_file_after_a_quiet_half_second() {
+        let Some(dir) = copy_of_sample_set("autosave") else {
+            return;
+        };
+        let file = dir.join(LABELS_FILE_NAME);
+        let before = std::fs::read_to_string(&file).unwrap();
+        let mut state = state_on(&dir);
+        let target = state.label_target().unwrap();
+        label(&mut state, LabelAction::Hotkey("bad tracking".into()));
+        label(&mut state, LabelAction::EndStroke);
+        assert_eq!(state.labels.save_state(&target), Some(SaveState::Unsaved));
+        state.autosave_labels(10.0);
+        assert_eq!(
+            std::fs::read_to_string(&file).unwrap(),
+            before,
+            "saved too early"
+        );
+        state.autosave_labels(10.6);
+        assert_eq!(state.labels.save_state(&target), Some(SaveState::Saved));
+        let saved = pushlab_core::labels::file::read(&file).unwrap();
+        let labels = saved.recording(&target.recording).unwrap();
+        assert_eq!(labels.segments.len(), 1);
+        assert_eq!(labels.segments[0].label, "bad tracking");
+        // What was there before is kept.
+        assert_eq!(saved.split_of(&target.recording), Some(Split::Offline));
+    }
+
+    #[test]
+    fn an_unreadable_labels_file_is_never_overwritten() {
+        let Some(dir) = copy_of_sample_set("unreadable") else {
+            return;
+        };
+        let file = dir.join(LABELS_FILE_NAME);
+        std::fs::write(&file, "{ \"format\": \"pushlab-labels\", \"version\": 1, ").unwrap();
+        let mut state = state_on(&dir);
+        let target = state.label_target().unwrap();
+        let reason = state.labels.read_only_reason(&target).unwrap().to_owned();
+        assert!(reason.contains(LABELS_FILE_NAME), "{reason}");
+        label(&mut state, LabelAction::Hotkey("contact".into()));
+        assert!(state.status.as_deref().unwrap().contains("read-only"));
+        label(&mut state, LabelAction::SaveAll);
+        state.autosave_labels(100.0);
+        assert_eq!(
+            std::fs::read_to_string(&file).unwrap(),
+            "{ \"format\": \"pushlab-labels\", \"version\": 1, "
+        );
+    }
+
+    #[test]
+    fn training_chooses_the_offline_split_and_leaves_out_bad_tracking() {
+        let Some(dir) = copy_of_sample_set("training") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        state.apply(Command::ChooseOfflineLabelled);
+        let chosen: Vec<String> = state
+            .training
+            .chosen
+            .iter()
+            .map(|&id| state.session.get(id).unwrap().name.clone())
+            .collect();
+        assert_eq!(chosen.len(), 27, "{chosen:?}");
+        assert!(chosen.iter().all(|n| n.starts_with("offline_")));
+        assert!(state.status.as_deref().unwrap().contains("27"));
+        // Relabel the first offline push as held out: it leaves the choice.
+        let target = state.label_target().unwrap();
+        label(
+            &mut state,
+            LabelAction::Edit(pushlab_core::labels::Command::SetMeta {
+                recording: target.recording.clone(),
+                field: pushlab_core::labels::MetaField::Split(Some(Split::HeldOut)),
+            }),
+        );
+        state.apply(Command::ChooseOfflineLabelled);
+        assert_eq!(state.training.chosen.len(), 26);
+
+        // Bad tracking over frames 10..=14 of the selected push removes every sample touching them.
+        let selected = state.session.selected.unwrap();
+        state.training.chosen = [selected].into_iter().collect();
+        state.training.config.horizon = 2;
+        let all = state.training_samples()[0].len();
+        seek(&mut state, 10);
+        label(&mut state, LabelAction::SetInPoint);
+        seek(&mut state, 14);
+        label(&mut state, LabelAction::SetActive("bad tracking".into()));
+        label(&mut state, LabelAction::PaintFromInPoint);
+        let kept: Vec<usize> = state.training_samples()[0]
+            .iter()
+            .map(|s| s.frame)
+            .collect();
+        // Samples start at 8..=14 touch a skipped frame (start or start + 2).
+        assert_eq!(kept.len(), all - 7);
+        assert!(kept.iter().all(|&f| !(8..=14).contains(&f)), "{kept:?}");
+    }
+}
