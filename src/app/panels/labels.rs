@@ -86,7 +86,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         if ui
             .add_enabled(
                 state.labels.in_point.is_some() && state.labels.active.is_some(),
-                egui::Button::new("Paint in → here"),
+                egui::Button::new("Paint in to here"),
             )
             .on_hover_text("O: paints the chosen label from the in point to this frame")
             .clicked()

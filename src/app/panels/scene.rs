@@ -598,7 +598,7 @@ fn legend(ui: &mut egui::Ui, rect: Rect, layers: &mut Layers) {
                 (&mut layers.com_true, "True COM ×", colors::TRUE),
                 (
                     &mut layers.com_label,
-                    "Labelled COM ◆ (drag me)",
+                    "Labelled COM, diamond (drag me)",
                     colors::COM_LABEL,
                 ),
                 (&mut layers.contact, "Contact c and u_c", colors::CONTACT),

@@ -1,0 +1,275 @@
+//! Labeling in the app, driven by the keyboard and the accessibility tree as a user would: paint a
+//! range with a held key while stepping, undo, redo, save, reopen the folder, and see the same labels.
+//! Every test works on a private copy of one sample-data set, never on the repository's files.
+
+use std::path::{Path, PathBuf};
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use pushlab::app::state::Persisted;
+use pushlab::app::{PushlabApp, initial_state};
+use pushlab_core::labels::LABELS_FILE_NAME;
+
+/// A private copy of one sample-data set.
+fn copy_of_sample_set(test: &str) -> Option<PathBuf> {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data/box1-paper-center-front");
+    if !source.is_dir() {
+        eprintln!("skipped: {} is missing", source.display());
+        return None;
+    }
+    let dir =
+        std::env::temp_dir().join(format!("pushlab-app-labels-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for entry in std::fs::read_dir(&source).expect("sample set") {
+        let entry = entry.expect("dir entry");
+        std::fs::copy(entry.path(), dir.join(entry.file_name())).expect("copy");
+    }
+    Some(dir)
+}
+
+/// The app opened on `dir`, showing the Labels tab.
+fn app_on(dir: &Path) -> Harness<'static, PushlabApp> {
+    let app = PushlabApp::new(initial_state(&[dir.to_path_buf()], Persisted::default()));
+    assert!(
+        app.state.recording().is_some(),
+        "{:?}",
+        app.state.session.problems
+    );
+    let mut harness = Harness::builder()
+        .with_size([1400.0, 900.0])
+        .with_step_dt(0.05)
+        .build_ui_state(
+            |ui, app: &mut PushlabApp| {
+                let dt = ui.input(|i| i.stable_dt) as f64;
+                app.state.advance(dt);
+                app.show(ui);
+            },
+            app,
+        );
+    harness.run_steps(2);
+    harness.get_by_label("Labels").click();
+    harness.run_steps(2);
+    harness
+}
+
+fn seek(harness: &mut Harness<'_, PushlabApp>, frame: usize) {
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "Frame")
+        .set_value_accesskit(frame as f64);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.frame(), frame);
+}
+
+fn shows(harness: &Harness<'_, PushlabApp>, text: &str) -> bool {
+    harness.query_all_by_label_contains(text).next().is_some()
+}
+
+#[test]
+fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
+    let Some(dir) = copy_of_sample_set("roundtrip") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    seek(&mut harness, 5);
+
+    // Hold "1" (contact) and step three frames.
+    harness.key_down(egui::Key::Num1);
+    harness.run_steps(2);
+    for _ in 0..3 {
+        harness.key_press(egui::Key::ArrowRight);
+        harness.run_steps(2);
+    }
+    harness.key_up(egui::Key::Num1);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.frame(), 8);
+    assert!(shows(&harness, "contact: frames 5–8"), "segment listed");
+    assert!(shows(&harness, "labels unsaved"), "indicator says unsaved");
+
+    // After release, stepping no longer paints.
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run_steps(2);
+    assert!(shows(&harness, "contact: frames 5–8"));
+
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert!(
+        !shows(&harness, "contact: frames"),
+        "undo removed the stroke"
+    );
+    assert!(
+        shows(&harness, "undid: paint \"contact\""),
+        "status says what was undone"
+    );
+
+    harness.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    harness.run_steps(2);
+    assert!(
+        shows(&harness, "contact: frames 5–8"),
+        "redo brought it back"
+    );
+
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    harness.run_steps(2);
+    assert!(shows(&harness, "labels saved"), "indicator says saved");
+    let text = std::fs::read_to_string(dir.join(LABELS_FILE_NAME)).expect("labels file");
+    assert!(text.contains("\"contact\""), "{text}");
+    drop(harness);
+
+    let mut reopened = app_on(&dir);
+    reopened.run_steps(2);
+    assert!(
+        shows(&reopened, "contact: frames 5–8"),
+        "labels survive reopening"
+    );
+    seek(&mut reopened, 6);
+    assert!(shows(&reopened, "Frame 6: contact"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn event_key_bands_and_next_label_key() {
+    let Some(dir) = copy_of_sample_set("events") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    seek(&mut harness, 12);
+    harness.key_press(egui::Key::Num6); // "contact made" event
+    harness.run_steps(2);
+    assert!(shows(&harness, "contact made: frame 12"));
+    // In point at 20, out point at 24 with the chosen label.
+    harness.get_by_label("sticking").click();
+    harness.run_steps(2);
+    seek(&mut harness, 20);
+    harness.key_press(egui::Key::I);
+    harness.run_steps(2);
+    assert!(shows(&harness, "In point: frame 20"));
+    seek(&mut harness, 24);
+    harness.key_press(egui::Key::O);
+    harness.run_steps(2);
+    assert!(shows(&harness, "sticking: frames 20–24"));
+
+    harness.key_press(egui::Key::Home);
+    harness.run_steps(2);
+    let mut visited = Vec::new();
+    for _ in 0..3 {
+        harness.key_press(egui::Key::CloseBracket);
+        harness.run_steps(2);
+        visited.push(harness.state().state.frame());
+    }
+    assert_eq!(visited, vec![12, 20, 24]);
+    harness.key_press(egui::Key::OpenBracket);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.frame(), 20);
+
+    // Deleting the segment from the list is undoable like any edit.
+    harness
+        .query_all_by_label("Delete")
+        .next()
+        .expect("a Delete button")
+        .click();
+    harness.run_steps(2);
+    assert!(!shows(&harness, "sticking: frames 20–24"));
+    harness.get_by_label("Undo").click();
+    harness.run_steps(2);
+    assert!(shows(&harness, "sticking: frames 20–24"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_text() {
+    let Some(dir) = copy_of_sample_set("meta") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    let recording = harness
+        .state()
+        .state
+        .label_target()
+        .expect("target")
+        .recording;
+    let meta = |h: &Harness<'_, PushlabApp>| {
+        let state = &h.state().state;
+        let target = state.label_target().expect("target");
+        state
+            .labels
+            .labels_of(&target)
+            .map(|l| l.meta.clone())
+            .unwrap_or_default()
+    };
+    assert_eq!(meta(&harness).material, "paper");
+    // Typing into the Material field: "1" is text there, not the contact hotkey.
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::TextInput, "Material")
+        .click();
+    harness.run_steps(2);
+    for text in [" ", "1", "x"] {
+        if text == "1" {
+            harness.key_press(egui::Key::Num1);
+        }
+        harness.event(egui::Event::Text(text.to_owned()));
+        harness.run_steps(2);
+    }
+    assert_eq!(meta(&harness).material, "paper 1x");
+    assert!(
+        !shows(&harness, "contact: frames"),
+        "typing painted a label"
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    harness.get_by_label("Undo").click();
+    harness.run_steps(2);
+    assert_eq!(
+        meta(&harness).material,
+        "paper",
+        "one undo step for the typing"
+    );
+
+    harness.get_by_label("Clear").click(); // the COM label of the sample data
+    harness.run_steps(2);
+    assert_eq!(meta(&harness).com_offset, None);
+    harness.get_by_label("Place at estimated COM").click();
+    harness.run_steps(2);
+    let theta = harness.state().state.theta().expect("theta").com_offset;
+    assert_eq!(meta(&harness).com_offset, Some(theta));
+    assert!(
+        shows(&harness, "Labelled COM"),
+        "the scene legend lists the COM label"
+    );
+
+    harness.get_by_label("Undo").click();
+    harness.run_steps(2);
+    harness.get_by_label("Undo").click();
+    harness.run_steps(2);
+    assert_eq!(meta(&harness).com_offset, Some([0.0, 0.0]), "{recording}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
+    let Some(dir) = copy_of_sample_set("sheet") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    assert!(!shows(&harness, "hold to paint while stepping or playing"));
+    harness.key_press(egui::Key::F1);
+    harness.run_steps(2);
+    assert!(shows(&harness, "Keyboard shortcuts"));
+    assert!(shows(
+        &harness,
+        "contact: hold to paint while stepping or playing"
+    ));
+    assert!(shows(
+        &harness,
+        "contact made: place or remove the event here"
+    ));
+    assert!(shows(&harness, "undo a label edit"));
+    harness.key_press(egui::Key::F1);
+    harness.run_steps(2);
+    assert!(!shows(&harness, "hold to paint while stepping or playing"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
