@@ -3,7 +3,9 @@
 //! the current frame is a vertical cursor, and clicking a plot seeks there.
 
 use eframe::egui::{self, Color32, Id};
-use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine};
+use egui_plot::{
+    GridInput, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine, uniform_grid_spacer,
+};
 use pushlab_core::learn::{Loss, moving_average};
 
 use crate::app::colors;
@@ -146,10 +148,49 @@ fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static
         .allow_boxed_zoom(false)
         .y_axis_label(title.to_owned())
         .y_axis_min_width(36.0)
-        .x_axis_formatter(|mark, _| format!("{:.0} s", mark.value))
+        .x_grid_spacer(uniform_grid_spacer(time_grid_steps))
+        .x_axis_formatter(|mark, _| {
+            let decimals = if mark.step_size < 1.0 { 1 } else { 0 };
+            format!("{:.*} s", decimals, mark.value)
+        })
         .default_x_bounds(0.0, duration)
         .auto_bounds([false, true])
         .include_y(0.0)
+}
+
+/// Time-axis grid steps from the 1–2–5 sequence, the labelled ones at least 75 points apart, each
+/// step dividing the next. egui_plot's default powers of ten put labels either 33 points apart (too
+/// close, hidden) or a whole push apart on a 10 s push in a 330-point plot, which left only "0 s".
+#[allow(clippy::needless_pass_by_value)] // the signature egui_plot's `uniform_grid_spacer` calls
+fn time_grid_steps(input: GridInput) -> [f64; 3] {
+    // `base_step_size` is the value spanned by the plot's minimum grid spacing (8 points).
+    let per_point = input.base_step_size / 8.0;
+    let labelled = nice_step(per_point * 75.0);
+    let medium = finer(labelled);
+    [finer(medium), medium, labelled]
+}
+
+/// The next finer 1–2–5 step that divides `step`: 5 → 1, 2 → 1, 1 → 0.5.
+fn finer(step: f64) -> f64 {
+    let mantissa = step / 10f64.powf(step.log10().floor());
+    if (mantissa - 1.0).abs() < 1e-6 || (mantissa - 2.0).abs() < 1e-6 {
+        step / 2.0
+    } else {
+        step / 5.0
+    }
+}
+
+/// The smallest of 1, 2 or 5 × 10ⁿ that is at least `x`.
+fn nice_step(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return 1.0;
+    }
+    let power = 10f64.powf(x.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * power)
+        .find(|&step| step >= x * (1.0 - 1e-9))
+        .unwrap_or(10.0 * power)
 }
 
 fn cursor(plot_ui: &mut egui_plot::PlotUi<'_>, now: f64) {
@@ -165,5 +206,35 @@ fn clicked_x(plot_ui: &egui_plot::PlotUi<'_>) -> Option<f64> {
         plot_ui.pointer_coordinate().map(|p| p.x)
     } else {
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nice_steps_follow_one_two_five() {
+        let steps: Vec<f64> = [0.09, 0.1, 0.11, 0.3, 0.7, 1.0, 1.5, 3.0, 12.0]
+            .into_iter()
+            .map(nice_step)
+            .collect();
+        assert_eq!(steps, [0.1, 0.1, 0.2, 0.5, 1.0, 1.0, 2.0, 5.0, 20.0]);
+    }
+
+    #[test]
+    fn a_ten_second_push_in_a_330_point_plot_gets_labels_every_five_seconds() {
+        // 10 s over 330 points: the minimum grid spacing of 8 points spans 10 / 330 * 8 s.
+        let steps = time_grid_steps(GridInput {
+            bounds: (0.0, 10.0),
+            base_step_size: 10.0 / 330.0 * 8.0,
+        });
+        assert_eq!(steps, [0.5, 1.0, 5.0]);
+        // Zoomed in to 1 s over the same width: labels every 0.5 s.
+        let steps = time_grid_steps(GridInput {
+            bounds: (3.0, 4.0),
+            base_step_size: 1.0 / 330.0 * 8.0,
+        });
+        assert_eq!(steps, [0.05, 0.1, 0.5]);
     }
 }
