@@ -1,0 +1,312 @@
+//! The app's longer workflows, driven through the UI: drag-and-drop opening, offline training in the
+//! background with progress and cancel, and the files the app exports (losses CSV, PNG regions,
+//! model files, labels). The native rfd dialogs themselves cannot run headless; these tests call what
+//! each dialog's answer triggers.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use pushlab::app::dialogs::LabelExportFormat;
+use pushlab::app::state::Persisted;
+use pushlab::app::{PushlabApp, export, initial_state};
+
+fn sample_set(name: &str) -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample-data")
+        .join(name);
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("skipped: {} is missing", dir.display());
+        None
+    }
+}
+
+/// A file dropped on the window, as the native integration hands it over.
+#[derive(Debug)]
+struct Dropped(PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+fn scratch_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pushlab-workflow-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+fn app_on(paths: &[PathBuf]) -> Harness<'static, PushlabApp> {
+    let app = PushlabApp::new(initial_state(paths, Persisted::default()));
+    let mut harness = Harness::builder()
+        .with_size([1400.0, 900.0])
+        .with_step_dt(0.05)
+        .build_ui_state(
+            |ui, app: &mut PushlabApp| {
+                let dt = ui.input(|i| i.stable_dt) as f64;
+                app.state.advance(dt);
+                app.show(ui);
+            },
+            app,
+        );
+    harness.run_steps(2);
+    harness
+}
+
+/// Runs frames until `done` holds, with a generous wall-clock limit for background threads.
+fn run_until(
+    harness: &mut Harness<'_, PushlabApp>,
+    what: &str,
+    done: impl Fn(&PushlabApp) -> bool,
+) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !done(harness.state()) {
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    harness.run_steps(2);
+}
+
+#[test]
+fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anything() {
+    let (Some(first), Some(second)) = (
+        sample_set("box1-paper-center-front"),
+        sample_set("box2-plastic-center-front"),
+    ) else {
+        return;
+    };
+    let mut harness = app_on(std::slice::from_ref(&first));
+    let before = harness.state().state.session.recording_count();
+    assert!(before > 0);
+
+    let scratch = scratch_dir("drop");
+    let bad = scratch.join("not-a-push.csv");
+    std::fs::write(&bad, "time,robot_x\n0.0,banana\n").expect("write bad file");
+    for path in [second.clone(), bad.clone()] {
+        harness
+            .input_mut()
+            .dropped_files
+            .push(std::sync::Arc::new(Dropped(path)));
+    }
+    harness.run_steps(1);
+    run_until(&mut harness, "the dropped paths to load", |app| {
+        app.state.session.loading().is_none()
+    });
+
+    let state = &harness.state().state;
+    assert!(
+        state.session.recording_count() > before,
+        "the dropped folder added recordings"
+    );
+    assert_eq!(
+        state.session.selected.map(|s| s.set),
+        Some(0),
+        "the recording shown stays selected"
+    );
+    assert!(
+        state
+            .session
+            .problems
+            .iter()
+            .any(|p| p.path == bad && p.message.contains("not-a-push.csv")),
+        "{:?}",
+        state.session.problems
+    );
+    assert!(
+        harness
+            .query_all_by_label_contains("box2-plastic-center-front")
+            .next()
+            .is_some(),
+        "the browser lists the dropped set"
+    );
+    assert!(
+        harness
+            .query_all_by_label_contains("not-a-push.csv")
+            .next()
+            .is_some(),
+        "the browser shows the load error by file name"
+    );
+    let _ = std::fs::remove_dir_all(&scratch);
+}
+
+#[test]
+fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
+    let Some(set) = sample_set("box1-paper-center-front") else {
+        return;
+    };
+    let mut harness = app_on(std::slice::from_ref(&set));
+    let fixed_before = harness
+        .state()
+        .state
+        .run
+        .as_ref()
+        .expect("an online run")
+        .fixed()[10]
+        .loss
+        .pos();
+    harness.get_by_label("Train").click();
+    harness.run_steps(2);
+    harness.get_by_label("Labelled offline").click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.training.chosen.len(), 27);
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::SpinButton, "Epochs")
+        .set_value_accesskit(3.0);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.training.config.epochs, 3);
+    harness
+        .query_all_by_label("Train")
+        .last()
+        .expect("the Train button")
+        .click();
+    harness.run_steps(1);
+    assert!(harness.state().state.training.is_running());
+    run_until(&mut harness, "training to finish", |app| {
+        !app.state.training.is_running()
+    });
+
+    let state = &harness.state().state;
+    let status = state.status.clone().unwrap_or_default();
+    assert!(
+        status.contains("training finished after 3 epochs"),
+        "{status}"
+    );
+    assert_eq!(
+        state.training.history.len(),
+        3,
+        "one progress report per epoch"
+    );
+    assert_eq!(
+        state.models.source.as_deref(),
+        Some("trained in the app (unsaved)")
+    );
+    let fixed_after = state.run.as_ref().expect("an online run").fixed()[10]
+        .loss
+        .pos();
+    assert_ne!(
+        fixed_before, fixed_after,
+        "predictions come from the new model"
+    );
+    assert!(
+        harness
+            .query_all_by_label_contains("epoch 3 / 3")
+            .next()
+            .is_some(),
+        "the progress bar shows the last epoch"
+    );
+
+    // Save it from the app and load it back: same predictions.
+    let scratch = scratch_dir("train");
+    let model = scratch.join("model.json");
+    export::save_model(&harness.state().state, &model).expect("save model");
+    let mut state = initial_state(std::slice::from_ref(&set), Persisted::default());
+    export::load_model(&mut state, &model).expect("load model");
+    state.restart_run_keeping_frame();
+    let reloaded = state.run.as_ref().expect("an online run").fixed()[10]
+        .loss
+        .pos();
+    assert_eq!(reloaded, fixed_after);
+    let _ = std::fs::remove_dir_all(&scratch);
+}
+
+#[test]
+fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
+    let Some(set) = sample_set("box1-paper-center-front") else {
+        return;
+    };
+    let mut harness = app_on(std::slice::from_ref(&set));
+    harness.get_by_label("Train").click();
+    harness.run_steps(2);
+    harness.get_by_label("All").click();
+    harness.run_steps(2);
+    harness.state_mut().state.training.config.epochs = 10_000;
+    harness.state_mut().state.training.config.patience = 0;
+    harness
+        .query_all_by_label("Train")
+        .last()
+        .expect("the Train button")
+        .click();
+    run_until(&mut harness, "the first epoch", |app| {
+        !app.state.training.history.is_empty()
+    });
+    harness.get_by_label("Cancel training").click();
+    run_until(&mut harness, "training to stop", |app| {
+        !app.state.training.is_running()
+    });
+    let state = &harness.state().state;
+    let status = state.status.clone().unwrap_or_default();
+    assert!(status.contains("training cancelled"), "{status}");
+    assert!(state.training.history.len() < 10_000);
+    assert_eq!(
+        state.models.source.as_deref(),
+        Some("trained in the app (unsaved)")
+    );
+}
+
+#[test]
+fn exports_write_the_losses_a_png_region_and_the_labels() {
+    let Some(set) = sample_set("box1-paper-center-front") else {
+        return;
+    };
+    let mut harness = app_on(std::slice::from_ref(&set));
+    for _ in 0..20 {
+        harness.key_press(egui::Key::ArrowRight);
+        harness.run_steps(1);
+    }
+    let scratch = scratch_dir("export");
+    let state = &harness.state().state;
+
+    // Losses: one row per sample, online values up to the frame learned.
+    let csv_path = scratch.join("losses.csv");
+    let rows = export::save_losses_csv(state, &csv_path).expect("losses csv");
+    let text = std::fs::read_to_string(&csv_path).expect("read csv");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), rows + 1);
+    assert_eq!(rows, state.run.as_ref().expect("run").fixed().len());
+    assert!(lines[0].starts_with("frame,time,fixed_loss_pos"));
+    let row_5: Vec<&str> = lines[6].split(',').collect();
+    assert_eq!(row_5[0], "5");
+    assert!(
+        row_5[4].parse::<f64>().is_ok(),
+        "online loss at a learned frame: {}",
+        lines[6]
+    );
+    let row_last: Vec<&str> = lines[rows].split(',').collect();
+    assert_eq!(row_last[4], "", "no online loss past the learned frames");
+
+    // A PNG region: the crop of a screenshot at the window's pixel scale.
+    let image = egui::ColorImage::filled([200, 100], egui::Color32::from_rgb(10, 200, 30));
+    let png_path = scratch.join("scene.png");
+    let rect = egui::Rect::from_min_size(egui::pos2(10.0, 20.0), egui::vec2(50.0, 30.0));
+    export::save_region_png(&image, rect, 2.0, &png_path).expect("png");
+    let png = image::open(&png_path).expect("valid png").to_rgb8();
+    assert_eq!(png.dimensions(), (100, 60));
+    assert_eq!(png.get_pixel(5, 5).0, [10, 200, 30]);
+
+    // Labels of the whole folder, with frame times.
+    let labels_path = scratch.join("labels.csv");
+    let label_rows =
+        export::export_labels(state, &labels_path, LabelExportFormat::Csv).expect("labels csv");
+    let text = std::fs::read_to_string(&labels_path).expect("read labels csv");
+    assert_eq!(text.lines().count(), label_rows + 1);
+    assert!(text.starts_with("recording,label,kind,first_frame,last_frame,first_time,last_time"));
+    let json_path = scratch.join("labels.json");
+    export::export_labels(state, &json_path, LabelExportFormat::Json).expect("labels json");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json_path).expect("read json"))
+            .expect("valid json");
+    assert_eq!(json["format"], "pushlab-labels-export");
+    assert_eq!(json["recordings"]["offline_000.csv"]["split"], "offline");
+    let _ = std::fs::remove_dir_all(&scratch);
+}
