@@ -273,3 +273,25 @@ fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
     assert!(!shows(&harness, "hold to paint while stepping or playing"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
+    let Some(dir) = copy_of_sample_set("quick") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    seek(&mut harness, 10);
+    // Key down "3" (sticking), "6" (contact made) and five → all before the next frame is drawn.
+    harness.key_down(egui::Key::Num3);
+    harness.key_press(egui::Key::Num6);
+    for _ in 0..5 {
+        harness.key_press(egui::Key::ArrowRight);
+    }
+    harness.run_steps(2);
+    harness.key_up(egui::Key::Num3);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.frame(), 15);
+    assert!(shows(&harness, "sticking: frames 10–15"));
+    assert!(shows(&harness, "contact made: frame 10"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

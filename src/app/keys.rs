@@ -143,7 +143,11 @@ pub fn handle(
     ctx.input_mut(|i| {
         label_hotkeys(i, state, commands);
         for binding in &BINDINGS {
-            if i.consume_shortcut(&binding.shortcut) {
+            // Several presses can arrive within one frame (fast typing, key repeat, a slow frame):
+            // each counts, so five quick → are five frames.
+            let presses =
+                i.count_and_consume_key(binding.shortcut.modifiers, binding.shortcut.logical_key);
+            for _ in 0..presses {
                 match binding.action {
                     KeyAction::Timeline(c) => commands.push(Command::Timeline(c)),
                     KeyAction::JumpToLabel { forward } => {
@@ -176,26 +180,25 @@ fn label_hotkeys(i: &egui::InputState, state: &AppState, commands: &mut Vec<Comm
         return;
     };
     let mut held = state.labels.stroke_hotkey().and_then(Key::from_name);
-    if held.is_none() {
-        for label in &schema.labels {
-            let Some(key) = label.hotkey.as_deref().and_then(Key::from_name) else {
-                continue;
-            };
-            if fresh_press(i, key) {
-                commands.push(Command::Label(LabelAction::Hotkey(label.name.clone())));
-                if label.kind == pushlab_core::labels::LabelKind::Range {
-                    held = Some(key);
-                    break;
-                }
+    for label in &schema.labels {
+        let Some(key) = label.hotkey.as_deref().and_then(Key::from_name) else {
+            continue;
+        };
+        // Events are placed even during a stroke; a second range key during a stroke is ignored.
+        let is_range = label.kind == pushlab_core::labels::LabelKind::Range;
+        if fresh_press(i, key) && !(is_range && held.is_some()) {
+            commands.push(Command::Label(LabelAction::Hotkey(label.name.clone())));
+            if is_range {
+                held = Some(key);
             }
         }
-        if held.is_none()
-            && let Some(erase) = Key::from_name(ERASE_HOTKEY)
-            && fresh_press(i, erase)
-        {
-            commands.push(Command::Label(LabelAction::StartErase));
-            held = Some(erase);
-        }
+    }
+    if held.is_none()
+        && let Some(erase) = Key::from_name(ERASE_HOTKEY)
+        && fresh_press(i, erase)
+    {
+        commands.push(Command::Label(LabelAction::StartErase));
+        held = Some(erase);
     }
     if let Some(key) = held
         && !i.key_down(key)

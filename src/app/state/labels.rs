@@ -639,6 +639,13 @@ mod tests {
             std::fs::read_to_string(&file).unwrap(),
             "{ \"format\": \"pushlab-labels\", \"version\": 1, "
         );
+        // Fixed on disk and opened again: labeling works.
+        std::fs::remove_file(&file).unwrap();
+        state.open_blocking(&[dir.clone()]);
+        assert_eq!(state.labels.read_only_reason(&target), None);
+        label(&mut state, LabelAction::Hotkey("contact".into()));
+        label(&mut state, LabelAction::EndStroke);
+        assert_eq!(segments(&state).len(), 1);
     }
 
     #[test]

@@ -145,6 +145,7 @@ impl AppState {
     /// Opens paths on this thread (command line, tests) and selects the first new recording.
     pub fn open_blocking(&mut self, paths: &[PathBuf]) {
         self.remember(paths);
+        self.labels.unreadable.clear();
         let selected = self.session.open_blocking(paths);
         self.labels.sync(&self.session);
         if selected {
@@ -200,6 +201,8 @@ impl AppState {
             }
             Command::Open(paths) => {
                 self.remember(&paths);
+                // Opening again is how a fixed labels file gets read again.
+                self.labels.unreadable.clear();
                 self.session.start_loading(paths);
             }
             Command::SetTheta(theta) => {
