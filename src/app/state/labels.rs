@@ -641,7 +641,7 @@ mod tests {
         );
         // Fixed on disk and opened again: labeling works.
         std::fs::remove_file(&file).unwrap();
-        state.open_blocking(&[dir.clone()]);
+        state.open_blocking(std::slice::from_ref(&dir));
         assert_eq!(state.labels.read_only_reason(&target), None);
         label(&mut state, LabelAction::Hotkey("contact".into()));
         label(&mut state, LabelAction::EndStroke);
