@@ -15,6 +15,9 @@ use crate::model::{
 };
 use crate::real::Real;
 use crate::rng::SplitMix64;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::Fused;
+use crate::simd::{MulAdd, Unfused};
 
 /// How to train.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -291,7 +294,7 @@ trait Trainee {
     fn restore(&mut self, snapshot: (Network<Self::Real>, [Self::Real; 3]));
     fn loss_scale(&self) -> LossScale;
     /// Adds the weight gradient of one sample's loss to `grad`; returns the loss.
-    fn accumulate(
+    fn accumulate<A: MulAdd>(
         &mut self,
         sample: &RealSample<Self::Real>,
         weights: &[Self::Real; 3],
@@ -326,12 +329,22 @@ impl Trainee for CombinedTrainee {
         self.model.loss_scale
     }
     #[inline(always)]
-    fn accumulate(&mut self, s: &RealSample<f32>, w: &[f32; 3], grad: &mut Mlp<f32>) -> f32 {
-        self.model.forward(&s.input, &self.theta, &mut self.pass);
+    fn accumulate<A: MulAdd>(
+        &mut self,
+        s: &RealSample<f32>,
+        w: &[f32; 3],
+        grad: &mut Mlp<f32>,
+    ) -> f32 {
+        self.model
+            .forward_with::<A>(&s.input, &self.theta, &mut self.pass);
         let (loss, d_centre, d_rotation) = CombinedModel::loss_gradient(&self.pass, &s.target, w);
-        let g = self
-            .model
-            .backward(&self.pass, &self.theta, d_centre, d_rotation, Some(grad));
+        let g = self.model.backward_with::<A>(
+            &self.pass,
+            &self.theta,
+            d_centre,
+            d_rotation,
+            Some(grad),
+        );
         if self.theta_adam.is_some() {
             for (acc, gi) in self.theta_grad.iter_mut().zip(g) {
                 *acc += f64::from(gi);
@@ -378,7 +391,12 @@ impl Trainee for PureNnTrainee {
         self.model.loss_scale
     }
     #[inline(always)]
-    fn accumulate(&mut self, s: &RealSample<f32>, w: &[f32; 3], grad: &mut Mlp<f32>) -> f32 {
+    fn accumulate<A: MulAdd>(
+        &mut self,
+        s: &RealSample<f32>,
+        w: &[f32; 3],
+        grad: &mut Mlp<f32>,
+    ) -> f32 {
         self.model
             .accumulate_gradient(s, w, &mut self.activations, grad)
     }
@@ -498,22 +516,22 @@ impl<M: Trainee> Epoch<'_, M> {
     /// Runs the epoch in the widest SIMD available; the summed loss, or `None` when cancelled.
     fn run(&mut self) -> Option<f64> {
         #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx2_available() {
+        if crate::simd::avx2_fma_available() {
             #[allow(unsafe_code)]
-            // SAFETY: `run_avx2` only requires AVX2, and the CPU was just checked to have it.
+            // SAFETY: `run_avx2` only requires AVX2 and FMA, and the CPU was just checked to have them.
             return unsafe { self.run_avx2() };
         }
-        self.run_portable()
+        self.run_portable::<Unfused>()
     }
 
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,fma")]
     fn run_avx2(&mut self) -> Option<f64> {
-        self.run_portable()
+        self.run_portable::<Fused>()
     }
 
     #[inline(always)]
-    fn run_portable(&mut self) -> Option<f64> {
+    fn run_portable<A: MulAdd>(&mut self) -> Option<f64> {
         let mut epoch_loss = 0.0f64;
         for batch in self.order.chunks(self.batch_size) {
             if self.cancel.load(Ordering::Relaxed) {
@@ -525,7 +543,7 @@ impl<M: Trainee> Epoch<'_, M> {
                 batch_loss = batch_loss
                     + self
                         .trainee
-                        .accumulate(&self.train[i], self.weights, self.grad);
+                        .accumulate::<A>(&self.train[i], self.weights, self.grad);
             }
             epoch_loss += batch_loss.as_f64();
             self.grad.scale(M::Real::of(1.0 / batch.len() as f64));

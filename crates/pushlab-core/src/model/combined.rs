@@ -3,13 +3,17 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::mlp::{Activations, Mlp, Network};
+use super::mlp::{Activations, HIDDEN, Mlp, Network};
 use super::normalization::InputNormalization;
 use super::params::OnlineParams;
-use super::physics::{ComMotion, centre_motion, centre_motion_backward, lynch, lynch_backward};
+use super::physics::{
+    ComMotion, LynchCache, centre_motion_backward_rotated, centre_motion_rotated,
+    lynch_backward_cached, lynch_forward,
+};
 use super::{ObjectMotion, Prediction, SampleInput};
 use crate::learn::LossScale;
 use crate::real::Real;
+use crate::simd::{MulAdd, Unfused};
 
 /// The combined model: the offline part (the network and its normalisation) and the starting point of
 /// the online part, `θ_online(0)`.
@@ -17,7 +21,7 @@ use crate::real::Real;
 /// `θ_online` itself is not stored here: it is an argument of every prediction, so that one trained
 /// model can serve many online learners (the app's "fixed" and "online" runs, one per trajectory).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(bound = "")]
+#[serde(bound = "", from = "CombinedModelData<T>")]
 pub struct CombinedModel<T: Real = f32> {
     /// The network φ: normalised (COM-relative pusher position, pusher motion) → normalised (contact
     /// point relative to the COM, contact motion).
@@ -29,6 +33,66 @@ pub struct CombinedModel<T: Real = f32> {
     /// Per-component scales of `θ_online` for online gradient descent, metres (see
     /// [`CombinedModel::theta_scales`]).
     pub(crate) theta_scales: [f64; 3],
+    /// `normalization` and `loss_scale` as the constants the hot loops use, derived once.
+    #[serde(skip)]
+    constants: Constants<T>,
+}
+
+/// What a model file holds of a [`CombinedModel`]: everything but the derived constants.
+#[derive(Deserialize)]
+#[serde(bound = "")]
+struct CombinedModelData<T: Real> {
+    network: Network<T>,
+    normalization: InputNormalization,
+    theta0: OnlineParams,
+    loss_scale: LossScale,
+    horizon: usize,
+    theta_scales: [f64; 3],
+}
+
+impl<T: Real> From<CombinedModelData<T>> for CombinedModel<T> {
+    fn from(d: CombinedModelData<T>) -> Self {
+        Self {
+            constants: Constants::of(&d.normalization, &d.loss_scale),
+            network: d.network,
+            normalization: d.normalization,
+            theta0: d.theta0,
+            loss_scale: d.loss_scale,
+            horizon: d.horizon,
+            theta_scales: d.theta_scales,
+        }
+    }
+}
+
+/// The normalisation and the loss weights in the model's float type, with reciprocals of the
+/// standard deviations: the forward and backward passes multiply instead of converting from `f64` and
+/// dividing on every call.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Constants<T> {
+    position_mean: [T; 2],
+    position_std: [T; 2],
+    position_inv_std: [T; 2],
+    motion_mean: [T; 2],
+    motion_std: [T; 2],
+    motion_inv_std: [T; 2],
+    /// See [`loss_weights`].
+    loss_weights: [T; 3],
+}
+
+impl<T: Real> Constants<T> {
+    fn of(n: &InputNormalization, loss_scale: &LossScale) -> Self {
+        let t = |a: [f64; 2]| a.map(T::of);
+        let inv = |a: [f64; 2]| a.map(|x| T::of(1.0 / x));
+        Self {
+            position_mean: t(n.position.mean),
+            position_std: t(n.position.std),
+            position_inv_std: inv(n.position.std),
+            motion_mean: t(n.motion.mean),
+            motion_std: t(n.motion.std),
+            motion_inv_std: inv(n.motion.std),
+            loss_weights: loss_weights(loss_scale),
+        }
+    }
 }
 
 /// Everything one forward pass computes that its backward pass needs.
@@ -39,8 +103,23 @@ pub(crate) struct Pass<T> {
     contact: [T; 2],
     contact_motion: [T; 2],
     com: ComMotion<T>,
+    lynch: LynchCache<T>,
+    /// `(sin Δω, cos Δω)` of the predicted rotation.
+    rotation_sin_cos: (T, T),
     /// Predicted motion of the geometric centre.
     centre: [T; 2],
+}
+
+/// The part of a forward pass that does not depend on `θ_online`, computed once per sample: online
+/// learning redoes the forward pass for every gradient step with the same input.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Prepared<T> {
+    /// The normalised pusher position relative to the centre (the COM offset is subtracted later).
+    position: [T; 2],
+    /// The normalised pusher motion.
+    motion: [T; 2],
+    /// The first layer's pre-activation from the motion inputs and the bias.
+    motion_part: [T; HIDDEN],
 }
 
 /// A sample converted once to the model's float type: `[p_x, p_y, u_x, u_y]` and
@@ -97,6 +176,7 @@ impl<T: Real> CombinedModel<T> {
             loss_scale,
             horizon,
             theta_scales: [length; 3],
+            constants: Constants::of(&normalization, &loss_scale),
         }
     }
 
@@ -139,27 +219,7 @@ impl<T: Real> CombinedModel<T> {
         if samples.is_empty() {
             return;
         }
-        let weights = loss_weights::<T>(&self.loss_scale);
-        let theta = theta_real(&self.theta0);
-        let mut curvature = [0.0f64; 3];
-        let mut pass = Pass::default();
-        for sample in samples {
-            let real = RealSample::<T>::of(sample);
-            self.forward(&real.input, &theta, &mut pass);
-            for (k, w) in weights.iter().enumerate() {
-                let mut d_centre = [T::zero(); 2];
-                let mut d_rotation = T::zero();
-                if k < 2 {
-                    d_centre[k] = T::one();
-                } else {
-                    d_rotation = T::one();
-                }
-                let jacobian_row = self.backward(&pass, &theta, d_centre, d_rotation, None);
-                for (c, j) in curvature.iter_mut().zip(jacobian_row) {
-                    *c += 2.0 * w.as_f64() * j.as_f64() * j.as_f64();
-                }
-            }
-        }
+        let curvature = self.theta_curvature(samples);
         let fallback = self.normalization.position.scale();
         for (scale, c) in self.theta_scales.iter_mut().zip(curvature) {
             let mean = c / samples.len() as f64;
@@ -171,6 +231,40 @@ impl<T: Real> CombinedModel<T> {
         }
     }
 
+    crate::simd::dispatch_simd! {
+        /// `Σ_samples Σ_k 2 w_k (∂ŷ_k/∂θ_i)²` at `θ_online(0)`, in the widest SIMD available.
+        fn theta_curvature(&self, samples: &[super::Sample]) -> [f64; 3]
+            => theta_curvature_portable, theta_curvature_avx2
+    }
+
+    #[inline(always)]
+    fn theta_curvature_portable<A: MulAdd>(&self, samples: &[super::Sample]) -> [f64; 3] {
+        let weights = self.constants.loss_weights;
+        let theta = theta_real(&self.theta0);
+        let mut curvature = [0.0f64; 3];
+        let mut pass = Pass::default();
+        for sample in samples {
+            let real = RealSample::<T>::of(sample);
+            let prepared = self.prepare::<A>(&real.input);
+            self.forward_prepared::<A>(&prepared, &theta, &mut pass);
+            for (k, w) in weights.iter().enumerate() {
+                let mut d_centre = [T::zero(); 2];
+                let mut d_rotation = T::zero();
+                if k < 2 {
+                    d_centre[k] = T::one();
+                } else {
+                    d_rotation = T::one();
+                }
+                let jacobian_row =
+                    self.backward_with::<A>(&pass, &theta, d_centre, d_rotation, None);
+                for (c, j) in curvature.iter_mut().zip(jacobian_row) {
+                    *c += 2.0 * w.as_f64() * j.as_f64() * j.as_f64();
+                }
+            }
+        }
+        curvature
+    }
+
     /// The same model in another float type (`f64` for gradient checks).
     pub fn cast<U: Real>(&self) -> CombinedModel<U> {
         CombinedModel {
@@ -180,6 +274,7 @@ impl<T: Real> CombinedModel<T> {
             loss_scale: self.loss_scale,
             horizon: self.horizon,
             theta_scales: self.theta_scales,
+            constants: Constants::of(&self.normalization, &self.loss_scale),
         }
     }
 
@@ -200,42 +295,88 @@ impl<T: Real> CombinedModel<T> {
     }
 
     #[inline(always)]
-    fn predict_portable(&self, input: &[T; 4], theta: &[T; 3]) -> Prediction {
+    fn predict_portable<A: MulAdd>(&self, input: &[T; 4], theta: &[T; 3]) -> Prediction {
         let mut pass = Pass::default();
-        self.forward(input, theta, &mut pass);
+        self.forward_with::<A>(input, theta, &mut pass);
         pass.prediction(theta)
     }
 
     /// The forward pass in the model's float type. `theta` is `[com_x, com_y, h]`.
     #[inline(always)]
     pub(crate) fn forward(&self, input: &[T; 4], theta: &[T; 3], pass: &mut Pass<T>) {
-        let n = &self.normalization;
-        let (pm, ps, mm, ms) = (n.position.mean, n.position.std, n.motion.mean, n.motion.std);
-        // Eq. 14: the pusher relative to the COM rather than to the centre.
-        let p = [input[0] - theta[0], input[1] - theta[1]];
-        let x = [
-            (p[0] - T::of(pm[0])) / T::of(ps[0]),
-            (p[1] - T::of(pm[1])) / T::of(ps[1]),
-            (input[2] - T::of(mm[0])) / T::of(ms[0]),
-            (input[3] - T::of(mm[1])) / T::of(ms[1]),
+        self.forward_with::<Unfused>(input, theta, pass);
+    }
+
+    /// [`CombinedModel::forward`] with the multiply-add of the compiled copy.
+    #[inline(always)]
+    pub(crate) fn forward_with<A: MulAdd>(
+        &self,
+        input: &[T; 4],
+        theta: &[T; 3],
+        pass: &mut Pass<T>,
+    ) {
+        let prepared = self.prepare::<A>(input);
+        self.forward_prepared::<A>(&prepared, theta, pass);
+    }
+
+    /// The part of the forward pass that does not depend on `θ_online`.
+    #[inline(always)]
+    pub(crate) fn prepare<A: MulAdd>(&self, input: &[T; 4]) -> Prepared<T> {
+        let c = &self.constants;
+        let position = [
+            (input[0] - c.position_mean[0]) * c.position_inv_std[0],
+            (input[1] - c.position_mean[1]) * c.position_inv_std[1],
         ];
-        let z = self.network.forward(&x, &mut pass.activations);
+        let motion = [
+            (input[2] - c.motion_mean[0]) * c.motion_inv_std[0],
+            (input[3] - c.motion_mean[1]) * c.motion_inv_std[1],
+        ];
+        Prepared {
+            position,
+            motion,
+            motion_part: self.network.first_layer_motion::<A>(motion),
+        }
+    }
+
+    /// The forward pass from a prepared input.
+    #[inline(always)]
+    pub(crate) fn forward_prepared<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        theta: &[T; 3],
+        pass: &mut Pass<T>,
+    ) {
+        let c = &self.constants;
+        // Eq. 14: the pusher relative to the COM rather than to the centre,
+        // x = (p − offset − mean) / std.
+        let x = [
+            A::mul_add(-theta[0], c.position_inv_std[0], prepared.position[0]),
+            A::mul_add(-theta[1], c.position_inv_std[1], prepared.position[1]),
+            prepared.motion[0],
+            prepared.motion[1],
+        ];
+        let z = self
+            .network
+            .forward_from::<A>(&prepared.motion_part, &x, &mut pass.activations);
         pass.contact = [
-            z[0] * T::of(ps[0]) + T::of(pm[0]),
-            z[1] * T::of(ps[1]) + T::of(pm[1]),
+            A::mul_add(z[0], c.position_std[0], c.position_mean[0]),
+            A::mul_add(z[1], c.position_std[1], c.position_mean[1]),
         ];
         pass.contact_motion = [
-            z[2] * T::of(ms[0]) + T::of(mm[0]),
-            z[3] * T::of(ms[1]) + T::of(mm[1]),
+            A::mul_add(z[2], c.motion_std[0], c.motion_mean[0]),
+            A::mul_add(z[3], c.motion_std[1], c.motion_mean[1]),
         ];
-        pass.com = lynch(pass.contact, pass.contact_motion, theta[2]);
-        pass.centre = centre_motion(&pass.com, [theta[0], theta[1]]);
+        (pass.com, pass.lynch) = lynch_forward::<T, A>(pass.contact, pass.contact_motion, theta[2]);
+        pass.rotation_sin_cos = pass.com.rotation.sin_cos();
+        pass.centre =
+            centre_motion_rotated::<T, A>(&pass.com, pass.rotation_sin_cos, [theta[0], theta[1]]);
     }
 
     /// The backward pass: from the gradient of a scalar with respect to the predicted centre motion and
     /// rotation, the gradient with respect to `θ_online` (`[com_x, com_y, h]`), and, when `network_grad`
-    /// is given, the gradient with respect to the network's weights added to it.
-    #[inline(always)]
+    /// is given, the gradient with respect to the network's weights added to it. (The hot loops call
+    /// [`CombinedModel::backward_with`] in their compiled copy; this is for the gradient checks.)
+    #[cfg(test)]
     pub(crate) fn backward(
         &self,
         pass: &Pass<T>,
@@ -244,24 +385,59 @@ impl<T: Real> CombinedModel<T> {
         d_rotation: T,
         network_grad: Option<&mut Mlp<T>>,
     ) -> [T; 3] {
-        let n = &self.normalization;
+        self.backward_with::<Unfused>(pass, theta, d_centre, d_rotation, network_grad)
+    }
+
+    /// [`CombinedModel::backward`] with the multiply-add of the compiled copy.
+    #[inline(always)]
+    pub(crate) fn backward_with<A: MulAdd>(
+        &self,
+        pass: &Pass<T>,
+        theta: &[T; 3],
+        d_centre: [T; 2],
+        d_rotation: T,
+        network_grad: Option<&mut Mlp<T>>,
+    ) -> [T; 3] {
+        let c = &self.constants;
         let offset = [theta[0], theta[1]];
-        let (d_com, mut d_offset) = centre_motion_backward(&pass.com, offset, d_centre, d_rotation);
-        let d_lynch = lynch_backward(pass.contact, pass.contact_motion, theta[2], &d_com);
+        let (d_com, d_offset) = centre_motion_backward_rotated::<T, A>(
+            pass.rotation_sin_cos,
+            offset,
+            d_centre,
+            d_rotation,
+        );
+        let d_lynch = lynch_backward_cached::<T, A>(
+            pass.contact,
+            pass.contact_motion,
+            theta[2],
+            &pass.com,
+            &pass.lynch,
+            &d_com,
+        );
         let d_z = [
-            d_lynch.contact[0] * T::of(n.position.std[0]),
-            d_lynch.contact[1] * T::of(n.position.std[1]),
-            d_lynch.contact_motion[0] * T::of(n.motion.std[0]),
-            d_lynch.contact_motion[1] * T::of(n.motion.std[1]),
+            d_lynch.contact[0] * c.position_std[0],
+            d_lynch.contact[1] * c.position_std[1],
+            d_lynch.contact_motion[0] * c.motion_std[0],
+            d_lynch.contact_motion[1] * c.motion_std[1],
         ];
         let d_x = match network_grad {
-            Some(grad) => self.network.backward(&pass.activations, &d_z, grad),
-            None => self.network.input_gradient(&pass.activations, &d_z),
+            Some(grad) => {
+                let d1 = self
+                    .network
+                    .weight_gradient::<A>(&pass.activations, &d_z, grad);
+                [
+                    self.network.first_layer_input_gradient::<A>(&d1, 0),
+                    self.network.first_layer_input_gradient::<A>(&d1, 1),
+                ]
+            }
+            None => self.network.position_gradient::<A>(&pass.activations, &d_z),
         };
-        // p = input − offset, x = (p − mean) / std.
-        d_offset[0] = d_offset[0] - d_x[0] / T::of(n.position.std[0]);
-        d_offset[1] = d_offset[1] - d_x[1] / T::of(n.position.std[1]);
-        [d_offset[0], d_offset[1], d_lynch.h]
+        // x = (p − offset − mean) / std.
+        [
+            A::mul_add(-d_x[0], c.position_inv_std[0], d_offset[0]),
+            A::mul_add(-d_x[1], c.position_inv_std[1], d_offset[1]),
+            d_lynch.h,
+        ]
     }
 
     /// Loss (eq. 8) of one sample and its gradient with respect to the predicted outputs.
@@ -296,33 +472,35 @@ impl<T: Real> CombinedModel<T> {
     }
 
     #[inline(always)]
-    fn online_update_portable(
+    fn online_update_portable<A: MulAdd>(
         &self,
         sample: &RealSample<T>,
         theta: &OnlineParams,
         steps: usize,
         lr: f64,
     ) -> (Prediction, [f64; 3], OnlineParams) {
-        let weights = loss_weights::<T>(&self.loss_scale);
+        let weights = self.constants.loss_weights;
         let step = self.theta_scales.map(|s| T::of(lr * s * s));
         let (h_min, h_max) = (T::of(super::params::H_MIN), T::of(super::params::H_MAX));
         let mut th = theta_real(theta);
         let mut pass = Pass::default();
-        self.forward(&sample.input, &th, &mut pass);
+        // Everything that does not depend on θ_online, once for all the gradient steps.
+        let prepared = self.prepare::<A>(&sample.input);
+        self.forward_prepared::<A>(&prepared, &th, &mut pass);
         let prediction = pass.prediction(&th);
         let mut first_gradient = [0.0; 3];
         for k in 0..steps {
             if k > 0 {
-                self.forward(&sample.input, &th, &mut pass);
+                self.forward_prepared::<A>(&prepared, &th, &mut pass);
             }
             let (_, d_centre, d_rotation) = Self::loss_gradient(&pass, &sample.target, &weights);
-            let g = self.backward(&pass, &th, d_centre, d_rotation, None);
+            let g = self.backward_with::<A>(&pass, &th, d_centre, d_rotation, None);
             if k == 0 {
                 first_gradient = g.map(|x| x.as_f64());
             }
             // Gradient descent on θ_i / s_i: θ_i ← θ_i − lr · s_i² · ∂ℓ/∂θ_i.
             for ((t, gi), si) in th.iter_mut().zip(g).zip(step) {
-                *t = *t - si * gi;
+                *t = A::mul_add(-si, gi, *t);
             }
             th[2] = th[2].max(h_min).min(h_max);
             if !th.iter().all(|t| t.is_finite()) {
@@ -334,7 +512,7 @@ impl<T: Real> CombinedModel<T> {
         if steps == 0 {
             let (_, d_centre, d_rotation) = Self::loss_gradient(&pass, &sample.target, &weights);
             first_gradient = self
-                .backward(&pass, &th, d_centre, d_rotation, None)
+                .backward_with::<A>(&pass, &th, d_centre, d_rotation, None)
                 .map(|x| x.as_f64());
         }
         let after = OnlineParams {

@@ -9,6 +9,7 @@
 //! with the contact point `c` relative to the COM and its motion `u_c`, both in the object frame.
 
 use crate::real::Real;
+use crate::simd::{MulAdd, Unfused};
 
 /// Motion of the COM and rotation predicted by Lynch's model.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -23,18 +24,45 @@ pub struct ComMotion<T> {
 /// by `contact_motion`, for the limit-surface parameter `h` (metres).
 #[inline(always)]
 pub fn lynch<T: Real>(contact: [T; 2], contact_motion: [T; 2], h: T) -> ComMotion<T> {
+    lynch_forward::<T, Unfused>(contact, contact_motion, h).0
+}
+
+/// What [`lynch_forward`] computes that its backward pass needs again: the two reciprocals (the only
+/// divisions of the model) and the outputs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct LynchCache<T> {
+    /// `1 / (h² + cx² + cy²)`.
+    inv_d: T,
+    /// `1 / h²`.
+    inv_h2: T,
+}
+
+/// [`lynch`], also returning what [`lynch_backward_cached`] reuses.
+#[inline(always)]
+pub(crate) fn lynch_forward<T: Real, A: MulAdd>(
+    contact: [T; 2],
+    contact_motion: [T; 2],
+    h: T,
+) -> (ComMotion<T>, LynchCache<T>) {
     let [cx, cy] = contact;
     let [ux, uy] = contact_motion;
     let h2 = h * h;
-    let d = h2 + cx * cx + cy * cy;
-    let nx = (h2 + cx * cx) * ux + cx * cy * uy;
-    let ny = (h2 + cy * cy) * uy + cx * cy * ux;
-    let dx = nx / d;
-    let dy = ny / d;
-    ComMotion {
-        translation: [dx, dy],
-        rotation: (cx * dy - cy * dx) / h2,
-    }
+    let inv_h2 = T::one() / h2;
+    let cxx = A::mul_add(cx, cx, h2);
+    let cyy = A::mul_add(cy, cy, h2);
+    let inv_d = T::one() / A::mul_add(cy, cy, cxx);
+    let cxy = cx * cy;
+    let nx = A::mul_add(cxx, ux, cxy * uy);
+    let ny = A::mul_add(cyy, uy, cxy * ux);
+    let dx = nx * inv_d;
+    let dy = ny * inv_d;
+    (
+        ComMotion {
+            translation: [dx, dy],
+            rotation: A::mul_add(cx, dy, -(cy * dx)) * inv_h2,
+        },
+        LynchCache { inv_d, inv_h2 },
+    )
 }
 
 /// Gradients of a scalar with respect to the inputs of [`lynch`].
@@ -55,41 +83,57 @@ pub fn lynch_backward<T: Real>(
     h: T,
     d_out: &ComMotion<T>,
 ) -> LynchGradient<T> {
+    let (out, cache) = lynch_forward::<T, Unfused>(contact, contact_motion, h);
+    lynch_backward_cached::<T, Unfused>(contact, contact_motion, h, &out, &cache, d_out)
+}
+
+/// [`lynch_backward`] from the outputs and cache of the forward pass, which it would otherwise
+/// recompute (two divisions).
+#[inline(always)]
+pub(crate) fn lynch_backward_cached<T: Real, A: MulAdd>(
+    contact: [T; 2],
+    contact_motion: [T; 2],
+    h: T,
+    out: &ComMotion<T>,
+    cache: &LynchCache<T>,
+    d_out: &ComMotion<T>,
+) -> LynchGradient<T> {
     let two = T::one() + T::one();
     let [cx, cy] = contact;
     let [ux, uy] = contact_motion;
     let h2 = h * h;
-    let d = h2 + cx * cx + cy * cy;
-    let dx = ((h2 + cx * cx) * ux + cx * cy * uy) / d;
-    let dy = ((h2 + cy * cy) * uy + cx * cy * ux) / d;
-    let rotation = (cx * dy - cy * dx) / h2;
+    let [dx, dy] = out.translation;
+    let (inv_d, inv_h2) = (cache.inv_d, cache.inv_h2);
 
-    let g_rot = d_out.rotation;
     // Δω = (cx Δy − cy Δx) / h².
-    let mut g_cx = g_rot * dy / h2;
-    let mut g_cy = -g_rot * dx / h2;
-    let g_dy = d_out.translation[1] + g_rot * cx / h2;
-    let g_dx = d_out.translation[0] - g_rot * cy / h2;
-    let mut g_h = -two * g_rot * rotation / h;
+    let g_rot_h2 = d_out.rotation * inv_h2;
+    let mut g_cx = g_rot_h2 * dy;
+    let mut g_cy = -g_rot_h2 * dx;
+    let g_dy = A::mul_add(g_rot_h2, cx, d_out.translation[1]);
+    let g_dx = A::mul_add(-g_rot_h2, cy, d_out.translation[0]);
+    // ∂(1/h²)/∂h = −2/h³: −2 g_rot Δω / h = −2 g_rot Δω h / h².
+    let mut g_h = -two * d_out.rotation * out.rotation * h * inv_h2;
     // Δx = Nx / D, Δy = Ny / D.
-    let g_nx = g_dx / d;
-    let g_ny = g_dy / d;
-    let g_d = -(g_dx * dx + g_dy * dy) / d;
-    g_h = g_h + g_d * two * h;
-    g_cx = g_cx + g_d * two * cx;
-    g_cy = g_cy + g_d * two * cy;
+    let g_nx = g_dx * inv_d;
+    let g_ny = g_dy * inv_d;
+    let g_d = -A::mul_add(g_dx, dx, g_dy * dy) * inv_d;
+    let two_g_d = two * g_d;
+    g_h = A::mul_add(two_g_d, h, g_h);
+    g_cx = A::mul_add(two_g_d, cx, g_cx);
+    g_cy = A::mul_add(two_g_d, cy, g_cy);
     // Nx = (h² + cx²) ux + cx cy uy.
-    g_h = g_h + g_nx * two * h * ux;
-    g_cx = g_cx + g_nx * (two * cx * ux + cy * uy);
-    g_cy = g_cy + g_nx * cx * uy;
-    let mut g_ux = g_nx * (h2 + cx * cx);
-    let mut g_uy = g_nx * cx * cy;
+    g_h = A::mul_add(g_nx * two * h, ux, g_h);
+    g_cx = A::mul_add(g_nx, A::mul_add(two * cx, ux, cy * uy), g_cx);
+    g_cy = A::mul_add(g_nx, cx * uy, g_cy);
+    let cxy = cx * cy;
+    let mut g_ux = g_nx * A::mul_add(cx, cx, h2);
+    let mut g_uy = g_nx * cxy;
     // Ny = (h² + cy²) uy + cx cy ux.
-    g_h = g_h + g_ny * two * h * uy;
-    g_cy = g_cy + g_ny * (two * cy * uy + cx * ux);
-    g_cx = g_cx + g_ny * cy * ux;
-    g_uy = g_uy + g_ny * (h2 + cy * cy);
-    g_ux = g_ux + g_ny * cx * cy;
+    g_h = A::mul_add(g_ny * two * h, uy, g_h);
+    g_cy = A::mul_add(g_ny, A::mul_add(two * cy, uy, cx * ux), g_cy);
+    g_cx = A::mul_add(g_ny, cy * ux, g_cx);
+    g_uy = A::mul_add(g_ny, A::mul_add(cy, cy, h2), g_uy);
+    g_ux = A::mul_add(g_ny, cxy, g_ux);
     LynchGradient {
         contact: [g_cx, g_cy],
         contact_motion: [g_ux, g_uy],
@@ -101,12 +145,21 @@ pub fn lynch_backward<T: Real>(
 /// `Δp = ΔCOM − (R(Δω) − I)·com_offset` (the paper writes `+ (R − I)v` with `v = −com_offset`).
 #[inline(always)]
 pub fn centre_motion<T: Real>(com: &ComMotion<T>, com_offset: [T; 2]) -> [T; 2] {
-    let (s, c) = com.rotation.sin_cos();
+    centre_motion_rotated::<T, Unfused>(com, com.rotation.sin_cos(), com_offset)
+}
+
+/// [`centre_motion`] with `(sin Δω, cos Δω)` given, so that the backward pass can reuse them.
+#[inline(always)]
+pub(crate) fn centre_motion_rotated<T: Real, A: MulAdd>(
+    com: &ComMotion<T>,
+    (s, c): (T, T),
+    com_offset: [T; 2],
+) -> [T; 2] {
     let [ox, oy] = com_offset;
     let cm1 = c - T::one();
     [
-        com.translation[0] - (cm1 * ox - s * oy),
-        com.translation[1] - (s * ox + cm1 * oy),
+        com.translation[0] - A::mul_add(cm1, ox, -(s * oy)),
+        com.translation[1] - A::mul_add(s, ox, cm1 * oy),
     ]
 }
 
@@ -120,14 +173,34 @@ pub fn centre_motion_backward<T: Real>(
     d_centre: [T; 2],
     d_rotation: T,
 ) -> (ComMotion<T>, [T; 2]) {
-    let (s, c) = com.rotation.sin_cos();
+    centre_motion_backward_rotated::<T, Unfused>(
+        com.rotation.sin_cos(),
+        com_offset,
+        d_centre,
+        d_rotation,
+    )
+}
+
+/// [`centre_motion_backward`] with `(sin Δω, cos Δω)` of the forward pass.
+#[inline(always)]
+pub(crate) fn centre_motion_backward_rotated<T: Real, A: MulAdd>(
+    (s, c): (T, T),
+    com_offset: [T; 2],
+    d_centre: [T; 2],
+    d_rotation: T,
+) -> (ComMotion<T>, [T; 2]) {
     let [ox, oy] = com_offset;
     let [gx, gy] = d_centre;
     let cm1 = c - T::one();
     // ∂Δp/∂o = −(R − I); its transpose applied to the gradient.
-    let d_offset = [-(cm1 * gx + s * gy), -(-s * gx + cm1 * gy)];
+    let d_offset = [-A::mul_add(cm1, gx, s * gy), -A::mul_add(-s, gx, cm1 * gy)];
     // ∂Δp/∂Δω = −R'(Δω)·o with R' = [[−s, −c], [c, −s]].
-    let d_rot = d_rotation - (gx * (-s * ox - c * oy) + gy * (c * ox - s * oy));
+    let d_rot = d_rotation
+        - A::mul_add(
+            gx,
+            A::mul_add(-s, ox, -(c * oy)),
+            gy * A::mul_add(c, ox, -(s * oy)),
+        );
     (
         ComMotion {
             translation: d_centre,
