@@ -138,6 +138,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             )));
         }
     });
+    loss_table(ui, state);
+    ui.separator();
     ui.horizontal(|ui| {
         if ui.button("Export labels as CSV…").clicked() {
             dialogs.open(DialogRequest::ExportLabelsCsv);
@@ -369,4 +371,35 @@ fn metadata_form(
     if seal {
         commands.push(Command::Label(LabelAction::Seal));
     }
+}
+
+/// Mean losses by label over the frames learned so far: where the model does badly, and whether
+/// online learning helps there.
+fn loss_table(ui: &mut egui::Ui, state: &AppState) {
+    let rows = state.loss_by_label();
+    let Some(all) = rows.first().filter(|r| r.frames > 0) else {
+        ui.weak("Loss by label: play or step with learning on to fill this in.");
+        return;
+    };
+    ui.label(format!(
+        "Mean loss by label over the {} frames learned so far (online / fixed):",
+        all.frames
+    ));
+    egui::Grid::new("loss-by-label")
+        .num_columns(4)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.strong("label");
+            ui.strong("frames");
+            ui.strong("position");
+            ui.strong("rotation");
+            ui.end_row();
+            for row in &rows {
+                ui.label(&row.label);
+                ui.label(row.frames.to_string());
+                ui.label(format!("{:.3} / {:.3}", row.online_pos, row.fixed_pos));
+                ui.label(format!("{:.3} / {:.3}", row.online_rot, row.fixed_rot));
+                ui.end_row();
+            }
+        });
 }

@@ -694,4 +694,35 @@ mod tests {
         assert_eq!(kept.len(), all - 7);
         assert!(kept.iter().all(|&f| !(8..=14).contains(&f)), "{kept:?}");
     }
+
+    #[test]
+    fn losses_by_label_average_online_and_fixed_over_the_same_learned_frames() {
+        let Some(dir) = copy_of_sample_set("losses") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        seek(&mut state, 20);
+        label(&mut state, LabelAction::SetInPoint);
+        seek(&mut state, 29);
+        label(&mut state, LabelAction::SetActive("sticking".into()));
+        label(&mut state, LabelAction::PaintFromInPoint);
+        // Learn frames 0..40 by stepping forward from the start ("Learn while playing" is on).
+        seek(&mut state, 0);
+        state.apply(Command::ResetTheta);
+        for _ in 0..40 {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+        let rows = state.loss_by_label();
+        assert_eq!(rows[0].label, "all");
+        assert_eq!(rows[0].frames, 40);
+        let sticking = rows.iter().find(|r| r.label == "sticking").unwrap();
+        assert_eq!(sticking.frames, 10);
+        let run = state.run.as_ref().unwrap();
+        let mean = |f: &dyn Fn(usize) -> f64| (20..30).map(f).sum::<f64>() / 10.0;
+        let online_pos = mean(&|k| run.steps()[k].unwrap().loss.pos());
+        let fixed_rot = mean(&|k| run.fixed()[k].loss.rot);
+        assert!((sticking.online_pos - online_pos).abs() < 1e-12);
+        assert!((sticking.fixed_rot - fixed_rot).abs() < 1e-12);
+        assert_ne!(sticking.online_pos, sticking.fixed_pos);
+    }
 }

@@ -3,6 +3,7 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
+pub mod label_losses;
 pub mod labels;
 pub mod layers;
 pub mod models;
@@ -156,6 +157,18 @@ impl AppState {
     /// Where the selected recording's labels live.
     pub fn label_target(&self) -> Option<LabelTarget> {
         self.recording().and_then(LabelTarget::of)
+    }
+
+    /// Mean online and fixed losses by label over the frames learned so far on the selected
+    /// recording ("all" first); empty without an online run.
+    pub fn loss_by_label(&self) -> Vec<label_losses::LabelLoss> {
+        let Some(run) = &self.run else {
+            return Vec::new();
+        };
+        let labels = self
+            .label_target()
+            .and_then(|t| self.labels.labels_of(&t).cloned());
+        label_losses::loss_by_label(run, labels.as_ref())
     }
 
     /// Saves labels files whose autosave is due; `now_s` is any steady clock in seconds.
