@@ -103,6 +103,7 @@ impl PushlabApp {
             .show(ui, |ui| self.side_panel(ui, &mut commands));
         egui::Panel::bottom("plots")
             .default_size(360.0)
+            .min_size(240.0)
             .resizable(true)
             .show(ui, |ui| {
                 self.view.plots_rect = ui.max_rect();
