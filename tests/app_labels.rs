@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use nalgebra::Point2;
 use pushlab::app::state::Persisted;
 use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::labels::LABELS_FILE_NAME;
@@ -293,5 +294,68 @@ fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
     assert_eq!(harness.state().state.frame(), 15);
     assert!(shows(&harness, "sticking: frames 10–15"));
     assert!(shows(&harness, "contact made: frame 10"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
+    let Some(dir) = copy_of_sample_set("comdrag") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    // Only the diamond under the pointer: hide the estimated-COM marker, which sits nearby.
+    harness.get_by_label("Estimated COM (drag me)").click();
+    harness.run_steps(2);
+    let (start, end, expected) = {
+        let app = harness.state();
+        let state = &app.state;
+        let target = state.label_target().expect("target");
+        let com = state
+            .labels
+            .labels_of(&target)
+            .and_then(|l| l.meta.com_offset)
+            .expect("the sample data labels the COM");
+        assert_eq!(com, [0.0, 0.0]);
+        let pose = state.recording().expect("recording").trajectory.frames[state.frame()].object;
+        let rect = app.view.scene.rect();
+        let start = app
+            .view
+            .scene
+            .to_screen(rect, pose.point_in_world(Point2::from(com)));
+        let end = start + egui::vec2(40.0, -25.0);
+        let expected = pose.point_in_object(app.view.scene.to_world(rect, end));
+        (start, end, expected)
+    };
+    harness.hover_at(start);
+    harness.run_steps(1);
+    harness.drag_at(start);
+    harness.run_steps(1);
+    for t in [0.25, 0.5, 0.75, 1.0] {
+        harness.hover_at(start + (end - start) * t);
+        harness.run_steps(1);
+    }
+    harness.drop_at(end);
+    harness.run_steps(2);
+    let com = |h: &Harness<'_, PushlabApp>| {
+        let state = &h.state().state;
+        let target = state.label_target().expect("target");
+        state
+            .labels
+            .labels_of(&target)
+            .and_then(|l| l.meta.com_offset)
+            .expect("a COM label")
+    };
+    let moved = com(&harness);
+    assert!(
+        (moved[0] - expected.x).abs() < 1e-9 && (moved[1] - expected.y).abs() < 1e-9,
+        "{moved:?} vs {expected:?}"
+    );
+    assert!(
+        harness.state().state.theta().expect("theta").com_offset != moved,
+        "the drag moved the label, not the estimate"
+    );
+    harness.get_by_label("Undo").click();
+    harness.run_steps(2);
+    assert_eq!(com(&harness), [0.0, 0.0], "one undo undoes the whole drag");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -241,3 +241,20 @@ fn every_slider_and_checkbox_has_an_accessible_name() {
         }
     }
 }
+
+#[test]
+fn the_layout_holds_still_while_nothing_happens() {
+    // The plots panel once took its content's height, which was a few points short, so it shrank
+    // every frame and the scene grew under the user's pointer.
+    let mut harness = app();
+    harness.run_steps(2);
+    let scene = harness.state().view.scene.rect();
+    let plots = harness.state().view.plots_rect;
+    harness.run_steps(30);
+    assert_eq!(harness.state().view.scene.rect(), scene);
+    assert_eq!(harness.state().view.plots_rect, plots);
+    assert!(
+        plots.height() > 300.0,
+        "plots keep their default height: {plots:?}"
+    );
+}

@@ -40,8 +40,7 @@ pub struct View {
     pub dialogs: Dialogs,
     /// Messages from screenshots saved on the renderer's thread.
     pub screenshot_status: (Sender<String>, Receiver<String>),
-    /// Where the scene and the plots were drawn last frame (for PNG export).
-    pub scene_rect: egui::Rect,
+    /// Where the plots were drawn last frame (for PNG export; the scene keeps its own rect).
     pub plots_rect: egui::Rect,
     /// Whether the keyboard cheat-sheet is showing.
     pub show_shortcuts: bool,
@@ -54,7 +53,6 @@ impl Default for View {
             side_tab: SideTab::Steer,
             dialogs: Dialogs::default(),
             screenshot_status: channel(),
-            scene_rect: egui::Rect::NOTHING,
             plots_rect: egui::Rect::NOTHING,
             show_shortcuts: false,
         }
@@ -103,14 +101,12 @@ impl PushlabApp {
             .show(ui, |ui| self.side_panel(ui, &mut commands));
         egui::Panel::bottom("plots")
             .default_size(360.0)
-            .min_size(240.0)
             .resizable(true)
             .show(ui, |ui| {
                 self.view.plots_rect = ui.max_rect();
                 panels::plots::ui(ui, &self.state, &mut commands);
             });
         egui::CentralPanel::no_frame().show(ui, |ui| {
-            self.view.scene_rect = ui.max_rect();
             panels::scene::ui(ui, &mut self.state, &mut self.view.scene, &mut commands);
         });
         panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
@@ -151,7 +147,7 @@ impl PushlabApp {
             match result {
                 DialogResult::Open(paths) => self.state.apply(Command::Open(paths)),
                 DialogResult::SaveScene(path) => {
-                    self.request_screenshot(ctx, self.view.scene_rect, path)
+                    self.request_screenshot(ctx, self.view.scene.rect(), path)
                 }
                 DialogResult::SavePlots(path) => {
                     self.request_screenshot(ctx, self.view.plots_rect, path)

@@ -44,6 +44,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         .collect();
 
     let mut seek: Option<f64> = None;
+    // Two rows with a little room to spare; the rest is claimed below, so that the content is exactly
+    // as tall as the panel. (The panel takes its content's height: content a few points shorter
+    // shrank it every frame, a few points taller grew it.)
     let row_height = ((ui.available_height() - 12.0) / 2.0).max(80.0);
     ui.columns(2, |cols| {
         for (col, (title, pick)) in cols.iter_mut().zip([
@@ -121,6 +124,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             seek = seek.or(response.inner);
         }
     });
+    ui.allocate_space(egui::vec2(0.0, ui.available_height().max(0.0)));
 
     if let Some(t) = seek {
         // The frame nearest to the clicked time.

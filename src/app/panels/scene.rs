@@ -33,6 +33,8 @@ pub struct SceneView {
     dragging_com: bool,
     /// Whether the COM label (the recording's labelled COM) is being dragged.
     dragging_com_label: bool,
+    /// Where the scene was drawn last frame, screen points (for PNG export and tests).
+    rect: Rect,
 }
 
 impl Default for SceneView {
@@ -43,6 +45,32 @@ impl Default for SceneView {
             fitted_to: None,
             dragging_com: false,
             dragging_com_label: false,
+            rect: Rect::NOTHING,
+        }
+    }
+}
+
+impl SceneView {
+    /// Where the scene was drawn last frame, screen points.
+    pub fn rect(&self) -> Rect {
+        self.rect
+    }
+
+    /// Where the world point `world` (metres) is drawn when the scene fills `rect`.
+    pub fn to_screen(&self, rect: Rect, world: Point2<f64>) -> Pos2 {
+        self.camera(rect).to_screen(world)
+    }
+
+    /// The world point (metres) under the screen point `screen` when the scene fills `rect`.
+    pub fn to_world(&self, rect: Rect, screen: Pos2) -> Point2<f64> {
+        self.camera(rect).to_world(screen)
+    }
+
+    fn camera(&self, rect: Rect) -> Camera {
+        Camera {
+            rect,
+            centre: self.centre,
+            scale: self.scale,
         }
     }
 }
@@ -82,6 +110,7 @@ pub fn ui(
 ) {
     let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
     let rect = response.rect;
+    view.rect = rect;
     painter.rect_filled(rect, 0.0, Color32::from_gray(22));
 
     let Some(recording) = state.recording() else {
@@ -126,8 +155,12 @@ pub fn ui(
         .and_then(|l| l.meta.com_offset);
     let com_label_screen =
         com_label.map(|c| camera.to_screen(pose.point_in_world(Point2::from(c))));
+    // Pick by where the button went down: egui reports the drag only after the pointer has moved a
+    // few points, and a quick drag is past the marker by then.
     if response.drag_started()
-        && let Some(pointer) = response.interact_pointer_pos()
+        && let Some(pointer) = ui
+            .input(|i| i.pointer.press_origin())
+            .or(response.interact_pointer_pos())
     {
         // The nearer of the two markers within reach is picked up.
         let reach = |marker: Option<Pos2>| {
