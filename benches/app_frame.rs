@@ -71,14 +71,7 @@ fn frame_while_playing(c: &mut Criterion) {
     let mut harness = Harness::builder()
         .with_size([1400.0, 900.0])
         .with_step_dt(1.0 / 60.0)
-        .build_ui_state(
-            |ui, app: &mut PushlabApp| {
-                let dt = ui.input(|i| i.stable_dt) as f64;
-                app.state.advance(dt);
-                app.show(ui);
-            },
-            app,
-        );
+        .build_ui_state(|ui, app: &mut PushlabApp| app.frame(ui), app);
     c.bench_function("app frame, playing 1500 frames with learning", |b| {
         b.iter(|| {
             let state = &mut harness.state_mut().state;

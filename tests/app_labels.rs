@@ -2,7 +2,9 @@
 //! range with a held key while stepping, undo, redo, save, reopen the folder, and see the same labels.
 //! Every test works on a private copy of one sample-data set, never on the repository's files.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use eframe::egui;
 use egui_kittest::Harness;
@@ -10,25 +12,7 @@ use egui_kittest::kittest::Queryable;
 use nalgebra::Point2;
 use pushlab::app::state::Persisted;
 use pushlab::app::{PushlabApp, initial_state};
-use pushlab_core::labels::LABELS_FILE_NAME;
-
-/// A private copy of one sample-data set.
-fn copy_of_sample_set(test: &str) -> Option<PathBuf> {
-    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data/box1-paper-center-front");
-    if !source.is_dir() {
-        eprintln!("skipped: {} is missing", source.display());
-        return None;
-    }
-    let dir =
-        std::env::temp_dir().join(format!("pushlab-app-labels-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    for entry in std::fs::read_dir(&source).expect("sample set") {
-        let entry = entry.expect("dir entry");
-        std::fs::copy(entry.path(), dir.join(entry.file_name())).expect("copy");
-    }
-    Some(dir)
-}
+use pushlab_core::labels::{LABELS_FILE_NAME, Split};
 
 /// The app opened on `dir`, showing the Labels tab.
 fn app_on(dir: &Path) -> Harness<'static, PushlabApp> {
@@ -38,17 +22,7 @@ fn app_on(dir: &Path) -> Harness<'static, PushlabApp> {
         "{:?}",
         app.state.session.problems
     );
-    let mut harness = Harness::builder()
-        .with_size([1400.0, 900.0])
-        .with_step_dt(0.05)
-        .build_ui_state(
-            |ui, app: &mut PushlabApp| {
-                let dt = ui.input(|i| i.stable_dt) as f64;
-                app.state.advance(dt);
-                app.show(ui);
-            },
-            app,
-        );
+    let mut harness = common::harness(app, 0.05);
     harness.run_steps(2);
     harness.get_by_label("Labels").click();
     harness.run_steps(2);
@@ -69,7 +43,8 @@ fn shows(harness: &Harness<'_, PushlabApp>, text: &str) -> bool {
 
 #[test]
 fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
-    let Some(dir) = copy_of_sample_set("roundtrip") else {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-roundtrip")
+    else {
         return;
     };
     let mut harness = app_on(&dir);
@@ -134,7 +109,7 @@ fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
 
 #[test]
 fn event_key_bands_and_next_label_key() {
-    let Some(dir) = copy_of_sample_set("events") else {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-events") else {
         return;
     };
     let mut harness = app_on(&dir);
@@ -183,7 +158,7 @@ fn event_key_bands_and_next_label_key() {
 
 #[test]
 fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_text() {
-    let Some(dir) = copy_of_sample_set("meta") else {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-meta") else {
         return;
     };
     let mut harness = app_on(&dir);
@@ -230,6 +205,16 @@ fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_t
         "one undo step for the typing"
     );
 
+    // The split drop-down.
+    harness.get_by_label("Split").click();
+    harness.run_steps(2);
+    harness.get_by_label("held-out").click();
+    harness.run_steps(2);
+    assert_eq!(meta(&harness).split, Some(Split::HeldOut));
+    harness.get_by_label("Undo").click();
+    harness.run_steps(2);
+    assert_eq!(meta(&harness).split, Some(Split::Offline));
+
     harness.get_by_label("Clear").click(); // the COM label of the sample data
     harness.run_steps(2);
     assert_eq!(meta(&harness).com_offset, None);
@@ -252,7 +237,7 @@ fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_t
 
 #[test]
 fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
-    let Some(dir) = copy_of_sample_set("sheet") else {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-sheet") else {
         return;
     };
     let mut harness = app_on(&dir);
@@ -277,7 +262,7 @@ fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
 
 #[test]
 fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
-    let Some(dir) = copy_of_sample_set("quick") else {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-quick") else {
         return;
     };
     let mut harness = app_on(&dir);
@@ -299,7 +284,7 @@ fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
 
 #[test]
 fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
-    let Some(dir) = copy_of_sample_set("comdrag") else {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-comdrag") else {
         return;
     };
     let mut harness = app_on(&dir);

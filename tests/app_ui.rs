@@ -1,6 +1,8 @@
 //! The desktop app driven headlessly through its accessibility tree, as a user would: by the labels of
 //! its buttons and sliders. Each test opens the bundled sample data like `cargo run` does.
 
+mod common;
+
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT as _, Queryable, by};
@@ -16,17 +18,7 @@ fn app() -> Harness<'static, PushlabApp> {
         "the sample data did not open: {:?}",
         app.state.session.problems
     );
-    Harness::builder()
-        .with_size([1400.0, 900.0])
-        .with_step_dt(0.05)
-        .build_ui_state(
-            |ui, app: &mut PushlabApp| {
-                let dt = ui.input(|i| i.stable_dt) as f64;
-                app.state.advance(dt);
-                app.show(ui);
-            },
-            app,
-        )
+    common::harness(app, 0.05)
 }
 
 /// Seeks with the scrub slider to the middle of the push, then steps forward until the pusher is in

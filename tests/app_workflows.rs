@@ -3,6 +3,8 @@
 //! model files, labels). The native rfd dialogs themselves cannot run headless; these tests call what
 //! each dialog's answer triggers.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -12,18 +14,6 @@ use egui_kittest::kittest::Queryable;
 use pushlab::app::dialogs::LabelExportFormat;
 use pushlab::app::state::Persisted;
 use pushlab::app::{PushlabApp, export, initial_state};
-
-fn sample_set(name: &str) -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sample-data")
-        .join(name);
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is missing", dir.display());
-        None
-    }
-}
 
 /// A file dropped on the window, as the native integration hands it over.
 #[derive(Debug)]
@@ -39,26 +29,9 @@ impl egui::DroppedFile for Dropped {
     }
 }
 
-fn scratch_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pushlab-workflow-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
-
 fn app_on(paths: &[PathBuf]) -> Harness<'static, PushlabApp> {
     let app = PushlabApp::new(initial_state(paths, Persisted::default()));
-    let mut harness = Harness::builder()
-        .with_size([1400.0, 900.0])
-        .with_step_dt(0.05)
-        .build_ui_state(
-            |ui, app: &mut PushlabApp| {
-                let dt = ui.input(|i| i.stable_dt) as f64;
-                app.state.advance(dt);
-                app.show(ui);
-            },
-            app,
-        );
+    let mut harness = common::harness(app, 0.05);
     harness.run_steps(2);
     harness
 }
@@ -81,8 +54,8 @@ fn run_until(
 #[test]
 fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anything() {
     let (Some(first), Some(second)) = (
-        sample_set("box1-paper-center-front"),
-        sample_set("box2-plastic-center-front"),
+        common::sample_set("box1-paper-center-front"),
+        common::sample_set("box2-plastic-center-front"),
     ) else {
         return;
     };
@@ -90,7 +63,7 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
     let before = harness.state().state.session.recording_count();
     assert!(before > 0);
 
-    let scratch = scratch_dir("drop");
+    let scratch = common::scratch_dir("drop");
     let bad = scratch.join("not-a-push.csv");
     std::fs::write(&bad, "time,robot_x\n0.0,banana\n").expect("write bad file");
     for path in [second.clone(), bad.clone()] {
@@ -142,7 +115,7 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
 
 #[test]
 fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
-    let Some(set) = sample_set("box1-paper-center-front") else {
+    let Some(set) = common::sample_set("box1-paper-center-front") else {
         return;
     };
     let mut harness = app_on(std::slice::from_ref(&set));
@@ -207,7 +180,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     );
 
     // Save it from the app and load it back: same predictions.
-    let scratch = scratch_dir("train");
+    let scratch = common::scratch_dir("train");
     let model = scratch.join("model.json");
     export::save_model(&harness.state().state, &model).expect("save model");
     let mut state = initial_state(std::slice::from_ref(&set), Persisted::default());
@@ -222,7 +195,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
 
 #[test]
 fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
-    let Some(set) = sample_set("box1-paper-center-front") else {
+    let Some(set) = common::sample_set("box1-paper-center-front") else {
         return;
     };
     let mut harness = app_on(std::slice::from_ref(&set));
@@ -256,7 +229,7 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
 
 #[test]
 fn exports_write_the_losses_a_png_region_and_the_labels() {
-    let Some(set) = sample_set("box1-paper-center-front") else {
+    let Some(set) = common::sample_set("box1-paper-center-front") else {
         return;
     };
     let mut harness = app_on(std::slice::from_ref(&set));
@@ -264,7 +237,7 @@ fn exports_write_the_losses_a_png_region_and_the_labels() {
         harness.key_press(egui::Key::ArrowRight);
         harness.run_steps(1);
     }
-    let scratch = scratch_dir("export");
+    let scratch = common::scratch_dir("export");
     let state = &harness.state().state;
 
     // Losses: one row per sample, online values up to the frame learned.

@@ -74,6 +74,14 @@ impl PushlabApp {
         }
     }
 
+    /// One frame as the window runs it: time advances by the frame's `dt` (at most 0.1 s, like
+    /// `logic`), then everything is drawn. The UI tests and the frame-time benchmark drive this.
+    pub fn frame(&mut self, ui: &mut egui::Ui) {
+        let dt = ui.input(|i| i.stable_dt) as f64;
+        self.state.advance(dt.min(0.1));
+        self.show(ui);
+    }
+
     /// Draws every panel and applies the commands they produced. This is the whole UI; tests drive it
     /// through `egui_kittest` exactly as the window does.
     pub fn show(&mut self, ui: &mut egui::Ui) {

@@ -327,32 +327,14 @@ fn metadata_form(
         });
         ui.end_row();
 
-        ui.label("Pushing side");
-        let mut side = meta.push_side;
-        egui::ComboBox::from_id_salt("push-side")
-            .selected_text(side.map_or("—", PushSide::name))
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut side, None, "—");
-                for s in PushSide::ALL {
-                    ui.selectable_value(&mut side, Some(s), s.name());
-                }
-            });
-        if side != meta.push_side {
+        let label = ui.label("Pushing side");
+        if let Some(side) = choose(ui, label.id, meta.push_side, &PushSide::ALL, PushSide::name) {
             set(MetaField::PushSide(side));
         }
         ui.end_row();
 
-        ui.label("Split");
-        let mut split = meta.split;
-        egui::ComboBox::from_id_salt("split")
-            .selected_text(split.map_or("—", Split::name))
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut split, None, "—");
-                for s in Split::ALL {
-                    ui.selectable_value(&mut split, Some(s), s.name());
-                }
-            });
-        if split != meta.split {
+        let label = ui.label("Split");
+        if let Some(split) = choose(ui, label.id, meta.split, &Split::ALL, Split::name) {
             set(MetaField::Split(split));
         }
         ui.end_row();
@@ -402,4 +384,27 @@ fn loss_table(ui: &mut egui::Ui, state: &AppState) {
                 ui.end_row();
             }
         });
+}
+
+/// A drop-down of `options` plus "—" for none, named by the label `label`; returns the new choice
+/// when the user changed it.
+fn choose<T: Copy + PartialEq>(
+    ui: &mut egui::Ui,
+    label: egui::Id,
+    current: Option<T>,
+    options: &[T],
+    name: fn(T) -> &'static str,
+) -> Option<Option<T>> {
+    let mut chosen = current;
+    egui::ComboBox::from_id_salt(label)
+        .selected_text(chosen.map_or("—", name))
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut chosen, None, "—");
+            for &option in options {
+                ui.selectable_value(&mut chosen, Some(option), name(option));
+            }
+        })
+        .response
+        .labelled_by(label);
+    (chosen != current).then_some(chosen)
 }
