@@ -8,10 +8,11 @@ use serde::{Deserialize, Serialize};
 
 use super::adam::{Adam, SmallAdam};
 use super::loss::LossScale;
+use crate::model::mlp::BATCH;
 use crate::model::normalization::{InputNormalization, Stats1, Stats2};
 use crate::model::{
-    CombinedModel, Mlp, Network, OnlineParams, OutputNormalization, Pass, PureNnModel, RealSample,
-    Sample, loss_weights, theta_real,
+    BatchPass, CombinedModel, Mlp, Network, OnlineParams, OutputNormalization, Pass, PureNnModel,
+    RealSample, Sample, loss_weights, theta_real,
 };
 use crate::real::Real;
 use crate::rng::SplitMix64;
@@ -147,6 +148,7 @@ pub fn train_combined(
     let mut trainee = CombinedTrainee {
         model,
         pass: Pass::default(),
+        batch: Box::default(),
         theta: theta_real(&theta0),
         theta_adam: config
             .train_online_params
@@ -300,6 +302,21 @@ trait Trainee {
         weights: &[Self::Real; 3],
         grad: &mut Mlp<Self::Real>,
     ) -> Self::Real;
+    /// Adds the weight gradient of the loss of `samples[i]` for every `i` in `batch` to `grad` (summed
+    /// in order); returns the summed loss.
+    fn accumulate_batch<A: MulAdd>(
+        &mut self,
+        samples: &[RealSample<Self::Real>],
+        batch: &[usize],
+        weights: &[Self::Real; 3],
+        grad: &mut Mlp<Self::Real>,
+    ) -> Self::Real {
+        let mut loss = <Self::Real as num_traits::Zero>::zero();
+        for &i in batch {
+            loss = loss + self.accumulate::<A>(&samples[i], weights, grad);
+        }
+        loss
+    }
     /// The loss of one sample.
     fn loss(&mut self, sample: &RealSample<Self::Real>, weights: &[Self::Real; 3]) -> Self::Real;
     /// Called after each batch with its size: updates any non-network parameters.
@@ -309,6 +326,7 @@ trait Trainee {
 struct CombinedTrainee {
     model: CombinedModel,
     pass: Pass<f32>,
+    batch: Box<BatchPass<f32>>,
     theta: [f32; 3],
     theta_adam: Option<SmallAdam<3>>,
     theta_grad: [f64; 3],
@@ -349,6 +367,31 @@ impl Trainee for CombinedTrainee {
             for (acc, gi) in self.theta_grad.iter_mut().zip(g) {
                 *acc += f64::from(gi);
             }
+        }
+        loss
+    }
+    /// Layer by layer over the batch (see [`CombinedModel::accumulate_batch`]), in chunks of
+    /// [`BATCH`] samples.
+    #[inline(always)]
+    fn accumulate_batch<A: MulAdd>(
+        &mut self,
+        samples: &[RealSample<f32>],
+        batch: &[usize],
+        weights: &[f32; 3],
+        grad: &mut Mlp<f32>,
+    ) -> f32 {
+        let mut loss = 0.0;
+        for chunk in batch.chunks(BATCH) {
+            let theta_gradient = self.theta_adam.is_some().then_some(&mut self.theta_grad);
+            loss += self.model.accumulate_batch::<A>(
+                samples,
+                chunk,
+                &self.theta,
+                weights,
+                &mut self.batch,
+                grad,
+                theta_gradient,
+            );
         }
         loss
     }
@@ -538,13 +581,9 @@ impl<M: Trainee> Epoch<'_, M> {
                 return None;
             }
             self.grad.fill_zero();
-            let mut batch_loss = <M::Real as num_traits::Zero>::zero();
-            for &i in batch {
-                batch_loss = batch_loss
-                    + self
-                        .trainee
-                        .accumulate::<A>(&self.train[i], self.weights, self.grad);
-            }
+            let batch_loss =
+                self.trainee
+                    .accumulate_batch::<A>(self.train, batch, self.weights, self.grad);
             epoch_loss += batch_loss.as_f64();
             self.grad.scale(M::Real::of(1.0 / batch.len() as f64));
             let (adam, grad) = (&mut *self.adam, &*self.grad);

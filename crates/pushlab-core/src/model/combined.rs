@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::mlp::{Activations, HIDDEN, Mlp, Network};
+use super::mlp::{Activations, BATCH, BatchActivations, HIDDEN, Mlp, Network, OUTPUTS};
 use super::normalization::InputNormalization;
 use super::params::OnlineParams;
 use super::physics::{
@@ -99,6 +99,12 @@ impl<T: Real> Constants<T> {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Pass<T> {
     activations: Activations<T>,
+    physics: PhysicsPass<T>,
+}
+
+/// What the forward pass after the network (output scaling, Lynch, eq. 15) keeps for its backward pass.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct PhysicsPass<T> {
     /// Contact point relative to the COM, object frame.
     contact: [T; 2],
     contact_motion: [T; 2],
@@ -108,6 +114,30 @@ pub(crate) struct Pass<T> {
     rotation_sin_cos: (T, T),
     /// Predicted motion of the geometric centre.
     centre: [T; 2],
+}
+
+/// Scratch space of [`CombinedModel::accumulate_batch`]: a batch's activations and gradients.
+#[derive(Clone, Debug)]
+pub(crate) struct BatchPass<T> {
+    activations: BatchActivations<T>,
+    output: [[T; OUTPUTS]; BATCH],
+    d_output: [[T; OUTPUTS]; BATCH],
+    d1: [[T; HIDDEN]; BATCH],
+    /// Per sample: the direct gradient with respect to the COM offset and `h`.
+    d_theta: [[T; 3]; BATCH],
+}
+
+impl<T: Real> Default for BatchPass<T> {
+    fn default() -> Self {
+        let z = T::zero();
+        Self {
+            activations: BatchActivations::default(),
+            output: [[z; OUTPUTS]; BATCH],
+            d_output: [[z; OUTPUTS]; BATCH],
+            d1: [[z; HIDDEN]; BATCH],
+            d_theta: [[z; 3]; BATCH],
+        }
+    }
 }
 
 /// The part of a forward pass that does not depend on `θ_online`, computed once per sample: online
@@ -239,7 +269,8 @@ impl<T: Real> CombinedModel<T> {
 
     #[inline(always)]
     fn theta_curvature_portable<A: MulAdd>(&self, samples: &[super::Sample]) -> [f64; 3] {
-        let weights = self.constants.loss_weights;
+        let c = &self.constants;
+        let weights = c.loss_weights;
         let theta = theta_real(&self.theta0);
         let mut curvature = [0.0f64; 3];
         let mut pass = Pass::default();
@@ -247,6 +278,9 @@ impl<T: Real> CombinedModel<T> {
             let real = RealSample::<T>::of(sample);
             let prepared = self.prepare::<A>(&real.input);
             self.forward_prepared::<A>(&prepared, &theta, &mut pass);
+            // The network's Jacobian with respect to its position inputs once (forward mode), then one
+            // cheap backward pass through the physics per output.
+            let jacobian = self.network.position_jacobian::<A>(&pass.activations);
             for (k, w) in weights.iter().enumerate() {
                 let mut d_centre = [T::zero(); 2];
                 let mut d_rotation = T::zero();
@@ -255,9 +289,21 @@ impl<T: Real> CombinedModel<T> {
                 } else {
                     d_rotation = T::one();
                 }
-                let jacobian_row =
-                    self.backward_with::<A>(&pass, &theta, d_centre, d_rotation, None);
-                for (c, j) in curvature.iter_mut().zip(jacobian_row) {
+                let (d_z, d_offset, d_h) =
+                    self.physics_backward::<A>(&pass.physics, &theta, d_centre, d_rotation);
+                let [ja, jb] = &jacobian;
+                let d_x = [
+                    A::mul_add(d_z[0], ja[0], d_z[1] * ja[1])
+                        + A::mul_add(d_z[2], ja[2], d_z[3] * ja[3]),
+                    A::mul_add(d_z[0], jb[0], d_z[1] * jb[1])
+                        + A::mul_add(d_z[2], jb[2], d_z[3] * jb[3]),
+                ];
+                let row = [
+                    A::mul_add(-d_x[0], c.position_inv_std[0], d_offset[0]),
+                    A::mul_add(-d_x[1], c.position_inv_std[1], d_offset[1]),
+                    d_h,
+                ];
+                for (c, j) in curvature.iter_mut().zip(row) {
                     *c += 2.0 * w.as_f64() * j.as_f64() * j.as_f64();
                 }
             }
@@ -358,18 +404,33 @@ impl<T: Real> CombinedModel<T> {
         let z = self
             .network
             .forward_from::<A>(&prepared.motion_part, &x, &mut pass.activations);
-        pass.contact = [
+        self.physics_forward::<A>(z, theta, &mut pass.physics);
+    }
+
+    /// The forward pass after the network: output scaling, Lynch (with the COM-relative contact) and
+    /// the motion correction (eq. 15).
+    #[inline(always)]
+    fn physics_forward<A: MulAdd>(
+        &self,
+        z: [T; OUTPUTS],
+        theta: &[T; 3],
+        out: &mut PhysicsPass<T>,
+    ) {
+        // Written field by field into `out` before the call to `sin_cos`: every vector register is
+        // caller-saved, so values kept only in registers across the call would all be spilled.
+        let c = &self.constants;
+        out.contact = [
             A::mul_add(z[0], c.position_std[0], c.position_mean[0]),
             A::mul_add(z[1], c.position_std[1], c.position_mean[1]),
         ];
-        pass.contact_motion = [
+        out.contact_motion = [
             A::mul_add(z[2], c.motion_std[0], c.motion_mean[0]),
             A::mul_add(z[3], c.motion_std[1], c.motion_mean[1]),
         ];
-        (pass.com, pass.lynch) = lynch_forward::<T, A>(pass.contact, pass.contact_motion, theta[2]);
-        pass.rotation_sin_cos = pass.com.rotation.sin_cos();
-        pass.centre =
-            centre_motion_rotated::<T, A>(&pass.com, pass.rotation_sin_cos, [theta[0], theta[1]]);
+        (out.com, out.lynch) = lynch_forward::<T, A>(out.contact, out.contact_motion, theta[2]);
+        out.rotation_sin_cos = out.com.rotation.sin_cos();
+        out.centre =
+            centre_motion_rotated::<T, A>(&out.com, out.rotation_sin_cos, [theta[0], theta[1]]);
     }
 
     /// The backward pass: from the gradient of a scalar with respect to the predicted centre motion and
@@ -399,6 +460,40 @@ impl<T: Real> CombinedModel<T> {
         network_grad: Option<&mut Mlp<T>>,
     ) -> [T; 3] {
         let c = &self.constants;
+        let (d_z, d_offset, d_h) =
+            self.physics_backward::<A>(&pass.physics, theta, d_centre, d_rotation);
+        let d_x = match network_grad {
+            Some(grad) => {
+                let d1 = self
+                    .network
+                    .weight_gradient::<A>(&pass.activations, &d_z, grad);
+                [
+                    self.network.first_layer_input_gradient::<A>(&d1, 0),
+                    self.network.first_layer_input_gradient::<A>(&d1, 1),
+                ]
+            }
+            None => self.network.position_gradient::<A>(&pass.activations, &d_z),
+        };
+        // x = (p − offset − mean) / std.
+        [
+            A::mul_add(-d_x[0], c.position_inv_std[0], d_offset[0]),
+            A::mul_add(-d_x[1], c.position_inv_std[1], d_offset[1]),
+            d_h,
+        ]
+    }
+
+    /// The backward pass through the physics (eq. 15, Lynch and the output scaling): the gradient with
+    /// respect to the network's output `z`, the direct gradient with respect to the COM offset, and the
+    /// gradient with respect to `h`.
+    #[inline(always)]
+    fn physics_backward<A: MulAdd>(
+        &self,
+        pass: &PhysicsPass<T>,
+        theta: &[T; 3],
+        d_centre: [T; 2],
+        d_rotation: T,
+    ) -> ([T; 4], [T; 2], T) {
+        let c = &self.constants;
         let offset = [theta[0], theta[1]];
         let (d_com, d_offset) = centre_motion_backward_rotated::<T, A>(
             pass.rotation_sin_cos,
@@ -420,30 +515,22 @@ impl<T: Real> CombinedModel<T> {
             d_lynch.contact_motion[0] * c.motion_std[0],
             d_lynch.contact_motion[1] * c.motion_std[1],
         ];
-        let d_x = match network_grad {
-            Some(grad) => {
-                let d1 = self
-                    .network
-                    .weight_gradient::<A>(&pass.activations, &d_z, grad);
-                [
-                    self.network.first_layer_input_gradient::<A>(&d1, 0),
-                    self.network.first_layer_input_gradient::<A>(&d1, 1),
-                ]
-            }
-            None => self.network.position_gradient::<A>(&pass.activations, &d_z),
-        };
-        // x = (p − offset − mean) / std.
-        [
-            A::mul_add(-d_x[0], c.position_inv_std[0], d_offset[0]),
-            A::mul_add(-d_x[1], c.position_inv_std[1], d_offset[1]),
-            d_lynch.h,
-        ]
+        (d_z, d_offset, d_lynch.h)
     }
 
     /// Loss (eq. 8) of one sample and its gradient with respect to the predicted outputs.
     #[inline(always)]
     pub(crate) fn loss_gradient(
         pass: &Pass<T>,
+        target: &[T; 3],
+        weights: &[T; 3],
+    ) -> (T, [T; 2], T) {
+        Self::physics_loss_gradient(&pass.physics, target, weights)
+    }
+
+    #[inline(always)]
+    fn physics_loss_gradient(
+        pass: &PhysicsPass<T>,
         target: &[T; 3],
         weights: &[T; 3],
     ) -> (T, [T; 2], T) {
@@ -459,6 +546,90 @@ impl<T: Real> CombinedModel<T> {
             [two * weights[0] * e[0], two * weights[1] * e[1]],
             two * weights[2] * e[2],
         )
+    }
+
+    /// Offline training's hot loop for one batch (at most [`BATCH`] samples, `samples[i]` for `i` in
+    /// `indices`): the forward pass, the loss (eq. 8) and the backward pass, one network layer at a
+    /// time for all samples. Adds the weight gradient summed over the samples to `grad`, and the
+    /// `θ_online` gradient to `theta_gradient` when given; returns the summed loss.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn accumulate_batch<A: MulAdd>(
+        &self,
+        samples: &[RealSample<T>],
+        indices: &[usize],
+        theta: &[T; 3],
+        weights: &[T; 3],
+        batch: &mut BatchPass<T>,
+        grad: &mut Mlp<T>,
+        theta_gradient: Option<&mut [f64; 3]>,
+    ) -> T {
+        let c = &self.constants;
+        let n = indices.len().min(BATCH);
+        let indices = &indices[..n];
+        for (x, &i) in batch.activations.input.iter_mut().zip(indices) {
+            let input = &samples[i].input;
+            // As `prepare` and `forward_prepared`: x = (p − mean) / std − offset / std.
+            *x = [
+                A::mul_add(
+                    -theta[0],
+                    c.position_inv_std[0],
+                    (input[0] - c.position_mean[0]) * c.position_inv_std[0],
+                ),
+                A::mul_add(
+                    -theta[1],
+                    c.position_inv_std[1],
+                    (input[1] - c.position_mean[1]) * c.position_inv_std[1],
+                ),
+                (input[2] - c.motion_mean[0]) * c.motion_inv_std[0],
+                (input[3] - c.motion_mean[1]) * c.motion_inv_std[1],
+            ];
+        }
+        self.network
+            .forward_batch::<A>(n, &mut batch.activations, &mut batch.output);
+        let mut loss = T::zero();
+        let per_sample = batch
+            .output
+            .iter()
+            .zip(&mut batch.d_output)
+            .zip(&mut batch.d_theta)
+            .zip(indices);
+        for (((z, d_z), d_theta), &i) in per_sample {
+            let mut physics = PhysicsPass::default();
+            self.physics_forward::<A>(*z, theta, &mut physics);
+            let (l, d_centre, d_rotation) =
+                Self::physics_loss_gradient(&physics, &samples[i].target, weights);
+            loss = loss + l;
+            let (d_output, d_offset, d_h) =
+                self.physics_backward::<A>(&physics, theta, d_centre, d_rotation);
+            *d_z = d_output;
+            *d_theta = [d_offset[0], d_offset[1], d_h];
+        }
+        self.network.backward_batch::<A>(
+            n,
+            &batch.activations,
+            &batch.d_output,
+            grad,
+            &mut batch.d1,
+        );
+        if let Some(total) = theta_gradient {
+            for (d1, d_theta) in batch.d1[..n].iter().zip(&batch.d_theta) {
+                let d_x = [
+                    self.network.first_layer_input_gradient::<A>(d1, 0),
+                    self.network.first_layer_input_gradient::<A>(d1, 1),
+                ];
+                // x = (p − offset − mean) / std.
+                let g = [
+                    A::mul_add(-d_x[0], c.position_inv_std[0], d_theta[0]),
+                    A::mul_add(-d_x[1], c.position_inv_std[1], d_theta[1]),
+                    d_theta[2],
+                ];
+                for (acc, gi) in total.iter_mut().zip(g) {
+                    *acc += gi.as_f64();
+                }
+            }
+        }
+        loss
     }
 
     crate::simd::dispatch_simd! {
@@ -535,13 +706,14 @@ impl<T: Real> Pass<T> {
     #[inline(always)]
     fn prediction(&self, theta: &[T; 3]) -> Prediction {
         let f = |x: T| x.as_f64();
+        let p = &self.physics;
         Prediction {
             motion: ObjectMotion {
-                translation: [f(self.centre[0]), f(self.centre[1])],
-                rotation: f(self.com.rotation),
+                translation: [f(p.centre[0]), f(p.centre[1])],
+                rotation: f(p.com.rotation),
             },
-            contact: Some([f(self.contact[0] + theta[0]), f(self.contact[1] + theta[1])]),
-            contact_motion: Some([f(self.contact_motion[0]), f(self.contact_motion[1])]),
+            contact: Some([f(p.contact[0] + theta[0]), f(p.contact[1] + theta[1])]),
+            contact_motion: Some([f(p.contact_motion[0]), f(p.contact_motion[1])]),
         }
     }
 }

@@ -43,6 +43,31 @@ pub struct Activations<T> {
     hidden3: [T; HIDDEN],
 }
 
+/// The most samples [`Network::forward_batch`] and [`Network::backward_batch`] take at once: the
+/// paper's batch size. Larger batches are processed in chunks of this size.
+pub(crate) const BATCH: usize = 32;
+
+/// [`Activations`] of up to [`BATCH`] samples, layer by layer (6.6 kB for `f32`).
+#[derive(Clone, Debug)]
+pub(crate) struct BatchActivations<T> {
+    pub input: [[T; INPUTS]; BATCH],
+    hidden1: [[T; HIDDEN]; BATCH],
+    hidden2: [[T; HIDDEN]; BATCH],
+    hidden3: [[T; HIDDEN]; BATCH],
+}
+
+impl<T: Real> Default for BatchActivations<T> {
+    fn default() -> Self {
+        let z = T::zero();
+        Self {
+            input: [[z; INPUTS]; BATCH],
+            hidden1: [[z; HIDDEN]; BATCH],
+            hidden2: [[z; HIDDEN]; BATCH],
+            hidden3: [[z; HIDDEN]; BATCH],
+        }
+    }
+}
+
 impl<T: Real> Mlp<T> {
     /// All weights and biases zero: the neutral element for accumulating gradients.
     pub fn zeros() -> Self {
@@ -270,11 +295,7 @@ impl<T: Real> Network<T> {
     /// once per online step instead of once per gradient step.
     #[inline(always)]
     pub(crate) fn first_layer_motion<A: MulAdd>(&self, motion: [T; 2]) -> [T; HIDDEN] {
-        let w1 = &self.params.w1;
-        let mut z = self.params.b1;
-        axpy::<T, A, HIDDEN>(&mut z, &w1[2], motion[0]);
-        axpy::<T, A, HIDDEN>(&mut z, &w1[3], motion[1]);
-        z
+        first_layer_motion_part::<T, A>(&self.params, motion)
     }
 
     /// The forward pass from [`Network::first_layer_motion`] of `input[2..4]` and the whole input.
@@ -323,6 +344,38 @@ impl<T: Real> Network<T> {
         [
             dot::<T, A>(&self.params.w1[0], &d1),
             dot::<T, A>(&self.params.w1[1], &d1),
+        ]
+    }
+
+    /// `∂output/∂input[0]` and `∂output/∂input[1]` (the position inputs) at the forward pass that filled
+    /// `act`, by forward-mode differentiation: two tangents pushed through the layers side by side,
+    /// cheaper than one backward pass per output and two independent dependency chains.
+    #[inline(always)]
+    pub(crate) fn position_jacobian<A: MulAdd>(&self, act: &Activations<T>) -> [[T; OUTPUTS]; 2] {
+        // Written out rather than with `map` closures: a closure that is not inlined would be compiled
+        // without the caller's AVX2 and FMA (and `mul_add` would become a library call).
+        let p = &self.params;
+        let t1a = relu_backward(&act.hidden1, &p.w1[0]);
+        let t1b = relu_backward(&act.hidden1, &p.w1[1]);
+        let t2a = relu_backward(
+            &act.hidden2,
+            &sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w2, &t1a),
+        );
+        let t2b = relu_backward(
+            &act.hidden2,
+            &sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w2, &t1b),
+        );
+        let t3a = relu_backward(
+            &act.hidden3,
+            &sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w3, &t2a),
+        );
+        let t3b = relu_backward(
+            &act.hidden3,
+            &sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w3, &t2b),
+        );
+        [
+            sum_of_columns::<T, A, HIDDEN, OUTPUTS>(&p.w4, &t3a),
+            sum_of_columns::<T, A, HIDDEN, OUTPUTS>(&p.w4, &t3b),
         ]
     }
 
@@ -382,6 +435,131 @@ impl<T: Real> Network<T> {
     pub(crate) fn first_layer_input_gradient<A: MulAdd>(&self, d1: &[T; HIDDEN], j: usize) -> T {
         dot::<T, A>(&self.params.w1[j], d1)
     }
+}
+
+impl<T: Real> Network<T> {
+    /// The forward pass of the first `n` samples of `act.input` (at most [`BATCH`]), one layer for
+    /// all samples before the next: the samples of a layer are independent, so the CPU overlaps
+    /// their dependency chains instead of waiting on each sample's.
+    #[inline(always)]
+    pub(crate) fn forward_batch<A: MulAdd>(
+        &self,
+        n: usize,
+        act: &mut BatchActivations<T>,
+        output: &mut [[T; OUTPUTS]; BATCH],
+    ) {
+        let p = &self.params;
+        let n = n.min(BATCH);
+        for (x, h) in act.input[..n].iter().zip(&mut act.hidden1[..n]) {
+            let mut z = first_layer_motion_part::<T, A>(p, [x[2], x[3]]);
+            axpy::<T, A, HIDDEN>(&mut z, &p.w1[0], x[0]);
+            axpy::<T, A, HIDDEN>(&mut z, &p.w1[1], x[1]);
+            *h = relu(z);
+        }
+        for (x, h) in act.hidden1[..n].iter().zip(&mut act.hidden2[..n]) {
+            *h = relu(dense::<T, A, HIDDEN, HIDDEN>(&p.w2, &p.b2, x));
+        }
+        for (x, h) in act.hidden2[..n].iter().zip(&mut act.hidden3[..n]) {
+            *h = relu(dense::<T, A, HIDDEN, HIDDEN>(&p.w3, &p.b3, x));
+        }
+        for (x, y) in act.hidden3[..n].iter().zip(&mut output[..n]) {
+            *y = dense::<T, A, HIDDEN, OUTPUTS>(&p.w4, &p.b4, x);
+        }
+    }
+
+    /// The backward pass of the first `n` samples of a [`Network::forward_batch`]: adds the gradient
+    /// of every weight and bias (summed over the samples, in sample order) to `grad`, and leaves the
+    /// gradient with respect to each sample's first-layer pre-activation in `d1` (for
+    /// [`Network::first_layer_input_gradient`]).
+    #[inline(always)]
+    pub(crate) fn backward_batch<A: MulAdd>(
+        &self,
+        n: usize,
+        act: &BatchActivations<T>,
+        d_output: &[[T; OUTPUTS]; BATCH],
+        grad: &mut Mlp<T>,
+        d1: &mut [[T; HIDDEN]; BATCH],
+    ) {
+        let n = n.min(BATCH);
+        let mut d3 = [[T::zero(); HIDDEN]; BATCH];
+        let mut d2 = [[T::zero(); HIDDEN]; BATCH];
+        for ((d, a), dz) in d3[..n].iter_mut().zip(&act.hidden3).zip(d_output) {
+            *d = relu_backward(a, &back_through::<T, A, _, _>(&self.wt4, dz));
+        }
+        for ((d, a), dz) in d2[..n].iter_mut().zip(&act.hidden2).zip(&d3) {
+            *d = relu_backward(a, &back_through::<T, A, _, _>(&self.wt3, dz));
+        }
+        for ((d, a), dz) in d1[..n].iter_mut().zip(&act.hidden1).zip(&d2) {
+            *d = relu_backward(a, &back_through::<T, A, _, _>(&self.wt2, dz));
+        }
+        accumulate_outer_batch::<T, A, _, _>(
+            &mut grad.w4,
+            &mut grad.b4,
+            &act.hidden3[..n],
+            &d_output[..n],
+        );
+        accumulate_outer_batch::<T, A, _, _>(
+            &mut grad.w3,
+            &mut grad.b3,
+            &act.hidden2[..n],
+            &d3[..n],
+        );
+        accumulate_outer_batch::<T, A, _, _>(
+            &mut grad.w2,
+            &mut grad.b2,
+            &act.hidden1[..n],
+            &d2[..n],
+        );
+        accumulate_outer_batch::<T, A, _, _>(&mut grad.w1, &mut grad.b1, &act.input[..n], &d1[..n]);
+    }
+}
+
+/// `b1 + w1[2] x2 + w1[3] x3`: see [`Network::first_layer_motion`].
+#[inline(always)]
+fn first_layer_motion_part<T: Real, A: MulAdd>(p: &Mlp<T>, motion: [T; 2]) -> [T; HIDDEN] {
+    let mut z = p.b1;
+    axpy::<T, A, HIDDEN>(&mut z, &p.w1[2], motion[0]);
+    axpy::<T, A, HIDDEN>(&mut z, &p.w1[3], motion[1]);
+    z
+}
+
+/// `dw[j] += Σ_s x[s][j] dz[s]`, `db += Σ_s dz[s]`, summed in sample order: a dense layer's weight
+/// gradient over a batch. Two columns at a time, each kept in registers across the samples (rather
+/// than read and written back once per sample).
+#[inline(always)]
+fn accumulate_outer_batch<T: Real, A: MulAdd, const I: usize, const O: usize>(
+    dw: &mut [[T; O]; I],
+    db: &mut [T; O],
+    x: &[[T; I]],
+    dz: &[[T; O]],
+) {
+    for (j, pair) in dw.chunks_mut(2).enumerate() {
+        let (first, second) = pair.split_at_mut(1);
+        let mut a = first[0];
+        match second.first_mut() {
+            Some(b_column) => {
+                let mut b = *b_column;
+                for (xs, ds) in x.iter().zip(dz) {
+                    axpy::<T, A, O>(&mut a, ds, xs[2 * j]);
+                    axpy::<T, A, O>(&mut b, ds, xs[2 * j + 1]);
+                }
+                *b_column = b;
+            }
+            None => {
+                for (xs, ds) in x.iter().zip(dz) {
+                    axpy::<T, A, O>(&mut a, ds, xs[2 * j]);
+                }
+            }
+        }
+        first[0] = a;
+    }
+    let mut b = *db;
+    for ds in dz {
+        for (g, &d) in b.iter_mut().zip(ds) {
+            *g = *g + d;
+        }
+    }
+    *db = b;
 }
 
 /// `out[i][j] = w[j][i]`.
@@ -446,17 +624,27 @@ fn sum_of_columns<T: Real, A: MulAdd, const I: usize, const O: usize>(
             axpy::<T, A, O>(&mut odd, column, xj);
         }
     }
-    std::array::from_fn(|i| even[i] + odd[i])
+    for (e, o) in even.iter_mut().zip(odd) {
+        *e = *e + o;
+    }
+    even
 }
 
 /// `Σ_i a[i] b[i]` of two 16-wide vectors, summed as a tree (8 + 8, 4 + 4, 2 + 2, 1 + 1) so that it
 /// vectorises; a left-to-right sum would be sixteen dependent additions.
 #[inline(always)]
 fn dot<T: Real, A: MulAdd>(a: &[T; HIDDEN], b: &[T; HIDDEN]) -> T {
-    let p: [T; 8] = std::array::from_fn(|i| A::mul_add(a[i + 8], b[i + 8], a[i] * b[i]));
-    let q: [T; 4] = std::array::from_fn(|i| p[i] + p[i + 4]);
-    let r: [T; 2] = std::array::from_fn(|i| q[i] + q[i + 2]);
-    r[0] + r[1]
+    // Plain loops rather than `array::from_fn` closures, which might not be inlined into the caller's
+    // AVX2 + FMA copy.
+    let mut p = [T::zero(); 8];
+    for i in 0..8 {
+        p[i] = A::mul_add(a[i + 8], b[i + 8], a[i] * b[i]);
+    }
+    let mut q = [T::zero(); 4];
+    for i in 0..4 {
+        q[i] = p[i] + p[i + 4];
+    }
+    (q[0] + q[2]) + (q[1] + q[3])
 }
 
 /// ReLU, branch-free.
@@ -627,6 +815,29 @@ mod tests {
             assert!(relative_error(g[j], numeric) <= 1e-5, "input {j}");
             assert_eq!(g[j], g2[j]);
         }
+    }
+
+    #[test]
+    fn forward_mode_position_jacobian_matches_the_backward_pass() {
+        let mlp = random_mlp(4);
+        let x = [0.2, -0.6, 0.9, -0.3];
+        let mut act = Activations::default();
+        mlp.forward(&x, &mut act);
+        let jacobian = mlp.position_jacobian::<Unfused>(&act);
+        for o in 0..OUTPUTS {
+            let mut d = [0.0; OUTPUTS];
+            d[o] = 1.0;
+            let g = mlp.input_gradient(&act, &d);
+            for j in 0..2 {
+                assert!(
+                    relative_error(jacobian[j][o], g[j]) <= 1e-12,
+                    "∂y{o}/∂x{j}: forward {} backward {}",
+                    jacobian[j][o],
+                    g[j]
+                );
+            }
+        }
+        assert!(jacobian.iter().flatten().any(|v| v.abs() > 1e-3));
     }
 
     #[test]

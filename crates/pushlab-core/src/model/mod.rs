@@ -14,7 +14,7 @@ mod pure_nn;
 mod sample;
 
 pub use combined::CombinedModel;
-pub(crate) use combined::{Pass, RealSample, loss_weights, theta_real};
+pub(crate) use combined::{BatchPass, Pass, RealSample, loss_weights, theta_real};
 pub use mlp::{HIDDEN, INPUTS, Mlp, Network, OUTPUTS, PARAMETER_COUNT};
 pub use params::{H_MAX, H_MIN, OnlineParams};
 pub use physics::{ComMotion, LynchGradient, centre_motion, lynch, lynch_backward};
