@@ -851,6 +851,125 @@ mod tests {
         assert!((crate::model::H_MIN..=crate::model::H_MAX).contains(&wild.h));
     }
 
+    /// Samples around `sample()`, varied so that different ReLUs are active.
+    fn varied_samples(count: usize) -> Vec<Sample> {
+        let mut rng = SplitMix64::new(9);
+        (0..count)
+            .map(|frame| {
+                let mut s = sample();
+                s.input.robot_in_object[0] += 0.02 * rng.normal();
+                s.input.robot_in_object[1] += 0.05 * rng.normal();
+                s.input.robot_motion_in_object[0] += 0.003 * rng.normal();
+                s.input.robot_motion_in_object[1] += 0.003 * rng.normal();
+                s.target.rotation += 0.01 * rng.normal();
+                s.frame = frame;
+                s
+            })
+            .collect()
+    }
+
+    #[test]
+    fn batch_gradient_is_the_sum_of_per_sample_gradients() {
+        // The training loop's layer-by-layer batch pass against the per-sample pass that the finite-
+        // difference test checks, for a full batch and a short last one, in both compiled variants.
+        let model = model_f64(6);
+        let theta = [0.012, -0.018, 0.07];
+        let weights = loss_weights(&model.loss_scale);
+        let samples: Vec<RealSample<f64>> = varied_samples(45).iter().map(RealSample::of).collect();
+        let indices: Vec<usize> = (0..45).rev().collect();
+        let mut expected_grad = Mlp::zeros();
+        let mut expected_theta = [0.0; 3];
+        let mut expected_loss = 0.0;
+        let mut pass = Pass::default();
+        for &i in &indices {
+            model.forward(&samples[i].input, &theta, &mut pass);
+            let (loss, d_centre, d_rotation) =
+                CombinedModel::loss_gradient(&pass, &samples[i].target, &weights);
+            let g = model.backward(
+                &pass,
+                &theta,
+                d_centre,
+                d_rotation,
+                Some(&mut expected_grad),
+            );
+            for (e, gi) in expected_theta.iter_mut().zip(g) {
+                *e += gi;
+            }
+            expected_loss += loss;
+        }
+        let check = |grad: &Mlp<f64>, theta_gradient: &[f64; 3], loss: f64| {
+            for (a, b) in grad.to_vec().iter().zip(expected_grad.to_vec()) {
+                assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "{a} vs {b}");
+            }
+            for (a, b) in theta_gradient.iter().zip(expected_theta) {
+                assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "θ: {a} vs {b}");
+            }
+            assert!((loss - expected_loss).abs() <= 1e-12 * expected_loss);
+        };
+        let mut batch = BatchPass::default();
+        for fused in [false, true] {
+            let mut grad = Mlp::zeros();
+            let mut theta_gradient = [0.0; 3];
+            let mut loss = 0.0;
+            for chunk in indices.chunks(BATCH) {
+                loss += if fused {
+                    model.accumulate_batch::<crate::simd::Fused>(
+                        &samples,
+                        chunk,
+                        &theta,
+                        &weights,
+                        &mut batch,
+                        &mut grad,
+                        Some(&mut theta_gradient),
+                    )
+                } else {
+                    model.accumulate_batch::<Unfused>(
+                        &samples,
+                        chunk,
+                        &theta,
+                        &weights,
+                        &mut batch,
+                        &mut grad,
+                        Some(&mut theta_gradient),
+                    )
+                };
+            }
+            check(&grad, &theta_gradient, loss);
+        }
+    }
+
+    #[test]
+    fn theta_curvature_matches_reverse_mode_jacobians() {
+        // The calibration's forward-mode Jacobian against one backward pass per output.
+        let model = model_f64(7);
+        let samples = varied_samples(20);
+        let weights = loss_weights::<f64>(&model.loss_scale);
+        let theta = theta_real::<f64>(&model.theta0);
+        let mut expected = [0.0; 3];
+        let mut pass = Pass::default();
+        for sample in &samples {
+            let real = RealSample::<f64>::of(sample);
+            model.forward(&real.input, &theta, &mut pass);
+            for (k, w) in weights.iter().enumerate() {
+                let mut d_centre = [0.0; 2];
+                let mut d_rotation = 0.0;
+                if k < 2 {
+                    d_centre[k] = 1.0;
+                } else {
+                    d_rotation = 1.0;
+                }
+                let row = model.backward(&pass, &theta, d_centre, d_rotation, None);
+                for (e, j) in expected.iter_mut().zip(row) {
+                    *e += 2.0 * w * j * j;
+                }
+            }
+        }
+        let curvature = model.theta_curvature_portable::<Unfused>(&samples);
+        for (a, b) in curvature.iter().zip(expected) {
+            assert!(b > 0.0 && relative_error(*a, b) <= 1e-12, "{a} vs {b}");
+        }
+    }
+
     #[test]
     fn f32_and_f64_models_agree() {
         let model = model_f64(5);
