@@ -142,6 +142,21 @@ fn event_key_bands_and_next_label_key() {
     harness.run_steps(2);
     assert_eq!(harness.state().state.frame(), 20);
 
+    // Clicking the bands jumps to the frame under the pointer.
+    let bands = harness.get_by_label("Label bands").rect();
+    let frames = harness.state().state.timeline.len() as f32;
+    let at = egui::pos2(
+        bands.left() + bands.width() * (22.5 / frames),
+        bands.center().y,
+    );
+    harness.hover_at(at);
+    harness.run_steps(1);
+    harness.drag_at(at);
+    harness.run_steps(1);
+    harness.drop_at(at);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.frame(), 22);
+
     // Deleting the segment from the list is undoable like any edit.
     harness
         .query_all_by_label("Delete")

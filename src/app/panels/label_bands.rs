@@ -31,6 +31,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, width: f32, commands: &mut Vec<Co
 
     let (rect, response) =
         ui.allocate_exact_size(Vec2::new(width, height), Sense::click_and_drag());
+    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Label bands"));
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 2.0, Color32::from_gray(30));
     let frames = target.frames.max(1);
