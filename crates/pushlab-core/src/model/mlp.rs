@@ -616,13 +616,28 @@ fn sum_of_columns<T: Real, A: MulAdd, const I: usize, const O: usize>(
     columns: &[[T; O]; I],
     x: &[T; I],
 ) -> [T; O] {
+    // Each sum starts with a product rather than a multiply-add onto zero (the same value, one
+    // instruction and one register fewer).
     let mut even = [T::zero(); O];
     let mut odd = [T::zero(); O];
-    for (pair, xs) in columns.chunks(2).zip(x.chunks(2)) {
-        axpy::<T, A, O>(&mut even, &pair[0], xs[0]);
-        if let (Some(column), Some(&xj)) = (pair.get(1), xs.get(1)) {
-            axpy::<T, A, O>(&mut odd, column, xj);
+    if I > 0 {
+        for (e, &c) in even.iter_mut().zip(&columns[0]) {
+            *e = c * x[0];
         }
+    }
+    if I > 1 {
+        for (o, &c) in odd.iter_mut().zip(&columns[1]) {
+            *o = c * x[1];
+        }
+    }
+    let mut j = 2;
+    while j + 1 < I {
+        axpy::<T, A, O>(&mut even, &columns[j], x[j]);
+        axpy::<T, A, O>(&mut odd, &columns[j + 1], x[j + 1]);
+        j += 2;
+    }
+    if j < I {
+        axpy::<T, A, O>(&mut even, &columns[j], x[j]);
     }
     for (e, o) in even.iter_mut().zip(odd) {
         *e = *e + o;
