@@ -273,42 +273,78 @@ impl<T: Real> CombinedModel<T> {
         let weights = c.loss_weights;
         let theta = theta_real(&self.theta0);
         let mut curvature = [0.0f64; 3];
-        let mut pass = Pass::default();
-        for sample in samples {
-            let real = RealSample::<T>::of(sample);
-            let prepared = self.prepare::<A>(&real.input);
-            self.forward_prepared::<A>(&prepared, &theta, &mut pass);
-            // The network's Jacobian with respect to its position inputs once (forward mode), then one
+        let mut batch = Box::<BatchPass<T>>::default();
+        let mut tangents = Box::new([[[T::zero(); HIDDEN]; 2]; BATCH]);
+        let mut jacobians = Box::new([[[T::zero(); OUTPUTS]; 2]; BATCH]);
+        let mut physics = PhysicsPass::default();
+        for chunk in samples.chunks(BATCH) {
+            let n = chunk.len();
+            for (x, sample) in batch.activations.input.iter_mut().zip(chunk) {
+                let input = RealSample::<T>::of(sample).input;
+                *x = self.network_input::<A>(&input, &theta);
+            }
+            self.network
+                .forward_batch::<A>(n, &mut batch.activations, &mut batch.output);
+            // The network's Jacobian with respect to its position inputs (forward mode), then one
             // cheap backward pass through the physics per output.
-            let jacobian = self.network.position_jacobian::<A>(&pass.activations);
-            for (k, w) in weights.iter().enumerate() {
-                let mut d_centre = [T::zero(); 2];
-                let mut d_rotation = T::zero();
-                if k < 2 {
-                    d_centre[k] = T::one();
-                } else {
-                    d_rotation = T::one();
-                }
-                let (d_z, d_offset, d_h) =
-                    self.physics_backward::<A>(&pass.physics, &theta, d_centre, d_rotation);
-                let [ja, jb] = &jacobian;
-                let d_x = [
-                    A::mul_add(d_z[0], ja[0], d_z[1] * ja[1])
-                        + A::mul_add(d_z[2], ja[2], d_z[3] * ja[3]),
-                    A::mul_add(d_z[0], jb[0], d_z[1] * jb[1])
-                        + A::mul_add(d_z[2], jb[2], d_z[3] * jb[3]),
-                ];
-                let row = [
-                    A::mul_add(-d_x[0], c.position_inv_std[0], d_offset[0]),
-                    A::mul_add(-d_x[1], c.position_inv_std[1], d_offset[1]),
-                    d_h,
-                ];
-                for (c, j) in curvature.iter_mut().zip(row) {
-                    *c += 2.0 * w.as_f64() * j.as_f64() * j.as_f64();
+            self.network.position_jacobian_batch::<A>(
+                n,
+                &batch.activations,
+                &mut tangents,
+                &mut jacobians,
+            );
+            for (z, [ja, jb]) in batch.output[..n].iter().zip(&*jacobians) {
+                self.physics_forward::<A>(*z, &theta, &mut physics);
+                for (k, w) in weights.iter().enumerate() {
+                    let mut d_centre = [T::zero(); 2];
+                    let mut d_rotation = T::zero();
+                    if k < 2 {
+                        d_centre[k] = T::one();
+                    } else {
+                        d_rotation = T::one();
+                    }
+                    let (d_z, d_offset, d_h) =
+                        self.physics_backward::<A>(&physics, &theta, d_centre, d_rotation);
+                    let d_x = [
+                        A::mul_add(d_z[0], ja[0], d_z[1] * ja[1])
+                            + A::mul_add(d_z[2], ja[2], d_z[3] * ja[3]),
+                        A::mul_add(d_z[0], jb[0], d_z[1] * jb[1])
+                            + A::mul_add(d_z[2], jb[2], d_z[3] * jb[3]),
+                    ];
+                    let row = [
+                        A::mul_add(-d_x[0], c.position_inv_std[0], d_offset[0]),
+                        A::mul_add(-d_x[1], c.position_inv_std[1], d_offset[1]),
+                        d_h,
+                    ];
+                    for (c, j) in curvature.iter_mut().zip(row) {
+                        *c += 2.0 * w.as_f64() * j.as_f64() * j.as_f64();
+                    }
                 }
             }
         }
         curvature
+    }
+
+    /// The network's input for a pusher position and motion (`[p_x, p_y, u_x, u_y]`, object frame)
+    /// and `θ_online`, exactly as [`CombinedModel::prepare`] and [`CombinedModel::forward_prepared`]
+    /// compute it: `x = (p − mean) / std − offset / std`, `(u − mean) / std`.
+    #[inline(always)]
+    fn network_input<A: MulAdd>(&self, input: &[T; 4], theta: &[T; 3]) -> [T; 4] {
+        let c = &self.constants;
+        [
+            A::mul_add(
+                -theta[0],
+                c.position_inv_std[0],
+                (input[0] - c.position_mean[0]) * c.position_inv_std[0],
+            ),
+            A::mul_add(
+                -theta[1],
+                c.position_inv_std[1],
+                (input[1] - c.position_mean[1]) * c.position_inv_std[1],
+            ),
+            (input[2] - c.motion_mean[0]) * c.motion_inv_std[0],
+            (input[3] - c.motion_mean[1]) * c.motion_inv_std[1],
+        ]
     }
 
     /// The same model in another float type (`f64` for gradient checks).
@@ -568,22 +604,7 @@ impl<T: Real> CombinedModel<T> {
         let n = indices.len().min(BATCH);
         let indices = &indices[..n];
         for (x, &i) in batch.activations.input.iter_mut().zip(indices) {
-            let input = &samples[i].input;
-            // As `prepare` and `forward_prepared`: x = (p − mean) / std − offset / std.
-            *x = [
-                A::mul_add(
-                    -theta[0],
-                    c.position_inv_std[0],
-                    (input[0] - c.position_mean[0]) * c.position_inv_std[0],
-                ),
-                A::mul_add(
-                    -theta[1],
-                    c.position_inv_std[1],
-                    (input[1] - c.position_mean[1]) * c.position_inv_std[1],
-                ),
-                (input[2] - c.motion_mean[0]) * c.motion_inv_std[0],
-                (input[3] - c.motion_mean[1]) * c.motion_inv_std[1],
-            ];
+            *x = self.network_input::<A>(&samples[i].input, theta);
         }
         self.network
             .forward_batch::<A>(n, &mut batch.activations, &mut batch.output);
