@@ -294,6 +294,23 @@ fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
     assert_eq!(harness.state().state.frame(), 15);
     assert!(shows(&harness, "sticking: frames 10–15"));
     assert!(shows(&harness, "contact made: frame 10"));
+
+    // Keys act in the order they were pressed, even within one frame: → I → 7 → gives the in point
+    // and the event at 16, then moves on to 17.
+    harness.key_press(egui::Key::ArrowRight);
+    harness.key_press(egui::Key::I);
+    harness.key_press(egui::Key::Num7);
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.frame(), 17);
+    assert_eq!(harness.state().state.labels.in_point, Some(16));
+    assert!(shows(&harness, "contact lost: frame 16"));
+    // A tap and a step in one frame paint one frame only.
+    harness.key_press(egui::Key::Num2);
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run_steps(2);
+    assert!(shows(&harness, "no contact: frame 17"));
+    assert!(!shows(&harness, "no contact: frames"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -5,6 +5,7 @@
 //! Nothing fires while a text field has the keyboard: typing "1" into the notes is not a paint stroke.
 
 use eframe::egui::{self, Key, KeyboardShortcut, Modifiers};
+use pushlab_core::labels::{LabelKind, LabelSchema};
 
 use crate::app::state::labels::{ERASE_HOTKEY, LabelAction};
 use crate::app::state::timeline::TimelineCommand;
@@ -130,7 +131,9 @@ pub const BINDINGS: [Binding; 16] = [
     ),
 ];
 
-/// Turns this frame's key presses into commands. `cheat_sheet` is the sheet's visibility (view state).
+/// Turns this frame's key events into commands, in the order they happened: when a slow frame
+/// collects "→, I" the in point lands after the step, and "I, →" before it. Several presses within
+/// one frame all count. `cheat_sheet` is the sheet's visibility (view state).
 pub fn handle(
     ctx: &egui::Context,
     state: &AppState,
@@ -140,14 +143,42 @@ pub fn handle(
     if ctx.egui_wants_keyboard_input() {
         return;
     }
+    let target = state.label_target();
+    let schema = target.as_ref().and_then(|t| state.labels.schema_of(t));
     ctx.input_mut(|i| {
-        label_hotkeys(i, state, commands);
-        for binding in &BINDINGS {
-            // Several presses can arrive within one frame (fast typing, key repeat, a slow frame):
-            // each counts, so five quick → are five frames.
-            let presses =
-                i.count_and_consume_key(binding.shortcut.modifiers, binding.shortcut.logical_key);
-            for _ in 0..presses {
+        let mut held = state.labels.stroke_hotkey().and_then(Key::from_name);
+        let mut consumed = vec![false; i.events.len()];
+        for (index, event) in i.events.iter().enumerate() {
+            let egui::Event::Key {
+                key,
+                pressed,
+                repeat,
+                modifiers,
+                ..
+            } = event
+            else {
+                continue;
+            };
+            if !pressed {
+                if held == Some(*key) {
+                    commands.push(Command::Label(LabelAction::EndStroke));
+                    held = None;
+                }
+                continue;
+            }
+            let plain = !modifiers.command && !modifiers.alt;
+            if let Some(schema) = schema
+                && plain
+                && !repeat
+                && let Some(command) = label_key(schema, *key, &mut held)
+            {
+                commands.push(command);
+                continue;
+            }
+            if let Some(binding) = BINDINGS.iter().find(|b| {
+                b.shortcut.logical_key == *key && modifiers.matches_logically(b.shortcut.modifiers)
+            }) {
+                consumed[index] = true;
                 match binding.action {
                     KeyAction::Timeline(c) => commands.push(Command::Timeline(c)),
                     KeyAction::JumpToLabel { forward } => {
@@ -162,57 +193,48 @@ pub fn handle(
                     KeyAction::SaveLabels => commands.push(Command::Label(LabelAction::SaveAll)),
                     KeyAction::ToggleCheatSheet => *cheat_sheet = !*cheat_sheet,
                 }
+            } else if *key == Key::Questionmark {
+                consumed[index] = true;
+                *cheat_sheet = !*cheat_sheet;
             }
         }
-        if i.consume_key(NONE, Key::Questionmark) {
-            *cheat_sheet = !*cheat_sheet;
+        // A key released while the window had no focus sends no release event.
+        if let Some(key) = held
+            && !i.key_down(key)
+        {
+            commands.push(Command::Label(LabelAction::EndStroke));
         }
+        let mut index = 0;
+        i.events.retain(|_| {
+            index += 1;
+            !consumed[index - 1]
+        });
     });
 }
 
-/// A range label's hotkey paints while held; an event label's hotkey toggles its event; Delete held
-/// erases. The stroke ends when its key is up, even if it went down and up within one frame.
-fn label_hotkeys(i: &egui::InputState, state: &AppState, commands: &mut Vec<Command>) {
-    let Some(target) = state.label_target() else {
-        return;
-    };
-    let Some(schema) = state.labels.schema_of(&target) else {
-        return;
-    };
-    let mut held = state.labels.stroke_hotkey().and_then(Key::from_name);
-    for label in &schema.labels {
-        let Some(key) = label.hotkey.as_deref().and_then(Key::from_name) else {
-            continue;
-        };
-        // Events are placed even during a stroke; a second range key during a stroke is ignored.
-        let is_range = label.kind == pushlab_core::labels::LabelKind::Range;
-        if fresh_press(i, key) && !(is_range && held.is_some()) {
-            commands.push(Command::Label(LabelAction::Hotkey(label.name.clone())));
-            if is_range {
-                held = Some(key);
-            }
+/// What a plain key press does to labels: a range label's hotkey starts a paint stroke (ignored
+/// while another stroke is held), an event label's hotkey toggles its event, and Delete starts an
+/// erase stroke. `held` is the key of the stroke in progress.
+fn label_key(schema: &LabelSchema, key: Key, held: &mut Option<Key>) -> Option<Command> {
+    let label = schema
+        .labels
+        .iter()
+        .find(|l| l.hotkey.as_deref().and_then(Key::from_name) == Some(key));
+    match label {
+        Some(label) if label.kind == LabelKind::Event => {
+            Some(Command::Label(LabelAction::Hotkey(label.name.clone())))
         }
+        Some(label) if held.is_none() => {
+            *held = Some(key);
+            Some(Command::Label(LabelAction::Hotkey(label.name.clone())))
+        }
+        Some(_) => None,
+        None if held.is_none() && Key::from_name(ERASE_HOTKEY) == Some(key) => {
+            *held = Some(key);
+            Some(Command::Label(LabelAction::StartErase))
+        }
+        None => None,
     }
-    if held.is_none()
-        && let Some(erase) = Key::from_name(ERASE_HOTKEY)
-        && fresh_press(i, erase)
-    {
-        commands.push(Command::Label(LabelAction::StartErase));
-        held = Some(erase);
-    }
-    if let Some(key) = held
-        && !i.key_down(key)
-    {
-        commands.push(Command::Label(LabelAction::EndStroke));
-    }
-}
-
-/// Whether `key` went down this frame without modifiers (key repeats do not count).
-fn fresh_press(i: &egui::InputState, key: Key) -> bool {
-    i.events.iter().any(|e| {
-        matches!(e, egui::Event::Key { key: k, pressed: true, repeat: false, modifiers, .. }
-            if *k == key && !modifiers.command && !modifiers.alt)
-    })
 }
 
 /// The label hotkeys of a schema for the cheat-sheet: (key, label name, what the key does).
@@ -225,8 +247,8 @@ pub fn label_hotkey_rows(
         .filter_map(|l| {
             let key = l.hotkey.clone()?;
             let what = match l.kind {
-                pushlab_core::labels::LabelKind::Range => "hold to paint while stepping or playing",
-                pushlab_core::labels::LabelKind::Event => "place or remove the event here",
+                LabelKind::Range => "hold to paint while stepping or playing",
+                LabelKind::Event => "place or remove the event here",
             };
             Some((key, l.name.clone(), what))
         })

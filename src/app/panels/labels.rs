@@ -207,12 +207,16 @@ fn segment_list(
             for segment in &labels.segments {
                 ui.horizontal(|ui| {
                     swatch(ui, schema, &segment.label);
-                    ui.label(format!(
-                        "{}: frames {}–{}",
-                        segment.label,
-                        segment.start,
-                        segment.last_frame()
-                    ));
+                    ui.label(if segment.last_frame() == segment.start {
+                        format!("{}: frame {}", segment.label, segment.start)
+                    } else {
+                        format!(
+                            "{}: frames {}–{}",
+                            segment.label,
+                            segment.start,
+                            segment.last_frame()
+                        )
+                    });
                     if ui.small_button("Go").clicked() {
                         commands.push(Command::Timeline(TimelineCommand::SeekTo(segment.start)));
                     }
