@@ -110,6 +110,13 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
             .is_some(),
         "the browser shows the load error by file name"
     );
+    assert!(
+        harness
+            .query_all_by_label_contains("recordings; 1 file could not be read")
+            .next()
+            .is_some(),
+        "the status line sums up the load"
+    );
     let _ = std::fs::remove_dir_all(&scratch);
 }
 

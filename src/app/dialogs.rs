@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, Sender, channel};
+use std::time::{Duration, Instant};
 
 /// What the user asked a dialog for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -28,6 +29,8 @@ pub enum DialogResult {
     LoadModel(PathBuf),
     SaveModel(PathBuf),
     ExportLabels(PathBuf, LabelExportFormat),
+    /// No dialog could be shown (neither the XDG desktop portal nor zenity answered).
+    Unavailable(String),
 }
 
 /// The two label export formats.
@@ -61,7 +64,9 @@ impl Dialogs {
         let sender = self.sender.clone();
         self.open += 1;
         std::thread::spawn(move || {
+            let started = Instant::now();
             let result = run_dialog(request);
+            let result = result.or_else(|| unavailable_if_instant(started.elapsed()));
             // The receiver is gone only when the app closed.
             let _ = sender.send(result);
         });
@@ -82,6 +87,21 @@ impl Dialogs {
         }
         None
     }
+}
+
+/// Nobody cancels a file dialog within a quarter of a second: a dialog that returned nothing that
+/// fast never appeared. rfd then found neither the XDG desktop portal nor its zenity fallback, and
+/// says so only in a log nobody reads, so the app says it instead.
+const NO_DIALOG_WITHIN: Duration = Duration::from_millis(250);
+
+fn unavailable_if_instant(elapsed: Duration) -> Option<DialogResult> {
+    (elapsed < NO_DIALOG_WITHIN).then(|| {
+        DialogResult::Unavailable(
+            "no file dialog could be shown: install xdg-desktop-portal (with a GTK or KDE backend) or \
+             zenity; meanwhile drop files on the window or run `pushlab open PATH…`"
+                .to_owned(),
+        )
+    })
 }
 
 fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
@@ -132,5 +152,22 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
             .set_file_name("labels-export.json")
             .save_file()
             .map(|p| DialogResult::ExportLabels(p, LabelExportFormat::Json)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_dialog_that_returns_nothing_at_once_is_reported_as_unavailable() {
+        let Some(DialogResult::Unavailable(message)) =
+            unavailable_if_instant(Duration::from_millis(3))
+        else {
+            panic!("an instant empty answer is not a cancel");
+        };
+        assert!(message.contains("zenity") && message.contains("pushlab open"));
+        // A person who looked at the dialog and pressed Cancel.
+        assert_eq!(unavailable_if_instant(Duration::from_secs(2)), None);
     }
 }

@@ -179,6 +179,7 @@ impl PushlabApp {
                             Err(e) => format!("could not export labels: {e:#}"),
                         });
                 }
+                DialogResult::Unavailable(message) => self.state.status = Some(message),
                 DialogResult::SaveModel(path) => {
                     self.state.status = Some(match export::save_model(&self.state, &path) {
                         Ok(()) => format!("model saved to {}", path.display()),

@@ -89,6 +89,20 @@ impl Default for Persisted {
     }
 }
 
+/// What the status line says when a background load finished.
+fn load_message(new_recordings: usize, new_problems: usize) -> String {
+    let opened = match new_recordings {
+        0 => "no new recordings opened".to_owned(),
+        1 => "opened 1 recording".to_owned(),
+        n => format!("opened {n} recordings"),
+    };
+    match new_problems {
+        0 => opened,
+        1 => format!("{opened}; 1 file could not be read (see the browser)"),
+        n => format!("{opened}; {n} files could not be read (see the browser)"),
+    }
+}
+
 /// How many recent paths the File menu remembers.
 pub const MAX_RECENT: usize = 10;
 
@@ -287,9 +301,14 @@ impl AppState {
     /// is still moving (so the caller keeps repainting).
     pub fn advance(&mut self, dt: f64) -> bool {
         let was_loading = self.session.loading().is_some();
+        let (recordings, problems) = (self.session.recording_count(), self.session.problems.len());
         let selected = self.session.poll_loading();
         if was_loading && self.session.loading().is_none() {
             self.labels.sync(&self.session);
+            self.status = Some(load_message(
+                self.session.recording_count().saturating_sub(recordings),
+                self.session.problems.len() - problems,
+            ));
         }
         if selected {
             self.start_run();
