@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use pushlab::app::dialogs::LabelExportFormat;
+use pushlab::app::dialogs::{DialogResult, LabelExportFormat};
 use pushlab::app::state::Persisted;
 use pushlab::app::{PushlabApp, export, initial_state};
 
@@ -288,5 +288,51 @@ fn exports_write_the_losses_a_png_region_and_the_labels() {
             .expect("valid json");
     assert_eq!(json["format"], "pushlab-labels-export");
     assert_eq!(json["recordings"]["offline_000.csv"]["split"], "offline");
+    let _ = std::fs::remove_dir_all(&scratch);
+}
+
+#[test]
+fn exporting_the_scene_and_the_plots_writes_pngs_of_their_regions() {
+    let Some(set) = common::sample_set("box1-paper-center-front") else {
+        return;
+    };
+    let mut harness = app_on(std::slice::from_ref(&set));
+    let scratch = common::scratch_dir("png");
+    let ctx = harness.ctx.clone();
+    for (result, name) in [
+        (
+            DialogResult::SaveScene(scratch.join("scene.png")),
+            "scene.png",
+        ),
+        (
+            DialogResult::SavePlots(scratch.join("plots.png")),
+            "plots.png",
+        ),
+    ] {
+        harness.state_mut().apply_dialog_result(&ctx, result);
+        harness.run_steps(3);
+        let status = harness.state().state.status.clone().unwrap_or_default();
+        assert!(status.starts_with("saved "), "{status}");
+        assert!(status.ends_with(name), "{status}");
+    }
+    let ppp = ctx.pixels_per_point();
+    for (name, rect) in [
+        ("scene.png", harness.state().view.scene.rect()),
+        ("plots.png", harness.state().view.plots_rect),
+    ] {
+        let png = image::open(scratch.join(name)).expect("a PNG").to_rgba8();
+        let (w, h) = png.dimensions();
+        assert_eq!(
+            (w, h),
+            (
+                (rect.width() * ppp).round() as u32,
+                (rect.height() * ppp).round() as u32
+            ),
+            "{name} is the panel's region"
+        );
+        // Not a blank image: the scene and the plots have more than a handful of colours.
+        let colours: std::collections::HashSet<[u8; 4]> = png.pixels().map(|p| p.0).collect();
+        assert!(colours.len() > 20, "{name} has {} colours", colours.len());
+    }
     let _ = std::fs::remove_dir_all(&scratch);
 }

@@ -152,40 +152,45 @@ impl PushlabApp {
 
     fn handle_dialog_results(&mut self, ctx: &egui::Context) {
         while let Some(result) = self.view.dialogs.poll() {
-            match result {
-                DialogResult::Open(paths) => self.state.apply(Command::Open(paths)),
-                DialogResult::SaveScene(path) => {
-                    self.request_screenshot(ctx, self.view.scene.rect(), path)
-                }
-                DialogResult::SavePlots(path) => {
-                    self.request_screenshot(ctx, self.view.plots_rect, path)
-                }
-                DialogResult::SaveLossCsv(path) => {
-                    self.state.status = Some(match export::save_losses_csv(&self.state, &path) {
-                        Ok(rows) => format!("saved {rows} rows of losses to {}", path.display()),
-                        Err(e) => format!("could not save {}: {e:#}", path.display()),
-                    });
-                }
-                DialogResult::LoadModel(path) => {
-                    self.state.status = Some(match export::load_model(&mut self.state, &path) {
-                        Ok(()) => format!("model loaded from {}", path.display()),
-                        Err(e) => format!("{e:#}"),
-                    });
-                }
-                DialogResult::ExportLabels(path, format) => {
-                    self.state.status =
-                        Some(match export::export_labels(&self.state, &path, format) {
-                            Ok(rows) => format!("exported {rows} label rows to {}", path.display()),
-                            Err(e) => format!("could not export labels: {e:#}"),
-                        });
-                }
-                DialogResult::Unavailable(message) => self.state.status = Some(message),
-                DialogResult::SaveModel(path) => {
-                    self.state.status = Some(match export::save_model(&self.state, &path) {
-                        Ok(()) => format!("model saved to {}", path.display()),
-                        Err(e) => format!("{e:#}"),
-                    });
-                }
+            self.apply_dialog_result(ctx, result);
+        }
+    }
+
+    /// Does what a dialog's answer asks for: open the files, save the scene, export the labels….
+    /// Public so that tests can answer a dialog the way a user would.
+    pub fn apply_dialog_result(&mut self, ctx: &egui::Context, result: DialogResult) {
+        match result {
+            DialogResult::Open(paths) => self.state.apply(Command::Open(paths)),
+            DialogResult::SaveScene(path) => {
+                self.request_screenshot(ctx, self.view.scene.rect(), path)
+            }
+            DialogResult::SavePlots(path) => {
+                self.request_screenshot(ctx, self.view.plots_rect, path)
+            }
+            DialogResult::SaveLossCsv(path) => {
+                self.state.status = Some(match export::save_losses_csv(&self.state, &path) {
+                    Ok(rows) => format!("saved {rows} rows of losses to {}", path.display()),
+                    Err(e) => format!("could not save {}: {e:#}", path.display()),
+                });
+            }
+            DialogResult::LoadModel(path) => {
+                self.state.status = Some(match export::load_model(&mut self.state, &path) {
+                    Ok(()) => format!("model loaded from {}", path.display()),
+                    Err(e) => format!("{e:#}"),
+                });
+            }
+            DialogResult::ExportLabels(path, format) => {
+                self.state.status = Some(match export::export_labels(&self.state, &path, format) {
+                    Ok(rows) => format!("exported {rows} label rows to {}", path.display()),
+                    Err(e) => format!("could not export labels: {e:#}"),
+                });
+            }
+            DialogResult::Unavailable(message) => self.state.status = Some(message),
+            DialogResult::SaveModel(path) => {
+                self.state.status = Some(match export::save_model(&self.state, &path) {
+                    Ok(()) => format!("model saved to {}", path.display()),
+                    Err(e) => format!("{e:#}"),
+                });
             }
         }
     }
