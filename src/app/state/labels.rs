@@ -725,4 +725,30 @@ mod tests {
         assert!((sticking.fixed_rot - fixed_rot).abs() < 1e-12);
         assert_ne!(sticking.online_pos, sticking.fixed_pos);
     }
+
+    #[test]
+    fn a_stroke_paints_while_playing() {
+        let Some(dir) = copy_of_sample_set("playing") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        seek(&mut state, 3);
+        label(&mut state, LabelAction::Hotkey("slipping".into()));
+        state.apply(Command::Timeline(TimelineCommand::TogglePlay));
+        // The sample data runs at 10 Hz: a second of playback passes ten frames.
+        for _ in 0..20 {
+            state.advance(0.05);
+        }
+        state.apply(Command::Timeline(TimelineCommand::TogglePlay));
+        label(&mut state, LabelAction::EndStroke);
+        let end = state.frame();
+        assert!((12..=14).contains(&end), "stopped at {end}");
+        assert_eq!(segments(&state), vec![("slipping".to_owned(), 3..end + 1)]);
+        label(&mut state, LabelAction::Undo);
+        assert_eq!(
+            segments(&state),
+            vec![],
+            "the whole stroke is one undo step"
+        );
+    }
 }
