@@ -61,6 +61,13 @@ fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
     harness.run_steps(2);
     assert_eq!(harness.state().state.frame(), 8);
     assert!(shows(&harness, "contact: frames 5–8"), "segment listed");
+    assert!(
+        shows(
+            &harness,
+            "offline_000  ·  101 frames, 10.0 s  ·  offline  ·  1 label"
+        ),
+        "the browser shows the split and the label count"
+    );
     assert!(shows(&harness, "labels unsaved"), "indicator says unsaved");
 
     // After release, stepping no longer paints.

@@ -1,7 +1,9 @@
-//! The recordings browser: settings → trajectories with their metadata, and the load problems.
+//! The recordings browser: settings → trajectories with their metadata, split and label count, and
+//! the load problems.
 
 use eframe::egui;
 
+use crate::app::state::labels::LabelTarget;
 use crate::app::state::session::RecordingId;
 use crate::app::state::{AppState, Command};
 
@@ -29,12 +31,25 @@ pub fn ui(ui: &mut egui::Ui, state: &mut AppState, commands: &mut Vec<Command>) 
                             };
                             let selected = state.session.selected == Some(id);
                             let trajectory = &recording.trajectory;
-                            let label = format!(
+                            let mut label = format!(
                                 "{}  ·  {} frames, {:.1} s",
                                 recording.name,
                                 trajectory.len(),
                                 trajectory.duration()
                             );
+                            if let Some(labels) =
+                                LabelTarget::of(recording).and_then(|t| state.labels.labels_of(&t))
+                            {
+                                if let Some(split) = labels.meta.split {
+                                    label.push_str(&format!("  ·  {}", split.name()));
+                                }
+                                let count = labels.segments.len() + labels.events.len();
+                                match count {
+                                    0 => {}
+                                    1 => label.push_str("  ·  1 label"),
+                                    n => label.push_str(&format!("  ·  {n} labels")),
+                                }
+                            }
                             let response = ui.selectable_label(selected, label);
                             let response = response.on_hover_ui(|ui| {
                                 ui.label(recording.source.display().to_string());
