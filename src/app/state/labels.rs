@@ -751,4 +751,39 @@ mod tests {
             "the whole stroke is one undo step"
         );
     }
+
+    #[test]
+    fn online_learning_holds_theta_over_bad_tracking_and_says_why() {
+        let Some(dir) = copy_of_sample_set("badtracking") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        seek(&mut state, 30);
+        label(&mut state, LabelAction::SetInPoint);
+        seek(&mut state, 34);
+        label(&mut state, LabelAction::SetActive("bad tracking".into()));
+        label(&mut state, LabelAction::PaintFromInPoint);
+        seek(&mut state, 0);
+        state.apply(Command::ResetTheta);
+        for _ in 0..60 {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+        let skip = state.frames_to_skip();
+        let run = state.run.as_ref().unwrap();
+        let mut held = 0;
+        for k in 0..60 {
+            if run.is_skipped(k, &skip) {
+                held += 1;
+                assert!(run.steps()[k].is_none(), "learned from frame {k}");
+                assert_eq!(run.checkpoints()[k + 1], run.checkpoints()[k]);
+            } else {
+                assert!(run.steps()[k].is_some(), "frame {k} not learned");
+            }
+        }
+        // Frames 30..=34 and the samples ending on them (the model's horizon before).
+        assert!(held >= 5, "{held} frames held");
+        seek(&mut state, 32);
+        state.apply(Command::LearnThisFrame);
+        assert!(state.status.as_deref().unwrap().contains("bad tracking"));
+    }
 }

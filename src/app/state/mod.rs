@@ -240,12 +240,18 @@ impl AppState {
             }
             Command::LearnThisFrame => {
                 let frame = self.frame();
-                if let Some(run) = &mut self.run
-                    && run.learn_this_frame(frame).is_none()
-                {
-                    self.status = Some(format!(
-                        "frame {frame} has no sample: it is within the prediction horizon of the end"
-                    ));
+                let skip = self.frames_to_skip();
+                if let Some(run) = &mut self.run {
+                    if run.is_skipped(frame, &skip) {
+                        self.status = Some(format!(
+                            "frame {frame} is not learned from: its sample touches a frame labelled \
+                             to skip in training (bad tracking); erase that label to learn from it"
+                        ));
+                    } else if run.learn_this_frame(frame).is_none() {
+                        self.status = Some(format!(
+                            "frame {frame} has no sample: it is within the prediction horizon of the end"
+                        ));
+                    }
                 }
             }
             Command::SetLearnWhilePlaying(on) => self.learn_while_playing = on,
@@ -340,17 +346,28 @@ impl AppState {
         self.timeline.playing || self.session.loading().is_some() || self.training.is_running()
     }
 
-    /// Learning follows the timeline forward when "Learn while playing" is on; a held label hotkey
-    /// paints every frame passed, in either direction.
+    /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames
+    /// labelled to skip in training; a held label hotkey paints every frame passed, in either
+    /// direction.
     fn frame_moved(&mut self, before: usize) {
         let now = self.timeline.frame();
         self.labels.stroke_to(now);
-        if self.learn_while_playing
-            && now > before
-            && let Some(run) = &mut self.run
-        {
-            run.learn_through(before, now);
+        if self.learn_while_playing && now > before && self.run.is_some() {
+            let skip = self.frames_to_skip();
+            if let Some(run) = &mut self.run {
+                run.learn_through(before, now, &skip);
+            }
         }
+    }
+
+    /// One flag per frame of the selected recording: labelled "skip in training" (bad tracking).
+    pub fn frames_to_skip(&self) -> Vec<bool> {
+        self.label_target()
+            .and_then(|t| {
+                let document = self.labels.document(&t.document)?;
+                Some(frames_to_skip(document.set(), &t.recording, t.frames))
+            })
+            .unwrap_or_default()
     }
 
     /// A fresh timeline and online run for the selected recording.

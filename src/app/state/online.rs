@@ -5,7 +5,8 @@
 //! so that scrubbing back restores the exact `θ_online(t)` and playing on re-learns deterministically.
 //!
 //! Invariant: `checkpoints[k]` is θ in effect at frame k for `k <= frontier`, and `steps[k]` is what
-//! happened between frame k and k+1 (`None`: θ was held, nothing learned). Steering θ at frame f (a
+//! happened between frame k and k+1 (`None`: θ was held, nothing learned — a frame jumped over, or one
+//! whose sample touches a frame labelled "skip in training", such as bad tracking). Steering θ at frame f (a
 //! slider, "Learn this frame", reset) drops everything after f: the future is re-learned from there.
 
 use std::sync::Arc;
@@ -25,6 +26,8 @@ pub struct OnlineRun {
     fixed: Vec<OnlineStep>,
     checkpoints: Vec<OnlineParams>,
     steps: Vec<Option<OnlineStep>>,
+    /// Frames between a sample's start and its target.
+    horizon: usize,
     /// The update rule for steps learned from now on (steps, learning rate).
     pub config: OnlineConfig,
 }
@@ -49,6 +52,7 @@ impl OnlineRun {
             fixed,
             checkpoints: vec![theta0],
             steps: Vec::new(),
+            horizon: horizon.max(1),
             config,
         }
     }
@@ -108,16 +112,29 @@ impl OnlineRun {
         )
     }
 
-    /// Learns from every frame in `from..to` in order (playing forward with learning on). Frames
-    /// already learned are kept, since learning them again would give the same θ bit for bit.
-    pub fn learn_through(&mut self, from: usize, to: usize) {
+    /// Learns from every frame in `from..to` in order (playing forward with learning on), holding θ
+    /// over samples that start or end on a frame flagged in `skip_frames` (one flag per frame; frames
+    /// past its end are not skipped), as `pushlab train` and `eval` leave them out. Frames already
+    /// learned or held are kept, since doing them again would give the same θ bit for bit.
+    pub fn learn_through(&mut self, from: usize, to: usize, skip_frames: &[bool]) {
         let to = to.min(self.samples.len());
         for k in from..to {
-            if k < self.frontier() && self.steps[k].is_some() {
+            let skipped = self.is_skipped(k, skip_frames);
+            if k < self.frontier() && (self.steps[k].is_some() || skipped) {
                 continue;
             }
-            self.learn_at(k);
+            if skipped {
+                self.truncate_to(k + 1);
+            } else {
+                self.learn_at(k);
+            }
         }
+    }
+
+    /// Whether the sample at `frame` touches a frame flagged in `skip_frames`.
+    pub fn is_skipped(&self, frame: usize, skip_frames: &[bool]) -> bool {
+        let flagged = |f: usize| skip_frames.get(f).copied().unwrap_or(false);
+        flagged(frame) || flagged(frame + self.horizon)
     }
 
     /// Sets θ at `frame` (a user's steering), forgetting everything learned after it.
@@ -215,7 +232,7 @@ mod tests {
     fn learning_moves_theta_and_keeps_a_checkpoint_per_frame() {
         let mut run = run();
         let theta0 = run.theta0();
-        run.learn_through(0, 50);
+        run.learn_through(0, 50, &[]);
         assert_eq!(run.frontier(), 50);
         assert_eq!(run.checkpoints().len(), 51);
         assert_ne!(
@@ -233,7 +250,7 @@ mod tests {
     #[test]
     fn scrubbing_back_restores_the_exact_earlier_theta_and_replay_is_identical() {
         let mut run = run();
-        run.learn_through(0, 80);
+        run.learn_through(0, 80, &[]);
         let at_30 = run.theta_at(30);
         let all: Vec<_> = run.checkpoints().to_vec();
         // Re-learning the same frames from the same θ(30) gives the same θ bit for bit.
@@ -241,14 +258,14 @@ mod tests {
         run.set_theta_at(30, theta);
         assert_eq!(run.frontier(), 30);
         assert_eq!(run.theta_at(30), at_30);
-        run.learn_through(30, 80);
+        run.learn_through(30, 80, &[]);
         assert_eq!(run.checkpoints(), &all[..]);
     }
 
     #[test]
     fn steering_drops_the_future_and_beyond_the_frontier_theta_is_held() {
         let mut run = run();
-        run.learn_through(0, 40);
+        run.learn_through(0, 40, &[]);
         let mut steered = run.theta_at(20);
         steered.com_offset = [0.01, -0.02];
         run.set_theta_at(20, steered);
@@ -282,10 +299,39 @@ mod tests {
     fn the_last_frames_have_no_sample_and_reset_forgets_everything() {
         let mut run = run();
         assert!(run.learn_this_frame(199).is_none());
-        run.learn_through(0, 500);
+        run.learn_through(0, 500, &[]);
         assert_eq!(run.frontier(), 199);
         run.reset();
         assert_eq!(run.frontier(), 0);
         assert_eq!(run.theta_at(100), run.theta0());
+    }
+
+    #[test]
+    fn frames_flagged_to_skip_hold_theta_and_the_rest_learn() {
+        let mut run = run();
+        let mut skip = vec![false; 200];
+        skip[20..25].fill(true);
+        run.learn_through(0, 40, &skip);
+        for k in 0..40 {
+            // Horizon 1: the sample at k uses frames k and k + 1.
+            let skipped = (19..25).contains(&k);
+            assert_eq!(run.steps()[k].is_none(), skipped, "frame {k}");
+            if skipped {
+                assert_eq!(
+                    run.checkpoints()[k + 1],
+                    run.checkpoints()[k],
+                    "θ held at {k}"
+                );
+            }
+        }
+        assert_ne!(
+            run.checkpoints()[40],
+            run.checkpoints()[0],
+            "the other frames learned"
+        );
+        // Playing over the same frames again changes nothing.
+        let before = run.checkpoints().to_vec();
+        run.learn_through(10, 40, &skip);
+        assert_eq!(run.checkpoints(), &before[..]);
     }
 }
