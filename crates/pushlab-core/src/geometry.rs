@@ -121,6 +121,8 @@ pub enum OutlineError {
     NotConvexCcw { index: usize },
     #[error("the outline has no area")]
     Degenerate,
+    #[error("the outline's vertices go clockwise; list them counter-clockwise (in reverse order)")]
+    Clockwise,
     #[error("a box needs a positive finite width and length, got {width} x {length}")]
     BadBox { width: f64, length: f64 },
 }
@@ -163,7 +165,11 @@ impl Outline {
             return Err(OutlineError::NonFinite { index });
         }
         let outline = Self { vertices };
-        if outline.area() <= 1e-12 {
+        let area = outline.area();
+        if area < -1e-12 {
+            return Err(OutlineError::Clockwise);
+        }
+        if area <= 1e-12 {
             return Err(OutlineError::Degenerate);
         }
         for i in 0..n {
@@ -424,7 +430,15 @@ mod tests {
     #[test]
     fn clockwise_or_concave_outlines_are_refused() {
         let cw = vec![[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]];
-        assert!(Outline::try_from(cw).is_err());
+        let error = Outline::try_from(cw).expect_err("clockwise");
+        assert_eq!(error, OutlineError::Clockwise);
+        assert!(
+            error
+                .to_string()
+                .contains("counter-clockwise (in reverse order)")
+        );
+        let flat = vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]];
+        assert_eq!(Outline::try_from(flat), Err(OutlineError::Degenerate));
         let concave = vec![[0.0, 0.0], [1.0, 0.0], [0.2, 0.2], [0.0, 1.0]];
         assert!(matches!(
             Outline::try_from(concave),
