@@ -239,6 +239,12 @@ pub struct LabelDocument {
     /// The top undo step is a text edit of this (recording, field) and may absorb the next one.
     coalescing: Option<(String, &'static str)>,
     last_save_error: Option<String>,
+    /// The file's text when it was read or last written (`Some(None)`: there was no file); `None`
+    /// when unknown (a document made with [`LabelDocument::new`]). A save first checks that the
+    /// file still holds this, so that labels another program wrote meanwhile are never overwritten.
+    on_disk: Option<Option<String>>,
+    /// The last save found the file changed by another program.
+    conflict: bool,
 }
 
 /// At most this many undo steps are kept; the oldest are dropped first.
@@ -248,13 +254,30 @@ impl LabelDocument {
     /// Opens the labels file at `path`, or an empty document with the default schema if there is
     /// no file yet (nothing is written until the first save).
     pub fn open(path: &Path) -> Result<Self, LabelFileError> {
-        let exists = path.exists();
-        let set = file::read_or_default(path)?;
+        let text = file::current_text(path)?;
+        let set = match &text {
+            Some(text) => file::parse(text, path)?,
+            None => LabelSet::default(),
+        };
         let mut doc = Self::new(path, set);
-        if !exists {
+        if text.is_none() {
             doc.saved_state = None;
         }
+        doc.on_disk = Some(text);
         Ok(doc)
+    }
+
+    /// Drops the document and reads the file again: what "reload" does after another program
+    /// changed it. Unsaved edits and the undo history are gone.
+    pub fn reload(&mut self) -> Result<(), LabelFileError> {
+        *self = Self::open(&self.path)?;
+        Ok(())
+    }
+
+    /// Whether the last save was refused because another program changed the file (then
+    /// [`Self::overwrite`] or [`Self::reload`] resolves it).
+    pub fn has_conflict(&self) -> bool {
+        self.conflict
     }
 
     /// Opens the labels file of the recording set in `folder` (`folder/pushlab-labels.json`).
@@ -276,6 +299,8 @@ impl LabelDocument {
             group_open: false,
             coalescing: None,
             last_save_error: None,
+            on_disk: None,
+            conflict: false,
         }
     }
 
@@ -446,12 +471,40 @@ impl LabelDocument {
     }
 
     /// Writes the labels to the document's file, atomically. On failure the edits stay in memory,
-    /// the file on disk is unchanged, and [`Self::save_state`] reports the error.
+    /// the file on disk is unchanged, and [`Self::save_state`] reports the error. A file that another
+    /// program changed since it was read or last saved is not overwritten
+    /// ([`LabelFileError::ChangedOnDisk`]).
     pub fn save(&mut self) -> Result<(), LabelFileError> {
+        if let Some(expected) = &self.on_disk {
+            let current = file::current_text(&self.path);
+            let changed = match &current {
+                Ok(text) => text != expected,
+                Err(_) => false,
+            };
+            if changed {
+                self.conflict = true;
+                let e = LabelFileError::ChangedOnDisk {
+                    path: self.path.clone(),
+                };
+                self.last_save_error = Some(e.to_string());
+                return Err(e);
+            }
+            if let Err(e) = current {
+                self.last_save_error = Some(e.to_string());
+                return Err(e);
+            }
+        }
+        self.overwrite()
+    }
+
+    /// Writes the labels to the file even if another program changed it meanwhile.
+    pub fn overwrite(&mut self) -> Result<(), LabelFileError> {
         match file::write(&self.path, &self.set) {
             Ok(()) => {
                 self.saved_state = Some(self.state);
                 self.last_save_error = None;
+                self.conflict = false;
+                self.on_disk = Some(Some(file::to_json(&self.set)));
                 Ok(())
             }
             Err(e) => {
@@ -1199,5 +1252,50 @@ mod tests {
         }
         let saved_at = saved_at.unwrap();
         assert!((5.9..6.2).contains(&saved_at), "saved at {saved_at}");
+    }
+
+    #[test]
+    fn a_file_changed_by_another_program_is_not_overwritten_until_asked() {
+        let dir = std::env::temp_dir().join(format!("pushlab-doc-conflict-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = super::super::file::path_in(&dir);
+        let mut d = LabelDocument::open(&path).unwrap();
+        d.apply(paint(STICKING, 0..10)).unwrap();
+        d.save().unwrap();
+
+        // Another program (`pushlab labels init-splits`, a text editor) writes the file.
+        let mut theirs = d.set().clone();
+        theirs.recordings.get_mut(REC).unwrap().meta.notes = "written elsewhere".into();
+        super::super::file::write(&path, &theirs).unwrap();
+        let on_disk = std::fs::read_to_string(&path).unwrap();
+
+        d.apply(paint(SLIPPING, 20..30)).unwrap();
+        let err = d.save().unwrap_err();
+        assert!(matches!(err, LabelFileError::ChangedOnDisk { .. }), "{err}");
+        assert!(err.to_string().contains("changed by another program"));
+        assert!(d.has_conflict());
+        assert!(matches!(d.save_state(), SaveState::Failed(_)));
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            on_disk,
+            "their file is kept"
+        );
+        assert_eq!(segs(&d).len(), 2, "our edits are kept");
+
+        // Reload takes their version; a later edit saves normally on top of it.
+        let mut reloaded = d.clone();
+        reloaded.reload().unwrap();
+        assert_eq!(reloaded.set(), &theirs);
+        assert!(!reloaded.has_conflict());
+        reloaded.apply(paint(CONTACT, 40..50)).unwrap();
+        reloaded.save().unwrap();
+
+        // Or overwrite with ours (on the original document, whose file changed again meanwhile).
+        d.overwrite().unwrap();
+        assert!(!d.has_conflict());
+        assert_eq!(d.save_state(), SaveState::Saved);
+        assert_eq!(&super::super::file::read(&path).unwrap(), d.set());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

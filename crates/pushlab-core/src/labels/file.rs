@@ -80,6 +80,12 @@ pub enum LabelFileError {
         field: String,
         message: String,
     },
+    /// Another program wrote the file since it was read or last saved; saving would overwrite that.
+    #[error(
+        "{} was changed by another program since pushlab read it; your edits are kept in the app: overwrite the file with them, or reload it and drop them",
+        path.display()
+    )]
+    ChangedOnDisk { path: PathBuf },
     /// Saving failed; the previous file on disk is unchanged.
     #[error("cannot save labels to {}: {source}; the previous file is unchanged", path.display())]
     Write { path: PathBuf, source: io::Error },
@@ -106,6 +112,18 @@ struct FileV1Out<'a> {
     version: u64,
     schema: &'a LabelSchema,
     recordings: BTreeMap<&'a str, &'a RecordingLabels>,
+}
+
+/// The text of the file at `path` as it is now, `None` when there is no file.
+pub fn current_text(path: &Path) -> Result<Option<String>, LabelFileError> {
+    match fs::read_to_string(path) {
+        Ok(text) => Ok(Some(text)),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+        Err(source) => Err(LabelFileError::Read {
+            path: path.to_owned(),
+            source,
+        }),
+    }
 }
 
 /// Reads the labels file at `path`.
