@@ -235,7 +235,9 @@ impl eframe::App for PushlabApp {
 
     fn on_exit(&mut self) {
         // Closing the window must not lose labels that autosave had not written yet.
-        self.state.labels.save_all();
+        for line in self.state.labels.save_on_exit() {
+            eprintln!("pushlab: {line}");
+        }
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {

@@ -48,6 +48,28 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             act(LabelAction::SaveAll);
         }
     });
+    if document.has_conflict() {
+        ui.colored_label(
+            egui::Color32::from_rgb(230, 90, 80),
+            "Another program changed this labels file since pushlab read it.",
+        );
+        ui.horizontal(|ui| {
+            if ui
+                .button("Overwrite it with these labels")
+                .on_hover_text("the other program's changes to the file are lost")
+                .clicked()
+            {
+                act(LabelAction::Overwrite);
+            }
+            if ui
+                .button("Reload it")
+                .on_hover_text("your unsaved edits here are dropped")
+                .clicked()
+            {
+                act(LabelAction::Reload);
+            }
+        });
+    }
     ui.horizontal(|ui| {
         let undo = document.undo_description();
         if ui

@@ -69,6 +69,11 @@ pub enum LabelAction {
     Redo,
     /// Saves every labels file with unsaved edits now.
     SaveAll,
+    /// The selected recording's labels file was changed by another program: write ours over it.
+    Overwrite,
+    /// The selected recording's labels file was changed by another program: take theirs, dropping
+    /// our unsaved edits.
+    Reload,
 }
 
 /// A paint or erase stroke in progress: a hotkey is held while frames go by.
@@ -268,6 +273,17 @@ impl Labeling {
                 document.seal();
                 None
             }
+            LabelAction::Overwrite => Some(match document.overwrite() {
+                Ok(()) => format!("labels written over {}", target.document.display()),
+                Err(e) => e.to_string(),
+            }),
+            LabelAction::Reload => {
+                self.stroke = None;
+                Some(match document.reload() {
+                    Ok(()) => format!("labels reloaded from {}", target.document.display()),
+                    Err(e) => e.to_string(),
+                })
+            }
             LabelAction::Undo => {
                 self.stroke = None;
                 Some(match document.undo() {
@@ -350,6 +366,36 @@ impl Labeling {
         } else {
             format!("labels not saved: {}", errors.join("; "))
         })
+    }
+
+    /// Saves what can be saved when the app closes. Edits that cannot go to their labels file (it
+    /// was changed by another program, or the disk refused) are written beside it to
+    /// `pushlab-labels.unsaved-<seconds since 1970>.json`, so closing never loses them. Returns one
+    /// line per file for the terminal.
+    pub fn save_on_exit(&mut self) -> Vec<String> {
+        let mut lines = Vec::new();
+        for document in self.documents.values_mut() {
+            if let Err(e) = document.save_if_dirty() {
+                let stamp = std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0, |d| d.as_secs());
+                let rescue = document
+                    .path()
+                    .with_file_name(format!("pushlab-labels.unsaved-{stamp}.json"));
+                lines.push(
+                    match pushlab_core::labels::file::write(&rescue, document.set()) {
+                        Ok(()) => format!(
+                            "{e}\nyour unsaved labels were written to {}",
+                            rescue.display()
+                        ),
+                        Err(rescue_error) => {
+                            format!("{e}\nand they could not be rescued: {rescue_error}")
+                        }
+                    },
+                );
+            }
+        }
+        lines
     }
 
     fn start_stroke(
@@ -785,5 +831,86 @@ mod tests {
         seek(&mut state, 32);
         state.apply(Command::LearnThisFrame);
         assert!(state.status.as_deref().unwrap().contains("bad tracking"));
+    }
+
+    #[test]
+    fn labels_changed_by_another_program_are_kept_and_ours_are_rescued_on_exit() {
+        let Some(dir) = copy_of_sample_set("conflict") else {
+            return;
+        };
+        let file = dir.join(LABELS_FILE_NAME);
+        let mut state = state_on(&dir);
+        let target = state.label_target().unwrap();
+        label(&mut state, LabelAction::Hotkey("contact".into()));
+        label(&mut state, LabelAction::EndStroke);
+        // `pushlab labels init-splits` or an editor rewrites the file meanwhile.
+        let theirs = std::fs::read_to_string(&file)
+            .unwrap()
+            .replace("\"paper\"", "\"cardboard\"");
+        std::fs::write(&file, &theirs).unwrap();
+        state.autosave_labels(1.0);
+        state.autosave_labels(2.0);
+        assert!(
+            state
+                .status
+                .as_deref()
+                .unwrap()
+                .contains("changed by another program")
+        );
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), theirs);
+        assert!(
+            state
+                .labels
+                .document(&target.document)
+                .unwrap()
+                .has_conflict()
+        );
+
+        let lines = state.labels.save_on_exit();
+        assert_eq!(lines.len(), 1);
+        assert!(lines[0].contains("pushlab-labels.unsaved-"), "{}", lines[0]);
+        assert_eq!(
+            std::fs::read_to_string(&file).unwrap(),
+            theirs,
+            "theirs untouched"
+        );
+        let rescued = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|p| p.to_string_lossy().contains("unsaved-"))
+            .expect("a rescue file");
+        let rescued = pushlab_core::labels::file::read(&rescued).unwrap();
+        assert_eq!(
+            rescued.recording(&target.recording).unwrap().segments.len(),
+            1
+        );
+
+        // Reload takes their version.
+        label(&mut state, LabelAction::Reload);
+        let meta = &state.labels.labels_of(&target).unwrap().meta;
+        assert_eq!(meta.material, "cardboard");
+        assert!(segments(&state).is_empty());
+        // Or, after another edit and conflict, overwrite with ours.
+        std::fs::write(&file, theirs.replace("cardboard", "felt")).unwrap();
+        label(&mut state, LabelAction::Hotkey("sticking".into()));
+        label(&mut state, LabelAction::EndStroke);
+        label(&mut state, LabelAction::SaveAll);
+        assert!(
+            state
+                .status
+                .as_deref()
+                .unwrap()
+                .contains("changed by another program")
+        );
+        label(&mut state, LabelAction::Overwrite);
+        let on_disk = pushlab_core::labels::file::read(&file).unwrap();
+        assert_eq!(
+            on_disk.recording(&target.recording).unwrap().meta.material,
+            "cardboard"
+        );
+        assert_eq!(
+            on_disk.recording(&target.recording).unwrap().segments.len(),
+            1
+        );
     }
 }
