@@ -135,6 +135,11 @@ fn event_key_bands_and_next_label_key() {
     harness.key_press(egui::Key::O);
     harness.run_steps(2);
     assert!(shows(&harness, "sticking: frames 20–24"));
+    harness.key_press(egui::Key::I);
+    harness.run_steps(2);
+    harness.get_by_label("Clear in").click();
+    harness.run_steps(2);
+    assert!(shows(&harness, "In point: not set"));
 
     harness.key_press(egui::Key::Home);
     harness.run_steps(2);

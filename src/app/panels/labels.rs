@@ -105,6 +105,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         if ui.button("Set in").on_hover_text("I").clicked() {
             act(LabelAction::SetInPoint);
         }
+        if state.labels.in_point.is_some() && ui.button("Clear in").clicked() {
+            act(LabelAction::ClearInPoint);
+        }
         if ui
             .add_enabled(
                 state.labels.in_point.is_some() && state.labels.active.is_some(),
