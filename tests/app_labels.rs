@@ -388,3 +388,34 @@ fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
     assert_eq!(com(&harness), [0.0, 0.0], "one undo undoes the whole drag");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-focus") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    seek(&mut harness, 10);
+    harness.key_down(egui::Key::Num1);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.labels.stroke_hotkey(), Some("1"));
+    // The user clicks into the notes while still holding "1", then lets go of it.
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::MultilineTextInput, "Notes")
+        .click();
+    harness.run_steps(2);
+    harness.key_up(egui::Key::Num1);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.labels.stroke_hotkey(), None);
+    harness.event(egui::Event::Text("hello".to_owned()));
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    harness.get_by_label("Undo").click();
+    harness.run_steps(2);
+    assert!(
+        shows(&harness, "contact: frame 10"),
+        "undoing the typing leaves the stroke"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -141,6 +141,13 @@ pub fn handle(
     commands: &mut Vec<Command>,
 ) {
     if ctx.egui_wants_keyboard_input() {
+        // A widget has the keyboard (typing in the notes, say): no shortcut fires, but a paint key
+        // let go must still end its stroke, or the stroke would paint on and swallow the typing.
+        if let Some(key) = state.labels.stroke_hotkey().and_then(Key::from_name)
+            && !ctx.input(|i| i.key_down(key))
+        {
+            commands.push(Command::Label(LabelAction::EndStroke));
+        }
         return;
     }
     let target = state.label_target();
@@ -166,18 +173,9 @@ pub fn handle(
                 }
                 continue;
             }
-            let plain = !modifiers.command && !modifiers.alt;
-            if let Some(schema) = schema
-                && plain
-                && !repeat
-                && let Some(command) = label_key(schema, *key, &mut held)
-            {
-                commands.push(command);
-                continue;
-            }
-            if let Some(binding) = BINDINGS.iter().find(|b| {
-                b.shortcut.logical_key == *key && modifiers.matches_logically(b.shortcut.modifiers)
-            }) {
+            // The app's own keys come first: a label whose hotkey is one of them is painted from
+            // the Labels tab instead (the cheat-sheet says so).
+            if let Some(binding) = binding_for(*key, *modifiers) {
                 consumed[index] = true;
                 match binding.action {
                     KeyAction::Timeline(c) => commands.push(Command::Timeline(c)),
@@ -196,6 +194,13 @@ pub fn handle(
             } else if *key == Key::Questionmark {
                 consumed[index] = true;
                 *cheat_sheet = !*cheat_sheet;
+            } else if let Some(schema) = schema
+                && !modifiers.command
+                && !modifiers.alt
+                && !repeat
+                && let Some(command) = label_key(schema, *key, &mut held)
+            {
+                commands.push(command);
             }
         }
         // A key released while the window had no focus sends no release event.
@@ -212,10 +217,31 @@ pub fn handle(
     });
 }
 
+/// The fixed binding a key press triggers, if any.
+fn binding_for(key: Key, modifiers: Modifiers) -> Option<&'static Binding> {
+    BINDINGS.iter().find(|b| {
+        b.shortcut.logical_key == key && modifiers.matches_logically(b.shortcut.modifiers)
+    })
+}
+
+/// Whether `key` (unmodified) is taken by the app, so a label cannot use it as its hotkey.
+pub fn is_app_key(key: Key) -> bool {
+    key == Key::Questionmark
+        || Key::from_name(ERASE_HOTKEY) == Some(key)
+        || binding_for(key, Modifiers::NONE).is_some()
+}
+
 /// What a plain key press does to labels: a range label's hotkey starts a paint stroke (ignored
 /// while another stroke is held), an event label's hotkey toggles its event, and Delete starts an
 /// erase stroke. `held` is the key of the stroke in progress.
 fn label_key(schema: &LabelSchema, key: Key, held: &mut Option<Key>) -> Option<Command> {
+    if Key::from_name(ERASE_HOTKEY) == Some(key) {
+        if held.is_some() {
+            return None;
+        }
+        *held = Some(key);
+        return Some(Command::Label(LabelAction::StartErase));
+    }
     let label = schema
         .labels
         .iter()
@@ -228,12 +254,7 @@ fn label_key(schema: &LabelSchema, key: Key, held: &mut Option<Key>) -> Option<C
             *held = Some(key);
             Some(Command::Label(LabelAction::Hotkey(label.name.clone())))
         }
-        Some(_) => None,
-        None if held.is_none() && Key::from_name(ERASE_HOTKEY) == Some(key) => {
-            *held = Some(key);
-            Some(Command::Label(LabelAction::StartErase))
-        }
-        None => None,
+        Some(_) | None => None,
     }
 }
 
@@ -246,9 +267,11 @@ pub fn label_hotkey_rows(
         .iter()
         .filter_map(|l| {
             let key = l.hotkey.clone()?;
-            let what = match l.kind {
-                LabelKind::Range => "hold to paint while stepping or playing",
-                LabelKind::Event => "place or remove the event here",
+            let taken = Key::from_name(&key).is_some_and(is_app_key);
+            let what = match (taken, l.kind) {
+                (true, _) => "taken by the app's own keys: use the Labels tab",
+                (false, LabelKind::Range) => "hold to paint while stepping or playing",
+                (false, LabelKind::Event) => "place or remove the event here",
             };
             Some((key, l.name.clone(), what))
         })
@@ -259,4 +282,32 @@ pub fn label_hotkey_rows(
         "hold to erase while stepping or playing",
     ));
     rows
+}
+
+#[cfg(test)]
+mod tests {
+    use pushlab_core::labels::{LabelDef, Rgb};
+
+    use super::*;
+
+    #[test]
+    fn the_cheat_sheet_marks_label_keys_the_app_already_uses() {
+        let mut schema = LabelSchema::default();
+        for (name, key) in [("pushed", "I"), ("wobble", "Delete"), ("fine", "8")] {
+            let mut label = LabelDef::range(name, Rgb::new(1, 2, 3));
+            label.hotkey = Some(key.to_owned());
+            schema.labels.push(label);
+        }
+        let rows = label_hotkey_rows(&schema);
+        let what = |name: &str| {
+            rows.iter()
+                .find(|(_, label, _)| label == name)
+                .map(|(_, _, what)| *what)
+                .unwrap_or_default()
+        };
+        assert!(what("pushed").contains("taken by the app"));
+        assert!(what("wobble").contains("taken by the app"));
+        assert_eq!(what("fine"), "hold to paint while stepping or playing");
+        assert_eq!(what("contact"), "hold to paint while stepping or playing");
+    }
 }

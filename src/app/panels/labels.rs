@@ -291,14 +291,9 @@ fn metadata_form(
     meta: &RecordingMeta,
     commands: &mut Vec<Command>,
 ) {
-    let mut set = |field: MetaField| {
-        commands.push(Command::Label(LabelAction::Edit(
-            labels::Command::SetMeta {
-                recording: target.recording.clone(),
-                field,
-            },
-        )));
-    };
+    // Edits are collected and sent after the form, in the order made.
+    let mut edits: Vec<LabelAction> = Vec::new();
+    let rec = target.recording.as_str();
     let mut seal = false;
     ui.label("What this recording is:");
     egui::Grid::new("label-meta").num_columns(2).show(ui, |ui| {
@@ -306,7 +301,7 @@ fn metadata_form(
         let mut object = meta.object.clone();
         let response = ui.text_edit_singleline(&mut object).labelled_by(label.id);
         if response.changed() {
-            set(MetaField::Object(object));
+            edits.push(set_meta(rec, MetaField::Object(object)));
         }
         seal |= response.lost_focus();
         ui.end_row();
@@ -315,7 +310,7 @@ fn metadata_form(
         let mut material = meta.material.clone();
         let response = ui.text_edit_singleline(&mut material).labelled_by(label.id);
         if response.changed() {
-            set(MetaField::Material(material));
+            edits.push(set_meta(rec, MetaField::Material(material)));
         }
         seal |= response.lost_focus();
         ui.end_row();
@@ -326,21 +321,30 @@ fn metadata_form(
                 let mut mm = [x * 1e3, y * 1e3];
                 let mut changed = false;
                 for (value, axis) in mm.iter_mut().zip(["x", "y"]) {
-                    changed |= ui
-                        .add(
-                            egui::DragValue::new(value)
-                                .speed(0.5)
-                                .prefix(format!("{axis} "))
-                                .suffix(" mm")
-                                .max_decimals(1),
-                        )
-                        .changed();
+                    let response = ui.add(
+                        egui::DragValue::new(value)
+                            .speed(0.5)
+                            .prefix(format!("{axis} "))
+                            .suffix(" mm")
+                            .max_decimals(1),
+                    );
+                    // A drag of the value is one undo step, like dragging the diamond.
+                    if response.drag_started() {
+                        edits.push(LabelAction::BeginGroup("set the COM label".to_owned()));
+                    }
+                    changed |= response.changed();
+                    if response.drag_stopped() {
+                        edits.push(LabelAction::EndGroup);
+                    }
                 }
                 if changed {
-                    set(MetaField::ComOffset(Some([mm[0] * 1e-3, mm[1] * 1e-3])));
+                    edits.push(set_meta(
+                        rec,
+                        MetaField::ComOffset(Some([mm[0] * 1e-3, mm[1] * 1e-3])),
+                    ));
                 }
                 if ui.small_button("Clear").clicked() {
-                    set(MetaField::ComOffset(None));
+                    edits.push(set_meta(rec, MetaField::ComOffset(None)));
                 }
             }
             None => {
@@ -350,7 +354,7 @@ fn metadata_form(
                     .clicked()
                 {
                     let at = state.theta().map_or([0.0, 0.0], |t| t.com_offset);
-                    set(MetaField::ComOffset(Some(at)));
+                    edits.push(set_meta(rec, MetaField::ComOffset(Some(at))));
                 }
             }
         });
@@ -358,13 +362,13 @@ fn metadata_form(
 
         let label = ui.label("Pushing side");
         if let Some(side) = choose(ui, label.id, meta.push_side, &PushSide::ALL, PushSide::name) {
-            set(MetaField::PushSide(side));
+            edits.push(set_meta(rec, MetaField::PushSide(side)));
         }
         ui.end_row();
 
         let label = ui.label("Split");
         if let Some(split) = choose(ui, label.id, meta.split, &Split::ALL, Split::name) {
-            set(MetaField::Split(split));
+            edits.push(set_meta(rec, MetaField::Split(split)));
         }
         ui.end_row();
 
@@ -374,14 +378,23 @@ fn metadata_form(
             .add(egui::TextEdit::multiline(&mut notes).desired_rows(2))
             .labelled_by(label.id);
         if response.changed() {
-            set(MetaField::Notes(notes));
+            edits.push(set_meta(rec, MetaField::Notes(notes)));
         }
         seal |= response.lost_focus();
         ui.end_row();
     });
     if seal {
-        commands.push(Command::Label(LabelAction::Seal));
+        edits.push(LabelAction::Seal);
     }
+    commands.extend(edits.into_iter().map(Command::Label));
+}
+
+/// The edit that sets one metadata field of `recording`.
+fn set_meta(recording: &str, field: MetaField) -> LabelAction {
+    LabelAction::Edit(labels::Command::SetMeta {
+        recording: recording.to_owned(),
+        field,
+    })
 }
 
 /// Mean losses by label over the frames learned so far: where the model does badly, and whether

@@ -88,7 +88,8 @@ struct Stroke {
     hotkey: String,
 }
 
-/// The hotkey that erases while held (not a schema hotkey, so it cannot collide with a label).
+/// The key that erases while held. It wins over a label given the same hotkey (the cheat-sheet marks
+/// such a label as taken).
 pub const ERASE_HOTKEY: &str = "Delete";
 
 /// The labeling state of the app.
@@ -104,6 +105,9 @@ pub struct Labeling {
     /// In point on the selected recording.
     pub in_point: Option<usize>,
     stroke: Option<Stroke>,
+    /// A mouse drag (the COM label) is one undo step in progress; strokes wait until it ends, since
+    /// a document has one open group at a time.
+    dragging: bool,
 }
 
 impl Labeling {
@@ -196,6 +200,20 @@ impl Labeling {
         let frame = frame.min(target.frames.saturating_sub(1));
         let recording = target.recording.clone();
         match action {
+            LabelAction::Hotkey(_) | LabelAction::StartErase if self.dragging => {
+                return Some("finish the drag first".into());
+            }
+            LabelAction::BeginGroup(_) => {
+                // One undo step for the drag: a stroke in progress ends first.
+                self.end_stroke();
+                self.dragging = true;
+            }
+            LabelAction::EndGroup | LabelAction::Undo | LabelAction::Redo | LabelAction::Reload => {
+                self.dragging = false;
+            }
+            _ => {}
+        }
+        match action {
             LabelAction::Hotkey(label) => {
                 let schema = self.schema_of(target)?;
                 let definition = schema.get(&label)?;
@@ -279,10 +297,14 @@ impl Labeling {
             }),
             LabelAction::Reload => {
                 self.stroke = None;
-                Some(match document.reload() {
+                let message = match document.reload() {
                     Ok(()) => format!("labels reloaded from {}", target.document.display()),
                     Err(e) => e.to_string(),
-                })
+                };
+                // The reloaded document counts its edits afresh.
+                self.autosaves
+                    .insert(target.document.clone(), Autosave::default());
+                Some(message)
             }
             LabelAction::Undo => {
                 self.stroke = None;
@@ -321,6 +343,20 @@ impl Labeling {
         if let Some(document) = self.documents.get_mut(&stroke.target.document) {
             // The label exists (the stroke started with it); nothing to report per frame.
             let _ = document.apply(stroke_command(&stroke, frames));
+        }
+    }
+
+    /// Moves the stroke in progress to `frame` without painting the frames between (a seek, a jump,
+    /// a loop starting over): only `frame` itself is painted.
+    pub fn stroke_jump(&mut self, frame: usize) {
+        let Some(stroke) = &mut self.stroke else {
+            return;
+        };
+        let frame = frame.min(stroke.target.frames.saturating_sub(1));
+        stroke.last = frame;
+        let stroke = stroke.clone();
+        if let Some(document) = self.documents.get_mut(&stroke.target.document) {
+            let _ = document.apply(stroke_command(&stroke, frame..frame + 1));
         }
     }
 
@@ -912,5 +948,113 @@ mod tests {
             on_disk.recording(&target.recording).unwrap().segments.len(),
             1
         );
+    }
+
+    #[test]
+    fn a_stroke_paints_what_was_shown_not_what_a_seek_or_a_loop_jumped_over() {
+        let Some(dir) = copy_of_sample_set("jumps") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        let last = state.timeline.last_frame();
+        // A seek during a stroke paints where it lands, not the frames between.
+        seek(&mut state, 10);
+        label(&mut state, LabelAction::Hotkey("contact".into()));
+        seek(&mut state, 50);
+        state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        label(&mut state, LabelAction::EndStroke);
+        assert_eq!(
+            segments(&state),
+            vec![
+                ("contact".to_owned(), 10..11),
+                ("contact".to_owned(), 50..52)
+            ]
+        );
+        // Looping playback that wraps around paints the end and the start, not everything.
+        state.apply(Command::Timeline(TimelineCommand::SetLoop(true)));
+        seek(&mut state, last - 2);
+        label(&mut state, LabelAction::Hotkey("slipping".into()));
+        state.apply(Command::Timeline(TimelineCommand::TogglePlay));
+        while state.frame() >= last - 2 || state.frame() < 2 {
+            state.advance(0.05);
+        }
+        state.apply(Command::Timeline(TimelineCommand::TogglePlay));
+        label(&mut state, LabelAction::EndStroke);
+        let now = state.frame();
+        let slipping: Vec<_> = segments(&state)
+            .into_iter()
+            .filter(|(l, _)| l == "slipping")
+            .map(|(_, r)| r)
+            .collect();
+        assert_eq!(slipping, vec![0..now + 1, last - 2..last + 1]);
+    }
+
+    #[test]
+    fn a_drag_ends_a_stroke_and_each_is_one_undo_step() {
+        let Some(dir) = copy_of_sample_set("overlap") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        let target = state.label_target().unwrap();
+        seek(&mut state, 5);
+        label(&mut state, LabelAction::Hotkey("contact".into()));
+        state.apply(Command::Timeline(TimelineCommand::Step(2)));
+        // A drag of the COM label starts while the key is still down.
+        label(
+            &mut state,
+            LabelAction::BeginGroup("move the COM label".into()),
+        );
+        assert_eq!(state.labels.stroke_hotkey(), None, "the stroke ended");
+        for x in [0.01, 0.02] {
+            label(
+                &mut state,
+                LabelAction::Edit(pushlab_core::labels::Command::SetMeta {
+                    recording: target.recording.clone(),
+                    field: pushlab_core::labels::MetaField::ComOffset(Some([x, 0.0])),
+                }),
+            );
+        }
+        label(&mut state, LabelAction::Hotkey("sticking".into()));
+        assert!(state.status.as_deref().unwrap().contains("finish the drag"));
+        label(&mut state, LabelAction::EndGroup);
+        label(&mut state, LabelAction::EndStroke);
+        label(&mut state, LabelAction::Undo);
+        assert!(
+            state
+                .status
+                .as_deref()
+                .unwrap()
+                .contains("move the COM label")
+        );
+        label(&mut state, LabelAction::Undo);
+        assert!(
+            state
+                .status
+                .as_deref()
+                .unwrap()
+                .contains("paint \"contact\"")
+        );
+        assert!(segments(&state).is_empty());
+    }
+
+    #[test]
+    fn a_new_model_keeps_the_stroke_the_in_point_and_playback() {
+        let Some(dir) = copy_of_sample_set("restart") else {
+            return;
+        };
+        let mut state = state_on(&dir);
+        seek(&mut state, 4);
+        label(&mut state, LabelAction::SetInPoint);
+        label(&mut state, LabelAction::Hotkey("contact".into()));
+        state.apply(Command::Timeline(TimelineCommand::TogglePlay));
+        // What a finished training run or a loaded model does.
+        state.restart_run_keeping_frame();
+        assert_eq!(state.frame(), 4);
+        assert!(state.timeline.playing);
+        assert_eq!(state.labels.in_point, Some(4));
+        assert_eq!(state.labels.stroke_hotkey(), Some("1"));
+        state.apply(Command::Timeline(TimelineCommand::Step(2)));
+        label(&mut state, LabelAction::EndStroke);
+        assert_eq!(segments(&state), vec![("contact".to_owned(), 4..7)]);
     }
 }

@@ -63,6 +63,17 @@ pub enum Command {
     },
 }
 
+/// How the shown frame changed, which decides what a held paint key covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FrameMove {
+    /// Stepped or played over the frames between.
+    Passed,
+    /// Seeked or jumped: the frames between were not shown.
+    Jumped,
+    /// Looping playback went past the end and on from the first frame.
+    Wrapped,
+}
+
 /// What survives a restart (eframe persistence).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -218,7 +229,15 @@ impl AppState {
             Command::Timeline(c) => {
                 let before = self.timeline.frame();
                 self.timeline.apply(c);
-                self.frame_moved(before);
+                // Stepping passes the frames between; a seek, a jump or a restart from the end
+                // lands on a frame without passing the ones between.
+                let how = match c {
+                    TimelineCommand::Step(_) => FrameMove::Passed,
+                    _ => FrameMove::Jumped,
+                };
+                if self.timeline.frame() != before {
+                    self.frame_moved(before, how);
+                }
             }
             Command::Select(id) => {
                 if self.session.get(id).is_some() {
@@ -341,17 +360,30 @@ impl AppState {
         }
         let before = self.timeline.frame();
         if self.timeline.update(dt) {
-            self.frame_moved(before);
+            let how = if self.timeline.frame() >= before {
+                FrameMove::Passed
+            } else {
+                FrameMove::Wrapped
+            };
+            self.frame_moved(before, how);
         }
         self.timeline.playing || self.session.loading().is_some() || self.training.is_running()
     }
 
     /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames
     /// labelled to skip in training; a held label hotkey paints every frame passed, in either
-    /// direction.
-    fn frame_moved(&mut self, before: usize) {
+    /// direction, but not the frames a seek or a loop's wrap-around jumps over.
+    fn frame_moved(&mut self, before: usize, how: FrameMove) {
         let now = self.timeline.frame();
-        self.labels.stroke_to(now);
+        match how {
+            FrameMove::Passed => self.labels.stroke_to(now),
+            FrameMove::Jumped => self.labels.stroke_jump(now),
+            FrameMove::Wrapped => {
+                self.labels.stroke_to(self.timeline.last_frame());
+                self.labels.stroke_jump(0);
+                self.labels.stroke_to(now);
+            }
+        }
         if self.learn_while_playing && now > before && self.run.is_some() {
             let skip = self.frames_to_skip();
             if let Some(run) = &mut self.run {
@@ -370,10 +402,15 @@ impl AppState {
             .unwrap_or_default()
     }
 
-    /// A fresh timeline and online run for the selected recording.
+    /// A fresh timeline and online run for the selected recording; labeling starts over too (no
+    /// stroke, no in point).
     pub fn start_run(&mut self) {
         self.labels.end_stroke();
         self.labels.in_point = None;
+        self.start_run_keeping_labels();
+    }
+
+    fn start_run_keeping_labels(&mut self) {
         let Some(recording) = self.session.selected_recording() else {
             self.run = None;
             self.timeline = Timeline::new(Vec::new());
@@ -398,11 +435,15 @@ impl AppState {
         };
     }
 
-    /// A fresh online run with the current models, staying at the frame shown.
+    /// A fresh online run with the current models (a model trained or loaded), staying at the frame
+    /// shown, playing on if it was, and keeping a paint stroke and the in point.
     pub fn restart_run_keeping_frame(&mut self) {
-        let frame = self.frame();
-        self.start_run();
+        let (frame, playing) = (self.frame(), self.timeline.playing);
+        self.start_run_keeping_labels();
         self.timeline.apply(TimelineCommand::SeekTo(frame));
+        if playing {
+            self.timeline.apply(TimelineCommand::TogglePlay);
+        }
     }
 
     /// The samples of the recordings chosen for training, one list per recording, at the training

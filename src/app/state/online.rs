@@ -114,16 +114,19 @@ impl OnlineRun {
 
     /// Learns from every frame in `from..to` in order (playing forward with learning on), holding θ
     /// over samples that start or end on a frame flagged in `skip_frames` (one flag per frame; frames
-    /// past its end are not skipped), as `pushlab train` and `eval` leave them out. Frames already
-    /// learned or held are kept, since doing them again would give the same θ bit for bit.
+    /// past its end are not skipped), as `pushlab train` and `eval` leave them out. A frame already
+    /// done the way the flags say (learned, or held where flagged) is kept, since doing it again
+    /// gives the same θ bit for bit; one done the other way (labelled bad tracking after it was
+    /// learned, or the label erased since) is done again, and everything after it is re-learned.
     pub fn learn_through(&mut self, from: usize, to: usize, skip_frames: &[bool]) {
         let to = to.min(self.samples.len());
         for k in from..to {
             let skipped = self.is_skipped(k, skip_frames);
-            if k < self.frontier() && (self.steps[k].is_some() || skipped) {
+            if k < self.frontier() && self.steps[k].is_some() != skipped {
                 continue;
             }
             if skipped {
+                self.truncate_to(k);
                 self.truncate_to(k + 1);
             } else {
                 self.learn_at(k);
@@ -333,5 +336,20 @@ mod tests {
         let before = run.checkpoints().to_vec();
         run.learn_through(10, 40, &skip);
         assert_eq!(run.checkpoints(), &before[..]);
+
+        // Flagging frames that were already learned: playing over them again holds θ there.
+        skip[30..33].fill(true);
+        run.learn_through(0, 40, &skip);
+        for k in 29..33 {
+            assert!(run.steps()[k].is_none(), "frame {k} still learned");
+        }
+        assert!(
+            run.steps()[35].is_some(),
+            "the frames after are learned again"
+        );
+        // And erasing the flags learns them again.
+        skip.fill(false);
+        run.learn_through(0, 40, &skip);
+        assert!(run.steps()[..40].iter().all(Option::is_some));
     }
 }
