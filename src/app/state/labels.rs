@@ -200,7 +200,12 @@ impl Labeling {
         let frame = frame.min(target.frames.saturating_sub(1));
         let recording = target.recording.clone();
         match action {
-            LabelAction::Hotkey(_) | LabelAction::StartErase if self.dragging => {
+            LabelAction::Hotkey(_)
+            | LabelAction::StartErase
+            | LabelAction::Undo
+            | LabelAction::Redo
+                if self.dragging =>
+            {
                 return Some("finish the drag first".into());
             }
             LabelAction::BeginGroup(_) => {
@@ -208,7 +213,7 @@ impl Labeling {
                 self.end_stroke();
                 self.dragging = true;
             }
-            LabelAction::EndGroup | LabelAction::Undo | LabelAction::Redo | LabelAction::Reload => {
+            LabelAction::EndGroup | LabelAction::Reload => {
                 self.dragging = false;
             }
             _ => {}
@@ -1015,6 +1020,8 @@ mod tests {
             );
         }
         label(&mut state, LabelAction::Hotkey("sticking".into()));
+        assert!(state.status.as_deref().unwrap().contains("finish the drag"));
+        label(&mut state, LabelAction::Undo);
         assert!(state.status.as_deref().unwrap().contains("finish the drag"));
         label(&mut state, LabelAction::EndGroup);
         label(&mut state, LabelAction::EndStroke);
