@@ -419,3 +419,55 @@ fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_new_label_added_in_the_app_gets_a_key_paints_and_saves() {
+    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-schema") else {
+        return;
+    };
+    let mut harness = app_on(&dir);
+    harness.get_by_label("Edit labels").click();
+    harness.run_steps(2);
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::TextInput, "New label")
+        .click();
+    harness.run_steps(2);
+    harness.event(egui::Event::Text("wobble".to_owned()));
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    harness.get_by_label("Add label").click();
+    harness.run_steps(2);
+    assert!(shows(&harness, "wobble"), "the palette lists the new label");
+
+    // It got the first free digit, 8: hold it and step.
+    seek(&mut harness, 30);
+    harness.key_down(egui::Key::Num8);
+    harness.run_steps(2);
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run_steps(2);
+    harness.key_up(egui::Key::Num8);
+    harness.run_steps(2);
+    assert!(shows(&harness, "wobble: frames 30–31"));
+
+    // Removing a label still in use is refused, and says so.
+    let removes = harness.query_all_by_label("Remove").count();
+    harness
+        .query_all_by_label("Remove")
+        .nth(removes - 1)
+        .expect("the new label's Remove button")
+        .click();
+    harness.run_steps(2);
+    assert!(shows(&harness, "is used"), "the status says why");
+    assert!(shows(&harness, "wobble: frames 30–31"));
+
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    harness.run_steps(2);
+    let saved = pushlab_core::labels::file::read(&dir.join(LABELS_FILE_NAME)).expect("saved");
+    let wobble = saved
+        .schema
+        .get("wobble")
+        .expect("the schema has the new label");
+    assert_eq!(wobble.hotkey.as_deref(), Some("8"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

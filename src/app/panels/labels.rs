@@ -137,6 +137,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     });
     ui.separator();
     segment_list(ui, &target, schema, labels, commands);
+    super::label_schema::ui(ui, schema, commands);
     ui.separator();
     metadata_form(ui, state, &target, &labels.meta, commands);
     ui.separator();

@@ -6,6 +6,7 @@
 pub mod browser;
 pub mod inspector;
 pub mod label_bands;
+pub mod label_schema;
 pub mod labels;
 pub mod menu;
 pub mod plots;
