@@ -8,7 +8,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use pushlab_core::labels::pipeline::{key_of, labels_file_beside};
+use pushlab_core::labels::pipeline::{frames_to_skip, key_of, labels_file_beside};
 use pushlab_core::labels::{
     self, Autosave, LabelDocument, LabelKind, LabelSchema, RecordingLabels, SaveState,
 };
@@ -136,9 +136,12 @@ impl Labeling {
         self.documents.get(path)
     }
 
-    /// Every open document.
-    pub fn documents(&self) -> impl Iterator<Item = &LabelDocument> {
-        self.documents.values()
+    /// One flag per frame of a target: labelled "skip in training" (bad tracking). All false when
+    /// its labels file is not open.
+    pub fn frames_to_skip(&self, target: &LabelTarget) -> Vec<bool> {
+        self.document(&target.document)
+            .map(|d| frames_to_skip(d.set(), &target.recording, target.frames))
+            .unwrap_or_default()
     }
 
     /// The labels of a target, `None` when it has none (or its file is unreadable).
@@ -333,35 +336,32 @@ impl Labeling {
         }
     }
 
-    /// Extends the stroke in progress to `frame` (called whenever the shown frame moves).
+    /// Extends the stroke in progress to `frame` (called whenever the shown frame moves), painting
+    /// every frame between.
     pub fn stroke_to(&mut self, frame: usize) {
-        let Some(stroke) = &mut self.stroke else {
-            return;
-        };
-        let frame = frame.min(stroke.target.frames.saturating_sub(1));
-        if frame == stroke.last {
-            return;
-        }
-        let frames = stroke.last.min(frame)..stroke.last.max(frame) + 1;
-        stroke.last = frame;
-        let stroke = stroke.clone();
-        if let Some(document) = self.documents.get_mut(&stroke.target.document) {
-            // The label exists (the stroke started with it); nothing to report per frame.
-            let _ = document.apply(stroke_command(&stroke, frames));
-        }
+        self.move_stroke(frame, true);
     }
 
     /// Moves the stroke in progress to `frame` without painting the frames between (a seek, a jump,
     /// a loop starting over): only `frame` itself is painted.
     pub fn stroke_jump(&mut self, frame: usize) {
+        self.move_stroke(frame, false);
+    }
+
+    /// Paints the stroke's label (or erases) at `frame` and, when `passing`, at every frame since
+    /// the last one painted.
+    fn move_stroke(&mut self, frame: usize, passing: bool) {
         let Some(stroke) = &mut self.stroke else {
             return;
         };
         let frame = frame.min(stroke.target.frames.saturating_sub(1));
+        let from = if passing { stroke.last } else { frame };
         stroke.last = frame;
-        let stroke = stroke.clone();
+        let command = stroke_command(stroke, from.min(frame)..from.max(frame) + 1);
         if let Some(document) = self.documents.get_mut(&stroke.target.document) {
-            let _ = document.apply(stroke_command(&stroke, frame..frame + 1));
+            // The label exists (the stroke started with it), and painting a frame twice changes
+            // nothing: there is nothing to report per frame.
+            let _ = document.apply(command);
         }
     }
 
@@ -450,19 +450,18 @@ impl Labeling {
         let Some(document) = self.documents.get_mut(&target.document) else {
             return;
         };
-        let stroke = Stroke {
-            target: target.clone(),
-            label,
-            last: frame,
-            hotkey,
-        };
-        let description = match &stroke.label {
+        let description = match &label {
             Some(label) => format!("paint {label:?} on {}", target.recording),
             None => format!("erase labels on {}", target.recording),
         };
         document.begin_group(&description);
-        let _ = document.apply(stroke_command(&stroke, frame..frame + 1));
-        self.stroke = Some(stroke);
+        self.stroke = Some(Stroke {
+            target: target.clone(),
+            label,
+            last: frame,
+            hotkey,
+        });
+        self.stroke_jump(frame);
     }
 }
 

@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use pushlab_core::labels::Split;
-use pushlab_core::labels::pipeline::frames_to_skip;
+use pushlab_core::labels::pipeline::sample_is_skipped;
 use pushlab_core::learn::{OnlineConfig, OnlineStep};
 use pushlab_core::model::{OnlineParams, Sample, samples_from_trajectory};
 use pushlab_core::model_file::TrainingMetadata;
@@ -395,10 +395,7 @@ impl AppState {
     /// One flag per frame of the selected recording: labelled "skip in training" (bad tracking).
     pub fn frames_to_skip(&self) -> Vec<bool> {
         self.label_target()
-            .and_then(|t| {
-                let document = self.labels.document(&t.document)?;
-                Some(frames_to_skip(document.set(), &t.recording, t.frames))
-            })
+            .map(|t| self.labels.frames_to_skip(&t))
             .unwrap_or_default()
     }
 
@@ -457,15 +454,11 @@ impl AppState {
             .filter_map(|&id| self.session.get(id))
             .map(|r| {
                 let skip = LabelTarget::of(r)
-                    .and_then(|t| {
-                        let document = self.labels.document(&t.document)?;
-                        Some(frames_to_skip(document.set(), &t.recording, t.frames))
-                    })
+                    .map(|t| self.labels.frames_to_skip(&t))
                     .unwrap_or_default();
-                let skipped = |frame: usize| skip.get(frame).copied().unwrap_or(false);
                 samples_from_trajectory(&r.trajectory, horizon)
                     .into_iter()
-                    .filter(|s| !skipped(s.frame) && !skipped(s.frame + horizon.max(1)))
+                    .filter(|s| !sample_is_skipped(&skip, s.frame, horizon))
                     .collect::<Vec<_>>()
             })
             .filter(|samples| !samples.is_empty())

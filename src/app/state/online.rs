@@ -11,6 +11,7 @@
 
 use std::sync::Arc;
 
+use pushlab_core::labels::pipeline::sample_is_skipped;
 use pushlab_core::learn::{OnlineConfig, OnlineModel, OnlineStep};
 use pushlab_core::model::{OnlineParams, Sample, samples_from_trajectory};
 use pushlab_core::trajectory::Trajectory;
@@ -136,8 +137,7 @@ impl OnlineRun {
 
     /// Whether the sample at `frame` touches a frame flagged in `skip_frames`.
     pub fn is_skipped(&self, frame: usize, skip_frames: &[bool]) -> bool {
-        let flagged = |f: usize| skip_frames.get(f).copied().unwrap_or(false);
-        flagged(frame) || flagged(frame + self.horizon)
+        sample_is_skipped(skip_frames, frame, self.horizon)
     }
 
     /// Sets θ at `frame` (a user's steering), forgetting everything learned after it.

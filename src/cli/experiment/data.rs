@@ -9,7 +9,9 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use pushlab_core::labels::pipeline::{frames_to_skip, key_of, labels_file_beside};
+use pushlab_core::labels::pipeline::{
+    frames_to_skip, key_of, labels_file_beside, sample_is_skipped,
+};
 use pushlab_core::labels::{LabelSet, RecordingLabels, Split, file as labels_file};
 use pushlab_core::model::{OnlineParams, Sample, samples_from_trajectory};
 use pushlab_core::recording::{ObjectShape, Recording, load_paths};
@@ -28,11 +30,9 @@ impl Used {
     /// The samples for `horizon`, without those whose start or end frame is skipped (a sample is made
     /// from exactly those two frames).
     pub fn samples(&self, horizon: usize) -> Vec<Sample> {
-        let k = horizon.max(1);
-        let skipped = |frame: usize| self.skip.get(frame).copied().unwrap_or(false);
-        samples_from_trajectory(&self.recording.trajectory, k)
+        samples_from_trajectory(&self.recording.trajectory, horizon)
             .into_iter()
-            .filter(|s| !skipped(s.frame) && !skipped(s.frame + k))
+            .filter(|s| !sample_is_skipped(&self.skip, s.frame, horizon))
             .collect()
     }
 

@@ -103,6 +103,15 @@ pub fn frames_to_skip(set: &LabelSet, recording: &str, frame_count: usize) -> Ve
     mask
 }
 
+/// Whether the sample from `frame` to `frame + horizon` (a horizon of 0 counts as 1) touches a frame
+/// flagged in `frame_mask` (see [`frames_to_skip`]): a sample is made from exactly those two frames,
+/// so training, evaluation and the app's online learning leave it out. Frames past the mask's end
+/// are not flagged.
+pub fn sample_is_skipped(frame_mask: &[bool], frame: usize, horizon: usize) -> bool {
+    let flagged = |f: usize| frame_mask.get(f).copied().unwrap_or(false);
+    flagged(frame) || flagged(frame + horizon.max(1))
+}
+
 /// One flag per transition `k → k+1` (a training sample uses both frames): `true` when either
 /// frame is skipped. One shorter than `frame_mask`.
 pub fn transitions_to_skip(frame_mask: &[bool]) -> Vec<bool> {
@@ -297,6 +306,17 @@ mod tests {
         let transitions = transitions_to_skip(&mask);
         assert_eq!(transitions.len(), 99);
         assert!(transitions[69] && transitions[74] && !transitions[68] && !transitions[75]);
+        // A sample over `horizon` frames is skipped when its start or its end is.
+        let skipped_starts: Vec<usize> = (0..100)
+            .filter(|&k| sample_is_skipped(&mask, k, 10))
+            .collect();
+        assert_eq!(skipped_starts, [60, 61, 62, 63, 64, 70, 71, 72, 73, 74]);
+        assert_eq!(
+            (0..100).filter(|&k| sample_is_skipped(&mask, k, 1)).count(),
+            6,
+            "horizon 1 is the transitions above"
+        );
+        assert!(!sample_is_skipped(&mask, 99, 10), "past the mask's end");
     }
 
     #[test]
