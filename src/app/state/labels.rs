@@ -537,6 +537,25 @@ mod tests {
         state.apply(Command::Timeline(TimelineCommand::SeekTo(frame)));
     }
 
+    /// Paints `label` over `first..=last` with the in and out points, as a user would.
+    fn paint_frames(state: &mut AppState, label_name: &str, first: usize, last: usize) {
+        seek(state, first);
+        label(state, LabelAction::SetInPoint);
+        seek(state, last);
+        label(state, LabelAction::SetActive(label_name.into()));
+        label(state, LabelAction::PaintFromInPoint);
+    }
+
+    /// Forgets what was learned and steps over the first `frames` frames with "Learn while
+    /// playing" on (the default), so that each of them is learned from.
+    fn learn_from_start(state: &mut AppState, frames: usize) {
+        seek(state, 0);
+        state.apply(Command::ResetTheta);
+        for _ in 0..frames {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+    }
+
     fn segments(state: &AppState) -> Vec<(String, std::ops::Range<usize>)> {
         let target = state.label_target().unwrap();
         state
@@ -652,11 +671,7 @@ mod tests {
                 .unwrap_or_default()
         };
         assert_eq!(events(&state), vec![7]);
-        seek(&mut state, 20);
-        label(&mut state, LabelAction::SetInPoint);
-        seek(&mut state, 30);
-        label(&mut state, LabelAction::SetActive("contact".into()));
-        label(&mut state, LabelAction::PaintFromInPoint);
+        paint_frames(&mut state, "contact", 20, 30);
         seek(&mut state, 0);
         let mut visited = Vec::new();
         for _ in 0..4 {
@@ -767,11 +782,7 @@ mod tests {
         state.training.chosen = [selected].into_iter().collect();
         state.training.config.horizon = 2;
         let all = state.training_samples()[0].len();
-        seek(&mut state, 10);
-        label(&mut state, LabelAction::SetInPoint);
-        seek(&mut state, 14);
-        label(&mut state, LabelAction::SetActive("bad tracking".into()));
-        label(&mut state, LabelAction::PaintFromInPoint);
+        paint_frames(&mut state, "bad tracking", 10, 14);
         let kept: Vec<usize> = state.training_samples()[0]
             .iter()
             .map(|s| s.frame)
@@ -787,17 +798,8 @@ mod tests {
             return;
         };
         let mut state = state_on(&dir);
-        seek(&mut state, 20);
-        label(&mut state, LabelAction::SetInPoint);
-        seek(&mut state, 29);
-        label(&mut state, LabelAction::SetActive("sticking".into()));
-        label(&mut state, LabelAction::PaintFromInPoint);
-        // Learn frames 0..40 by stepping forward from the start ("Learn while playing" is on).
-        seek(&mut state, 0);
-        state.apply(Command::ResetTheta);
-        for _ in 0..40 {
-            state.apply(Command::Timeline(TimelineCommand::Step(1)));
-        }
+        paint_frames(&mut state, "sticking", 20, 29);
+        learn_from_start(&mut state, 40);
         let rows = state.loss_by_label();
         assert_eq!(rows[0].label, "all");
         assert_eq!(rows[0].frames, 40);
@@ -844,16 +846,8 @@ mod tests {
             return;
         };
         let mut state = state_on(&dir);
-        seek(&mut state, 30);
-        label(&mut state, LabelAction::SetInPoint);
-        seek(&mut state, 34);
-        label(&mut state, LabelAction::SetActive("bad tracking".into()));
-        label(&mut state, LabelAction::PaintFromInPoint);
-        seek(&mut state, 0);
-        state.apply(Command::ResetTheta);
-        for _ in 0..60 {
-            state.apply(Command::Timeline(TimelineCommand::Step(1)));
-        }
+        paint_frames(&mut state, "bad tracking", 30, 34);
+        learn_from_start(&mut state, 60);
         let skip = state.frames_to_skip();
         let run = state.run.as_ref().unwrap();
         let mut held = 0;
