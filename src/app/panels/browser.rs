@@ -1,9 +1,12 @@
 //! The recordings browser: settings → trajectories with their metadata, split and label count, and
 //! the load problems.
 
-use eframe::egui;
+use std::path::Path;
 
-use crate::app::state::labels::LabelTarget;
+use eframe::egui;
+use pushlab_core::labels::LabelDocument;
+use pushlab_core::labels::pipeline::labels_file_beside;
+
 use crate::app::state::session::RecordingId;
 use crate::app::state::{AppState, Command};
 
@@ -24,6 +27,9 @@ pub fn ui(ui: &mut egui::Ui, state: &mut AppState, commands: &mut Vec<Command>) 
                     .default_open(true)
                     .show(ui, |ui| {
                         setting_metadata(ui, setting);
+                        // The labels file of the folder the last recording came from: a set's
+                        // recordings share one, so it is looked up once per set, not per row.
+                        let mut folder_labels: Option<(&Path, Option<&LabelDocument>)> = None;
                         for (index, recording) in set.recordings.iter().enumerate() {
                             let id = RecordingId {
                                 set: set_index,
@@ -37,8 +43,20 @@ pub fn ui(ui: &mut egui::Ui, state: &mut AppState, commands: &mut Vec<Command>) 
                                 trajectory.len(),
                                 trajectory.duration()
                             );
+                            let folder = recording.source.parent().unwrap_or(Path::new("."));
+                            let document = match folder_labels {
+                                Some((f, document)) if f == folder => document,
+                                _ => {
+                                    let document = state
+                                        .labels
+                                        .document(&labels_file_beside(&recording.source));
+                                    folder_labels = Some((folder, document));
+                                    document
+                                }
+                            };
+                            let key = recording.source.file_name().map(|n| n.to_string_lossy());
                             if let Some(labels) =
-                                LabelTarget::of(recording).and_then(|t| state.labels.labels_of(&t))
+                                document.zip(key).and_then(|(d, key)| d.recording(&key))
                             {
                                 if let Some(split) = labels.meta.split {
                                     label.push_str(&format!("  ·  {}", split.name()));
