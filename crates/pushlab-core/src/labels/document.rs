@@ -476,20 +476,17 @@ impl LabelDocument {
     /// ([`LabelFileError::ChangedOnDisk`]).
     pub fn save(&mut self) -> Result<(), LabelFileError> {
         if let Some(expected) = &self.on_disk {
-            let current = file::current_text(&self.path);
-            let changed = match &current {
-                Ok(text) => text != expected,
-                Err(_) => false,
+            let refused = match file::current_text(&self.path) {
+                Ok(current) if current == *expected => None,
+                Ok(_) => {
+                    self.conflict = true;
+                    Some(LabelFileError::ChangedOnDisk {
+                        path: self.path.clone(),
+                    })
+                }
+                Err(e) => Some(e),
             };
-            if changed {
-                self.conflict = true;
-                let e = LabelFileError::ChangedOnDisk {
-                    path: self.path.clone(),
-                };
-                self.last_save_error = Some(e.to_string());
-                return Err(e);
-            }
-            if let Err(e) = current {
+            if let Some(e) = refused {
                 self.last_save_error = Some(e.to_string());
                 return Err(e);
             }
