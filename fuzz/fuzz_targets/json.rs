@@ -16,7 +16,7 @@ fuzz_target!(|data: &[u8]| {
         assert!(
             frames
                 .iter()
-                .all(|f| f.object.theta.is_finite() && f.robot.x.is_finite())
+                .all(|f| f.object.yaw.is_finite() && f.robot.x.is_finite())
         );
     }
 });

@@ -80,7 +80,7 @@ fn online_step(c: &mut Criterion) {
         let theta = carried.get_or_insert_with(|| model.theta0());
         b.iter(|| {
             i = (i + 1) % samples.len();
-            let step = model.update(black_box(&samples[i]), theta, &config);
+            let step = model.online_step(black_box(&samples[i]), theta, &config);
             *theta = step.theta_after;
             black_box(step)
         })

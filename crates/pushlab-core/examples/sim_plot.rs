@@ -86,7 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             object.h,
             last.object.position.x,
             last.object.position.y,
-            last.object.theta.to_degrees(),
+            last.object.yaw.to_degrees(),
             100.0 * push.sliding_fraction
         );
         // World (x right, y up) to SVG (y down), each case in its own cell.

@@ -17,50 +17,52 @@ use serde::{Deserialize, Serialize};
 pub struct Pose2 {
     /// Position of the object frame's origin in the world, metres.
     pub position: Point2<f64>,
-    /// Yaw of the object's x axis in the world, radians.
-    pub theta: f64,
+    /// Yaw of the object's x axis in the world, radians. (Not `theta`: in this crate `θ` is always
+    /// `θ_online`, the parameters learned online.)
+    #[serde(alias = "theta")]
+    pub yaw: f64,
 }
 
 impl Pose2 {
     /// A pose from its coordinates.
-    pub fn new(x: f64, y: f64, theta: f64) -> Self {
+    pub fn new(x: f64, y: f64, yaw: f64) -> Self {
         Self {
             position: Point2::new(x, y),
-            theta,
+            yaw,
         }
     }
 
     /// The same transform as an `Isometry2`, for callers that compose transforms.
     pub fn world_from_object(&self) -> Isometry2<f64> {
-        Isometry2::new(self.position.coords, self.theta)
+        Isometry2::new(self.position.coords, self.yaw)
     }
 
     /// A point given in the object frame, expressed in the world.
     pub fn point_in_world(&self, point_in_object: Point2<f64>) -> Point2<f64> {
-        self.position + rotate(point_in_object.coords, self.theta)
+        self.position + rotate(point_in_object.coords, self.yaw)
     }
 
     /// A point given in the world, expressed in the object frame.
     pub fn point_in_object(&self, point_in_world: Point2<f64>) -> Point2<f64> {
-        Point2::from(rotate(point_in_world - self.position, -self.theta))
+        Point2::from(rotate(point_in_world - self.position, -self.yaw))
     }
 
     /// A free vector (a motion) given in the object frame, expressed in the world.
     pub fn vector_in_world(&self, vector_in_object: Vector2<f64>) -> Vector2<f64> {
-        rotate(vector_in_object, self.theta)
+        rotate(vector_in_object, self.yaw)
     }
 
     /// A free vector given in the world, expressed in the object frame.
     pub fn vector_in_object(&self, vector_in_world: Vector2<f64>) -> Vector2<f64> {
-        rotate(vector_in_world, -self.theta)
+        rotate(vector_in_world, -self.yaw)
     }
 
     /// The pose reached by moving by `delta_in_object` (expressed in this pose's frame) and turning by
-    /// `delta_theta`: the inverse of [`Pose2::motion_to`].
-    pub fn moved_by(&self, delta_in_object: Vector2<f64>, delta_theta: f64) -> Pose2 {
+    /// `delta_yaw`: the inverse of [`Pose2::motion_to`].
+    pub fn moved_by(&self, delta_in_object: Vector2<f64>, delta_yaw: f64) -> Pose2 {
         Pose2 {
             position: self.position + self.vector_in_world(delta_in_object),
-            theta: self.theta + delta_theta,
+            yaw: self.yaw + delta_yaw,
         }
     }
 
@@ -69,7 +71,7 @@ impl Pose2 {
     pub fn motion_to(&self, later: &Pose2) -> (Vector2<f64>, f64) {
         (
             self.vector_in_object(later.position - self.position),
-            wrap_angle(later.theta - self.theta),
+            wrap_angle(later.yaw - self.yaw),
         )
     }
 }
@@ -388,10 +390,10 @@ mod tests {
     fn motion_to_and_moved_by_are_inverse() {
         let a = Pose2::new(0.1, 0.2, 3.0);
         let b = Pose2::new(0.15, 0.18, 3.5);
-        let (d, dtheta) = a.motion_to(&b);
-        let c = a.moved_by(d, dtheta);
+        let (d, dyaw) = a.motion_to(&b);
+        let c = a.moved_by(d, dyaw);
         assert!((c.position - b.position).norm() < 1e-15);
-        assert!(close(c.theta, b.theta, 1e-12));
+        assert!(close(c.yaw, b.yaw, 1e-12));
     }
 
     #[test]

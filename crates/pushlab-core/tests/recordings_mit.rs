@@ -274,7 +274,7 @@ fn triangle_poses_move_to_the_footprint_centroid() {
                 (frame.object.position - expected).norm() < 1e-7,
                 "{ext} t={t}"
             );
-            assert!((frame.object.theta - yaw).abs() < 1e-6);
+            assert!((frame.object.yaw - yaw).abs() < 1e-6);
             assert!((frame.robot - Point2::new(0.25 + 0.02 * t, 0.01)).norm() < 1e-7);
         }
         // Grid: 4 ms steps over the overlap of tip and object streams.
@@ -321,7 +321,7 @@ fn defects_are_reported_with_numbers() {
         .trajectory
         .frames
         .iter()
-        .map(|f| f.object.theta)
+        .map(|f| f.object.yaw)
         .collect();
     assert!(
         thetas.windows(2).all(|w| (w[1] - w[0]).abs() < 0.01),

@@ -40,7 +40,7 @@ fn check_promises(trajectory: &Trajectory, what: &str) {
             f.robot.y,
             f.object.position.x,
             f.object.position.y,
-            f.object.theta
+            f.object.yaw
         ]
         .iter()
         .all(|v| v.is_finite())),
@@ -49,7 +49,7 @@ fn check_promises(trajectory: &Trajectory, what: &str) {
     assert!(
         frames
             .windows(2)
-            .all(|w| (w[1].object.theta - w[0].object.theta).abs() <= std::f64::consts::PI),
+            .all(|w| (w[1].object.yaw - w[0].object.yaw).abs() <= std::f64::consts::PI),
         "{what}: theta not unwrapped"
     );
 }

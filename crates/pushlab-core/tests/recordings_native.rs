@@ -87,7 +87,7 @@ fn write_then_read_gives_bit_identical_values_and_keeps_unknown_keys() {
                     f.robot.y,
                     f.object.position.x,
                     f.object.position.y,
-                    f.object.theta,
+                    f.object.yaw,
                 ]
                 .map(f64::to_bits)
             };
@@ -138,7 +138,7 @@ fn write_refuses_what_the_reader_would_refuse() {
     assert!(matches!(err, WriteError::BadFileName(_)), "{err}");
 
     let mut t = trajectory(1.0, 5);
-    t.frames[3].object.theta = f64::NAN;
+    t.frames[3].object.yaw = f64::NAN;
     let err = write_set(&dir, &setting(&["a.csv"]), &[t]).unwrap_err();
     assert_eq!(
         err.to_string(),
@@ -216,7 +216,7 @@ fn csv_accepts_crlf_bom_spaces_and_unwraps_theta_with_a_warning() {
         .trajectory
         .frames
         .iter()
-        .map(|f| f.object.theta)
+        .map(|f| f.object.yaw)
         .collect();
     assert_eq!(thetas[0], 3.1);
     assert!(

@@ -125,9 +125,9 @@ fn mirrored_pushes_give_mirrored_motion() {
         for (fa, fb) in a.truth.frames.iter().zip(&b.truth.frames) {
             assert!((fa.object.position.x - fb.object.position.x).abs() < 1e-9);
             assert!((fa.object.position.y + fb.object.position.y).abs() < 1e-9);
-            assert!((fa.object.theta + fb.object.theta).abs() < 1e-9);
+            assert!((fa.object.yaw + fb.object.yaw).abs() < 1e-9);
             assert!((fa.robot.y + fb.robot.y).abs() < 1e-9);
-            turned = turned.max(fa.object.theta.abs());
+            turned = turned.max(fa.object.yaw.abs());
         }
         assert!(
             turned > 0.05,
@@ -164,9 +164,9 @@ fn the_pusher_never_penetrates_during_a_long_turning_push() {
     }
     assert!(worst >= -1e-10, "overlap {}", -worst);
     assert!(
-        world.world_from_object().theta.abs() > 0.5,
+        world.world_from_object().yaw.abs() > 0.5,
         "turned only {}",
-        world.world_from_object().theta
+        world.world_from_object().yaw
     );
     assert!(
         pressing > 6_000 && sliding > 100,
@@ -268,7 +268,7 @@ fn a_push_right_of_the_com_turns_the_object_counter_clockwise() {
     let start = Pose2::new(0.0, 0.0, 0.0);
     let right = straight_push(&object, PushSide::Front, -0.1, 0.0, start);
     let left = straight_push(&object, PushSide::Front, 0.1, 0.0, start);
-    let theta = |p: &pushlab_core::sim::SimulatedPush| p.truth.frames.last().unwrap().object.theta;
+    let theta = |p: &pushlab_core::sim::SimulatedPush| p.truth.frames.last().unwrap().object.yaw;
     assert!(
         theta(&right) > 0.1,
         "right push turned by {}",

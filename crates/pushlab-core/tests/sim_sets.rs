@@ -105,7 +105,7 @@ fn the_committed_sample_data_is_what_the_spec_generates() {
             // Rounded to 1 µm: allow one unit for a last-bit difference of another platform's libm.
             let d = (a.object.position - b.object.position).norm()
                 + (a.robot - b.robot).norm()
-                + (a.object.theta - b.object.theta).abs();
+                + (a.object.yaw - b.object.yaw).abs();
             assert!(
                 d < 5e-6,
                 "{}: frame at {} s differs by {d}",
@@ -184,7 +184,7 @@ fn tracking_noise_has_the_requested_spread() {
     let (mut sx, mut st) = (0.0, 0.0);
     for (noisy, truth) in push.trajectory.frames.iter().zip(&push.truth.frames) {
         sx += (noisy.object.position.x - truth.object.position.x).powi(2);
-        st += (noisy.object.theta - truth.object.theta).powi(2);
+        st += (noisy.object.yaw - truth.object.yaw).powi(2);
         assert_eq!(noisy.time, truth.time);
     }
     let (sd_x, sd_theta) = ((sx / n).sqrt(), (st / n).sqrt());

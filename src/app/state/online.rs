@@ -1,6 +1,6 @@
 //! One online-learning run along the selected trajectory, with a checkpoint of `θ_online` per frame.
 //!
-//! The learning itself is `OnlineModel::update` from pushlab-core, a pure function of (sample, θ,
+//! The learning itself is `OnlineModel::online_step` from pushlab-core, a pure function of (sample, θ,
 //! config); this module only decides *which* frames are learned from and remembers θ at every frame,
 //! so that scrubbing back restores the exact `θ_online(t)` and playing on re-learns deterministically.
 //!
@@ -45,7 +45,7 @@ impl OnlineRun {
         let theta0 = model.theta0();
         let fixed = samples
             .iter()
-            .map(|s| model.update(s, &theta0, &OnlineConfig::fixed()))
+            .map(|s| model.online_step(s, &theta0, &OnlineConfig::fixed()))
             .collect();
         Self {
             model,
@@ -109,7 +109,7 @@ impl OnlineRun {
         let sample = self.sample(frame)?;
         Some(
             self.model
-                .update(sample, &self.theta_at(frame), &OnlineConfig::fixed()),
+                .online_step(sample, &self.theta_at(frame), &OnlineConfig::fixed()),
         )
     }
 
@@ -154,7 +154,7 @@ impl OnlineRun {
         self.truncate_to(frame);
         let step = self
             .model
-            .update(&sample, &self.checkpoints[frame], &self.config);
+            .online_step(&sample, &self.checkpoints[frame], &self.config);
         self.checkpoints[frame] = step.theta_after;
         Some(step)
     }
@@ -187,7 +187,7 @@ impl OnlineRun {
         self.truncate_to(frame);
         let step = self
             .model
-            .update(&sample, &self.checkpoints[frame], &self.config);
+            .online_step(&sample, &self.checkpoints[frame], &self.config);
         self.steps.push(Some(step));
         self.checkpoints.push(step.theta_after);
     }

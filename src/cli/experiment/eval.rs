@@ -366,7 +366,7 @@ fn offline_losses(
         pure_nn: Vec::new(),
     };
     for s in samples.iter().flatten() {
-        let prediction = combined.update(s, &theta0, &fixed).prediction;
+        let prediction = combined.online_step(s, &theta0, &fixed).prediction;
         losses
             .combined
             .push(Loss::of(&prediction.motion, &s.target, scale));
@@ -407,7 +407,8 @@ impl<'a> OnlineRun<'a> {
         };
         for s in samples {
             run.frames.push(s.frame);
-            run.fixed.push(model.update(s, &theta0, &fixed_config).loss);
+            run.fixed
+                .push(model.online_step(s, &theta0, &fixed_config).loss);
             run.online.push(learner.step(s).loss);
         }
         run.theta_end = learner.theta();

@@ -71,9 +71,16 @@ pub trait OnlineModel {
         theta: &OnlineParams,
     ) -> (Prediction, Loss, [f64; 3]);
 
-    /// One online step: predict with `theta`, then `config.steps` gradient-descent steps on
-    /// `θ_online / L` with learning rate `config.lr`, keeping `h` in range.
-    fn update(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
+    /// What one online step from `theta` gives: the prediction with `theta`, its loss and gradient,
+    /// and `θ_online` after `config.steps` gradient-descent steps on `θ_online / s` with learning rate
+    /// `config.lr`, keeping `h` in range. A pure function: nothing is changed, the caller decides
+    /// whether to take `theta_after` (as [`OnlineLearner::step`] does).
+    fn online_step(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+        config: &OnlineConfig,
+    ) -> OnlineStep {
         let theta_before = theta.clamped();
         let (prediction, loss, gradient) = self.loss_and_gradient(sample, &theta_before);
         let scales = self.theta_scales();
@@ -126,12 +133,17 @@ impl<T: Real> OnlineModel for CombinedModel<T> {
         sample: &Sample,
         theta: &OnlineParams,
     ) -> (Prediction, Loss, [f64; 3]) {
-        let step = self.update(sample, theta, &OnlineConfig::fixed());
+        let step = self.online_step(sample, theta, &OnlineConfig::fixed());
         (step.prediction, step.loss, step.gradient)
     }
 
     /// The fast path: the whole update runs in the model's float type without allocating.
-    fn update(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
+    fn online_step(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+        config: &OnlineConfig,
+    ) -> OnlineStep {
         let real = RealSample::<T>::of(sample);
         let theta_before = theta.clamped();
         let (prediction, gradient, theta_after) =
@@ -185,8 +197,8 @@ macro_rules! forward_online_model {
             fn loss_and_gradient(&self, sample: &Sample, theta: &OnlineParams) -> (Prediction, Loss, [f64; 3]) {
                 (**self).loss_and_gradient(sample, theta)
             }
-            fn update(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
-                (**self).update(sample, theta, config)
+            fn online_step(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
+                (**self).online_step(sample, theta, config)
             }
         }
     )*};
@@ -247,7 +259,7 @@ impl<M: OnlineModel> OnlineLearner<M> {
 
     /// Predicts for `sample` with `θ_online(t)`, records the loss, then learns from its outcome.
     pub fn step(&mut self, sample: &Sample) -> OnlineStep {
-        let step = self.model.update(sample, &self.theta, &self.config);
+        let step = self.model.online_step(sample, &self.theta, &self.config);
         self.theta = step.theta_after;
         step
     }
@@ -255,7 +267,7 @@ impl<M: OnlineModel> OnlineLearner<M> {
     /// Predicts and scores `sample` with `θ_online(t)` without learning (the "fixed" run).
     pub fn evaluate(&self, sample: &Sample) -> OnlineStep {
         self.model
-            .update(sample, &self.theta, &OnlineConfig::fixed())
+            .online_step(sample, &self.theta, &OnlineConfig::fixed())
     }
 
     /// Runs [`OnlineLearner::step`] over a trajectory's samples.

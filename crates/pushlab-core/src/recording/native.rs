@@ -124,7 +124,7 @@ pub fn parse_csv(bytes: &[u8], path: &Path) -> Result<ParsedCsv, LoadError> {
     let wraps = unwrap_angles(&mut thetas);
     if wraps > 0 {
         for (frame, theta) in frames.iter_mut().zip(&thetas) {
-            frame.object.theta = *theta;
+            frame.object.yaw = *theta;
         }
         warnings.push(format!(
             "object_theta jumps by more than π {wraps} time(s) (wrapped angles); unwrapped on loading"
@@ -408,7 +408,7 @@ fn check_trajectory(trajectory: &Trajectory) -> Result<(), (usize, String)> {
             f.robot.y,
             f.object.position.x,
             f.object.position.y,
-            f.object.theta,
+            f.object.yaw,
         ];
         if let Some(c) = values.iter().position(|v| !v.is_finite()) {
             return Err((
@@ -435,7 +435,7 @@ fn csv_bytes(trajectory: &Trajectory) -> Vec<u8> {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{}",
-            f.time, f.robot.x, f.robot.y, f.object.position.x, f.object.position.y, f.object.theta
+            f.time, f.robot.x, f.robot.y, f.object.position.x, f.object.position.y, f.object.yaw
         );
     }
     s.into_bytes()

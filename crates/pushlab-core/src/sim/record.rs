@@ -125,7 +125,7 @@ pub fn simulate_push(
                     robot,
                     object: Pose2 {
                         position,
-                        theta: f.object.theta + rng.normal() * noise.yaw_sd,
+                        yaw: f.object.yaw + rng.normal() * noise.yaw_sd,
                     },
                 }
             })

@@ -439,7 +439,7 @@ fn rounded(trajectory: Trajectory) -> Trajectory {
                 object: Pose2::new(
                     round(f.object.position.x, 1e6),
                     round(f.object.position.y, 1e6),
-                    round(f.object.theta, 1e6),
+                    round(f.object.yaw, 1e6),
                 ),
             })
             .collect(),

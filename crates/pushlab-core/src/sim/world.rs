@@ -91,7 +91,7 @@ impl PushWorld {
         }
         let world_from_com = Pose2 {
             position: world_from_object.point_in_world(Point2::from(object.com_offset)),
-            theta: world_from_object.theta,
+            yaw: world_from_object.yaw,
         };
         let world = Self {
             object,
@@ -111,7 +111,7 @@ impl PushWorld {
             position: self
                 .world_from_com
                 .point_in_world(Point2::from(-self.object.com_offset)),
-            theta: self.world_from_com.theta,
+            yaw: self.world_from_com.yaw,
         }
     }
 
