@@ -159,8 +159,13 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     let state = &harness.state().state;
     let status = state.status.clone().unwrap_or_default();
     assert!(
-        status.contains("training finished after 3 epochs"),
+        status.contains("training the contact model finished after 3 epochs"),
         "{status}"
+    );
+    assert_eq!(
+        state.models.kind(),
+        Some(pushlab_core::model::ModelKind::Contact),
+        "the Train tab trains the default kind"
     );
     assert_eq!(
         state.training.history.len(),
@@ -226,7 +231,7 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
     });
     let state = &harness.state().state;
     let status = state.status.clone().unwrap_or_default();
-    assert!(status.contains("training cancelled"), "{status}");
+    assert!(status.contains("model cancelled"), "{status}");
     assert!(state.training.history.len() < 10_000);
     assert_eq!(
         state.models.source.as_deref(),
@@ -335,4 +340,48 @@ fn exporting_the_scene_and_the_plots_writes_pngs_of_their_regions() {
         assert!(colours.len() > 20, "{name} has {} colours", colours.len());
     }
     let _ = std::fs::remove_dir_all(&scratch);
+}
+
+#[test]
+fn the_train_tab_offers_every_model_kind_and_the_app_shows_which_is_loaded() {
+    let Some(set) = common::sample_set("box1-paper-center-front") else {
+        return;
+    };
+    let mut harness = app_on(std::slice::from_ref(&set));
+    harness.get_by_label("Train").click();
+    harness.run_steps(2);
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::ComboBox, "Model kind")
+        .click();
+    harness.run_steps(2);
+    harness.get_by_label("paper").click();
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.training.kind,
+        pushlab_core::model::ModelKind::Paper
+    );
+    harness.get_by_label("Labelled offline").click();
+    harness.run_steps(1);
+    harness.state_mut().state.training.config.epochs = 2;
+    harness
+        .query_all_by_label("Train")
+        .last()
+        .expect("the Train button")
+        .click();
+    harness.run_steps(1);
+    run_until(&mut harness, "training to finish", |app| {
+        !app.state.training.is_running()
+    });
+    assert_eq!(
+        harness.state().state.models.kind(),
+        Some(pushlab_core::model::ModelKind::Paper)
+    );
+    harness.run_steps(2);
+    assert!(
+        harness
+            .query_all_by_label_contains("In use: the paper model")
+            .next()
+            .is_some(),
+        "the Train tab says which kind is loaded"
+    );
 }

@@ -126,7 +126,7 @@ pub fn default_model_path() -> Option<PathBuf> {
 /// Loads a model file and restarts online learning with it.
 pub fn load_model(state: &mut AppState, path: &Path) -> anyhow::Result<()> {
     let file = ModelFile::load(path)?;
-    state.models.combined = Some(Arc::new(file.combined));
+    state.models.combined = Some(file.combined);
     state.models.pure_nn = file.pure_nn.map(Arc::new);
     state.models.training = file.training;
     state.models.source = Some(path.display().to_string());
@@ -139,7 +139,7 @@ pub fn save_model(state: &AppState, path: &Path) -> anyhow::Result<()> {
     let combined = state
         .models
         .combined
-        .as_deref()
+        .as_ref()
         .context("no trained model to save: train one or load a model file first")?;
     let file = ModelFile {
         combined: combined.clone(),

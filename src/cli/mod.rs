@@ -41,6 +41,9 @@ enum Command {
     Train(experiment::train::TrainArgs),
     /// Reproduce the paper's tables: offline, fixed and online NMSE; optional JSON report and figure.
     Eval(Box<experiment::eval::EvalArgs>),
+    /// Run a list of experiments (a JSON spec) for every model kind and physics only, in parallel,
+    /// into one table.
+    Suite(experiment::suite::SuiteArgs),
 }
 
 /// Exit code for wrong arguments, as documented in the README.
@@ -68,6 +71,7 @@ pub fn run() -> ExitCode {
         Some(Command::Validate(args)) => validate::run(&args),
         Some(Command::Train(args)) => experiment::exit_code(experiment::train::run(&args)),
         Some(Command::Eval(args)) => experiment::exit_code(experiment::eval::run(&args)),
+        Some(Command::Suite(args)) => experiment::exit_code(experiment::suite::run(&args)),
         Some(Command::Simulate(args)) => match simulate::run(&args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(err) => {

@@ -1,13 +1,24 @@
-//! Speed of the model: one prediction, one online step (predict + 5 gradient steps) and one epoch of
+//! Speed of the models: one prediction, one online step (predict + 5 gradient steps) and one epoch of
 //! offline training. Run with `cargo bench -p pushlab-core --bench model`.
+//!
+//! - `predict`, `online_step`: the contact-frame model (the default kind) on a box;
+//! - `predict_64gon`, `online_step_64gon`: the same on a 64-gon (an ellipse outline);
+//! - `paper/predict`, `paper/online_step`: the paper's model;
+//! - `train/train_epoch` (the paper's model) and `train/train_epoch_contact`.
 
 use std::hint::black_box;
-use std::sync::OnceLock;
 use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, OnceLock};
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use pushlab_core::learn::{OnlineConfig, OnlineModel, TrainConfig, train_combined};
-use pushlab_core::model::{CombinedModel, ObjectMotion, OnlineParams, Sample, SampleInput, lynch};
+use nalgebra::Point2;
+use pushlab_core::geometry::Outline;
+use pushlab_core::learn::{
+    ContactTrajectory, OnlineConfig, OnlineModel, TrainConfig, train_contact, train_paper,
+};
+use pushlab_core::model::{
+    CombinedModel, ContactGeometry, ObjectMotion, OnlineParams, Sample, SampleInput, lynch,
+};
 use pushlab_core::rng::SplitMix64;
 
 /// Front-face pushes on a 0.3 × 0.4 m box by a 0.05 m disc, moved by Lynch's model: realistic input
@@ -40,28 +51,102 @@ fn synthetic_trajectories(count: usize, length: usize, seed: u64) -> Vec<Vec<Sam
         .collect()
 }
 
-fn trained_model() -> (CombinedModel, Vec<Sample>) {
-    let data = synthetic_trajectories(20, 100, 1);
-    let config = TrainConfig {
+fn box_geometry() -> Arc<ContactGeometry> {
+    Arc::new(ContactGeometry::new(
+        &Outline::rectangle(0.3, 0.4).expect("valid box"),
+        0.05,
+    ))
+}
+
+/// The samples of `synthetic_trajectories` moved onto a 64-gon approximating an ellipse of the box's
+/// size: the pusher is put just outside the outline at the same height.
+fn on_64gon(data: &[Vec<Sample>]) -> (Arc<ContactGeometry>, Vec<Sample>) {
+    let outline = Outline::ellipse(Point2::origin(), 0.15, 0.2, 64).expect("valid 64-gon");
+    let geometry = Arc::new(ContactGeometry::new(&outline, 0.05));
+    let samples = data
+        .iter()
+        .flatten()
+        .map(|s| {
+            let y = s.input.robot_in_object[1].clamp(-0.19, 0.19);
+            let x = -0.15 * (1.0 - (y / 0.2).powi(2)).sqrt() - 0.05;
+            Sample {
+                input: SampleInput {
+                    robot_in_object: [x, y],
+                    ..s.input
+                },
+                ..*s
+            }
+        })
+        .collect();
+    (geometry, samples)
+}
+
+fn config() -> TrainConfig {
+    TrainConfig {
         epochs: 5,
         theta0: Some(OnlineParams {
             com_offset: [0.0, 0.0],
             h: 0.1,
         }),
         ..TrainConfig::default()
-    };
-    let trained = train_combined(&data, &config, &mut |_| {}, &AtomicBool::new(false))
-        .expect("synthetic data trains");
-    (trained.model, data.into_iter().flatten().collect())
+    }
 }
 
-/// The trained model, trained on first use: a run filtered to another benchmark does not train it.
-static TRAINED: OnceLock<(CombinedModel, Vec<Sample>)> = OnceLock::new();
+/// Learners of trained models and the samples they run on: the contact model on a box and on a
+/// 64-gon, and the paper model. Trained on first use: a run filtered to another benchmark does not
+/// train them.
+struct Trained {
+    contact_box: Learner,
+    contact_64gon: Learner,
+    paper: Learner,
+    samples: Vec<Sample>,
+    samples_64gon: Vec<Sample>,
+}
 
-fn predict(c: &mut Criterion) {
+static TRAINED: OnceLock<Trained> = OnceLock::new();
+
+/// A learner shared between benchmarks.
+type Learner = Arc<dyn OnlineModel + Send + Sync>;
+/// Which learner and samples a benchmark runs.
+type Pick = fn(&Trained) -> (&Learner, &[Sample]);
+
+fn trained() -> &'static Trained {
+    TRAINED.get_or_init(|| {
+        let data = synthetic_trajectories(20, 100, 1);
+        let no = AtomicBool::new(false);
+        let geometry = box_geometry();
+        let trajectories: Vec<ContactTrajectory> = data
+            .iter()
+            .map(|samples| ContactTrajectory {
+                geometry: &geometry,
+                samples,
+            })
+            .collect();
+        let contact = CombinedModel::Contact(Arc::new(
+            train_contact(&trajectories, &config(), &mut |_| {}, &no)
+                .expect("synthetic data trains")
+                .model,
+        ));
+        let paper = CombinedModel::Paper(Arc::new(
+            train_paper(&data, &config(), &mut |_| {}, &no)
+                .expect("synthetic data trains")
+                .model,
+        ));
+        let (gon, samples_64gon) = on_64gon(&data);
+        Trained {
+            contact_box: contact.learner(Some(&geometry)).expect("outline"),
+            contact_64gon: contact.learner(Some(&gon)).expect("outline"),
+            paper: paper.learner(None).expect("no outline needed"),
+            samples: data.into_iter().flatten().collect(),
+            samples_64gon,
+        }
+    })
+}
+
+fn bench_predict(c: &mut Criterion, name: &str, pick: Pick) {
     let mut i = 0;
-    c.bench_function("predict", |b| {
-        let (model, samples) = TRAINED.get_or_init(trained_model);
+    c.bench_function(name, |b| {
+        let (model, samples) = pick(trained());
         let theta = model.theta0();
         b.iter(|| {
             i = (i + 1) % samples.len();
@@ -70,13 +155,13 @@ fn predict(c: &mut Criterion) {
     });
 }
 
-fn online_step(c: &mut Criterion) {
+fn bench_online_step(c: &mut Criterion, name: &str, pick: Pick) {
     let config = OnlineConfig::default();
     let mut i = 0;
     // θ carries over from one batch of iterations to the next, as along a real trajectory.
     let mut carried = None;
-    c.bench_function("online_step", |b| {
-        let (model, samples) = TRAINED.get_or_init(trained_model);
+    c.bench_function(name, |b| {
+        let (model, samples) = pick(trained());
         let theta = carried.get_or_insert_with(|| model.theta0());
         b.iter(|| {
             i = (i + 1) % samples.len();
@@ -87,24 +172,45 @@ fn online_step(c: &mut Criterion) {
     });
 }
 
+fn predict(c: &mut Criterion) {
+    bench_predict(c, "predict", |t| (&t.contact_box, &t.samples));
+    bench_predict(c, "predict_64gon", |t| (&t.contact_64gon, &t.samples_64gon));
+    bench_predict(c, "paper/predict", |t| (&t.paper, &t.samples));
+}
+
+fn online_step(c: &mut Criterion) {
+    bench_online_step(c, "online_step", |t| (&t.contact_box, &t.samples));
+    bench_online_step(c, "online_step_64gon", |t| {
+        (&t.contact_64gon, &t.samples_64gon)
+    });
+    bench_online_step(c, "paper/online_step", |t| (&t.paper, &t.samples));
+}
+
 fn train_epoch(c: &mut Criterion) {
     let data = synthetic_trajectories(250, 100, 2);
     let samples: usize = data.iter().map(Vec::len).sum();
     let config = TrainConfig {
         epochs: 1,
         validation_fraction: 0.0,
-        theta0: Some(OnlineParams {
-            com_offset: [0.0, 0.0],
-            h: 0.1,
-        }),
-        ..TrainConfig::default()
+        ..config()
     };
     let cancel = AtomicBool::new(false);
+    let geometry = box_geometry();
+    let trajectories: Vec<ContactTrajectory> = data
+        .iter()
+        .map(|samples| ContactTrajectory {
+            geometry: &geometry,
+            samples,
+        })
+        .collect();
     let mut group = c.benchmark_group("train");
     group.throughput(Throughput::Elements(samples as u64));
     group.sample_size(20);
     group.bench_function("train_epoch", |b| {
-        b.iter(|| black_box(train_combined(&data, &config, &mut |_| {}, &cancel)))
+        b.iter(|| black_box(train_paper(&data, &config, &mut |_| {}, &cancel)))
+    });
+    group.bench_function("train_epoch_contact", |b| {
+        b.iter(|| black_box(train_contact(&trajectories, &config, &mut |_| {}, &cancel)))
     });
     group.finish();
 }

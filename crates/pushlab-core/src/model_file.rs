@@ -1,14 +1,14 @@
 //! Model files: a trained combined model (and optionally its pure-network baseline) as versioned JSON.
 //!
 //! ```json
-//! { "format": "pushlab-model", "version": 1,
-//!   "combined": { "network": [692 numbers], "normalization": {...}, "theta0": {"com_offset": [x, y], "h": h},
-//!                 "loss_scale": {...}, "horizon": k },
+//! { "format": "pushlab-model", "version": 2, "kind": "contact" | "paper",
+//!   "combined": { ...the kind's data: "network": [numbers], normalisation, "loss_scale", "horizon"… },
 //!   "pure_nn": { ... } | null,
 //!   "training": { "report": {...}, "sources": ["path", ...], "pushlab_version": "0.1.0" } }
 //! ```
-//! Files are written atomically (a temporary file in the same folder, then a rename), so a crash never
-//! leaves half a model behind.
+//! Version 1 files (before model kinds) have no `kind` and open as `paper`. Files are written
+//! atomically (a temporary file in the same folder, then a rename), so a crash never leaves half a
+//! model behind.
 
 use std::path::{Path, PathBuf};
 
@@ -16,12 +16,14 @@ use serde::{Deserialize, Serialize};
 
 use crate::atomic_file::write_atomically;
 use crate::learn::TrainingReport;
-use crate::model::{CombinedModel, PureNnModel};
+use std::sync::Arc;
+
+use crate::model::{CombinedModel, ContactModel, ModelKind, PaperModel, PureNnModel};
 
 /// The `format` field of every model file.
 pub const FORMAT: &str = "pushlab-model";
-/// The version this pushlab writes and reads.
-pub const VERSION: u32 = 1;
+/// The version this pushlab writes; it reads this one and every older one.
+pub const VERSION: u32 = 2;
 
 /// Where a model came from.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -49,10 +51,11 @@ pub struct ModelFile {
 }
 
 #[derive(Serialize)]
-struct OnDiskRef<'a> {
+struct OnDiskRef<'a, C> {
     format: &'a str,
     version: u32,
-    combined: &'a CombinedModel,
+    kind: ModelKind,
+    combined: &'a C,
     pure_nn: Option<&'a PureNnModel>,
     training: &'a TrainingMetadata,
 }
@@ -61,16 +64,20 @@ struct OnDiskRef<'a> {
 struct Header {
     format: Option<String>,
     version: Option<serde_json::Value>,
+    kind: Option<serde_json::Value>,
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct OnDisk {
+#[serde(deny_unknown_fields, bound = "C: serde::de::DeserializeOwned")]
+struct OnDisk<C> {
     #[allow(dead_code)]
     format: String,
     #[allow(dead_code)]
     version: u32,
-    combined: CombinedModel,
+    #[allow(dead_code)]
+    #[serde(default)]
+    kind: Option<ModelKind>,
+    combined: C,
     #[serde(default)]
     pure_nn: Option<PureNnModel>,
     #[serde(default)]
@@ -90,9 +97,13 @@ pub enum ModelFileError {
     )]
     NotAModel { path: PathBuf, found: String },
     #[error(
-        "{path}: model file version {found}, but this pushlab reads version {VERSION}; retrain the model or use a matching pushlab"
+        "{path}: model file version {found}, but this pushlab reads versions 1 to {VERSION}; it was written by a newer pushlab (update pushlab) or is not a model file"
     )]
     WrongVersion { path: PathBuf, found: String },
+    #[error(
+        "{path}: \"kind\" is {found}, expected one of \"contact\", \"paper\" (written by a newer pushlab?)"
+    )]
+    UnknownKind { path: PathBuf, found: String },
     #[error("{path}: line {line}, column {column}: {message}")]
     Malformed {
         path: PathBuf,
@@ -109,13 +120,26 @@ impl ModelFile {
             path: path.to_owned(),
             source,
         };
-        let json = serde_json::to_vec_pretty(&OnDiskRef {
-            format: FORMAT,
-            version: VERSION,
-            combined: &self.combined,
-            pure_nn: self.pure_nn.as_ref(),
-            training: &self.training,
-        })
+        let kind = self.combined.kind();
+        let (pure_nn, training) = (self.pure_nn.as_ref(), &self.training);
+        let json = match &self.combined {
+            CombinedModel::Paper(m) => serde_json::to_vec_pretty(&OnDiskRef {
+                format: FORMAT,
+                version: VERSION,
+                kind,
+                combined: m.as_ref(),
+                pure_nn,
+                training,
+            }),
+            CombinedModel::Contact(m) => serde_json::to_vec_pretty(&OnDiskRef {
+                format: FORMAT,
+                version: VERSION,
+                kind,
+                combined: m.as_ref(),
+                pure_nn,
+                training,
+            }),
+        }
         .map_err(|e| io(std::io::Error::other(e)))?;
         write_atomically(path, &json).map_err(io)
     }
@@ -147,20 +171,56 @@ impl ModelFile {
                 });
             }
         }
-        match &header.version {
-            Some(serde_json::Value::Number(n)) if n.as_u64() == Some(u64::from(VERSION)) => {}
+        let version = match &header.version {
+            Some(serde_json::Value::Number(n))
+                if n.as_u64()
+                    .is_some_and(|v| (1..=u64::from(VERSION)).contains(&v)) =>
+            {
+                n.as_u64().unwrap_or(1)
+            }
             other => {
                 return Err(ModelFileError::WrongVersion {
                     path: path.to_owned(),
                     found: other.as_ref().map_or("missing".into(), |v| v.to_string()),
                 });
             }
-        }
-        let on_disk: OnDisk = serde_json::from_slice(bytes).map_err(malformed)?;
-        Ok(Self {
-            combined: on_disk.combined,
-            pure_nn: on_disk.pure_nn,
-            training: on_disk.training,
-        })
+        };
+        // Version 1 predates model kinds: every such file is the paper's model.
+        let kind = match (&header.kind, version) {
+            (None, _) => ModelKind::Paper,
+            (Some(serde_json::Value::String(name)), _) => {
+                ModelKind::from_name(name).ok_or_else(|| ModelFileError::UnknownKind {
+                    path: path.to_owned(),
+                    found: format!("\"{name}\""),
+                })?
+            }
+            (Some(other), _) => {
+                return Err(ModelFileError::UnknownKind {
+                    path: path.to_owned(),
+                    found: other.to_string(),
+                });
+            }
+        };
+        let file = match kind {
+            ModelKind::Paper => {
+                let on_disk: OnDisk<PaperModel> =
+                    serde_json::from_slice(bytes).map_err(malformed)?;
+                Self {
+                    combined: CombinedModel::Paper(Arc::new(on_disk.combined)),
+                    pure_nn: on_disk.pure_nn,
+                    training: on_disk.training,
+                }
+            }
+            ModelKind::Contact => {
+                let on_disk: OnDisk<ContactModel> =
+                    serde_json::from_slice(bytes).map_err(malformed)?;
+                Self {
+                    combined: CombinedModel::Contact(Arc::new(on_disk.combined)),
+                    pure_nn: on_disk.pure_nn,
+                    training: on_disk.training,
+                }
+            }
+        };
+        Ok(file)
     }
 }

@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+use pushlab_core::experiment;
 use pushlab_core::labels::file;
-use pushlab_core::labels::pipeline::select_split;
 use pushlab_core::labels::{LabelSchema, Split};
 use pushlab_core::recording::native::{SETTING_FILE, parse_setting};
 
@@ -37,12 +37,22 @@ fn every_sample_set_has_labels_with_the_settings_splits() {
             assert_eq!(meta.com_offset, setting.com_offset, "{}", entry.file);
             assert_eq!(meta.push_side, setting.push_side, "{}", entry.file);
         }
-        let offline = select_split(&dir, Split::Offline).expect("offline split");
-        let online = select_split(&dir, Split::Online).expect("online split");
-        assert_eq!((offline.len(), online.len()), (27, 9), "{}", dir.display());
-        assert!(offline.iter().all(|p| {
-            p.file_name()
-                .is_some_and(|n| n.to_string_lossy().starts_with("offline_"))
-        }));
+        // The experiment pipeline selects the same splits from the labels file.
+        let dirs = std::slice::from_ref(&dir);
+        let offline = experiment::load(dirs, Some(Split::Offline), 10);
+        let online = experiment::load(dirs, Some(Split::Online), 10);
+        assert_eq!(
+            (offline.used.len(), online.used.len()),
+            (27, 9),
+            "{}",
+            dir.display()
+        );
+        assert!(
+            offline
+                .used
+                .iter()
+                .all(|u| u.recording.name.starts_with("offline_"))
+        );
+        assert!(offline.skipped.is_empty() && online.skipped.is_empty());
     }
 }

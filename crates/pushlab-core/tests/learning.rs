@@ -5,9 +5,15 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use pushlab_core::learn::{
-    Nmse, OnlineConfig, OnlineLearner, OnlineModel, TrainConfig, train_combined, train_pure_nn,
+    Nmse, OnlineConfig, OnlineLearner, OnlineModel, TrainConfig, train_paper, train_pure_nn,
 };
-use pushlab_core::model::{OnlineParams, PhysicsOnlyModel, Sample, samples_from_trajectory};
+use std::sync::Arc;
+
+use pushlab_core::learn::{ContactTrajectory, train_contact};
+use pushlab_core::model::{
+    CombinedModel, ContactGeometry, ModelKind, OnlineParams, PhysicsOnlyModel, Sample,
+    samples_from_trajectory,
+};
 use pushlab_core::model_file::{ModelFile, ModelFileError};
 use pushlab_core::recording::{ObjectShape, PushSide};
 use pushlab_core::sim::{GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, generate_set};
@@ -162,7 +168,7 @@ fn combined_model_adapts_online_to_a_moved_com_and_beats_the_fixed_model() {
         theta0: Some(OnlineParams::for_outline(&outline)),
         ..TrainConfig::default()
     };
-    let trained = train_combined(
+    let trained = train_paper(
         &samples(&offline),
         &config,
         &mut |_| {},
@@ -200,7 +206,7 @@ fn same_seed_gives_bit_identical_models_and_another_seed_does_not() {
             ..TrainConfig::default()
         };
         let trained =
-            train_combined(&data, &config, &mut |_| {}, &AtomicBool::new(false)).expect("trains");
+            train_paper(&data, &config, &mut |_| {}, &AtomicBool::new(false)).expect("trains");
         (trained.model, trained.report)
     };
     let (a, report_a) = train(42);
@@ -232,7 +238,7 @@ fn training_lowers_the_loss_reports_progress_and_stops_when_cancelled() {
         patience: 0,
         ..TrainConfig::default()
     };
-    let trained = train_combined(
+    let trained = train_paper(
         &data,
         &config,
         &mut |p| {
@@ -270,10 +276,10 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
         ..TrainConfig::default()
     };
     let no = AtomicBool::new(false);
-    let combined = train_combined(&data, &config, &mut |_| {}, &no).expect("trains");
+    let combined = train_paper(&data, &config, &mut |_| {}, &no).expect("trains");
     let pure = train_pure_nn(&data, &config, &mut |_| {}, &no).expect("trains");
     let file = ModelFile {
-        combined: combined.model,
+        combined: CombinedModel::Paper(Arc::new(combined.model)),
         pure_nn: Some(pure.model),
         training: pushlab_core::model_file::TrainingMetadata {
             report: Some(combined.report),
@@ -290,14 +296,33 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
     assert_eq!(back, file);
     // Predictions are the same after the round trip.
     let s = &data[0][3];
-    let theta = file.combined.theta0();
+    let (saved, loaded) = (
+        file.combined
+            .learner(None)
+            .expect("the paper model needs no outline"),
+        back.combined
+            .learner(None)
+            .expect("the paper model needs no outline"),
+    );
+    let theta = saved.theta0();
     assert_eq!(
-        back.combined.predict(&s.input, &theta),
-        file.combined.predict(&s.input, &theta)
+        loaded.predict(&s.input, &theta),
+        saved.predict(&s.input, &theta)
     );
 
     let text = std::fs::read_to_string(&path).expect("readable");
-    let newer = text.replacen("\"version\": 1", "\"version\": 7", 1);
+    assert!(text.contains("\"version\": 2") && text.contains("\"kind\": \"paper\""));
+    // A version-1 file (before model kinds: no "kind") opens as the paper's model.
+    let version_1 = text
+        .replacen("\"version\": 2", "\"version\": 1", 1)
+        .replacen("\"kind\": \"paper\",", "", 1);
+    let old = ModelFile::from_json(&path, version_1.as_bytes()).expect("a version-1 file opens");
+    assert_eq!(old.combined.kind(), ModelKind::Paper);
+    assert_eq!(old, file);
+    let unknown = text.replacen("\"kind\": \"paper\"", "\"kind\": \"quantum\"", 1);
+    let err = ModelFile::from_json(&path, unknown.as_bytes()).expect_err("unknown kind");
+    assert!(err.to_string().contains("\"kind\" is \"quantum\""), "{err}");
+    let newer = text.replacen("\"version\": 2", "\"version\": 7", 1);
     let err = ModelFile::from_json(&path, newer.as_bytes()).expect_err("version 7");
     assert!(matches!(err, ModelFileError::WrongVersion { .. }));
     let message = err.to_string();
@@ -322,6 +347,126 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
     assert!(
         err.to_string().contains("not a pushlab model file"),
         "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Trains the contact-frame model on a simulated set's pushes.
+fn train_contact_on(
+    set: &GeneratedSet,
+    epochs: usize,
+) -> (Arc<ContactGeometry>, pushlab_core::model::ContactModel) {
+    let outline = set.setting.object.outline().expect("a box");
+    let geometry = Arc::new(ContactGeometry::new(&outline, set.setting.pusher_radius));
+    let data = samples(set);
+    let trajectories: Vec<ContactTrajectory> = data
+        .iter()
+        .map(|samples| ContactTrajectory {
+            geometry: &geometry,
+            samples,
+        })
+        .collect();
+    let config = TrainConfig {
+        epochs,
+        seed: 3,
+        ..TrainConfig::default()
+    };
+    let trained = train_contact(&trajectories, &config, &mut |_| {}, &AtomicBool::new(false))
+        .expect("trains");
+    (geometry, trained.model)
+}
+
+#[test]
+fn the_contact_model_carries_over_to_another_face_where_the_paper_model_does_not() {
+    // Offline: front-face pushes. Online: the left face, which puts the pusher where the paper's
+    // network never saw it; in the contact frame it is the same kind of push.
+    let offline = simulated([0.0, 0.0], PressureModel::Rim, 0.0002, 21);
+    let online = simulated_on(PushSide::Left, [0.0, 0.0], PressureModel::Rim, 0.0002, 22);
+    let (geometry, contact) = train_contact_on(&offline, 60);
+    let contact = CombinedModel::Contact(Arc::new(contact));
+    let outline = offline.setting.object.outline().expect("a box");
+    let paper = train_paper(
+        &samples(&offline),
+        &TrainConfig {
+            epochs: 60,
+            seed: 3,
+            theta0: Some(OnlineParams::for_outline(&outline)),
+            ..TrainConfig::default()
+        },
+        &mut |_| {},
+        &AtomicBool::new(false),
+    )
+    .expect("trains");
+    let paper = CombinedModel::Paper(Arc::new(paper.model));
+    let fixed_nmse = |model: &CombinedModel, set: &GeneratedSet| {
+        let learner = model
+            .learner(Some(&geometry))
+            .expect("a box has an outline");
+        let theta = learner.theta0();
+        let losses: Vec<_> = samples(set)
+            .iter()
+            .flatten()
+            .map(|s| learner.loss_and_gradient(s, &theta).1)
+            .collect();
+        Nmse::of(&losses)
+    };
+    let contact_offline = fixed_nmse(&contact, &offline);
+    let contact_left = fixed_nmse(&contact, &online);
+    let paper_left = fixed_nmse(&paper, &online);
+    assert!(
+        contact_left.pos < 2.0 * contact_offline.pos + 0.05
+            && contact_left.rot < 2.0 * contact_offline.rot + 0.05,
+        "contact model: offline {contact_offline:?}, left face {contact_left:?}"
+    );
+    assert!(
+        contact_left.pos * 3.0 < paper_left.pos,
+        "left face: contact {contact_left:?} against paper {paper_left:?}"
+    );
+}
+
+#[test]
+fn the_contact_model_learns_a_moved_com_online_and_its_files_round_trip() {
+    let offline = simulated([0.0, 0.0], PressureModel::Rim, 0.0002, 31);
+    let online = simulated([0.05, 0.05], PressureModel::Rim, 0.0002, 32);
+    let (geometry, model) = train_contact_on(&offline, 60);
+    let combined = CombinedModel::Contact(Arc::new(model));
+    let learner = combined.learner(Some(&geometry)).expect("outline");
+    assert_eq!(
+        combined.learner(None).err(),
+        Some(pushlab_core::model::LearnerError::NoOutline)
+    );
+    let (mut fixed, mut adaptive) = (Vec::new(), Vec::new());
+    for trajectory in samples(&online) {
+        let mut learning = OnlineLearner::new(&learner, OnlineConfig::default());
+        let frozen = OnlineLearner::new(&learner, OnlineConfig::fixed());
+        for sample in &trajectory {
+            fixed.push(frozen.evaluate(sample).loss);
+            adaptive.push(learning.step(sample).loss);
+        }
+    }
+    let (fixed, adaptive) = (Nmse::of(&fixed), Nmse::of(&adaptive));
+    assert!(
+        adaptive.pos * 2.0 + adaptive.rot < 0.9 * (fixed.pos * 2.0 + fixed.rot),
+        "online {adaptive:?} should beat fixed {fixed:?} where the COM moved"
+    );
+
+    let file = ModelFile {
+        combined,
+        pure_nn: None,
+        training: Default::default(),
+    };
+    let dir = std::env::temp_dir().join(format!("pushlab-contact-model-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("contact.json");
+    file.save(&path).expect("saves");
+    let back = ModelFile::load(&path).expect("loads");
+    assert_eq!(back, file);
+    assert_eq!(back.combined.kind(), ModelKind::Contact);
+    let s = &samples(&online)[0][5];
+    let loaded = back.combined.learner(Some(&geometry)).expect("outline");
+    assert_eq!(
+        loaded.predict(&s.input, &learner.theta0()),
+        learner.predict(&s.input, &learner.theta0())
     );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -11,7 +11,6 @@ use pushlab_core::model::{ObjectMotion, Prediction};
 use crate::app::colors;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::layers::Layers;
-use crate::app::state::models::physics_only;
 use crate::app::state::session::RecordingId;
 use crate::app::state::{AppState, Command};
 
@@ -304,13 +303,8 @@ pub fn ui(
             );
         }
         if layers.predicted_physics
-            && let (Ok(model), Some(theta), Some(sample)) = (
-                physics_only(recording),
-                theta,
-                state.run.as_ref().and_then(|r| r.sample(frame_index)),
-            )
+            && let Some(prediction) = state.physics_prediction()
         {
-            let prediction = model.predict(&sample.input, &theta);
             let predicted = exaggerated(&pose, &prediction.motion, gain);
             footprint(
                 &painter,

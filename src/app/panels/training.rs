@@ -3,6 +3,7 @@
 
 use eframe::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints};
+use pushlab_core::model::ModelKind;
 
 use crate::app::colors;
 use crate::app::dialogs::{DialogRequest, Dialogs};
@@ -17,6 +18,32 @@ pub fn ui(
 ) {
     ui.heading("Train a combined model");
     let running = state.training.is_running();
+    ui.label(match state.models.kind() {
+        Some(kind) => format!("In use: the {kind} model ({})", kind.description()),
+        None => "In use: physics only (no trained model)".to_owned(),
+    });
+    ui.add_enabled_ui(!running, |ui| {
+        ui.horizontal(|ui| {
+            let label = ui.label("Model kind");
+            egui::ComboBox::from_id_salt("model-kind")
+                .selected_text(state.training.kind.name())
+                .show_ui(ui, |ui| {
+                    for kind in ModelKind::ALL {
+                        let chosen = state.training.kind == kind;
+                        if ui
+                            .selectable_label(chosen, kind.name())
+                            .on_hover_text(kind.description())
+                            .clicked()
+                            && !chosen
+                        {
+                            commands.push(Command::SetTrainingKind(kind));
+                        }
+                    }
+                })
+                .response
+                .labelled_by(label.id);
+        });
+    });
     ui.label("Recordings to train on (frames labelled bad tracking are left out):");
     ui.horizontal(|ui| {
         if ui.small_button("All").clicked() {

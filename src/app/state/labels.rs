@@ -781,12 +781,10 @@ mod tests {
         let selected = state.session.selected.unwrap();
         state.training.chosen = [selected].into_iter().collect();
         state.training.config.horizon = 2;
-        let all = state.training_samples()[0].len();
+        let samples = |state: &AppState| state.training_recordings()[0].samples(2);
+        let all = samples(&state).len();
         paint_frames(&mut state, "bad tracking", 10, 14);
-        let kept: Vec<usize> = state.training_samples()[0]
-            .iter()
-            .map(|s| s.frame)
-            .collect();
+        let kept: Vec<usize> = samples(&state).iter().map(|s| s.frame).collect();
         // Samples start at 8..=14 touch a skipped frame (start or start + 2).
         assert_eq!(kept.len(), all - 7);
         assert!(kept.iter().all(|&f| !(8..=14).contains(&f)), "{kept:?}");

@@ -13,12 +13,11 @@ pub mod timeline;
 pub mod training;
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
+use pushlab_core::experiment::{UsedRecording, split_of};
 use pushlab_core::labels::Split;
-use pushlab_core::labels::pipeline::sample_is_skipped;
 use pushlab_core::learn::{OnlineConfig, OnlineStep};
-use pushlab_core::model::{OnlineParams, Sample, samples_from_trajectory};
+use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel, Prediction};
 use pushlab_core::model_file::TrainingMetadata;
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
@@ -53,6 +52,8 @@ pub enum Command {
     StartTraining,
     /// Stop training after the current epoch, keeping the best model so far.
     CancelTraining,
+    /// Which combined model the Train tab trains.
+    SetTrainingKind(ModelKind),
     /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
     ChooseOfflineLabelled,
     /// Labeling on the selected recording at the frame shown.
@@ -124,6 +125,9 @@ pub struct AppState {
     pub timeline: Timeline,
     /// Online learning on the selected recording; `None` until a recording is selected.
     pub run: Option<OnlineRun>,
+    /// The physics-only model of the selected recording (for its prediction layer), built once per
+    /// run rather than once per drawn frame.
+    pub physics: Option<PhysicsOnlyModel>,
     pub learn_while_playing: bool,
     pub online_config: OnlineConfig,
     pub layers: Layers,
@@ -146,6 +150,7 @@ impl AppState {
             models,
             timeline,
             run: None,
+            physics: None,
             learn_while_playing: persisted.learn_while_playing,
             online_config: persisted.online,
             layers: persisted.layers,
@@ -216,6 +221,17 @@ impl AppState {
     /// `θ_online` at the frame shown (or `θ_online(0)` of the model when nothing is selected).
     pub fn theta(&self) -> Option<OnlineParams> {
         self.run.as_ref().map(|r| r.theta_at(self.frame()))
+    }
+
+    /// What the physics-only model predicts at the frame shown with θ at that frame.
+    pub fn physics_prediction(&self) -> Option<Prediction> {
+        let run = self.run.as_ref()?;
+        let sample = run.sample(self.frame())?;
+        Some(
+            self.physics
+                .as_ref()?
+                .predict(&sample.input, &run.theta_at(self.frame())),
+        )
     }
 
     /// The prediction, loss and gradient at the frame shown, with θ at that frame.
@@ -309,6 +325,7 @@ impl AppState {
                 }
             }
             Command::CancelTraining => self.training.cancel(),
+            Command::SetTrainingKind(kind) => self.training.kind = kind,
             Command::SetOnlineConfig(config) => {
                 self.online_config = config;
                 let frame = self.frame();
@@ -342,7 +359,7 @@ impl AppState {
             self.status = Some(message);
         }
         if let Some(trained) = self.training.take_finished() {
-            self.models.combined = Some(Arc::new(trained.model));
+            self.models.combined = Some(trained.model);
             self.models.training = TrainingMetadata {
                 report: Some(trained.report),
                 pure_nn_report: None,
@@ -410,6 +427,7 @@ impl AppState {
     fn start_run_keeping_labels(&mut self) {
         let Some(recording) = self.session.selected_recording() else {
             self.run = None;
+            self.physics = None;
             self.timeline = Timeline::new(Vec::new());
             return;
         };
@@ -418,6 +436,7 @@ impl AppState {
         self.timeline = Timeline::new(times);
         self.timeline.apply(TimelineCommand::SetSpeed(speed));
         self.timeline.apply(TimelineCommand::SetLoop(looping));
+        self.physics = self.models.physics_for(recording).ok();
         self.run = match self.models.learner_for(recording) {
             Ok((model, horizon)) => Some(OnlineRun::new(
                 model,
@@ -443,11 +462,10 @@ impl AppState {
         }
     }
 
-    /// The samples of the recordings chosen for training, one list per recording, at the training
-    /// horizon. Frames labelled "skip in training" (bad tracking) leave out every sample touching them,
+    /// The recordings chosen for training, with the frames labelled "skip in training" (bad tracking)
+    /// from the open labels files: `pushlab_core::experiment` leaves out every sample touching them,
     /// exactly as `pushlab train` does.
-    pub fn training_samples(&self) -> Vec<Vec<Sample>> {
-        let horizon = self.training.config.horizon;
+    pub fn training_recordings(&self) -> Vec<UsedRecording> {
         self.training
             .chosen
             .iter()
@@ -456,12 +474,8 @@ impl AppState {
                 let skip = LabelTarget::of(r)
                     .map(|t| self.labels.frames_to_skip(&t))
                     .unwrap_or_default();
-                samples_from_trajectory(&r.trajectory, horizon)
-                    .into_iter()
-                    .filter(|s| !sample_is_skipped(&skip, s.frame, horizon))
-                    .collect::<Vec<_>>()
+                UsedRecording::new(r.clone(), None, skip)
             })
-            .filter(|samples| !samples.is_empty())
             .collect()
     }
 
@@ -469,23 +483,18 @@ impl AppState {
         if self.training.is_running() {
             return;
         }
-        let trajectories = self.training_samples();
-        if trajectories.is_empty() {
+        let horizon = self.training.config.horizon;
+        let recordings: Vec<UsedRecording> = self
+            .training_recordings()
+            .into_iter()
+            .filter(|u| !u.samples(horizon).is_empty())
+            .collect();
+        if recordings.is_empty() {
             self.status = Some("choose at least one recording to train on".to_owned());
             return;
         }
-        // Start from the physically motivated θ of the first chosen object.
-        if let Some(outline) = self
-            .training
-            .chosen
-            .iter()
-            .find_map(|&id| self.session.get(id))
-            .and_then(|r| r.setting.object.outline().ok())
-        {
-            self.training.config.theta0 = Some(OnlineParams::for_outline(&outline));
-        }
-        self.training.start(trajectories);
-        self.status = Some("training…".to_owned());
+        self.training.start(recordings);
+        self.status = Some(format!("training the {} model…", self.training.kind));
     }
 
     /// Chooses for training the recordings in the offline split: by their labels file, else by the
@@ -495,20 +504,10 @@ impl AppState {
             .session
             .recordings()
             .filter(|(_, r)| {
-                let labelled = LabelTarget::of(r).and_then(|t| {
-                    self.labels
-                        .document(&t.document)?
-                        .set()
-                        .split_of(&t.recording)
-                });
-                let listed = || {
-                    r.entry
-                        .as_ref()
-                        .and_then(|e| e.extra.get("split"))
-                        .and_then(|v| v.as_str())
-                        .and_then(Split::from_name)
-                };
-                labelled.or_else(listed) == Some(Split::Offline)
+                let labels = LabelTarget::of(r)
+                    .and_then(|t| self.labels.document(&t.document))
+                    .map(|d| d.set());
+                split_of(r, labels) == Some(Split::Offline)
             })
             .map(|(id, _)| id)
             .collect();

@@ -1,18 +1,18 @@
-//! The models the app predicts with: a trained combined model (from a model file or trained in the
-//! app), the optional pure-network baseline, and the physics-only model built per recording.
+//! The models the app predicts with: a trained combined model of either kind (from a model file or
+//! trained in the app) and the optional pure-network baseline. How each learns on a recording, and the
+//! physics-only model beside them, are pushlab-core's rules (`experiment::learner_for`,
+//! `experiment::physics_model`), shared with the CLI.
 
 use std::sync::Arc;
 
-use pushlab_core::learn::LossScale;
-use pushlab_core::model::{CombinedModel, PhysicsOnlyModel, PureNnModel, samples_from_trajectory};
+use pushlab_core::experiment::{geometry_of, loss_scale_for, physics_model};
+use pushlab_core::model::{
+    CombinedModel, DEFAULT_CONTACT_TOLERANCE, ModelKind, PhysicsOnlyModel, PureNnModel,
+};
 use pushlab_core::model_file::TrainingMetadata;
 use pushlab_core::recording::Recording;
 
 use super::online::SharedModel;
-
-/// How far the pusher's rim may be from the outline and still count as touching it, metres. Tracked
-/// positions are noisy at the millimetre level; a real pusher never sits exactly on the outline.
-pub const CONTACT_TOLERANCE: f64 = 0.002;
 
 /// Horizon of the physics-only model when there is no trained model to take it from.
 pub const DEFAULT_HORIZON: usize = 1;
@@ -21,7 +21,7 @@ pub const DEFAULT_HORIZON: usize = 1;
 #[derive(Clone, Default)]
 pub struct Models {
     /// The combined model online learning runs on; `None` falls back to physics only.
-    pub combined: Option<Arc<CombinedModel>>,
+    pub combined: Option<CombinedModel>,
     /// The pure-network baseline, drawn as an optional layer.
     pub pure_nn: Option<Arc<PureNnModel>>,
     /// Where the models came from, for the status bar ("assets/default-model.json", "trained in app").
@@ -31,50 +31,60 @@ pub struct Models {
 }
 
 impl Models {
+    /// The prediction horizon in frames: the trained model's, or the physics-only default.
+    pub fn horizon(&self) -> usize {
+        self.combined
+            .as_ref()
+            .map_or(DEFAULT_HORIZON, CombinedModel::horizon)
+    }
+
     /// The model online learning uses on `recording` and its horizon in frames.
     ///
     /// Without a trained model, the physics-only model of the recording's outline learns instead, so
     /// that the app still shows and steers something meaningful.
     pub fn learner_for(&self, recording: &Recording) -> Result<(SharedModel, usize), String> {
+        let unusable = |e: &dyn std::fmt::Display| {
+            format!(
+                "{}: the object outline in setting.json is unusable: {e}",
+                recording.source.display()
+            )
+        };
         if let Some(model) = &self.combined {
-            let horizon = model.horizon();
-            return Ok((model.clone(), horizon));
+            let geometry = geometry_of(&recording.setting);
+            let learner = model
+                .learner(geometry.as_ref().ok())
+                .map_err(|e| match &geometry {
+                    Err(outline) => unusable(outline),
+                    Ok(_) => format!("{}: {e}", recording.source.display()),
+                })?;
+            return Ok((learner, model.horizon()));
         }
-        let physics = physics_only(recording)?;
+        let physics = self.physics_for(recording)?;
         Ok((Arc::new(physics), DEFAULT_HORIZON))
     }
 
+    /// The physics-only model of `recording`, its losses normalised like the combined model's (or,
+    /// without one, by the recording's own motion).
+    pub fn physics_for(&self, recording: &Recording) -> Result<PhysicsOnlyModel, String> {
+        let scale = loss_scale_for(self.combined.as_ref(), recording, self.horizon());
+        physics_model(recording, scale, DEFAULT_CONTACT_TOLERANCE).map_err(|e| {
+            format!(
+                "{}: the object outline in setting.json is unusable: {e}",
+                recording.source.display()
+            )
+        })
+    }
+
+    /// The kind of the combined model, if one is loaded.
+    pub fn kind(&self) -> Option<ModelKind> {
+        self.combined.as_ref().map(CombinedModel::kind)
+    }
+
     /// A short name of the model online learning uses.
-    pub fn learner_name(&self) -> &'static str {
-        if self.combined.is_some() {
-            "combined model"
-        } else {
-            "physics only (no trained model loaded)"
+    pub fn learner_name(&self) -> String {
+        match self.kind() {
+            Some(kind) => format!("combined model ({kind})"),
+            None => "physics only (no trained model loaded)".to_owned(),
         }
     }
-}
-
-/// The physics-only model of a recording's object and pusher; its losses are normalised by the
-/// recording's own motion statistics.
-pub fn physics_only(recording: &Recording) -> Result<PhysicsOnlyModel, String> {
-    let outline = recording.setting.object.outline().map_err(|e| {
-        format!(
-            "{}: the object outline in setting.json is unusable: {e}",
-            recording.source.display()
-        )
-    })?;
-    let samples = samples_from_trajectory(&recording.trajectory, DEFAULT_HORIZON);
-    let mut scale = LossScale::from_samples(&samples);
-    // A recording without motion on an axis would divide by zero; one millimetre / milliradian keeps
-    // the loss finite and still comparable.
-    for s in &mut scale.sigma_pos {
-        *s = s.max(1e-3);
-    }
-    scale.sigma_rot = scale.sigma_rot.max(1e-3);
-    Ok(PhysicsOnlyModel::new(
-        outline,
-        recording.setting.pusher_radius,
-        CONTACT_TOLERANCE,
-        scale,
-    ))
 }

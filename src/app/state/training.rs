@@ -1,13 +1,15 @@
-//! Offline training from the app: runs `train_combined` of pushlab-core on a worker thread, with
-//! progress, a loss history and cancel. The UI thread only polls.
+//! Offline training from the app: runs pushlab-core's `experiment::train_combined` (the same rules
+//! as `pushlab train`) on a worker thread, with progress, a loss history and cancel. The UI thread
+//! only polls.
 
 use std::collections::BTreeSet;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
-use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, Trained, train_combined};
-use pushlab_core::model::{CombinedModel, Sample};
+use pushlab_core::experiment::{UsedRecording, train_combined};
+use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, Trained};
+use pushlab_core::model::{CombinedModel, ModelKind};
 
 use super::session::RecordingId;
 
@@ -27,6 +29,8 @@ struct Job {
 pub struct Training {
     /// Recordings chosen for training.
     pub chosen: BTreeSet<RecordingId>,
+    /// Which combined model to train.
+    pub kind: ModelKind,
     /// Epochs, learning rate, horizon….
     pub config: TrainConfig,
     /// Progress reported after every epoch of the current or last run.
@@ -42,29 +46,29 @@ impl Training {
         self.job.is_some()
     }
 
-    /// Starts training on per-trajectory samples on a worker thread.
-    pub fn start(&mut self, trajectories: Vec<Vec<Sample>>) {
+    /// Starts training on the recordings on a worker thread.
+    pub fn start(&mut self, recordings: Vec<UsedRecording>) {
         if self.is_running() {
             return;
         }
         self.history.clear();
         let (sender, receiver) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
-        let config = self.config;
+        let (kind, config) = (self.kind, self.config);
         let worker_cancel = cancel.clone();
         std::thread::spawn(move || {
             let progress_sender = sender.clone();
             let mut progress = |p: &TrainProgress| {
                 let _ = progress_sender.send(Message::Progress(*p));
             };
-            let result = train_combined(&trajectories, &config, &mut progress, &worker_cancel);
+            let result = train_combined(kind, &recordings, &config, &mut progress, &worker_cancel);
             // The receiver is gone only when the app closed.
             let _ = sender.send(Message::Done(Box::new(result)));
         });
         self.job = Some(Job { receiver, cancel });
     }
 
-    /// Asks the running job to stop after the current epoch; it still delivers its best model.
+    /// Asks the running job to stop after the current batch; it still delivers its best model.
     pub fn cancel(&self) {
         if let Some(job) = &self.job {
             job.cancel.store(true, Ordering::Relaxed);
@@ -83,7 +87,8 @@ impl Training {
                         Ok(trained) => {
                             let r = &trained.report;
                             let message = format!(
-                                "training {} after {} epochs: train loss {:.4}{}",
+                                "training the {} model {} after {} epochs: train loss {:.4}{}",
+                                trained.model.kind(),
                                 if r.cancelled { "cancelled" } else { "finished" },
                                 r.epochs_run,
                                 r.train_loss,

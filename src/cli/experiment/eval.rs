@@ -1,7 +1,7 @@
 //! `pushlab eval --offline PATH... --online PATH...`: the paper's Tables I and II for any recordings.
 //!
-//! Trains (or loads with `--model`) the combined model and the pure network on the offline
-//! recordings, then reports positional and rotational NMSE (eq. 7) for
+//! Trains (or loads with `--model`) a combined model and the pure network on the offline recordings,
+//! then reports positional and rotational NMSE (eq. 7) for
 //! - **Offline NN** and **Offline**: the pure network and the combined model on the offline data;
 //! - **Fixed**: the combined model on the online data with `θ_online` kept at `θ_online(0)`;
 //! - **Online**: the combined model learning `θ_online` online (eq. 13), reset to `θ_online(0)` at the
@@ -9,8 +9,7 @@
 //! - with `--physics`, the physics-only model (outline + Lynch, no network) fixed and online, which
 //!   shows what the network buys.
 //!
-//! All losses are normalised by the σ of the offline training data (the combined model's scale), so
-//! every row is comparable. `--json` writes the report documented in the README; `--plot` the figure.
+//! Every number comes from `pushlab_core::experiment::evaluate`; this module prints and writes them.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -18,16 +17,19 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 use clap::Args;
 use pushlab_core::atomic_file::write_atomically;
-use pushlab_core::labels::Split;
-use pushlab_core::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
-use pushlab_core::learn::{
-    Loss, LossScale, Nmse, OnlineConfig, OnlineLearner, OnlineModel, TrainConfig,
+use pushlab_core::experiment::{
+    self, EvalOptions, Evaluation, Loaded, PhysicsNmse, Skipped, UsedRecording,
 };
-use pushlab_core::model::{CombinedModel, OnlineParams, PhysicsOnlyModel, PureNnModel, Sample};
+use pushlab_core::labels::Split;
+use pushlab_core::labels::pipeline::LabelMean;
+use pushlab_core::learn::{Loss, Nmse, OnlineConfig, TrainConfig};
+use pushlab_core::model::{
+    CombinedModel, DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineParams, PureNnModel,
+};
 use pushlab_core::model_file::ModelFile;
 use serde::Serialize;
 
-use super::data::{self, Loaded, Skipped, Used};
+use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
 use super::training::{self, TrainedModels};
@@ -51,7 +53,7 @@ pub struct EvalArgs {
     /// Gradient-descent steps on θ_online per online time step (the paper: 5).
     #[arg(long, value_name = "N", default_value_t = 5)]
     pub steps: usize,
-    /// Online learning rate on θ_online / L (the paper: 0.005).
+    /// Online learning rate on θ_online / s (the paper: 0.005).
     #[arg(long, value_name = "LR", default_value_t = 0.005, value_parser = positive_real)]
     pub lr: f64,
     /// Write the results as JSON (the format is documented in the README).
@@ -66,7 +68,7 @@ pub struct EvalArgs {
     /// For --physics: how far the pusher's rim may be from the outline and still count as touching
     /// it, metres. Tracked poses are noisy (the sample data: 2 mm, 0.5°, about 3 mm on the gap);
     /// without contact the physics-only model predicts no motion.
-    #[arg(long, value_name = "METRES", default_value_t = 0.01, value_parser = positive_real)]
+    #[arg(long, value_name = "METRES", default_value_t = DEFAULT_CONTACT_TOLERANCE, value_parser = positive_real)]
     pub contact_tolerance: f64,
 }
 
@@ -81,7 +83,7 @@ pub struct Report {
     pub config: ConfigReport,
     /// With `--physics`: the physics-only model on the offline data, fixed and online.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub physics: Option<PhysicsReport>,
+    pub physics: Option<PhysicsNmse>,
     /// When online recordings carry range labels: the mean total loss ℓ per label.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub per_label: Option<PerLabelReport>,
@@ -97,6 +99,8 @@ pub struct TrajectoryReport {
     pub steps: usize,
     pub fixed: Nmse,
     pub online: Nmse,
+    /// `θ_online(0)` of this trajectory (per object for the contact-frame model).
+    pub theta0: OnlineParams,
     /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
     pub com_offset_learned: [f64; 2],
     pub h_learned: f64,
@@ -108,6 +112,8 @@ pub struct TrajectoryReport {
 /// How the numbers were made.
 #[derive(Debug, Serialize)]
 pub struct ConfigReport {
+    /// The combined model's kind: `contact` or `paper`.
+    pub kind: ModelKind,
     pub horizon: usize,
     /// Training epochs (most) and seed of the combined model used.
     pub epochs: usize,
@@ -117,21 +123,14 @@ pub struct ConfigReport {
     /// The model file given with `--model`, or `null` when trained here.
     pub model: Option<String>,
     pub split_from_labels: bool,
-    /// `θ_online(0)` of the combined model.
-    pub theta0: OnlineParams,
+    /// `θ_online(0)` of the first online trajectory (the paper model's, which every trajectory
+    /// shares; the contact-frame model's is per object, see each trajectory).
+    pub theta0: Option<OnlineParams>,
     pub offline_samples: usize,
     pub online_samples: usize,
     pub offline_sources: Vec<String>,
     pub online_sources: Vec<String>,
     pub pushlab_version: String,
-}
-
-/// The physics-only baseline.
-#[derive(Debug, Serialize)]
-pub struct PhysicsReport {
-    pub offline: Nmse,
-    pub fixed: Nmse,
-    pub online: Nmse,
 }
 
 /// Mean total loss per label on the online data.
@@ -148,10 +147,10 @@ pub struct LabelMeanReport {
     pub mean: f64,
 }
 
-impl From<LabelMean> for LabelMeanReport {
-    fn from(m: LabelMean) -> Self {
+impl From<&LabelMean> for LabelMeanReport {
+    fn from(m: &LabelMean) -> Self {
         Self {
-            label: m.label,
+            label: m.label.clone(),
             count: m.count,
             mean: m.mean,
         }
@@ -177,14 +176,21 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         (Some(m), _) => m.combined.horizon(),
         (None, k) => k.unwrap_or(DEFAULT_HORIZON),
     };
+    let kind = match (&model_file, args.training.model_kind) {
+        (Some(m), Some(k)) if k != m.combined.kind() => {
+            return Err(Failure::Usage(anyhow!(
+                "--model-kind {k} differs from the kind of the model file ({}); leave --model-kind out",
+                m.combined.kind()
+            )));
+        }
+        (Some(m), _) => m.combined.kind(),
+        (None, k) => k.unwrap_or_default(),
+    };
     let by_split = args.training.split_from_labels;
-    let offline = data::load(&args.offline, by_split.then_some(Split::Offline), horizon);
-    let online = data::load(&args.online, by_split.then_some(Split::Online), horizon);
+    let offline = experiment::load(&args.offline, by_split.then_some(Split::Offline), horizon);
+    let online = experiment::load(&args.online, by_split.then_some(Split::Online), horizon);
     data::print_summary("offline", &offline, horizon);
     data::print_summary("online", &online, horizon);
-    let offline_samples: Vec<Vec<Sample>> =
-        offline.used.iter().map(|u| u.samples(horizon)).collect();
-    let online_samples: Vec<Vec<Sample>> = online.used.iter().map(|u| u.samples(horizon)).collect();
     for (role, loaded) in [("--offline", &offline), ("--online", &online)] {
         if loaded.used.is_empty() {
             return Err(Failure::Failed(anyhow!(
@@ -194,72 +200,41 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         }
     }
 
-    let config = train_config(&args.training, horizon, &offline.used);
+    let config = train_config(&args.training, horizon, kind, &offline.used);
     let training_started = Instant::now();
-    let (combined, pure_nn, trained_with) = models(model_file, &offline_samples, &config)?;
+    let (combined, pure_nn, trained_with) = models(model_file, kind, &offline.used, &config)?;
     let training_time = training_started.elapsed();
     if training::cancelled() {
         println!("training stopped by Ctrl-C: evaluating the best models so far");
     }
 
     let pass_started = Instant::now();
-    let online_config = OnlineConfig {
-        steps: args.steps,
-        lr: args.lr,
-    };
-    let scale = combined.loss_scale();
-    let offline_losses = offline_losses(&combined, &pure_nn, &offline_samples, &scale);
-    let runs: Vec<OnlineRun> = online
-        .used
-        .iter()
-        .zip(&online_samples)
-        .map(|(u, samples)| OnlineRun::of(&combined, u, samples, &online_config))
-        .collect();
-    let physics = args.physics.then(|| {
-        physics_losses(
-            &offline,
-            &offline_samples,
-            &online,
-            &online_samples,
-            &scale,
-            &online_config,
-            args.contact_tolerance,
-        )
-    });
-    let pass_time = pass_started.elapsed();
-
-    let mut skipped = offline.skipped.clone();
-    skipped.extend(online.skipped.iter().cloned());
-    let report = Report {
-        offline_nn: Nmse::of(&offline_losses.pure_nn),
-        offline: Nmse::of(&offline_losses.combined),
-        fixed: Nmse::of(runs.iter().flat_map(|r| r.fixed.iter())),
-        online: Nmse::of(runs.iter().flat_map(|r| r.online.iter())),
-        trajectories: runs.iter().map(OnlineRun::report).collect(),
-        config: ConfigReport {
-            horizon,
-            epochs: trained_with.epochs,
-            seed: trained_with.seed,
+    let options = EvalOptions {
+        online: OnlineConfig {
             steps: args.steps,
             lr: args.lr,
-            model: args.model.as_ref().map(|p| p.display().to_string()),
-            split_from_labels: by_split,
-            theta0: combined.theta0(),
-            offline_samples: offline_samples.iter().map(Vec::len).sum(),
-            online_samples: online_samples.iter().map(Vec::len).sum(),
-            offline_sources: offline.used.iter().map(Used::source).collect(),
-            online_sources: online.used.iter().map(Used::source).collect(),
-            pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
         },
-        physics: physics.as_ref().map(|p| PhysicsReport {
-            offline: Nmse::of(&p.offline),
-            fixed: Nmse::of(p.fixed.iter().flatten()),
-            online: Nmse::of(p.online.iter().flatten()),
-        }),
-        per_label: per_label(&runs),
-        skipped,
+        physics: args.physics.then_some(args.contact_tolerance),
     };
-    print_tables(&report, &runs);
+    let evaluation = experiment::evaluate(
+        &combined,
+        Some(&pure_nn),
+        &offline.used,
+        &online.used,
+        &options,
+    );
+    let pass_time = pass_started.elapsed();
+
+    let report = report(
+        args,
+        &evaluation,
+        &offline,
+        &online,
+        horizon,
+        kind,
+        &trained_with,
+    );
+    print_tables(&report, &evaluation, &online.used);
     if let Some(path) = &args.json {
         let mut json = serde_json::to_vec_pretty(&report).context("cannot encode the report")?;
         json.push(b'\n');
@@ -268,24 +243,27 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.plot {
+        let steps_of = |losses: &[Loss]| StepLosses {
+            total: losses.iter().map(Loss::total).collect(),
+            pos: losses.iter().map(Loss::pos).collect(),
+            rot: losses.iter().map(|l| l.rot).collect(),
+        };
+        let runs = &evaluation.trajectories;
         let fixed: Vec<StepLosses> = runs.iter().map(|r| steps_of(&r.fixed)).collect();
         let learning: Vec<StepLosses> = runs.iter().map(|r| steps_of(&r.online)).collect();
-        let mean = |f: fn(&Loss) -> f64| {
-            let n = offline_losses.combined.len().max(1) as f64;
-            offline_losses.combined.iter().map(f).sum::<f64>() / n
-        };
+        let means = evaluation.offline_means;
         let figure = Figure {
             title: format!(
-                "offline: {}   online: {}",
+                "{kind} model — offline: {}   online: {}",
                 setting_names(&offline.used),
                 setting_names(&online.used)
             ),
             fixed: &fixed,
             online: &learning,
             offline: OfflineMeans {
-                total: mean(Loss::total),
-                pos: mean(Loss::pos),
-                rot: mean(|l| l.rot),
+                total: means.total,
+                pos: means.pos,
+                rot: means.rot,
             },
         };
         plot::write_png(path, &figure)?;
@@ -306,18 +284,20 @@ struct TrainedWith {
     seed: u64,
 }
 
-/// The combined model and the pure network: loaded, or trained on the offline samples.
+/// The combined model and the pure network: loaded, or trained on the offline recordings.
 fn models(
     file: Option<ModelFile>,
-    offline: &[Vec<Sample>],
+    kind: ModelKind,
+    offline: &[UsedRecording],
     config: &TrainConfig,
 ) -> anyhow::Result<(CombinedModel, PureNnModel, TrainedWith)> {
     let Some(file) = file else {
-        let TrainedModels { combined, pure_nn } = training::train_models(offline, config, true)?;
+        let TrainedModels { combined, pure_nn } =
+            training::train_models(kind, offline, config, true)?;
         let pure_nn = match pure_nn {
             Some(trained) => trained.model,
             // Ctrl-C during the combined model's training: the baseline still needs a model.
-            None => training::train_baseline(offline, config)?.model,
+            None => training::train_pure_nn(offline, config)?.model,
         };
         let with = TrainedWith {
             epochs: combined.report.config.epochs,
@@ -341,204 +321,77 @@ fn models(
             println!(
                 "the model file has no pure network for this horizon: training one on --offline"
             );
-            training::train_baseline(offline, config)?.model
+            training::train_pure_nn(offline, config)?.model
         }
     };
     Ok((file.combined, pure_nn, with))
 }
 
-/// Per-sample losses of both models on the offline data, `θ_online` at `θ_online(0)`.
-struct OfflineLosses {
-    combined: Vec<Loss>,
-    pure_nn: Vec<Loss>,
-}
-
-fn offline_losses(
-    combined: &CombinedModel,
-    pure_nn: &PureNnModel,
-    samples: &[Vec<Sample>],
-    scale: &LossScale,
-) -> OfflineLosses {
-    let theta0 = combined.theta0();
-    let fixed = OnlineConfig::fixed();
-    let mut losses = OfflineLosses {
-        combined: Vec::new(),
-        pure_nn: Vec::new(),
-    };
-    for s in samples.iter().flatten() {
-        let prediction = combined.online_step(s, &theta0, &fixed).prediction;
-        losses
-            .combined
-            .push(Loss::of(&prediction.motion, &s.target, scale));
-        let prediction = pure_nn.predict(&s.input);
-        losses
-            .pure_nn
-            .push(Loss::of(&prediction.motion, &s.target, scale));
-    }
-    losses
-}
-
-/// The fixed and online runs over one online trajectory.
-struct OnlineRun<'a> {
-    used: &'a Used,
-    frames: Vec<usize>,
-    fixed: Vec<Loss>,
-    online: Vec<Loss>,
-    theta_end: OnlineParams,
-}
-
-impl<'a> OnlineRun<'a> {
-    fn of(
-        model: &CombinedModel,
-        used: &'a Used,
-        samples: &[Sample],
-        config: &OnlineConfig,
-    ) -> Self {
-        let theta0 = model.theta0();
-        let mut learner = OnlineLearner::new(model, *config);
-        learner.reset();
-        let fixed_config = OnlineConfig::fixed();
-        let mut run = OnlineRun {
-            used,
-            frames: Vec::with_capacity(samples.len()),
-            fixed: Vec::with_capacity(samples.len()),
-            online: Vec::with_capacity(samples.len()),
-            theta_end: theta0,
-        };
-        for s in samples {
-            run.frames.push(s.frame);
-            run.fixed
-                .push(model.online_step(s, &theta0, &fixed_config).loss);
-            run.online.push(learner.step(s).loss);
-        }
-        run.theta_end = learner.theta();
-        run
-    }
-
-    fn report(&self) -> TrajectoryReport {
-        let setting = &self.used.recording.setting;
-        TrajectoryReport {
-            source: self.used.source(),
-            steps: self.fixed.len(),
-            fixed: Nmse::of(&self.fixed),
-            online: Nmse::of(&self.online),
-            com_offset_learned: self.theta_end.com_offset,
-            h_learned: self.theta_end.h,
-            com_offset_true: setting.com_offset,
-            h_true: setting.h,
-        }
-    }
-}
-
-/// Per-sample losses of the physics-only model: offline (fixed), and online fixed and learning,
-/// one model per recording's own outline and pusher.
-struct PhysicsLosses {
-    offline: Vec<Loss>,
-    fixed: Vec<Vec<Loss>>,
-    online: Vec<Vec<Loss>>,
-}
-
-fn physics_losses(
+/// The JSON report of an evaluation.
+fn report(
+    args: &EvalArgs,
+    evaluation: &Evaluation,
     offline: &Loaded,
-    offline_samples: &[Vec<Sample>],
     online: &Loaded,
-    online_samples: &[Vec<Sample>],
-    scale: &LossScale,
-    config: &OnlineConfig,
-    contact_tolerance: f64,
-) -> PhysicsLosses {
-    let model_for = |u: &Used| -> Option<PhysicsOnlyModel> {
-        let setting = &u.recording.setting;
-        match setting.object.outline() {
-            Ok(outline) => Some(PhysicsOnlyModel::new(
-                outline,
-                setting.pusher_radius,
-                contact_tolerance,
-                *scale,
-            )),
-            Err(e) => {
-                println!(
-                    "physics-only: {} left out: unusable outline: {e}",
-                    u.source()
-                );
-                None
-            }
-        }
-    };
-    let mut out = PhysicsLosses {
-        offline: Vec::new(),
-        fixed: Vec::new(),
-        online: Vec::new(),
-    };
-    for (u, samples) in offline.used.iter().zip(offline_samples) {
-        if let Some(model) = model_for(u) {
-            let theta0 = model.theta0();
-            out.offline.extend(
-                samples
-                    .iter()
-                    .map(|s| model.loss_and_gradient(s, &theta0).1),
-            );
-        }
-    }
-    for (u, samples) in online.used.iter().zip(online_samples) {
-        if let Some(model) = model_for(u) {
-            let theta0 = model.theta0();
-            let mut learner = OnlineLearner::new(&model, *config);
-            out.fixed.push(
-                samples
-                    .iter()
-                    .map(|s| model.loss_and_gradient(s, &theta0).1)
-                    .collect(),
-            );
-            out.online
-                .push(samples.iter().map(|s| learner.step(s).loss).collect());
-        }
-    }
-    out
-}
-
-/// Mean total loss per range label over the online data, when any online recording has labels.
-fn per_label(runs: &[OnlineRun]) -> Option<PerLabelReport> {
-    if !runs.iter().any(|r| {
-        r.used
-            .labels
-            .as_ref()
-            .is_some_and(|l| !l.segments.is_empty())
-    }) {
-        return None;
-    }
-    let mut fixed = PerLabelMeans::new();
-    let mut online = PerLabelMeans::new();
-    for r in runs {
-        let key = key_of(&r.used.recording.source).unwrap_or_default();
-        let labels = r.used.labels.as_ref();
-        let totals = |l: &[Loss]| l.iter().map(Loss::total).collect::<Vec<_>>();
-        // Lengths match by construction (one frame per loss), so adding cannot fail.
-        let _ = fixed.add(&key, labels, &r.frames, &totals(&r.fixed));
-        let _ = online.add(&key, labels, &r.frames, &totals(&r.online));
-    }
-    let list = |m: &PerLabelMeans| {
-        std::iter::once(m.all())
-            .chain(m.by_label())
-            .map(LabelMeanReport::from)
-            .collect()
-    };
-    Some(PerLabelReport {
-        fixed: list(&fixed),
-        online: list(&online),
-    })
-}
-
-fn steps_of(losses: &[Loss]) -> StepLosses {
-    StepLosses {
-        total: losses.iter().map(Loss::total).collect(),
-        pos: losses.iter().map(Loss::pos).collect(),
-        rot: losses.iter().map(|l| l.rot).collect(),
+    horizon: usize,
+    kind: ModelKind,
+    trained_with: &TrainedWith,
+) -> Report {
+    let mut skipped = offline.skipped.clone();
+    skipped.extend(online.skipped.iter().cloned());
+    skipped.extend(evaluation.left_out.iter().cloned());
+    let count = |l: &Loaded| l.samples(horizon).iter().map(Vec::len).sum();
+    Report {
+        offline_nn: evaluation.offline_nn.unwrap_or_default(),
+        offline: evaluation.offline,
+        fixed: evaluation.fixed,
+        online: evaluation.online,
+        trajectories: evaluation
+            .trajectories
+            .iter()
+            .map(|r| {
+                let u = &online.used[r.recording];
+                let setting = &u.recording.setting;
+                TrajectoryReport {
+                    source: u.source(),
+                    steps: r.fixed.len(),
+                    fixed: Nmse::of(&r.fixed),
+                    online: Nmse::of(&r.online),
+                    theta0: r.theta0,
+                    com_offset_learned: r.theta_end.com_offset,
+                    h_learned: r.theta_end.h,
+                    com_offset_true: setting.com_offset,
+                    h_true: setting.h,
+                }
+            })
+            .collect(),
+        config: ConfigReport {
+            kind,
+            horizon,
+            epochs: trained_with.epochs,
+            seed: trained_with.seed,
+            steps: args.steps,
+            lr: args.lr,
+            model: args.model.as_ref().map(|p| p.display().to_string()),
+            split_from_labels: args.training.split_from_labels,
+            theta0: evaluation.trajectories.first().map(|r| r.theta0),
+            offline_samples: count(offline),
+            online_samples: count(online),
+            offline_sources: offline.used.iter().map(UsedRecording::source).collect(),
+            online_sources: online.used.iter().map(UsedRecording::source).collect(),
+            pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
+        },
+        physics: evaluation.physics,
+        per_label: evaluation.per_label.as_ref().map(|p| PerLabelReport {
+            fixed: p.fixed.iter().map(LabelMeanReport::from).collect(),
+            online: p.online.iter().map(LabelMeanReport::from).collect(),
+        }),
+        skipped,
     }
 }
 
 /// The distinct setting names of some recordings, joined with "+".
-fn setting_names(used: &[Used]) -> String {
+fn setting_names(used: &[UsedRecording]) -> String {
     let mut names: Vec<&str> = Vec::new();
     for u in used {
         let name = u.recording.setting.name.as_str();
@@ -550,9 +403,12 @@ fn setting_names(used: &[Used]) -> String {
 }
 
 /// Prints the paper-style table, the physics rows, the per-trajectory results and per-label means.
-fn print_tables(report: &Report, runs: &[OnlineRun]) {
+fn print_tables(report: &Report, evaluation: &Evaluation, online: &[UsedRecording]) {
     println!();
-    println!("{:<18} {:>9} {:>9}   data", "NMSE", "pos", "rot");
+    println!(
+        "{:<18} {:>9} {:>9}   data ({} model)",
+        "NMSE", "pos", "rot", report.config.kind
+    );
     let row = |name: &str, n: &Nmse, data: &str| {
         println!("{name:<18} {:>9.3} {:>9.3}   {data}", n.pos, n.rot);
     };
@@ -587,11 +443,9 @@ fn print_tables(report: &Report, runs: &[OnlineRun]) {
         "COM offset learned (true)",
         "h learned (true)"
     );
-    for (t, r) in report.trajectories.iter().zip(runs) {
-        let name = format!(
-            "{}/{}",
-            r.used.recording.setting.name, r.used.recording.name
-        );
+    for (t, r) in report.trajectories.iter().zip(&evaluation.trajectories) {
+        let recording = &online[r.recording].recording;
+        let name = format!("{}/{}", recording.setting.name, recording.name);
         let com_true = t
             .com_offset_true
             .map(|c| format!("({:.3},{:.3})", c[0], c[1]))
@@ -628,6 +482,9 @@ fn print_tables(report: &Report, runs: &[OnlineRun]) {
                 f.label, f.count, f.mean, o.mean
             );
         }
+    }
+    for s in &evaluation.left_out {
+        println!("left out: {}", s.message());
     }
     println!();
 }

@@ -1,10 +1,13 @@
 //! `pushlab train` and `pushlab eval`: the paper's experiments from the command line, on any
 //! recordings the importer reads, with the same core code the app uses.
 //!
-//! - [`data`]: which recordings (and frames) an experiment uses;
+//! Which recordings, samples and models an experiment uses, and how they are trained and evaluated,
+//! is `pushlab_core::experiment`; these modules parse the command line and present the results:
+//! - [`data`]: the summary of the recordings used;
 //! - [`training`]: offline training with a progress bar and Ctrl-C;
 //! - [`train`]: the `train` command;
 //! - [`eval`]: the `eval` command, its table and its JSON report;
+//! - [`suite`]: the `suite` command, many experiments in parallel into one table;
 //! - [`plot`]: the paper-style figure.
 //!
 //! Exit codes: 0 done, 1 nothing usable / a file could not be written, 2 wrong arguments.
@@ -12,12 +15,14 @@
 pub mod data;
 pub mod eval;
 pub mod plot;
+pub mod suite;
 pub mod train;
 pub mod training;
 
 use std::process::ExitCode;
 
 use clap::Args;
+use pushlab_core::model::ModelKind;
 
 /// How a command failed: wrong arguments (exit 2) or a run that could not complete (exit 1).
 #[derive(Debug)]
@@ -67,6 +72,22 @@ pub struct TrainingArgs {
     /// else in setting.json) matches the role: offline for --data and --offline, online for --online.
     #[arg(long)]
     pub split_from_labels: bool,
+    /// Which combined model: `contact` (the push seen in a frame at the contact, correcting a
+    /// friction-cone prior; carries over to other faces, objects and real data) or `paper` (the
+    /// paper's Fig. 4 exactly) [default: contact, or the kind of --model].
+    #[arg(long, value_name = "KIND", value_parser = model_kind)]
+    pub model_kind: Option<ModelKind>,
+}
+
+/// A model kind by name.
+pub fn model_kind(text: &str) -> Result<ModelKind, String> {
+    ModelKind::from_name(text.trim()).ok_or_else(|| {
+        let names: Vec<&str> = ModelKind::ALL.iter().map(|k| k.name()).collect();
+        format!(
+            "unknown model kind {text:?}; expected one of {}",
+            names.join(", ")
+        )
+    })
 }
 
 /// The default horizon in frames.

@@ -1,4 +1,4 @@
-//! `pushlab train --data PATH... --out MODEL.json`: offline training of the combined model (and, with
+//! `pushlab train --data PATH... --out MODEL.json`: offline training of a combined model (and, with
 //! `--baseline`, the pure network) on any recordings the importer reads; writes a model file the app
 //! and `pushlab eval --model` open.
 
@@ -6,11 +6,13 @@ use std::path::PathBuf;
 
 use anyhow::{Context, anyhow};
 use clap::Args;
+use pushlab_core::experiment::{self, UsedRecording, paper_theta0_for};
 use pushlab_core::labels::Split;
 use pushlab_core::learn::TrainConfig;
+use pushlab_core::model::ModelKind;
 use pushlab_core::model_file::{ModelFile, TrainingMetadata};
 
-use super::data::{self, Used};
+use super::data;
 use super::training::{self, TrainedModels};
 use super::{DEFAULT_HORIZON, Failure, TrainingArgs};
 
@@ -36,26 +38,26 @@ pub fn run(args: &TrainArgs) -> Result<(), Failure> {
     // Ctrl-C from here on stops training cleanly instead of killing the process.
     training::cancel_flag();
     let horizon = args.training.horizon.unwrap_or(DEFAULT_HORIZON);
+    let kind = args.training.model_kind.unwrap_or_default();
     let split = args.training.split_from_labels.then_some(Split::Offline);
-    let loaded = data::load(&args.data, split, horizon);
+    let loaded = experiment::load(&args.data, split, horizon);
     data::print_summary("data", &loaded, horizon);
-    let trajectories: Vec<_> = loaded.used.iter().map(|u| u.samples(horizon)).collect();
     if loaded.used.is_empty() {
         return Err(Failure::Failed(anyhow!(
             "nothing to train on in --data: {}",
             loaded.why_nothing(horizon)
         )));
     }
-    let config = train_config(&args.training, horizon, &loaded.used);
+    let config = train_config(&args.training, horizon, kind, &loaded.used);
     let TrainedModels { combined, pure_nn } =
-        training::train_models(&trajectories, &config, args.baseline)?;
+        training::train_models(kind, &loaded.used, &config, args.baseline)?;
     let file = ModelFile {
         combined: combined.model,
         pure_nn: pure_nn.as_ref().map(|t| t.model.clone()),
         training: TrainingMetadata {
             report: Some(combined.report),
             pure_nn_report: pure_nn.map(|t| t.report),
-            sources: loaded.used.iter().map(Used::source).collect(),
+            sources: loaded.used.iter().map(UsedRecording::source).collect(),
             pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
         },
     };
@@ -64,29 +66,37 @@ pub fn run(args: &TrainArgs) -> Result<(), Failure> {
     if args.baseline && file.pure_nn.is_none() {
         println!("the pure network was not trained (stopped by Ctrl-C)");
     }
-    println!("wrote {}", args.out.display());
+    println!("wrote {} ({kind} model)", args.out.display());
     Ok(())
 }
 
 /// The training configuration: the paper's (Adam, learning rate 0.005, batch 32) with the user's
-/// epochs, seed and horizon, and `θ_online(0)` from the object's outline when all recordings share one.
-pub fn train_config(args: &TrainingArgs, horizon: usize, used: &[Used]) -> TrainConfig {
-    let theta0 = data::theta0_for(used);
-    match theta0 {
-        Some(t) => println!(
-            "θ_online(0): COM offset ({:.4}, {:.4}) m, h {:.4} m (from the object's outline)",
-            t.com_offset[0], t.com_offset[1], t.h
+/// epochs, seed and horizon; says which `θ_online(0)` the model starts from.
+pub fn train_config(
+    args: &TrainingArgs,
+    horizon: usize,
+    kind: ModelKind,
+    used: &[UsedRecording],
+) -> TrainConfig {
+    match kind {
+        ModelKind::Contact => println!(
+            "θ_online(0): per object, COM at the centre and h of a uniform pressure over its outline"
         ),
-        None => println!(
-            "θ_online(0): COM at the centre, h from the pusher distances (the recordings do not share one object outline)"
-        ),
+        ModelKind::Paper => match paper_theta0_for(used) {
+            Some(t) => println!(
+                "θ_online(0): COM offset ({:.4}, {:.4}) m, h {:.4} m (from the object's outline)",
+                t.com_offset[0], t.com_offset[1], t.h
+            ),
+            None => println!(
+                "θ_online(0): COM at the centre, h from the pusher distances (the recordings do not share one object outline)"
+            ),
+        },
     }
     TrainConfig {
         epochs: args.epochs,
         seed: args.seed,
         patience: args.patience,
         horizon,
-        theta0,
         ..TrainConfig::default()
     }
 }

@@ -6,10 +6,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pushlab_core::learn::{
-    TrainConfig, TrainProgress, Trained, TrainingReport, train_combined, train_pure_nn,
-};
-use pushlab_core::model::{CombinedModel, PureNnModel, Sample};
+use pushlab_core::experiment::{UsedRecording, train_baseline, train_combined};
+use pushlab_core::learn::{TrainConfig, TrainProgress, Trained, TrainingReport};
+use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 
 /// Set by Ctrl-C; training checks it between batches and keeps the best model so far.
 static CANCEL: AtomicBool = AtomicBool::new(false);
@@ -43,26 +42,23 @@ pub struct TrainedModels {
     pub pure_nn: Option<Trained<PureNnModel>>,
 }
 
-/// Trains the combined model and, when `baseline`, the pure network, one progress bar each. When
-/// Ctrl-C stops the combined model's training, the pure network is not started.
+/// Trains the combined model of `kind` and, when `baseline`, the pure network, one progress bar
+/// each. When Ctrl-C stops the combined model's training, the pure network is not started.
 pub fn train_models(
-    trajectories: &[Vec<Sample>],
+    kind: ModelKind,
+    used: &[UsedRecording],
     config: &TrainConfig,
     baseline: bool,
 ) -> anyhow::Result<TrainedModels> {
     let cancel = cancel_flag();
-    let combined = with_progress("combined", config, |progress| {
-        train_combined(trajectories, config, progress, cancel)
+    let name = format!("{kind} model");
+    let combined = with_progress(&name, config, |progress| {
+        train_combined(kind, used, config, progress, cancel)
     })
-    .context("cannot train the combined model")?;
-    println!("{}", summary("combined model", &combined.report));
+    .with_context(|| format!("cannot train the {name}"))?;
+    println!("{}", summary(&name, &combined.report));
     let pure_nn = if baseline && !combined.report.cancelled {
-        let trained = with_progress("pure NN", config, |progress| {
-            train_pure_nn(trajectories, config, progress, cancel)
-        })
-        .context("cannot train the pure network")?;
-        println!("{}", summary("pure NN", &trained.report));
-        Some(trained)
+        Some(train_pure_nn(used, config)?)
     } else {
         None
     };
@@ -70,13 +66,13 @@ pub fn train_models(
 }
 
 /// Trains the pure network alone (when a loaded model file has none).
-pub fn train_baseline(
-    trajectories: &[Vec<Sample>],
+pub fn train_pure_nn(
+    used: &[UsedRecording],
     config: &TrainConfig,
 ) -> anyhow::Result<Trained<PureNnModel>> {
     let cancel = cancel_flag();
     let trained = with_progress("pure NN", config, |progress| {
-        train_pure_nn(trajectories, config, progress, cancel)
+        train_baseline(used, config, progress, cancel)
     })
     .context("cannot train the pure network")?;
     println!("{}", summary("pure NN", &trained.report));
@@ -92,7 +88,7 @@ fn with_progress<T, E>(
     let bar =
         ProgressBar::with_draw_target(Some(config.epochs as u64), ProgressDrawTarget::stderr());
     if let Ok(style) =
-        ProgressStyle::with_template("{prefix:>9} [{bar:30}] epoch {pos}/{len} {msg} ({elapsed})")
+        ProgressStyle::with_template("{prefix:>13} [{bar:30}] epoch {pos}/{len} {msg} ({elapsed})")
     {
         bar.set_style(style.progress_chars("=> "));
     }

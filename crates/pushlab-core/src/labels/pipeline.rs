@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::file::{self, LabelFileError};
+use super::file;
 use super::metadata::Split;
 use super::{LabelSet, RecordingLabels};
 
@@ -30,55 +30,6 @@ pub fn recordings_in_split(set: &LabelSet, split: Split) -> Vec<&str> {
         .iter()
         .filter(|(_, r)| r.meta.split == Some(split))
         .map(|(name, _)| name.as_str())
-        .collect()
-}
-
-/// Why a split could not be selected from a folder.
-#[derive(Debug, thiserror::Error)]
-pub enum SelectError {
-    /// The labels file is missing or broken.
-    #[error(transparent)]
-    Labels(#[from] LabelFileError),
-    /// No recording carries the split.
-    #[error("{}: no recording is labelled {split}; set splits in the app's metadata form or with `pushlab labels init-splits`", path.display())]
-    Empty { path: PathBuf, split: &'static str },
-    /// The labels name a recording that is not in the folder.
-    #[error("{}: {recording} is labelled {split}, but {} does not exist", path.display(), folder.join(recording).display())]
-    Missing {
-        path: PathBuf,
-        recording: String,
-        split: &'static str,
-        folder: PathBuf,
-    },
-}
-
-/// The paths of the recordings in `folder` that its labels file labels with `split`, sorted:
-/// what `pushlab train --split offline` trains on.
-pub fn select_split(folder: &Path, split: Split) -> Result<Vec<PathBuf>, SelectError> {
-    let path = file::path_in(folder);
-    let set = file::read(&path)?;
-    let names = recordings_in_split(&set, split);
-    if names.is_empty() {
-        return Err(SelectError::Empty {
-            path,
-            split: split.name(),
-        });
-    }
-    names
-        .into_iter()
-        .map(|name| {
-            let recording = folder.join(name);
-            if recording.is_file() {
-                Ok(recording)
-            } else {
-                Err(SelectError::Missing {
-                    path: path.clone(),
-                    recording: name.to_owned(),
-                    split: split.name(),
-                    folder: folder.to_owned(),
-                })
-            }
-        })
         .collect()
 }
 
@@ -110,12 +61,6 @@ pub fn frames_to_skip(set: &LabelSet, recording: &str, frame_count: usize) -> Ve
 pub fn sample_is_skipped(frame_mask: &[bool], frame: usize, horizon: usize) -> bool {
     let flagged = |f: usize| frame_mask.get(f).copied().unwrap_or(false);
     flagged(frame) || flagged(frame + horizon.max(1))
-}
-
-/// One flag per transition `k → k+1` (a training sample uses both frames): `true` when either
-/// frame is skipped. One shorter than `frame_mask`.
-pub fn transitions_to_skip(frame_mask: &[bool]) -> Vec<bool> {
-    frame_mask.windows(2).map(|w| w[0] || w[1]).collect()
 }
 
 /// The mean of a value over the frames carrying one label.
@@ -229,9 +174,7 @@ fn mean(label: &str, (count, sum): (usize, f64)) -> LabelMean {
 mod tests {
     #![allow(clippy::unwrap_used)]
 
-    use std::fs;
-
-    use super::super::file::tests::{sample_set, temp_folder};
+    use super::super::file::tests::sample_set;
     use super::super::schema::names::*;
     use super::super::{RecordingMeta, Segment};
     use super::*;
@@ -261,34 +204,6 @@ mod tests {
     }
 
     #[test]
-    fn select_split_checks_the_folder() {
-        let dir = temp_folder("select");
-        file::write(&file::path_in(&dir), &sample_set()).unwrap();
-        let err = select_split(&dir, Split::Offline).unwrap_err().to_string();
-        assert!(
-            err.contains("push_000.csv is labelled offline, but"),
-            "{err}"
-        );
-        assert!(err.ends_with("push_000.csv does not exist"), "{err}");
-        fs::write(dir.join("push_000.csv"), "t\n").unwrap();
-        assert_eq!(
-            select_split(&dir, Split::Offline).unwrap(),
-            vec![dir.join("push_000.csv")]
-        );
-        let err = select_split(&dir, Split::Online).unwrap_err().to_string();
-        assert!(err.contains("no recording is labelled online"), "{err}");
-        let err = select_split(&dir.join("nowhere"), Split::Online)
-            .unwrap_err()
-            .to_string();
-        assert!(err.starts_with("cannot read labels file"), "{err}");
-        assert_eq!(
-            labels_file_beside(&dir.join("push_000.csv")),
-            file::path_in(&dir)
-        );
-        assert_eq!(key_of(&dir.join("push_000.csv")).unwrap(), "push_000.csv");
-    }
-
-    #[test]
     fn bad_tracking_frames_are_skipped() {
         let set = sample_set();
         let mask = frames_to_skip(&set, "push_000.csv", 100);
@@ -303,19 +218,15 @@ mod tests {
             2
         );
         assert_eq!(frames_to_skip(&set, "unknown.csv", 10), vec![false; 10]);
-        let transitions = transitions_to_skip(&mask);
-        assert_eq!(transitions.len(), 99);
-        assert!(transitions[69] && transitions[74] && !transitions[68] && !transitions[75]);
         // A sample over `horizon` frames is skipped when its start or its end is.
         let skipped_starts: Vec<usize> = (0..100)
             .filter(|&k| sample_is_skipped(&mask, k, 10))
             .collect();
         assert_eq!(skipped_starts, [60, 61, 62, 63, 64, 70, 71, 72, 73, 74]);
-        assert_eq!(
-            (0..100).filter(|&k| sample_is_skipped(&mask, k, 1)).count(),
-            6,
-            "horizon 1 is the transitions above"
-        );
+        let horizon_1: Vec<usize> = (0..100)
+            .filter(|&k| sample_is_skipped(&mask, k, 1))
+            .collect();
+        assert_eq!(horizon_1, [69, 70, 71, 72, 73, 74]);
         assert!(!sample_is_skipped(&mask, 99, 10), "past the mask's end");
     }
 

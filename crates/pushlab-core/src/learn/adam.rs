@@ -5,9 +5,9 @@ use crate::real::Real;
 
 /// Adam's state for one network: first and second moment estimates of every weight.
 #[derive(Clone, Debug)]
-pub(crate) struct Adam<T> {
-    m: Mlp<T>,
-    v: Mlp<T>,
+pub(crate) struct Adam<T, const I: usize> {
+    m: Mlp<T, I>,
+    v: Mlp<T, I>,
     steps: i32,
     lr: f64,
 }
@@ -16,7 +16,7 @@ const BETA1: f64 = 0.9;
 const BETA2: f64 = 0.999;
 const EPSILON: f64 = 1e-8;
 
-impl<T: Real> Adam<T> {
+impl<T: Real, const I: usize> Adam<T, I> {
     /// Fresh state with the learning rate `lr`.
     pub fn new(lr: f64) -> Self {
         Self {
@@ -29,7 +29,7 @@ impl<T: Real> Adam<T> {
 
     /// One update of `params` along the (mean) gradient `grad`.
     #[inline(always)]
-    pub fn step(&mut self, params: &mut Mlp<T>, grad: &Mlp<T>) {
+    pub fn step(&mut self, params: &mut Mlp<T, I>, grad: &Mlp<T, I>) {
         self.steps += 1;
         let (b1, b2) = (T::of(BETA1), T::of(BETA2));
         let (one_b1, one_b2) = (T::of(1.0 - BETA1), T::of(1.0 - BETA2));

@@ -8,6 +8,7 @@ mod online;
 
 pub use loss::{Loss, LossScale, Nmse, mean_std_across, moving_average};
 pub use offline::{
-    TrainConfig, TrainError, TrainProgress, Trained, TrainingReport, train_combined, train_pure_nn,
+    ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, TrainingReport,
+    paper_theta0, train_contact, train_paper, train_pure_nn,
 };
-pub use online::{OnlineConfig, OnlineLearner, OnlineModel, OnlineStep};
+pub use online::{ContactLearner, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep};

@@ -1,6 +1,9 @@
 //! Online learning of `θ_online` (eq. 13, Algorithm 1): at each step, predict with `θ_online(t)` and
 //! record the loss; then observe the outcome and take a few gradient-descent steps on `θ_online` only,
 //! with the gradient taken through the whole model.
+//!
+//! Every model kind runs the same descent (`model::kernel::descend`): one rule for the step sizes, the
+//! range of `h` and non-finite steps.
 
 use std::sync::Arc;
 
@@ -8,7 +11,8 @@ use serde::{Deserialize, Serialize};
 
 use super::loss::{Loss, LossScale};
 use crate::model::{
-    CombinedModel, OnlineParams, PhysicsOnlyModel, Prediction, RealSample, Sample, SampleInput,
+    ContactGeometry, ContactModel, OnlineParams, PaperModel, PhysicsOnlyModel, Prediction,
+    RealSample, Sample, SampleInput,
 };
 use crate::real::Real;
 
@@ -52,25 +56,33 @@ pub struct OnlineStep {
     pub theta_after: OnlineParams,
 }
 
-/// A model whose `θ_online` can be learned online.
+impl OnlineStep {
+    fn of(
+        sample: &Sample,
+        theta_before: OnlineParams,
+        (prediction, gradient, theta_after): (Prediction, [f64; 3], OnlineParams),
+        scale: &LossScale,
+    ) -> Self {
+        Self {
+            theta_before,
+            prediction,
+            loss: Loss::of(&prediction.motion, &sample.target, scale),
+            gradient,
+            theta_after,
+        }
+    }
+}
+
+/// A model whose `θ_online` can be learned online, on one object.
 pub trait OnlineModel {
     /// Where online learning starts.
     fn theta0(&self) -> OnlineParams;
-    /// The scales `s` of `θ_online`'s components for gradient descent, metres (see
-    /// [`CombinedModel::theta_scales`]).
+    /// The scales `s` of `θ_online`'s components for gradient descent, metres.
     fn theta_scales(&self) -> [f64; 3];
     /// The σ that normalise the losses.
     fn loss_scale(&self) -> LossScale;
     /// Predicts with the given `θ_online`.
     fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction;
-    /// The prediction for a sample, its loss, and the gradient of the loss with respect to
-    /// `θ_online` (`[com_x, com_y, h]`, per metre).
-    fn loss_and_gradient(
-        &self,
-        sample: &Sample,
-        theta: &OnlineParams,
-    ) -> (Prediction, Loss, [f64; 3]);
-
     /// What one online step from `theta` gives: the prediction with `theta`, its loss and gradient,
     /// and `θ_online` after `config.steps` gradient-descent steps on `θ_online / s` with learning rate
     /// `config.lr`, keeping `h` in range. A pure function: nothing is changed, the caller decides
@@ -80,54 +92,9 @@ pub trait OnlineModel {
         sample: &Sample,
         theta: &OnlineParams,
         config: &OnlineConfig,
-    ) -> OnlineStep {
-        let theta_before = theta.clamped();
-        let (prediction, loss, gradient) = self.loss_and_gradient(sample, &theta_before);
-        let scales = self.theta_scales();
-        let mut th = theta_before;
-        let mut g = gradient;
-        for k in 0..config.steps {
-            if k > 0 {
-                g = self.loss_and_gradient(sample, &th).2;
-            }
-            let a = th.to_array();
-            let next = OnlineParams::from_array([
-                a[0] - config.lr * scales[0] * scales[0] * g[0],
-                a[1] - config.lr * scales[1] * scales[1] * g[1],
-                a[2] - config.lr * scales[2] * scales[2] * g[2],
-            ]);
-            if !next.com_offset.iter().all(|x| x.is_finite()) {
-                break;
-            }
-            th = next;
-        }
-        OnlineStep {
-            theta_before,
-            prediction,
-            loss,
-            gradient,
-            theta_after: th,
-        }
-    }
-}
-
-impl<T: Real> OnlineModel for CombinedModel<T> {
-    fn theta0(&self) -> OnlineParams {
-        CombinedModel::theta0(self)
-    }
-
-    fn theta_scales(&self) -> [f64; 3] {
-        CombinedModel::theta_scales(self)
-    }
-
-    fn loss_scale(&self) -> LossScale {
-        CombinedModel::loss_scale(self)
-    }
-
-    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
-        CombinedModel::predict(self, input, theta)
-    }
-
+    ) -> OnlineStep;
+    /// The prediction for a sample, its loss, and the gradient of the loss with respect to
+    /// `θ_online` (`[com_x, com_y, h]`, per metre).
     fn loss_and_gradient(
         &self,
         sample: &Sample,
@@ -135,6 +102,24 @@ impl<T: Real> OnlineModel for CombinedModel<T> {
     ) -> (Prediction, Loss, [f64; 3]) {
         let step = self.online_step(sample, theta, &OnlineConfig::fixed());
         (step.prediction, step.loss, step.gradient)
+    }
+}
+
+impl<T: Real> OnlineModel for PaperModel<T> {
+    fn theta0(&self) -> OnlineParams {
+        PaperModel::theta0(self)
+    }
+
+    fn theta_scales(&self) -> [f64; 3] {
+        PaperModel::theta_scales(self)
+    }
+
+    fn loss_scale(&self) -> LossScale {
+        PaperModel::loss_scale(self)
+    }
+
+    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
+        PaperModel::predict(self, input, theta)
     }
 
     /// The fast path: the whole update runs in the model's float type without allocating.
@@ -144,28 +129,71 @@ impl<T: Real> OnlineModel for CombinedModel<T> {
         theta: &OnlineParams,
         config: &OnlineConfig,
     ) -> OnlineStep {
-        let real = RealSample::<T>::of(sample);
         let theta_before = theta.clamped();
-        let (prediction, gradient, theta_after) =
-            self.online_update(&real, &theta_before, config.steps, config.lr);
-        OnlineStep {
-            theta_before,
-            prediction,
-            loss: Loss::of(&prediction.motion, &sample.target, &self.loss_scale),
-            gradient,
-            theta_after,
-        }
+        let real = RealSample::<T>::of(sample);
+        let result = self.online_update(&real, &theta_before, config.steps, config.lr);
+        OnlineStep::of(sample, theta_before, result, &self.loss_scale)
+    }
+}
+
+/// The contact-frame model on one object: its geometry decides the contact frame, `θ_online(0)` and
+/// the step scales.
+#[derive(Clone, Debug)]
+pub struct ContactLearner {
+    model: Arc<ContactModel>,
+    geometry: Arc<ContactGeometry>,
+}
+
+impl ContactLearner {
+    /// The model on an object of this geometry.
+    pub fn new(model: Arc<ContactModel>, geometry: Arc<ContactGeometry>) -> Self {
+        Self { model, geometry }
+    }
+}
+
+impl OnlineModel for ContactLearner {
+    fn theta0(&self) -> OnlineParams {
+        self.model.theta0(&self.geometry)
+    }
+
+    fn theta_scales(&self) -> [f64; 3] {
+        self.model.theta_scales(&self.geometry)
+    }
+
+    fn loss_scale(&self) -> LossScale {
+        self.model.loss_scale()
+    }
+
+    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
+        self.model.predict(&self.geometry, input, theta)
+    }
+
+    fn online_step(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+        config: &OnlineConfig,
+    ) -> OnlineStep {
+        let theta_before = theta.clamped();
+        let result = self.model.online_update(
+            &self.geometry,
+            sample,
+            &theta_before,
+            config.steps,
+            config.lr,
+        );
+        OnlineStep::of(sample, theta_before, result, &self.model.loss_scale())
     }
 }
 
 /// The physics-only model learns `θ_online` too; each component is scaled by half the object's size.
 impl OnlineModel for PhysicsOnlyModel {
     fn theta0(&self) -> OnlineParams {
-        OnlineParams::for_outline(self.outline())
+        PhysicsOnlyModel::theta0(self)
     }
 
     fn theta_scales(&self) -> [f64; 3] {
-        [self.outline().size() / 2.0; 3]
+        PhysicsOnlyModel::theta_scales(self)
     }
 
     fn loss_scale(&self) -> LossScale {
@@ -176,12 +204,15 @@ impl OnlineModel for PhysicsOnlyModel {
         PhysicsOnlyModel::predict(self, input, theta)
     }
 
-    fn loss_and_gradient(
+    fn online_step(
         &self,
         sample: &Sample,
         theta: &OnlineParams,
-    ) -> (Prediction, Loss, [f64; 3]) {
-        PhysicsOnlyModel::loss_and_gradient(self, sample, theta)
+        config: &OnlineConfig,
+    ) -> OnlineStep {
+        let theta_before = theta.clamped();
+        let result = self.online_update(sample, &theta_before, config.steps, config.lr);
+        OnlineStep::of(sample, theta_before, result, &self.loss_scale())
     }
 }
 

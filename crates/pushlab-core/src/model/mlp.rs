@@ -1,4 +1,9 @@
-//! The paper's small MLP φ: 4 → 16 → 16 → 16 → 4, ReLU after each hidden layer, linear output.
+//! The paper's small MLP φ: I → 16 → 16 → 16 → 4, ReLU after each hidden layer, linear output. The
+//! paper's network and the pure-network baseline have four inputs; the contact-frame model has six.
+//!
+//! The first two inputs are where `θ_online` enters (the COM-relative pusher or contact position); the
+//! others — the *context* — do not depend on it, so online learning computes their share of the first
+//! layer once per online step ([`Network::first_layer_context`]).
 //!
 //! Written by hand on fixed-size arrays rather than with a tensor library: for a network this small
 //! per-operation overhead dominates (PyTorch needs ~3 ms per online step on this model; this needs well
@@ -11,20 +16,24 @@ use crate::real::Real;
 use crate::rng::SplitMix64;
 use crate::simd::{MulAdd, Unfused};
 
-/// Inputs of the network.
+/// Inputs of the paper's network.
 pub const INPUTS: usize = 4;
 /// Units in each hidden layer.
 pub const HIDDEN: usize = 16;
 /// Outputs of the network.
 pub const OUTPUTS: usize = 4;
-/// Number of weights and biases.
-pub const PARAMETER_COUNT: usize =
-    INPUTS * HIDDEN + HIDDEN + 2 * (HIDDEN * HIDDEN + HIDDEN) + HIDDEN * OUTPUTS + OUTPUTS;
+/// Number of weights and biases of the paper's network.
+pub const PARAMETER_COUNT: usize = parameter_count(INPUTS);
+
+/// Number of weights and biases of a network with `inputs` inputs.
+pub const fn parameter_count(inputs: usize) -> usize {
+    inputs * HIDDEN + HIDDEN + 2 * (HIDDEN * HIDDEN + HIDDEN) + HIDDEN * OUTPUTS + OUTPUTS
+}
 
 /// Weights and biases of the MLP. Also used for same-shaped quantities: gradients, Adam's moments.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Mlp<T> {
-    w1: [[T; HIDDEN]; INPUTS],
+pub struct Mlp<T, const I: usize = INPUTS> {
+    w1: [[T; HIDDEN]; I],
     b1: [T; HIDDEN],
     w2: [[T; HIDDEN]; HIDDEN],
     b2: [T; HIDDEN],
@@ -35,9 +44,9 @@ pub struct Mlp<T> {
 }
 
 /// What the forward pass keeps for the backward pass: the input and each hidden layer after ReLU.
-#[derive(Clone, Debug, Default)]
-pub struct Activations<T> {
-    input: [T; INPUTS],
+#[derive(Clone, Debug)]
+pub struct Activations<T, const I: usize = INPUTS> {
+    input: [T; I],
     hidden1: [T; HIDDEN],
     hidden2: [T; HIDDEN],
     hidden3: [T; HIDDEN],
@@ -49,18 +58,30 @@ pub(crate) const BATCH: usize = 32;
 
 /// [`Activations`] of up to [`BATCH`] samples, layer by layer (6.6 kB for `f32`).
 #[derive(Clone, Debug)]
-pub(crate) struct BatchActivations<T> {
-    pub input: [[T; INPUTS]; BATCH],
+pub(crate) struct BatchActivations<T, const I: usize = INPUTS> {
+    pub input: [[T; I]; BATCH],
     hidden1: [[T; HIDDEN]; BATCH],
     hidden2: [[T; HIDDEN]; BATCH],
     hidden3: [[T; HIDDEN]; BATCH],
 }
 
-impl<T: Real> Default for BatchActivations<T> {
+impl<T: Real, const I: usize> Default for Activations<T, I> {
     fn default() -> Self {
         let z = T::zero();
         Self {
-            input: [[z; INPUTS]; BATCH],
+            input: [z; I],
+            hidden1: [z; HIDDEN],
+            hidden2: [z; HIDDEN],
+            hidden3: [z; HIDDEN],
+        }
+    }
+}
+
+impl<T: Real, const I: usize> Default for BatchActivations<T, I> {
+    fn default() -> Self {
+        let z = T::zero();
+        Self {
+            input: [[z; I]; BATCH],
             hidden1: [[z; HIDDEN]; BATCH],
             hidden2: [[z; HIDDEN]; BATCH],
             hidden3: [[z; HIDDEN]; BATCH],
@@ -68,12 +89,12 @@ impl<T: Real> Default for BatchActivations<T> {
     }
 }
 
-impl<T: Real> Mlp<T> {
+impl<T: Real, const I: usize> Mlp<T, I> {
     /// All weights and biases zero: the neutral element for accumulating gradients.
     pub fn zeros() -> Self {
         let z = T::zero();
         Self {
-            w1: [[z; HIDDEN]; INPUTS],
+            w1: [[z; HIDDEN]; I],
             b1: [z; HIDDEN],
             w2: [[z; HIDDEN]; HIDDEN],
             b2: [z; HIDDEN],
@@ -94,7 +115,7 @@ impl<T: Real> Mlp<T> {
                 *x = T::of(rng.normal() * std);
             }
         };
-        fill(mlp.w1.as_flattened_mut(), INPUTS, 1.0);
+        fill(mlp.w1.as_flattened_mut(), I, 1.0);
         fill(mlp.w2.as_flattened_mut(), HIDDEN, 1.0);
         fill(mlp.w3.as_flattened_mut(), HIDDEN, 1.0);
         fill(mlp.w4.as_flattened_mut(), HIDDEN, output_gain);
@@ -174,8 +195,8 @@ impl<T: Real> Mlp<T> {
     }
 
     /// The same network in another float type.
-    pub fn cast<U: Real>(&self) -> Mlp<U> {
-        let mut out = Mlp::<U>::zeros();
+    pub fn cast<U: Real>(&self) -> Mlp<U, I> {
+        let mut out = Mlp::<U, I>::zeros();
         for (o, p) in out.parameters_mut().zip(self.parameters()) {
             *o = U::of(p.as_f64());
         }
@@ -188,9 +209,9 @@ impl<T: Real> Mlp<T> {
     }
 
     /// A network from parameters in the order of [`Mlp::parameters`]; `None` unless there are exactly
-    /// [`PARAMETER_COUNT`] finite values.
+    /// [`parameter_count`]`(I)` finite values.
     pub fn from_slice(values: &[f64]) -> Option<Self> {
-        if values.len() != PARAMETER_COUNT || values.iter().any(|v| !v.is_finite()) {
+        if values.len() != parameter_count(I) || values.iter().any(|v| !v.is_finite()) {
             return None;
         }
         let mut mlp = Self::zeros();
@@ -202,19 +223,20 @@ impl<T: Real> Mlp<T> {
 }
 
 /// Serialised as the flat list of parameters (see [`Mlp::parameters`]).
-impl<T: Real> Serialize for Mlp<T> {
+impl<T: Real, const I: usize> Serialize for Mlp<T, I> {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         self.to_vec().serialize(serializer)
     }
 }
 
-impl<'de, T: Real> Deserialize<'de> for Mlp<T> {
+impl<'de, T: Real, const I: usize> Deserialize<'de> for Mlp<T, I> {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let values = Vec::<f64>::deserialize(deserializer)?;
         let count = values.len();
         Self::from_slice(&values).ok_or_else(|| {
             serde::de::Error::custom(format!(
-                "the network has {count} parameters (or a non-finite one), expected {PARAMETER_COUNT} finite values for a 4-16-16-16-4 MLP"
+                "the network has {count} parameters (or a non-finite one), expected {} finite values for a {I}-16-16-16-4 MLP",
+                parameter_count(I)
             ))
         })
     }
@@ -230,16 +252,16 @@ impl<'de, T: Real> Deserialize<'de> for Mlp<T> {
 /// components, each one 16-wide dot product of a stored column. The copy is derived state: the
 /// parameters can only change through [`Network::update`], which re-derives it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Network<T> {
-    params: Mlp<T>,
+pub struct Network<T, const I: usize = INPUTS> {
+    params: Mlp<T, I>,
     wt2: [[T; HIDDEN]; HIDDEN],
     wt3: [[T; HIDDEN]; HIDDEN],
     wt4: [[T; HIDDEN]; OUTPUTS],
 }
 
-impl<T: Real> Network<T> {
+impl<T: Real, const I: usize> Network<T, I> {
     /// A network with these parameters.
-    pub fn new(params: Mlp<T>) -> Self {
+    pub fn new(params: Mlp<T, I>) -> Self {
         let z = T::zero();
         let mut network = Self {
             params,
@@ -252,18 +274,18 @@ impl<T: Real> Network<T> {
     }
 
     /// The parameters.
-    pub fn parameters(&self) -> &Mlp<T> {
+    pub fn parameters(&self) -> &Mlp<T, I> {
         &self.params
     }
 
     /// Changes the parameters (an optimiser step) and re-derives the transposed copies.
-    pub fn update(&mut self, change: impl FnOnce(&mut Mlp<T>)) {
+    pub fn update(&mut self, change: impl FnOnce(&mut Mlp<T, I>)) {
         change(&mut self.params);
         self.derive_transposes();
     }
 
     /// The same network in another float type.
-    pub fn cast<U: Real>(&self) -> Network<U> {
+    pub fn cast<U: Real>(&self) -> Network<U, I> {
         Network::new(self.params.cast())
     }
 
@@ -275,7 +297,7 @@ impl<T: Real> Network<T> {
 
     /// Runs the network, keeping what the backward pass needs in `act`.
     #[inline(always)]
-    pub fn forward(&self, input: &[T; INPUTS], act: &mut Activations<T>) -> [T; OUTPUTS] {
+    pub fn forward(&self, input: &[T; I], act: &mut Activations<T, I>) -> [T; OUTPUTS] {
         self.forward_with::<Unfused>(input, act)
     }
 
@@ -283,32 +305,32 @@ impl<T: Real> Network<T> {
     #[inline(always)]
     pub(crate) fn forward_with<A: MulAdd>(
         &self,
-        input: &[T; INPUTS],
-        act: &mut Activations<T>,
+        input: &[T; I],
+        act: &mut Activations<T, I>,
     ) -> [T; OUTPUTS] {
-        let motion_part = self.first_layer_motion::<A>([input[2], input[3]]);
-        self.forward_from::<A>(&motion_part, input, act)
+        let context_part = self.first_layer_context::<A>(input);
+        self.forward_from::<A>(&context_part, input, act)
     }
 
-    /// The first layer's pre-activation without the two position inputs: `b1 + w1[2] x2 + w1[3] x3`.
-    /// Online learning moves only the position inputs (through the COM offset), so this is computed
-    /// once per online step instead of once per gradient step.
+    /// The first layer's pre-activation without the two position inputs: `b1 + Σ_{j≥2} w1[j] x_j`.
+    /// Online learning moves only the position inputs (through `θ_online`), so this is computed once
+    /// per online step instead of once per gradient step.
     #[inline(always)]
-    pub(crate) fn first_layer_motion<A: MulAdd>(&self, motion: [T; 2]) -> [T; HIDDEN] {
-        first_layer_motion_part::<T, A>(&self.params, motion)
+    pub(crate) fn first_layer_context<A: MulAdd>(&self, input: &[T; I]) -> [T; HIDDEN] {
+        first_layer_context_part::<T, A, I>(&self.params, input)
     }
 
-    /// The forward pass from [`Network::first_layer_motion`] of `input[2..4]` and the whole input.
+    /// The forward pass from [`Network::first_layer_context`] of `input` and the whole input.
     #[inline(always)]
     pub(crate) fn forward_from<A: MulAdd>(
         &self,
-        motion_part: &[T; HIDDEN],
-        input: &[T; INPUTS],
-        act: &mut Activations<T>,
+        context_part: &[T; HIDDEN],
+        input: &[T; I],
+        act: &mut Activations<T, I>,
     ) -> [T; OUTPUTS] {
         let p = &self.params;
         act.input = *input;
-        let mut z1 = *motion_part;
+        let mut z1 = *context_part;
         axpy::<T, A, HIDDEN>(&mut z1, &p.w1[0], input[0]);
         axpy::<T, A, HIDDEN>(&mut z1, &p.w1[1], input[1]);
         act.hidden1 = relu(z1);
@@ -319,7 +341,7 @@ impl<T: Real> Network<T> {
 
     /// Runs the network without keeping activations.
     #[inline]
-    pub fn eval(&self, input: &[T; INPUTS]) -> [T; OUTPUTS] {
+    pub fn eval(&self, input: &[T; I]) -> [T; OUTPUTS] {
         self.forward(input, &mut Activations::default())
     }
 
@@ -327,7 +349,7 @@ impl<T: Real> Network<T> {
     /// the output of the forward pass that filled `act`. Weights are left alone: online learning only
     /// needs to reach `θ_online`, which enters through the input.
     #[inline(always)]
-    pub fn input_gradient(&self, act: &Activations<T>, d_output: &[T; OUTPUTS]) -> [T; INPUTS] {
+    pub fn input_gradient(&self, act: &Activations<T, I>, d_output: &[T; OUTPUTS]) -> [T; I] {
         let d1 = self.first_layer_gradient::<Unfused>(act, d_output);
         std::array::from_fn(|j| dot::<T, Unfused>(&self.params.w1[j], &d1))
     }
@@ -337,7 +359,7 @@ impl<T: Real> Network<T> {
     #[inline(always)]
     pub(crate) fn position_gradient<A: MulAdd>(
         &self,
-        act: &Activations<T>,
+        act: &Activations<T, I>,
         d_output: &[T; OUTPUTS],
     ) -> [T; 2] {
         let d1 = self.first_layer_gradient::<A>(act, d_output);
@@ -351,7 +373,7 @@ impl<T: Real> Network<T> {
     #[inline(always)]
     fn first_layer_gradient<A: MulAdd>(
         &self,
-        act: &Activations<T>,
+        act: &Activations<T, I>,
         d_output: &[T; OUTPUTS],
     ) -> [T; HIDDEN] {
         let d3 = relu_backward(
@@ -367,10 +389,10 @@ impl<T: Real> Network<T> {
     #[inline(always)]
     pub fn backward(
         &self,
-        act: &Activations<T>,
+        act: &Activations<T, I>,
         d_output: &[T; OUTPUTS],
-        grad: &mut Mlp<T>,
-    ) -> [T; INPUTS] {
+        grad: &mut Mlp<T, I>,
+    ) -> [T; I] {
         let d1 = self.weight_gradient::<Unfused>(act, d_output, grad);
         std::array::from_fn(|j| dot::<T, Unfused>(&self.params.w1[j], &d1))
     }
@@ -381,9 +403,9 @@ impl<T: Real> Network<T> {
     #[inline(always)]
     pub(crate) fn weight_gradient<A: MulAdd>(
         &self,
-        act: &Activations<T>,
+        act: &Activations<T, I>,
         d_output: &[T; OUTPUTS],
-        grad: &mut Mlp<T>,
+        grad: &mut Mlp<T, I>,
     ) -> [T; HIDDEN] {
         accumulate_outer::<T, A, _, _>(&mut grad.w4, &mut grad.b4, &act.hidden3, d_output);
         let d3 = relu_backward(
@@ -405,7 +427,7 @@ impl<T: Real> Network<T> {
     }
 }
 
-impl<T: Real> Network<T> {
+impl<T: Real, const I: usize> Network<T, I> {
     /// The forward pass of the first `n` samples of `act.input` (at most [`BATCH`]), one layer for
     /// all samples before the next: the samples of a layer are independent, so the CPU overlaps
     /// their dependency chains instead of waiting on each sample's.
@@ -413,13 +435,13 @@ impl<T: Real> Network<T> {
     pub(crate) fn forward_batch<A: MulAdd>(
         &self,
         n: usize,
-        act: &mut BatchActivations<T>,
+        act: &mut BatchActivations<T, I>,
         output: &mut [[T; OUTPUTS]; BATCH],
     ) {
         let p = &self.params;
         let n = n.min(BATCH);
         for (x, h) in act.input[..n].iter().zip(&mut act.hidden1[..n]) {
-            let mut z = first_layer_motion_part::<T, A>(p, [x[2], x[3]]);
+            let mut z = first_layer_context_part::<T, A, I>(p, x);
             axpy::<T, A, HIDDEN>(&mut z, &p.w1[0], x[0]);
             axpy::<T, A, HIDDEN>(&mut z, &p.w1[1], x[1]);
             *h = relu(z);
@@ -443,9 +465,9 @@ impl<T: Real> Network<T> {
     pub(crate) fn backward_batch<A: MulAdd>(
         &self,
         n: usize,
-        act: &BatchActivations<T>,
+        act: &BatchActivations<T, I>,
         d_output: &[[T; OUTPUTS]; BATCH],
-        grad: &mut Mlp<T>,
+        grad: &mut Mlp<T, I>,
         d1: &mut [[T; HIDDEN]; BATCH],
     ) {
         let n = n.min(BATCH);
@@ -482,7 +504,7 @@ impl<T: Real> Network<T> {
     }
 }
 
-impl<T: Real> Network<T> {
+impl<T: Real, const I: usize> Network<T, I> {
     /// `∂output/∂input[0]` and `∂output/∂input[1]` (the position inputs) for each of the first `n`
     /// samples of a [`Network::forward_batch`], by forward-mode differentiation: two tangents per
     /// sample pushed through the layers, one layer for all samples at a time. Cheaper than a backward
@@ -492,7 +514,7 @@ impl<T: Real> Network<T> {
     pub(crate) fn position_jacobian_batch<A: MulAdd>(
         &self,
         n: usize,
-        act: &BatchActivations<T>,
+        act: &BatchActivations<T, I>,
         tangents: &mut [[[T; HIDDEN]; 2]; BATCH],
         jacobian: &mut [[[T; OUTPUTS]; 2]; BATCH],
     ) {
@@ -517,12 +539,16 @@ impl<T: Real> Network<T> {
     }
 }
 
-/// `b1 + w1[2] x2 + w1[3] x3`: see [`Network::first_layer_motion`].
+/// `b1 + Σ_{j≥2} w1[j] x_j`: see [`Network::first_layer_context`].
 #[inline(always)]
-fn first_layer_motion_part<T: Real, A: MulAdd>(p: &Mlp<T>, motion: [T; 2]) -> [T; HIDDEN] {
+fn first_layer_context_part<T: Real, A: MulAdd, const I: usize>(
+    p: &Mlp<T, I>,
+    input: &[T; I],
+) -> [T; HIDDEN] {
     let mut z = p.b1;
-    axpy::<T, A, HIDDEN>(&mut z, &p.w1[2], motion[0]);
-    axpy::<T, A, HIDDEN>(&mut z, &p.w1[3], motion[1]);
+    for (column, &x) in p.w1.iter().zip(input).skip(2) {
+        axpy::<T, A, HIDDEN>(&mut z, column, x);
+    }
     z
 }
 
@@ -575,15 +601,15 @@ fn transpose_into<T: Copy, const I: usize, const O: usize>(w: &[[T; O]; I], out:
 }
 
 /// Serialised as the flat list of parameters (see [`Mlp::parameters`]).
-impl<T: Real> Serialize for Network<T> {
+impl<T: Real, const I: usize> Serialize for Network<T, I> {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         self.params.serialize(serializer)
     }
 }
 
-impl<'de, T: Real> Deserialize<'de> for Network<T> {
+impl<'de, T: Real, const I: usize> Deserialize<'de> for Network<T, I> {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        Mlp::deserialize(deserializer).map(Network::new)
+        Mlp::<T, I>::deserialize(deserializer).map(Network::new)
     }
 }
 

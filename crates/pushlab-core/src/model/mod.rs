@@ -1,24 +1,35 @@
 //! The prediction models: the paper's combined model and the two baselines, and what they share.
 //!
-//! - [`CombinedModel`]: COM correction → MLP → Lynch → motion correction (the paper's model).
+//! - [`PaperModel`]: COM correction → MLP → Lynch → motion correction (the paper's model).
+//! - [`ContactModel`]: the same structure, with the network seeing the push in a local frame at the
+//!   contact and correcting a friction-cone prior (carries over to other faces and objects).
+//! - [`CombinedModel`]: a trained model of either [`ModelKind`].
 //! - [`PureNnModel`]: the MLP alone (the paper's "Offline NN").
 //! - [`PhysicsOnlyModel`]: geometry and Lynch, no network.
 
 mod combined;
+pub mod contact;
+pub(crate) mod kernel;
 pub(crate) mod mlp;
 pub mod normalization;
+pub mod paper;
 mod params;
 mod physics;
 mod physics_only;
 mod pure_nn;
 mod sample;
+pub(crate) mod tail;
 
-pub use combined::CombinedModel;
-pub(crate) use combined::{BatchPass, Pass, RealSample, loss_weights, theta_real};
-pub use mlp::{HIDDEN, INPUTS, Mlp, Network, OUTPUTS, PARAMETER_COUNT};
+pub use combined::{CombinedModel, LearnerError, ModelKind};
+pub use contact::{ContactGeometry, ContactModel};
+pub(crate) use kernel::{RealSample, loss_weights, theta_real};
+pub use mlp::{HIDDEN, INPUTS, Mlp, Network, OUTPUTS, PARAMETER_COUNT, parameter_count};
+pub use paper::PaperModel;
 pub use params::{H_MAX, H_MIN, OnlineParams};
-pub use physics::{ComMotion, LynchGradient, centre_motion, lynch, lynch_backward};
-pub use physics_only::PhysicsOnlyModel;
+pub use physics::{
+    ComMotion, LynchGradient, centre_motion, centre_motion_backward, lynch, lynch_backward,
+};
+pub use physics_only::{DEFAULT_CONTACT_TOLERANCE, PhysicsOnlyModel};
 pub use pure_nn::{OutputNormalization, PureNnModel};
 pub use sample::{ObjectMotion, Sample, SampleInput, samples_from_trajectory};
 

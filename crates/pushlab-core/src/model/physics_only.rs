@@ -2,11 +2,19 @@
 //! pusher disc, the contact moves with the pusher (`u_c = u_r`, a sticking contact), and Lynch's model
 //! with the COM correction does the rest.
 
+use super::kernel::{ThetaPass, descend, loss_weights};
 use super::params::OnlineParams;
-use super::physics::{centre_motion, centre_motion_backward, lynch, lynch_backward};
-use super::{ObjectMotion, Prediction, Sample, SampleInput};
+use super::tail::TailPass;
+use super::{ObjectMotion, Prediction, RealSample, Sample, SampleInput};
 use crate::geometry::Outline;
 use crate::learn::{Loss, LossScale};
+use crate::simd::Unfused;
+
+/// How far the pusher's rim may be from the outline and still count as touching it, metres, unless a
+/// user says otherwise. Tracked poses are noisy (the sample data: 2 mm, 0.5°, about 3 mm on the gap)
+/// and over a prediction horizon of many frames a pusher short of the object reaches it: without
+/// contact the physics-only model predicts no motion. One value for the CLI and the app.
+pub const DEFAULT_CONTACT_TOLERANCE: f64 = 0.01;
 
 /// Lynch's model on geometric contact: what physics alone predicts.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,16 +25,10 @@ pub struct PhysicsOnlyModel {
     loss_scale: LossScale,
 }
 
-/// Where and how the pusher touches the object in one sample, object frame.
-struct Contact {
-    /// Contact point relative to the geometric centre.
-    point: [f64; 2],
-}
-
 impl PhysicsOnlyModel {
     /// A model for an object of this outline pushed by a disc of this radius. The disc counts as in
-    /// contact while its rim is within `contact_tolerance` of the outline (tracking noise keeps a real
-    /// pusher from touching exactly). `loss_scale` normalises its losses like the other models'.
+    /// contact while its rim is within `contact_tolerance` of the outline. `loss_scale` normalises its
+    /// losses like the other models'.
     pub fn new(
         outline: Outline,
         pusher_radius: f64,
@@ -51,8 +53,24 @@ impl PhysicsOnlyModel {
         self.loss_scale
     }
 
-    /// The contact, if the disc touches the outline and moves into it.
-    fn contact(&self, input: &SampleInput) -> Option<Contact> {
+    /// The contact tolerance, metres.
+    pub fn contact_tolerance(&self) -> f64 {
+        self.contact_tolerance
+    }
+
+    /// `θ_online(0)`: the COM at the centre, `h` of a uniform pressure over the outline.
+    pub fn theta0(&self) -> OnlineParams {
+        OnlineParams::for_outline(&self.outline)
+    }
+
+    /// Online gradient descent's step scales: half the object's size for every component.
+    pub fn theta_scales(&self) -> [f64; 3] {
+        [self.outline.size() / 2.0; 3]
+    }
+
+    /// The contact point (relative to the geometric centre), if the disc touches the outline and moves
+    /// into it.
+    fn contact(&self, input: &SampleInput) -> Option<[f64; 2]> {
         let boundary = self.outline.disc_contact(
             input.robot_point(),
             self.pusher_radius,
@@ -60,75 +78,99 @@ impl PhysicsOnlyModel {
         )?;
         let u = input.robot_motion_in_object;
         let inward = -(boundary.normal.x * u[0] + boundary.normal.y * u[1]);
-        (inward > 0.0).then_some(Contact {
-            point: [boundary.point.x, boundary.point.y],
-        })
+        (inward > 0.0).then_some([boundary.point.x, boundary.point.y])
     }
 
     /// Predicts the object's motion for `θ_online`: no motion without contact.
     pub fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
-        self.predict_with_gradient(input, theta, None).0
+        let mut pass = self.pass(input);
+        let theta = crate::model::theta_real::<f64>(theta);
+        pass.forward(&theta);
+        pass.prediction(&theta)
     }
 
-    /// The prediction and, when `target` is given, the loss and its gradient with respect to
-    /// `θ_online` (`[com_x, com_y, h]`).
-    pub fn predict_with_gradient(
-        &self,
-        input: &SampleInput,
-        theta: &OnlineParams,
-        target: Option<&ObjectMotion>,
-    ) -> (Prediction, Option<(Loss, [f64; 3])>) {
-        let theta = theta.clamped();
-        let o = theta.com_offset;
-        let Some(contact) = self.contact(input) else {
-            let prediction = Prediction {
-                motion: ObjectMotion::default(),
-                contact: None,
-                contact_motion: None,
-            };
-            let loss =
-                target.map(|t| (Loss::of(&prediction.motion, t, &self.loss_scale), [0.0; 3]));
-            return (prediction, loss);
-        };
-        let c = [contact.point[0] - o[0], contact.point[1] - o[1]];
-        let u = input.robot_motion_in_object;
-        let com = lynch(c, u, theta.h);
-        let centre = centre_motion(&com, o);
-        let prediction = Prediction {
-            motion: ObjectMotion {
-                translation: centre,
-                rotation: com.rotation,
-            },
-            contact: Some(contact.point),
-            contact_motion: Some(u),
-        };
-        let gradient = target.map(|t| {
-            let loss = Loss::of(&prediction.motion, t, &self.loss_scale);
-            let s = &self.loss_scale;
-            let d_centre = [
-                2.0 * (centre[0] - t.translation[0]) / s.sigma_pos[0].powi(2),
-                2.0 * (centre[1] - t.translation[1]) / s.sigma_pos[1].powi(2),
-            ];
-            let d_rot = 2.0 * (com.rotation - t.rotation) / s.sigma_rot.powi(2);
-            let (d_com, mut d_o) = centre_motion_backward(&com, o, d_centre, d_rot);
-            let d_lynch = lynch_backward(c, u, theta.h, &d_com);
-            // c = contact − o.
-            d_o[0] -= d_lynch.contact[0];
-            d_o[1] -= d_lynch.contact[1];
-            (loss, [d_o[0], d_o[1], d_lynch.h])
-        });
-        (prediction, gradient)
-    }
-
-    /// The loss of one sample and its gradient with respect to `θ_online`.
+    /// The prediction for `sample`, its loss, and the gradient of the loss with respect to
+    /// `θ_online`.
     pub fn loss_and_gradient(
         &self,
         sample: &Sample,
         theta: &OnlineParams,
     ) -> (Prediction, Loss, [f64; 3]) {
-        let (prediction, lg) =
-            self.predict_with_gradient(&sample.input, theta, Some(&sample.target));
-        let (loss, gradient) = lg.unwrap_or_default();
+        let (prediction, gradient, _) = self.online_update(sample, theta, 0, 0.0);
+        let loss = Loss::of(&prediction.motion, &sample.target, &self.loss_scale);
         (prediction, loss, gradient)
+    }
+
+    /// One online update (see [`descend`]) with this model's step scales.
+    pub(crate) fn online_update(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+        steps: usize,
+        lr: f64,
+    ) -> (Prediction, [f64; 3], OnlineParams) {
+        let real = RealSample::<f64>::of(sample);
+        let weights = loss_weights(&self.loss_scale);
+        descend::<f64, Unfused>(
+            &mut self.pass(&sample.input),
+            &real.target,
+            &weights,
+            theta,
+            self.theta_scales(),
+            steps,
+            lr,
+        )
+    }
+
+    fn pass(&self, input: &SampleInput) -> PhysicsPass {
+        PhysicsPass {
+            contact: self.contact(input),
+            motion: input.robot_motion_in_object,
+            tail: TailPass::default(),
+        }
+    }
+}
+
+/// One sample's contact (found once) and the tail's pass.
+struct PhysicsPass {
+    contact: Option<[f64; 2]>,
+    motion: [f64; 2],
+    tail: TailPass<f64>,
+}
+
+impl ThetaPass<f64> for PhysicsPass {
+    fn forward(&mut self, theta: &[f64; 3]) -> [f64; 3] {
+        match self.contact {
+            Some(point) => {
+                let relative = [point[0] - theta[0], point[1] - theta[1]];
+                self.tail.forward::<Unfused>(relative, self.motion, theta);
+                self.tail.output()
+            }
+            None => [0.0; 3],
+        }
+    }
+
+    fn backward(&mut self, theta: &[f64; 3], d_output: [f64; 3]) -> [f64; 3] {
+        if self.contact.is_none() {
+            return [0.0; 3];
+        }
+        let d = self.tail.backward::<Unfused>(theta, d_output);
+        // The contact point relative to the COM is `point − offset`.
+        [
+            d.com_offset[0] - d.contact[0],
+            d.com_offset[1] - d.contact[1],
+            d.h,
+        ]
+    }
+
+    fn prediction(&self, theta: &[f64; 3]) -> Prediction {
+        match self.contact {
+            Some(_) => self.tail.prediction(theta),
+            None => Prediction {
+                motion: ObjectMotion::default(),
+                contact: None,
+                contact_motion: None,
+            },
+        }
     }
 }

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::combined::RealSample;
+use super::kernel::RealSample;
 use super::mlp::{Activations, Mlp, Network};
 use super::normalization::{InputNormalization, Stats1, Stats2};
 use super::{ObjectMotion, Prediction, SampleInput};

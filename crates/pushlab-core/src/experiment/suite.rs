@@ -1,0 +1,404 @@
+//! A list of experiments run into one table: for each, every model kind trained on its offline
+//! recordings and evaluated on its online ones, and the physics-only model beside them.
+//!
+//! The spec is JSON; paths are relative to the spec file's folder and may use `*` and `?` in their
+//! last component (`mit/*shape=hex*`):
+//!
+//! ```json
+//! { "horizon": 10, "split_from_labels": true, "kinds": ["contact", "paper"], "physics": true,
+//!   "experiments": [
+//!     { "name": "R4a", "offline": ["sample-data/box1-paper-center-front"],
+//!       "online": ["sample-data/box1-paper-center-left"] } ] }
+//! ```
+//!
+//! Experiments run in parallel, one per worker thread; each is computed exactly as alone (seeded
+//! training, nothing shared), so the numbers do not depend on the number of workers.
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::data::{Skipped, load};
+use super::evaluate::{EvalOptions, PhysicsNmse, evaluate};
+use super::train::train_combined;
+use crate::labels::Split;
+use crate::learn::{Nmse, OnlineConfig, TrainConfig};
+use crate::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind};
+
+/// A suite as written in its JSON file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SuiteSpec {
+    /// Prediction horizon in frames for every experiment that does not give its own.
+    #[serde(default = "one")]
+    pub horizon: usize,
+    /// Offline recordings are those whose split is offline, online those whose split is online.
+    #[serde(default)]
+    pub split_from_labels: bool,
+    #[serde(default = "default_epochs")]
+    pub epochs: usize,
+    #[serde(default)]
+    pub seed: u64,
+    #[serde(default = "default_patience")]
+    pub patience: usize,
+    /// The model kinds to compare (default: every kind).
+    #[serde(default = "all_kinds")]
+    pub kinds: Vec<ModelKind>,
+    /// Also the physics-only model.
+    #[serde(default = "yes")]
+    pub physics: bool,
+    #[serde(default = "default_tolerance")]
+    pub contact_tolerance: f64,
+    #[serde(default = "default_steps")]
+    pub steps: usize,
+    #[serde(default = "default_lr")]
+    pub lr: f64,
+    pub experiments: Vec<ExperimentSpec>,
+}
+
+/// One experiment of a suite.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentSpec {
+    pub name: String,
+    pub offline: Vec<String>,
+    pub online: Vec<String>,
+    #[serde(default)]
+    pub horizon: Option<usize>,
+}
+
+fn one() -> usize {
+    1
+}
+fn default_epochs() -> usize {
+    100
+}
+fn default_patience() -> usize {
+    15
+}
+fn all_kinds() -> Vec<ModelKind> {
+    ModelKind::ALL.to_vec()
+}
+fn yes() -> bool {
+    true
+}
+fn default_tolerance() -> f64 {
+    DEFAULT_CONTACT_TOLERANCE
+}
+fn default_steps() -> usize {
+    5
+}
+fn default_lr() -> f64 {
+    0.005
+}
+
+/// Why a suite could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum SuiteError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: line {line}, column {column}: {message}")]
+    Malformed {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error("{path}: {message}")]
+    Invalid { path: PathBuf, message: String },
+}
+
+impl SuiteSpec {
+    /// Reads and checks a suite file.
+    pub fn load(path: &Path) -> Result<Self, SuiteError> {
+        let bytes = std::fs::read(path).map_err(|source| SuiteError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        let spec: SuiteSpec =
+            serde_json::from_slice(&bytes).map_err(|e| SuiteError::Malformed {
+                path: path.to_owned(),
+                line: e.line(),
+                column: e.column(),
+                message: e.to_string(),
+            })?;
+        let invalid = |message: String| SuiteError::Invalid {
+            path: path.to_owned(),
+            message,
+        };
+        if spec.experiments.is_empty() {
+            return Err(invalid("\"experiments\" is empty: nothing to run".into()));
+        }
+        if spec.kinds.is_empty() {
+            return Err(invalid("\"kinds\" is empty: no model to evaluate".into()));
+        }
+        if spec.horizon == 0 || spec.epochs == 0 {
+            return Err(invalid(
+                "\"horizon\" and \"epochs\" must be at least 1".into(),
+            ));
+        }
+        if !(spec.lr.is_finite() && spec.lr > 0.0) {
+            return Err(invalid(format!(
+                "\"lr\" must be above 0, found {}",
+                spec.lr
+            )));
+        }
+        for (i, e) in spec.experiments.iter().enumerate() {
+            if e.offline.is_empty() || e.online.is_empty() {
+                return Err(invalid(format!(
+                    "experiments[{i}] (\"{}\"): \"offline\" and \"online\" each need at least one path",
+                    e.name
+                )));
+            }
+            if e.horizon == Some(0) {
+                return Err(invalid(format!(
+                    "experiments[{i}] (\"{}\"): \"horizon\" must be at least 1",
+                    e.name
+                )));
+            }
+        }
+        Ok(spec)
+    }
+}
+
+/// One model kind's numbers in one experiment.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KindResult {
+    pub kind: ModelKind,
+    pub offline: Nmse,
+    pub fixed: Nmse,
+    pub online: Nmse,
+    /// Epochs run and the epoch kept.
+    pub epochs_run: usize,
+    pub best_epoch: usize,
+    /// Training plus evaluation, seconds.
+    pub seconds: f64,
+}
+
+/// One experiment's row.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ExperimentResult {
+    pub name: String,
+    pub horizon: usize,
+    pub offline_recordings: usize,
+    pub online_recordings: usize,
+    pub offline_samples: usize,
+    pub online_samples: usize,
+    pub kinds: Vec<KindResult>,
+    pub physics: Option<PhysicsNmse>,
+    /// Why the experiment (or one of its kinds) could not run; the numbers that did run are kept.
+    pub errors: Vec<String>,
+    /// Files and recordings left out, with the reason.
+    pub skipped: Vec<Skipped>,
+}
+
+/// Runs one experiment of a suite, paths relative to `base`.
+pub fn run_experiment(
+    spec: &SuiteSpec,
+    experiment: &ExperimentSpec,
+    base: &Path,
+    cancel: &AtomicBool,
+) -> ExperimentResult {
+    let horizon = experiment.horizon.unwrap_or(spec.horizon);
+    let by_split = spec.split_from_labels;
+    let offline = load(
+        &expand(base, &experiment.offline),
+        by_split.then_some(Split::Offline),
+        horizon,
+    );
+    let online = load(
+        &expand(base, &experiment.online),
+        by_split.then_some(Split::Online),
+        horizon,
+    );
+    let count = |u: &super::data::Loaded| u.samples(horizon).iter().map(Vec::len).sum();
+    let mut result = ExperimentResult {
+        name: experiment.name.clone(),
+        horizon,
+        offline_recordings: offline.used.len(),
+        online_recordings: online.used.len(),
+        offline_samples: count(&offline),
+        online_samples: count(&online),
+        kinds: Vec::new(),
+        physics: None,
+        errors: Vec::new(),
+        skipped: offline
+            .skipped
+            .iter()
+            .chain(&online.skipped)
+            .cloned()
+            .collect(),
+    };
+    for (role, loaded) in [("offline", &offline), ("online", &online)] {
+        if loaded.used.is_empty() {
+            result.errors.push(format!(
+                "nothing usable in {role}: {}",
+                loaded.why_nothing(horizon)
+            ));
+        }
+    }
+    if !result.errors.is_empty() {
+        return result;
+    }
+    let config = TrainConfig {
+        epochs: spec.epochs,
+        seed: spec.seed,
+        patience: spec.patience,
+        horizon,
+        ..TrainConfig::default()
+    };
+    for (i, &kind) in spec.kinds.iter().enumerate() {
+        let started = Instant::now();
+        let trained = match train_combined(kind, &offline.used, &config, &mut |_| {}, cancel) {
+            Ok(trained) => trained,
+            Err(e) => {
+                result.errors.push(format!("{kind}: {e}"));
+                continue;
+            }
+        };
+        // The physics-only model's losses are normalised like the first kind's (every kind's σ comes
+        // from the same offline samples).
+        let options = EvalOptions {
+            online: OnlineConfig {
+                steps: spec.steps,
+                lr: spec.lr,
+            },
+            physics: (spec.physics && i == 0).then_some(spec.contact_tolerance),
+        };
+        let evaluation = evaluate(&trained.model, None, &offline.used, &online.used, &options);
+        if let Some(physics) = evaluation.physics {
+            result.physics = Some(physics);
+        }
+        result.skipped.extend(evaluation.left_out);
+        result.kinds.push(KindResult {
+            kind,
+            offline: evaluation.offline,
+            fixed: evaluation.fixed,
+            online: evaluation.online,
+            epochs_run: trained.report.epochs_run,
+            best_epoch: trained.report.best_epoch,
+            seconds: started.elapsed().as_secs_f64(),
+        });
+    }
+    result
+}
+
+/// Runs every experiment of a suite on `workers` threads (at least one); `progress` is told each
+/// experiment that finishes and how many have. Results are in the spec's order.
+pub fn run_suite(
+    spec: &SuiteSpec,
+    base: &Path,
+    workers: usize,
+    progress: &(dyn Fn(&ExperimentResult, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Vec<ExperimentResult> {
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<ExperimentResult>>> =
+        Mutex::new(vec![None; spec.experiments.len()]);
+    std::thread::scope(|scope| {
+        for _ in 0..workers.clamp(1, spec.experiments.len().max(1)) {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::SeqCst);
+                    if i >= spec.experiments.len() || cancel.load(Ordering::Relaxed) {
+                        break;
+                    }
+                    let result = run_experiment(spec, &spec.experiments[i], base, cancel);
+                    let finished = done.fetch_add(1, Ordering::SeqCst) + 1;
+                    progress(&result, finished);
+                    if let Ok(mut all) = results.lock() {
+                        all[i] = Some(result);
+                    }
+                }
+            });
+        }
+    });
+    results
+        .into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
+/// The paths of a spec, relative to `base`, with `*` and `?` in the last component expanded (sorted;
+/// a pattern that matches nothing is kept, so that loading reports it as missing).
+pub fn expand(base: &Path, paths: &[String]) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for path in paths {
+        let full = base.join(path);
+        let name = full
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if !name.contains(['*', '?']) {
+            out.push(full);
+            continue;
+        }
+        let folder = full.parent().unwrap_or(base).to_path_buf();
+        let mut matched: Vec<PathBuf> = std::fs::read_dir(&folder)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter(|entry| wildcard_match(&name, &entry.file_name().to_string_lossy()))
+            .map(|entry| entry.path())
+            .collect();
+        matched.sort();
+        if matched.is_empty() {
+            out.push(full);
+        }
+        out.extend(matched);
+    }
+    out
+}
+
+/// Whether `text` matches `pattern`, where `*` matches any run of characters and `?` one.
+pub fn wildcard_match(pattern: &str, text: &str) -> bool {
+    let (p, t): (Vec<char>, Vec<char>) = (pattern.chars().collect(), text.chars().collect());
+    let (mut pi, mut ti) = (0, 0);
+    let (mut star, mut mark) = (None, 0);
+    while ti < t.len() {
+        if pi < p.len() && (p[pi] == '?' || p[pi] == t[ti]) {
+            pi += 1;
+            ti += 1;
+        } else if pi < p.len() && p[pi] == '*' {
+            star = Some(pi);
+            mark = ti;
+            pi += 1;
+        } else if let Some(s) = star {
+            pi = s + 1;
+            mark += 1;
+            ti = mark;
+        } else {
+            return false;
+        }
+    }
+    p[pi..].iter().all(|&c| c == '*')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wildcards_match_like_a_shell() {
+        assert!(wildcard_match(
+            "*shape=hex*",
+            "motion_surface=abs_shape=hex_a=0.h5"
+        ));
+        assert!(!wildcard_match(
+            "*shape=hex*",
+            "motion_surface=abs_shape=rect1.h5"
+        ));
+        assert!(wildcard_match("push_0?.csv", "push_07.csv"));
+        assert!(!wildcard_match("push_0?.csv", "push_107.csv"));
+        assert!(wildcard_match("*", ""));
+    }
+}

@@ -1,0 +1,81 @@
+//! Offline training of any model kind on the recordings an experiment uses: which samples, which
+//! `θ_online(0)`, which objects. `pushlab train`, `pushlab eval`, the suite and the app's Train tab
+//! all train through [`train_combined`].
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use super::data::UsedRecording;
+use crate::learn::{
+    ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
+    train_contact, train_paper, train_pure_nn,
+};
+use crate::model::{CombinedModel, ModelKind, OnlineParams, PureNnModel, Sample};
+
+/// The paper model's `θ_online(0)` for training on these recordings (see [`paper_theta0`]): from
+/// their object's outline when they all share one, else `None` (the generic guess).
+pub fn paper_theta0_for(used: &[UsedRecording]) -> Option<OnlineParams> {
+    let outlines: Vec<Option<crate::geometry::Outline>> = used
+        .iter()
+        .map(|u| u.recording.setting.object.outline().ok())
+        .collect();
+    paper_theta0(outlines.iter().map(Option::as_ref))
+}
+
+/// Trains a combined model of `kind` on the recordings' samples at `config.horizon`, leaving out
+/// samples that touch frames labelled bad tracking. The paper model's `θ_online(0)` is
+/// `config.theta0`, else [`paper_theta0_for`]; the contact-frame model trains each recording on its
+/// own object and needs its outline (recordings without a usable one are left out).
+pub fn train_combined(
+    kind: ModelKind,
+    used: &[UsedRecording],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<CombinedModel>, TrainError> {
+    let samples: Vec<Vec<Sample>> = used.iter().map(|u| u.samples(config.horizon)).collect();
+    match kind {
+        ModelKind::Paper => {
+            let config = TrainConfig {
+                theta0: config.theta0.or_else(|| paper_theta0_for(used)),
+                ..*config
+            };
+            let trained = train_paper(&samples, &config, progress, cancel)?;
+            Ok(Trained {
+                model: CombinedModel::Paper(Arc::new(trained.model)),
+                report: trained.report,
+            })
+        }
+        ModelKind::Contact => {
+            let trajectories: Vec<ContactTrajectory> = used
+                .iter()
+                .zip(&samples)
+                .filter_map(|(u, samples)| {
+                    Some(ContactTrajectory {
+                        geometry: u.geometry.as_ref().ok()?,
+                        samples,
+                    })
+                })
+                .collect();
+            if trajectories.is_empty() && !used.is_empty() {
+                return Err(TrainError::NoOutline);
+            }
+            let trained = train_contact(&trajectories, config, progress, cancel)?;
+            Ok(Trained {
+                model: CombinedModel::Contact(Arc::new(trained.model)),
+                report: trained.report,
+            })
+        }
+    }
+}
+
+/// Trains the pure-network baseline on the recordings' samples.
+pub fn train_baseline(
+    used: &[UsedRecording],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<PureNnModel>, TrainError> {
+    let samples: Vec<Vec<Sample>> = used.iter().map(|u| u.samples(config.horizon)).collect();
+    train_pure_nn(&samples, config, progress, cancel)
+}

@@ -1,0 +1,391 @@
+//! Offline training (eq. 12): Adam on the network's weights over pre-recorded pushes, with
+//! `θ_online` fixed at `θ_online(0)` (or, optionally, trained too), seeded shuffling, a validation
+//! split by trajectory and early stopping.
+//!
+//! One loop ([`run`]) trains every model: [`paper`] (the paper's combined model), [`contact`] (the
+//! contact-frame combined model) and [`pure_nn`] (the "Offline NN" baseline) each only say how one
+//! sample's loss and gradient are computed ([`Trainee`]).
+
+mod contact;
+mod paper;
+mod pure_nn;
+
+pub use self::contact::{ContactTrajectory, train_contact};
+pub use self::paper::{paper_theta0, train_paper};
+pub use self::pure_nn::train_pure_nn;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use serde::{Deserialize, Serialize};
+
+use super::adam::Adam;
+use super::loss::LossScale;
+use crate::model::{Mlp, Network, OnlineParams, Sample, loss_weights};
+use crate::real::Real;
+use crate::rng::SplitMix64;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::Fused;
+use crate::simd::{MulAdd, Unfused};
+
+/// How to train.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TrainConfig {
+    /// Passes over the training data at most.
+    pub epochs: usize,
+    /// Adam's learning rate (the paper: 0.005).
+    pub learning_rate: f64,
+    /// Samples per gradient step (the paper: 32).
+    pub batch_size: usize,
+    /// Seeds the weights, the validation split and the shuffling: same seed, same model, bit for bit.
+    pub seed: u64,
+    /// Fraction of the trajectories held out for validation (whole trajectories, so that neighbouring
+    /// frames of one push never sit on both sides). Zero disables validation and early stopping.
+    pub validation_fraction: f64,
+    /// Stop after this many epochs without a better validation loss; zero never stops early.
+    pub patience: usize,
+    /// Also train `θ_online(0)` offline (the paper's optional scheme; the paper model only).
+    pub train_online_params: bool,
+    /// The paper model's `θ_online(0)`. `None` puts the COM at the centre and takes half the mean
+    /// distance of the pusher from the centre as `h` — a rough guess; [`paper_theta0`] is the rule
+    /// `train` and `eval` use. The contact-frame model takes each object's own `θ_online(0)`.
+    pub theta0: Option<OnlineParams>,
+    /// The prediction horizon in frames the samples were made with (stored in the model).
+    pub horizon: usize,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        Self {
+            epochs: 100,
+            learning_rate: 0.005,
+            batch_size: 32,
+            seed: 0,
+            validation_fraction: 0.2,
+            patience: 15,
+            train_online_params: false,
+            theta0: None,
+            horizon: 1,
+        }
+    }
+}
+
+/// Reported after every epoch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrainProgress {
+    /// The epoch just finished, from 1.
+    pub epoch: usize,
+    /// The most epochs this run will take.
+    pub epochs: usize,
+    /// Mean loss ℓ over the epoch's training samples.
+    pub train_loss: f64,
+    /// Mean loss ℓ on the validation trajectories.
+    pub validation_loss: Option<f64>,
+    /// The best validation loss so far (the model that will be kept).
+    pub best_validation_loss: Option<f64>,
+}
+
+/// What a training run did.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrainingReport {
+    pub config: TrainConfig,
+    /// Epochs actually run.
+    pub epochs_run: usize,
+    /// The epoch whose weights were kept (the best validation loss, or the last one without validation).
+    pub best_epoch: usize,
+    /// Mean training loss ℓ of the kept epoch.
+    pub train_loss: f64,
+    /// Mean validation loss ℓ of the kept epoch.
+    pub validation_loss: Option<f64>,
+    pub training_samples: usize,
+    pub validation_samples: usize,
+    /// Stopped by the cancel flag (the best model so far is kept).
+    pub cancelled: bool,
+    /// Stopped because the validation loss stopped improving.
+    pub stopped_early: bool,
+    /// Training and validation loss per epoch.
+    pub history: Vec<(f64, Option<f64>)>,
+}
+
+/// A trained model and how it was trained.
+#[derive(Clone, Debug)]
+pub struct Trained<M> {
+    pub model: M,
+    pub report: TrainingReport,
+}
+
+/// Why training could not start.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TrainError {
+    #[error(
+        "no training samples: the recordings are shorter than the horizon ({horizon} frames) or empty"
+    )]
+    NoSamples { horizon: usize },
+    #[error("invalid training configuration: {0}")]
+    BadConfig(String),
+    #[error("the training data contains a non-finite value (sample at frame {frame})")]
+    NonFinite { frame: usize },
+    #[error(
+        "the contact-frame model needs each object's outline, and none of the recordings has a usable one (train the paper model instead)"
+    )]
+    NoOutline,
+}
+
+/// Checks the training configuration and that every sample is finite.
+fn check(trajectories: &[&[Sample]], config: &TrainConfig) -> Result<(), TrainError> {
+    if config.batch_size == 0 {
+        return Err(TrainError::BadConfig(
+            "batch size must be at least 1".into(),
+        ));
+    }
+    if !(config.learning_rate.is_finite() && config.learning_rate > 0.0) {
+        return Err(TrainError::BadConfig(format!(
+            "learning rate must be positive, got {}",
+            config.learning_rate
+        )));
+    }
+    if !(0.0..1.0).contains(&config.validation_fraction) {
+        return Err(TrainError::BadConfig(format!(
+            "validation fraction must be in [0, 1), got {}",
+            config.validation_fraction
+        )));
+    }
+    for s in trajectories.iter().copied().flatten() {
+        let i = &s.input;
+        let t = &s.target;
+        let values = [
+            i.robot_in_object[0],
+            i.robot_in_object[1],
+            i.robot_motion_in_object[0],
+            i.robot_motion_in_object[1],
+            t.translation[0],
+            t.translation[1],
+            t.rotation,
+        ];
+        if !values.iter().all(|v| v.is_finite()) {
+            return Err(TrainError::NonFinite { frame: s.frame });
+        }
+    }
+    if trajectories.iter().all(|t| t.is_empty()) {
+        return Err(TrainError::NoSamples {
+            horizon: config.horizon,
+        });
+    }
+    Ok(())
+}
+
+/// The training and validation items: whole trajectories held out for validation, chosen by the seed
+/// (the same trajectories for every model trained with that seed), at least one kept for training.
+struct Split<T> {
+    train: Vec<T>,
+    validation: Vec<T>,
+}
+
+impl<T: Clone> Split<T> {
+    fn new(trajectories: &[Vec<T>], config: &TrainConfig) -> Self {
+        let non_empty: Vec<&Vec<T>> = trajectories.iter().filter(|t| !t.is_empty()).collect();
+        let mut order: Vec<usize> = (0..non_empty.len()).collect();
+        SplitMix64::new(config.seed ^ 0x5EED_5B17).shuffle(&mut order);
+        let held_out = if config.validation_fraction > 0.0 && non_empty.len() >= 2 {
+            ((non_empty.len() as f64 * config.validation_fraction).ceil() as usize)
+                .clamp(1, non_empty.len() - 1)
+        } else {
+            0
+        };
+        let mut train = Vec::new();
+        let mut validation = Vec::new();
+        for (rank, &i) in order.iter().enumerate() {
+            let target = if rank < held_out {
+                &mut validation
+            } else {
+                &mut train
+            };
+            target.extend_from_slice(non_empty[i]);
+        }
+        Self { train, validation }
+    }
+}
+
+/// What the shared training loop needs from a model whose network has `I` inputs.
+trait Trainee<const I: usize> {
+    type Real: Real;
+    /// One training sample as the model consumes it.
+    type Item;
+    fn network_mut(&mut self) -> &mut Network<Self::Real, I>;
+    /// The network and up to three other trained parameters (the paper model's `θ_online(0)`, the
+    /// contact model's `μ`), to keep the best epoch's.
+    fn snapshot(&self) -> (Network<Self::Real, I>, [Self::Real; 3]);
+    fn restore(&mut self, snapshot: (Network<Self::Real, I>, [Self::Real; 3]));
+    fn loss_scale(&self) -> LossScale;
+    /// Adds the weight gradient of one sample's loss to `grad`; returns the loss.
+    fn accumulate<A: MulAdd>(
+        &mut self,
+        item: &Self::Item,
+        weights: &[Self::Real; 3],
+        grad: &mut Mlp<Self::Real, I>,
+    ) -> Self::Real;
+    /// Adds the weight gradient of the loss of `items[i]` for every `i` in `batch` to `grad` (summed
+    /// in order); returns the summed loss.
+    fn accumulate_batch<A: MulAdd>(
+        &mut self,
+        samples: &[Self::Item],
+        batch: &[usize],
+        weights: &[Self::Real; 3],
+        grad: &mut Mlp<Self::Real, I>,
+    ) -> Self::Real {
+        let mut loss = <Self::Real as num_traits::Zero>::zero();
+        for &i in batch {
+            loss = loss + self.accumulate::<A>(&samples[i], weights, grad);
+        }
+        loss
+    }
+    /// The loss of one sample.
+    fn loss(&mut self, item: &Self::Item, weights: &[Self::Real; 3]) -> Self::Real;
+    /// Called after each batch with its size: updates any non-network parameters.
+    fn after_batch(&mut self, _batch: usize) {}
+}
+
+/// The training loop shared by every model.
+fn run<const I: usize, M: Trainee<I>>(
+    trainee: &mut M,
+    split: &Split<M::Item>,
+    config: &TrainConfig,
+    rng: &mut SplitMix64,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> TrainingReport {
+    let (train, validation) = (&split.train, &split.validation);
+    let weights = loss_weights::<M::Real>(&trainee.loss_scale());
+    let mut adam = Adam::<M::Real, I>::new(config.learning_rate);
+    let mut grad = Mlp::<M::Real, I>::zeros();
+    let mut order: Vec<usize> = (0..train.len()).collect();
+    let mut history = Vec::new();
+    let mut best: Option<(f64, usize, f64)> = None; // (validation loss, epoch, train loss)
+    let mut best_snapshot = trainee.snapshot();
+    let (mut cancelled, mut stopped_early) = (false, false);
+    let mut last_train_loss = f64::NAN;
+
+    for epoch in 1..=config.epochs {
+        rng.shuffle(&mut order);
+        let mut one_epoch = Epoch {
+            trainee: &mut *trainee,
+            train,
+            order: &order,
+            weights: &weights,
+            adam: &mut adam,
+            grad: &mut grad,
+            batch_size: config.batch_size,
+            cancel,
+        };
+        let Some(epoch_loss) = one_epoch.run() else {
+            cancelled = true;
+            break;
+        };
+        last_train_loss = epoch_loss / train.len().max(1) as f64;
+        let validation_loss = (!validation.is_empty()).then(|| {
+            validation
+                .iter()
+                .map(|s| trainee.loss(s, &weights).as_f64())
+                .sum::<f64>()
+                / validation.len() as f64
+        });
+        history.push((last_train_loss, validation_loss));
+        let improved = match (validation_loss, best) {
+            (Some(v), Some((b, _, _))) => v < b,
+            (Some(_), None) => true,
+            (None, _) => true,
+        };
+        if improved {
+            best = Some((
+                validation_loss.unwrap_or(last_train_loss),
+                epoch,
+                last_train_loss,
+            ));
+            best_snapshot = trainee.snapshot();
+        }
+        progress(&TrainProgress {
+            epoch,
+            epochs: config.epochs,
+            train_loss: last_train_loss,
+            validation_loss,
+            best_validation_loss: validation_loss.and(best.map(|b| b.0)),
+        });
+        if let (Some(_), Some((_, best_epoch, _))) = (validation_loss, best)
+            && config.patience > 0
+            && epoch - best_epoch >= config.patience
+        {
+            stopped_early = true;
+            break;
+        }
+    }
+    trainee.restore(best_snapshot);
+    let (validation_loss, best_epoch, train_loss) = match best {
+        Some((v, e, t)) => ((!validation.is_empty()).then_some(v), e, t),
+        None => (None, 0, last_train_loss),
+    };
+    TrainingReport {
+        config: *config,
+        epochs_run: history.len(),
+        best_epoch,
+        train_loss,
+        validation_loss,
+        training_samples: train.len(),
+        validation_samples: validation.len(),
+        cancelled,
+        stopped_early,
+        history,
+    }
+}
+
+/// One pass over the training samples in a given order: the hot loop of training.
+struct Epoch<'a, const I: usize, M: Trainee<I>> {
+    trainee: &'a mut M,
+    train: &'a [M::Item],
+    order: &'a [usize],
+    weights: &'a [M::Real; 3],
+    adam: &'a mut Adam<M::Real, I>,
+    grad: &'a mut Mlp<M::Real, I>,
+    batch_size: usize,
+    cancel: &'a AtomicBool,
+}
+
+impl<const I: usize, M: Trainee<I>> Epoch<'_, I, M> {
+    /// Runs the epoch in the widest SIMD available; the summed loss, or `None` when cancelled.
+    fn run(&mut self) -> Option<f64> {
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::avx2_fma_available() {
+            #[allow(unsafe_code)]
+            // SAFETY: `run_avx2` only requires AVX2 and FMA, and the CPU was just checked to have them.
+            return unsafe { self.run_avx2() };
+        }
+        self.run_portable::<Unfused>()
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn run_avx2(&mut self) -> Option<f64> {
+        self.run_portable::<Fused>()
+    }
+
+    #[inline(always)]
+    fn run_portable<A: MulAdd>(&mut self) -> Option<f64> {
+        let mut epoch_loss = 0.0f64;
+        for batch in self.order.chunks(self.batch_size) {
+            if self.cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            self.grad.fill_zero();
+            let batch_loss =
+                self.trainee
+                    .accumulate_batch::<A>(self.train, batch, self.weights, self.grad);
+            epoch_loss += batch_loss.as_f64();
+            self.grad.scale(M::Real::of(1.0 / batch.len() as f64));
+            let (adam, grad) = (&mut *self.adam, &*self.grad);
+            self.trainee
+                .network_mut()
+                .update(|params| adam.step(params, grad));
+            self.trainee.after_batch(batch.len());
+        }
+        Some(epoch_loss)
+    }
+}

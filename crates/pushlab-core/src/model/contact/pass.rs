@@ -1,0 +1,619 @@
+//! The contact-frame model's forward and backward pass on one sample, and its online step.
+//!
+//! The chain, with `R = [n, t]` the contact frame (inward normal, tangent) and `θ = (o, h)`:
+//! `g = Rᵀ(q − o)`, `x = clamp(g / h, context)`, `z = φ(x)`,
+//! `c = R (g + h z₀₁)`, `u_c = R (cone(g, sweep(m), h, μ) + |m| z₂₃)`, then Lynch and eq. 15.
+
+use nalgebra::{Point2, Vector2};
+
+use super::frame::ContactGeometry;
+use super::prior::{ConePass, cone_backward, cone_forward, swept_motion};
+use super::{CONTACT_INPUTS, ContactModel};
+use crate::model::kernel::{RealSample, ThetaPass, descend, loss_weights};
+use crate::model::mlp::{Activations, HIDDEN, Mlp, OUTPUTS};
+use crate::model::params::OnlineParams;
+use crate::model::tail::TailPass;
+use crate::model::{Prediction, Sample, SampleInput};
+use crate::real::Real;
+use crate::simd::{MulAdd, Unfused};
+
+/// Everything about one sample on one object that does not depend on `θ_online`: the contact frame,
+/// the context inputs and their share of the first layer, the swept motion.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Prepared<T> {
+    /// The frame's axes in the object frame: inward normal and tangent.
+    normal: [T; 2],
+    tangent: [T; 2],
+    /// The contact point `q` in frame coordinates (`g = q_frame − Rᵀ o`).
+    point: [T; 2],
+    /// The network's input with the context (inputs 2…5) filled in and clamped.
+    input: [T; CONTACT_INPUTS],
+    context_part: [T; HIDDEN],
+    /// The prior's swept pushing motion, frame coordinates.
+    swept: [T; 2],
+    /// Length of the pusher's motion, metres.
+    motion_length: T,
+}
+
+impl<T: Real> Default for Pass<T> {
+    fn default() -> Self {
+        Self {
+            activations: Activations::default(),
+            cone: ConePass::default(),
+            tail: TailPass::default(),
+            lever: [T::zero(); 2],
+            z: [T::zero(); OUTPUTS],
+            unclamped: [false; 2],
+        }
+    }
+}
+
+/// The contact frame of one sample and the pusher's offset and motion in it.
+struct Features {
+    frame: super::frame::ContactFrame,
+    /// The contact point `q`, frame coordinates.
+    point: [f64; 2],
+    /// The pusher's offset from `q`, frame coordinates.
+    offset: [f64; 2],
+    /// The pusher's motion, frame coordinates, and its length.
+    motion: [f64; 2],
+    length: f64,
+}
+
+impl Features {
+    fn of(geometry: &ContactGeometry, input: &SampleInput) -> Self {
+        let pusher = Point2::from(input.robot_in_object);
+        let motion = Vector2::from(input.robot_motion_in_object);
+        let frame = geometry.frame(pusher, motion);
+        let m = frame.in_frame(motion);
+        Self {
+            point: frame.in_frame(frame.point.coords),
+            offset: frame.in_frame(pusher - frame.point),
+            motion: m,
+            length: (m[0] * m[0] + m[1] * m[1] + 1e-12).sqrt(),
+            frame,
+        }
+    }
+
+    /// Inputs 2…5: the gap and the tangential offset per motion length, the motion's direction.
+    fn context(&self, motion_floor: f64) -> [f64; 4] {
+        let per_motion = 1.0 / (self.length + motion_floor);
+        [
+            self.frame.gap * per_motion,
+            self.offset[1] * per_motion,
+            self.motion[0] / self.length,
+            self.motion[1] / self.length,
+        ]
+    }
+}
+
+/// What the forward pass keeps for the backward pass.
+#[derive(Clone, Debug)]
+pub(crate) struct Pass<T> {
+    activations: Activations<T, CONTACT_INPUTS>,
+    cone: ConePass<T>,
+    pub tail: TailPass<T>,
+    /// `g`, frame coordinates.
+    lever: [T; 2],
+    /// The network's outputs.
+    z: [T; OUTPUTS],
+    /// Whether `g / h` was inside the clamp range, per component.
+    unclamped: [bool; 2],
+}
+
+impl<T: Real> ContactModel<T> {
+    /// The network's inputs for a sample on an object before clamping, with `θ_online` at the
+    /// object's `θ_online(0)` (the COM at the centre, so `g = q`): what the clamp range is taken from.
+    pub(crate) fn raw_inputs(
+        geometry: &ContactGeometry,
+        input: &SampleInput,
+        motion_floor: f64,
+    ) -> [f64; CONTACT_INPUTS] {
+        let f = Features::of(geometry, input);
+        let context = f.context(motion_floor);
+        let h0 = OnlineParams {
+            com_offset: [0.0, 0.0],
+            h: geometry.uniform_h(),
+        }
+        .clamped()
+        .h;
+        [
+            f.point[0] / h0,
+            f.point[1] / h0,
+            context[0],
+            context[1],
+            context[2],
+            context[3],
+        ]
+    }
+
+    /// The part of a pass that does not depend on `θ_online`.
+    pub(crate) fn prepare(&self, geometry: &ContactGeometry, input: &SampleInput) -> Prepared<T> {
+        let f = Features::of(geometry, input);
+        let mut x = [T::zero(); CONTACT_INPUTS];
+        for (j, value) in f.context(self.inputs.motion_floor).into_iter().enumerate() {
+            let k = j + 2;
+            x[k] = T::of(value.clamp(self.inputs.low[k], self.inputs.high[k]));
+        }
+        let swept = swept_motion(f.motion, f.frame.gap, self.contact_tolerance);
+        let t = |v: [f64; 2]| v.map(T::of);
+        Prepared {
+            normal: t([f.frame.normal_in.x, f.frame.normal_in.y]),
+            tangent: t([f.frame.tangent.x, f.frame.tangent.y]),
+            point: t(f.point),
+            input: x,
+            context_part: self.network.first_layer_context::<Unfused>(&x),
+            swept: t(swept),
+            motion_length: T::of(f.length),
+        }
+    }
+
+    /// `prepared` with the first layer's share of its context recomputed from the current weights:
+    /// training changes them between passes.
+    #[inline(always)]
+    pub(crate) fn with_context(&self, prepared: &Prepared<T>) -> Prepared<T> {
+        Prepared {
+            context_part: self.network.first_layer_context::<Unfused>(&prepared.input),
+            ..*prepared
+        }
+    }
+
+    /// The forward pass at `theta = [o_x, o_y, h]`: the predicted `[Δp_x, Δp_y, Δω]`.
+    #[inline(always)]
+    pub(crate) fn forward<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        theta: &[T; 3],
+        pass: &mut Pass<T>,
+    ) -> [T; 3] {
+        let p = prepared;
+        let h = theta[2];
+        let inv_h = T::one() / h;
+        let (n, t) = (p.normal, p.tangent);
+        let offset_in_frame = [
+            A::mul_add(n[0], theta[0], n[1] * theta[1]),
+            A::mul_add(t[0], theta[0], t[1] * theta[1]),
+        ];
+        let g = [
+            p.point[0] - offset_in_frame[0],
+            p.point[1] - offset_in_frame[1],
+        ];
+        pass.lever = g;
+        let mut x = p.input;
+        for k in 0..2 {
+            let raw = g[k] * inv_h;
+            let (low, high) = (self.constants.low[k], self.constants.high[k]);
+            pass.unclamped[k] = raw >= low && raw <= high;
+            x[k] = raw.max(low).min(high);
+        }
+        let z = self
+            .network
+            .forward_from::<A>(&p.context_part, &x, &mut pass.activations);
+        pass.z = z;
+        let prior = cone_forward(g, p.swept, h, self.constants.friction, &mut pass.cone);
+        let contact_f = [A::mul_add(h, z[0], g[0]), A::mul_add(h, z[1], g[1])];
+        let motion_f = [
+            A::mul_add(p.motion_length, z[2], prior[0]),
+            A::mul_add(p.motion_length, z[3], prior[1]),
+        ];
+        let to_object = |v: [T; 2]| {
+            [
+                A::mul_add(n[0], v[0], t[0] * v[1]),
+                A::mul_add(n[1], v[0], t[1] * v[1]),
+            ]
+        };
+        pass.tail
+            .forward::<A>(to_object(contact_f), to_object(motion_f), theta);
+        pass.tail.output()
+    }
+
+    /// The backward pass: the gradient with respect to `θ_online` of a scalar whose gradient with
+    /// respect to the predicted `[Δp_x, Δp_y, Δω]` is `d_output`; with `weights`, also the gradient
+    /// with respect to the network's weights and to `μ`, added to them.
+    #[inline(always)]
+    pub(crate) fn backward<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        pass: &Pass<T>,
+        theta: &[T; 3],
+        d_output: [T; 3],
+        weights: Option<(&mut Mlp<T, CONTACT_INPUTS>, &mut T)>,
+    ) -> [T; 3] {
+        let p = prepared;
+        let h = theta[2];
+        let inv_h = T::one() / h;
+        let (n, t) = (p.normal, p.tangent);
+        let d_tail = pass.tail.backward::<A>(theta, d_output);
+        let to_frame = |v: [T; 2]| {
+            [
+                A::mul_add(n[0], v[0], n[1] * v[1]),
+                A::mul_add(t[0], v[0], t[1] * v[1]),
+            ]
+        };
+        let d_contact_f = to_frame(d_tail.contact);
+        let d_motion_f = to_frame(d_tail.contact_motion);
+        let z = pass.z;
+        let d_z = [
+            h * d_contact_f[0],
+            h * d_contact_f[1],
+            p.motion_length * d_motion_f[0],
+            p.motion_length * d_motion_f[1],
+        ];
+        let mut d_g = d_contact_f;
+        let mut d_h = A::mul_add(d_contact_f[0], z[0], d_contact_f[1] * z[1]) + d_tail.h;
+        let d_cone = cone_backward(pass.lever, h, &pass.cone, d_motion_f);
+        d_g[0] = d_g[0] + d_cone.contact[0];
+        d_g[1] = d_g[1] + d_cone.contact[1];
+        d_h = d_h + d_cone.h;
+        let d_x = match weights {
+            Some((grad, d_friction)) => {
+                *d_friction = *d_friction + d_cone.friction;
+                let d1 = self
+                    .network
+                    .weight_gradient::<A>(&pass.activations, &d_z, grad);
+                [
+                    self.network.first_layer_input_gradient::<A>(&d1, 0),
+                    self.network.first_layer_input_gradient::<A>(&d1, 1),
+                ]
+            }
+            None => self.network.position_gradient::<A>(&pass.activations, &d_z),
+        };
+        // x = g / h inside the clamp range.
+        for k in 0..2 {
+            if pass.unclamped[k] {
+                d_g[k] = A::mul_add(d_x[k], inv_h, d_g[k]);
+                d_h = d_h - d_x[k] * pass.lever[k] * inv_h * inv_h;
+            }
+        }
+        // g = q_frame − Rᵀ o, so ∂/∂o = −R d_g.
+        [
+            d_tail.com_offset[0] - A::mul_add(n[0], d_g[0], t[0] * d_g[1]),
+            d_tail.com_offset[1] - A::mul_add(n[1], d_g[0], t[1] * d_g[1]),
+            d_h,
+        ]
+    }
+
+    crate::simd::dispatch_simd! {
+        /// The forward pass of a prepared sample to a [`Prediction`].
+        pub(crate) fn predict_prepared(&self, prepared: &Prepared<T>, theta: &[T; 3]) -> Prediction
+            => predict_portable, predict_avx2
+    }
+
+    #[inline(always)]
+    fn predict_portable<A: MulAdd>(&self, prepared: &Prepared<T>, theta: &[T; 3]) -> Prediction {
+        let mut pass = Pass::default();
+        self.forward::<A>(prepared, theta, &mut pass);
+        pass.tail.prediction(theta)
+    }
+
+    /// One online update on an object of this geometry (see [`descend`]).
+    pub(crate) fn online_update(
+        &self,
+        geometry: &ContactGeometry,
+        sample: &Sample,
+        theta: &OnlineParams,
+        steps: usize,
+        lr: f64,
+    ) -> (Prediction, [f64; 3], OnlineParams) {
+        let prepared = self.prepare(geometry, &sample.input);
+        let target = RealSample::<T>::of(sample).target;
+        let scales = self.theta_scales(geometry);
+        self.online_update_prepared(&prepared, &target, theta, scales, steps, lr)
+    }
+
+    crate::simd::dispatch_simd! {
+        /// [`ContactModel::online_update`] of a prepared sample, in the widest SIMD available.
+        #[allow(clippy::too_many_arguments)]
+        fn online_update_prepared(&self, prepared: &Prepared<T>, target: &[T; 3], theta: &OnlineParams,
+            scales: [f64; 3], steps: usize, lr: f64) -> (Prediction, [f64; 3], OnlineParams)
+            => online_update_portable, online_update_avx2
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn online_update_portable<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        target: &[T; 3],
+        theta: &OnlineParams,
+        scales: [f64; 3],
+        steps: usize,
+        lr: f64,
+    ) -> (Prediction, [f64; 3], OnlineParams) {
+        let weights = loss_weights(&self.loss_scale);
+        let mut pass = OnlinePass::<T, A> {
+            model: self,
+            prepared,
+            pass: Pass::default(),
+            multiply_add: std::marker::PhantomData,
+        };
+        descend::<T, A>(&mut pass, target, &weights, theta, scales, steps, lr)
+    }
+}
+
+/// One prepared sample of the contact-frame model, as the shared online step sees it.
+struct OnlinePass<'a, T: Real, A> {
+    model: &'a ContactModel<T>,
+    prepared: &'a Prepared<T>,
+    pass: Pass<T>,
+    multiply_add: std::marker::PhantomData<A>,
+}
+
+impl<T: Real, A: MulAdd> ThetaPass<T> for OnlinePass<'_, T, A> {
+    #[inline(always)]
+    fn forward(&mut self, theta: &[T; 3]) -> [T; 3] {
+        self.model
+            .forward::<A>(self.prepared, theta, &mut self.pass)
+    }
+
+    #[inline(always)]
+    fn backward(&mut self, theta: &[T; 3], d_output: [T; 3]) -> [T; 3] {
+        self.model
+            .backward::<A>(self.prepared, &self.pass, theta, d_output, None)
+    }
+
+    #[inline(always)]
+    fn prediction(&self, theta: &[T; 3]) -> Prediction {
+        self.pass.tail.prediction(theta)
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use std::f64::consts::FRAC_PI_2;
+
+    use super::super::ContactInputs;
+    use super::*;
+    use crate::geometry::{Outline, rotate};
+    use crate::learn::LossScale;
+    use crate::model::ObjectMotion;
+    use crate::model::kernel::{loss_gradient, theta_real};
+    use crate::model::mlp::Network;
+    use crate::rng::SplitMix64;
+
+    /// A random contact-frame model in f64 for boxes of a few decimetres pushed by a 5 cm disc, with
+    /// a wide clamp range so that the gradient checks see the unclamped network.
+    pub fn model_f64(seed: u64) -> ContactModel<f64> {
+        let mut rng = SplitMix64::new(seed);
+        ContactModel::from_parts(
+            Network::new(Mlp::<f64, CONTACT_INPUTS>::random(&mut rng, 0.5)),
+            ContactInputs {
+                low: [-10.0; CONTACT_INPUTS],
+                high: [10.0; CONTACT_INPUTS],
+                motion_floor: 0.001,
+            },
+            0.3,
+            0.003,
+            LossScale {
+                sigma_pos: [0.004, 0.002],
+                sigma_rot: 0.02,
+            },
+            1,
+        )
+    }
+
+    pub fn square() -> ContactGeometry {
+        ContactGeometry::new(&Outline::rectangle(0.3, 0.3).expect("valid square"), 0.05)
+    }
+
+    /// A push on the front face below the middle, angled so that it slides.
+    pub fn sample() -> Sample {
+        Sample {
+            input: SampleInput {
+                robot_in_object: [-0.2005, -0.06],
+                robot_motion_in_object: [0.008, -0.03],
+            },
+            target: ObjectMotion {
+                translation: [0.009, -0.001],
+                rotation: 0.03,
+            },
+            frame: 0,
+        }
+    }
+
+    fn loss_of(
+        model: &ContactModel<f64>,
+        prepared: &Prepared<f64>,
+        target: &[f64; 3],
+        theta: &[f64; 3],
+    ) -> f64 {
+        let mut pass = Pass::default();
+        let out = model.forward::<Unfused>(prepared, theta, &mut pass);
+        loss_gradient(out, target, &loss_weights(&model.loss_scale)).0
+    }
+
+    fn relative_error(a: f64, b: f64) -> f64 {
+        (a - b).abs() / a.abs().max(b.abs()).max(1e-12)
+    }
+
+    #[test]
+    fn gradients_of_theta_weights_and_friction_match_central_differences() {
+        let geometry = square();
+        let s = sample();
+        let target = RealSample::<f64>::of(&s).target;
+        for seed in [1, 2, 3] {
+            let model = model_f64(seed);
+            let prepared = model.prepare(&geometry, &s.input);
+            let theta = [0.012, -0.018, 0.07];
+            let mut pass = Pass::default();
+            let out = model.forward::<Unfused>(&prepared, &theta, &mut pass);
+            assert!(
+                pass.cone.sliding_for_tests(),
+                "seed {seed}: the test push must slide"
+            );
+            let (_, d_out) = loss_gradient(out, &target, &loss_weights(&model.loss_scale));
+            let mut grad = Mlp::zeros();
+            let mut d_friction = 0.0;
+            let g = model.backward::<Unfused>(
+                &prepared,
+                &pass,
+                &theta,
+                d_out,
+                Some((&mut grad, &mut d_friction)),
+            );
+            for k in 0..3 {
+                let eps = 1e-7;
+                let (mut plus, mut minus) = (theta, theta);
+                plus[k] += eps;
+                minus[k] -= eps;
+                let numeric = (loss_of(&model, &prepared, &target, &plus)
+                    - loss_of(&model, &prepared, &target, &minus))
+                    / (2.0 * eps);
+                assert!(
+                    relative_error(g[k], numeric) <= 1e-5,
+                    "seed {seed} θ[{k}]: analytic {} numeric {numeric}",
+                    g[k]
+                );
+            }
+            let eps = 1e-7;
+            let friction_loss = |mu: f64| {
+                let mut m = model.clone();
+                m.set_friction(mu);
+                loss_of(&m, &prepared, &target, &theta)
+            };
+            let numeric = (friction_loss(0.3 + eps) - friction_loss(0.3 - eps)) / (2.0 * eps);
+            assert!(
+                relative_error(d_friction, numeric) <= 1e-5,
+                "seed {seed} μ: analytic {d_friction} numeric {numeric}"
+            );
+            let base = model.network.parameters().to_vec();
+            let analytic = grad.to_vec();
+            let mut checked = 0;
+            for k in 0..base.len() {
+                let eps = 1e-6;
+                let mut m = model.clone();
+                let mut p = base.clone();
+                p[k] += eps;
+                m.network = Network::new(Mlp::from_slice(&p).expect("finite"));
+                let prepared_plus = m.prepare(&geometry, &s.input);
+                let lp = loss_of(&m, &prepared_plus, &target, &theta);
+                p[k] -= 2.0 * eps;
+                m.network = Network::new(Mlp::from_slice(&p).expect("finite"));
+                let prepared_minus = m.prepare(&geometry, &s.input);
+                let lm = loss_of(&m, &prepared_minus, &target, &theta);
+                let numeric = (lp - lm) / (2.0 * eps);
+                if numeric.abs() < 1e-9 && analytic[k].abs() < 1e-9 {
+                    continue;
+                }
+                assert!(
+                    relative_error(analytic[k], numeric) <= 1e-5,
+                    "seed {seed} weight {k}: analytic {} numeric {numeric}",
+                    analytic[k]
+                );
+                checked += 1;
+            }
+            assert!(checked > 100, "seed {seed}: only {checked} weights checked");
+        }
+    }
+
+    fn rotated(v: [f64; 2], angle: f64) -> [f64; 2] {
+        let r = rotate(Vector2::from(v), angle);
+        [r.x, r.y]
+    }
+
+    #[test]
+    fn a_push_rotated_onto_another_face_of_a_square_gives_the_same_prediction() {
+        let geometry = square();
+        let model = model_f64(11);
+        let s = sample();
+        let theta = OnlineParams {
+            com_offset: [0.02, -0.01],
+            h: 0.09,
+        };
+        let base = model.predict(&geometry, &s.input, &theta);
+        for quarter in 1..4 {
+            let angle = FRAC_PI_2 * quarter as f64;
+            let input = SampleInput {
+                robot_in_object: rotated(s.input.robot_in_object, angle),
+                robot_motion_in_object: rotated(s.input.robot_motion_in_object, angle),
+            };
+            let turned = OnlineParams {
+                com_offset: rotated(theta.com_offset, angle),
+                ..theta
+            };
+            let p = model.predict(&geometry, &input, &turned);
+            let expected = rotated(base.motion.translation, angle);
+            for k in 0..2 {
+                assert!(
+                    (p.motion.translation[k] - expected[k]).abs() < 1e-9,
+                    "quarter {quarter}: {:?} vs {expected:?}",
+                    p.motion.translation
+                );
+            }
+            assert!((p.motion.rotation - base.motion.rotation).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_push_on_a_mirrored_object_gives_the_mirrored_prediction() {
+        // An irregular convex outline and its mirror image about the x axis.
+        let vertices = [
+            [0.12, -0.05],
+            [0.1, 0.09],
+            [-0.04, 0.13],
+            [-0.15, 0.02],
+            [-0.08, -0.11],
+        ];
+        let outline = Outline::try_from(vertices.to_vec()).expect("convex");
+        let mirrored: Vec<[f64; 2]> = vertices.iter().rev().map(|v| [v[0], -v[1]]).collect();
+        let mirrored = Outline::try_from(mirrored).expect("convex");
+        let (a, b) = (
+            ContactGeometry::new(&outline, 0.02),
+            ContactGeometry::new(&mirrored, 0.02),
+        );
+        let model = model_f64(12);
+        let mirror = |v: [f64; 2]| [v[0], -v[1]];
+        for (p, u) in [
+            ([-0.19, 0.01], [0.01, 0.004]),
+            ([0.05, 0.17], [-0.003, -0.012]),
+            ([0.16, 0.08], [-0.01, -0.002]),
+        ] {
+            let theta = OnlineParams {
+                com_offset: [0.01, 0.015],
+                h: 0.06,
+            };
+            let input = SampleInput {
+                robot_in_object: p,
+                robot_motion_in_object: u,
+            };
+            let mirrored_input = SampleInput {
+                robot_in_object: mirror(p),
+                robot_motion_in_object: mirror(u),
+            };
+            let mirrored_theta = OnlineParams {
+                com_offset: mirror(theta.com_offset),
+                ..theta
+            };
+            let one = model.predict(&a, &input, &theta);
+            let other = model.predict(&b, &mirrored_input, &mirrored_theta);
+            let expected = mirror(one.motion.translation);
+            assert!((other.motion.translation[0] - expected[0]).abs() < 1e-9);
+            assert!((other.motion.translation[1] - expected[1]).abs() < 1e-9);
+            assert!((other.motion.rotation + one.motion.rotation).abs() < 1e-9);
+            assert!(
+                one.motion.rotation.abs() > 1e-6,
+                "a push that turns the object"
+            );
+        }
+    }
+
+    #[test]
+    fn online_update_descends_the_loss_and_survives_wild_learning_rates() {
+        let geometry = square();
+        let model = model_f64(4);
+        let s = sample();
+        let theta = model.theta0(&geometry);
+        let prepared = model.prepare(&geometry, &s.input);
+        let target = RealSample::<f64>::of(&s).target;
+        let (_, g, after) = model.online_update(&geometry, &s, &theta, 5, 0.005);
+        let before_loss = loss_of(&model, &prepared, &target, &theta_real(&theta));
+        let after_loss = loss_of(&model, &prepared, &target, &theta_real(&after));
+        assert!(after_loss < before_loss, "{after_loss} !< {before_loss}");
+        assert!(g.iter().any(|x| *x != 0.0));
+        for lr in [10.0, 1e6, 1e300] {
+            let (_, _, wild) = model.online_update(&geometry, &s, &theta, 5, lr);
+            assert!((crate::model::H_MIN..=crate::model::H_MAX).contains(&wild.h));
+            assert!(wild.com_offset.iter().all(|c| c.is_finite()), "lr {lr}");
+        }
+    }
+}

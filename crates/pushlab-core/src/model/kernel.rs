@@ -1,0 +1,142 @@
+//! What every model kind shares around its own forward and backward pass: samples in the model's
+//! float type, the loss (eq. 8) and its gradient, and the online step's gradient descent on
+//! `θ_online` (eq. 13) with one rule for `h`'s range and for non-finite steps.
+
+use super::params::{H_MAX, H_MIN, OnlineParams};
+use super::{Prediction, Sample};
+use crate::learn::LossScale;
+use crate::real::Real;
+use crate::simd::MulAdd;
+
+/// A sample converted once to the model's float type: `[p_x, p_y, u_x, u_y]` and
+/// `[Δp_x, Δp_y, Δω]`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RealSample<T> {
+    pub input: [T; 4],
+    pub target: [T; 3],
+}
+
+impl<T: Real> RealSample<T> {
+    pub fn of(sample: &Sample) -> Self {
+        let i = &sample.input;
+        let t = &sample.target;
+        Self {
+            input: [
+                T::of(i.robot_in_object[0]),
+                T::of(i.robot_in_object[1]),
+                T::of(i.robot_motion_in_object[0]),
+                T::of(i.robot_motion_in_object[1]),
+            ],
+            target: [
+                T::of(t.translation[0]),
+                T::of(t.translation[1]),
+                T::of(t.rotation),
+            ],
+        }
+    }
+}
+
+/// The inverse squared σ of each output, the weights of the loss.
+pub(crate) fn loss_weights<T: Real>(scale: &LossScale) -> [T; 3] {
+    [
+        T::of(1.0 / (scale.sigma_pos[0] * scale.sigma_pos[0])),
+        T::of(1.0 / (scale.sigma_pos[1] * scale.sigma_pos[1])),
+        T::of(1.0 / (scale.sigma_rot * scale.sigma_rot)),
+    ]
+}
+
+/// The loss ℓ (eq. 8) of a predicted `[Δp_x, Δp_y, Δω]` and its gradient with respect to it.
+#[inline(always)]
+pub(crate) fn loss_gradient<T: Real>(
+    predicted: [T; 3],
+    target: &[T; 3],
+    weights: &[T; 3],
+) -> (T, [T; 3]) {
+    let e = [
+        predicted[0] - target[0],
+        predicted[1] - target[1],
+        predicted[2] - target[2],
+    ];
+    let two = T::one() + T::one();
+    let loss = weights[0] * e[0] * e[0] + weights[1] * e[1] * e[1] + weights[2] * e[2] * e[2];
+    (
+        loss,
+        [
+            two * weights[0] * e[0],
+            two * weights[1] * e[1],
+            two * weights[2] * e[2],
+        ],
+    )
+}
+
+/// `θ_online` as `[com_x, com_y, h]` in the model's float type.
+pub(crate) fn theta_real<T: Real>(theta: &OnlineParams) -> [T; 3] {
+    let t = theta.clamped();
+    [T::of(t.com_offset[0]), T::of(t.com_offset[1]), T::of(t.h)]
+}
+
+/// `[com_x, com_y, h]` back to parameters.
+pub(crate) fn theta_params<T: Real>(theta: &[T; 3]) -> OnlineParams {
+    OnlineParams {
+        com_offset: [theta[0].as_f64(), theta[1].as_f64()],
+        h: theta[2].as_f64(),
+    }
+    .clamped()
+}
+
+/// One model kind's forward and backward pass with respect to `θ_online` on one prepared sample: what
+/// the shared online step needs.
+pub(crate) trait ThetaPass<T: Real> {
+    /// The forward pass at `theta`: the predicted `[Δp_x, Δp_y, Δω]`.
+    fn forward(&mut self, theta: &[T; 3]) -> [T; 3];
+    /// The gradient with respect to `theta` of a scalar whose gradient with respect to the last
+    /// forward pass's output is `d_output`.
+    fn backward(&mut self, theta: &[T; 3], d_output: [T; 3]) -> [T; 3];
+    /// The public prediction of the last forward pass.
+    fn prediction(&self, theta: &[T; 3]) -> Prediction;
+}
+
+/// The online step of Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps, for any model
+/// kind: predicts with `theta`, then descends the loss in `θ_online / scales` (`θ_i ← θ_i − lr · s_i² ·
+/// ∂ℓ/∂θ_i`), keeping `h` in [`H_MIN`, `H_MAX`]. Returns the prediction and gradient at `theta` and the
+/// updated parameters.
+///
+/// One rule for every kind: a step that makes any component non-finite (a degenerate sample, a wild
+/// learning rate) is not taken, and the descent stops there with the last finite `θ`.
+#[inline(always)]
+pub(crate) fn descend<T: Real, A: MulAdd>(
+    pass: &mut impl ThetaPass<T>,
+    target: &[T; 3],
+    weights: &[T; 3],
+    theta: &OnlineParams,
+    scales: [f64; 3],
+    steps: usize,
+    lr: f64,
+) -> (Prediction, [f64; 3], OnlineParams) {
+    let step = scales.map(|s| T::of(lr * s * s));
+    let (h_min, h_max) = (T::of(H_MIN), T::of(H_MAX));
+    let mut th = theta_real(theta);
+    let output = pass.forward(&th);
+    let prediction = pass.prediction(&th);
+    let (_, d_output) = loss_gradient(output, target, weights);
+    let gradient = pass.backward(&th, d_output);
+    let first_gradient = gradient.map(|x| x.as_f64());
+    let mut g = gradient;
+    for k in 0..steps {
+        if k > 0 {
+            let output = pass.forward(&th);
+            g = pass.backward(&th, loss_gradient(output, target, weights).1);
+        }
+        let mut next = th;
+        for ((t, gi), si) in next.iter_mut().zip(g).zip(step) {
+            *t = A::mul_add(-si, gi, *t);
+        }
+        // Checked before clamping: `max` would turn a NaN `h` into `H_MIN`.
+        if !next.iter().all(|t| t.is_finite()) {
+            break;
+        }
+        next[2] = next[2].max(h_min).min(h_max);
+        th = next;
+    }
+    (prediction, first_gradient, theta_params(&th))
+}
