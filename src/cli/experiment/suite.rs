@@ -1,5 +1,5 @@
-//! `pushlab suite SPEC.json`: many experiments, every model kind and the physics-only model, into one
-//! table (and with `--json`, one report). The spec's format is `pushlab_core::experiment::suite`'s.
+//! `pushlab suite SPEC.json`: many experiments, every model (kind or ablation) and the physics-only
+//! model, into one table (and with `--json`, one report). The spec's format is `pushlab_core::experiment::suite`'s.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -127,8 +127,8 @@ fn print_table(spec: &SuiteSpec, results: &[ExperimentResult]) {
     println!();
     let mut header = format!("{:<width$}", "NMSE pos/rot");
     let mut second = format!("{:<width$}", "");
-    for kind in &spec.kinds {
-        header.push_str(&format!(" | {:^41}", kind.name()));
+    for model in &spec.models {
+        header.push_str(&format!(" | {:^41}", model.name()));
         second.push_str(&format!(
             " | {:>13} {:>13} {:>13}",
             "offline", "fixed", "online"
@@ -142,8 +142,8 @@ fn print_table(spec: &SuiteSpec, results: &[ExperimentResult]) {
     println!("{second}");
     for r in results {
         let mut line = format!("{:<width$}", r.name);
-        for kind in &spec.kinds {
-            let k = r.kinds.iter().find(|k| k.kind == *kind);
+        for model in &spec.models {
+            let k = r.models.iter().find(|k| k.model == *model);
             line.push_str(&format!(
                 " | {:>13} {:>13} {:>13}",
                 cell(k.map(|k| &k.offline)),

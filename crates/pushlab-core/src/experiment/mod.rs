@@ -10,6 +10,7 @@ pub mod data;
 pub mod evaluate;
 pub mod suite;
 pub mod train;
+pub mod variant;
 
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, split_of};
 pub use evaluate::{
@@ -17,3 +18,4 @@ pub use evaluate::{
     fixed_pass, learner_for, loss_scale_for, online_pass, physics_model,
 };
 pub use train::{paper_theta0_for, train_baseline, train_combined};
+pub use variant::ModelVariant;

@@ -1,11 +1,12 @@
-//! A list of experiments run into one table: for each, every model kind trained on its offline
-//! recordings and evaluated on its online ones, and the physics-only model beside them.
+//! A list of experiments run into one table: for each, every model (kind or ablation, see
+//! [`ModelVariant`]) trained on its offline recordings and evaluated on its online ones, and the
+//! physics-only model beside them.
 //!
 //! The spec is JSON; paths are relative to the spec file's folder and may use `*` and `?` in their
 //! last component (`mit/*shape=hex*`):
 //!
 //! ```json
-//! { "horizon": 10, "split_from_labels": true, "kinds": ["contact", "paper"], "physics": true,
+//! { "horizon": 10, "split_from_labels": true, "models": ["contact", "paper"], "physics": true,
 //!   "experiments": [
 //!     { "name": "R4a", "offline": ["sample-data/box1-paper-center-front"],
 //!       "online": ["sample-data/box1-paper-center-left"] } ] }
@@ -24,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use super::data::{Skipped, load};
 use super::evaluate::{EvalOptions, PhysicsNmse, evaluate};
 use super::train::train_combined;
+use super::variant::ModelVariant;
 use crate::labels::Split;
 use crate::learn::{Nmse, OnlineConfig, TrainConfig};
 use crate::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind};
@@ -44,9 +46,10 @@ pub struct SuiteSpec {
     pub seed: u64,
     #[serde(default = "default_patience")]
     pub patience: usize,
-    /// The model kinds to compare (default: every kind).
+    /// The models to compare (default: every kind): `contact`, `paper`, or the ablations
+    /// `contact-no-prior`, `contact-prior-only`, `paper-augmented`.
     #[serde(default = "all_kinds")]
-    pub kinds: Vec<ModelKind>,
+    pub models: Vec<ModelVariant>,
     /// Also the physics-only model.
     #[serde(default = "yes")]
     pub physics: bool,
@@ -79,8 +82,8 @@ fn default_epochs() -> usize {
 fn default_patience() -> usize {
     15
 }
-fn all_kinds() -> Vec<ModelKind> {
-    ModelKind::ALL.to_vec()
+fn all_kinds() -> Vec<ModelVariant> {
+    ModelKind::ALL.map(ModelVariant::Kind).to_vec()
 }
 fn yes() -> bool {
     true
@@ -135,8 +138,8 @@ impl SuiteSpec {
         if spec.experiments.is_empty() {
             return Err(invalid("\"experiments\" is empty: nothing to run".into()));
         }
-        if spec.kinds.is_empty() {
-            return Err(invalid("\"kinds\" is empty: no model to evaluate".into()));
+        if spec.models.is_empty() {
+            return Err(invalid("\"models\" is empty: no model to evaluate".into()));
         }
         if spec.horizon == 0 || spec.epochs == 0 {
             return Err(invalid(
@@ -167,10 +170,10 @@ impl SuiteSpec {
     }
 }
 
-/// One model kind's numbers in one experiment.
+/// One model's numbers in one experiment.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct KindResult {
-    pub kind: ModelKind,
+pub struct ModelResult {
+    pub model: ModelVariant,
     pub offline: Nmse,
     pub fixed: Nmse,
     pub online: Nmse,
@@ -190,7 +193,7 @@ pub struct ExperimentResult {
     pub online_recordings: usize,
     pub offline_samples: usize,
     pub online_samples: usize,
-    pub kinds: Vec<KindResult>,
+    pub models: Vec<ModelResult>,
     pub physics: Option<PhysicsNmse>,
     /// Why the experiment (or one of its kinds) could not run; the numbers that did run are kept.
     pub errors: Vec<String>,
@@ -225,7 +228,7 @@ pub fn run_experiment(
         online_recordings: online.used.len(),
         offline_samples: count(&offline),
         online_samples: count(&online),
-        kinds: Vec::new(),
+        models: Vec::new(),
         physics: None,
         errors: Vec::new(),
         skipped: offline
@@ -253,17 +256,19 @@ pub fn run_experiment(
         horizon,
         ..TrainConfig::default()
     };
-    for (i, &kind) in spec.kinds.iter().enumerate() {
+    for (i, &variant) in spec.models.iter().enumerate() {
         let started = Instant::now();
-        let trained = match train_combined(kind, &offline.used, &config, &mut |_| {}, cancel) {
-            Ok(trained) => trained,
-            Err(e) => {
-                result.errors.push(format!("{kind}: {e}"));
-                continue;
-            }
-        };
-        // The physics-only model's losses are normalised like the first kind's (every kind's σ comes
-        // from the same offline samples).
+        let config = variant.configure(&config);
+        let trained =
+            match train_combined(variant.kind(), &offline.used, &config, &mut |_| {}, cancel) {
+                Ok(trained) => trained,
+                Err(e) => {
+                    result.errors.push(format!("{}: {e}", variant.name()));
+                    continue;
+                }
+            };
+        // The physics-only model's losses are normalised like the first model's (every model's σ
+        // comes from the same offline samples).
         let options = EvalOptions {
             online: OnlineConfig {
                 steps: spec.steps,
@@ -276,8 +281,8 @@ pub fn run_experiment(
             result.physics = Some(physics);
         }
         result.skipped.extend(evaluation.left_out);
-        result.kinds.push(KindResult {
-            kind,
+        result.models.push(ModelResult {
+            model: variant,
             offline: evaluation.offline,
             fixed: evaluation.fixed,
             online: evaluation.online,

@@ -6,9 +6,10 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use super::data::UsedRecording;
+use super::variant::{symmetries, transformed};
 use crate::learn::{
-    ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
-    train_contact, train_paper, train_pure_nn,
+    ContactTrajectory, LossScale, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
+    train_contact, train_paper, train_pure_nn, training_trajectories,
 };
 use crate::model::{CombinedModel, ModelKind, OnlineParams, PureNnModel, Sample};
 
@@ -33,12 +34,33 @@ pub fn train_combined(
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
 ) -> Result<Trained<CombinedModel>, TrainError> {
-    let samples: Vec<Vec<Sample>> = used.iter().map(|u| u.samples(config.horizon)).collect();
+    let mut samples: Vec<Vec<Sample>> = used.iter().map(|u| u.samples(config.horizon)).collect();
     match kind {
         ModelKind::Paper => {
+            let mut config = *config;
+            if config.augment_symmetries {
+                // The losses stay normalised by the recorded motions, not by their images': the σ of
+                // the same training trajectories the unaugmented model would take them from.
+                let kept = training_trajectories(&samples, &config);
+                config.loss_scale = Some(LossScale::from_samples(
+                    kept.iter().flat_map(|&i| samples[i].iter()),
+                ));
+                // Each push with its images as one trajectory, so that the validation split keeps
+                // them together.
+                for (u, trajectory) in used.iter().zip(&mut samples) {
+                    if let Ok(outline) = u.recording.setting.object.outline() {
+                        let images: Vec<Sample> = symmetries(&outline)
+                            .iter()
+                            .skip(1)
+                            .flat_map(|t| trajectory.iter().map(move |s| transformed(s, t)))
+                            .collect();
+                        trajectory.extend(images);
+                    }
+                }
+            }
             let config = TrainConfig {
                 theta0: config.theta0.or_else(|| paper_theta0_for(used)),
-                ..*config
+                ..config
             };
             let trained = train_paper(&samples, &config, progress, cancel)?;
             Ok(Trained {

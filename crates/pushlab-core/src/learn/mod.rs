@@ -9,6 +9,6 @@ mod online;
 pub use loss::{Loss, LossScale, Nmse, mean_std_across, moving_average};
 pub use offline::{
     ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, TrainingReport,
-    paper_theta0, train_contact, train_paper, train_pure_nn,
+    paper_theta0, train_contact, train_paper, train_pure_nn, training_trajectories,
 };
 pub use online::{ContactLearner, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep};

@@ -50,7 +50,9 @@ pub fn train_contact(
     let split = Split::new(&indexed, config);
     let sample = |&(t, i): &(usize, usize)| (trajectories[t].geometry, &trajectories[t].samples[i]);
     let train: Vec<(&ContactGeometry, &Sample)> = split.train.iter().map(sample).collect();
-    let loss_scale = LossScale::from_samples(train.iter().map(|(_, s)| *s));
+    let loss_scale = config
+        .loss_scale
+        .unwrap_or_else(|| LossScale::from_samples(train.iter().map(|(_, s)| *s)));
     let (contact_tolerance, motion_floor) = contact_statistics(&train);
     let inputs = input_range(&train, motion_floor);
     let mut rng = SplitMix64::new(config.seed);
@@ -62,6 +64,7 @@ pub fn train_contact(
         contact_tolerance,
         loss_scale,
         config.horizon,
+        config.contact,
     );
     let items = |list: &[(usize, usize)]| -> Vec<Item> {
         list.iter()

@@ -52,6 +52,16 @@ pub struct TrainConfig {
     pub theta0: Option<OnlineParams>,
     /// The prediction horizon in frames the samples were made with (stored in the model).
     pub horizon: usize,
+    /// The contact-frame model's parts (its ablations turn one off; see `ContactOptions`).
+    pub contact: crate::model::contact::ContactOptions,
+    /// The paper model only: add to the offline pushes their images under the symmetries of the
+    /// object's outline (mirrors and quarter turns that map it onto itself).
+    pub augment_symmetries: bool,
+    /// The σ that weight and normalise the losses; `None` takes them from the training samples.
+    /// Given when the training samples are not the data the losses should be measured against
+    /// (augmented with images whose motions spread wider).
+    #[serde(skip)]
+    pub loss_scale: Option<LossScale>,
 }
 
 impl Default for TrainConfig {
@@ -66,6 +76,9 @@ impl Default for TrainConfig {
             train_online_params: false,
             theta0: None,
             horizon: 1,
+            contact: Default::default(),
+            augment_symmetries: false,
+            loss_scale: None,
         }
     }
 }
@@ -172,6 +185,22 @@ fn check(trajectories: &[&[Sample]], config: &TrainConfig) -> Result<(), TrainEr
         });
     }
     Ok(())
+}
+
+/// The indices of the trajectories training keeps for training (the others validate), as every model
+/// trained with `config` splits them.
+pub fn training_trajectories<T: Clone>(
+    trajectories: &[Vec<T>],
+    config: &TrainConfig,
+) -> Vec<usize> {
+    let indexed: Vec<Vec<usize>> = trajectories
+        .iter()
+        .enumerate()
+        .map(|(i, t)| if t.is_empty() { Vec::new() } else { vec![i] })
+        .collect();
+    let mut train = Split::new(&indexed, config).train;
+    train.sort_unstable();
+    train
 }
 
 /// The training and validation items: whole trajectories held out for validation, chosen by the seed

@@ -53,7 +53,9 @@ pub fn train_paper(
         .isotropic(),
         motion: Stats2::of(split.train.iter().map(|s| s.input.robot_motion_in_object)).isotropic(),
     };
-    let loss_scale = LossScale::from_samples(&split.train);
+    let loss_scale = config
+        .loss_scale
+        .unwrap_or_else(|| LossScale::from_samples(&split.train));
     let mut rng = SplitMix64::new(config.seed);
     let network = Network::new(Mlp::<f32>::random(&mut rng, 0.1));
     let model = PaperModel::from_parts(network, normalization, theta0, loss_scale, config.horizon);

@@ -29,7 +29,9 @@ pub fn train_pure_nn(
         translation: Stats2::of(split.train.iter().map(|s| s.target.translation)),
         rotation: Stats1::of(split.train.iter().map(|s| s.target.rotation)),
     };
-    let loss_scale = LossScale::from_samples(&split.train);
+    let loss_scale = config
+        .loss_scale
+        .unwrap_or_else(|| LossScale::from_samples(&split.train));
     let mut rng = SplitMix64::new(config.seed);
     let model = PureNnModel {
         network: Network::new(Mlp::<f32>::random(&mut rng, 0.1)),

@@ -49,6 +49,28 @@ pub struct ContactInputs {
     pub motion_floor: f64,
 }
 
+/// Which parts of the contact-frame model are used: both in the model `train` makes; the others are
+/// ablations that measure what each part buys (`pushlab suite` variants `contact-no-prior` and
+/// `contact-prior-only`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ContactOptions {
+    /// The network corrects the physical prior (sweep + motion cone); without it, the raw pusher
+    /// motion.
+    pub prior: bool,
+    /// The network is used at all; without it, the prior alone predicts (only `μ` is trained).
+    pub network: bool,
+}
+
+impl Default for ContactOptions {
+    fn default() -> Self {
+        Self {
+            prior: true,
+            network: true,
+        }
+    }
+}
+
 /// The trained contact-frame model. `θ_online` is an argument of every prediction; the object's
 /// geometry is too (a [`ContactGeometry`] per recording).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -66,6 +88,9 @@ pub struct ContactModel<T: Real = f32> {
     pub(crate) horizon: usize,
     /// Online gradient descent's step scales per metre of the object's `θ_online(0)` `h`.
     pub(crate) relative_theta_scales: [f64; 3],
+    /// Which parts are used (every part, unless an ablation).
+    #[serde(default)]
+    pub(crate) options: ContactOptions,
     #[serde(skip)]
     constants: Constants<T>,
 }
@@ -80,6 +105,8 @@ struct ContactModelData<T: Real> {
     loss_scale: LossScale,
     horizon: usize,
     relative_theta_scales: [f64; 3],
+    #[serde(default)]
+    options: ContactOptions,
 }
 
 impl<T: Real> From<ContactModelData<T>> for ContactModel<T> {
@@ -93,6 +120,7 @@ impl<T: Real> From<ContactModelData<T>> for ContactModel<T> {
             loss_scale: d.loss_scale,
             horizon: d.horizon,
             relative_theta_scales: d.relative_theta_scales,
+            options: d.options,
         }
     }
 }
@@ -124,8 +152,10 @@ impl<T: Real> ContactModel<T> {
         contact_tolerance: f64,
         loss_scale: LossScale,
         horizon: usize,
+        options: ContactOptions,
     ) -> Self {
         Self {
+            options,
             constants: Constants::of(&inputs, friction),
             network,
             inputs,
@@ -155,6 +185,11 @@ impl<T: Real> ContactModel<T> {
     /// The prior's contact tolerance, metres.
     pub fn contact_tolerance(&self) -> f64 {
         self.contact_tolerance
+    }
+
+    /// Which parts of the model are used.
+    pub fn options(&self) -> ContactOptions {
+        self.options
     }
 
     /// How the network's inputs are formed.
@@ -192,6 +227,7 @@ impl<T: Real> ContactModel<T> {
             loss_scale: self.loss_scale,
             horizon: self.horizon,
             relative_theta_scales: self.relative_theta_scales,
+            options: self.options,
             constants: Constants::of(&self.inputs, self.friction),
         }
     }

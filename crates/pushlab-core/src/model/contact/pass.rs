@@ -31,6 +31,8 @@ pub(crate) struct Prepared<T> {
     context_part: [T; HIDDEN],
     /// The prior's swept pushing motion, frame coordinates.
     swept: [T; 2],
+    /// The pusher's motion, frame coordinates.
+    motion: [T; 2],
     /// Length of the pusher's motion, metres.
     motion_length: T,
 }
@@ -144,6 +146,7 @@ impl<T: Real> ContactModel<T> {
             input: x,
             context_part: self.network.first_layer_context::<Unfused>(&x),
             swept: t(swept),
+            motion: t(f.motion),
             motion_length: T::of(f.length),
         }
     }
@@ -186,11 +189,19 @@ impl<T: Real> ContactModel<T> {
             pass.unclamped[k] = raw >= low && raw <= high;
             x[k] = raw.max(low).min(high);
         }
-        let z = self
-            .network
-            .forward_from::<A>(&p.context_part, &x, &mut pass.activations);
+        let z = if self.options.network {
+            self.network
+                .forward_from::<A>(&p.context_part, &x, &mut pass.activations)
+        } else {
+            [T::zero(); OUTPUTS]
+        };
         pass.z = z;
-        let prior = cone_forward(g, p.swept, h, self.constants.friction, &mut pass.cone);
+        let prior = if self.options.prior {
+            cone_forward(g, p.swept, h, self.constants.friction, &mut pass.cone)
+        } else {
+            pass.cone = ConePass::default();
+            p.motion
+        };
         let contact_f = [A::mul_add(h, z[0], g[0]), A::mul_add(h, z[1], g[1])];
         let motion_f = [
             A::mul_add(p.motion_length, z[2], prior[0]),
@@ -246,6 +257,11 @@ impl<T: Real> ContactModel<T> {
         d_g[1] = d_g[1] + d_cone.contact[1];
         d_h = d_h + d_cone.h;
         let d_x = match weights {
+            Some((_, d_friction)) if !self.options.network => {
+                *d_friction = *d_friction + d_cone.friction;
+                [T::zero(); 2]
+            }
+            None if !self.options.network => [T::zero(); 2],
             Some((grad, d_friction)) => {
                 *d_friction = *d_friction + d_cone.friction;
                 let d1 = self
@@ -389,6 +405,7 @@ pub(crate) mod tests {
                 sigma_rot: 0.02,
             },
             1,
+            Default::default(),
         )
     }
 
