@@ -8,23 +8,8 @@ use std::process::Command;
 
 use serde_json::Value;
 
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-fn pushlab(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args(args)
-        .output()
-        .expect("run pushlab");
-    Run {
-        code: out.status.code().expect("exit code"),
-        stdout: String::from_utf8(out.stdout).expect("utf-8 stdout"),
-        stderr: String::from_utf8(out.stderr).expect("utf-8 stderr"),
-    }
-}
+mod cli_common;
+use cli_common::pushlab;
 
 fn sample(set: &str, file: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -36,10 +21,7 @@ fn sample(set: &str, file: &str) -> String {
 }
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pushlab-eval-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    cli_common::temp_dir("pushlab-eval", name)
 }
 
 /// Six offline pushes of box1 on paper with the COM at the centre.

@@ -9,6 +9,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::experiment::suite::{ExperimentResult, SuiteSpec, run_suite};
+use pushlab_core::experiment::variant::ModelVariant;
 use pushlab_core::learn::Nmse;
 use serde::Serialize;
 
@@ -28,6 +29,21 @@ pub struct SuiteArgs {
     /// Experiments run at once [default: the number of cores].
     #[arg(long, value_name = "N", value_parser = super::positive)]
     pub jobs: Option<usize>,
+    /// Compare these models instead of the spec's "models", comma-separated: contact, paper, or the
+    /// ablations contact-no-prior, contact-prior-only, paper-augmented.
+    #[arg(long, value_name = "MODEL,...", value_delimiter = ',', value_parser = model_variant)]
+    pub models: Vec<ModelVariant>,
+}
+
+/// A model (kind or ablation) by name.
+fn model_variant(text: &str) -> Result<ModelVariant, String> {
+    ModelVariant::from_name(text.trim()).ok_or_else(|| {
+        let names: Vec<&str> = ModelVariant::ALL.iter().map(|v| v.name()).collect();
+        format!(
+            "unknown model {text:?}; expected one of {}",
+            names.join(", ")
+        )
+    })
 }
 
 /// The JSON report of a suite.
@@ -42,7 +58,10 @@ struct SuiteReport<'a> {
 
 /// Runs `pushlab suite`.
 pub fn run(args: &SuiteArgs) -> Result<(), Failure> {
-    let spec = SuiteSpec::load(&args.spec).map_err(|e| Failure::Usage(anyhow!("{e}")))?;
+    let mut spec = SuiteSpec::load(&args.spec).map_err(|e| Failure::Usage(anyhow!("{e}")))?;
+    if !args.models.is_empty() {
+        spec.models.clone_from(&args.models);
+    }
     let base = args.spec.parent().unwrap_or(Path::new(".")).to_path_buf();
     let workers = args.jobs.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
@@ -118,14 +137,15 @@ fn print_table(spec: &SuiteSpec, results: &[ExperimentResult]) {
         Some(n) => format!("{:.3}/{:.3}", n.pos, n.rot),
         None => "–".to_owned(),
     };
+    const CORNER: &str = "NMSE pos/rot";
     let width = results
         .iter()
         .map(|r| r.name.chars().count())
         .max()
-        .unwrap_or(10)
-        .max(10);
+        .unwrap_or(0)
+        .max(CORNER.len());
     println!();
-    let mut header = format!("{:<width$}", "NMSE pos/rot");
+    let mut header = format!("{CORNER:<width$}");
     let mut second = format!("{:<width$}", "");
     for model in &spec.models {
         header.push_str(&format!(" | {:^41}", model.name()));

@@ -334,9 +334,16 @@ pub fn run_suite(
 }
 
 /// The paths of a spec, relative to `base`, with `*` and `?` in the last component expanded (sorted;
-/// a pattern that matches nothing is kept, so that loading reports it as missing).
+/// a pattern that matches nothing is kept, so that loading reports it as missing). A path named twice
+/// (or matched by two patterns) is used once, so that no recording counts double in a mean.
 pub fn expand(base: &Path, paths: &[String]) -> Vec<PathBuf> {
     let mut out = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    let mut push = |out: &mut Vec<PathBuf>, path: PathBuf| {
+        if seen.insert(path.clone()) {
+            out.push(path);
+        }
+    };
     for path in paths {
         let full = base.join(path);
         let name = full
@@ -344,7 +351,7 @@ pub fn expand(base: &Path, paths: &[String]) -> Vec<PathBuf> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         if !name.contains(['*', '?']) {
-            out.push(full);
+            push(&mut out, full);
             continue;
         }
         let folder = full.parent().unwrap_or(base).to_path_buf();
@@ -357,9 +364,11 @@ pub fn expand(base: &Path, paths: &[String]) -> Vec<PathBuf> {
             .collect();
         matched.sort();
         if matched.is_empty() {
-            out.push(full);
+            push(&mut out, full);
         }
-        out.extend(matched);
+        for path in matched {
+            push(&mut out, path);
+        }
     }
     out
 }

@@ -1,0 +1,314 @@
+//! `pushlab suite` and `--model-kind` end to end: the built binary on a small suite over the sample
+//! data; the table and the JSON report, the same numbers on one worker and on two, bad specs refused
+//! with the file and what is wrong (exit 2), and the model kind chosen, recorded and checked.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+mod cli_common;
+use cli_common::pushlab;
+
+fn temp_dir(name: &str) -> PathBuf {
+    cli_common::temp_dir("pushlab-suite", name)
+}
+
+fn sample_set(set: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample-data")
+        .join(set)
+        .display()
+        .to_string()
+}
+
+/// Two small experiments: the same setting online (a control) and the box pushed on another face.
+fn small_suite(dir: &Path) -> PathBuf {
+    let spec = serde_json::json!({
+        "horizon": 2,
+        "epochs": 3,
+        "seed": 1,
+        "models": ["contact", "paper"],
+        "physics": true,
+        "experiments": [
+            {
+                "name": "control",
+                "offline": [format!("{}/offline_00?.csv", sample_set("box1-paper-center-front"))],
+                "online": [format!("{}/online_000.csv", sample_set("box1-paper-center-front")),
+                           format!("{}/online_001.csv", sample_set("box1-paper-center-front")),
+                           format!("{}/online_001.csv", sample_set("box1-paper-center-front"))]
+            },
+            {
+                "name": "other face",
+                "offline": [format!("{}/offline_00?.csv", sample_set("box1-paper-center-front"))],
+                "online": [format!("{}/online_00?.csv", sample_set("box1-paper-center-left"))],
+                "horizon": 1
+            }
+        ]
+    });
+    let path = dir.join("suite.json");
+    std::fs::write(&path, serde_json::to_vec_pretty(&spec).unwrap()).unwrap();
+    path
+}
+
+/// The report without its timings, which differ from run to run.
+fn without_timings(mut v: Value) -> Value {
+    fn strip(v: &mut Value) {
+        match v {
+            Value::Object(map) => {
+                map.remove("seconds");
+                map.remove("workers");
+                map.values_mut().for_each(strip);
+            }
+            Value::Array(items) => items.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    strip(&mut v);
+    v
+}
+
+#[test]
+fn a_suite_prints_one_table_and_gives_the_same_numbers_on_one_worker_and_on_two() {
+    let dir = temp_dir("table");
+    let spec = small_suite(&dir);
+    let spec_s = spec.display().to_string();
+    let (one, two) = (dir.join("one.json"), dir.join("two.json"));
+    let (one_s, two_s) = (one.display().to_string(), two.display().to_string());
+
+    let run = pushlab(&["suite", &spec_s, "--jobs", "2", "--json", &two_s]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    let header = lines
+        .iter()
+        .find(|l| l.starts_with("NMSE pos/rot"))
+        .unwrap_or_else(|| panic!("no header:\n{}", run.stdout));
+    for column in ["contact", "paper", "physics only"] {
+        assert!(header.contains(column), "{header}");
+    }
+    for row in ["control", "other face"] {
+        let line = lines
+            .iter()
+            .find(|l| l.starts_with(row))
+            .unwrap_or_else(|| panic!("no row {row}:\n{}", run.stdout));
+        // Two kinds × offline, fixed, online and physics fixed, online: eight pos/rot cells.
+        let cells = line.split_whitespace().filter(|c| c.contains('/')).count();
+        assert_eq!(cells, 8, "{line}");
+    }
+    assert!(run.stdout.contains("2 experiment(s) in"), "{}", run.stdout);
+    assert!(run.stdout.contains(&format!("wrote {two_s}")));
+
+    let run = pushlab(&["suite", &spec_s, "--jobs", "1", "--json", &one_s]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let read =
+        |p: &Path| -> Value { serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap() };
+    let (a, b) = (read(&one), read(&two));
+    assert_eq!(a["workers"], 1);
+    assert_eq!(b["workers"], 2);
+    assert_eq!(without_timings(a.clone()), without_timings(b));
+
+    let experiments = a["experiments"].as_array().unwrap();
+    assert_eq!(experiments[0]["name"], "control");
+    // The wildcard took offline_000 … offline_009; the two online paths name online_001 twice,
+    // which is used once.
+    assert_eq!(experiments[0]["offline_recordings"], 10);
+    assert_eq!(experiments[0]["online_recordings"], 2);
+    assert_eq!(experiments[0]["horizon"], 2);
+    assert_eq!(experiments[1]["horizon"], 1);
+    for e in experiments {
+        let models = e["models"].as_array().unwrap();
+        let names: Vec<&str> = models
+            .iter()
+            .map(|m| m["model"].as_str().unwrap())
+            .collect();
+        assert_eq!(names, ["contact", "paper"]);
+        for m in models {
+            for pass in ["offline", "fixed", "online"] {
+                let pos = m[pass]["pos"].as_f64().unwrap();
+                assert!(pos.is_finite() && pos > 0.0, "{pass}: {m}");
+            }
+        }
+        let physics = &e["physics"]["online"]["pos"];
+        assert!(physics.as_f64().unwrap() > 0.0, "{e}");
+        assert!(e["errors"].as_array().unwrap().is_empty(), "{e}");
+    }
+    // On another face the contact model stays near its offline loss; the paper's network, fed
+    // inputs it never saw, does not.
+    let other = &experiments[1]["models"];
+    let online_pos = |i: usize| other[i]["online"]["pos"].as_f64().unwrap();
+    assert!(
+        online_pos(0) < online_pos(1),
+        "contact {} vs paper {}",
+        online_pos(0),
+        online_pos(1)
+    );
+
+    // --models replaces the spec's list, ablations included.
+    let ablations = dir.join("ablations.json");
+    let ablations_s = ablations.display().to_string();
+    let run = pushlab(&[
+        "suite",
+        &spec_s,
+        "--models",
+        "contact-prior-only,paper-augmented",
+        "--json",
+        &ablations_s,
+    ]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let header = run.stdout.lines().find(|l| l.starts_with("NMSE")).unwrap();
+    assert!(
+        header.contains("contact-prior-only") && header.contains("paper-augmented"),
+        "{header}"
+    );
+    let v = read(&ablations);
+    assert_eq!(
+        v["spec"]["models"],
+        serde_json::json!(["contact-prior-only", "paper-augmented"])
+    );
+    let run = pushlab(&["suite", &spec_s, "--models", "contact,lynch"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("unknown model \"lynch\"; expected one of contact"),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
+fn a_bad_spec_is_refused_with_its_file_and_what_is_wrong() {
+    let dir = temp_dir("bad");
+    let cases: [(&str, &str); 4] = [
+        ("{\"experiments\": []}", "\"experiments\" is empty"),
+        (
+            "{\"experiments\": [{\"name\": \"a\", \"offline\": [\"x\"], \"online\": [\"y\"]}],\n \"modles\": []}",
+            "line 2, column",
+        ),
+        (
+            "{\"models\": [\"contact\", \"bogus\"], \"experiments\": [{\"name\": \"a\", \"offline\": [\"x\"], \"online\": [\"y\"]}]}",
+            "bogus",
+        ),
+        (
+            "{\"experiments\": [{\"name\": \"a\", \"offline\": [], \"online\": [\"y\"]}]}",
+            "experiments[0] (\"a\"): \"offline\" and \"online\" each need at least one path",
+        ),
+    ];
+    for (i, (text, expected)) in cases.iter().enumerate() {
+        let path = dir.join(format!("bad-{i}.json"));
+        std::fs::write(&path, text).unwrap();
+        let run = pushlab(&["suite", &path.display().to_string()]);
+        assert_eq!(run.code, 2, "case {i}: {}", run.stderr);
+        assert!(
+            run.stderr.contains(&format!("bad-{i}.json")) && run.stderr.contains(expected),
+            "case {i}: expected {expected:?} in {}",
+            run.stderr
+        );
+    }
+    let run = pushlab(&["suite", &dir.join("missing.json").display().to_string()]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("missing.json"), "{}", run.stderr);
+
+    // Paths that match nothing leave the experiment without data: exit 1, the experiment named.
+    let path = dir.join("nothing.json");
+    std::fs::write(
+        &path,
+        "{\"epochs\": 1, \"experiments\": [{\"name\": \"empty\", \"offline\": [\"no-such-*.csv\"], \"online\": [\"no-such-*.csv\"]}]}",
+    )
+    .unwrap();
+    let run = pushlab(&["suite", &path.display().to_string()]);
+    assert_eq!(run.code, 1, "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr
+            .contains("1 experiment(s) could not run completely: empty ("),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
+fn the_model_kind_is_chosen_recorded_and_checked() {
+    let dir = temp_dir("kind");
+    let files: Vec<String> = (0..4)
+        .map(|i| {
+            format!(
+                "{}/offline_00{i}.csv",
+                sample_set("box1-paper-center-front")
+            )
+        })
+        .collect();
+    let train = |kind: Option<&str>, out: &Path| {
+        let out_s = out.display().to_string();
+        let mut args = vec!["train", "--data"];
+        args.extend(files.iter().map(String::as_str));
+        args.extend(["--epochs", "1", "--horizon", "2", "--out", &out_s]);
+        if let Some(kind) = kind {
+            args.extend(["--model-kind", kind]);
+        }
+        pushlab(&args)
+    };
+    let kind_of = |path: &Path| -> String {
+        let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        assert_eq!(v["version"], 2);
+        v["kind"].as_str().unwrap().to_owned()
+    };
+
+    let default = dir.join("default.json");
+    let run = train(None, &default);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("(contact model)"), "{}", run.stdout);
+    assert_eq!(kind_of(&default), "contact");
+
+    let paper = dir.join("paper.json");
+    let run = train(Some("paper"), &paper);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("(paper model)"), "{}", run.stdout);
+    assert_eq!(kind_of(&paper), "paper");
+
+    let run = train(Some("lynch"), &dir.join("never.json"));
+    assert_eq!(run.code, 2);
+    assert!(
+        run.stderr
+            .contains("unknown model kind \"lynch\"; expected one of contact, paper"),
+        "{}",
+        run.stderr
+    );
+    assert!(!dir.join("never.json").exists());
+
+    // eval with a model file takes its kind; naming another kind is a contradiction.
+    let online = format!("{}/online_000.csv", sample_set("box1-paper-center-front"));
+    let paper_s = paper.display().to_string();
+    let json = dir.join("eval.json");
+    let json_s = json.display().to_string();
+    let run = pushlab(&[
+        "eval",
+        "--offline",
+        &files[0],
+        "--online",
+        &online,
+        "--model",
+        &paper_s,
+        "--json",
+        &json_s,
+    ]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["config"]["kind"], "paper");
+    let run = pushlab(&[
+        "eval",
+        "--offline",
+        &files[0],
+        "--online",
+        &online,
+        "--model",
+        &paper_s,
+        "--model-kind",
+        "contact",
+    ]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("--model-kind contact differs from the kind of the model file (paper)"),
+        "{}",
+        run.stderr
+    );
+}
