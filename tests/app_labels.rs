@@ -471,3 +471,29 @@ fn a_new_label_added_in_the_app_gets_a_key_paints_and_saves() {
     assert_eq!(wobble.hotkey.as_deref(), Some("8"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn opening_a_folder_without_labels_and_closing_it_writes_nothing_into_it() {
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "no-write")
+        .expect("sample-data is part of the repository");
+    std::fs::remove_file(dir.join(LABELS_FILE_NAME)).expect("the copy has a labels file");
+    let mut harness = app_on(&dir);
+    // Play for a while and step through the tabs, editing nothing.
+    harness.key_press(egui::Key::Space);
+    harness.run_steps(30);
+    harness.state_mut().state.autosave_labels(1e6);
+    let closing = harness.state_mut().state.labels.save_on_exit();
+    assert!(closing.is_empty(), "{closing:?}");
+    assert!(
+        !dir.join(LABELS_FILE_NAME).exists(),
+        "a labels file appeared without an edit"
+    );
+    // The first edit creates it.
+    harness.key_down(egui::Key::Num3);
+    harness.run_steps(1);
+    harness.key_up(egui::Key::Num3);
+    harness.run_steps(1);
+    harness.state_mut().state.labels.save_on_exit();
+    assert!(dir.join(LABELS_FILE_NAME).exists(), "an edit is saved");
+    let _ = std::fs::remove_dir_all(&dir);
+}

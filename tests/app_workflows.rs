@@ -385,3 +385,101 @@ fn the_train_tab_offers_every_model_kind_and_the_app_shows_which_is_loaded() {
         "the Train tab says which kind is loaded"
     );
 }
+
+/// A 0.1 m box pushed by a 5 mm rod at 50 Hz, simulated into `dir` by the built binary: recordings
+/// far outside the default model's domain (0.4–0.55 m boxes, a 175 mm disc, 10 Hz).
+fn simulate_small_rod_set(dir: &Path) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["simulate", "--out"])
+        .arg(dir)
+        .args([
+            "--box",
+            "0.1x0.1",
+            "--pusher-radius",
+            "0.005",
+            "--rate",
+            "50",
+            "--duration",
+            "2",
+            "--speed",
+            "0.03",
+            "--pushes",
+            "4",
+            "--seed",
+            "5",
+        ])
+        .output()
+        .expect("run pushlab simulate");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_is_remembered() {
+    let scratch = common::scratch_dir("fit");
+    let set = scratch.join("small-rod");
+    simulate_small_rod_set(&set);
+    let store = scratch.join("models");
+
+    let mut state = initial_state(std::slice::from_ref(&set), Persisted::default());
+    state.model_store = Some(store.clone());
+    state.training.config.epochs = 3;
+    let status = state.status.clone().unwrap_or_default();
+    assert!(
+        status.contains("warning: the model was trained on objects of 0.40–0.55 m"),
+        "{status}"
+    );
+    let mut harness = common::harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(2);
+    assert!(
+        harness
+            .query_all_by_label_contains("Warning: the model was trained on")
+            .next()
+            .is_some(),
+        "the Steer tab says the model does not fit"
+    );
+    harness.get_by_label("Train for these recordings").click();
+    harness.run_steps(1);
+    assert!(harness.state().state.training.is_running());
+    run_until(&mut harness, "training for these recordings", |app| {
+        !app.state.training.is_running()
+    });
+
+    let state = &harness.state().state;
+    assert!(
+        state.domain_mismatch().is_none(),
+        "{:?}",
+        state.domain_mismatch()
+    );
+    assert!(
+        harness
+            .query_all_by_label_contains("Warning: the model was trained on")
+            .next()
+            .is_none(),
+        "the warning went"
+    );
+    // No labels: trained on every recording but the one shown.
+    assert_eq!(state.training.chosen.len(), 3);
+    let source = PathBuf::from(state.models.source.clone().expect("a model source"));
+    assert!(source.starts_with(&store) && source.is_file(), "{source:?}");
+    let persisted = state.persisted();
+    let folder = std::path::absolute(&set).expect("an absolute path");
+    assert_eq!(persisted.folder_models.get(&folder), Some(&source));
+
+    // Opening the folder again (after a restart) reopens its model.
+    let state = initial_state(std::slice::from_ref(&set), persisted);
+    assert_eq!(
+        state.models.source.as_deref(),
+        Some(source.display().to_string().as_str())
+    );
+    let status = state.status.clone().unwrap_or_default();
+    assert!(
+        status.contains("reopened the model trained for"),
+        "{status}"
+    );
+    assert!(state.domain_mismatch().is_none());
+    let _ = std::fs::remove_dir_all(&scratch);
+}

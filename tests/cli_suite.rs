@@ -312,3 +312,74 @@ fn the_model_kind_is_chosen_recorded_and_checked() {
         run.stderr
     );
 }
+
+#[test]
+fn eval_warns_when_the_online_recordings_lie_outside_the_model_s_domain() {
+    let dir = temp_dir("domain");
+    let small = dir.join("small-rod");
+    let small_s = small.display().to_string();
+    // A 0.1 m box pushed by a 5 mm rod at 50 Hz: far from the sample data's boxes and 175 mm disc.
+    let run = pushlab(&[
+        "simulate",
+        "--out",
+        &small_s,
+        "--box",
+        "0.1x0.1",
+        "--pusher-radius",
+        "0.005",
+        "--rate",
+        "50",
+        "--duration",
+        "2",
+        "--speed",
+        "0.03",
+        "--pushes",
+        "2",
+        "--seed",
+        "4",
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let model = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/default-model.json")
+        .display()
+        .to_string();
+    let offline = format!("{}/offline_000.csv", sample_set("box1-paper-center-front"));
+    let run = pushlab(&[
+        "eval",
+        "--model",
+        &model,
+        "--offline",
+        &offline,
+        "--online",
+        &small_s,
+    ]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let warning = run
+        .stderr
+        .lines()
+        .find(|l| l.starts_with("warning: the model was trained on"))
+        .unwrap_or_else(|| panic!("no warning in:\n{}", run.stderr));
+    assert!(
+        warning.contains("objects of 0.40–0.55 m")
+            && warning.contains("a pusher radius of 175.0 mm")
+            && warning.contains("frames at 10 Hz")
+            && warning.contains(
+                "here have objects of 0.10 m, a pusher radius of 5.0 mm, frames at 50 Hz"
+            ),
+        "{warning}"
+    );
+
+    // Recordings like the model's own: no warning.
+    let online = format!("{}/online_000.csv", sample_set("box2-plastic-center-front"));
+    let run = pushlab(&[
+        "eval",
+        "--model",
+        &model,
+        "--offline",
+        &offline,
+        "--online",
+        &online,
+    ]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert!(!run.stderr.contains("warning:"), "{}", run.stderr);
+}

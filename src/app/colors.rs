@@ -23,3 +23,6 @@ pub const COM_LABEL: Color32 = Color32::from_rgb(240, 90, 220);
 pub const GRID: Color32 = Color32::from_gray(55);
 /// Every tenth grid line.
 pub const GRID_MAJOR: Color32 = Color32::from_gray(80);
+
+/// Warnings a user should act on (a model that does not fit the recordings).
+pub const WARNING: Color32 = Color32::from_rgb(255, 200, 60);

@@ -5,7 +5,6 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use anyhow::Context as _;
 use eframe::egui;
@@ -126,11 +125,7 @@ pub fn default_model_path() -> Option<PathBuf> {
 /// Loads a model file and restarts online learning with it.
 pub fn load_model(state: &mut AppState, path: &Path) -> anyhow::Result<()> {
     let file = ModelFile::load(path)?;
-    state.models.combined = Some(file.combined);
-    state.models.pure_nn = file.pure_nn.map(Arc::new);
-    state.models.training = file.training;
-    state.models.source = Some(path.display().to_string());
-    state.restart_run_keeping_frame();
+    state.use_model_file(file, path.display().to_string());
     Ok(())
 }
 

@@ -311,7 +311,10 @@ pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
                 .storage
                 .and_then(|s| eframe::get_value(s, STORAGE_KEY))
                 .unwrap_or_default();
-            Ok(Box::new(PushlabApp::new(initial_state(&paths, persisted))))
+            let mut state = initial_state(&paths, persisted);
+            // Models trained for folders live beside eframe's own state, never in a user's data.
+            state.model_store = eframe::storage_dir("pushlab").map(|dir| dir.join("models"));
+            Ok(Box::new(PushlabApp::new(state)))
         }),
     )
     .map_err(|e| anyhow::anyhow!("could not open the window: {e}"))

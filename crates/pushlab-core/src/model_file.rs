@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::atomic_file::write_atomically;
+use crate::experiment::Domain;
 use crate::learn::TrainingReport;
 use std::sync::Arc;
 
@@ -40,6 +41,10 @@ pub struct TrainingMetadata {
     /// The pushlab version that trained it.
     #[serde(default)]
     pub pushlab_version: String,
+    /// The objects, pushers, frame rates and speeds it was trained on (`null` in files written before
+    /// pushlab recorded it): see [`crate::experiment::Domain`].
+    #[serde(default)]
+    pub domain: Option<Domain>,
 }
 
 /// A trained model as saved on disk.

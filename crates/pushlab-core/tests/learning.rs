@@ -286,6 +286,14 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
             pure_nn_report: Some(pure.report),
             sources: vec!["sim".into()],
             pushlab_version: "test".into(),
+            // The domain round-trips with the rest of the file.
+            domain: Some(pushlab_core::experiment::Domain {
+                object_size: [0.4, 0.55],
+                pusher_radius: [0.05, 0.05],
+                sample_rate_hz: [10.0, 10.0],
+                pusher_speed: [0.03, 0.06],
+                horizon: 1,
+            }),
         },
     };
     let dir = std::env::temp_dir().join(format!("pushlab-model-test-{}", std::process::id()));

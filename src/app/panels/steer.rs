@@ -9,6 +9,41 @@ use crate::app::colors;
 use crate::app::panels::scene::SceneView;
 use crate::app::state::{AppState, Command};
 
+/// Whether the model fits the open recordings; if not, why, and the button that trains one that does.
+fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let training = &state.training;
+    if let Some(mismatch) = state.domain_mismatch() {
+        ui.colored_label(colors::WARNING, format!("Warning: {}", mismatch.message));
+    }
+    if state.domain_mismatch().is_none() && !training.is_running() {
+        return;
+    }
+    ui.horizontal(|ui| {
+        let train = ui
+            .add_enabled(
+                !training.is_running(),
+                egui::Button::new("Train for these recordings"),
+            )
+            .on_hover_text(
+                "Train the Train tab's kind in the background on the recordings labelled offline \
+                 (else on all but the one shown); the model is remembered for these folders",
+            );
+        if train.clicked() {
+            commands.push(Command::TrainForOpenRecordings);
+        }
+        if training.is_running() {
+            ui.add(
+                egui::ProgressBar::new(training.progress())
+                    .desired_width(120.0)
+                    .show_percentage(),
+            );
+            if ui.button("Cancel").clicked() {
+                commands.push(Command::CancelTraining);
+            }
+        }
+    });
+}
+
 /// Draws the steering controls.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, _view: &mut SceneView, commands: &mut Vec<Command>) {
     let (Some(theta), Some(recording), Some(run)) = (state.theta(), state.recording(), &state.run)
@@ -17,6 +52,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, _view: &mut SceneView, commands: 
         return;
     };
     ui.label(format!("Learning with: {}", state.models.learner_name()));
+    model_fit(ui, state, commands);
     ui.add_space(4.0);
     ui.heading("θ_online at this frame");
     // Slider ranges follow the object: the COM stays within its bounding box, h within its size.

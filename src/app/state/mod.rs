@@ -3,6 +3,7 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
+pub mod fit;
 pub mod label_losses;
 pub mod labels;
 pub mod layers;
@@ -12,13 +13,13 @@ pub mod session;
 pub mod timeline;
 pub mod training;
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use pushlab_core::experiment::{UsedRecording, split_of};
+use pushlab_core::experiment::{DomainMismatch, UsedRecording, split_of};
 use pushlab_core::labels::Split;
 use pushlab_core::learn::{OnlineConfig, OnlineStep};
 use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel, Prediction};
-use pushlab_core::model_file::TrainingMetadata;
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
@@ -54,6 +55,8 @@ pub enum Command {
     CancelTraining,
     /// Which combined model the Train tab trains.
     SetTrainingKind(ModelKind),
+    /// Train a model for the open recordings and remember it for their folders (see `fit`).
+    TrainForOpenRecordings,
     /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
     ChooseOfflineLabelled,
     /// Labeling on the selected recording at the frame shown.
@@ -86,6 +89,8 @@ pub struct Persisted {
     pub looping: bool,
     pub learn_while_playing: bool,
     pub online: OnlineConfig,
+    /// The model trained for each folder of recordings ("Train for these recordings").
+    pub folder_models: BTreeMap<PathBuf, PathBuf>,
 }
 
 impl Default for Persisted {
@@ -97,6 +102,7 @@ impl Default for Persisted {
             looping: false,
             learn_while_playing: true,
             online: OnlineConfig::default(),
+            folder_models: BTreeMap::new(),
         }
     }
 }
@@ -137,6 +143,12 @@ pub struct AppState {
     pub labels: Labeling,
     /// A short message for the status bar (what just happened, or what went wrong).
     pub status: Option<String>,
+    /// Whether the open recordings lie outside the model's domain (see `fit`).
+    fit: Option<DomainMismatch>,
+    /// Where models trained for folders are kept (the app's data folder); `None`: not kept.
+    pub model_store: Option<PathBuf>,
+    /// The model trained for each folder of recordings.
+    pub folder_models: BTreeMap<PathBuf, PathBuf>,
 }
 
 impl AppState {
@@ -158,6 +170,9 @@ impl AppState {
             training: Training::default(),
             labels: Labeling::default(),
             status: None,
+            fit: None,
+            model_store: None,
+            folder_models: persisted.folder_models,
         }
     }
 
@@ -170,6 +185,7 @@ impl AppState {
             looping: self.timeline.looping,
             learn_while_playing: self.learn_while_playing,
             online: self.online_config,
+            folder_models: self.folder_models.clone(),
         }
     }
 
@@ -181,6 +197,21 @@ impl AppState {
         self.labels.sync(&self.session);
         if selected {
             self.start_run();
+        }
+        self.after_opening();
+    }
+
+    /// After recordings were opened: the model remembered for their folders comes back, and the
+    /// status line says when the model in use does not fit them.
+    fn after_opening(&mut self) {
+        self.reopen_folder_model();
+        self.refresh_fit();
+        if let Some(mismatch) = &self.fit {
+            let message = format!("warning: {}", mismatch.message);
+            self.status = Some(match self.status.take() {
+                Some(before) => format!("{before} — {message}"),
+                None => message,
+            });
         }
     }
 
@@ -326,6 +357,7 @@ impl AppState {
             }
             Command::CancelTraining => self.training.cancel(),
             Command::SetTrainingKind(kind) => self.training.kind = kind,
+            Command::TrainForOpenRecordings => self.train_for_open_recordings(),
             Command::SetOnlineConfig(config) => {
                 self.online_config = config;
                 let frame = self.frame();
@@ -351,6 +383,7 @@ impl AppState {
                 self.session.recording_count().saturating_sub(recordings),
                 self.session.problems.len() - problems,
             ));
+            self.after_opening();
         }
         if selected {
             self.start_run();
@@ -358,22 +391,8 @@ impl AppState {
         if let Some(message) = self.training.poll() {
             self.status = Some(message);
         }
-        if let Some(trained) = self.training.take_finished() {
-            self.models.combined = Some(trained.model);
-            self.models.training = TrainingMetadata {
-                report: Some(trained.report),
-                pure_nn_report: None,
-                sources: self
-                    .training
-                    .chosen
-                    .iter()
-                    .filter_map(|&id| self.session.get(id))
-                    .map(|r| r.source.display().to_string())
-                    .collect(),
-                pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
-            };
-            self.models.source = Some("trained in the app (unsaved)".to_owned());
-            self.restart_run_keeping_frame();
+        if let Some(finished) = self.training.take_finished() {
+            self.take_trained(finished);
         }
         let before = self.timeline.frame();
         if self.timeline.update(dt) {
@@ -493,7 +512,7 @@ impl AppState {
             self.status = Some("choose at least one recording to train on".to_owned());
             return;
         }
-        self.training.start(recordings);
+        self.training.start(recordings, Vec::new());
         self.status = Some(format!("training the {} model…", self.training.kind));
     }
 

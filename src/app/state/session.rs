@@ -119,7 +119,10 @@ impl Session {
             if set.recordings.is_empty() {
                 continue;
             }
-            let index = match self.sets.iter().position(|s| s.dir == set.dir) {
+            // A folder may hold several sets (the MIT files of each shape and surface): a set is its
+            // folder and its setting's name, and opening it again replaces it.
+            let same = |s: &RecordingSet| s.dir == set.dir && s.setting.name == set.setting.name;
+            let index = match self.sets.iter().position(same) {
                 Some(i) => {
                     self.sets[i] = set;
                     i
@@ -215,6 +218,22 @@ mod tests {
                 recording: 0
             })
         );
+    }
+
+    #[test]
+    fn a_folder_of_mit_files_of_four_shapes_opens_as_four_sets_of_all_its_files() {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push-abs-train");
+        if !dir.is_dir() {
+            eprintln!("skipped: {} is missing", dir.display());
+            return;
+        }
+        let mut session = Session::default();
+        session.open_blocking(std::slice::from_ref(&dir));
+        // Every set shares the folder; before sets were told apart by name, each replaced the last.
+        assert_eq!(session.sets.len(), 4);
+        assert_eq!(session.recording_count(), 50);
+        session.open_blocking(std::slice::from_ref(&dir));
+        assert_eq!(session.recording_count(), 50, "opening again replaces");
     }
 
     #[test]

@@ -3,13 +3,15 @@
 //! only polls.
 
 use std::collections::BTreeSet;
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
-use pushlab_core::experiment::{UsedRecording, train_combined};
+use pushlab_core::experiment::{UsedRecording, train_combined, training_metadata};
 use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, Trained};
 use pushlab_core::model::{CombinedModel, ModelKind};
+use pushlab_core::model_file::TrainingMetadata;
 
 use super::session::RecordingId;
 
@@ -22,6 +24,18 @@ enum Message {
 struct Job {
     receiver: Receiver<Message>,
     cancel: Arc<AtomicBool>,
+    metadata: TrainingMetadata,
+    for_folders: Vec<PathBuf>,
+}
+
+/// A run that finished with a model.
+pub struct Finished {
+    pub trained: Trained<CombinedModel>,
+    /// Its sources and domain, with the training report filled in: for its model file.
+    pub metadata: TrainingMetadata,
+    /// The folders it was trained for ("Train for these recordings"): the model is remembered for
+    /// them. Empty for a run started from the Train tab.
+    pub for_folders: Vec<PathBuf>,
 }
 
 /// Training state: what to train on, the running job, and its history.
@@ -36,7 +50,7 @@ pub struct Training {
     /// Progress reported after every epoch of the current or last run.
     pub history: Vec<TrainProgress>,
     /// A model that finished training and has not been taken into use yet.
-    finished: Option<Trained<CombinedModel>>,
+    finished: Option<Finished>,
     job: Option<Job>,
 }
 
@@ -46,11 +60,13 @@ impl Training {
         self.job.is_some()
     }
 
-    /// Starts training on the recordings on a worker thread.
-    pub fn start(&mut self, recordings: Vec<UsedRecording>) {
+    /// Starts training on the recordings on a worker thread; `for_folders` are remembered with the
+    /// result (see [`Finished::for_folders`]).
+    pub fn start(&mut self, recordings: Vec<UsedRecording>, for_folders: Vec<PathBuf>) {
         if self.is_running() {
             return;
         }
+        let metadata = training_metadata(&recordings, self.config.horizon);
         self.history.clear();
         let (sender, receiver) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
@@ -65,7 +81,12 @@ impl Training {
             // The receiver is gone only when the app closed.
             let _ = sender.send(Message::Done(Box::new(result)));
         });
-        self.job = Some(Job { receiver, cancel });
+        self.job = Some(Job {
+            receiver,
+            cancel,
+            metadata,
+            for_folders,
+        });
     }
 
     /// Asks the running job to stop after the current batch; it still delivers its best model.
@@ -77,12 +98,12 @@ impl Training {
 
     /// Collects progress; returns a status message when the run ended.
     pub fn poll(&mut self) -> Option<String> {
-        let job = self.job.as_ref()?;
         loop {
-            match job.receiver.try_recv() {
+            let message = self.job.as_ref()?.receiver.try_recv();
+            match message {
                 Ok(Message::Progress(p)) => self.history.push(p),
                 Ok(Message::Done(result)) => {
-                    self.job = None;
+                    let job = self.job.take()?;
                     return Some(match *result {
                         Ok(trained) => {
                             let r = &trained.report;
@@ -96,7 +117,15 @@ impl Training {
                                     .map(|v| format!(", validation loss {v:.4}"))
                                     .unwrap_or_default()
                             );
-                            self.finished = Some(trained);
+                            let metadata = TrainingMetadata {
+                                report: Some(trained.report.clone()),
+                                ..job.metadata
+                            };
+                            self.finished = Some(Finished {
+                                trained,
+                                metadata,
+                                for_folders: job.for_folders,
+                            });
                             message
                         }
                         Err(e) => format!("training failed: {e}"),
@@ -112,7 +141,7 @@ impl Training {
     }
 
     /// The model of a finished run, once.
-    pub fn take_finished(&mut self) -> Option<Trained<CombinedModel>> {
+    pub fn take_finished(&mut self) -> Option<Finished> {
         self.finished.take()
     }
 

@@ -17,6 +17,7 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 use clap::Args;
 use pushlab_core::atomic_file::write_atomically;
+use pushlab_core::experiment::Domain;
 use pushlab_core::experiment::{
     self, EvalOptions, Evaluation, Loaded, PhysicsNmse, Skipped, UsedRecording,
 };
@@ -198,6 +199,18 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
                 loaded.why_nothing(horizon)
             )));
         }
+    }
+
+    // The one core check of a model's domain (the app's too): the model file's, or that of the
+    // offline data the model is about to be trained on.
+    let domain = match &model_file {
+        Some(m) => m.training.domain.clone(),
+        None => Domain::of(offline.used.iter().map(|u| &u.recording), horizon),
+    };
+    if let Some(mismatch) =
+        domain.and_then(|d| d.mismatch(online.used.iter().map(|u| &u.recording)))
+    {
+        eprintln!("warning: {}", mismatch.message);
     }
 
     let config = train_config(&args.training, horizon, kind, &offline.used);

@@ -57,8 +57,7 @@ pub fn run(args: &TrainArgs) -> Result<(), Failure> {
         training: TrainingMetadata {
             report: Some(combined.report),
             pure_nn_report: pure_nn.map(|t| t.report),
-            sources: loaded.used.iter().map(UsedRecording::source).collect(),
-            pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
+            ..experiment::training_metadata(&loaded.used, horizon)
         },
     };
     file.save(&args.out)

@@ -1,21 +1,24 @@
 //! One experiment pipeline for the CLI and the app: which recordings and frames an experiment uses
 //! ([`data`]), how a model of each kind is trained on them ([`train`]), and how it is evaluated
-//! ([`evaluate`]); [`suite`] runs a list of experiments in parallel into one table.
+//! ([`evaluate`]); [`suite`] runs a list of experiments in parallel into one table; [`domain`] is
+//! what a model was trained on and whether recordings lie outside it.
 //!
 //! Every rule lives here once — the split of a recording, the samples left out for bad tracking,
 //! `θ_online(0)`, the physics-only model's tolerance and loss scale, the fixed and online passes — so
 //! that `pushlab train`, `pushlab eval`, the suite and the app cannot drift apart.
 
 pub mod data;
+pub mod domain;
 pub mod evaluate;
 pub mod suite;
 pub mod train;
 pub mod variant;
 
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, split_of};
+pub use domain::{Domain, DomainMismatch};
 pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, TrajectoryRun, evaluate,
     fixed_pass, learner_for, loss_scale_for, online_pass, physics_model,
 };
-pub use train::{paper_theta0_for, train_baseline, train_combined};
+pub use train::{paper_theta0_for, train_baseline, train_combined, training_metadata};
 pub use variant::ModelVariant;

@@ -6,12 +6,26 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use super::data::UsedRecording;
+use super::domain::Domain;
 use super::variant::{symmetries, transformed};
 use crate::learn::{
     ContactTrajectory, LossScale, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
     train_contact, train_paper, train_pure_nn, training_trajectories,
 };
 use crate::model::{CombinedModel, ModelKind, OnlineParams, PureNnModel, Sample};
+use crate::model_file::TrainingMetadata;
+
+/// Where a model trained on these recordings at `horizon` comes from — their sources, the pushlab
+/// version and the [`Domain`] they span — for its model file; the caller adds the training reports.
+pub fn training_metadata(used: &[UsedRecording], horizon: usize) -> TrainingMetadata {
+    TrainingMetadata {
+        report: None,
+        pure_nn_report: None,
+        sources: used.iter().map(UsedRecording::source).collect(),
+        pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
+        domain: Domain::of(used.iter().map(|u| &u.recording), horizon),
+    }
+}
 
 /// The paper model's `θ_online(0)` for training on these recordings (see [`paper_theta0`]): from
 /// their object's outline when they all share one, else `None` (the generic guess).

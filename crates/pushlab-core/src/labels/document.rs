@@ -252,7 +252,8 @@ pub const UNDO_LIMIT: usize = 1000;
 
 impl LabelDocument {
     /// Opens the labels file at `path`, or an empty document with the default schema if there is
-    /// no file yet (nothing is written until the first save).
+    /// no file yet. An unedited document counts as saved either way: opening a folder and closing
+    /// it writes nothing into it; the file is created by the first save after an edit.
     pub fn open(path: &Path) -> Result<Self, LabelFileError> {
         let text = file::current_text(path)?;
         let set = match &text {
@@ -260,9 +261,6 @@ impl LabelDocument {
             None => LabelSet::default(),
         };
         let mut doc = Self::new(path, set);
-        if text.is_none() {
-            doc.saved_state = None;
-        }
         doc.on_disk = Some(text);
         Ok(doc)
     }
@@ -1117,11 +1115,10 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let mut d = LabelDocument::open_set_folder(&dir).unwrap();
-        assert_eq!(
-            d.save_state(),
-            SaveState::Unsaved,
-            "a new file is not on disk yet"
-        );
+        // Without a file and without edits there is nothing to save: opening writes nothing.
+        assert_eq!(d.save_state(), SaveState::Saved);
+        assert!(!d.save_if_dirty().unwrap());
+        assert!(!file::path_in(&dir).exists(), "nothing was written");
         d.save().unwrap();
         assert_eq!(d.save_state(), SaveState::Saved);
         d.apply(paint(STICKING, 0..10)).unwrap();

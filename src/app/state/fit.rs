@@ -1,0 +1,191 @@
+//! Whether the model in use fits the recordings that are open, and making one that does.
+//!
+//! A model file records the domain it was trained on (object sizes, pusher radii, frame rates,
+//! speeds: `pushlab_core::experiment::Domain`); the core's check says when the open recordings lie
+//! outside it, and the app says so in the status line and the Steer tab. **Train for these
+//! recordings** trains the kind chosen in the Train tab in the background — on the recordings the
+//! labels put in the offline split, else on every open recording but the one shown — and the model is
+//! saved in the app's model store and remembered for the recordings' folders, so that opening them
+//! again reopens it.
+
+use std::collections::BTreeSet;
+use std::hash::{Hash, Hasher};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use pushlab_core::experiment::{DomainMismatch, UsedRecording, split_of};
+use pushlab_core::labels::Split;
+use pushlab_core::model_file::ModelFile;
+
+use super::AppState;
+use super::labels::LabelTarget;
+use super::session::RecordingId;
+use super::training::Finished;
+
+impl AppState {
+    /// Whether the open recordings lie outside the domain of the model in use (computed when
+    /// recordings or the model change, not per frame).
+    pub fn domain_mismatch(&self) -> Option<&DomainMismatch> {
+        self.fit.as_ref()
+    }
+
+    /// Checks the open recordings against the model's domain again.
+    pub(super) fn refresh_fit(&mut self) {
+        self.fit = self.models.training.domain.as_ref().and_then(|domain| {
+            domain.mismatch(self.session.recordings().map(|(_, recording)| recording))
+        });
+    }
+
+    /// Takes a model file into use: predictions, online learning and the domain check follow it.
+    pub fn use_model_file(&mut self, file: ModelFile, source: String) {
+        self.models.combined = Some(file.combined);
+        self.models.pure_nn = file.pure_nn.map(Arc::new);
+        self.models.training = file.training;
+        self.models.source = Some(source);
+        self.refresh_fit();
+        self.restart_run_keeping_frame();
+    }
+
+    /// The folders of the open recordings, sorted.
+    fn open_folders(&self) -> Vec<PathBuf> {
+        let folders: BTreeSet<PathBuf> = self
+            .session
+            .recordings()
+            .filter_map(|(_, r)| r.source.parent().map(Path::to_path_buf))
+            .map(|folder| std::path::absolute(&folder).unwrap_or(folder))
+            .collect();
+        folders.into_iter().collect()
+    }
+
+    /// Starts training a model for the open recordings: on those labelled offline, else on all but
+    /// the one shown; at the horizon of the model in use.
+    pub(super) fn train_for_open_recordings(&mut self) {
+        if self.training.is_running() {
+            return;
+        }
+        let all: Vec<RecordingId> = self.session.recordings().map(|(id, _)| id).collect();
+        let offline: Vec<RecordingId> = self
+            .session
+            .recordings()
+            .filter(|(_, r)| {
+                let labels = LabelTarget::of(r)
+                    .and_then(|t| self.labels.document(&t.document))
+                    .map(|d| d.set());
+                split_of(r, labels) == Some(Split::Offline)
+            })
+            .map(|(id, _)| id)
+            .collect();
+        let shown = self.session.selected;
+        let (chosen, which) = if offline.is_empty() {
+            let others: Vec<RecordingId> =
+                all.into_iter().filter(|&id| Some(id) != shown).collect();
+            (others, "every open recording but the one shown")
+        } else {
+            (offline, "the recordings labelled offline")
+        };
+        self.training.chosen = chosen.into_iter().collect();
+        self.training.config.horizon = self.models.horizon();
+        let horizon = self.training.config.horizon;
+        let recordings: Vec<UsedRecording> = self
+            .training_recordings()
+            .into_iter()
+            .filter(|u| !u.samples(horizon).is_empty())
+            .collect();
+        if recordings.is_empty() {
+            self.status = Some(format!(
+                "nothing to train on: {which} have no sample at horizon {horizon}"
+            ));
+            return;
+        }
+        let count = recordings.len();
+        self.training.start(recordings, self.open_folders());
+        self.status = Some(format!(
+            "training the {} model for these recordings on {which} ({count})…",
+            self.training.kind
+        ));
+    }
+
+    /// Takes a finished training run's model into use; one trained for folders is saved in the
+    /// model store and remembered for them.
+    pub(super) fn take_trained(&mut self, finished: Finished) {
+        let Finished {
+            trained,
+            metadata,
+            for_folders,
+        } = finished;
+        let file = ModelFile {
+            combined: trained.model,
+            pure_nn: None,
+            training: metadata,
+        };
+        let mut source = "trained in the app (unsaved)".to_owned();
+        if !for_folders.is_empty() {
+            match self.store_for(&for_folders, &file) {
+                Ok(path) => {
+                    source = path.display().to_string();
+                    for folder in &for_folders {
+                        self.folder_models.insert(folder.clone(), path.clone());
+                    }
+                }
+                Err(why) => {
+                    self.status = Some(format!(
+                        "the model trained for these recordings is in use but not remembered: {why}"
+                    ));
+                }
+            }
+        }
+        self.use_model_file(file, source);
+    }
+
+    /// Saves a model trained for `folders` in the model store, named after them.
+    fn store_for(&self, folders: &[PathBuf], file: &ModelFile) -> Result<PathBuf, String> {
+        let store = self
+            .model_store
+            .as_ref()
+            .ok_or("the app has no folder to keep models in")?;
+        std::fs::create_dir_all(store)
+            .map_err(|e| format!("cannot create {}: {e}", store.display()))?;
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        folders.hash(&mut hasher);
+        let name = folders
+            .first()
+            .and_then(|f| f.file_name())
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "recordings".to_owned());
+        let path = store.join(format!("{name}-{:016x}.json", hasher.finish()));
+        file.save(&path).map_err(|e| e.to_string())?;
+        Ok(path)
+    }
+
+    /// After recordings were opened: reopens the model remembered for their folders, if any and if
+    /// it is not already in use.
+    pub(super) fn reopen_folder_model(&mut self) {
+        let remembered = self
+            .open_folders()
+            .into_iter()
+            .find_map(|folder| Some((self.folder_models.get(&folder)?.clone(), folder)));
+        let Some((path, folder)) = remembered else {
+            return;
+        };
+        if self.models.source.as_deref() == Some(&path.display().to_string()) {
+            return;
+        }
+        match ModelFile::load(&path) {
+            Ok(file) => {
+                self.use_model_file(file, path.display().to_string());
+                self.status = Some(format!(
+                    "reopened the model trained for {}: {} ({})",
+                    folder.display(),
+                    self.models.learner_name(),
+                    path.display()
+                ));
+            }
+            Err(e) => {
+                self.status = Some(format!(
+                    "the model remembered for {} could not be read, so the current one stays: {e}",
+                    folder.display()
+                ));
+            }
+        }
+    }
+}
