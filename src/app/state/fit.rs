@@ -13,12 +13,10 @@ use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use pushlab_core::experiment::{DomainMismatch, UsedRecording, split_of};
-use pushlab_core::labels::Split;
+use pushlab_core::experiment::DomainMismatch;
 use pushlab_core::model_file::ModelFile;
 
 use super::AppState;
-use super::labels::LabelTarget;
 use super::session::RecordingId;
 use super::training::Finished;
 
@@ -64,17 +62,7 @@ impl AppState {
             return;
         }
         let all: Vec<RecordingId> = self.session.recordings().map(|(id, _)| id).collect();
-        let offline: Vec<RecordingId> = self
-            .session
-            .recordings()
-            .filter(|(_, r)| {
-                let labels = LabelTarget::of(r)
-                    .and_then(|t| self.labels.document(&t.document))
-                    .map(|d| d.set());
-                split_of(r, labels) == Some(Split::Offline)
-            })
-            .map(|(id, _)| id)
-            .collect();
+        let offline = self.offline_labelled();
         let shown = self.session.selected;
         let (chosen, which) = if offline.is_empty() {
             let others: Vec<RecordingId> =
@@ -86,11 +74,7 @@ impl AppState {
         self.training.chosen = chosen.into_iter().collect();
         self.training.config.horizon = self.models.horizon();
         let horizon = self.training.config.horizon;
-        let recordings: Vec<UsedRecording> = self
-            .training_recordings()
-            .into_iter()
-            .filter(|u| !u.samples(horizon).is_empty())
-            .collect();
+        let recordings = self.training_recordings();
         if recordings.is_empty() {
             self.status = Some(format!(
                 "nothing to train on: {which} have no sample at horizon {horizon}"

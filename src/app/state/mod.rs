@@ -481,10 +481,12 @@ impl AppState {
         }
     }
 
-    /// The recordings chosen for training, with the frames labelled "skip in training" (bad tracking)
-    /// from the open labels files: `pushlab_core::experiment` leaves out every sample touching them,
-    /// exactly as `pushlab train` does.
+    /// The recordings chosen for training that have a sample at the training horizon, with the
+    /// frames labelled "skip in training" (bad tracking) from the open labels files:
+    /// `pushlab_core::experiment` leaves out every sample touching them, exactly as `pushlab train`
+    /// does.
     pub fn training_recordings(&self) -> Vec<UsedRecording> {
+        let horizon = self.training.config.horizon;
         self.training
             .chosen
             .iter()
@@ -495,6 +497,7 @@ impl AppState {
                     .unwrap_or_default();
                 UsedRecording::new(r.clone(), None, skip)
             })
+            .filter(|u| !u.samples(horizon).is_empty())
             .collect()
     }
 
@@ -502,12 +505,7 @@ impl AppState {
         if self.training.is_running() {
             return;
         }
-        let horizon = self.training.config.horizon;
-        let recordings: Vec<UsedRecording> = self
-            .training_recordings()
-            .into_iter()
-            .filter(|u| !u.samples(horizon).is_empty())
-            .collect();
+        let recordings = self.training_recordings();
         if recordings.is_empty() {
             self.status = Some("choose at least one recording to train on".to_owned());
             return;
@@ -516,11 +514,11 @@ impl AppState {
         self.status = Some(format!("training the {} model…", self.training.kind));
     }
 
-    /// Chooses for training the recordings in the offline split: by their labels file, else by the
-    /// `split` their `setting.json` entry names (the same rule as `pushlab train --split offline`).
-    fn choose_offline_labelled(&mut self) {
-        let offline: Vec<RecordingId> = self
-            .session
+    /// The open recordings in the offline split: by their labels file (as open in the app), else by
+    /// the `split` their `setting.json` entry names — the core's rule (`split_of`), as in
+    /// `pushlab train --split-from-labels`.
+    fn offline_labelled(&self) -> Vec<RecordingId> {
+        self.session
             .recordings()
             .filter(|(_, r)| {
                 let labels = LabelTarget::of(r)
@@ -529,7 +527,12 @@ impl AppState {
                 split_of(r, labels) == Some(Split::Offline)
             })
             .map(|(id, _)| id)
-            .collect();
+            .collect()
+    }
+
+    /// Chooses for training the recordings in the offline split.
+    fn choose_offline_labelled(&mut self) {
+        let offline = self.offline_labelled();
         self.status = Some(if offline.is_empty() {
             "no open recording is labelled offline; set splits in the Labels tab".to_owned()
         } else {

@@ -375,6 +375,28 @@ impl<T: Real, const I: usize> Network<T, I> {
         ]
     }
 
+    /// [`Network::position_gradient`], and with `weights` also every weight's and bias's gradient
+    /// added to it: the one step every combined model takes back from its network's outputs to the
+    /// inputs where `θ_online` enters.
+    #[inline(always)]
+    pub(crate) fn position_and_weight_gradient<A: MulAdd>(
+        &self,
+        act: &Activations<T, I>,
+        d_output: &[T; OUTPUTS],
+        weights: Option<&mut Mlp<T, I>>,
+    ) -> [T; 2] {
+        match weights {
+            Some(grad) => {
+                let d1 = self.weight_gradient::<A>(act, d_output, grad);
+                [
+                    self.first_layer_input_gradient::<A>(&d1, 0),
+                    self.first_layer_input_gradient::<A>(&d1, 1),
+                ]
+            }
+            None => self.position_gradient::<A>(act, d_output),
+        }
+    }
+
     /// The gradient with respect to the first layer's pre-activation.
     #[inline(always)]
     fn first_layer_gradient<A: MulAdd>(

@@ -256,23 +256,15 @@ impl<T: Real> ContactModel<T> {
         d_g[0] = d_g[0] + d_cone.contact[0];
         d_g[1] = d_g[1] + d_cone.contact[1];
         d_h = d_h + d_cone.h;
-        let d_x = match weights {
-            Some((_, d_friction)) if !self.options.network => {
-                *d_friction = *d_friction + d_cone.friction;
-                [T::zero(); 2]
-            }
-            None if !self.options.network => [T::zero(); 2],
-            Some((grad, d_friction)) => {
-                *d_friction = *d_friction + d_cone.friction;
-                let d1 = self
-                    .network
-                    .weight_gradient::<A>(&pass.activations, &d_z, grad);
-                [
-                    self.network.first_layer_input_gradient::<A>(&d1, 0),
-                    self.network.first_layer_input_gradient::<A>(&d1, 1),
-                ]
-            }
-            None => self.network.position_gradient::<A>(&pass.activations, &d_z),
+        let grad = weights.map(|(grad, d_friction)| {
+            *d_friction = *d_friction + d_cone.friction;
+            grad
+        });
+        let d_x = if self.options.network {
+            self.network
+                .position_and_weight_gradient::<A>(&pass.activations, &d_z, grad)
+        } else {
+            [T::zero(); 2]
         };
         // x = g / h inside the clamp range.
         for k in 0..2 {

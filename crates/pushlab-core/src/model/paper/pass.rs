@@ -74,18 +74,9 @@ impl<T: Real> PaperModel<T> {
     ) -> [T; 3] {
         let d_tail = pass.tail.backward::<A>(theta, d_output);
         let d_z = self.contact_gradient(d_tail.contact, d_tail.contact_motion);
-        let d_x = match network_grad {
-            Some(grad) => {
-                let d1 = self
-                    .network
-                    .weight_gradient::<A>(&pass.activations, &d_z, grad);
-                [
-                    self.network.first_layer_input_gradient::<A>(&d1, 0),
-                    self.network.first_layer_input_gradient::<A>(&d1, 1),
-                ]
-            }
-            None => self.network.position_gradient::<A>(&pass.activations, &d_z),
-        };
+        let d_x =
+            self.network
+                .position_and_weight_gradient::<A>(&pass.activations, &d_z, network_grad);
         self.theta_gradient::<A>(d_x, d_tail.com_offset, d_tail.h)
     }
 
