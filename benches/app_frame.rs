@@ -1,63 +1,75 @@
-//! What the app costs per frame while playing a 1,500-frame push with online learning on (target:
-//! under 16 ms), and how long opening the bundled sample data takes (target: under 1 s).
+//! What the app costs per frame while playing, and how long opening takes, from short pushes to a
+//! 67-minute recording:
 //!
-//! A frame here is one full egui frame of the app as `egui_kittest` runs it headlessly: `logic`
-//! (time and learning) plus every panel's layout and tessellation, without the GPU upload.
+//! - `frame_playing_1k5`, `frame_playing_100k`, `frame_playing_1m`: one full egui frame of the app,
+//!   as `egui_kittest` runs it headlessly — `logic` (time and online learning) plus every panel's
+//!   layout and tessellation, without the GPU upload — while playing at 1.0× (one 60 Hz frame of a
+//!   250 Hz recording learns four frames) with learning on, on pushes of 1,500, 100,000 and
+//!   1,000,001 frames. Target: ≤ 16 ms.
+//! - `open_1m`: opening a 1,000,001-frame CSV (250 Hz, 55 MB) from disk as `pushlab open` does —
+//!   the default model, the file, the online run with its fixed pass — and drawing the first frame.
+//!   Target: ≤ 2 s.
+//! - `open_sample_data`: everything `cargo run` does before its first frame on the bundled sample
+//!   data (model, 324 recordings, 9 labels files, the first run). Target: under 1 s.
 //!
 //! Run with `cargo bench -p pushlab --bench app_frame`.
 
 use std::hint::black_box;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use egui_kittest::Harness;
 use pushlab::app::state::session::RecordingId;
 use pushlab::app::state::timeline::TimelineCommand;
-use pushlab::app::state::{Command, Persisted};
+use pushlab::app::state::{AppState, Command, Persisted};
 use pushlab::app::{PushlabApp, initial_state, sample_data_dir};
 use pushlab_core::geometry::Pose2;
-use pushlab_core::recording::{Recording, RecordingSet};
+use pushlab_core::recording::{Recording, RecordingSet, Setting, write_set};
 use pushlab_core::trajectory::{Frame, Trajectory};
 
-/// Frames of the long push.
-const FRAMES: usize = 1500;
-
-/// A 1,500-frame push at 100 Hz of the first sample object: pushed along +x while turning slowly.
-fn long_push(like: &Recording) -> Recording {
-    let frames = (0..FRAMES)
-        .map(|i| {
-            let t = i as f64 * 0.01;
-            let object = Pose2::new(0.02 * t, 0.002 * t * t, 0.05 * t);
-            let robot = object.point_in_world(nalgebra::Point2::new(-0.08, 0.005));
-            Frame {
-                time: t,
-                robot,
-                object,
-            }
-        })
-        .collect();
-    Recording {
-        source: PathBuf::from("bench/long-push.csv"),
-        name: "long-push".to_owned(),
-        setting: like.setting.clone(),
-        entry: None,
-        trajectory: Trajectory::new(frames),
-        warnings: Vec::new(),
-    }
+/// A push of `frames` frames at `rate_hz`: the object slides round a 1 m circle at 2 cm/s, turning
+/// with it and wobbling, the pusher 8 cm behind its centre.
+fn long_push(frames: usize, rate_hz: f64) -> Trajectory {
+    Trajectory::new(
+        (0..frames)
+            .map(|i| {
+                let t = i as f64 / rate_hz;
+                let angle = 0.02 * t;
+                let wobble = 0.05 * (0.7 * t).sin();
+                let object = Pose2::new(angle.sin(), 1.0 - angle.cos(), angle + wobble);
+                let robot = object.point_in_world(nalgebra::Point2::new(-0.2, 0.01));
+                Frame {
+                    time: t,
+                    robot,
+                    object,
+                }
+            })
+            .collect(),
+    )
 }
 
-fn frame_while_playing(c: &mut Criterion) {
+/// The app on the sample data with `trajectory` added as a recording of the first sample setting,
+/// selected, playing at 1.0× with learning on.
+fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
     let mut app = PushlabApp::new(initial_state(&[], Persisted::default()));
-    let first = app
-        .state
-        .recording()
-        .expect("the sample data opens")
-        .clone();
+    let setting = Arc::clone(
+        &app.state
+            .recording()
+            .expect("the sample data opens")
+            .setting,
+    );
     app.state.session.sets.push(RecordingSet {
         dir: PathBuf::from("bench"),
-        setting: Arc::clone(&first.setting),
-        recordings: vec![long_push(&first)],
+        setting: Arc::clone(&setting),
+        recordings: vec![Recording {
+            source: PathBuf::from("bench/long-push.csv"),
+            name: "long-push".to_owned(),
+            setting,
+            entry: None,
+            trajectory: Arc::new(trajectory),
+            warnings: Vec::new(),
+        }],
     });
     let id = RecordingId {
         set: app.state.session.sets.len() - 1,
@@ -67,16 +79,21 @@ fn frame_while_playing(c: &mut Criterion) {
     app.state.learn_while_playing = true;
     app.state
         .apply(Command::Timeline(TimelineCommand::TogglePlay));
-
-    let mut harness = Harness::builder()
+    Harness::builder()
         .with_size([1400.0, 900.0])
         .with_step_dt(1.0 / 60.0)
-        .build_ui_state(|ui, app: &mut PushlabApp| app.frame(ui), app);
-    c.bench_function("app frame, playing 1500 frames with learning", |b| {
+        .build_ui_state(|ui, app: &mut PushlabApp| app.frame(ui), app)
+}
+
+/// Benchmarks frames of the harness while playing; starts over (forgetting what was learned) before
+/// the end, so that every frame learns.
+fn bench_playing(c: &mut Criterion, name: &str, trajectory: Trajectory) {
+    let frames = trajectory.len();
+    let mut harness = playing(trajectory);
+    c.bench_function(name, |b| {
         b.iter(|| {
-            let state = &mut harness.state_mut().state;
-            // Start over before the end, forgetting what was learned, so every frame learns.
-            if state.frame() + 10 >= FRAMES || !state.timeline.playing {
+            let state: &mut AppState = &mut harness.state_mut().state;
+            if state.frame() + 10 >= frames || !state.timeline.playing {
                 state.apply(Command::ResetTheta);
                 state.apply(Command::Timeline(TimelineCommand::JumpStart));
                 if !state.timeline.playing {
@@ -90,11 +107,55 @@ fn frame_while_playing(c: &mut Criterion) {
     assert!(run.frontier() > 0, "the benchmark did not learn");
 }
 
+fn frame_playing(c: &mut Criterion) {
+    bench_playing(c, "frame_playing_1k5", long_push(1500, 100.0));
+    bench_playing(c, "frame_playing_100k", long_push(100_000, 250.0));
+    bench_playing(c, "frame_playing_1m", long_push(1_000_001, 250.0));
+}
+
+/// Writes a one-push native set of `trajectory` with the object and pusher of the sample data.
+fn write_long_set(dir: &Path, trajectory: Trajectory) {
+    let setting: Setting = serde_json::from_value(serde_json::json!({
+        "name": "long",
+        "object": {"shape": "box", "width": 0.3, "length": 0.4},
+        "pusher_radius": 0.175,
+        "trajectories": [{"file": "push_000.csv"}],
+    }))
+    .expect("a valid setting");
+    let _ = std::fs::remove_dir_all(dir);
+    write_set(dir, &setting, &[trajectory]).expect("write the long set");
+}
+
+fn open_1m(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join(format!("pushlab-bench-open-1m-{}", std::process::id()));
+    write_long_set(&dir, long_push(1_000_001, 250.0));
+    c.bench_function("open_1m", |b| {
+        b.iter(|| {
+            let state = initial_state(std::slice::from_ref(&dir), Persisted::default());
+            assert!(
+                state.session.problems.is_empty(),
+                "{:?}",
+                state.session.problems
+            );
+            assert_eq!(state.run.as_ref().expect("a run").sample_count(), 999_991);
+            let mut harness = Harness::builder()
+                .with_size([1400.0, 900.0])
+                .build_ui_state(
+                    |ui, app: &mut PushlabApp| app.frame(ui),
+                    PushlabApp::new(state),
+                );
+            harness.step();
+            black_box(harness.state().state.frame())
+        })
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// What `cargo run` does before the first frame: load the default model, the sample data's 324
 /// recordings and 9 labels files, and start the online run on the first recording.
 fn open_sample_data(c: &mut Criterion) {
     let dir = sample_data_dir();
-    c.bench_function("open sample data", |b| {
+    c.bench_function("open_sample_data", |b| {
         b.iter(|| {
             let state = initial_state(std::slice::from_ref(&dir), Persisted::default());
             assert!(state.session.problems.is_empty());
@@ -107,6 +168,6 @@ fn open_sample_data(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = frame_while_playing, open_sample_data
+    targets = frame_playing, open_1m, open_sample_data
 }
 criterion_main!(benches);

@@ -249,8 +249,10 @@ fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_t
     harness.run_steps(2);
     let theta = harness.state().state.theta().expect("theta").com_offset;
     assert_eq!(meta(&harness).com_offset, Some(theta));
+    harness.get_by_label("Show layers").click();
+    harness.run_steps(2);
     assert!(
-        shows(&harness, "Labelled COM"),
+        shows(&harness, "Labelled COM, diamond"),
         "the scene legend lists the COM label"
     );
 
@@ -332,8 +334,13 @@ fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
         return;
     };
     let mut harness = app_on(&dir);
-    // Only the diamond under the pointer: hide the estimated-COM marker, which sits nearby.
+    // Only the diamond under the pointer: hide the estimated-COM marker, which sits nearby (in the
+    // legend, folded by default), and fold the legend again.
+    harness.get_by_label("Show layers").click();
+    harness.run_steps(1);
     harness.get_by_label("Estimated COM (drag me)").click();
+    harness.run_steps(1);
+    harness.get_by_label("Hide layers").click();
     harness.run_steps(2);
     let (start, end, expected) = {
         let app = harness.state();
@@ -346,13 +353,10 @@ fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
             .expect("the sample data labels the COM");
         assert_eq!(com, [0.0, 0.0]);
         let pose = state.recording().expect("recording").trajectory.frames[state.frame()].object;
-        let rect = app.view.scene.rect();
-        let start = app
-            .view
-            .scene
-            .to_screen(rect, pose.point_in_world(Point2::from(com)));
+        let projection = app.view.scene.projection();
+        let start = projection.to_screen(pose.point_in_world(Point2::from(com)));
         let end = start + egui::vec2(40.0, -25.0);
-        let expected = pose.point_in_object(app.view.scene.to_world(rect, end));
+        let expected = pose.point_in_object(projection.to_world(end));
         (start, end, expected)
     };
     harness.hover_at(start);

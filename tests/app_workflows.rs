@@ -133,8 +133,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
         .as_ref()
         .expect("an online run")
         .fixed()[10]
-        .loss
-        .pos();
+        .pos;
     harness.get_by_label("Train").click();
     harness.run_steps(2);
     harness.get_by_label("Labelled offline").click();
@@ -176,9 +175,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
         state.models.source.as_deref(),
         Some("trained in the app (unsaved)")
     );
-    let fixed_after = state.run.as_ref().expect("an online run").fixed()[10]
-        .loss
-        .pos();
+    let fixed_after = state.run.as_ref().expect("an online run").fixed()[10].pos;
     assert_ne!(
         fixed_before, fixed_after,
         "predictions come from the new model"
@@ -198,9 +195,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     let mut state = initial_state(std::slice::from_ref(&set), Persisted::default());
     export::load_model(&mut state, &model).expect("load model");
     state.restart_run_keeping_frame();
-    let reloaded = state.run.as_ref().expect("an online run").fixed()[10]
-        .loss
-        .pos();
+    let reloaded = state.run.as_ref().expect("an online run").fixed()[10].pos;
     assert_eq!(reloaded, fixed_after);
     let _ = std::fs::remove_dir_all(&scratch);
 }
@@ -258,7 +253,7 @@ fn exports_write_the_losses_a_png_region_and_the_labels() {
     let text = std::fs::read_to_string(&csv_path).expect("read csv");
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), rows + 1);
-    assert_eq!(rows, state.run.as_ref().expect("run").fixed().len());
+    assert_eq!(rows, state.run.as_ref().expect("run").sample_count());
     assert!(lines[0].starts_with("frame,time,fixed_loss_pos"));
     let row_5: Vec<&str> = lines[6].split(',').collect();
     assert_eq!(row_5[0], "5");

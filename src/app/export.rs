@@ -75,6 +75,10 @@ pub fn save_region_png(
 
 /// The per-frame losses and θ of the selected recording as CSV: one row per sample, online values
 /// empty where nothing was learned yet. Returns the CSV text.
+///
+/// The run keeps its losses in `f32` for drawing; the export predicts every frame again (with
+/// `θ_online(0)`, and with θ at each learned frame: the step that was learned there) to write them
+/// at full precision.
 pub fn losses_csv(state: &AppState) -> Option<String> {
     let run = state.run.as_ref()?;
     let recording = state.recording()?;
@@ -83,12 +87,14 @@ pub fn losses_csv(state: &AppState) -> Option<String> {
     let mut csv = String::from(
         "frame,time,fixed_loss_pos,fixed_loss_rot,online_loss_pos,online_loss_rot,com_offset_x,com_offset_y,h\n",
     );
-    for (k, fixed) in run.fixed().iter().enumerate() {
+    for k in 0..run.sample_count() {
         let time = frames.get(k).map_or(f64::NAN, |f| f.time - t0);
-        let _ = write!(csv, "{k},{time},{},{}", fixed.loss.pos(), fixed.loss.rot);
-        match run.steps().get(k).copied().flatten() {
-            Some(step) => {
-                let _ = write!(csv, ",{},{}", step.loss.pos(), step.loss.rot);
+        let fixed = run.evaluate_fixed(k)?.loss;
+        let _ = write!(csv, "{k},{time},{},{}", fixed.pos(), fixed.rot);
+        match run.learned().get(k).copied().flatten() {
+            Some(_) => {
+                let online = run.evaluate(k)?.loss;
+                let _ = write!(csv, ",{},{}", online.pos(), online.rot);
             }
             None => csv.push_str(",,"),
         }

@@ -7,6 +7,8 @@
 use eframe::egui::{self, Key, KeyboardShortcut, Modifiers};
 use pushlab_core::labels::{LabelKind, LabelSchema};
 
+use crate::app::View;
+use crate::app::panels::scene::camera::CameraMode;
 use crate::app::state::labels::{ERASE_HOTKEY, LabelAction};
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
@@ -15,13 +17,17 @@ use crate::app::state::{AppState, Command};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum KeyAction {
     Timeline(TimelineCommand),
-    JumpToLabel { forward: bool },
+    JumpToLabel {
+        forward: bool,
+    },
     SetInPoint,
     PaintFromInPoint,
     Undo,
     Redo,
     SaveLabels,
     ToggleCheatSheet,
+    /// How the scene's camera moves (view state).
+    Camera(CameraMode),
 }
 
 /// One fixed key binding.
@@ -47,7 +53,7 @@ const COMMAND: Modifiers = Modifiers::COMMAND;
 
 /// The fixed bindings, most specific first (egui matches Shift loosely, so Shift+→ must be tried
 /// before →, and Ctrl+Shift+Z before Ctrl+Z).
-pub const BINDINGS: [Binding; 16] = [
+pub const BINDINGS: [Binding; 18] = [
     bind(
         NONE,
         Key::Space,
@@ -129,17 +135,25 @@ pub const BINDINGS: [Binding; 16] = [
         KeyAction::ToggleCheatSheet,
         "show / hide this sheet (also ?)",
     ),
+    bind(
+        NONE,
+        Key::F,
+        KeyAction::Camera(CameraMode::Follow),
+        "camera: follow the object",
+    ),
+    bind(
+        NONE,
+        Key::A,
+        KeyAction::Camera(CameraMode::FitAll),
+        "camera: fit the whole push",
+    ),
 ];
 
 /// Turns this frame's key events into commands, in the order they happened: when a slow frame
 /// collects "→, I" the in point lands after the step, and "I, →" before it. Several presses within
-/// one frame all count. `cheat_sheet` is the sheet's visibility (view state).
-pub fn handle(
-    ctx: &egui::Context,
-    state: &AppState,
-    cheat_sheet: &mut bool,
-    commands: &mut Vec<Command>,
-) {
+/// one frame all count. The cheat-sheet's visibility and the camera are view state, changed here
+/// directly; everything else goes out as commands.
+pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
     if ctx.egui_wants_keyboard_input() {
         // A widget has the keyboard (typing in the notes, say): no shortcut fires, but a paint key
         // let go must still end its stroke, or the stroke would paint on and swallow the typing.
@@ -189,11 +203,12 @@ pub fn handle(
                     KeyAction::Undo => commands.push(Command::Label(LabelAction::Undo)),
                     KeyAction::Redo => commands.push(Command::Label(LabelAction::Redo)),
                     KeyAction::SaveLabels => commands.push(Command::Label(LabelAction::SaveAll)),
-                    KeyAction::ToggleCheatSheet => *cheat_sheet = !*cheat_sheet,
+                    KeyAction::ToggleCheatSheet => view.show_shortcuts = !view.show_shortcuts,
+                    KeyAction::Camera(mode) => view.scene.mode = mode,
                 }
             } else if *key == Key::Questionmark {
                 consumed[index] = true;
-                *cheat_sheet = !*cheat_sheet;
+                view.show_shortcuts = !view.show_shortcuts;
             } else if let Some(schema) = schema
                 && !modifiers.command
                 && !modifiers.alt

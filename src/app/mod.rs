@@ -86,12 +86,7 @@ impl PushlabApp {
     /// through `egui_kittest` exactly as the window does.
     pub fn show(&mut self, ui: &mut egui::Ui) {
         let mut commands = Vec::new();
-        keys::handle(
-            ui.ctx(),
-            &self.state,
-            &mut self.view.show_shortcuts,
-            &mut commands,
-        );
+        keys::handle(ui.ctx(), &self.state, &mut self.view, &mut commands);
         dropped_files(ui.ctx(), &mut commands);
 
         panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
@@ -99,9 +94,7 @@ impl PushlabApp {
         egui::Panel::left("browser")
             .default_size(230.0)
             .resizable(true)
-            .show(ui, |ui| {
-                panels::browser::ui(ui, &mut self.state, &mut commands)
-            });
+            .show(ui, |ui| panels::browser::ui(ui, &self.state, &mut commands));
         egui::Panel::right("side")
             .default_size(330.0)
             .max_size(480.0)
@@ -115,7 +108,7 @@ impl PushlabApp {
                 panels::plots::ui(ui, &self.state, &mut commands);
             });
         egui::CentralPanel::no_frame().show(ui, |ui| {
-            panels::scene::ui(ui, &mut self.state, &mut self.view.scene, &mut commands);
+            panels::scene::ui(ui, &self.state, &mut self.view.scene, &mut commands);
         });
         panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
 
@@ -139,10 +132,10 @@ impl PushlabApp {
         });
         ui.separator();
         egui::ScrollArea::vertical().show(ui, |ui| match self.view.side_tab {
-            SideTab::Steer => panels::steer::ui(ui, &self.state, &mut self.view.scene, commands),
+            SideTab::Steer => panels::steer::ui(ui, &self.state, commands),
             SideTab::Inspect => panels::inspector::ui(ui, &self.state),
             SideTab::Train => {
-                panels::training::ui(ui, &mut self.state, &mut self.view.dialogs, commands)
+                panels::training::ui(ui, &self.state, &mut self.view.dialogs, commands)
             }
             SideTab::Labels => {
                 panels::labels::ui(ui, &self.state, &mut self.view.dialogs, commands)

@@ -115,7 +115,7 @@ fn rewriting_a_set_replaces_files_whole() {
     write_set(&dir, &setting, &[trajectory(1.0, 100)]).unwrap();
     write_set(&dir, &setting, &[trajectory(3.0, 3)]).unwrap();
     let (set, _) = read_set(&dir).unwrap();
-    assert_eq!(set.recordings[0].trajectory, trajectory(3.0, 3));
+    assert_eq!(*set.recordings[0].trajectory, trajectory(3.0, 3));
 }
 
 #[test]

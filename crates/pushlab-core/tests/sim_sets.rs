@@ -131,7 +131,7 @@ fn a_generated_set_round_trips_through_the_native_format() {
     let split = |i: usize| read.recordings[i].entry.as_ref().unwrap().extra["split"].clone();
     assert_eq!((split(0), split(1)), ("offline".into(), "online".into()));
     for (recording, trajectory) in read.recordings.iter().zip(&set.trajectories) {
-        assert_eq!(&recording.trajectory, trajectory);
+        assert_eq!(&*recording.trajectory, trajectory);
         assert_eq!(recording.trajectory.len(), 21);
     }
 }

@@ -11,7 +11,7 @@ use crate::app::state::session::RecordingId;
 use crate::app::state::{AppState, Command};
 
 /// Draws the browser.
-pub fn ui(ui: &mut egui::Ui, state: &mut AppState, commands: &mut Vec<Command>) {
+pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ui.heading("Recordings");
     if state.session.sets.is_empty() {
         ui.label("Nothing open. Use File > Open, or drop files or folders here.");
@@ -91,7 +91,7 @@ pub fn ui(ui: &mut egui::Ui, state: &mut AppState, commands: &mut Vec<Command>) 
                     });
             }
         });
-    problems(ui, state);
+    problems(ui, state, commands);
 }
 
 fn setting_metadata(ui: &mut egui::Ui, setting: &pushlab_core::recording::Setting) {
@@ -136,7 +136,7 @@ fn problems_height(state: &AppState) -> f32 {
 }
 
 /// Load problems, each naming the file and the reason; they stay until dismissed.
-fn problems(ui: &mut egui::Ui, state: &mut AppState) {
+fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     if state.session.problems.is_empty() {
         return;
     }
@@ -150,7 +150,7 @@ fn problems(ui: &mut egui::Ui, state: &mut AppState) {
             ),
         );
         if ui.small_button("Dismiss").clicked() {
-            state.session.problems.clear();
+            commands.push(Command::DismissProblems);
         }
     });
     egui::ScrollArea::vertical()

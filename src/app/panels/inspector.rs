@@ -10,19 +10,17 @@ use crate::app::state::AppState;
 /// Draws the inspector.
 pub fn ui(ui: &mut egui::Ui, state: &AppState) {
     let frame = state.frame();
-    let (Some(run), Some(recording)) = (&state.run, state.recording()) else {
+    let (Some(_), Some(recording)) = (&state.run, state.recording()) else {
         ui.weak("Select a recording to inspect its frames.");
         return;
     };
-    let Some(sample) = run.sample(frame) else {
+    let Some(predictions) = state.predictions() else {
         ui.label(format!(
             "Frame {frame} has no sample: it is within the prediction horizon of the end."
         ));
         return;
     };
-    let Some(step) = run.evaluate(frame) else {
-        return;
-    };
+    let (sample, step, fixed) = (predictions.sample, predictions.online, predictions.fixed);
     let mm = |v: f64| format!("{:+.3} mm", v * 1e3);
     let mm2 = |v: [f64; 2]| format!("({:+.3}, {:+.3}) mm", v[0] * 1e3, v[1] * 1e3);
     let deg = |v: f64| format!("{:+.3}°", v.to_degrees());
@@ -57,13 +55,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
     section(ui, "Motion: predicted vs true", |ui| {
         let p = &step.prediction.motion;
         let t = &sample.target;
-        let f = run.fixed().get(frame).map(|s| s.prediction.motion);
+        let f = &fixed.prediction.motion;
         row_colored(ui, "online Δx, Δy", mm2(p.translation), colors::ONLINE);
         row_colored(ui, "online Δθ", deg(p.rotation), colors::ONLINE);
-        if let Some(f) = f {
-            row_colored(ui, "fixed Δx, Δy", mm2(f.translation), colors::FIXED);
-            row_colored(ui, "fixed Δθ", deg(f.rotation), colors::FIXED);
-        }
+        row_colored(ui, "fixed Δx, Δy", mm2(f.translation), colors::FIXED);
+        row_colored(ui, "fixed Δθ", deg(f.rotation), colors::FIXED);
         row_colored(ui, "true Δx, Δy", mm2(t.translation), colors::TRUE);
         row_colored(ui, "true Δθ", deg(t.rotation), colors::TRUE);
     });
@@ -81,14 +77,12 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
             format!("{:.4}", l.total()),
             colors::ONLINE,
         );
-        if let Some(f) = run.fixed().get(frame) {
-            row_colored(
-                ui,
-                "fixed: total",
-                format!("{:.4}", f.loss.total()),
-                colors::FIXED,
-            );
-        }
+        row_colored(
+            ui,
+            "fixed: total",
+            format!("{:.4}", fixed.loss.total()),
+            colors::FIXED,
+        );
     });
     section(ui, "Gradient Gradient of the loss on θ_online", |ui| {
         let g = step.gradient;

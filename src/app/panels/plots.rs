@@ -1,19 +1,20 @@
 //! Live plots: per-step losses (online vs fixed, positional and rotational, with moving averages) and
 //! `θ_online(t)` with the true values dashed. All share the x axis (seconds): zooming one zooms all,
 //! the current frame is a vertical cursor, and clicking a plot seeks there.
+//!
+//! Each series is drawn as its min/max envelope per pixel column over the visible time (the run's
+//! `plot_points`), so a million-frame recording draws about as many points as a short one.
 
 use eframe::egui::{self, Color32, Id};
 use egui_plot::{
-    GridInput, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine, uniform_grid_spacer,
+    GridInput, HLine, Legend, Line, LineStyle, Plot, PlotPoints, PlotUi, VLine, uniform_grid_spacer,
 };
-use pushlab_core::learn::{Loss, moving_average};
 
 use crate::app::colors;
+use crate::app::state::online::OnlineRun;
+use crate::app::state::run_plots::{LossPart, MOVING_AVERAGE, Series};
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
-
-/// Samples in the moving average of the loss plots.
-pub const MOVING_AVERAGE: usize = 25;
 
 /// Draws the plots.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
@@ -23,25 +24,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     };
     let frames = &recording.trajectory.frames;
     let t0 = frames.first().map_or(0.0, |f| f.time);
-    let time_of = |k: usize| frames.get(k).map_or(0.0, |f| f.time - t0);
-    let now = time_of(state.frame());
+    let now = frames.get(state.frame()).map_or(0.0, |f| f.time - t0);
     // Per recording, so that a new selection starts with its whole duration in view.
     let group = Id::unique(("pushlab-plots", state.session.selected));
     let duration = recording.trajectory.duration().max(1e-3);
-
-    // Online series: only where a step was learned; fixed: every sample.
-    let online: Vec<(f64, Loss)> = run
-        .steps()
-        .iter()
-        .enumerate()
-        .filter_map(|(k, s)| s.map(|s| (time_of(k), s.loss)))
-        .collect();
-    let fixed: Vec<(f64, Loss)> = run
-        .fixed()
-        .iter()
-        .enumerate()
-        .map(|(k, s)| (time_of(k), s.loss))
-        .collect();
 
     let mut seek: Option<f64> = None;
     // Two rows with a little room to spare; the rest is claimed below, so that the content is exactly
@@ -49,9 +35,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     // shrank it every frame, a few points taller grew it.)
     let row_height = ((ui.available_height() - 12.0) / 2.0).max(80.0);
     ui.columns(2, |cols| {
-        for (col, (title, pick)) in cols.iter_mut().zip([
-            ("Position loss", (|l: &Loss| l.pos()) as fn(&Loss) -> f64),
-            ("Rotation loss", |l: &Loss| l.rot),
+        for (col, (title, part)) in cols.iter_mut().zip([
+            ("Position loss", LossPart::Pos),
+            ("Rotation loss", LossPart::Rot),
         ]) {
             let plot = base_plot(title, group, row_height, duration).legend(
                 Legend::default()
@@ -60,27 +46,36 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                     .text_style(egui::TextStyle::Small),
             );
             let response = plot.show(col, |plot_ui| {
-                for (name, series, color) in [
-                    ("Fixed", &fixed, colors::FIXED),
-                    ("Online", &online, colors::ONLINE),
+                let (visible, columns) = visible(plot_ui, duration);
+                for (name, raw, average, color) in [
+                    (
+                        "Fixed",
+                        Series::Fixed(part),
+                        Series::FixedAverage(part),
+                        colors::FIXED,
+                    ),
+                    (
+                        "Online",
+                        Series::Online(part),
+                        Series::OnlineAverage(part),
+                        colors::ONLINE,
+                    ),
                 ] {
-                    let xs: Vec<f64> = series.iter().map(|(t, _)| *t).collect();
-                    let ys: Vec<f64> = series.iter().map(|(_, l)| pick(l)).collect();
-                    let raw: PlotPoints = xs.iter().zip(&ys).map(|(x, y)| [*x, *y]).collect();
                     plot_ui.line(
-                        Line::new(format!("{name} (per step)"), raw)
-                            .color(color.gamma_multiply(0.35))
-                            .width(1.0),
+                        Line::new(
+                            format!("{name} (per step)"),
+                            points(run, raw, visible, columns),
+                        )
+                        .color(color.gamma_multiply(0.35))
+                        .width(1.0),
                     );
-                    let smooth: PlotPoints = xs
-                        .iter()
-                        .zip(moving_average(&ys, MOVING_AVERAGE))
-                        .map(|(x, y)| [*x, y])
-                        .collect();
                     plot_ui.line(
-                        Line::new(format!("{name} (moving avg {MOVING_AVERAGE})"), smooth)
-                            .color(color)
-                            .width(2.0),
+                        Line::new(
+                            format!("{name} (moving avg {MOVING_AVERAGE})"),
+                            points(run, average, visible, columns),
+                        )
+                        .color(color)
+                        .width(2.0),
                     );
                 }
                 cursor(plot_ui, now);
@@ -91,7 +86,6 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     });
     ui.add_space(4.0);
     let setting = &recording.setting;
-    let theta = run.checkpoints();
     ui.columns(3, |cols| {
         let truths = [
             setting.com_offset.map(|c| c[0]),
@@ -101,15 +95,14 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         for (index, col) in cols.iter_mut().enumerate() {
             let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
             let response = base_plot(title, group, row_height, duration).show(col, |plot_ui| {
-                let points: PlotPoints = theta
-                    .iter()
-                    .enumerate()
-                    .map(|(k, t)| [time_of(k), t.to_array()[index] * 1e3])
-                    .collect();
+                let (visible, columns) = visible(plot_ui, duration);
                 plot_ui.line(
-                    Line::new("θ_online", points)
-                        .color(colors::ONLINE)
-                        .width(2.0),
+                    Line::new(
+                        "θ_online",
+                        points(run, Series::Theta(index), visible, columns),
+                    )
+                    .color(colors::ONLINE)
+                    .width(2.0),
                 );
                 if let Some(truth) = truths[index] {
                     plot_ui.hline(
@@ -139,6 +132,29 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         };
         commands.push(Command::Timeline(TimelineCommand::SeekTo(k)));
     }
+}
+
+/// The times the plot showed last frame (its first frame: the whole push) and its width in pixel
+/// columns.
+fn visible(plot_ui: &PlotUi<'_>, duration: f64) -> ((f64, f64), usize) {
+    let transform = plot_ui.transform();
+    let (min, max) = (transform.bounds().min()[0], transform.bounds().max()[0]);
+    let range = if min.is_finite() && max.is_finite() && max > min {
+        (min, max)
+    } else {
+        (0.0, duration)
+    };
+    let pixels = transform.frame().width() * plot_ui.ctx().pixels_per_point();
+    (range, (pixels.max(1.0) as usize).min(8192))
+}
+
+fn points(
+    run: &OnlineRun,
+    series: Series,
+    visible: (f64, f64),
+    columns: usize,
+) -> PlotPoints<'static> {
+    run.plot_points(series, visible, columns).into()
 }
 
 fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static> {

@@ -6,7 +6,6 @@ use pushlab_core::learn::OnlineConfig;
 use pushlab_core::model::{H_MAX, H_MIN, OnlineParams};
 
 use crate::app::colors;
-use crate::app::panels::scene::SceneView;
 use crate::app::state::{AppState, Command};
 
 /// Whether the model fits the open recordings; if not, why, and the button that trains one that does.
@@ -45,7 +44,7 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 }
 
 /// Draws the steering controls.
-pub fn ui(ui: &mut egui::Ui, state: &AppState, _view: &mut SceneView, commands: &mut Vec<Command>) {
+pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     let (Some(theta), Some(recording), Some(run)) = (state.theta(), state.recording(), &state.run)
     else {
         ui.weak("Select a recording to steer the model.");
@@ -171,6 +170,6 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, _view: &mut SceneView, commands: 
     ui.weak(format!(
         "Learned up to frame {} of {}. Scrubbing back restores θ at that frame; playing on re-learns.",
         run.frontier(),
-        run.samples().len()
+        run.sample_count()
     ));
 }

@@ -7,15 +7,11 @@ use pushlab_core::model::ModelKind;
 
 use crate::app::colors;
 use crate::app::dialogs::{DialogRequest, Dialogs};
+use crate::app::state::training::TrainingChoice;
 use crate::app::state::{AppState, Command};
 
 /// Draws the training panel.
-pub fn ui(
-    ui: &mut egui::Ui,
-    state: &mut AppState,
-    dialogs: &mut Dialogs,
-    commands: &mut Vec<Command>,
-) {
+pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: &mut Vec<Command>) {
     ui.heading("Train a combined model");
     let running = state.training.is_running();
     ui.label(match state.models.kind() {
@@ -47,13 +43,10 @@ pub fn ui(
     ui.label("Recordings to train on (frames labelled bad tracking are left out):");
     ui.horizontal(|ui| {
         if ui.small_button("All").clicked() {
-            let ids: Vec<_> = state.session.recordings().map(|(id, _)| id).collect();
-            for id in ids {
-                state.training.chosen.insert(id);
-            }
+            commands.push(Command::ChooseForTraining(TrainingChoice::All));
         }
         if ui.small_button("None").clicked() {
-            state.training.chosen.clear();
+            commands.push(Command::ChooseForTraining(TrainingChoice::None));
         }
         if ui
             .small_button("Labelled offline")
@@ -67,32 +60,23 @@ pub fn ui(
         .id_salt("train-choice")
         .max_height(140.0)
         .show(ui, |ui| {
-            let ids: Vec<_> = state
-                .session
-                .recordings()
-                .map(|(id, r)| {
-                    (
-                        id,
-                        format!("{} / {}", state.session.sets[id.set].setting.name, r.name),
-                    )
-                })
-                .collect();
-            for (id, label) in ids {
+            for (id, recording) in state.session.recordings() {
+                let label = format!(
+                    "{} / {}",
+                    state.session.sets[id.set].setting.name, recording.name
+                );
                 let mut on = state.training.chosen.contains(&id);
                 if ui.checkbox(&mut on, label).changed() {
-                    if on {
-                        state.training.chosen.insert(id);
-                    } else {
-                        state.training.chosen.remove(&id);
-                    }
+                    commands.push(Command::ChooseForTraining(TrainingChoice::Set(id, on)));
                 }
             }
         });
+    let mut config = state.training.config;
     ui.add_enabled_ui(!running, |ui| {
         egui::Grid::new("train-config")
             .num_columns(2)
             .show(ui, |ui| {
-                let config = &mut state.training.config;
+                let config = &mut config;
                 let label = ui.label("Epochs");
                 ui.add(egui::DragValue::new(&mut config.epochs).range(1..=10_000))
                     .labelled_by(label.id);
@@ -116,6 +100,9 @@ pub fn ui(
                 ui.end_row();
             });
     });
+    if config != state.training.config {
+        commands.push(Command::SetTrainConfig(config));
+    }
     ui.horizontal(|ui| {
         if running {
             if ui.button("Cancel training").clicked() {

@@ -28,17 +28,15 @@ pub struct LabelLoss {
 pub fn loss_by_label(run: &OnlineRun, labels: Option<&RecordingLabels>) -> Vec<LabelLoss> {
     let mut frames = Vec::new();
     let mut values = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
-    for (k, step) in run.steps().iter().enumerate() {
-        let (Some(online), Some(fixed), Some(sample)) =
-            (step, run.fixed().get(k), run.samples().get(k))
-        else {
+    for (frame, learned) in run.learned().iter().enumerate() {
+        let (Some(online), Some(fixed)) = (learned, run.fixed().get(frame)) else {
             continue;
         };
-        frames.push(sample.frame);
-        values[0].push(online.loss.pos());
-        values[1].push(fixed.loss.pos());
-        values[2].push(online.loss.rot);
-        values[3].push(fixed.loss.rot);
+        frames.push(frame);
+        values[0].push(f64::from(online.pos));
+        values[1].push(f64::from(fixed.pos));
+        values[2].push(f64::from(online.rot));
+        values[3].push(f64::from(fixed.rot));
     }
     let means: Vec<PerLabelMeans> = values
         .iter()

@@ -805,8 +805,8 @@ mod tests {
         assert_eq!(sticking.frames, 10);
         let run = state.run.as_ref().unwrap();
         let mean = |f: &dyn Fn(usize) -> f64| (20..30).map(f).sum::<f64>() / 10.0;
-        let online_pos = mean(&|k| run.steps()[k].unwrap().loss.pos());
-        let fixed_rot = mean(&|k| run.fixed()[k].loss.rot);
+        let online_pos = mean(&|k| f64::from(run.learned()[k].unwrap().pos));
+        let fixed_rot = mean(&|k| f64::from(run.fixed()[k].rot));
         assert!((sticking.online_pos - online_pos).abs() < 1e-12);
         assert!((sticking.fixed_rot - fixed_rot).abs() < 1e-12);
         assert_ne!(sticking.online_pos, sticking.fixed_pos);
@@ -852,10 +852,10 @@ mod tests {
         for k in 0..60 {
             if run.is_skipped(k, &skip) {
                 held += 1;
-                assert!(run.steps()[k].is_none(), "learned from frame {k}");
+                assert!(run.learned()[k].is_none(), "learned from frame {k}");
                 assert_eq!(run.checkpoints()[k + 1], run.checkpoints()[k]);
             } else {
-                assert!(run.steps()[k].is_some(), "frame {k} not learned");
+                assert!(run.learned()[k].is_some(), "frame {k} not learned");
             }
         }
         // Frames 30..=34 and the samples ending on them (the model's horizon before).

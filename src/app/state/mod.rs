@@ -3,23 +3,28 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
+pub mod envelope;
 pub mod fit;
 pub mod label_losses;
 pub mod labels;
 pub mod layers;
 pub mod models;
 pub mod online;
+pub mod overview;
+pub mod predictions;
+pub mod run_plots;
 pub mod session;
 pub mod timeline;
 pub mod training;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use pushlab_core::experiment::{DomainMismatch, UsedRecording, split_of};
 use pushlab_core::labels::Split;
-use pushlab_core::learn::{OnlineConfig, OnlineStep};
-use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel, Prediction};
+use pushlab_core::learn::{OnlineConfig, TrainConfig};
+use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
@@ -27,9 +32,10 @@ use self::labels::{LabelAction, LabelTarget, Labeling};
 use self::layers::Layers;
 use self::models::Models;
 use self::online::OnlineRun;
+use self::overview::PathOverview;
 use self::session::{RecordingId, Session};
 use self::timeline::{Timeline, TimelineCommand};
-use self::training::Training;
+use self::training::{Training, TrainingChoice};
 
 /// Everything a panel can ask the app to do.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,6 +61,14 @@ pub enum Command {
     CancelTraining,
     /// Which combined model the Train tab trains.
     SetTrainingKind(ModelKind),
+    /// Which recordings the Train tab trains on.
+    ChooseForTraining(TrainingChoice),
+    /// Epochs, learning rate, horizon and seed of the Train tab.
+    SetTrainConfig(TrainConfig),
+    /// Which layers the scene draws (the legend's toggles).
+    SetLayers(Layers),
+    /// Forget the load problems listed in the browser.
+    DismissProblems,
     /// Train a model for the open recordings and remember it for their folders (see `fit`).
     TrainForOpenRecordings,
     /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
@@ -134,6 +148,8 @@ pub struct AppState {
     /// The physics-only model of the selected recording (for its prediction layer), built once per
     /// run rather than once per drawn frame.
     pub physics: Option<PhysicsOnlyModel>,
+    /// The selected recording's path as the scene draws it whole (built once per selection).
+    pub overview: PathOverview,
     pub learn_while_playing: bool,
     pub online_config: OnlineConfig,
     pub layers: Layers,
@@ -163,6 +179,7 @@ impl AppState {
             timeline,
             run: None,
             physics: None,
+            overview: PathOverview::default(),
             learn_while_playing: persisted.learn_while_playing,
             online_config: persisted.online,
             layers: persisted.layers,
@@ -254,22 +271,6 @@ impl AppState {
         self.run.as_ref().map(|r| r.theta_at(self.frame()))
     }
 
-    /// What the physics-only model predicts at the frame shown with θ at that frame.
-    pub fn physics_prediction(&self) -> Option<Prediction> {
-        let run = self.run.as_ref()?;
-        let sample = run.sample(self.frame())?;
-        Some(
-            self.physics
-                .as_ref()?
-                .predict(&sample.input, &run.theta_at(self.frame())),
-        )
-    }
-
-    /// The prediction, loss and gradient at the frame shown, with θ at that frame.
-    pub fn current_step(&self) -> Option<OnlineStep> {
-        self.run.as_ref()?.evaluate(self.frame())
-    }
-
     /// Applies one command.
     pub fn apply(&mut self, command: Command) {
         match command {
@@ -357,6 +358,14 @@ impl AppState {
             }
             Command::CancelTraining => self.training.cancel(),
             Command::SetTrainingKind(kind) => self.training.kind = kind,
+            Command::ChooseForTraining(choice) => self.choose_for_training(choice),
+            Command::SetTrainConfig(config) => {
+                if !self.training.is_running() {
+                    self.training.config = config;
+                }
+            }
+            Command::SetLayers(layers) => self.layers = layers,
+            Command::DismissProblems => self.session.problems.clear(),
             Command::TrainForOpenRecordings => self.train_for_open_recordings(),
             Command::SetOnlineConfig(config) => {
                 self.online_config = config;
@@ -447,6 +456,7 @@ impl AppState {
         let Some(recording) = self.session.selected_recording() else {
             self.run = None;
             self.physics = None;
+            self.overview = PathOverview::default();
             self.timeline = Timeline::new(Vec::new());
             return;
         };
@@ -456,10 +466,11 @@ impl AppState {
         self.timeline.apply(TimelineCommand::SetSpeed(speed));
         self.timeline.apply(TimelineCommand::SetLoop(looping));
         self.physics = self.models.physics_for(recording).ok();
+        self.overview = PathOverview::of(&recording.trajectory);
         self.run = match self.models.learner_for(recording) {
             Ok((model, horizon)) => Some(OnlineRun::new(
                 model,
-                &recording.trajectory,
+                Arc::clone(&recording.trajectory),
                 horizon,
                 self.online_config,
             )),
@@ -528,6 +539,20 @@ impl AppState {
             })
             .map(|(id, _)| id)
             .collect()
+    }
+
+    fn choose_for_training(&mut self, choice: TrainingChoice) {
+        let chosen = &mut self.training.chosen;
+        match choice {
+            TrainingChoice::All => chosen.extend(self.session.recordings().map(|(id, _)| id)),
+            TrainingChoice::None => chosen.clear(),
+            TrainingChoice::Set(id, true) if self.session.get(id).is_some() => {
+                chosen.insert(id);
+            }
+            TrainingChoice::Set(id, _) => {
+                chosen.remove(&id);
+            }
+        }
     }
 
     /// Chooses for training the recordings in the offline split.

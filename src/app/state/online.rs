@@ -4,31 +4,70 @@
 //! config); this module only decides *which* frames are learned from and remembers θ at every frame,
 //! so that scrubbing back restores the exact `θ_online(t)` and playing on re-learns deterministically.
 //!
-//! Invariant: `checkpoints[k]` is θ in effect at frame k for `k <= frontier`, and `steps[k]` is what
+//! Invariant: `checkpoints[k]` is θ in effect at frame k for `k <= frontier`, and `learned[k]` is what
 //! happened between frame k and k+1 (`None`: θ was held, nothing learned — a frame jumped over, or one
 //! whose sample touches a frame labelled "skip in training", such as bad tracking). Steering θ at frame f (a
 //! slider, "Learn this frame", reset) drops everything after f: the future is re-learned from there.
+//!
+//! Per frame the run keeps only what a long recording can afford (about 40 bytes: θ exactly, the
+//! online and fixed losses as `f32` for plots and tables). Samples are made from the shared trajectory
+//! when needed, and full predictions are computed again for the frame shown: a million-frame run
+//! holds tens of megabytes, not the gigabytes that a stored sample and `OnlineStep` per frame took.
 
 use std::sync::Arc;
 
 use pushlab_core::labels::pipeline::sample_is_skipped;
-use pushlab_core::learn::{OnlineConfig, OnlineModel, OnlineStep};
-use pushlab_core::model::{OnlineParams, Sample, samples_from_trajectory};
+use pushlab_core::learn::{Loss, OnlineConfig, OnlineModel, OnlineStep};
+use pushlab_core::model::{OnlineParams, Sample, sample_at, sample_count};
 use pushlab_core::trajectory::Trajectory;
+
+use super::run_plots::RunPlots;
 
 /// The model a run learns with, shared with the UI thread's other users.
 pub type SharedModel = Arc<dyn OnlineModel + Send + Sync>;
 
+/// The losses of one prediction as a run keeps them for every frame: the positional loss
+/// `(ℓ_pos,x + ℓ_pos,y) / 2` and `ℓ_rot`, in `f32` (for plots and tables; exports recompute them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameLoss {
+    pub pos: f32,
+    pub rot: f32,
+}
+
+impl From<&Loss> for FrameLoss {
+    fn from(loss: &Loss) -> Self {
+        Self {
+            pos: loss.pos() as f32,
+            rot: loss.rot as f32,
+        }
+    }
+}
+
+/// Mean losses over the frames learned so far, online and fixed on the same frames.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MeanLosses {
+    /// Frames learned from.
+    pub frames: usize,
+    pub online_pos: f64,
+    pub online_rot: f64,
+    pub fixed_pos: f64,
+    pub fixed_rot: f64,
+}
+
 /// Online learning along one trajectory.
 pub struct OnlineRun {
     model: SharedModel,
-    samples: Vec<Sample>,
-    /// The "fixed" run: every sample predicted with `θ_online(0)`, never updated.
-    fixed: Vec<OnlineStep>,
-    checkpoints: Vec<OnlineParams>,
-    steps: Vec<Option<OnlineStep>>,
+    trajectory: Arc<Trajectory>,
     /// Frames between a sample's start and its target.
     horizon: usize,
+    /// The "fixed" run: every sample predicted with `θ_online(0)`, never updated.
+    fixed: Vec<FrameLoss>,
+    checkpoints: Vec<OnlineParams>,
+    learned: Vec<Option<FrameLoss>>,
+    /// Sums over the learned frames, for [`OnlineRun::mean_losses`].
+    totals: MeanLosses,
+    /// Moving averages and min/max envelopes of the series above, for the plots.
+    plots: RunPlots,
     /// The update rule for steps learned from now on (steps, learning rate).
     pub config: OnlineConfig,
 }
@@ -37,23 +76,27 @@ impl OnlineRun {
     /// A run at frame 0 with θ = `θ_online(0)` of the model; the fixed run is computed up front.
     pub fn new(
         model: SharedModel,
-        trajectory: &Trajectory,
+        trajectory: Arc<Trajectory>,
         horizon: usize,
         config: OnlineConfig,
     ) -> Self {
-        let samples = samples_from_trajectory(trajectory, horizon);
+        let horizon = horizon.max(1);
         let theta0 = model.theta0();
-        let fixed = samples
-            .iter()
-            .map(|s| model.online_step(s, &theta0, &OnlineConfig::fixed()))
+        let fixed: Vec<FrameLoss> = (0..sample_count(&trajectory, horizon))
+            .filter_map(|k| sample_at(&trajectory, k, horizon))
+            .map(|s| FrameLoss::from(&model.online_step(&s, &theta0, &OnlineConfig::fixed()).loss))
             .collect();
+        let checkpoints = vec![theta0];
+        let plots = RunPlots::new(&fixed, &checkpoints);
         Self {
             model,
-            samples,
+            trajectory,
+            horizon,
             fixed,
-            checkpoints: vec![theta0],
-            steps: Vec::new(),
-            horizon: horizon.max(1),
+            checkpoints,
+            learned: Vec::new(),
+            totals: MeanLosses::default(),
+            plots,
             config,
         }
     }
@@ -63,24 +106,29 @@ impl OnlineRun {
         &self.model
     }
 
+    /// The trajectory learned along.
+    pub fn trajectory(&self) -> &Trajectory {
+        &self.trajectory
+    }
+
     /// `θ_online(0)`.
     pub fn theta0(&self) -> OnlineParams {
         self.model.theta0()
     }
 
-    /// The samples, sample i predicting from frame i.
-    pub fn samples(&self) -> &[Sample] {
-        &self.samples
+    /// Number of samples: one per frame but the last `horizon`.
+    pub fn sample_count(&self) -> usize {
+        self.fixed.len()
     }
 
     /// The sample that predicts from `frame`, if the frame is not within the horizon of the end.
-    pub fn sample(&self, frame: usize) -> Option<&Sample> {
-        self.samples.get(frame)
+    pub fn sample(&self, frame: usize) -> Option<Sample> {
+        sample_at(&self.trajectory, frame, self.horizon)
     }
 
     /// The last frame θ is known at.
     pub fn frontier(&self) -> usize {
-        self.steps.len()
+        self.learned.len()
     }
 
     /// θ in effect at `frame`: its checkpoint, or the last known θ beyond the frontier.
@@ -88,13 +136,13 @@ impl OnlineRun {
         self.checkpoints[frame.min(self.frontier())]
     }
 
-    /// The online step learned at each frame so far (`None` where θ was held).
-    pub fn steps(&self) -> &[Option<OnlineStep>] {
-        &self.steps
+    /// The losses learned at each frame so far (`None` where θ was held).
+    pub fn learned(&self) -> &[Option<FrameLoss>] {
+        &self.learned
     }
 
-    /// The fixed model's step at every sample.
-    pub fn fixed(&self) -> &[OnlineStep] {
+    /// The fixed model's losses at every sample.
+    pub fn fixed(&self) -> &[FrameLoss] {
         &self.fixed
     }
 
@@ -103,13 +151,40 @@ impl OnlineRun {
         &self.checkpoints
     }
 
+    /// The plots' derived series.
+    pub fn plots(&self) -> &RunPlots {
+        &self.plots
+    }
+
+    /// Mean online and fixed losses over the frames learned so far; `None` before any.
+    pub fn mean_losses(&self) -> Option<MeanLosses> {
+        let t = &self.totals;
+        let n = t.frames as f64;
+        (t.frames > 0).then(|| MeanLosses {
+            frames: t.frames,
+            online_pos: t.online_pos / n,
+            online_rot: t.online_rot / n,
+            fixed_pos: t.fixed_pos / n,
+            fixed_rot: t.fixed_rot / n,
+        })
+    }
+
     /// Predicts, scores and differentiates at `frame` with θ at that frame, without learning: what the
-    /// scene and the inspector show.
+    /// scene and the inspector show. At a learned frame this is the step that was learned.
     pub fn evaluate(&self, frame: usize) -> Option<OnlineStep> {
+        self.evaluate_with(frame, self.theta_at(frame))
+    }
+
+    /// What the fixed model (θ = `θ_online(0)`) predicts at `frame`.
+    pub fn evaluate_fixed(&self, frame: usize) -> Option<OnlineStep> {
+        self.evaluate_with(frame, self.theta0())
+    }
+
+    fn evaluate_with(&self, frame: usize, theta: OnlineParams) -> Option<OnlineStep> {
         let sample = self.sample(frame)?;
         Some(
             self.model
-                .online_step(sample, &self.theta_at(frame), &OnlineConfig::fixed()),
+                .online_step(&sample, &theta, &OnlineConfig::fixed()),
         )
     }
 
@@ -120,10 +195,10 @@ impl OnlineRun {
     /// gives the same θ bit for bit; one done the other way (labelled bad tracking after it was
     /// learned, or the label erased since) is done again, and everything after it is re-learned.
     pub fn learn_through(&mut self, from: usize, to: usize, skip_frames: &[bool]) {
-        let to = to.min(self.samples.len());
+        let to = to.min(self.sample_count());
         for k in from..to {
             let skipped = self.is_skipped(k, skip_frames);
-            if k < self.frontier() && self.steps[k].is_some() != skipped {
+            if k < self.frontier() && self.learned[k].is_some() != skipped {
                 continue;
             }
             if skipped {
@@ -133,6 +208,8 @@ impl OnlineRun {
                 self.learn_at(k);
             }
         }
+        self.plots
+            .extend(&self.fixed, &self.learned, &self.checkpoints);
     }
 
     /// Whether the sample at `frame` touches a frame flagged in `skip_frames`.
@@ -144,52 +221,86 @@ impl OnlineRun {
     pub fn set_theta_at(&mut self, frame: usize, theta: OnlineParams) {
         self.truncate_to(frame);
         self.checkpoints[frame] = theta.clamped();
+        self.plots.cut(&self.learned, frame);
+        self.plots
+            .extend(&self.fixed, &self.learned, &self.checkpoints);
     }
 
     /// One online update from the sample at `frame` ("Learn this frame"): θ at the frame becomes the
     /// updated θ, so the prediction shown at this frame improves and the future is re-learned from it.
     /// Returns the step, or `None` at the last frames, which have no sample.
     pub fn learn_this_frame(&mut self, frame: usize) -> Option<OnlineStep> {
-        let sample = *self.sample(frame)?;
+        let sample = self.sample(frame)?;
         self.truncate_to(frame);
         let step = self
             .model
             .online_step(&sample, &self.checkpoints[frame], &self.config);
         self.checkpoints[frame] = step.theta_after;
+        self.plots.cut(&self.learned, frame);
+        self.plots
+            .extend(&self.fixed, &self.learned, &self.checkpoints);
         Some(step)
     }
 
     /// Back to `θ_online(0)` at frame 0, forgetting all learning.
     pub fn reset(&mut self) {
-        self.checkpoints.truncate(1);
+        self.truncate_to(0);
         self.checkpoints[0] = self.model.theta0();
-        self.steps.clear();
+        self.plots.cut(&self.learned, 0);
+        self.plots
+            .extend(&self.fixed, &self.learned, &self.checkpoints);
     }
 
     /// Makes `frame` the frontier: drops what came after it, or holds θ constant up to it.
     fn truncate_to(&mut self, frame: usize) {
         if frame <= self.frontier() {
-            self.steps.truncate(frame);
+            if frame < self.frontier() {
+                self.learned.truncate(frame);
+                self.recount_totals();
+                self.plots.cut(&self.learned, frame);
+            }
             self.checkpoints.truncate(frame + 1);
         } else {
             let held = self.checkpoints[self.frontier()];
             while self.frontier() < frame {
-                self.steps.push(None);
+                self.learned.push(None);
                 self.checkpoints.push(held);
             }
         }
     }
 
     fn learn_at(&mut self, frame: usize) {
-        let Some(sample) = self.samples.get(frame).copied() else {
+        let Some(sample) = self.sample(frame) else {
             return;
         };
         self.truncate_to(frame);
         let step = self
             .model
             .online_step(&sample, &self.checkpoints[frame], &self.config);
-        self.steps.push(Some(step));
+        let loss = FrameLoss::from(&step.loss);
+        self.add_to_totals(frame, loss);
+        self.learned.push(Some(loss));
         self.checkpoints.push(step.theta_after);
+    }
+
+    fn add_to_totals(&mut self, frame: usize, online: FrameLoss) {
+        let fixed = self.fixed[frame];
+        let t = &mut self.totals;
+        t.frames += 1;
+        t.online_pos += f64::from(online.pos);
+        t.online_rot += f64::from(online.rot);
+        t.fixed_pos += f64::from(fixed.pos);
+        t.fixed_rot += f64::from(fixed.rot);
+    }
+
+    /// Sums what is learned now, after the learned frames were cut back.
+    fn recount_totals(&mut self) {
+        self.totals = MeanLosses::default();
+        for frame in 0..self.learned.len() {
+            if let Some(loss) = self.learned[frame] {
+                self.add_to_totals(frame, loss);
+            }
+        }
     }
 }
 
@@ -198,12 +309,12 @@ mod tests {
     use super::*;
     use pushlab_core::geometry::{Outline, Pose2};
     use pushlab_core::learn::LossScale;
-    use pushlab_core::model::PhysicsOnlyModel;
+    use pushlab_core::model::{PhysicsOnlyModel, samples_from_trajectory};
     use pushlab_core::trajectory::Frame;
 
     /// A 10 cm box pushed along +x at its face, turning slowly (as an off-centre COM would make it):
     /// enough signal for learning to move θ.
-    fn push() -> Trajectory {
+    fn push() -> Arc<Trajectory> {
         let frames = (0..200)
             .map(|i| {
                 let t = i as f64 * 0.01;
@@ -217,7 +328,7 @@ mod tests {
                 }
             })
             .collect();
-        Trajectory::new(frames)
+        Arc::new(Trajectory::new(frames))
     }
 
     fn run() -> OnlineRun {
@@ -228,7 +339,7 @@ mod tests {
         scale.sigma_pos = scale.sigma_pos.map(|s| s.max(1e-3));
         scale.sigma_rot = scale.sigma_rot.max(1e-3);
         let model = PhysicsOnlyModel::new(outline, 0.01, 0.002, scale);
-        OnlineRun::new(Arc::new(model), &trajectory, 1, OnlineConfig::default())
+        OnlineRun::new(Arc::new(model), trajectory, 1, OnlineConfig::default())
     }
 
     #[test]
@@ -244,9 +355,17 @@ mod tests {
             "50 steps of learning changed nothing"
         );
         for k in 0..50 {
-            let step = run.steps()[k].expect("every frame was learned");
+            let loss = run.learned()[k].expect("every frame was learned");
+            // The step learned at k predicted with θ(k) and moved it to θ(k + 1).
+            let step = run.evaluate(k).expect("frame has a sample");
             assert_eq!(step.theta_before, run.theta_at(k));
-            assert_eq!(step.theta_after, run.theta_at(k + 1));
+            assert_eq!(FrameLoss::from(&step.loss), loss);
+            let relearned = run.model().online_step(
+                &run.sample(k).expect("sample"),
+                &run.theta_at(k),
+                &run.config,
+            );
+            assert_eq!(relearned.theta_after, run.theta_at(k + 1));
         }
     }
 
@@ -278,7 +397,7 @@ mod tests {
         // Steering ahead of the frontier holds θ over the gap.
         run.set_theta_at(60, run.theta0());
         assert_eq!(run.frontier(), 60);
-        assert!(run.steps()[20..60].iter().all(Option::is_none));
+        assert!(run.learned()[20..60].iter().all(Option::is_none));
         assert_eq!(run.theta_at(59).com_offset, [0.01, -0.02]);
     }
 
@@ -318,7 +437,7 @@ mod tests {
         for k in 0..40 {
             // Horizon 1: the sample at k uses frames k and k + 1.
             let skipped = (19..25).contains(&k);
-            assert_eq!(run.steps()[k].is_none(), skipped, "frame {k}");
+            assert_eq!(run.learned()[k].is_none(), skipped, "frame {k}");
             if skipped {
                 assert_eq!(
                     run.checkpoints()[k + 1],
@@ -341,15 +460,15 @@ mod tests {
         skip[30..33].fill(true);
         run.learn_through(0, 40, &skip);
         for k in 29..33 {
-            assert!(run.steps()[k].is_none(), "frame {k} still learned");
+            assert!(run.learned()[k].is_none(), "frame {k} still learned");
         }
         assert!(
-            run.steps()[35].is_some(),
+            run.learned()[35].is_some(),
             "the frames after are learned again"
         );
         // And erasing the flags learns them again.
         skip.fill(false);
         run.learn_through(0, 40, &skip);
-        assert!(run.steps()[..40].iter().all(Option::is_some));
+        assert!(run.learned()[..40].iter().all(Option::is_some));
     }
 }

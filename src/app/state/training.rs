@@ -28,6 +28,17 @@ struct Job {
     for_folders: Vec<PathBuf>,
 }
 
+/// A change of the recordings chosen for training (the Train tab's list).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrainingChoice {
+    /// Every open recording.
+    All,
+    /// None.
+    None,
+    /// Choose one recording (`true`) or leave it out.
+    Set(RecordingId, bool),
+}
+
 /// A run that finished with a model.
 pub struct Finished {
     pub trained: Trained<CombinedModel>,

@@ -240,7 +240,7 @@ mod tests {
             name: "push".into(),
             setting: Arc::new(setting),
             entry: None,
-            trajectory: Trajectory::new(frames),
+            trajectory: std::sync::Arc::new(Trajectory::new(frames)),
             warnings: Vec::new(),
         }
     }

@@ -31,7 +31,9 @@ pub use physics::{
 };
 pub use physics_only::{DEFAULT_CONTACT_TOLERANCE, PhysicsOnlyModel};
 pub use pure_nn::{OutputNormalization, PureNnModel};
-pub use sample::{ObjectMotion, Sample, SampleInput, samples_from_trajectory};
+pub use sample::{
+    ObjectMotion, Sample, SampleInput, sample_at, sample_count, samples_from_trajectory,
+};
 
 use serde::{Deserialize, Serialize};
 

@@ -39,32 +39,38 @@ pub struct Sample {
 /// The samples of a trajectory for a prediction horizon of `horizon` frames: sample i predicts the
 /// motion from frame i to frame i + horizon. A horizon of 0 is treated as 1.
 pub fn samples_from_trajectory(trajectory: &Trajectory, horizon: usize) -> Vec<Sample> {
-    let k = horizon.max(1);
-    let frames = &trajectory.frames;
-    if frames.len() <= k {
-        return Vec::new();
-    }
-    (0..frames.len() - k)
-        .map(|i| {
-            let now = &frames[i];
-            let later = &frames[i + k];
-            let object = now.object;
-            let robot_in_object = object.point_in_object(now.robot);
-            let robot_motion_in_object = object.vector_in_object(later.robot - now.robot);
-            let (translation, rotation) = object.motion_to(&later.object);
-            Sample {
-                input: SampleInput {
-                    robot_in_object: [robot_in_object.x, robot_in_object.y],
-                    robot_motion_in_object: [robot_motion_in_object.x, robot_motion_in_object.y],
-                },
-                target: ObjectMotion {
-                    translation: [translation.x, translation.y],
-                    rotation,
-                },
-                frame: i,
-            }
-        })
+    (0..sample_count(trajectory, horizon))
+        .filter_map(|i| sample_at(trajectory, i, horizon))
         .collect()
+}
+
+/// How many samples a trajectory has at `horizon` frames: one per frame but the last `horizon`.
+pub fn sample_count(trajectory: &Trajectory, horizon: usize) -> usize {
+    trajectory.frames.len().saturating_sub(horizon.max(1))
+}
+
+/// The sample that predicts from frame `frame` over `horizon` frames (0 is treated as 1), or `None`
+/// within the horizon of the end. The one rule behind [`samples_from_trajectory`], for callers that
+/// must not hold every sample of a long recording at once.
+pub fn sample_at(trajectory: &Trajectory, frame: usize, horizon: usize) -> Option<Sample> {
+    let k = horizon.max(1);
+    let now = trajectory.frames.get(frame)?;
+    let later = trajectory.frames.get(frame.checked_add(k)?)?;
+    let object = now.object;
+    let robot_in_object = object.point_in_object(now.robot);
+    let robot_motion_in_object = object.vector_in_object(later.robot - now.robot);
+    let (translation, rotation) = object.motion_to(&later.object);
+    Some(Sample {
+        input: SampleInput {
+            robot_in_object: [robot_in_object.x, robot_in_object.y],
+            robot_motion_in_object: [robot_motion_in_object.x, robot_motion_in_object.y],
+        },
+        target: ObjectMotion {
+            translation: [translation.x, translation.y],
+            rotation,
+        },
+        frame,
+    })
 }
 
 impl SampleInput {

@@ -619,7 +619,7 @@ pub(crate) fn recordings_for(
             source: path,
             setting: Arc::clone(&setting),
             entry: setting.trajectories.get(i).cloned(),
-            trajectory: push.trajectory,
+            trajectory: Arc::new(push.trajectory),
             warnings: push.warnings,
         })
         .collect();

@@ -32,8 +32,9 @@ pub struct Recording {
     pub setting: Arc<Setting>,
     /// What `setting.json` lists about this push (contact offset, push angle), when listed.
     pub entry: Option<TrajectoryEntry>,
-    /// The frames.
-    pub trajectory: Trajectory,
+    /// The frames. Shared, so that an online run, a training job or an evaluation on another thread
+    /// reads a long recording without copying it.
+    pub trajectory: Arc<Trajectory>,
     /// Recoverable defects found while loading, each a sentence with numbers.
     pub warnings: Vec<String>,
 }

@@ -299,7 +299,7 @@ pub(crate) fn read_set_filtered(
                     source: path,
                     setting: Arc::clone(&setting),
                     entry: index.map(|i| setting.trajectories[i].clone()),
-                    trajectory: parsed.trajectory,
+                    trajectory: Arc::new(parsed.trajectory),
                     warnings: parsed.warnings,
                 }),
                 Err(e) => errors.push(e),
@@ -322,7 +322,7 @@ pub(crate) fn read_set_filtered(
             source: only.to_path_buf(),
             setting: Arc::clone(&setting),
             entry: None,
-            trajectory: parsed.trajectory,
+            trajectory: Arc::new(parsed.trajectory),
             warnings: parsed.warnings,
         });
     }

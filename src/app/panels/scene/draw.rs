@@ -1,0 +1,281 @@
+//! Drawing the scene's parts through a [`Projection`]: footprints, the pusher, the contact, the COM
+//! markers, the robot's path and trails, and the metres grid. Nothing here decides what to draw or
+//! changes state; `scene::ui` does that.
+
+use eframe::egui::{self, Color32, Pos2, Shape, Stroke, Vec2};
+use nalgebra::{Point2, Vector2};
+use pushlab_core::geometry::{Outline, Pose2};
+use pushlab_core::model::{ObjectMotion, Prediction};
+use pushlab_core::trajectory::Frame;
+
+use super::camera::Projection;
+use crate::app::colors;
+
+/// How a footprint is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FootprintStyle {
+    pub color: Color32,
+    pub line: FootprintLine,
+}
+
+/// The outline's line, which tells measured from predicted poses apart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FootprintLine {
+    /// Solid and lightly filled: the measured pose now.
+    Filled,
+    /// Dashed: the measured pose at the target frame.
+    Dashed,
+    /// Solid outline: a predicted pose.
+    Outline,
+}
+
+impl FootprintStyle {
+    /// The measured pose at the frame shown.
+    pub const MEASURED_NOW: Self = Self {
+        color: colors::TRUE,
+        line: FootprintLine::Filled,
+    };
+    /// The measured pose at the target frame.
+    pub const MEASURED_TARGET: Self = Self {
+        color: colors::TRUE,
+        line: FootprintLine::Dashed,
+    };
+
+    /// A pose predicted by the model of this colour.
+    pub const fn predicted(color: Color32) -> Self {
+        Self {
+            color,
+            line: FootprintLine::Outline,
+        }
+    }
+}
+
+/// The object's outline at `pose`, with a short line along its x axis so that rotation shows on
+/// symmetric shapes.
+pub fn footprint(
+    painter: &egui::Painter,
+    projection: &Projection,
+    outline: &Outline,
+    pose: &Pose2,
+    style: FootprintStyle,
+) {
+    let points: Vec<Pos2> = outline
+        .vertices()
+        .iter()
+        .map(|v| projection.to_screen(pose.point_in_world(*v)))
+        .collect();
+    let color = style.color;
+    match style.line {
+        FootprintLine::Dashed => {
+            let mut closed = points.clone();
+            closed.extend(points.first().copied());
+            painter.extend(Shape::dashed_line(
+                &closed,
+                Stroke::new(1.5, color),
+                6.0,
+                4.0,
+            ));
+        }
+        FootprintLine::Filled | FootprintLine::Outline => {
+            let fill = if style.line == FootprintLine::Filled {
+                color.gamma_multiply(0.12)
+            } else {
+                Color32::TRANSPARENT
+            };
+            painter.add(Shape::convex_polygon(points, fill, Stroke::new(2.0, color)));
+        }
+    }
+    let centre = projection.to_screen(pose.position);
+    let axis = projection.to_screen(pose.point_in_world(Point2::new(outline.size() * 0.15, 0.0)));
+    painter.line_segment([centre, axis], Stroke::new(1.0, color.gamma_multiply(0.7)));
+}
+
+/// The object pose reached by `motion` from `pose`, with the motion multiplied by `gain`.
+pub fn exaggerated(pose: &Pose2, motion: &ObjectMotion, gain: f64) -> Pose2 {
+    pose.moved_by(
+        Vector2::new(motion.translation[0], motion.translation[1]) * gain,
+        motion.rotation * gain,
+    )
+}
+
+/// The pusher disc (at least a few points wide, so a 5 mm rod stays visible).
+pub fn pusher(painter: &egui::Painter, projection: &Projection, centre: Point2<f64>, radius: f64) {
+    let radius = (radius as f32 * projection.scale()).max(3.0);
+    painter.circle(
+        projection.to_screen(centre),
+        radius,
+        colors::ROBOT.gamma_multiply(0.35),
+        Stroke::new(2.0, colors::ROBOT),
+    );
+}
+
+/// The predicted contact point `c` and its motion `u_c` (times `gain`).
+pub fn contact(
+    painter: &egui::Painter,
+    projection: &Projection,
+    pose: &Pose2,
+    prediction: &Prediction,
+    gain: f64,
+) {
+    let Some(c) = prediction.contact else {
+        return;
+    };
+    let c_world = pose.point_in_world(Point2::from(c));
+    let p = projection.to_screen(c_world);
+    painter.circle_filled(p, 4.0, colors::CONTACT);
+    if let Some(u) = prediction.contact_motion {
+        let u_world = pose.vector_in_world(Vector2::new(u[0], u[1])) * gain;
+        let tip = projection.to_screen(c_world + u_world);
+        painter.arrow(p, tip - p, Stroke::new(2.0, colors::CONTACT));
+    }
+}
+
+/// The true COM: a cross.
+pub fn true_com(painter: &egui::Painter, at: Pos2) {
+    let s = 7.0;
+    let stroke = Stroke::new(2.0, colors::TRUE);
+    painter.line_segment([at - Vec2::splat(s), at + Vec2::splat(s)], stroke);
+    painter.line_segment([at + Vec2::new(-s, s), at + Vec2::new(s, -s)], stroke);
+}
+
+/// The COM labelled in the recording's metadata: a diamond, larger while hovered or dragged.
+pub fn com_label(painter: &egui::Painter, at: Pos2, hot: bool) {
+    let s = if hot { 8.0 } else { 6.5 };
+    let diamond = vec![
+        at + Vec2::new(0.0, -s),
+        at + Vec2::new(s, 0.0),
+        at + Vec2::new(0.0, s),
+        at + Vec2::new(-s, 0.0),
+    ];
+    painter.add(Shape::convex_polygon(
+        diamond,
+        colors::COM_LABEL,
+        Stroke::new(1.5, Color32::BLACK),
+    ));
+}
+
+/// The COM estimated online: an orange dot, larger while hovered or dragged.
+pub fn estimated_com(painter: &egui::Painter, at: Pos2, hot: bool) {
+    painter.circle(
+        at,
+        if hot { 7.0 } else { 5.5 },
+        colors::ONLINE,
+        Stroke::new(1.5, Color32::BLACK),
+    );
+}
+
+/// A polyline of world points (the robot's whole path, already thinned).
+pub fn path(painter: &egui::Painter, projection: &Projection, points: &[Point2<f64>]) {
+    if points.len() > 1 {
+        let screen = points.iter().map(|p| projection.to_screen(*p)).collect();
+        painter.add(Shape::line(
+            screen,
+            Stroke::new(1.0, colors::ROBOT.gamma_multiply(0.25)),
+        ));
+    }
+}
+
+/// Seconds of history a trail shows.
+pub const TRAIL_SECONDS: f64 = 6.0;
+/// Most segments of one trail, whatever the frame rate.
+pub const TRAIL_SEGMENTS: usize = 120;
+
+/// Fading trails of the robot and the object over the last [`TRAIL_SECONDS`] before `now`, at most
+/// [`TRAIL_SEGMENTS`] segments each (every k-th frame at high rates).
+pub fn trails(painter: &egui::Painter, projection: &Projection, frames: &[Frame], now: usize) {
+    let Some(current) = frames.get(now) else {
+        return;
+    };
+    let start = frames[..now].partition_point(|f| f.time < current.time - TRAIL_SECONDS);
+    let stride = (now - start).div_ceil(TRAIL_SEGMENTS).max(1);
+    let mut k = now;
+    while k > start {
+        let previous = k.saturating_sub(stride).max(start);
+        let age = ((current.time - frames[previous].time) / TRAIL_SECONDS).clamp(0.0, 1.0) as f32;
+        let alpha = (1.0 - age).powi(2) * 0.9;
+        let (a, b) = (frames[previous], frames[k]);
+        painter.line_segment(
+            [projection.to_screen(a.robot), projection.to_screen(b.robot)],
+            Stroke::new(2.5, colors::ROBOT.gamma_multiply(alpha)),
+        );
+        painter.line_segment(
+            [
+                projection.to_screen(a.object.position),
+                projection.to_screen(b.object.position),
+            ],
+            Stroke::new(2.0, colors::TRUE.gamma_multiply(alpha * 0.7)),
+        );
+        k = previous;
+    }
+}
+
+/// A metres grid whose spacing follows the zoom: minor lines 20–200 points apart, every tenth
+/// major and labelled. Drawn over `area` (the whole scene).
+pub fn grid(painter: &egui::Painter, projection: &Projection, area: egui::Rect) {
+    let mut spacing = 1e-3_f64;
+    while (spacing as f32) * projection.scale() < 20.0 {
+        spacing *= 10.0;
+    }
+    let (lo, hi) = (
+        projection.to_world(area.left_bottom()),
+        projection.to_world(area.right_top()),
+    );
+    let label_font = egui::FontId::proportional(10.0);
+    for axis in 0..2 {
+        let (from, to) = if axis == 0 {
+            (lo.x, hi.x)
+        } else {
+            (lo.y, hi.y)
+        };
+        let first = (from / spacing).floor() as i64;
+        let last = (to / spacing).ceil() as i64;
+        if last - first > 400 {
+            continue;
+        }
+        for i in first..=last {
+            let value = i as f64 * spacing;
+            let major = i.rem_euclid(10) == 0;
+            let color = if major {
+                colors::GRID_MAJOR
+            } else {
+                colors::GRID
+            };
+            let (a, b) = if axis == 0 {
+                let x = projection.to_screen(Point2::new(value, 0.0)).x;
+                (Pos2::new(x, area.top()), Pos2::new(x, area.bottom()))
+            } else {
+                let y = projection.to_screen(Point2::new(0.0, value)).y;
+                (Pos2::new(area.left(), y), Pos2::new(area.right(), y))
+            };
+            painter.line_segment([a, b], Stroke::new(1.0, color));
+            if major {
+                let (pos, align) = if axis == 0 {
+                    (
+                        Pos2::new(a.x + 3.0, area.bottom() - 3.0),
+                        egui::Align2::LEFT_BOTTOM,
+                    )
+                } else {
+                    (
+                        Pos2::new(area.right() - 3.0, a.y - 2.0),
+                        egui::Align2::RIGHT_BOTTOM,
+                    )
+                };
+                painter.text(
+                    pos,
+                    align,
+                    format_metres(value),
+                    label_font.clone(),
+                    colors::GRID_MAJOR.gamma_multiply(1.6),
+                );
+            }
+        }
+    }
+}
+
+fn format_metres(value: f64) -> String {
+    if value.abs() < 1e-12 {
+        "0 m".to_owned()
+    } else {
+        format!("{value:.3} m")
+    }
+}

@@ -1,0 +1,355 @@
+//! The scene: a top view of the table in metres, with the robot, the object's true and predicted
+//! footprints, the COM estimates and the contact.
+//!
+//! Split like rerun's views: `camera` (where the view looks and how it follows, fits or stays),
+//! `interaction` (drags, pan, zoom), `draw` (shapes through the camera's projection) and `legend`
+//! (the layer toggles). This module puts them together for one frame; every prediction it draws
+//! comes from the state (`AppState::predictions`), and every change goes out as a [`Command`] —
+//! only the camera, which is the view's own, is changed here.
+
+pub mod camera;
+pub mod draw;
+pub mod interaction;
+pub mod legend;
+
+use eframe::egui::{self, Color32, Rect, Sense};
+use nalgebra::Point2;
+use pushlab_core::geometry::{Outline, Pose2};
+
+use self::camera::{Camera, CameraMode, Projection, WorldBox};
+use self::draw::FootprintStyle;
+use self::interaction::{Drag, Markers};
+use crate::app::colors;
+use crate::app::state::predictions::FramePredictions;
+use crate::app::state::session::RecordingId;
+use crate::app::state::{AppState, Command};
+
+/// The scene's view state: the camera and how it moves, the legend, the drag in progress.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneView {
+    pub camera: Camera,
+    pub mode: CameraMode,
+    /// Whether the legend (the layer toggles) is unfolded.
+    pub legend_open: bool,
+    /// What the pointer is dragging.
+    pub drag: Option<Drag>,
+    /// The recording the camera was last framed for; a new selection is framed afresh.
+    framed: Option<RecordingId>,
+    /// Where the scene was drawn last frame, screen points (for PNG export and tests).
+    rect: Rect,
+}
+
+impl Default for SceneView {
+    fn default() -> Self {
+        Self {
+            camera: Camera::default(),
+            mode: CameraMode::default(),
+            legend_open: false,
+            drag: None,
+            framed: None,
+            rect: Rect::NOTHING,
+        }
+    }
+}
+
+impl SceneView {
+    /// Where the scene was drawn last frame, screen points.
+    pub fn rect(&self) -> Rect {
+        self.rect
+    }
+
+    /// The part of the scene the camera uses: all of it, or right of the open legend.
+    pub fn viewport(&self) -> Rect {
+        if self.legend_open {
+            Rect::from_min_max(
+                egui::pos2(legend::area(self.rect).right(), self.rect.top()),
+                self.rect.max,
+            )
+        } else {
+            self.rect
+        }
+    }
+
+    /// How world points were mapped to the screen last frame.
+    pub fn projection(&self) -> Projection {
+        self.camera.on(self.viewport())
+    }
+}
+
+/// The camera modes and the legend's fold, above the scene.
+fn toolbar(ui: &mut egui::Ui, view: &mut SceneView) {
+    ui.horizontal(|ui| {
+        ui.label("Camera");
+        for mode in CameraMode::ALL {
+            if ui
+                .selectable_label(view.mode == mode, mode.name())
+                .on_hover_text(mode.help())
+                .clicked()
+            {
+                view.mode = mode;
+            }
+        }
+        ui.separator();
+        let fold = if view.legend_open {
+            "Hide layers"
+        } else {
+            "Show layers"
+        };
+        if ui
+            .selectable_label(view.legend_open, fold)
+            .on_hover_text("Show or hide the legend, which switches the scene's layers")
+            .clicked()
+        {
+            view.legend_open = !view.legend_open;
+        }
+    });
+}
+
+/// Draws the scene and handles its interaction.
+pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &mut Vec<Command>) {
+    toolbar(ui, view);
+    let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
+    view.rect = response.rect;
+    let painter = painter.with_clip_rect(view.rect);
+    painter.rect_filled(view.rect, 0.0, Color32::from_gray(22));
+    if let Some(recording) = state.recording()
+        && let Some(frame) = recording.trajectory.frames.get(state.frame())
+    {
+        let outline = recording.setting.object.outline().ok();
+        let content = Content {
+            pose: frame.object,
+            robot: frame.robot,
+            pusher_radius: recording.setting.pusher_radius,
+            outline: outline.as_ref(),
+            predictions: state.predictions(),
+            gain: state.layers.motion_gain,
+        };
+        let markers = markers(state, view, &content);
+        let projection = view.projection();
+        interaction::handle(
+            ui,
+            &response,
+            state,
+            view,
+            &projection,
+            &content.pose,
+            &markers,
+            commands,
+        );
+        aim(state, view, &content);
+        let projection = view.projection();
+        draw_layers(&painter, state, view, &projection, &content, &response);
+    } else {
+        painter.text(
+            view.rect.center(),
+            egui::Align2::CENTER_CENTER,
+            "Open recordings with File > Open, or drop them here",
+            egui::FontId::proportional(16.0),
+            Color32::GRAY,
+        );
+    }
+    if view.legend_open {
+        legend::ui(ui, legend::area(view.rect), &state.layers, commands);
+    }
+}
+
+/// What is drawn at the frame shown.
+struct Content<'a> {
+    pose: Pose2,
+    robot: Point2<f64>,
+    pusher_radius: f64,
+    outline: Option<&'a Outline>,
+    predictions: Option<FramePredictions>,
+    gain: f64,
+}
+
+impl Content<'_> {
+    /// The footprints drawn at the target frame, each with its style, for the layers switched on.
+    fn targets(&self, state: &AppState) -> Vec<(Pose2, FootprintStyle)> {
+        let Some(p) = &self.predictions else {
+            return Vec::new();
+        };
+        let layers = &state.layers;
+        let at = |motion| draw::exaggerated(&self.pose, motion, self.gain);
+        let mut targets = Vec::new();
+        if layers.true_target {
+            targets.push((at(&p.sample.target), FootprintStyle::MEASURED_TARGET));
+        }
+        if layers.predicted_fixed {
+            targets.push((
+                at(&p.fixed.prediction.motion),
+                FootprintStyle::predicted(colors::FIXED),
+            ));
+        }
+        if layers.predicted_physics
+            && let Some(physics) = &p.physics
+        {
+            targets.push((
+                at(&physics.motion),
+                FootprintStyle::predicted(colors::PHYSICS),
+            ));
+        }
+        if layers.predicted_pure_nn
+            && let Some(pure_nn) = &p.pure_nn
+        {
+            targets.push((
+                at(&pure_nn.motion),
+                FootprintStyle::predicted(colors::PURE_NN),
+            ));
+        }
+        if layers.predicted_online {
+            targets.push((
+                at(&p.online.prediction.motion),
+                FootprintStyle::predicted(colors::ONLINE),
+            ));
+        }
+        targets
+    }
+
+    /// The box around the object's footprint at `pose` (or a point without an outline).
+    fn footprint_box(&self, pose: &Pose2) -> Option<WorldBox> {
+        match self.outline {
+            Some(outline) => {
+                WorldBox::around(outline.vertices().iter().map(|v| pose.point_in_world(*v)))
+            }
+            None => WorldBox::around([pose.position]),
+        }
+    }
+}
+
+/// Where the COM markers are drawn this frame (with last frame's camera: what the user sees).
+fn markers(state: &AppState, view: &SceneView, content: &Content<'_>) -> Markers {
+    let projection = view.projection();
+    let at = |com: [f64; 2]| projection.to_screen(content.pose.point_in_world(Point2::from(com)));
+    let com_label = state
+        .label_target()
+        .filter(|t| state.layers.com_label && state.labels.read_only_reason(t).is_none())
+        .and_then(|t| state.labels.labels_of(&t).and_then(|l| l.meta.com_offset));
+    Markers {
+        com: state
+            .theta()
+            .filter(|_| state.layers.com_estimated)
+            .map(|t| at(t.com_offset)),
+        com_label: com_label.map(at),
+    }
+}
+
+/// Points the camera for this frame: a new recording is framed afresh; following keeps the object
+/// and its target footprints in view; fitting shows the whole push.
+fn aim(state: &AppState, view: &mut SceneView, content: &Content<'_>) {
+    let viewport = view.viewport();
+    let object_size = content.outline.map_or(0.05, Outline::size);
+    let whole_push = state
+        .overview
+        .bounds
+        .map(|(min, max)| WorldBox { min, max }.grown(0.8 * object_size));
+    let Some(object) = content.footprint_box(&content.pose) else {
+        return;
+    };
+    let disc = WorldBox::around([content.robot]).map(|b| b.grown(content.pusher_radius));
+    let mut target = disc.map_or(object, |d| object.union(d));
+    for (pose, _) in content.targets(state) {
+        if let Some(footprint) = content.footprint_box(&pose) {
+            target = target.union(footprint);
+        }
+    }
+    if view.framed != state.session.selected {
+        view.framed = state.session.selected;
+        view.camera = match (view.mode, whole_push) {
+            (CameraMode::Follow, _) | (_, None) => {
+                Camera::fitting(target.grown(object_size), viewport)
+            }
+            (_, Some(whole)) => Camera::fitting(whole, viewport),
+        };
+    }
+    match view.mode {
+        CameraMode::Follow => view
+            .camera
+            .follow(target.grown(0.1 * object_size), object, viewport),
+        CameraMode::FitAll => {
+            if let Some(whole) = whole_push {
+                view.camera = Camera::fitting(whole, viewport);
+            }
+        }
+        CameraMode::Free => {}
+    }
+}
+
+/// Everything drawn, back to front.
+fn draw_layers(
+    painter: &egui::Painter,
+    state: &AppState,
+    view: &SceneView,
+    projection: &Projection,
+    content: &Content<'_>,
+    response: &egui::Response,
+) {
+    let layers = &state.layers;
+    if layers.grid {
+        draw::grid(painter, projection, view.rect);
+    }
+    if layers.robot_path {
+        draw::path(painter, projection, &state.overview.robot_path);
+    }
+    if layers.trails
+        && let Some(recording) = state.recording()
+    {
+        draw::trails(
+            painter,
+            projection,
+            &recording.trajectory.frames,
+            state.frame(),
+        );
+    }
+    if let Some(outline) = content.outline {
+        if layers.true_now {
+            draw::footprint(
+                painter,
+                projection,
+                outline,
+                &content.pose,
+                FootprintStyle::MEASURED_NOW,
+            );
+        }
+        for (pose, style) in content.targets(state) {
+            draw::footprint(painter, projection, outline, &pose, style);
+        }
+    }
+    draw::pusher(painter, projection, content.robot, content.pusher_radius);
+    if layers.contact
+        && let Some(p) = &content.predictions
+    {
+        draw::contact(
+            painter,
+            projection,
+            &content.pose,
+            &p.online.prediction,
+            content.gain,
+        );
+    }
+    if layers.com_true
+        && let Some(com) = state.recording().and_then(|r| r.setting.com_offset)
+    {
+        draw::true_com(
+            painter,
+            projection.to_screen(content.pose.point_in_world(Point2::from(com))),
+        );
+    }
+    // The markers where the user can grab them, highlighted under the pointer.
+    let markers = markers(state, view, content);
+    let pointer = response.hover_pos();
+    if let Some(at) = markers.com_label {
+        let hot = markers.hot(Drag::ComLabel, pointer, view);
+        draw::com_label(painter, at, hot);
+        if hot {
+            response.ctx.set_cursor_icon(egui::CursorIcon::Grab);
+        }
+    }
+    if let Some(at) = markers.com {
+        let hot = markers.hot(Drag::Com, pointer, view);
+        draw::estimated_com(painter, at, hot);
+        if hot {
+            response.ctx.set_cursor_icon(egui::CursorIcon::Grab);
+        }
+    }
+}
