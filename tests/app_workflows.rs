@@ -98,10 +98,19 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
     );
     assert!(
         harness
-            .query_all_by_label_contains("box2-plastic-center-front")
+            .state()
+            .state
+            .browser_rows()
+            .iter()
+            .any(|r| r.set == "box2-plastic-center-front"),
+        "the browser lists the dropped set"
+    );
+    assert!(
+        harness
+            .query_all_by_label_contains(&format!("{0} of {0} recordings", 36 * 2))
             .next()
             .is_some(),
-        "the browser lists the dropped set"
+        "the browser counts the dropped set's recordings"
     );
     assert!(
         harness
@@ -322,11 +331,14 @@ fn exporting_the_scene_and_the_plots_writes_pngs_of_their_regions() {
     ] {
         let png = image::open(scratch.join(name)).expect("a PNG").to_rgba8();
         let (w, h) = png.dimensions();
+        // The pixel columns and rows the rect's edges fall in (a panel's edges need not sit on
+        // whole pixels).
+        let pixels = |from: f32, to: f32| (to * ppp) as u32 - (from * ppp) as u32;
         assert_eq!(
             (w, h),
             (
-                (rect.width() * ppp).round() as u32,
-                (rect.height() * ppp).round() as u32
+                pixels(rect.min.x, rect.max.x),
+                pixels(rect.min.y, rect.max.y)
             ),
             "{name} is the panel's region"
         );
@@ -349,7 +361,10 @@ fn the_train_tab_offers_every_model_kind_and_the_app_shows_which_is_loaded() {
         .get_by_role_and_label(egui::accesskit::Role::ComboBox, "Model kind")
         .click();
     harness.run_steps(2);
-    harness.get_by_label("paper").click();
+    // A button: the browser's Surface column says "paper" too.
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Button, "paper")
+        .click();
     harness.run_steps(2);
     assert_eq!(
         harness.state().state.training.kind,

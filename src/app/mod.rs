@@ -92,7 +92,7 @@ impl PushlabApp {
         panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
         panels::timeline::bottom_bar(ui, &self.state, &mut commands);
         egui::Panel::left("browser")
-            .default_size(230.0)
+            .default_size(480.0)
             .resizable(true)
             .show(ui, |ui| panels::browser::ui(ui, &self.state, &mut commands));
         egui::Panel::right("side")

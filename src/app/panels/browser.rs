@@ -1,14 +1,17 @@
-//! The recordings browser: settings → trajectories with their metadata, split and label count, and
-//! the load problems.
+//! The recordings browser: a table of every open recording — short name, the push's parameters (the
+//! MIT file name's, or the native set's), frames, split, and the mean online and fixed loss once it
+//! has been run — with a filter box and a sort by any column (click a header; again to reverse). The
+//! rows, the filter and the sort are the state's (`state::browser`); this panel draws them and sends
+//! commands. Load problems are listed below the table.
 
-use std::path::Path;
+use eframe::egui::{self, RichText};
+use egui_extras::{Column as TableColumn, TableBuilder};
 
-use eframe::egui;
-use pushlab_core::labels::LabelDocument;
-use pushlab_core::labels::pipeline::labels_file_beside;
-
-use crate::app::state::session::RecordingId;
+use crate::app::state::browser::{BrowserCommand, Column, Row};
 use crate::app::state::{AppState, Command};
+
+/// Height of a table row, points.
+const ROW_HEIGHT: f32 = 18.0;
 
 /// Draws the browser.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
@@ -16,115 +19,159 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     if state.session.sets.is_empty() {
         ui.label("Nothing open. Use File > Open, or drop files or folders here.");
     }
-    egui::ScrollArea::vertical()
-        .id_salt("browser")
-        .max_height(ui.available_height() - problems_height(state))
+    ui.horizontal(|ui| {
+        let label = ui.label("Filter");
+        let mut filter = state.browser.filter.clone();
+        let edit = ui
+            .add(
+                egui::TextEdit::singleline(&mut filter)
+                    .hint_text("words in any column, e.g. hex online")
+                    .desired_width(ui.available_width() - 8.0),
+            )
+            .labelled_by(label.id);
+        if edit.changed() {
+            commands.push(Command::Browser(BrowserCommand::SetFilter(filter)));
+        }
+    });
+    let rows = state.browser_rows();
+    ui.weak(format!(
+        "{} of {} recordings",
+        rows.len(),
+        state.session.recording_count()
+    ));
+    let table_height = ui.available_height() - problems_height(state);
+    egui::ScrollArea::horizontal()
+        .id_salt("browser-columns")
         .show(ui, |ui| {
-            for (set_index, set) in state.session.sets.iter().enumerate() {
-                let setting = &set.setting;
-                egui::CollapsingHeader::new(&setting.name)
-                    .id_salt(("set", set_index))
-                    .default_open(true)
-                    .show(ui, |ui| {
-                        setting_metadata(ui, setting);
-                        // The labels file of the folder the last recording came from: a set's
-                        // recordings share one, so it is looked up once per set, not per row.
-                        let mut folder_labels: Option<(&Path, Option<&LabelDocument>)> = None;
-                        for (index, recording) in set.recordings.iter().enumerate() {
-                            let id = RecordingId {
-                                set: set_index,
-                                recording: index,
-                            };
-                            let selected = state.session.selected == Some(id);
-                            let trajectory = &recording.trajectory;
-                            let mut label = format!(
-                                "{}  ·  {} frames, {:.1} s",
-                                recording.name,
-                                trajectory.len(),
-                                trajectory.duration()
-                            );
-                            let folder = recording.source.parent().unwrap_or(Path::new("."));
-                            let document = match folder_labels {
-                                Some((f, document)) if f == folder => document,
-                                _ => {
-                                    let document = state
-                                        .labels
-                                        .document(&labels_file_beside(&recording.source));
-                                    folder_labels = Some((folder, document));
-                                    document
-                                }
-                            };
-                            let key = recording.source.file_name().map(|n| n.to_string_lossy());
-                            if let Some(labels) =
-                                document.zip(key).and_then(|(d, key)| d.recording(&key))
-                            {
-                                if let Some(split) = labels.meta.split {
-                                    label.push_str(&format!("  ·  {}", split.name()));
-                                }
-                                let count = labels.segments.len() + labels.events.len();
-                                match count {
-                                    0 => {}
-                                    1 => label.push_str("  ·  1 label"),
-                                    n => label.push_str(&format!("  ·  {n} labels")),
-                                }
-                            }
-                            let response = ui.selectable_label(selected, label);
-                            let response = response.on_hover_ui(|ui| {
-                                ui.label(recording.source.display().to_string());
-                                ui.label(format!("{:.0} Hz", trajectory.mean_rate_hz()));
-                                if let Some(entry) = &recording.entry {
-                                    if let Some(offset) = entry.contact_offset {
-                                        ui.label(format!("contact offset {:.1} mm", offset * 1e3));
-                                    }
-                                    if let Some(angle) = entry.push_angle_deg {
-                                        ui.label(format!("push angle {angle:.0}°"));
-                                    }
-                                }
-                                for warning in &recording.warnings {
-                                    ui.colored_label(ui.visuals().warn_fg_color, warning);
-                                }
-                            });
-                            if response.clicked() && !selected {
-                                commands.push(Command::Select(id));
-                            }
-                        }
-                    });
-            }
+            ui.set_height(table_height.max(ROW_HEIGHT * 3.0));
+            table(ui, state, &rows, commands);
         });
     problems(ui, state, commands);
 }
 
-fn setting_metadata(ui: &mut egui::Ui, setting: &pushlab_core::recording::Setting) {
-    use pushlab_core::recording::ObjectShape;
-    let shape = match &setting.object {
-        ObjectShape::Box { width, length } => {
-            format!("box {:.0} × {:.0} mm", width * 1e3, length * 1e3)
+fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut Vec<Command>) {
+    ui.spacing_mut().item_spacing.x = 4.0;
+    let mut builder = TableBuilder::new(ui)
+        .id_salt("browser-table")
+        .striped(true)
+        .resizable(true)
+        .auto_shrink([false, false])
+        .max_scroll_height(f32::INFINITY)
+        .cell_layout(egui::Layout::left_to_right(egui::Align::Center));
+    for column in Column::ALL {
+        builder = builder.column(width(column));
+    }
+    let sorted = (state.browser.sort, state.browser.descending);
+    builder
+        .header(ROW_HEIGHT + 2.0, |mut header| {
+            for column in Column::ALL {
+                header.col(|ui| {
+                    if ui
+                        .add(egui::Button::new(header_text(ui, column, sorted)).frame(false))
+                        .on_hover_text(column.help())
+                        .clicked()
+                    {
+                        commands.push(Command::Browser(BrowserCommand::SortBy(column)));
+                    }
+                });
+            }
+        })
+        .body(|body| {
+            body.rows(ROW_HEIGHT, rows.len(), |mut table_row| {
+                let row = &rows[table_row.index()];
+                let selected = state.session.selected == Some(row.id);
+                table_row.set_selected(selected);
+                for column in Column::ALL {
+                    table_row.col(|ui| cell(ui, state, row, column, selected, commands));
+                }
+            });
+        });
+}
+
+/// A header: the column's title, and ▲ or ▼ when the table is sorted by it (in the monospace font,
+/// which has the triangles).
+fn header_text(
+    ui: &egui::Ui,
+    column: Column,
+    (sort, descending): (Column, bool),
+) -> egui::text::LayoutJob {
+    let mut job = egui::text::LayoutJob::default();
+    let color = ui.visuals().strong_text_color();
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    job.append(column.title(), 0.0, egui::TextFormat::simple(font, color));
+    if sort == column {
+        let arrow = if descending { " ▼" } else { " ▲" };
+        let mono = egui::TextStyle::Monospace.resolve(ui.style());
+        job.append(arrow, 0.0, egui::TextFormat::simple(mono, color));
+    }
+    job
+}
+
+/// One cell; the name is the button that selects the recording, with the details on hover.
+fn cell(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    row: &Row<'_>,
+    column: Column,
+    selected: bool,
+    commands: &mut Vec<Command>,
+) {
+    let text = row.text(column);
+    if column != Column::Name {
+        ui.add(egui::Label::new(text).selectable(false).truncate());
+        return;
+    }
+    let response = ui
+        .add(egui::Button::selectable(selected, text).truncate())
+        .on_hover_ui(|ui| details(ui, state, row));
+    if response.clicked() && !selected {
+        commands.push(Command::Select(row.id));
+    }
+}
+
+/// What the name's tooltip says: the file, its rate, labels and load warnings, its losses.
+fn details(ui: &mut egui::Ui, state: &AppState, row: &Row<'_>) {
+    let recording = row.recording;
+    ui.label(recording.source.display().to_string());
+    ui.label(format!(
+        "{} frames, {:.1} s at {:.0} Hz",
+        recording.trajectory.len(),
+        recording.trajectory.duration(),
+        recording.trajectory.mean_rate_hz()
+    ));
+    match row.labels {
+        0 => {}
+        1 => {
+            ui.label("1 label");
         }
-        ObjectShape::Polygon { vertices } => format!("polygon, {} vertices", vertices.len()),
+        n => {
+            ui.label(format!("{n} labels"));
+        }
+    }
+    if let Some(l) = state.remembered_losses(recording) {
+        ui.label(format!(
+            "mean over {} learned frames: online pos {:.4} rot {:.4}, fixed pos {:.4} rot {:.4}",
+            l.frames, l.online_pos, l.online_rot, l.fixed_pos, l.fixed_rot
+        ));
+    }
+    for warning in &recording.warnings {
+        ui.colored_label(ui.visuals().warn_fg_color, warning);
+    }
+}
+
+/// Initial widths: the name, the losses and the push's parameters fit the browser's default width;
+/// the set, frames, split and labels are a horizontal scroll away.
+fn width(column: Column) -> TableColumn {
+    let points = match column {
+        Column::Name => 76.0,
+        Column::Online | Column::Fixed => 44.0,
+        Column::Shape => 54.0,
+        Column::Surface | Column::Position => 46.0,
+        Column::Side | Column::Angle | Column::Speed => 38.0,
+        Column::Set => 120.0,
+        Column::Frames | Column::Split | Column::Labels => 48.0,
     };
-    let mut lines = vec![
-        shape,
-        format!("pusher r {:.1} mm", setting.pusher_radius * 1e3),
-    ];
-    if let Some(material) = &setting.material {
-        lines.push(material.clone());
-    }
-    match (setting.com_offset, setting.h) {
-        (Some([x, y]), Some(h)) => lines.push(format!(
-            "true COM offset ({:.1}, {:.1}) mm, h {:.1} mm",
-            x * 1e3,
-            y * 1e3,
-            h * 1e3
-        )),
-        (Some([x, y]), None) => lines.push(format!(
-            "true COM offset ({:.1}, {:.1}) mm",
-            x * 1e3,
-            y * 1e3
-        )),
-        (None, Some(h)) => lines.push(format!("true h {:.1} mm", h * 1e3)),
-        (None, None) => {}
-    }
-    ui.weak(lines.join(" · "));
+    TableColumn::initial(points).at_least(24.0).clip(true)
 }
 
 fn problems_height(state: &AppState) -> f32 {
@@ -158,7 +205,7 @@ fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         .max_height(130.0)
         .show(ui, |ui| {
             for problem in &state.session.problems {
-                ui.label(egui::RichText::new(&problem.message).small())
+                ui.label(RichText::new(&problem.message).small())
                     .on_hover_text(problem.path.display().to_string());
             }
         });

@@ -3,6 +3,7 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
+pub mod browser;
 pub mod envelope;
 pub mod fit;
 pub mod label_losses;
@@ -28,6 +29,7 @@ use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
+use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::labels::{LabelAction, LabelTarget, Labeling};
 use self::layers::Layers;
 use self::models::Models;
@@ -69,6 +71,8 @@ pub enum Command {
     SetLayers(Layers),
     /// Forget the load problems listed in the browser.
     DismissProblems,
+    /// Filter or sort the browser's table.
+    Browser(BrowserCommand),
     /// Train a model for the open recordings and remember it for their folders (see `fit`).
     TrainForOpenRecordings,
     /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
@@ -105,6 +109,8 @@ pub struct Persisted {
     pub online: OnlineConfig,
     /// The model trained for each folder of recordings ("Train for these recordings").
     pub folder_models: BTreeMap<PathBuf, PathBuf>,
+    /// The browser's filter and sort.
+    pub browser: BrowserView,
 }
 
 impl Default for Persisted {
@@ -117,6 +123,7 @@ impl Default for Persisted {
             learn_while_playing: true,
             online: OnlineConfig::default(),
             folder_models: BTreeMap::new(),
+            browser: BrowserView::default(),
         }
     }
 }
@@ -165,6 +172,10 @@ pub struct AppState {
     pub model_store: Option<PathBuf>,
     /// The model trained for each folder of recordings.
     pub folder_models: BTreeMap<PathBuf, PathBuf>,
+    /// The browser's filter and sort.
+    pub browser: BrowserView,
+    /// The browser's per-recording parameters and losses.
+    browsed: BrowserMemory,
 }
 
 impl AppState {
@@ -190,6 +201,8 @@ impl AppState {
             fit: None,
             model_store: None,
             folder_models: persisted.folder_models,
+            browser: persisted.browser,
+            browsed: BrowserMemory::default(),
         }
     }
 
@@ -203,6 +216,7 @@ impl AppState {
             learn_while_playing: self.learn_while_playing,
             online: self.online_config,
             folder_models: self.folder_models.clone(),
+            browser: self.browser.clone(),
         }
     }
 
@@ -221,6 +235,7 @@ impl AppState {
     /// After recordings were opened: the model remembered for their folders comes back, and the
     /// status line says when the model in use does not fit them.
     fn after_opening(&mut self) {
+        self.remember_parameters();
         self.reopen_folder_model();
         self.refresh_fit();
         if let Some(mismatch) = &self.fit {
@@ -273,6 +288,11 @@ impl AppState {
 
     /// Applies one command.
     pub fn apply(&mut self, command: Command) {
+        self.apply_command(command);
+        self.remember_losses();
+    }
+
+    fn apply_command(&mut self, command: Command) {
         match command {
             Command::Timeline(c) => {
                 let before = self.timeline.frame();
@@ -366,6 +386,7 @@ impl AppState {
             }
             Command::SetLayers(layers) => self.layers = layers,
             Command::DismissProblems => self.session.problems.clear(),
+            Command::Browser(command) => self.apply_browser(command),
             Command::TrainForOpenRecordings => self.train_for_open_recordings(),
             Command::SetOnlineConfig(config) => {
                 self.online_config = config;
@@ -412,6 +433,7 @@ impl AppState {
             };
             self.frame_moved(before, how);
         }
+        self.remember_losses();
         self.timeline.playing || self.session.loading().is_some() || self.training.is_running()
     }
 

@@ -549,7 +549,7 @@ pub(crate) fn setting_for(
         .collect();
     let mut extra = serde_json::Map::new();
     extra.insert("source".into(), "MIT Push Dataset".into());
-    extra.insert("mit_shape".into(), shape_name.into());
+    extra.insert(KEY_SHAPE.into(), shape_name.into());
     Ok(Setting {
         name: format!("mit-{surface}-{shape_name}"),
         object: ObjectShape::Polygon { vertices },
@@ -569,18 +569,29 @@ pub(crate) fn setting_for(
     })
 }
 
+/// Key of a trajectory entry's MIT side index (the dataset's `i`).
+pub const KEY_SIDE: &str = "mit_side";
+/// Key of a trajectory entry's position along the MIT side, 0..1 (the dataset's `s`).
+pub const KEY_SIDE_POSITION: &str = "mit_side_position";
+/// Key of a trajectory entry's nominal pusher speed, mm/s (the dataset's `v`).
+pub const KEY_SPEED: &str = "mit_speed_mm_s";
+/// Key of a trajectory entry's repetition number, when the file name has one.
+pub const KEY_REP: &str = "mit_rep";
+/// Key of a setting's MIT shape name (`rect1`, `hex`…).
+pub const KEY_SHAPE: &str = "mit_shape";
+
 /// The trajectory entry of one push: the push angle in degrees, the rest of the name's parameters
 /// under `mit_*` keys (the dataset's side index and side position do not map onto pushlab's four
 /// box faces, so they are kept as given).
 fn entry_for(file: &str, push: &MitPush) -> TrajectoryEntry {
     let n = &push.name;
     let mut extra = serde_json::Map::new();
-    extra.insert("mit_side".into(), n.side.into());
-    extra.insert("mit_side_position".into(), n.side_position.into());
-    extra.insert("mit_speed_mm_s".into(), n.speed_mm_s.into());
+    extra.insert(KEY_SIDE.into(), n.side.into());
+    extra.insert(KEY_SIDE_POSITION.into(), n.side_position.into());
+    extra.insert(KEY_SPEED.into(), n.speed_mm_s.into());
     extra.insert("mit_accel_mm_s2".into(), n.accel_mm_s2.into());
     if let Some(rep) = n.rep {
-        extra.insert("mit_rep".into(), rep.into());
+        extra.insert(KEY_REP.into(), rep.into());
     }
     extra.insert("mit_start_unix_s".into(), push.start_unix_s.into());
     TrajectoryEntry {

@@ -5,6 +5,7 @@
 //! into [`RecordingSet`]s. [`load_paths`] is the one entry point for opening whatever a user points at;
 //! [`write_set`] writes a native set.
 
+mod describe;
 mod error;
 mod load;
 pub mod mit_push;
@@ -14,6 +15,7 @@ mod setting;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+pub use describe::{PushParameters, SidePosition};
 pub use error::{CsvProblem, LoadError, MitProblem, WriteError};
 pub use load::{LoadReport, load_paths};
 pub use native::{read_set, write_set};

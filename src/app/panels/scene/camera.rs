@@ -134,16 +134,21 @@ impl Camera {
 
     /// Keeps the zoom and centres `target` (what should be seen) in the viewport; when `target` is
     /// larger than the viewport at this zoom, centres `must_see` (the object itself) instead, so
-    /// that it never leaves the view.
+    /// that it never leaves the view — zooming out only when the object alone does not fit.
     pub fn follow(&mut self, target: WorldBox, must_see: WorldBox, viewport: Rect) {
-        let [w, h] = target.size();
-        let fits = w * f64::from(self.scale) <= f64::from(viewport.width())
-            && h * f64::from(self.scale) <= f64::from(viewport.height());
-        self.centre = if fits {
-            target.centre()
-        } else {
-            must_see.centre()
+        let fits = |b: &WorldBox, scale: f32| {
+            let [w, h] = b.size();
+            w * f64::from(scale) <= f64::from(viewport.width())
+                && h * f64::from(scale) <= f64::from(viewport.height())
         };
+        if fits(&target, self.scale) {
+            self.centre = target.centre();
+        } else {
+            self.centre = must_see.centre();
+            if !fits(&must_see, self.scale) {
+                self.scale = Self::fitting(must_see, viewport).scale;
+            }
+        }
     }
 
     /// Moves the view by a drag of `delta` screen points (the world follows the pointer).
@@ -289,6 +294,17 @@ mod tests {
         let p = camera.on(viewport());
         assert!(viewport().contains(p.to_screen(object.min)));
         assert!(viewport().contains(p.to_screen(object.max)));
+        // So far in that the object alone does not fit (a narrow viewport): zoomed out to fit it.
+        camera.scale = 50_000.0;
+        camera.follow(target, object, viewport());
+        assert_eq!(
+            camera.scale,
+            500.0 / 0.1,
+            "the object's 0.1 m in 500 points"
+        );
+        let p = camera.on(viewport());
+        assert!(viewport().expand(0.01).contains(p.to_screen(object.min)));
+        assert!(viewport().expand(0.01).contains(p.to_screen(object.max)));
     }
 
     #[test]

@@ -1,0 +1,184 @@
+//! What a push's setting and trajectory entry say about it, side by side for every recording: the
+//! object, the surface, the pushed side, where along it and at what angle, and how fast — from the
+//! MIT file name's parameters (kept under `mit_*` keys by the importer) or a native set's
+//! `setting.json`.
+
+use super::mit_push::{KEY_REP, KEY_SHAPE, KEY_SIDE, KEY_SIDE_POSITION, KEY_SPEED};
+use super::{ObjectShape, Recording};
+
+/// Where along the pushed side a push starts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SidePosition {
+    /// The MIT dataset's `s`: a fraction of the side, 0..1.
+    Fraction(f64),
+    /// A native set's contact offset: metres from the face's middle, positive to the left of the
+    /// push direction.
+    Offset(f64),
+}
+
+impl SidePosition {
+    /// A number to sort by.
+    pub fn value(self) -> f64 {
+        match self {
+            SidePosition::Fraction(v) | SidePosition::Offset(v) => v,
+        }
+    }
+
+    /// As a table shows it: `s 0.80` or `+12.0 mm`.
+    pub fn label(self) -> String {
+        match self {
+            SidePosition::Fraction(s) => format!("s {s:.2}"),
+            SidePosition::Offset(m) => format!("{:+.1} mm", m * 1e3),
+        }
+    }
+}
+
+/// The parameters of one push, each `None` where the recording does not say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushParameters {
+    /// The object: the MIT shape's name, a box's width × length in millimetres, or a polygon's
+    /// vertex count (`6-gon`).
+    pub shape: String,
+    /// The surface (the setting's material).
+    pub surface: Option<String>,
+    /// The pushed side: a native set's face (`front`…) or the MIT side index (`i 2`).
+    pub side: Option<String>,
+    pub position: Option<SidePosition>,
+    /// Push angle from the side's normal, degrees.
+    pub angle_deg: Option<f64>,
+    /// The MIT name's nominal pusher speed, or the pusher's mean speed over a native push, mm/s.
+    pub speed_mm_s: Option<f64>,
+    /// The MIT name's repetition number.
+    pub repetition: Option<u32>,
+}
+
+impl PushParameters {
+    /// The parameters of `recording`.
+    pub fn of(recording: &Recording) -> Self {
+        let setting = &recording.setting;
+        let entry = recording.entry.as_ref();
+        let number = |key: &str| {
+            entry
+                .and_then(|e| e.extra.get(key))
+                .and_then(|v| v.as_f64())
+        };
+        let shape = match (
+            setting.extra.get(KEY_SHAPE).and_then(|v| v.as_str()),
+            &setting.object,
+        ) {
+            (Some(mit), _) => mit.to_owned(),
+            (None, ObjectShape::Box { width, length }) => {
+                format!("{:.0}×{:.0}", width * 1e3, length * 1e3)
+            }
+            (None, ObjectShape::Polygon { vertices }) => format!("{}-gon", vertices.len()),
+        };
+        let mit_side = number(KEY_SIDE).map(|i| format!("i {i}"));
+        let position = match (
+            number(KEY_SIDE_POSITION),
+            entry.and_then(|e| e.contact_offset),
+        ) {
+            (Some(s), _) => Some(SidePosition::Fraction(s)),
+            (None, Some(m)) => Some(SidePosition::Offset(m)),
+            (None, None) => None,
+        };
+        Self {
+            shape,
+            surface: setting.material.clone(),
+            side: mit_side.or_else(|| setting.push_side.map(|s| s.name().to_owned())),
+            position,
+            angle_deg: entry.and_then(|e| e.push_angle_deg),
+            speed_mm_s: number(KEY_SPEED).or_else(|| mean_pusher_speed(recording).map(|v| v * 1e3)),
+            repetition: number(KEY_REP).map(|r| r as u32),
+        }
+    }
+}
+
+/// How far the pusher gets per second, averaged over windows of one second (the whole push when
+/// shorter), m/s; `None` for fewer than two frames. Windows, not frame-to-frame steps: tracking
+/// noise adds to every step's length (by a quarter at the sample data's 10 Hz and 2 mm noise) but
+/// barely to a second's displacement.
+fn mean_pusher_speed(recording: &Recording) -> Option<f64> {
+    let frames = &recording.trajectory.frames;
+    let duration = recording.trajectory.duration();
+    if frames.len() < 2 || duration.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let window = duration.min(1.0);
+    let (mut sum, mut count, mut end) = (0.0, 0usize, 0);
+    for (start, first) in frames.iter().enumerate() {
+        end = end.max(start);
+        while end < frames.len() && frames[end].time < first.time + window {
+            end += 1;
+        }
+        let Some(last) = frames.get(end) else {
+            break;
+        };
+        sum += (last.robot - first.robot).norm() / (last.time - first.time);
+        count += 1;
+    }
+    (count > 0).then(|| sum / count as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::{Path, PathBuf};
+
+    use crate::recording::load_paths;
+
+    fn shared(folder: &str) -> Option<PathBuf> {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../../shared")
+            .join(folder);
+        if dir.is_dir() {
+            Some(dir)
+        } else {
+            eprintln!("skipped: {} is missing", dir.display());
+            None
+        }
+    }
+
+    #[test]
+    fn an_mit_file_shows_its_name_parameters() {
+        let Some(dir) = shared("mit-push") else {
+            return;
+        };
+        let report = load_paths(&[dir]);
+        let rect = report
+            .sets
+            .iter()
+            .flat_map(|s| &s.recordings)
+            .find(|r| r.name.contains("rect1"))
+            .expect("the rect1 file");
+        // motion_surface=abs_shape=rect1_a=0_v=75_i=2.000_s=0.800_t=0.349
+        let p = PushParameters::of(rect);
+        assert_eq!(p.shape, "rect1");
+        assert_eq!(p.surface.as_deref(), Some("abs"));
+        assert_eq!(p.side.as_deref(), Some("i 2"));
+        assert_eq!(p.position, Some(SidePosition::Fraction(0.8)));
+        assert!((p.angle_deg.expect("an angle") - 0.349f64.to_degrees()).abs() < 1e-9);
+        assert_eq!(p.speed_mm_s, Some(75.0));
+        assert_eq!(
+            p.position.map(SidePosition::label).as_deref(),
+            Some("s 0.80")
+        );
+    }
+
+    #[test]
+    fn a_native_push_shows_its_setting_and_measured_speed() {
+        let dir =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../sample-data/box1-paper-center-left");
+        let report = load_paths(&[dir]);
+        let set = &report.sets[0];
+        let r = &set.recordings[0];
+        let p = PushParameters::of(r);
+        assert_eq!(p.shape, "300×400");
+        assert_eq!(p.surface.as_deref(), Some("paper"));
+        assert_eq!(p.side.as_deref(), Some("left"));
+        let entry = r.entry.as_ref().expect("listed in setting.json");
+        assert_eq!(p.position, entry.contact_offset.map(SidePosition::Offset));
+        // The sample data pushes at 40 mm/s (sample-data/README.md), with 2 mm tracking noise.
+        let speed = p.speed_mm_s.expect("a speed");
+        assert!((39.0..41.0).contains(&speed), "{speed} mm/s");
+    }
+}

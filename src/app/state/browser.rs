@@ -1,0 +1,445 @@
+//! The recordings browser as plain data: one row per open recording with its push parameters (the
+//! MIT file name's, or the native set's), its frames, split and labels, and its mean online and fixed
+//! losses once it has been run; a filter over the text of every column and a sort by any column.
+//!
+//! The panel (`panels::browser`) draws these rows and sends [`BrowserCommand`]s; the parameters are
+//! computed once per opened recording (`remember_parameters`), the losses kept as runs learn
+//! (`remember_losses`), so a frame only filters and sorts.
+
+use std::cmp::Ordering;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use pushlab_core::experiment::split_of;
+use pushlab_core::recording::{PushParameters, Recording};
+use serde::{Deserialize, Serialize};
+
+use super::AppState;
+use super::labels::LabelTarget;
+use super::online::MeanLosses;
+use super::session::RecordingId;
+
+/// A column of the browser's table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Column {
+    Set,
+    Name,
+    Shape,
+    Surface,
+    Side,
+    Position,
+    Angle,
+    Speed,
+    Frames,
+    Split,
+    Labels,
+    Online,
+    Fixed,
+}
+
+impl Column {
+    /// Every column, in the table's order.
+    pub const ALL: [Column; 13] = [
+        Column::Name,
+        Column::Online,
+        Column::Fixed,
+        Column::Shape,
+        Column::Surface,
+        Column::Side,
+        Column::Position,
+        Column::Angle,
+        Column::Speed,
+        Column::Set,
+        Column::Frames,
+        Column::Split,
+        Column::Labels,
+    ];
+
+    /// The header's text.
+    pub fn title(self) -> &'static str {
+        match self {
+            Column::Set => "Set",
+            Column::Name => "Name",
+            Column::Shape => "Shape",
+            Column::Surface => "Surface",
+            Column::Side => "Side",
+            Column::Position => "Pos",
+            Column::Angle => "Angle",
+            Column::Speed => "mm/s",
+            Column::Frames => "Frames",
+            Column::Split => "Split",
+            Column::Labels => "# labels",
+            Column::Online => "Online",
+            Column::Fixed => "Fixed",
+        }
+    }
+
+    /// What the column holds, for the header's tooltip.
+    pub fn help(self) -> &'static str {
+        match self {
+            Column::Set => {
+                "The set: a native set's folder, or the MIT files of one surface and shape"
+            }
+            Column::Name => "The file's short name (hover for the whole path)",
+            Column::Shape => "The object (the MIT shape, or the box's size)",
+            Column::Surface => "The surface (the setting's material)",
+            Column::Side => "The pushed side (a box face, or the MIT side index i)",
+            Column::Position => {
+                "Where along the side the push starts: the MIT s (0..1) or the contact offset from the face's middle"
+            }
+            Column::Angle => "Push angle from the side's normal",
+            Column::Speed => "Pusher speed, mm/s: the MIT name's v, or measured on a native push",
+            Column::Frames => "Frames in the recording",
+            Column::Split => "The split its labels (or setting.json) give",
+            Column::Labels => "Label segments and events in its labels file",
+            Column::Online => {
+                "Mean online-learned loss ((ℓ_pos,x + ℓ_pos,y)/2 + ℓ_rot) over the frames learned, once run"
+            }
+            Column::Fixed => "Mean fixed-model loss over the same frames, once run",
+        }
+    }
+}
+
+/// How the table is filtered and sorted. Persisted between runs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct BrowserView {
+    /// Rows whose text contains every word of this (case-insensitive) are shown.
+    pub filter: String,
+    pub sort: Column,
+    pub descending: bool,
+}
+
+impl Default for BrowserView {
+    fn default() -> Self {
+        Self {
+            filter: String::new(),
+            sort: Column::Set,
+            descending: false,
+        }
+    }
+}
+
+/// What the browser asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BrowserCommand {
+    SetFilter(String),
+    /// Sort by this column; the column sorted by already flips its order.
+    SortBy(Column),
+}
+
+/// One row of the table.
+#[derive(Clone, Debug)]
+pub struct Row<'a> {
+    pub id: RecordingId,
+    pub recording: &'a Recording,
+    pub set: &'a str,
+    /// A short name: a native file's stem, or the MIT shape and the file's number in its set.
+    pub name: String,
+    pub parameters: Option<&'a PushParameters>,
+    pub split: Option<&'static str>,
+    pub labels: usize,
+    pub losses: Option<MeanLosses>,
+}
+
+impl Row<'_> {
+    /// A cell as the table shows it.
+    pub fn text(&self, column: Column) -> String {
+        let p = self.parameters;
+        let optional = |v: Option<String>| v.unwrap_or_default();
+        match column {
+            Column::Set => self.set.to_owned(),
+            Column::Name => self.name.clone(),
+            Column::Shape => optional(p.map(|p| p.shape.clone())),
+            Column::Surface => optional(p.and_then(|p| p.surface.clone())),
+            Column::Side => optional(p.and_then(|p| p.side.clone())),
+            Column::Position => optional(p.and_then(|p| p.position).map(|s| s.label())),
+            Column::Angle => optional(p.and_then(|p| p.angle_deg).map(|a| format!("{a:+.0}°"))),
+            Column::Speed => optional(p.and_then(|p| p.speed_mm_s).map(|v| format!("{v:.0}"))),
+            Column::Frames => self.recording.trajectory.len().to_string(),
+            Column::Split => self.split.unwrap_or_default().to_owned(),
+            Column::Labels => match self.labels {
+                0 => String::new(),
+                n => n.to_string(),
+            },
+            Column::Online => optional(self.losses.map(|l| format!("{:.3}", online_total(&l)))),
+            Column::Fixed => optional(self.losses.map(|l| format!("{:.3}", fixed_total(&l)))),
+        }
+    }
+
+    /// Orders two rows by a column; rows without a value come last.
+    fn compare(&self, other: &Self, column: Column) -> Ordering {
+        let number = |row: &Row<'_>| -> Option<f64> {
+            let p = row.parameters;
+            match column {
+                Column::Position => p.and_then(|p| p.position).map(|s| s.value()),
+                Column::Angle => p.and_then(|p| p.angle_deg),
+                Column::Speed => p.and_then(|p| p.speed_mm_s),
+                Column::Frames => Some(row.recording.trajectory.len() as f64),
+                Column::Labels => Some(row.labels as f64),
+                Column::Online => row.losses.map(|l| online_total(&l)),
+                Column::Fixed => row.losses.map(|l| fixed_total(&l)),
+                _ => None,
+            }
+        };
+        match column {
+            Column::Position
+            | Column::Angle
+            | Column::Speed
+            | Column::Frames
+            | Column::Labels
+            | Column::Online
+            | Column::Fixed => match (number(self), number(other)) {
+                (Some(a), Some(b)) => a.total_cmp(&b),
+                (Some(_), None) => Ordering::Less,
+                (None, Some(_)) => Ordering::Greater,
+                (None, None) => Ordering::Equal,
+            },
+            _ => {
+                let (a, b) = (self.text(column), other.text(column));
+                match (a.is_empty(), b.is_empty()) {
+                    (false, true) => Ordering::Less,
+                    (true, false) => Ordering::Greater,
+                    _ => a.cmp(&b),
+                }
+            }
+        }
+    }
+
+    /// Whether every word of `filter` is in one of the row's cells (or the file's name).
+    fn matches(&self, filter: &str) -> bool {
+        let text = Column::ALL
+            .iter()
+            .map(|c| self.text(*c))
+            .chain([self.recording.name.clone()])
+            .collect::<Vec<_>>()
+            .join(" ")
+            .to_lowercase();
+        filter
+            .split_whitespace()
+            .all(|word| text.contains(&word.to_lowercase()))
+    }
+}
+
+fn online_total(l: &MeanLosses) -> f64 {
+    l.online_pos + l.online_rot
+}
+
+fn fixed_total(l: &MeanLosses) -> f64 {
+    l.fixed_pos + l.fixed_rot
+}
+
+/// What the browser remembers about recordings, by their file.
+#[derive(Default)]
+pub struct BrowserMemory {
+    parameters: BTreeMap<PathBuf, PushParameters>,
+    losses: BTreeMap<PathBuf, MeanLosses>,
+}
+
+impl AppState {
+    /// Applies one browser command.
+    pub(super) fn apply_browser(&mut self, command: BrowserCommand) {
+        match command {
+            BrowserCommand::SetFilter(filter) => self.browser.filter = filter,
+            BrowserCommand::SortBy(column) => {
+                let view = &mut self.browser;
+                view.descending = view.sort == column && !view.descending;
+                view.sort = column;
+            }
+        }
+    }
+
+    /// Reads the push parameters of open recordings not seen before (once per file: a native
+    /// push's speed is measured over its frames).
+    pub(super) fn remember_parameters(&mut self) {
+        for (_, recording) in self.session.recordings() {
+            if !self.browsed.parameters.contains_key(&recording.source) {
+                self.browsed
+                    .parameters
+                    .insert(recording.source.clone(), PushParameters::of(recording));
+            }
+        }
+    }
+
+    /// Keeps the selected recording's mean losses as its run learns.
+    pub(super) fn remember_losses(&mut self) {
+        if let (Some(run), Some(recording)) = (&self.run, self.session.selected_recording())
+            && let Some(losses) = run.mean_losses()
+            && self.browsed.losses.get(&recording.source) != Some(&losses)
+        {
+            self.browsed.losses.insert(recording.source.clone(), losses);
+        }
+    }
+
+    /// The mean losses last seen on a recording's run.
+    pub fn remembered_losses(&self, recording: &Recording) -> Option<MeanLosses> {
+        self.browsed.losses.get(&recording.source).copied()
+    }
+
+    /// The browser's rows: every open recording that passes the filter, sorted.
+    pub fn browser_rows(&self) -> Vec<Row<'_>> {
+        let mut rows: Vec<Row<'_>> = self
+            .session
+            .recordings()
+            .map(|(id, recording)| self.row(id, recording))
+            .filter(|row| row.matches(&self.browser.filter))
+            .collect();
+        let (column, descending) = (self.browser.sort, self.browser.descending);
+        // Stable: equal rows keep the sets' order.
+        rows.sort_by(|a, b| {
+            let order = a.compare(b, column);
+            if descending { order.reverse() } else { order }
+        });
+        rows
+    }
+
+    fn row<'a>(&'a self, id: RecordingId, recording: &'a Recording) -> Row<'a> {
+        let parameters = self.browsed.parameters.get(&recording.source);
+        let name = match parameters {
+            Some(p) if recording.name.starts_with("motion_") => {
+                let rep = p
+                    .repetition
+                    .map(|r| format!(" rep {r}"))
+                    .unwrap_or_default();
+                format!("{} #{:02}{rep}", p.shape, id.recording + 1)
+            }
+            _ => recording.name.clone(),
+        };
+        let target = LabelTarget::of(recording);
+        let document = target
+            .as_ref()
+            .and_then(|t| self.labels.document(&t.document));
+        let labels = document
+            .zip(target.as_ref())
+            .and_then(|(d, t)| d.recording(&t.recording));
+        let split = split_of(recording, document.map(|d| d.set())).map(|s| s.name());
+        Row {
+            id,
+            recording,
+            set: &self.session.sets[id.set].setting.name,
+            name,
+            parameters,
+            split,
+            labels: labels.map_or(0, |l| l.segments.len() + l.events.len()),
+            losses: self.remembered_losses(recording),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    use crate::app::state::models::Models;
+    use crate::app::state::timeline::TimelineCommand;
+    use crate::app::state::{Command, Persisted};
+
+    fn state_on(dir: &Path) -> AppState {
+        let mut state = AppState::new(Persisted::default(), Models::default());
+        state.open_blocking(&[dir.to_path_buf()]);
+        assert!(
+            state.session.problems.is_empty(),
+            "{:?}",
+            state.session.problems
+        );
+        state
+    }
+
+    fn sample_data() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data")
+    }
+
+    fn column(state: &AppState, c: Column) -> Vec<String> {
+        state.browser_rows().iter().map(|r| r.text(c)).collect()
+    }
+
+    #[test]
+    fn the_filter_keeps_rows_with_every_word_and_sorting_twice_reverses() {
+        let mut state = state_on(&sample_data());
+        assert_eq!(state.browser_rows().len(), 324);
+        state.apply(Command::Browser(BrowserCommand::SetFilter(
+            "ONLINE box2".into(),
+        )));
+        let rows = state.browser_rows();
+        // Three box2 sets with nine online pushes each.
+        assert_eq!(rows.len(), 27);
+        assert!(
+            rows.iter()
+                .all(|r| r.set.starts_with("box2") && r.name.starts_with("online_"))
+        );
+
+        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Angle)));
+        let angle = |r: &Row<'_>| r.parameters.and_then(|p| p.angle_deg).expect("an angle");
+        let rows = state.browser_rows();
+        assert!(rows.windows(2).all(|w| angle(&w[0]) <= angle(&w[1])));
+        assert_eq!(angle(&rows[0]), -15.0);
+        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Angle)));
+        let rows = state.browser_rows();
+        assert!(rows.windows(2).all(|w| angle(&w[0]) >= angle(&w[1])));
+        assert_eq!(column(&state, Column::Angle)[0], "+25°");
+        assert_eq!(
+            state.persisted().browser.sort,
+            Column::Angle,
+            "kept across restarts"
+        );
+    }
+
+    #[test]
+    fn a_run_puts_its_mean_losses_in_its_row_and_rows_with_losses_sort_first() {
+        let mut state = state_on(&sample_data().join("box1-paper-center-front"));
+        let shown = state.session.selected.expect("a selection");
+        assert!(state.browser_rows().iter().all(|r| r.losses.is_none()));
+        state.learn_while_playing = true;
+        for _ in 0..30 {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+        let expected = state
+            .run
+            .as_ref()
+            .and_then(|r| r.mean_losses())
+            .expect("learned");
+        assert_eq!(expected.frames, 30);
+        // Another recording: the first one's losses stay in its row.
+        let other = crate::app::state::session::RecordingId {
+            set: shown.set,
+            recording: 5,
+        };
+        state.apply(Command::Select(other));
+        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Online)));
+        let rows = state.browser_rows();
+        assert_eq!(rows[0].id, shown);
+        assert_eq!(rows[0].losses, Some(expected));
+        assert_eq!(
+            rows[0].text(Column::Online),
+            format!("{:.3}", expected.online_pos + expected.online_rot)
+        );
+        assert!(rows[1..].iter().all(|r| r.losses.is_none()));
+    }
+
+    #[test]
+    fn mit_files_get_short_names_and_their_parameters_as_columns() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push-abs-train");
+        if !dir.is_dir() {
+            eprintln!("skipped: {} is missing", dir.display());
+            return;
+        }
+        let mut state = state_on(&dir);
+        state.apply(Command::Browser(BrowserCommand::SetFilter("hex".into())));
+        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Speed)));
+        let rows = state.browser_rows();
+        assert_eq!(rows.len(), 14, "the hex files");
+        let names = column(&state, Column::Name);
+        assert!(names.iter().all(|n| n.starts_with("hex #")), "{names:?}");
+        assert!(names.iter().all(|n| n.len() <= 12), "short: {names:?}");
+        let speeds = column(&state, Column::Speed);
+        assert_eq!(speeds.first().map(String::as_str), Some("50"));
+        assert_eq!(speeds.last().map(String::as_str), Some("100"));
+        assert!(column(&state, Column::Surface).iter().all(|s| s == "abs"));
+        assert!(
+            column(&state, Column::Position)
+                .iter()
+                .all(|p| p.starts_with("s 0."))
+        );
+    }
+}
