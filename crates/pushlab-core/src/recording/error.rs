@@ -47,6 +47,21 @@ pub enum LoadError {
         path.display()
     )]
     NotRecognised { path: PathBuf },
+    /// A file too large for the memory that is free (see `MEMORY_PER_FILE_BYTE`).
+    #[error(
+        "{}: too large to open: the file is {} and opening it needs about {} of memory, but {} \
+         free; split the recording into shorter files or free memory",
+        path.display(),
+        gigabytes(*bytes),
+        gigabytes(bytes.saturating_mul(super::read::MEMORY_PER_FILE_BYTE)),
+        available.map_or("less is".to_owned(), |a| format!("{} are", gigabytes(a)))
+    )]
+    TooLarge {
+        path: PathBuf,
+        bytes: u64,
+        /// Free memory when it was checked, bytes.
+        available: Option<u64>,
+    },
     /// A folder in which no recording was found.
     #[error("{}: no recordings found (no setting.json and no MIT Push Dataset files inside)", path.display())]
     NothingFound { path: PathBuf },
@@ -64,8 +79,14 @@ impl LoadError {
             | LoadError::NoSetting { path }
             | LoadError::Mit { path, .. }
             | LoadError::NotRecognised { path }
+            | LoadError::TooLarge { path, .. }
             | LoadError::NothingFound { path } => path,
         }
+    }
+
+    /// Whether the file or folder does not exist (it vanished, or was never there).
+    pub fn is_not_found(&self) -> bool {
+        matches!(self, LoadError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound)
     }
 
     pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
@@ -74,6 +95,11 @@ impl LoadError {
             source,
         }
     }
+}
+
+/// Bytes as gigabytes with one decimal (10⁹ bytes, as file managers show them).
+fn gigabytes(bytes: u64) -> String {
+    format!("{:.1} GB", bytes as f64 / 1e9)
 }
 
 /// What is wrong at one line of a native CSV file.

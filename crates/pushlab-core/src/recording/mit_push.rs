@@ -235,7 +235,7 @@ pub fn import_bytes(bytes: &[u8], path: &Path) -> Result<MitPush, LoadError> {
 
 /// Reads and imports one MIT file from disk.
 pub fn import_file(path: &Path) -> Result<MitPush, LoadError> {
-    let bytes = std::fs::read(path).map_err(|e| LoadError::io(path, e))?;
+    let bytes = super::read::read_file(path)?;
     import_bytes(&bytes, path)
 }
 

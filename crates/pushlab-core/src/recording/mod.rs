@@ -10,6 +10,7 @@ mod error;
 mod load;
 pub mod mit_push;
 pub mod native;
+mod read;
 mod setting;
 
 use std::path::PathBuf;
@@ -19,6 +20,7 @@ pub use describe::{PushParameters, SidePosition};
 pub use error::{CsvProblem, LoadError, MitProblem, WriteError};
 pub use load::{LoadReport, load_paths};
 pub use native::{read_set, write_set};
+pub use read::{MEMORY_PER_FILE_BYTE, available_memory};
 pub use setting::{ObjectShape, PushSide, Setting, TrajectoryEntry};
 
 use crate::trajectory::Trajectory;

@@ -11,6 +11,7 @@ use std::sync::Arc;
 use nalgebra::Point2;
 
 use super::error::{CsvProblem, LoadError, WriteError};
+use super::read::read_file;
 use super::{Recording, RecordingSet, Setting};
 use crate::geometry::{Pose2, unwrap_angles};
 use crate::trajectory::{Frame, Trajectory};
@@ -292,7 +293,7 @@ pub(crate) fn read_set_filtered(
         if only.is_some_and(|o| o.file_name() != path.file_name()) {
             continue;
         }
-        match std::fs::read(&path) {
+        match read_file(&path) {
             Ok(bytes) => match parse_csv(&bytes, &path) {
                 Ok(parsed) => recordings.push(Recording {
                     name: file_stem(&path),
@@ -304,10 +305,10 @@ pub(crate) fn read_set_filtered(
                 }),
                 Err(e) => errors.push(e),
             },
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            Err(e) if e.is_not_found() => {
                 errors.push(LoadError::MissingTrajectory { path });
             }
-            Err(e) => errors.push(LoadError::io(&path, e)),
+            Err(e) => errors.push(e),
         }
     }
     if let Some(only) = only
@@ -315,7 +316,7 @@ pub(crate) fn read_set_filtered(
         && errors.is_empty()
     {
         // The CSV is in the folder but setting.json does not list it: load it with no entry.
-        let bytes = std::fs::read(only).map_err(|e| LoadError::io(only, e))?;
+        let bytes = read_file(only)?;
         let parsed = parse_csv(&bytes, only)?;
         recordings.push(Recording {
             name: file_stem(only),

@@ -1,0 +1,99 @@
+//! Reading a recording file whole, after checking that it fits in memory.
+//!
+//! A file is parsed from memory, and what it becomes (frames, an online run, plots) takes about as
+//! much again, twice: a 55 MB CSV of a million frames needs some 170 MB. A file too large for the
+//! memory that is free is refused up front with its size and what it would need — before, a
+//! recording larger than memory was read until the system killed the program.
+
+use std::io::Read;
+use std::path::Path;
+
+use super::LoadError;
+
+/// Bytes of memory opening a recording needs per byte of its file: the file's bytes while it is
+/// parsed, its frames (48 bytes for a ~55-byte CSV line) and what the app keeps per frame.
+pub const MEMORY_PER_FILE_BYTE: u64 = 3;
+
+/// The whole file at `path`, or an error naming it: unreadable, or too large for the free memory.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
+    let size = std::fs::metadata(path)
+        .map_err(|e| LoadError::io(path, e))?
+        .len();
+    fits_in_memory(path, size, available_memory())?;
+    let mut bytes = Vec::new();
+    let too_large = || LoadError::TooLarge {
+        path: path.to_path_buf(),
+        bytes: size,
+        available: available_memory(),
+    };
+    bytes
+        .try_reserve_exact(usize::try_from(size).map_err(|_| too_large())?)
+        .map_err(|_| too_large())?;
+    std::fs::File::open(path)
+        .and_then(|mut file| file.read_to_end(&mut bytes))
+        .map_err(|e| LoadError::io(path, e))?;
+    Ok(bytes)
+}
+
+/// Refuses a file of `size` bytes when opening it would need more than `available` bytes.
+fn fits_in_memory(path: &Path, size: u64, available: Option<u64>) -> Result<(), LoadError> {
+    match available {
+        Some(free) if size.saturating_mul(MEMORY_PER_FILE_BYTE) > free => {
+            Err(LoadError::TooLarge {
+                path: path.to_path_buf(),
+                bytes: size,
+                available,
+            })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Memory the system can give without swapping (Linux's `MemAvailable`), bytes; `None` where it
+/// cannot be read.
+pub fn available_memory() -> Option<u64> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_larger_than_memory_is_refused_before_it_is_read() {
+        let error = fits_in_memory(Path::new("big/push.csv"), 40 << 30, Some(16 << 30))
+            .expect_err("120 GB needed, 16 GB free");
+        assert_eq!(
+            error.to_string(),
+            "big/push.csv: too large to open: the file is 42.9 GB and opening it needs about \
+             128.8 GB of memory, but 17.2 GB are free; split the recording into shorter files or \
+             free memory"
+        );
+        assert!(fits_in_memory(Path::new("a.csv"), 5 << 30, Some(16 << 30)).is_ok());
+        assert!(
+            fits_in_memory(Path::new("a.csv"), 40 << 30, None).is_ok(),
+            "unknown: try"
+        );
+    }
+
+    #[test]
+    fn a_sparse_terabyte_file_is_refused_without_reading_it() {
+        let dir = std::env::temp_dir().join(format!("pushlab-too-large-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join("huge.csv");
+        // A terabyte that takes no disk: a sparse file.
+        std::fs::File::create(&path)
+            .and_then(|f| f.set_len(1 << 40))
+            .expect("sparse file");
+        let error = read_file(&path).expect_err("a terabyte does not fit");
+        let message = error.to_string();
+        assert!(
+            message.contains("huge.csv: too large to open: the file is 1099.5 GB"),
+            "{message}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
