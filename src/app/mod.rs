@@ -7,6 +7,7 @@
 pub mod colors;
 pub mod dialogs;
 pub mod export;
+pub mod frame_rate;
 pub mod keys;
 pub mod panels;
 pub mod state;
@@ -44,6 +45,8 @@ pub struct View {
     pub plots_rect: egui::Rect,
     /// Whether the keyboard cheat-sheet is showing.
     pub show_shortcuts: bool,
+    /// Frames per second and CPU time per frame, for the menu bar.
+    pub frame_rate: frame_rate::FrameRate,
 }
 
 impl Default for View {
@@ -55,6 +58,7 @@ impl Default for View {
             screenshot_status: channel(),
             plots_rect: egui::Rect::NOTHING,
             show_shortcuts: false,
+            frame_rate: frame_rate::FrameRate::default(),
         }
     }
 }
@@ -233,7 +237,13 @@ impl eframe::App for PushlabApp {
         }
     }
 
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        // Frame intervals count only while the window animates; idle gaps are the user's pauses.
+        let animating = self.state.timeline.playing;
+        let interval = ui.input(|i| i.unstable_dt);
+        self.view
+            .frame_rate
+            .record(animating.then_some(interval), frame.info().cpu_usage);
         self.show(ui);
     }
 

@@ -118,15 +118,26 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 None => format!("Model: {}", state.models.learner_name()),
             };
             ui.label(model);
-            if let Some(paths) = state.session.loading() {
-                ui.separator();
-                ui.spinner();
-                ui.label(format!("loading {} path(s)…", paths.len()));
-            }
-            if let Some(status) = &state.status {
-                ui.separator();
-                ui.label(status);
-            }
+            // Right to left: the frame rate keeps its place, the status line takes what is left
+            // and is cut short there (hover for all of it).
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                if let Some(rate) = view.frame_rate.text() {
+                    ui.weak(rate);
+                    ui.separator();
+                }
+                ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                    if let Some(paths) = state.session.loading() {
+                        ui.separator();
+                        ui.spinner();
+                        ui.label(format!("loading {} path(s)…", paths.len()));
+                    }
+                    if let Some(status) = &state.status {
+                        ui.separator();
+                        ui.add(egui::Label::new(status).truncate())
+                            .on_hover_text(status);
+                    }
+                });
+            });
         });
     });
 }

@@ -25,11 +25,22 @@ pub struct LabelLoss {
 
 /// Mean losses per label over the frames the run has learned so far, "all" first. Online and fixed
 /// are averaged over the same frames, so the two columns compare like with like.
+///
+/// Only the frames some label covers are walked (the Labels tab asks every frame, and a long
+/// recording has a million learned frames); "all" is the run's running mean.
 pub fn loss_by_label(run: &OnlineRun, labels: Option<&RecordingLabels>) -> Vec<LabelLoss> {
+    let learned = run.learned();
+    let mut covered: Vec<usize> = labels
+        .into_iter()
+        .flat_map(|l| &l.segments)
+        .flat_map(|s| s.start.min(learned.len())..s.end.min(learned.len()))
+        .collect();
+    covered.sort_unstable();
+    covered.dedup();
     let mut frames = Vec::new();
     let mut values = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
-    for (frame, learned) in run.learned().iter().enumerate() {
-        let (Some(online), Some(fixed)) = (learned, run.fixed().get(frame)) else {
+    for frame in covered {
+        let (Some(online), Some(fixed)) = (learned[frame], run.fixed().get(frame)) else {
             continue;
         };
         frames.push(frame);
@@ -58,7 +69,15 @@ pub fn loss_by_label(run: &OnlineRun, labels: Option<&RecordingLabels>) -> Vec<L
             fixed_rot: get(3).1,
         }
     };
-    let mut rows = vec![row(&|m| Some((m.all().count, m.all().mean)), "all")];
+    let all = run.mean_losses().unwrap_or_default();
+    let mut rows = vec![LabelLoss {
+        label: "all".to_owned(),
+        frames: all.frames,
+        online_pos: all.online_pos,
+        fixed_pos: all.fixed_pos,
+        online_rot: all.online_rot,
+        fixed_rot: all.fixed_rot,
+    }];
     for label in means[0].by_label() {
         let name = label.label.clone();
         rows.push(row(
