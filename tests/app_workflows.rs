@@ -451,6 +451,16 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
             .is_some(),
         "the Steer tab says the model does not fit"
     );
+    // The legend says which prediction layers come from the model of other data.
+    harness.get_by_label("Show layers").click();
+    harness.run_steps(1);
+    assert!(
+        harness
+            .query_all_by_label_contains("from a model trained on other data")
+            .count()
+            >= 3,
+        "online, fixed and pure-NN layers are marked"
+    );
     harness.get_by_label("Train for these recordings").click();
     harness.run_steps(1);
     assert!(harness.state().state.training.is_running());
@@ -471,6 +481,22 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
             .is_none(),
         "the warning went"
     );
+    assert!(
+        harness
+            .query_all_by_label_contains("from a model trained on other data")
+            .next()
+            .is_none(),
+        "every layer comes from the model that fits"
+    );
+    assert!(
+        state.models.pure_nn.is_some(),
+        "the pure-NN layer has a baseline trained on the same recordings"
+    );
+    let status = state.status.clone().unwrap_or_default();
+    assert!(
+        status.contains("its pure-NN baseline after 3 epochs"),
+        "{status}"
+    );
     // No labels: trained on every recording but the one shown.
     assert_eq!(state.training.chosen.len(), 3);
     let source = PathBuf::from(state.models.source.clone().expect("a model source"));
@@ -484,6 +510,10 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
     assert_eq!(
         state.models.source.as_deref(),
         Some(source.display().to_string().as_str())
+    );
+    assert!(
+        state.models.pure_nn.is_some(),
+        "the baseline is in the model file"
     );
     let status = state.status.clone().unwrap_or_default();
     assert!(

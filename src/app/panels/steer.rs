@@ -33,8 +33,12 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         if training.is_running() {
             ui.add(
                 egui::ProgressBar::new(training.progress())
-                    .desired_width(120.0)
-                    .show_percentage(),
+                    .desired_width(160.0)
+                    .text(format!(
+                        "{} {:.0} %",
+                        training.phase(),
+                        training.progress() * 100.0
+                    )),
             );
             if ui.button("Cancel").clicked() {
                 commands.push(Command::CancelTraining);

@@ -94,12 +94,13 @@ impl AppState {
     pub(super) fn take_trained(&mut self, finished: Finished) {
         let Finished {
             trained,
+            pure_nn,
             metadata,
             for_folders,
         } = finished;
         let file = ModelFile {
             combined: trained.model,
-            pure_nn: None,
+            pure_nn,
             training: metadata,
         };
         let mut source = "trained in the app (unsaved)".to_owned();

@@ -10,6 +10,15 @@ use pushlab_core::model::{Prediction, Sample};
 
 use super::AppState;
 
+/// A layer of predictions in the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PredictionLayer {
+    Online,
+    Fixed,
+    PureNn,
+    Physics,
+}
+
 /// The predictions at one frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FramePredictions {
@@ -50,6 +59,29 @@ impl AppState {
                 .as_ref()
                 .map(|model| model.predict(&sample.input)),
         })
+    }
+
+    /// Why a prediction layer draws nothing, or draws a model trained on other data; `None` when it
+    /// comes from a model that fits the open recordings. The legend shows it beside the layer.
+    pub fn layer_note(&self, layer: PredictionLayer) -> Option<String> {
+        let other_data = self
+            .domain_mismatch()
+            .map(|_| "from a model trained on other data (see Steer)".to_owned());
+        match layer {
+            PredictionLayer::Online | PredictionLayer::Fixed if self.run.is_none() => {
+                Some("no model runs on this recording (see the status line)".to_owned())
+            }
+            PredictionLayer::Online | PredictionLayer::Fixed => other_data,
+            PredictionLayer::PureNn if self.models.pure_nn.is_none() => Some(
+                "the model in use has no pure-NN baseline; Train for these recordings trains one"
+                    .to_owned(),
+            ),
+            PredictionLayer::PureNn => other_data,
+            PredictionLayer::Physics if self.physics.is_none() => {
+                Some("no physics model: the object's outline is unusable".to_owned())
+            }
+            PredictionLayer::Physics => None,
+        }
     }
 
     /// The online model's prediction, loss and gradient at the frame shown, with θ at that frame.

@@ -8,17 +8,26 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
-use pushlab_core::experiment::{UsedRecording, train_combined, training_metadata};
+use pushlab_core::experiment::{UsedRecording, train_baseline, train_combined, training_metadata};
 use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, Trained};
-use pushlab_core::model::{CombinedModel, ModelKind};
+use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 use pushlab_core::model_file::TrainingMetadata;
 
 use super::session::RecordingId;
 
 enum Message {
     Progress(TrainProgress),
+    /// The combined model is trained; the pure-network baseline is next.
+    Baseline,
     /// Boxed: a trained model is kilobytes, progress a few words, and both travel one channel.
-    Done(Box<Result<Trained<CombinedModel>, TrainError>>),
+    Done(Box<Result<TrainedPair, TrainError>>),
+}
+
+/// What one run trains: the combined model, and for a run trained for folders its pure-network
+/// baseline, so that the app's pure-NN layer comes from a model of the same data.
+struct TrainedPair {
+    combined: Trained<CombinedModel>,
+    pure_nn: Option<Trained<PureNnModel>>,
 }
 
 struct Job {
@@ -42,6 +51,8 @@ pub enum TrainingChoice {
 /// A run that finished with a model.
 pub struct Finished {
     pub trained: Trained<CombinedModel>,
+    /// The pure-network baseline trained with it (runs for folders, unless cancelled first).
+    pub pure_nn: Option<PureNnModel>,
     /// Its sources and domain, with the training report filled in: for its model file.
     pub metadata: TrainingMetadata,
     /// The folders it was trained for ("Train for these recordings"): the model is remembered for
@@ -58,8 +69,12 @@ pub struct Training {
     pub kind: ModelKind,
     /// Epochs, learning rate, horizon….
     pub config: TrainConfig,
-    /// Progress reported after every epoch of the current or last run.
+    /// Progress reported after every epoch of the current or last run's combined model.
     pub history: Vec<TrainProgress>,
+    /// Progress of the pure-network baseline, trained after the combined model for folders.
+    pub baseline_history: Vec<TrainProgress>,
+    /// Whether the running job is training the baseline now.
+    training_baseline: bool,
     /// A model that finished training and has not been taken into use yet.
     finished: Option<Finished>,
     job: Option<Job>,
@@ -79,6 +94,9 @@ impl Training {
         }
         let metadata = training_metadata(&recordings, self.config.horizon);
         self.history.clear();
+        self.baseline_history.clear();
+        self.training_baseline = false;
+        let with_baseline = !for_folders.is_empty();
         let (sender, receiver) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
         let (kind, config) = (self.kind, self.config);
@@ -88,7 +106,21 @@ impl Training {
             let mut progress = |p: &TrainProgress| {
                 let _ = progress_sender.send(Message::Progress(*p));
             };
-            let result = train_combined(kind, &recordings, &config, &mut progress, &worker_cancel);
+            let result = train_combined(kind, &recordings, &config, &mut progress, &worker_cancel)
+                .and_then(|combined| {
+                    let pure_nn = if with_baseline && !combined.report.cancelled {
+                        let _ = progress_sender.send(Message::Baseline);
+                        Some(train_baseline(
+                            &recordings,
+                            &config,
+                            &mut progress,
+                            &worker_cancel,
+                        )?)
+                    } else {
+                        None
+                    };
+                    Ok(TrainedPair { combined, pure_nn })
+                });
             // The receiver is gone only when the app closed.
             let _ = sender.send(Message::Done(Box::new(result)));
         });
@@ -112,11 +144,17 @@ impl Training {
         loop {
             let message = self.job.as_ref()?.receiver.try_recv();
             match message {
+                Ok(Message::Progress(p)) if self.training_baseline => self.baseline_history.push(p),
                 Ok(Message::Progress(p)) => self.history.push(p),
+                Ok(Message::Baseline) => self.training_baseline = true,
                 Ok(Message::Done(result)) => {
                     let job = self.job.take()?;
+                    self.training_baseline = false;
                     return Some(match *result {
-                        Ok(trained) => {
+                        Ok(TrainedPair {
+                            combined: trained,
+                            pure_nn,
+                        }) => {
                             let r = &trained.report;
                             let message = format!(
                                 "training the {} model {} after {} epochs: train loss {:.4}{}",
@@ -128,12 +166,21 @@ impl Training {
                                     .map(|v| format!(", validation loss {v:.4}"))
                                     .unwrap_or_default()
                             );
+                            let message = match &pure_nn {
+                                Some(baseline) => format!(
+                                    "{message}; its pure-NN baseline after {} epochs",
+                                    baseline.report.epochs_run
+                                ),
+                                None => message,
+                            };
                             let metadata = TrainingMetadata {
                                 report: Some(trained.report.clone()),
+                                pure_nn_report: pure_nn.as_ref().map(|b| b.report.clone()),
                                 ..job.metadata
                             };
                             self.finished = Some(Finished {
                                 trained,
+                                pure_nn: pure_nn.map(|b| b.model),
                                 metadata,
                                 for_folders: job.for_folders,
                             });
@@ -156,11 +203,26 @@ impl Training {
         self.finished.take()
     }
 
-    /// Fraction of epochs done, for the progress bar.
+    /// Fraction of epochs done, for the progress bar; a run that trains the baseline too counts
+    /// the combined model as the first half and the baseline as the second.
     pub fn progress(&self) -> f32 {
-        match self.history.last() {
+        let fraction = |history: &[TrainProgress]| match history.last() {
             Some(p) if p.epochs > 0 => p.epoch as f32 / p.epochs as f32,
             _ => 0.0,
+        };
+        if self.training_baseline {
+            0.5 + 0.5 * fraction(&self.baseline_history)
+        } else {
+            fraction(&self.history)
+        }
+    }
+
+    /// What the job is training now, for its progress bar.
+    pub fn phase(&self) -> &'static str {
+        if self.training_baseline {
+            "the pure-NN baseline"
+        } else {
+            "the combined model"
         }
     }
 }

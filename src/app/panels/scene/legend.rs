@@ -5,14 +5,17 @@
 use eframe::egui::{self, Color32, Rect, Vec2};
 
 use crate::app::colors;
-use crate::app::state::Command;
 use crate::app::state::layers::Layers;
+use crate::app::state::predictions::PredictionLayer;
+use crate::app::state::{AppState, Command};
 
 /// Width of the open legend, points; the camera's viewport starts right of it.
 pub const WIDTH: f32 = 236.0;
 
 /// The open legend's layer toggles and the motion gain, drawn in `area` (the scene's left strip).
-pub fn ui(ui: &mut egui::Ui, area: Rect, layers: &Layers, commands: &mut Vec<Command>) {
+/// A prediction layer that draws nothing, or draws a model trained on other data, says so.
+pub fn ui(ui: &mut egui::Ui, area: Rect, state: &AppState, commands: &mut Vec<Command>) {
+    let layers = &state.layers;
     let mut edited = layers.clone();
     let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area.shrink(6.0)));
     egui::Frame::popup(child.style())
@@ -20,8 +23,13 @@ pub fn ui(ui: &mut egui::Ui, area: Rect, layers: &Layers, commands: &mut Vec<Com
         .show(&mut child, |ui| {
             ui.set_width(WIDTH - 30.0);
             ui.spacing_mut().item_spacing.y = 1.0;
-            for (on, label, color) in entries(&mut edited) {
+            for (on, label, color, layer) in entries(&mut edited) {
                 ui.checkbox(on, egui::RichText::new(label).color(color).small());
+                if let Some(note) = layer.and_then(|l| state.layer_note(l)) {
+                    ui.indent(label, |ui| {
+                        ui.label(egui::RichText::new(note).small().weak());
+                    });
+                }
             }
             ui.checkbox(
                 &mut edited.grid,
@@ -39,49 +47,70 @@ pub fn ui(ui: &mut egui::Ui, area: Rect, layers: &Layers, commands: &mut Vec<Com
     }
 }
 
-/// The toggles with their labels and colours, in the order the legend lists them.
-fn entries(layers: &mut Layers) -> [(&mut bool, &'static str, Color32); 12] {
+/// A toggle: the layer's switch, label and colour, and the prediction it draws, if any.
+type Entry<'a> = (&'a mut bool, &'static str, Color32, Option<PredictionLayer>);
+
+/// The toggles in the order the legend lists them.
+fn entries(layers: &mut Layers) -> [Entry<'_>; 12] {
+    use PredictionLayer::{Fixed, Online, Physics, PureNn};
     [
-        (&mut layers.true_now, "True footprint now", colors::TRUE),
+        (
+            &mut layers.true_now,
+            "True footprint now",
+            colors::TRUE,
+            None,
+        ),
         (
             &mut layers.true_target,
             "True footprint at target (dashed)",
             colors::TRUE,
+            None,
         ),
         (
             &mut layers.predicted_online,
             "Predicted: online θ",
             colors::ONLINE,
+            Some(Online),
         ),
         (
             &mut layers.predicted_fixed,
             "Predicted: fixed θ(0)",
             colors::FIXED,
+            Some(Fixed),
         ),
         (
             &mut layers.predicted_pure_nn,
             "Predicted: pure NN",
             colors::PURE_NN,
+            Some(PureNn),
         ),
         (
             &mut layers.predicted_physics,
             "Predicted: physics only",
             colors::PHYSICS,
+            Some(Physics),
         ),
         (
             &mut layers.com_estimated,
             "Estimated COM (drag me)",
             colors::ONLINE,
+            None,
         ),
-        (&mut layers.com_true, "True COM ×", colors::TRUE),
+        (&mut layers.com_true, "True COM ×", colors::TRUE, None),
         (
             &mut layers.com_label,
             "Labelled COM, diamond (drag me)",
             colors::COM_LABEL,
+            None,
         ),
-        (&mut layers.contact, "Contact c and u_c", colors::CONTACT),
-        (&mut layers.robot_path, "Robot path", colors::ROBOT),
-        (&mut layers.trails, "Trails", colors::ROBOT),
+        (
+            &mut layers.contact,
+            "Contact c and u_c",
+            colors::CONTACT,
+            None,
+        ),
+        (&mut layers.robot_path, "Robot path", colors::ROBOT, None),
+        (&mut layers.trails, "Trails", colors::ROBOT, None),
     ]
 }
 

@@ -149,7 +149,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &
         );
     }
     if view.legend_open {
-        legend::ui(ui, legend::area(view.rect), &state.layers, commands);
+        legend::ui(ui, legend::area(view.rect), state, commands);
     }
 }
 
