@@ -17,13 +17,13 @@ pub mod run_plots;
 pub mod session;
 pub mod timeline;
 pub mod training;
+mod training_choice;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use pushlab_core::experiment::{DomainMismatch, UsedRecording, split_of};
-use pushlab_core::labels::Split;
+use pushlab_core::experiment::DomainMismatch;
 use pushlab_core::learn::{OnlineConfig, TrainConfig};
 use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
@@ -512,80 +512,6 @@ impl AppState {
         if playing {
             self.timeline.apply(TimelineCommand::TogglePlay);
         }
-    }
-
-    /// The recordings chosen for training that have a sample at the training horizon, with the
-    /// frames labelled "skip in training" (bad tracking) from the open labels files:
-    /// `pushlab_core::experiment` leaves out every sample touching them, exactly as `pushlab train`
-    /// does.
-    pub fn training_recordings(&self) -> Vec<UsedRecording> {
-        let horizon = self.training.config.horizon;
-        self.training
-            .chosen
-            .iter()
-            .filter_map(|&id| self.session.get(id))
-            .map(|r| {
-                let skip = LabelTarget::of(r)
-                    .map(|t| self.labels.frames_to_skip(&t))
-                    .unwrap_or_default();
-                UsedRecording::new(r.clone(), None, skip)
-            })
-            .filter(|u| !u.samples(horizon).is_empty())
-            .collect()
-    }
-
-    fn start_training(&mut self) {
-        if self.training.is_running() {
-            return;
-        }
-        let recordings = self.training_recordings();
-        if recordings.is_empty() {
-            self.status = Some("choose at least one recording to train on".to_owned());
-            return;
-        }
-        self.training.start(recordings, Vec::new());
-        self.status = Some(format!("training the {} model…", self.training.kind));
-    }
-
-    /// The open recordings in the offline split: by their labels file (as open in the app), else by
-    /// the `split` their `setting.json` entry names — the core's rule (`split_of`), as in
-    /// `pushlab train --split-from-labels`.
-    fn offline_labelled(&self) -> Vec<RecordingId> {
-        self.session
-            .recordings()
-            .filter(|(_, r)| {
-                let labels = LabelTarget::of(r)
-                    .and_then(|t| self.labels.document(&t.document))
-                    .map(|d| d.set());
-                split_of(r, labels) == Some(Split::Offline)
-            })
-            .map(|(id, _)| id)
-            .collect()
-    }
-
-    fn choose_for_training(&mut self, choice: TrainingChoice) {
-        let chosen = &mut self.training.chosen;
-        match choice {
-            TrainingChoice::All => chosen.extend(self.session.recordings().map(|(id, _)| id)),
-            TrainingChoice::None => chosen.clear(),
-            TrainingChoice::Set(id, true) if self.session.get(id).is_some() => {
-                chosen.insert(id);
-            }
-            TrainingChoice::Set(id, _) => {
-                chosen.remove(&id);
-            }
-        }
-    }
-
-    /// Chooses for training the recordings in the offline split.
-    fn choose_offline_labelled(&mut self) {
-        let offline = self.offline_labelled();
-        self.status = Some(if offline.is_empty() {
-            "no open recording is labelled offline; set splits in the Labels tab".to_owned()
-        } else {
-            format!("chose the {} recordings labelled offline", offline.len())
-        });
-        self.training.chosen = offline.into_iter().collect();
     }
 
     fn remember(&mut self, paths: &[PathBuf]) {
