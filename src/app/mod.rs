@@ -22,6 +22,11 @@ use self::panels::scene::SceneView;
 use self::state::models::Models;
 use self::state::{AppState, Command, Persisted};
 
+/// Most seconds playback moves in one frame. Playback keeps real time down to 4 frames per second
+/// (a software renderer on a busy machine), yet a window that was hidden for minutes does not jump
+/// far when it is drawn again.
+pub const MAX_FRAME_STEP_S: f64 = 0.25;
+
 /// Key under which eframe persists [`Persisted`].
 const STORAGE_KEY: &str = "pushlab";
 
@@ -78,11 +83,12 @@ impl PushlabApp {
         }
     }
 
-    /// One frame as the window runs it: time advances by the frame's `dt` (at most 0.1 s, like
+    /// One frame as the window runs it: time advances by the frame's `dt` (at most
+    /// [`MAX_FRAME_STEP_S`], like
     /// `logic`), then everything is drawn. The UI tests and the frame-time benchmark drive this.
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let dt = ui.input(|i| i.stable_dt) as f64;
-        self.state.advance(dt.min(0.1));
+        self.state.advance(dt.min(MAX_FRAME_STEP_S));
         self.show(ui);
     }
 
@@ -219,8 +225,7 @@ impl PushlabApp {
 impl eframe::App for PushlabApp {
     fn logic(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
         let dt = ctx.input(|i| i.stable_dt) as f64;
-        // A frame can take long while the window was hidden; never jump more than a tenth of a second.
-        if self.state.advance(dt.min(0.1)) || self.view.dialogs.is_open() {
+        if self.state.advance(dt.min(MAX_FRAME_STEP_S)) || self.view.dialogs.is_open() {
             ctx.request_repaint();
         }
         self.state.autosave_labels(ctx.input(|i| i.time));
