@@ -4,27 +4,21 @@
 
 mod common;
 
-use std::time::{Duration, Instant};
-
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::state::{Command, Persisted};
 use pushlab::app::{PushlabApp, initial_state};
 
-/// Runs frames until `done` holds (background loading), with a generous wall-clock limit.
-fn run_until(
-    harness: &mut Harness<'_, PushlabApp>,
-    what: &str,
-    done: impl Fn(&PushlabApp) -> bool,
-) {
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while !done(harness.state()) {
-        assert!(Instant::now() < deadline, "timed out waiting for {what}");
-        harness.run_steps(1);
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    harness.run_steps(2);
+/// Opens `dir` as File → Open does (in the background) and waits for the load.
+fn open_in_background(harness: &mut Harness<'_, PushlabApp>, dir: &std::path::Path) {
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Open(vec![dir.to_path_buf()]));
+    common::run_until(harness, "the load", |app| {
+        app.state.session.loading().is_none()
+    });
 }
 
 fn shows(harness: &Harness<'_, PushlabApp>, text: &str) -> bool {
@@ -52,13 +46,7 @@ fn a_recording_larger_than_memory_is_refused_by_name_and_what_is_open_stays() {
     std::fs::File::create(dir.join("push_000.csv"))
         .and_then(|f| f.set_len(1 << 40))
         .expect("a sparse file");
-    harness
-        .state_mut()
-        .state
-        .apply(Command::Open(vec![dir.clone()]));
-    run_until(&mut harness, "the load", |app| {
-        app.state.session.loading().is_none()
-    });
+    open_in_background(&mut harness, &dir);
 
     let state = &harness.state().state;
     assert_eq!(
@@ -133,13 +121,7 @@ fn a_folder_that_vanishes_while_open_keeps_playing_and_opening_it_again_says_it_
     assert!(status.contains("vanish"), "names the file: {status}");
 
     // Opening it again reports the folder by name and keeps what is open.
-    harness
-        .state_mut()
-        .state
-        .apply(Command::Open(vec![dir.clone()]));
-    run_until(&mut harness, "the load", |app| {
-        app.state.session.loading().is_none()
-    });
+    open_in_background(&mut harness, &dir);
     let state = &harness.state().state;
     assert_eq!(state.session.recording_count(), recordings);
     let problem = state.session.problems.last().expect("a problem");

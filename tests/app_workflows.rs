@@ -6,7 +6,6 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
 use eframe::egui;
 use egui_kittest::Harness;
@@ -36,21 +35,6 @@ fn app_on(paths: &[PathBuf]) -> Harness<'static, PushlabApp> {
     harness
 }
 
-/// Runs frames until `done` holds, with a generous wall-clock limit for background threads.
-fn run_until(
-    harness: &mut Harness<'_, PushlabApp>,
-    what: &str,
-    done: impl Fn(&PushlabApp) -> bool,
-) {
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while !done(harness.state()) {
-        assert!(Instant::now() < deadline, "timed out waiting for {what}");
-        harness.run_steps(1);
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    harness.run_steps(2);
-}
-
 #[test]
 fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anything() {
     let (Some(first), Some(second)) = (
@@ -73,7 +57,7 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
             .push(std::sync::Arc::new(Dropped(path)));
     }
     harness.run_steps(1);
-    run_until(&mut harness, "the dropped paths to load", |app| {
+    common::run_until(&mut harness, "the dropped paths to load", |app| {
         app.state.session.loading().is_none()
     });
 
@@ -160,7 +144,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
         .click();
     harness.run_steps(1);
     assert!(harness.state().state.training.is_running());
-    run_until(&mut harness, "training to finish", |app| {
+    common::run_until(&mut harness, "training to finish", |app| {
         !app.state.training.is_running()
     });
 
@@ -226,11 +210,11 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
         .last()
         .expect("the Train button")
         .click();
-    run_until(&mut harness, "the first epoch", |app| {
+    common::run_until(&mut harness, "the first epoch", |app| {
         !app.state.training.history.is_empty()
     });
     harness.get_by_label("Cancel training").click();
-    run_until(&mut harness, "training to stop", |app| {
+    common::run_until(&mut harness, "training to stop", |app| {
         !app.state.training.is_running()
     });
     let state = &harness.state().state;
@@ -379,7 +363,7 @@ fn the_train_tab_offers_every_model_kind_and_the_app_shows_which_is_loaded() {
         .expect("the Train button")
         .click();
     harness.run_steps(1);
-    run_until(&mut harness, "training to finish", |app| {
+    common::run_until(&mut harness, "training to finish", |app| {
         !app.state.training.is_running()
     });
     assert_eq!(
@@ -464,7 +448,7 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
     harness.get_by_label("Train for these recordings").click();
     harness.run_steps(1);
     assert!(harness.state().state.training.is_running());
-    run_until(&mut harness, "training for these recordings", |app| {
+    common::run_until(&mut harness, "training for these recordings", |app| {
         !app.state.training.is_running()
     });
 

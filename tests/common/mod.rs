@@ -4,6 +4,7 @@
 #![allow(dead_code)] // each test file uses its own part
 
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use pushlab::app::PushlabApp;
@@ -14,6 +15,22 @@ pub fn harness(app: PushlabApp, step_dt: f32) -> Harness<'static, PushlabApp> {
         .with_size([1400.0, 900.0])
         .with_step_dt(step_dt)
         .build_ui_state(|ui, app: &mut PushlabApp| app.frame(ui), app)
+}
+
+/// Runs frames until `done` holds (background loading or training), with a generous wall-clock
+/// limit for the threads behind them.
+pub fn run_until(
+    harness: &mut Harness<'_, PushlabApp>,
+    what: &str,
+    done: impl Fn(&PushlabApp) -> bool,
+) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !done(harness.state()) {
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    harness.run_steps(2);
 }
 
 /// A set of the bundled sample data, or `None` (with a message) where it is missing.
