@@ -19,7 +19,7 @@ use crate::simd::{MulAdd, Unfused};
 
 /// Everything about one sample on one object that does not depend on `θ_online`: the contact frame,
 /// the context inputs and their share of the first layer, the swept motion.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Prepared<T> {
     /// The frame's axes in the object frame: inward normal and tangent.
     normal: [T; 2],
