@@ -303,18 +303,48 @@ impl Outline {
     ///
     /// Integrated with a midpoint rule over a `resolution × resolution` grid of the bounding box;
     /// 400 gives about four significant digits for a box.
+    ///
+    /// Which grid points are inside is decided column by column, one edge at a time for the whole
+    /// column, with the products of [`Outline::contains`]: a loop the compiler vectorises (four
+    /// points at a time in the AVX2 copy), where testing point by point (stopping at the first edge a
+    /// point fails) was 13 % of `pushlab train` on the MIT files, whose ellipses have 64 edges.
     pub fn uniform_pressure_h(&self, com: Point2<f64>, resolution: usize) -> f64 {
+        self.uniform_pressure_h_dispatch(com, resolution)
+    }
+
+    crate::simd::dispatch_simd! {
+        /// [`Outline::uniform_pressure_h`] in the AVX2 copy when the CPU has it (the same bits).
+        fn uniform_pressure_h_dispatch(&self, com: Point2<f64>, resolution: usize) -> f64
+            => unfused uniform_pressure_h_portable, uniform_pressure_h_avx2
+    }
+
+    #[inline(always)]
+    fn uniform_pressure_h_portable(&self, com: Point2<f64>, resolution: usize) -> f64 {
         let (min, max) = self.bounding_box();
         let (dx, dy) = (
             (max.x - min.x) / resolution as f64,
             (max.y - min.y) / resolution as f64,
         );
+        let ys: Vec<f64> = (0..resolution)
+            .map(|j| min.y + (j as f64 + 0.5) * dy)
+            .collect();
+        let edges: Vec<(Point2<f64>, Vector2<f64>)> =
+            self.edges().map(|(a, b)| (a, b - a)).collect();
+        let mut inside = vec![true; resolution];
         let (mut sum, mut count) = (0.0, 0usize);
         for i in 0..resolution {
-            for j in 0..resolution {
-                let p = Point2::new(min.x + (i as f64 + 0.5) * dx, min.y + (j as f64 + 0.5) * dy);
-                if self.contains(p) {
-                    sum += (p - com).norm();
+            let x = min.x + (i as f64 + 0.5) * dx;
+            inside.fill(true);
+            for (a, ab) in &edges {
+                // `cross(ab, p − a) ≥ −1e-12`, as in `contains`.
+                let x_from_a = x - a.x;
+                for (flag, &y) in inside.iter_mut().zip(&ys) {
+                    *flag &= ab.x * (y - a.y) - ab.y * x_from_a >= -1e-12;
+                }
+            }
+            for (&flag, &y) in inside.iter().zip(&ys) {
+                if flag {
+                    sum += (Point2::new(x, y) - com).norm();
                     count += 1;
                 }
             }
@@ -450,6 +480,39 @@ mod tests {
             Outline::try_from(vec![[0.0, 0.0], [1.0, 0.0]]),
             Err(OutlineError::TooFewVertices(2))
         );
+    }
+
+    #[test]
+    fn uniform_pressure_h_is_the_point_by_point_midpoint_rule_bit_for_bit() {
+        let outlines = [
+            Outline::rectangle(0.3, 0.4).expect("valid box"),
+            Outline::ellipse(Point2::new(0.01, -0.02), 0.06, 0.09, 64).expect("valid ellipse"),
+            Outline::try_from(vec![[0.1, -0.05], [0.02, 0.08], [-0.09, -0.01]]).expect("triangle"),
+        ];
+        for outline in outlines {
+            for (com, resolution) in [(outline.centroid(), 200), (Point2::new(0.01, 0.02), 37)] {
+                let (min, max) = outline.bounding_box();
+                let (dx, dy) = (
+                    (max.x - min.x) / resolution as f64,
+                    (max.y - min.y) / resolution as f64,
+                );
+                let (mut sum, mut count) = (0.0, 0usize);
+                for i in 0..resolution {
+                    for j in 0..resolution {
+                        let p = Point2::new(
+                            min.x + (i as f64 + 0.5) * dx,
+                            min.y + (j as f64 + 0.5) * dy,
+                        );
+                        if outline.contains(p) {
+                            sum += (p - com).norm();
+                            count += 1;
+                        }
+                    }
+                }
+                let expected = sum / count as f64;
+                assert_eq!(outline.uniform_pressure_h(com, resolution), expected);
+            }
+        }
     }
 
     #[test]

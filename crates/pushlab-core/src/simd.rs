@@ -60,7 +60,34 @@ impl MulAdd for Fused {
 /// Defines `$name`, which runs `$portable::<A>` (an `#[inline(always)]` method of the same signature,
 /// generic over `A: MulAdd`) in a copy compiled for AVX2 and FMA with `A = Fused` when the CPU has
 /// them, and with `A = Unfused` otherwise.
+///
+/// With `=> unfused $portable, $avx2`, `$portable` is not generic and does its own arithmetic
+/// (unfused): the AVX2 copy then only has wider registers and gives the portable copy's bits, since
+/// the compiler never fuses a multiply and an add by itself. For passes whose results must keep the
+/// bits of an unfused computation (offline training's validation loss and step-size calibration).
 macro_rules! dispatch_simd {
+    (
+        $(#[$meta:meta])*
+        $vis:vis fn $name:ident (&$self_:ident $(, $arg:ident : $ty:ty)* $(,)?) -> $ret:ty
+        => unfused $portable:ident, $avx2:ident
+    ) => {
+        $(#[$meta])*
+        $vis fn $name (&$self_ $(, $arg: $ty)*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            if $crate::simd::avx2_fma_available() {
+                #[allow(unsafe_code)]
+                // SAFETY: `$avx2` only requires AVX2 and FMA, and the CPU was just checked to have them.
+                return unsafe { $self_.$avx2($($arg),*) };
+            }
+            $self_.$portable($($arg),*)
+        }
+
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma")]
+        fn $avx2 (&$self_ $(, $arg: $ty)*) -> $ret {
+            $self_.$portable($($arg),*)
+        }
+    };
     (
         $(#[$meta:meta])*
         $vis:vis fn $name:ident (&$self_:ident $(, $arg:ident : $ty:ty)* $(,)?) -> $ret:ty

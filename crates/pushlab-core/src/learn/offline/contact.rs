@@ -1,21 +1,24 @@
 //! Training the contact-frame combined model: the network and the prior's friction coefficient `μ`
 //! by Adam, each sample at its own object's `θ_online(0)`; the prior's contact tolerance, the inputs'
-//! clamp range and the online step scales from the offline data.
+//! clamp range and the online step scales from the offline data. Every pass over the samples runs in
+//! batches, one network layer at a time (`model/contact/batch.rs`).
 
 use std::sync::atomic::AtomicBool;
 
-use nalgebra::{Point2, Vector2};
+use nalgebra::Vector2;
 
 use super::{Split, TrainConfig, TrainError, TrainProgress, Trained, Trainee, check, run};
 use crate::learn::adam::SmallAdam;
 use crate::learn::loss::LossScale;
-use crate::model::contact::{CONTACT_INPUTS, ContactGeometry, ContactInputs, Pass, Prepared};
-use crate::model::kernel::{RealSample, loss_gradient, loss_weights, theta_real};
-use crate::model::mlp::Network;
+use crate::model::contact::{
+    BatchPass, CONTACT_INPUTS, ContactGeometry, ContactInputs, Features, TrainingSample,
+};
+use crate::model::kernel::{RealSample, theta_real};
+use crate::model::mlp::{BATCH, Network};
 use crate::model::paper::scales_from_curvature;
 use crate::model::{ContactModel, Mlp, Sample};
 use crate::rng::SplitMix64;
-use crate::simd::{MulAdd, Unfused};
+use crate::simd::MulAdd;
 
 /// One recording's samples on its object: what the contact-frame model trains on.
 #[derive(Clone, Copy, Debug)]
@@ -49,12 +52,24 @@ pub fn train_contact(
         .collect();
     let split = Split::new(&indexed, config);
     let sample = |&(t, i): &(usize, usize)| (trajectories[t].geometry, &trajectories[t].samples[i]);
+    // Each sample's contact frame, once: the statistics, the clamp range and the prepared samples all
+    // start from it, and it is the costly part (a pass over the outline's edges).
+    let features = |list: &[(usize, usize)]| -> Vec<Features> {
+        list.iter()
+            .map(|pair| {
+                let (geometry, s) = sample(pair);
+                Features::of(geometry, &s.input)
+            })
+            .collect()
+    };
+    let (train_features, validation_features) =
+        (features(&split.train), features(&split.validation));
     let train: Vec<(&ContactGeometry, &Sample)> = split.train.iter().map(sample).collect();
     let loss_scale = config
         .loss_scale
         .unwrap_or_else(|| LossScale::from_samples(train.iter().map(|(_, s)| *s)));
-    let (contact_tolerance, motion_floor) = contact_statistics(&train);
-    let inputs = input_range(&train, motion_floor);
+    let (contact_tolerance, motion_floor) = contact_statistics(&train, &train_features);
+    let inputs = input_range(&train, &train_features, motion_floor);
     let mut rng = SplitMix64::new(config.seed);
     let network = Network::new(Mlp::<f32, CONTACT_INPUTS>::random(&mut rng, 0.1));
     let model = ContactModel::from_parts(
@@ -66,12 +81,13 @@ pub fn train_contact(
         config.horizon,
         config.contact,
     );
-    let items = |list: &[(usize, usize)]| -> Vec<Item> {
+    let items = |list: &[(usize, usize)], features: &[Features]| -> Vec<TrainingSample<f32>> {
         list.iter()
-            .map(|pair| {
+            .zip(features)
+            .map(|(pair, f)| {
                 let (geometry, s) = sample(pair);
-                Item {
-                    prepared: model.prepare(geometry, &s.input),
+                TrainingSample {
+                    prepared: model.prepare_features(f),
                     target: RealSample::<f32>::of(s).target,
                     theta: theta_real(&model.theta0(geometry)),
                 }
@@ -79,43 +95,40 @@ pub fn train_contact(
             .collect()
     };
     let prepared = Split {
-        train: items(&split.train),
-        validation: items(&split.validation),
+        train: items(&split.train, &train_features),
+        validation: items(&split.validation, &validation_features),
     };
     let mut trainee = ContactTrainee {
         model,
-        pass: Pass::default(),
+        batch: Box::default(),
         friction: INITIAL_FRICTION,
         friction_adam: SmallAdam::new(config.learning_rate),
         friction_gradient: 0.0,
     };
     let report = run(&mut trainee, &prepared, config, &mut rng, progress, cancel);
     let mut model = trainee.model;
-    model.relative_theta_scales = relative_theta_scales(&model, &prepared.train);
+    // Online gradient descent's step scales per metre of each object's `θ_online(0)` `h`: the
+    // Gauss–Newton diagonal of the loss in `θ_online / h₀` over the training samples, as the paper
+    // model calibrates its scales in metres.
+    let curvature = model.theta_curvature(&prepared.train, &mut trainee.batch);
+    model.relative_theta_scales = scales_from_curvature(curvature, prepared.train.len(), 1.0);
     Ok(Trained { model, report })
 }
 
 /// The prior's contact tolerance — the given percentile of the rim's gap to the outline over the
 /// samples in which the object moves more than in half of them (so surely in contact), at least 0 —
 /// and the motion floor, a tenth of the mean motion length.
-fn contact_statistics(train: &[(&ContactGeometry, &Sample)]) -> (f64, f64) {
+fn contact_statistics(train: &[(&ContactGeometry, &Sample)], features: &[Features]) -> (f64, f64) {
     let moves: Vec<f64> = train
         .iter()
         .map(|(_, s)| Vector2::from(s.target.translation).norm())
         .collect();
     let median = percentile(moves.clone(), 50.0);
-    let gaps: Vec<f64> = train
+    let gaps: Vec<f64> = features
         .iter()
         .zip(&moves)
         .filter(|&(_, &m)| m > median)
-        .map(|((geometry, s), _)| {
-            geometry
-                .frame(
-                    Point2::from(s.input.robot_in_object),
-                    Vector2::from(s.input.robot_motion_in_object),
-                )
-                .gap
-        })
+        .map(|(f, _)| f.gap())
         .collect();
     let tolerance = percentile(gaps, TOLERANCE_PERCENTILE).max(0.0);
     let mean_motion = train
@@ -128,11 +141,15 @@ fn contact_statistics(train: &[(&ContactGeometry, &Sample)]) -> (f64, f64) {
 
 /// The clamp range of the network's inputs: their extent over the training samples at each object's
 /// `θ_online(0)`.
-fn input_range(train: &[(&ContactGeometry, &Sample)], motion_floor: f64) -> ContactInputs {
+fn input_range(
+    train: &[(&ContactGeometry, &Sample)],
+    features: &[Features],
+    motion_floor: f64,
+) -> ContactInputs {
     let mut low = [f64::INFINITY; CONTACT_INPUTS];
     let mut high = [f64::NEG_INFINITY; CONTACT_INPUTS];
-    for (geometry, s) in train {
-        let x = ContactModel::<f64>::raw_inputs(geometry, &s.input, motion_floor);
+    for ((geometry, _), f) in train.iter().zip(features) {
+        let x = ContactModel::<f64>::raw_inputs(f, geometry, motion_floor);
         for k in 0..CONTACT_INPUTS {
             low[k] = low[k].min(x[k]);
             high[k] = high[k].max(x[k]);
@@ -149,52 +166,21 @@ fn input_range(train: &[(&ContactGeometry, &Sample)], motion_floor: f64) -> Cont
     }
 }
 
-/// The `p`-th percentile (0–100) by the nearest rank; 0 for no values.
+/// The `p`-th percentile (0–100) by the nearest rank; 0 for no values. Selected rather than sorted
+/// (linear time): the value at a rank of the total order is the same either way.
 fn percentile(mut values: Vec<f64>, p: f64) -> f64 {
     values.retain(|v| v.is_finite());
     if values.is_empty() {
         return 0.0;
     }
-    values.sort_by(f64::total_cmp);
     let rank = ((p / 100.0) * (values.len() - 1) as f64).round() as usize;
-    values[rank.min(values.len() - 1)]
-}
-
-/// Online gradient descent's step scales per metre of each object's `θ_online(0)` `h`: the
-/// Gauss–Newton diagonal of the loss in `θ_online / h₀` over the training samples, as the paper model
-/// calibrates its scales in metres.
-fn relative_theta_scales(model: &ContactModel, train: &[Item]) -> [f64; 3] {
-    let weights = loss_weights::<f32>(&model.loss_scale);
-    let mut curvature = [0.0f64; 3];
-    let mut pass = Pass::default();
-    for item in train {
-        let prepared = model.with_context(&item.prepared);
-        model.forward::<Unfused>(&prepared, &item.theta, &mut pass);
-        let h0 = f64::from(item.theta[2]);
-        for (k, w) in weights.iter().enumerate() {
-            let mut d_output = [0.0; 3];
-            d_output[k] = 1.0;
-            let row = model.backward::<Unfused>(&prepared, &pass, &item.theta, d_output, None);
-            for (c, j) in curvature.iter_mut().zip(row) {
-                let j = f64::from(j) * h0;
-                *c += 2.0 * f64::from(*w) * j * j;
-            }
-        }
-    }
-    scales_from_curvature(curvature, train.len(), 1.0)
-}
-
-/// One training sample: prepared on its object, with the object's `θ_online(0)`.
-#[derive(Clone, Copy, Debug)]
-struct Item {
-    prepared: Prepared<f32>,
-    target: [f32; 3],
-    theta: [f32; 3],
+    let rank = rank.min(values.len() - 1);
+    *values.select_nth_unstable_by(rank, f64::total_cmp).1
 }
 
 struct ContactTrainee {
     model: ContactModel,
-    pass: Pass<f32>,
+    batch: Box<BatchPass<f32>>,
     friction: f64,
     friction_adam: SmallAdam<1>,
     friction_gradient: f64,
@@ -202,7 +188,7 @@ struct ContactTrainee {
 
 impl Trainee<CONTACT_INPUTS> for ContactTrainee {
     type Real = f32;
-    type Item = Item;
+    type Item = TrainingSample<f32>;
     fn network_mut(&mut self) -> &mut Network<f32, CONTACT_INPUTS> {
         &mut self.model.network
     }
@@ -217,36 +203,32 @@ impl Trainee<CONTACT_INPUTS> for ContactTrainee {
     fn loss_scale(&self) -> LossScale {
         self.model.loss_scale
     }
+    /// Layer by layer over the batch (see [`ContactModel::accumulate_batch`]), in chunks of
+    /// [`BATCH`] samples.
     #[inline(always)]
-    fn accumulate<A: MulAdd>(
+    fn accumulate_batch<A: MulAdd>(
         &mut self,
-        item: &Item,
-        w: &[f32; 3],
+        samples: &[TrainingSample<f32>],
+        batch: &[usize],
+        weights: &[f32; 3],
         grad: &mut Mlp<f32, CONTACT_INPUTS>,
     ) -> f32 {
-        // The first layer's share of the context moves with the weights: recomputed per pass.
-        let prepared = self.model.with_context(&item.prepared);
-        let output = self
-            .model
-            .forward::<A>(&prepared, &item.theta, &mut self.pass);
-        let (loss, d_output) = loss_gradient(output, &item.target, w);
-        let mut d_friction = 0.0f32;
-        self.model.backward::<A>(
-            &prepared,
-            &self.pass,
-            &item.theta,
-            d_output,
-            Some((grad, &mut d_friction)),
-        );
-        self.friction_gradient += f64::from(d_friction);
+        let mut loss = 0.0;
+        for chunk in batch.chunks(BATCH) {
+            self.model.accumulate_batch::<A>(
+                samples,
+                chunk,
+                weights,
+                &mut self.batch,
+                grad,
+                &mut loss,
+                &mut self.friction_gradient,
+            );
+        }
         loss
     }
-    fn loss(&mut self, item: &Item, w: &[f32; 3]) -> f32 {
-        let prepared = self.model.with_context(&item.prepared);
-        let output = self
-            .model
-            .forward::<Unfused>(&prepared, &item.theta, &mut self.pass);
-        loss_gradient(output, &item.target, w).0
+    fn total_loss(&mut self, samples: &[TrainingSample<f32>], weights: &[f32; 3]) -> f64 {
+        self.model.total_loss(samples, weights, &mut self.batch)
     }
     fn after_batch(&mut self, batch: usize) {
         let mut friction = [self.friction];
@@ -255,5 +237,30 @@ impl Trainee<CONTACT_INPUTS> for ContactTrainee {
         self.friction = friction[0].clamp(FRICTION_RANGE.0, FRICTION_RANGE.1);
         self.model.set_friction(self.friction);
         self.friction_gradient = 0.0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::percentile;
+    use crate::rng::SplitMix64;
+
+    #[test]
+    fn percentile_is_the_nearest_rank_of_the_sorted_finite_values() {
+        let mut rng = SplitMix64::new(3);
+        let values: Vec<f64> = (0..101)
+            .map(|k| if k % 7 == 0 { 0.5 } else { rng.normal() })
+            .chain([f64::NAN, f64::INFINITY, -0.0, 0.0])
+            .collect();
+        let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+        sorted.sort_by(f64::total_cmp);
+        for p in [0.0, 10.0, 50.0, 90.0, 100.0] {
+            let rank = ((p / 100.0) * (sorted.len() - 1) as f64).round() as usize;
+            assert_eq!(
+                percentile(values.clone(), p).to_bits(),
+                sorted[rank].to_bits()
+            );
+        }
+        assert_eq!(percentile(vec![f64::NAN], 50.0), 0.0);
     }
 }

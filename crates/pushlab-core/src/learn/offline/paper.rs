@@ -120,27 +120,6 @@ impl Trainee<{ crate::model::INPUTS }> for PaperTrainee {
     fn loss_scale(&self) -> LossScale {
         self.model.loss_scale
     }
-    #[inline(always)]
-    fn accumulate<A: MulAdd>(
-        &mut self,
-        s: &RealSample<f32>,
-        w: &[f32; 3],
-        grad: &mut Mlp<f32>,
-    ) -> f32 {
-        let output = self
-            .model
-            .forward_with::<A>(&s.input, &self.theta, &mut self.pass);
-        let (loss, d_output) = loss_gradient(output, &s.target, w);
-        let g = self
-            .model
-            .backward_with::<A>(&self.pass, &self.theta, d_output, Some(grad));
-        if self.theta_adam.is_some() {
-            for (acc, gi) in self.theta_grad.iter_mut().zip(g) {
-                *acc += f64::from(gi);
-            }
-        }
-        loss
-    }
     /// Layer by layer over the batch (see [`PaperModel::accumulate_batch`]), in chunks of
     /// [`BATCH`] samples.
     #[inline(always)]
@@ -166,9 +145,14 @@ impl Trainee<{ crate::model::INPUTS }> for PaperTrainee {
         }
         loss
     }
-    fn loss(&mut self, s: &RealSample<f32>, w: &[f32; 3]) -> f32 {
-        let output = self.model.forward(&s.input, &self.theta, &mut self.pass);
-        loss_gradient(output, &s.target, w).0
+    fn total_loss(&mut self, samples: &[RealSample<f32>], w: &[f32; 3]) -> f64 {
+        samples
+            .iter()
+            .map(|s| {
+                let output = self.model.forward(&s.input, &self.theta, &mut self.pass);
+                f64::from(loss_gradient(output, &s.target, w).0)
+            })
+            .sum()
     }
     fn after_batch(&mut self, batch: usize) {
         let Some(adam) = &mut self.theta_adam else {

@@ -76,17 +76,28 @@ impl Trainee<{ crate::model::INPUTS }> for PureNnTrainee {
         self.model.loss_scale
     }
     #[inline(always)]
-    fn accumulate<A: MulAdd>(
+    fn accumulate_batch<A: MulAdd>(
         &mut self,
-        s: &RealSample<f32>,
+        samples: &[RealSample<f32>],
+        batch: &[usize],
         w: &[f32; 3],
         grad: &mut Mlp<f32>,
     ) -> f32 {
-        self.model
-            .accumulate_gradient(s, w, &mut self.activations, grad)
+        let mut loss = 0.0;
+        for &i in batch {
+            loss += self
+                .model
+                .accumulate_gradient(&samples[i], w, &mut self.activations, grad);
+        }
+        loss
     }
-    fn loss(&mut self, s: &RealSample<f32>, w: &[f32; 3]) -> f32 {
-        let y = self.model.forward(&s.input, &mut self.activations);
-        (0..3).fold(0.0, |acc, i| acc + w[i] * (y[i] - s.target[i]).powi(2))
+    fn total_loss(&mut self, samples: &[RealSample<f32>], w: &[f32; 3]) -> f64 {
+        samples
+            .iter()
+            .map(|s| {
+                let y = self.model.forward(&s.input, &mut self.activations);
+                f64::from((0..3).fold(0.0, |acc, i| acc + w[i] * (y[i] - s.target[i]).powi(2)))
+            })
+            .sum()
     }
 }

@@ -19,14 +19,16 @@
 //! - `θ_online(0)` is per object: COM at the centre, `h` of a uniform pressure over its outline; the
 //!   online step sizes are stored per unit of that `h`, so they carry over to other object sizes.
 
+mod batch;
 pub mod frame;
 mod pass;
 pub(crate) mod prior;
 
 use serde::{Deserialize, Serialize};
 
+pub(crate) use self::batch::{BatchPass, TrainingSample};
 pub use self::frame::ContactGeometry;
-pub(crate) use self::pass::{Pass, Prepared};
+pub(crate) use self::pass::Features;
 use super::kernel::theta_real;
 use super::mlp::Network;
 use super::params::OnlineParams;

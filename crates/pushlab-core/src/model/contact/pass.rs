@@ -19,7 +19,7 @@ use crate::simd::{MulAdd, Unfused};
 
 /// Everything about one sample on one object that does not depend on `θ_online`: the contact frame,
 /// the context inputs and their share of the first layer, the swept motion.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Prepared<T> {
     /// The frame's axes in the object frame: inward normal and tangent.
     normal: [T; 2],
@@ -41,17 +41,16 @@ impl<T: Real> Default for Pass<T> {
     fn default() -> Self {
         Self {
             activations: Activations::default(),
-            cone: ConePass::default(),
-            tail: TailPass::default(),
-            lever: [T::zero(); 2],
-            z: [T::zero(); OUTPUTS],
-            unclamped: [false; 2],
+            outer: OuterPass::default(),
         }
     }
 }
 
-/// The contact frame of one sample and the pusher's offset and motion in it.
-struct Features {
+/// The contact frame of one sample and the pusher's offset and motion in it: the part of preparing a
+/// sample that searches the outline, which training computes once per sample for its statistics,
+/// clamp range and prepared samples.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Features {
     frame: super::frame::ContactFrame,
     /// The contact point `q`, frame coordinates.
     point: [f64; 2],
@@ -63,7 +62,7 @@ struct Features {
 }
 
 impl Features {
-    fn of(geometry: &ContactGeometry, input: &SampleInput) -> Self {
+    pub(crate) fn of(geometry: &ContactGeometry, input: &SampleInput) -> Self {
         let pusher = Point2::from(input.robot_in_object);
         let motion = Vector2::from(input.robot_motion_in_object);
         let frame = geometry.frame(pusher, motion);
@@ -75,6 +74,11 @@ impl Features {
             length: (m[0] * m[0] + m[1] * m[1] + 1e-12).sqrt(),
             frame,
         }
+    }
+
+    /// Distance from the pusher's rim to the outline (negative when they overlap), metres.
+    pub(crate) fn gap(&self) -> f64 {
+        self.frame.gap
     }
 
     /// Inputs 2…5: the gap and the tangential offset per motion length, the motion's direction.
@@ -93,6 +97,14 @@ impl Features {
 #[derive(Clone, Debug)]
 pub(crate) struct Pass<T> {
     activations: Activations<T, CONTACT_INPUTS>,
+    pub outer: OuterPass<T>,
+}
+
+/// What one sample's pass keeps outside the network — the lever and the clamp before it, the prior
+/// and the tail after it — apart from the network's activations, so that a batch pass can keep one
+/// per sample around one layer-by-layer network pass (`batch.rs`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct OuterPass<T> {
     cone: ConePass<T>,
     pub tail: TailPass<T>,
     /// `g`, frame coordinates.
@@ -103,15 +115,42 @@ pub(crate) struct Pass<T> {
     unclamped: [bool; 2],
 }
 
+#[cfg(test)]
+impl<T> OuterPass<T> {
+    /// Whether the last forward pass slid (for tests that must exercise the sliding branch).
+    pub fn sliding_for_tests(&self) -> bool {
+        self.cone.sliding_for_tests()
+    }
+
+    /// Whether the last forward pass's lever was inside the clamp range, per component.
+    pub fn unclamped_for_tests(&self) -> [bool; 2] {
+        self.unclamped
+    }
+}
+
+/// The backward pass from the prediction to the network's outputs, and what the rest of the
+/// backward pass to `θ_online` needs besides the network's input gradient.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct OuterGradient<T> {
+    /// With respect to the network's outputs.
+    pub d_z: [T; OUTPUTS],
+    /// With respect to the prior's `μ`.
+    pub d_friction: T,
+    /// With respect to the lever `g` and `h`, through the contact point and the prior.
+    d_lever: [T; 2],
+    d_h: T,
+    /// With respect to the COM offset through eq. 15.
+    d_com_offset: [T; 2],
+}
+
 impl<T: Real> ContactModel<T> {
     /// The network's inputs for a sample on an object before clamping, with `θ_online` at the
     /// object's `θ_online(0)` (the COM at the centre, so `g = q`): what the clamp range is taken from.
     pub(crate) fn raw_inputs(
+        f: &Features,
         geometry: &ContactGeometry,
-        input: &SampleInput,
         motion_floor: f64,
     ) -> [f64; CONTACT_INPUTS] {
-        let f = Features::of(geometry, input);
         let context = f.context(motion_floor);
         let h0 = OnlineParams {
             com_offset: [0.0, 0.0],
@@ -131,7 +170,11 @@ impl<T: Real> ContactModel<T> {
 
     /// The part of a pass that does not depend on `θ_online`.
     pub(crate) fn prepare(&self, geometry: &ContactGeometry, input: &SampleInput) -> Prepared<T> {
-        let f = Features::of(geometry, input);
+        self.prepare_features(&Features::of(geometry, input))
+    }
+
+    /// [`ContactModel::prepare`] from the sample's [`Features`].
+    pub(crate) fn prepare_features(&self, f: &Features) -> Prepared<T> {
         let mut x = [T::zero(); CONTACT_INPUTS];
         for (j, value) in f.context(self.inputs.motion_floor).into_iter().enumerate() {
             let k = j + 2;
@@ -151,9 +194,9 @@ impl<T: Real> ContactModel<T> {
         }
     }
 
-    /// `prepared` with the first layer's share of its context recomputed from the current weights:
-    /// training changes them between passes.
-    #[inline(always)]
+    /// `prepared` with the first layer's share of its context recomputed from the current weights,
+    /// as training's batch pass computes it: the single-sample reference of its tests.
+    #[cfg(test)]
     pub(crate) fn with_context(&self, prepared: &Prepared<T>) -> Prepared<T> {
         Prepared {
             context_part: self.network.first_layer_context::<Unfused>(&prepared.input),
@@ -169,9 +212,27 @@ impl<T: Real> ContactModel<T> {
         theta: &[T; 3],
         pass: &mut Pass<T>,
     ) -> [T; 3] {
+        let x = self.network_input::<A>(prepared, theta, &mut pass.outer);
+        let z = if self.options.network {
+            self.network
+                .forward_from::<A>(&prepared.context_part, &x, &mut pass.activations)
+        } else {
+            [T::zero(); OUTPUTS]
+        };
+        self.forward_outer::<A>(prepared, theta, z, &mut pass.outer)
+    }
+
+    /// The forward pass up to the network: its input at `theta`, the lever and the clamp kept in
+    /// `outer`.
+    #[inline(always)]
+    pub(crate) fn network_input<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        theta: &[T; 3],
+        outer: &mut OuterPass<T>,
+    ) -> [T; CONTACT_INPUTS] {
         let p = prepared;
-        let h = theta[2];
-        let inv_h = T::one() / h;
+        let inv_h = T::one() / theta[2];
         let (n, t) = (p.normal, p.tangent);
         let offset_in_frame = [
             A::mul_add(n[0], theta[0], n[1] * theta[1]),
@@ -181,25 +242,36 @@ impl<T: Real> ContactModel<T> {
             p.point[0] - offset_in_frame[0],
             p.point[1] - offset_in_frame[1],
         ];
-        pass.lever = g;
+        outer.lever = g;
         let mut x = p.input;
         for k in 0..2 {
             let raw = g[k] * inv_h;
             let (low, high) = (self.constants.low[k], self.constants.high[k]);
-            pass.unclamped[k] = raw >= low && raw <= high;
+            outer.unclamped[k] = raw >= low && raw <= high;
             x[k] = raw.max(low).min(high);
         }
-        let z = if self.options.network {
-            self.network
-                .forward_from::<A>(&p.context_part, &x, &mut pass.activations)
-        } else {
-            [T::zero(); OUTPUTS]
-        };
-        pass.z = z;
+        x
+    }
+
+    /// The forward pass from the network's outputs `z` (zero without the network) to the predicted
+    /// `[Δp_x, Δp_y, Δω]`: the prior, the contact point and motion, Lynch and eq. 15.
+    #[inline(always)]
+    pub(crate) fn forward_outer<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        theta: &[T; 3],
+        z: [T; OUTPUTS],
+        outer: &mut OuterPass<T>,
+    ) -> [T; 3] {
+        let p = prepared;
+        let h = theta[2];
+        let (n, t) = (p.normal, p.tangent);
+        let g = outer.lever;
+        outer.z = z;
         let prior = if self.options.prior {
-            cone_forward(g, p.swept, h, self.constants.friction, &mut pass.cone)
+            cone_forward(g, p.swept, h, self.constants.friction, &mut outer.cone)
         } else {
-            pass.cone = ConePass::default();
+            outer.cone = ConePass::default();
             p.motion
         };
         let contact_f = [A::mul_add(h, z[0], g[0]), A::mul_add(h, z[1], g[1])];
@@ -213,9 +285,10 @@ impl<T: Real> ContactModel<T> {
                 A::mul_add(n[1], v[0], t[1] * v[1]),
             ]
         };
-        pass.tail
+        outer
+            .tail
             .forward::<A>(to_object(contact_f), to_object(motion_f), theta);
-        pass.tail.output()
+        outer.tail.output()
     }
 
     /// The backward pass: the gradient with respect to `θ_online` of a scalar whose gradient with
@@ -230,11 +303,33 @@ impl<T: Real> ContactModel<T> {
         d_output: [T; 3],
         weights: Option<(&mut Mlp<T, CONTACT_INPUTS>, &mut T)>,
     ) -> [T; 3] {
+        let outer = self.backward_outer::<A>(prepared, &pass.outer, theta, d_output);
+        let grad = weights.map(|(grad, d_friction)| {
+            *d_friction = *d_friction + outer.d_friction;
+            grad
+        });
+        let d_x = if self.options.network {
+            self.network
+                .position_and_weight_gradient::<A>(&pass.activations, &outer.d_z, grad)
+        } else {
+            [T::zero(); 2]
+        };
+        self.theta_gradient::<A>(prepared, &pass.outer, theta, d_x, &outer)
+    }
+
+    /// The backward pass from the prediction to the network's outputs (see [`OuterGradient`]).
+    #[inline(always)]
+    pub(crate) fn backward_outer<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        outer: &OuterPass<T>,
+        theta: &[T; 3],
+        d_output: [T; 3],
+    ) -> OuterGradient<T> {
         let p = prepared;
         let h = theta[2];
-        let inv_h = T::one() / h;
         let (n, t) = (p.normal, p.tangent);
-        let d_tail = pass.tail.backward::<A>(theta, d_output);
+        let d_tail = outer.tail.backward::<A>(theta, d_output);
         let to_frame = |v: [T; 2]| {
             [
                 A::mul_add(n[0], v[0], n[1] * v[1]),
@@ -243,7 +338,7 @@ impl<T: Real> ContactModel<T> {
         };
         let d_contact_f = to_frame(d_tail.contact);
         let d_motion_f = to_frame(d_tail.contact_motion);
-        let z = pass.z;
+        let z = outer.z;
         let d_z = [
             h * d_contact_f[0],
             h * d_contact_f[1],
@@ -252,31 +347,45 @@ impl<T: Real> ContactModel<T> {
         ];
         let mut d_g = d_contact_f;
         let mut d_h = A::mul_add(d_contact_f[0], z[0], d_contact_f[1] * z[1]) + d_tail.h;
-        let d_cone = cone_backward(pass.lever, h, &pass.cone, d_motion_f);
+        let d_cone = cone_backward(outer.lever, h, &outer.cone, d_motion_f);
         d_g[0] = d_g[0] + d_cone.contact[0];
         d_g[1] = d_g[1] + d_cone.contact[1];
         d_h = d_h + d_cone.h;
-        let grad = weights.map(|(grad, d_friction)| {
-            *d_friction = *d_friction + d_cone.friction;
-            grad
-        });
-        let d_x = if self.options.network {
-            self.network
-                .position_and_weight_gradient::<A>(&pass.activations, &d_z, grad)
-        } else {
-            [T::zero(); 2]
-        };
+        OuterGradient {
+            d_z,
+            d_friction: d_cone.friction,
+            d_lever: d_g,
+            d_h,
+            d_com_offset: d_tail.com_offset,
+        }
+    }
+
+    /// The rest of the backward pass to `θ_online`, from the gradient `d_x` with respect to the
+    /// network's position inputs (zero without the network).
+    #[inline(always)]
+    pub(crate) fn theta_gradient<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        outer: &OuterPass<T>,
+        theta: &[T; 3],
+        d_x: [T; 2],
+        gradient: &OuterGradient<T>,
+    ) -> [T; 3] {
+        let (n, t) = (prepared.normal, prepared.tangent);
+        let inv_h = T::one() / theta[2];
+        let (mut d_g, mut d_h) = (gradient.d_lever, gradient.d_h);
         // x = g / h inside the clamp range.
         for k in 0..2 {
-            if pass.unclamped[k] {
+            if outer.unclamped[k] {
                 d_g[k] = A::mul_add(d_x[k], inv_h, d_g[k]);
-                d_h = d_h - d_x[k] * pass.lever[k] * inv_h * inv_h;
+                d_h = d_h - d_x[k] * outer.lever[k] * inv_h * inv_h;
             }
         }
         // g = q_frame − Rᵀ o, so ∂/∂o = −R d_g.
+        let d_offset = gradient.d_com_offset;
         [
-            d_tail.com_offset[0] - A::mul_add(n[0], d_g[0], t[0] * d_g[1]),
-            d_tail.com_offset[1] - A::mul_add(n[1], d_g[0], t[1] * d_g[1]),
+            d_offset[0] - A::mul_add(n[0], d_g[0], t[0] * d_g[1]),
+            d_offset[1] - A::mul_add(n[1], d_g[0], t[1] * d_g[1]),
             d_h,
         ]
     }
@@ -291,7 +400,7 @@ impl<T: Real> ContactModel<T> {
     fn predict_portable<A: MulAdd>(&self, prepared: &Prepared<T>, theta: &[T; 3]) -> Prediction {
         let mut pass = Pass::default();
         self.forward::<A>(prepared, theta, &mut pass);
-        pass.tail.prediction(theta)
+        pass.outer.tail.prediction(theta)
     }
 
     /// One online update on an object of this geometry (see [`descend`]).
@@ -362,7 +471,7 @@ impl<T: Real, A: MulAdd> ThetaPass<T> for OnlinePass<'_, T, A> {
 
     #[inline(always)]
     fn prediction(&self, theta: &[T; 3]) -> Prediction {
-        self.pass.tail.prediction(theta)
+        self.pass.outer.tail.prediction(theta)
     }
 }
 

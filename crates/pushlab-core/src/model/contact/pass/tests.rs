@@ -80,7 +80,7 @@ fn gradients_of_theta_weights_and_friction_match_central_differences() {
         let mut pass = Pass::default();
         let out = model.forward::<Unfused>(&prepared, &theta, &mut pass);
         assert!(
-            pass.cone.sliding_for_tests(),
+            pass.outer.sliding_for_tests(),
             "seed {seed}: the test push must slide"
         );
         let (_, d_out) = loss_gradient(out, &target, &loss_weights(&model.loss_scale));
