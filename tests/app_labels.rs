@@ -43,10 +43,7 @@ fn shows(harness: &Harness<'_, PushlabApp>, text: &str) -> bool {
 
 #[test]
 fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-roundtrip")
-    else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-roundtrip");
     let mut harness = app_on(&dir);
     seek(&mut harness, 5);
 
@@ -116,9 +113,7 @@ fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
 
 #[test]
 fn event_key_bands_and_next_label_key() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-events") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-events");
     let mut harness = app_on(&dir);
     seek(&mut harness, 12);
     harness.key_press(egui::Key::Num6); // "contact made" event
@@ -185,9 +180,7 @@ fn event_key_bands_and_next_label_key() {
 
 #[test]
 fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_text() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-meta") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-meta");
     let mut harness = app_on(&dir);
     let recording = harness
         .state()
@@ -266,9 +259,7 @@ fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_t
 
 #[test]
 fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-sheet") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-sheet");
     let mut harness = app_on(&dir);
     assert!(!shows(&harness, "hold to paint while stepping or playing"));
     harness.key_press(egui::Key::F1);
@@ -291,9 +282,7 @@ fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
 
 #[test]
 fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-quick") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-quick");
     let mut harness = app_on(&dir);
     seek(&mut harness, 10);
     // Key down "3" (sticking), "6" (contact made) and five → all before the next frame is drawn.
@@ -330,9 +319,7 @@ fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
 
 #[test]
 fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-comdrag") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-comdrag");
     let mut harness = app_on(&dir);
     // Only the diamond under the pointer: hide the estimated-COM marker, which sits nearby (in the
     // legend, folded by default), and fold the legend again.
@@ -395,9 +382,7 @@ fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
 
 #[test]
 fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-focus") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-focus");
     let mut harness = app_on(&dir);
     seek(&mut harness, 10);
     harness.key_down(egui::Key::Num1);
@@ -426,9 +411,7 @@ fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
 
 #[test]
 fn a_new_label_added_in_the_app_gets_a_key_paints_and_saves() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-schema") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-schema");
     let mut harness = app_on(&dir);
     harness.get_by_label("Edit labels").click();
     harness.run_steps(2);
@@ -478,8 +461,7 @@ fn a_new_label_added_in_the_app_gets_a_key_paints_and_saves() {
 
 #[test]
 fn opening_a_folder_without_labels_and_closing_it_writes_nothing_into_it() {
-    let dir = common::copy_of_sample_set("box1-paper-center-front", "no-write")
-        .expect("sample-data is part of the repository");
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "no-write");
     std::fs::remove_file(dir.join(LABELS_FILE_NAME)).expect("the copy has a labels file");
     let mut harness = app_on(&dir);
     // Play for a while and step through the tabs, editing nothing.

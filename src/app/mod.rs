@@ -169,7 +169,11 @@ impl PushlabApp {
             DialogResult::LoadModel(path) => {
                 self.state.status = Some(match export::load_model(&mut self.state, &path) {
                     Ok(()) => format!("model loaded from {}", path.display()),
-                    Err(e) => format!("{e:#}"),
+                    // The core refused the file before anything changed: say so, and why.
+                    Err(e) => format!(
+                        "model not loaded, the {} stays in use: {e:#}",
+                        self.state.models.learner_name()
+                    ),
                 });
             }
             DialogResult::ExportLabels(path, format) => {

@@ -1,5 +1,9 @@
 //! What the app's test files share: a harness that runs the app frame by frame as the window does,
 //! and the sample-data sets (read in place, or copied when a test writes labels).
+//!
+//! `sample-data/` is committed, so a missing set can only mean a broken checkout: the test fails
+//! with the path, it never skips. (Skipping is right only for data outside the repository, such as
+//! `../shared/mit-push/`.)
 
 #![allow(dead_code)] // each test file uses its own part
 
@@ -16,17 +20,23 @@ pub fn harness(app: PushlabApp, step_dt: f32) -> Harness<'static, PushlabApp> {
         .build_ui_state(|ui, app: &mut PushlabApp| app.frame(ui), app)
 }
 
-/// A set of the bundled sample data, or `None` (with a message) where it is missing.
-pub fn sample_set(name: &str) -> Option<PathBuf> {
+/// A set of the bundled sample data; panics (fails the test) when it is missing.
+pub fn sample_dir(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("sample-data")
         .join(name);
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is missing", dir.display());
-        None
-    }
+    assert!(
+        dir.is_dir(),
+        "{} is missing: sample-data/ is part of the repository, so the checkout is broken",
+        dir.display()
+    );
+    dir
+}
+
+/// [`sample_dir`] as an `Option` that is always `Some`, for `tests/app_scene.rs`, which unwraps it
+/// (that file is being changed on main; it moves to [`sample_dir`] after the merge).
+pub fn sample_set(name: &str) -> Option<PathBuf> {
+    Some(sample_dir(name))
 }
 
 /// An empty folder of the system's temporary directory for one test.
@@ -38,12 +48,12 @@ pub fn scratch_dir(test: &str) -> PathBuf {
 }
 
 /// A private copy of a sample set, so that a test that writes labels never touches the repository.
-pub fn copy_of_sample_set(name: &str, test: &str) -> Option<PathBuf> {
-    let source = sample_set(name)?;
+pub fn copy_of_sample_set(name: &str, test: &str) -> PathBuf {
+    let source = sample_dir(name);
     let dir = scratch_dir(test);
     for entry in std::fs::read_dir(&source).expect("sample set") {
         let entry = entry.expect("dir entry");
         std::fs::copy(entry.path(), dir.join(entry.file_name())).expect("copy");
     }
-    Some(dir)
+    dir
 }

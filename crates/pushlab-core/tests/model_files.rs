@@ -191,8 +191,8 @@ const PAPER_CASES: &[(&str, f64, &str)] = &[
     ),
     (
         "/combined/theta0/com_offset/1",
-        1e13,
-        "combined.theta0.com_offset[1]: must be a finite number",
+        2.5,
+        "combined.theta0.com_offset[1]: must be between -2 and 2 m (the range the COM offset is kept in), found 2.5",
     ),
     (
         "/combined/loss_scale/sigma_rot",

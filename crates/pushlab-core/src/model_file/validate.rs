@@ -17,7 +17,8 @@ use crate::learn::LossScale;
 use crate::model::contact::ContactInputs;
 use crate::model::normalization::{InputNormalization, Stats1, Stats2};
 use crate::model::{
-    CombinedModel, ContactModel, H_MAX, H_MIN, Network, OnlineParams, PaperModel, PureNnModel,
+    COM_OFFSET_MAX, CombinedModel, ContactModel, H_MAX, H_MIN, Network, OnlineParams, PaperModel,
+    PureNnModel,
 };
 use crate::real::Real;
 
@@ -151,10 +152,20 @@ fn loss_scale(field: &str, scale: &LossScale) -> Result<(), Problem> {
     positive(&format!("{field}.sigma_rot"), scale.sigma_rot)
 }
 
-/// `θ_online(0)`: a finite COM offset and `h` inside the range online learning keeps it in (a value
+/// `θ_online(0)`: the COM offset and `h` inside the ranges online learning keeps them in (a value
 /// outside would be clamped silently on first use).
 fn theta0(field: &str, theta: &OnlineParams) -> Result<(), Problem> {
-    each(&format!("{field}.com_offset"), &theta.com_offset, finite)?;
+    for (i, &c) in theta.com_offset.iter().enumerate() {
+        if !(-COM_OFFSET_MAX..=COM_OFFSET_MAX).contains(&c) {
+            return Err((
+                format!("{field}.com_offset[{i}]"),
+                format!(
+                    "must be between -{COM_OFFSET_MAX} and {COM_OFFSET_MAX} m (the range the COM offset is kept in), found {}",
+                    shown(c)
+                ),
+            ));
+        }
+    }
     if (H_MIN..=H_MAX).contains(&theta.h) {
         Ok(())
     } else {
