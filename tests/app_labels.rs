@@ -483,3 +483,78 @@ fn opening_a_folder_without_labels_and_closing_it_writes_nothing_into_it() {
     assert!(dir.join(LABELS_FILE_NAME).exists(), "an edit is saved");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_they_go() {
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "read-only");
+    let before = common::contents(&dir);
+    let Some(guard) = common::Unwritable::make(&dir) else {
+        eprintln!(
+            "skipped: neither chmod 555 nor chattr +i stops this process writing into a folder"
+        );
+        return;
+    };
+    let rescue_dir = common::scratch_dir("rescue");
+    let mut harness = app_on(&dir);
+    harness.state_mut().state.labels.rescue_dir = Some(rescue_dir.clone());
+    harness.key_down(egui::Key::Num3);
+    harness.run_steps(1);
+    harness.key_up(egui::Key::Num3);
+    harness.run_steps(1);
+    // Autosave notices the edit, then saves once it is due.
+    harness.state_mut().state.autosave_labels(1e6);
+    harness.state_mut().state.autosave_labels(1e6 + 1.0);
+    harness.run_steps(1);
+    let document = dir.join(LABELS_FILE_NAME);
+    let rescue = pushlab::app::state::labels::rescue_path(&document, &rescue_dir);
+    let status = harness.state().state.status.clone().unwrap_or_default();
+    assert!(
+        status.starts_with(&format!(
+            "labels kept in memory: {} cannot be written",
+            dir.display()
+        )) && status.ends_with(&format!("saves them to {}", rescue.display())),
+        "{status}"
+    );
+    assert!(
+        shows(&harness, "labels kept in memory"),
+        "the status line shows it"
+    );
+    let painted = |harness: &Harness<'_, PushlabApp>| {
+        let state = &harness.state().state;
+        let target = state.label_target().expect("a recording");
+        state.labels.labels_of(&target).map(|l| l.segments.len())
+    };
+    assert_eq!(painted(&harness), Some(1), "the edit is kept in memory");
+
+    // Ctrl+S writes them where the message said.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    harness.run_steps(2);
+    let status = harness.state().state.status.clone().unwrap_or_default();
+    assert!(
+        status.contains(&format!("its labels were saved to {}", rescue.display())),
+        "{status}"
+    );
+    let saved = pushlab_core::labels::file::read(&rescue).expect("the rescued labels read back");
+    let key = harness
+        .state()
+        .state
+        .label_target()
+        .expect("a recording")
+        .recording;
+    assert_eq!(saved.recording(&key).map(|l| l.segments.len()), Some(1));
+    // Closing says so too, and the user's folder is as it was.
+    let closing = harness.state_mut().state.labels.save_on_exit();
+    assert!(
+        closing
+            .iter()
+            .any(|l| l.contains(&rescue.display().to_string())),
+        "{closing:?}"
+    );
+    drop(guard);
+    assert!(
+        common::contents(&dir) == before,
+        "the unwritable folder changed"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&rescue_dir);
+}

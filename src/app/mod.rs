@@ -311,6 +311,9 @@ pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
             let mut state = initial_state(&paths, persisted);
             // Models trained for folders live beside eframe's own state, never in a user's data.
             state.model_store = eframe::storage_dir("pushlab").map(|dir| dir.join("models"));
+            // So are labels whose own folder cannot be written.
+            state.labels.rescue_dir =
+                eframe::storage_dir("pushlab").map(|dir| dir.join("unsaved-labels"));
             Ok(Box::new(PushlabApp::new(state)))
         }),
     )

@@ -57,3 +57,53 @@ pub fn copy_of_sample_set(name: &str, test: &str) -> PathBuf {
     }
     dir
 }
+
+/// Makes a folder unwritable for this process until dropped: `chmod 555`, and where that does not
+/// stop writes (tests running as root) also the immutable attribute, `chattr +i`.
+pub struct Unwritable(PathBuf);
+
+impl Unwritable {
+    /// `None` where neither stops this process from writing into `dir`.
+    pub fn make(dir: &Path) -> Option<Self> {
+        use std::os::unix::fs::PermissionsExt as _;
+        let writable = || {
+            let probe = dir.join(".probe");
+            let ok = std::fs::write(&probe, b"").is_ok();
+            let _ = std::fs::remove_file(&probe);
+            ok
+        };
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o555)).ok()?;
+        let guard = Self(dir.to_path_buf());
+        if writable() {
+            let _ = std::process::Command::new("chattr")
+                .arg("+i")
+                .arg(dir)
+                .status();
+        }
+        (!writable()).then_some(guard)
+    }
+}
+
+impl Drop for Unwritable {
+    fn drop(&mut self) {
+        use std::os::unix::fs::PermissionsExt as _;
+        let _ = std::process::Command::new("chattr")
+            .arg("-i")
+            .arg(&self.0)
+            .status();
+        let _ = std::fs::set_permissions(&self.0, std::fs::Permissions::from_mode(0o755));
+    }
+}
+
+/// Every file of a folder and its bytes.
+pub fn contents(dir: &Path) -> Vec<(std::ffi::OsString, Vec<u8>)> {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .expect("folder")
+        .map(|e| {
+            let e = e.expect("entry");
+            (e.file_name(), std::fs::read(e.path()).expect("file"))
+        })
+        .collect();
+    files.sort();
+    files
+}

@@ -21,7 +21,7 @@ fn default_model_text() -> String {
 fn paper_model_text() -> String {
     let set =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../sample-data/box1-paper-center-front");
-    let loaded = experiment::load(&[set.clone()], None, 1);
+    let loaded = experiment::load(std::slice::from_ref(&set), None, 1);
     assert!(!loaded.used.is_empty(), "{} loads", set.display());
     let config = TrainConfig {
         epochs: 1,

@@ -3,11 +3,15 @@
 //!
 //! Every edit goes through a document's `apply`, so undo covers it by construction. A labels file
 //! that exists but cannot be read is never overwritten: its recordings stay read-only, with the
-//! reason shown, until the file is fixed and the folder opened again.
+//! reason shown, until the file is fixed and the folder opened again. A folder that cannot be
+//! written (a dataset checkout, a read-only share) still opens and can be labelled: the labels stay
+//! in memory, and the status says where they go instead — the app's own folder for unsaved labels,
+//! on Ctrl+S and when the app closes.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use pushlab_core::labels::LabelFileError;
 use pushlab_core::labels::pipeline::{frames_to_skip, key_of, labels_file_beside};
 use pushlab_core::labels::{
     self, Autosave, LabelDocument, LabelKind, LabelSchema, RecordingLabels, SaveState,
@@ -108,6 +112,9 @@ pub struct Labeling {
     /// A mouse drag (the COM label) is one undo step in progress; strokes wait until it ends, since
     /// a document has one open group at a time.
     dragging: bool,
+    /// Where labels go whose own folder cannot be written (in the app's data folder, never in a
+    /// user's data); `None`: nowhere but beside the labels file.
+    pub rescue_dir: Option<PathBuf>,
 }
 
 impl Labeling {
@@ -375,19 +382,25 @@ impl Labeling {
     }
 
     /// Saves every document whose autosave is due at `now_s` (seconds on any steady clock). Returns
-    /// a message when a save failed.
+    /// a message when a save failed: for a folder that cannot be written, where the labels can go.
     pub fn autosave(&mut self, now_s: f64) -> Option<String> {
         let mut failure = None;
         for (path, document) in &mut self.documents {
             let autosave = self.autosaves.entry(path.clone()).or_default();
             if let Some(Err(e)) = autosave.poll(document, now_s) {
-                failure = Some(format!("labels not saved: {e}"));
+                failure = Some(match &e {
+                    LabelFileError::Write { source, .. } => {
+                        unwritable_message(path, source, self.rescue_dir.as_deref())
+                    }
+                    _ => format!("labels not saved: {e}"),
+                });
             }
         }
         failure
     }
 
-    /// Saves every document with unsaved edits; the message says what happened.
+    /// Saves every document with unsaved edits; the message says what happened. Labels whose
+    /// folder cannot be written go to the app's folder for unsaved labels, and the message says where.
     pub fn save_all(&mut self) -> Option<String> {
         let mut saved = 0;
         let mut errors = Vec::new();
@@ -395,6 +408,19 @@ impl Labeling {
             match document.save_if_dirty() {
                 Ok(true) => saved += 1,
                 Ok(false) => {}
+                Err(LabelFileError::Write { source, .. }) => {
+                    errors.push(match self.rescue_dir.as_deref() {
+                        Some(dir) => match rescue(document, dir) {
+                            Ok(to) => format!(
+                                "{} cannot be written ({source}), so its labels were saved to {}",
+                                folder_of(document.path()).display(),
+                                to.display()
+                            ),
+                            Err(e) => format!("{e}"),
+                        },
+                        None => unwritable_message(document.path(), &source, None),
+                    });
+                }
                 Err(e) => errors.push(e.to_string()),
             }
         }
@@ -405,14 +431,15 @@ impl Labeling {
                 n => format!("labels saved ({n} files)"),
             }
         } else {
-            format!("labels not saved: {}", errors.join("; "))
+            format!("labels not saved in place: {}", errors.join("; "))
         })
     }
 
     /// Saves what can be saved when the app closes. Edits that cannot go to their labels file (it
     /// was changed by another program, or the disk refused) are written beside it to
-    /// `pushlab-labels.unsaved-<seconds since 1970>.json`, so closing never loses them. Returns one
-    /// line per file for the terminal.
+    /// `pushlab-labels.unsaved-<seconds since 1970>.json`, or, when that folder cannot be written
+    /// either, to the app's folder for unsaved labels, so closing never loses them. Returns one line
+    /// per file for the terminal.
     pub fn save_on_exit(&mut self) -> Vec<String> {
         let mut lines = Vec::new();
         for document in self.documents.values_mut() {
@@ -420,20 +447,21 @@ impl Labeling {
                 let stamp = std::time::SystemTime::now()
                     .duration_since(std::time::UNIX_EPOCH)
                     .map_or(0, |d| d.as_secs());
-                let rescue = document
+                let beside = document
                     .path()
                     .with_file_name(format!("pushlab-labels.unsaved-{stamp}.json"));
-                lines.push(
-                    match pushlab_core::labels::file::write(&rescue, document.set()) {
-                        Ok(()) => format!(
-                            "{e}\nyour unsaved labels were written to {}",
-                            rescue.display()
-                        ),
-                        Err(rescue_error) => {
-                            format!("{e}\nand they could not be rescued: {rescue_error}")
-                        }
-                    },
-                );
+                let rescued = pushlab_core::labels::file::write(&beside, document.set())
+                    .map(|()| beside)
+                    .or_else(|beside_error| match self.rescue_dir.as_deref() {
+                        Some(dir) => rescue(document, dir),
+                        None => Err(beside_error),
+                    });
+                lines.push(match rescued {
+                    Ok(to) => format!("{e}\nyour unsaved labels were written to {}", to.display()),
+                    Err(rescue_error) => {
+                        format!("{e}\nand they could not be rescued: {rescue_error}")
+                    }
+                });
             }
         }
         lines
@@ -462,6 +490,53 @@ impl Labeling {
             hotkey,
         });
         self.stroke_jump(frame);
+    }
+}
+
+/// The folder a labels file is in.
+fn folder_of(path: &Path) -> &Path {
+    path.parent().unwrap_or(Path::new("."))
+}
+
+/// Where the labels of `document` go when its folder cannot be written: one file per folder in
+/// `dir`, named after the folder (and a hash of its path, so that two folders of the same name
+/// never share one).
+pub fn rescue_path(document: &Path, dir: &Path) -> PathBuf {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    document.hash(&mut hasher);
+    let name = folder_of(document)
+        .file_name()
+        .map_or_else(|| "labels".into(), |n| n.to_string_lossy().into_owned());
+    dir.join(format!("{name}-{:016x}.json", hasher.finish()))
+}
+
+/// Writes a document's labels to its [`rescue_path`] in `dir`.
+fn rescue(document: &LabelDocument, dir: &Path) -> Result<PathBuf, LabelFileError> {
+    let to = rescue_path(document.path(), dir);
+    std::fs::create_dir_all(dir).map_err(|source| LabelFileError::Write {
+        path: to.clone(),
+        source,
+    })?;
+    pushlab_core::labels::file::write(&to, document.set())?;
+    Ok(to)
+}
+
+/// The status when a folder cannot be written: the labels are in memory, and where they can go.
+fn unwritable_message(
+    document: &Path,
+    error: &std::io::Error,
+    rescue_dir: Option<&Path>,
+) -> String {
+    let folder = folder_of(document).display();
+    match rescue_dir {
+        Some(dir) => format!(
+            "labels kept in memory: {folder} cannot be written ({error}); Ctrl+S (and closing pushlab) saves them to {}",
+            rescue_path(document, dir).display()
+        ),
+        None => format!(
+            "labels kept in memory: {folder} cannot be written ({error}); export them (Labels tab → Export labels as JSON…) or open a writable copy of the folder"
+        ),
     }
 }
 

@@ -115,7 +115,7 @@ pub enum ModelFileError {
     UnknownKind { path: PathBuf, found: String },
     /// Not JSON, or a field of the wrong type or shape; the message starts with the field's JSON
     /// path when there is one (`combined.horizon: invalid type: …`).
-    #[error("{path}: line {line}, column {column}: {message}")]
+    #[error("{path}: {message} (line {line}, column {column})")]
     Malformed {
         path: PathBuf,
         line: usize,
