@@ -9,13 +9,11 @@ use std::sync::Arc;
 use pushlab_core::geometry::Outline;
 use pushlab_core::labels::{export, file as labels_file};
 use pushlab_core::learn::OnlineConfig;
-use pushlab_core::model::{
-    ContactGeometry, ObjectMotion, OnlineParams, Sample, SampleInput,
-};
+use pushlab_core::model::{ContactGeometry, ObjectMotion, OnlineParams, Sample, SampleInput};
 use pushlab_core::model_file::ModelFile;
-use pushlab_core::trajectory::Trajectory;
 use pushlab_core::recording::mit_push::import_bytes;
 use pushlab_core::recording::native::{parse_csv, parse_setting};
+use pushlab_core::trajectory::Trajectory;
 
 /// The parameters an MIT file's name carries; the readers need one to import.
 const MIT_STEM: &str = "motion_surface=abs_shape=tri1_a=0_v=20_i=0.000_s=0.500_t=0.000";
