@@ -27,7 +27,7 @@ fn shows(harness: &Harness<'_, PushlabApp>, text: &str) -> bool {
 
 #[test]
 fn a_recording_larger_than_memory_is_refused_by_name_and_what_is_open_stays() {
-    let sample = common::sample_set("box1-paper-center-front").expect("sample-data is committed");
+    let sample = common::sample_dir("box1-paper-center-front");
     let mut harness = common::harness(
         PushlabApp::new(initial_state(&[sample], Persisted::default())),
         0.05,
@@ -77,8 +77,7 @@ fn a_recording_larger_than_memory_is_refused_by_name_and_what_is_open_stays() {
 
 #[test]
 fn a_folder_that_vanishes_while_open_keeps_playing_and_opening_it_again_says_it_is_gone() {
-    let dir = common::copy_of_sample_set("box1-paper-center-front", "vanish")
-        .expect("sample-data is committed");
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "vanish");
     let mut harness = common::harness(
         PushlabApp::new(initial_state(
             std::slice::from_ref(&dir),

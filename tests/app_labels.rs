@@ -44,10 +44,7 @@ fn shows(harness: &Harness<'_, PushlabApp>, text: &str) -> bool {
 
 #[test]
 fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-roundtrip")
-    else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-roundtrip");
     let mut harness = app_on(&dir);
     seek(&mut harness, 5);
 
@@ -123,9 +120,7 @@ fn label_a_range_by_keyboard_undo_redo_save_reopen_and_see_the_same_labels() {
 
 #[test]
 fn event_key_bands_and_next_label_key() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-events") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-events");
     let mut harness = app_on(&dir);
     seek(&mut harness, 12);
     harness.key_press(egui::Key::Num6); // "contact made" event
@@ -192,9 +187,7 @@ fn event_key_bands_and_next_label_key() {
 
 #[test]
 fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_text() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-meta") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-meta");
     let mut harness = app_on(&dir);
     let recording = harness
         .state()
@@ -275,9 +268,7 @@ fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_t
 
 #[test]
 fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-sheet") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-sheet");
     let mut harness = app_on(&dir);
     assert!(!shows(&harness, "hold to paint while stepping or playing"));
     harness.key_press(egui::Key::F1);
@@ -300,9 +291,7 @@ fn question_mark_shows_the_cheat_sheet_with_the_label_keys() {
 
 #[test]
 fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-quick") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-quick");
     let mut harness = app_on(&dir);
     seek(&mut harness, 10);
     // Key down "3" (sticking), "6" (contact made) and five → all before the next frame is drawn.
@@ -339,9 +328,7 @@ fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
 
 #[test]
 fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-comdrag") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-comdrag");
     let mut harness = app_on(&dir);
     // Only the diamond under the pointer: hide the estimated-COM marker, which sits nearby (in the
     // legend, folded by default), and fold the legend again.
@@ -404,9 +391,7 @@ fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
 
 #[test]
 fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-focus") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-focus");
     let mut harness = app_on(&dir);
     seek(&mut harness, 10);
     harness.key_down(egui::Key::Num1);
@@ -435,9 +420,7 @@ fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
 
 #[test]
 fn a_new_label_added_in_the_app_gets_a_key_paints_and_saves() {
-    let Some(dir) = common::copy_of_sample_set("box1-paper-center-front", "labels-schema") else {
-        return;
-    };
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "labels-schema");
     let mut harness = app_on(&dir);
     harness.get_by_label("Edit labels").click();
     harness.run_steps(2);
@@ -487,8 +470,7 @@ fn a_new_label_added_in_the_app_gets_a_key_paints_and_saves() {
 
 #[test]
 fn opening_a_folder_without_labels_and_closing_it_writes_nothing_into_it() {
-    let dir = common::copy_of_sample_set("box1-paper-center-front", "no-write")
-        .expect("sample-data is part of the repository");
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "no-write");
     std::fs::remove_file(dir.join(LABELS_FILE_NAME)).expect("the copy has a labels file");
     let mut harness = app_on(&dir);
     // Play for a while and step through the tabs, editing nothing.
@@ -509,4 +491,79 @@ fn opening_a_folder_without_labels_and_closing_it_writes_nothing_into_it() {
     harness.state_mut().state.labels.save_on_exit();
     assert!(dir.join(LABELS_FILE_NAME).exists(), "an edit is saved");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_they_go() {
+    let dir = common::copy_of_sample_set("box1-paper-center-front", "read-only");
+    let before = common::contents(&dir);
+    let Some(guard) = common::Unwritable::make(&dir) else {
+        eprintln!(
+            "skipped: neither chmod 555 nor chattr +i stops this process writing into a folder"
+        );
+        return;
+    };
+    let rescue_dir = common::scratch_dir("rescue");
+    let mut harness = app_on(&dir);
+    harness.state_mut().state.labels.rescue_dir = Some(rescue_dir.clone());
+    harness.key_down(egui::Key::Num3);
+    harness.run_steps(1);
+    harness.key_up(egui::Key::Num3);
+    harness.run_steps(1);
+    // Autosave notices the edit, then saves once it is due.
+    harness.state_mut().state.autosave_labels(1e6);
+    harness.state_mut().state.autosave_labels(1e6 + 1.0);
+    harness.run_steps(1);
+    let document = dir.join(LABELS_FILE_NAME);
+    let rescue = pushlab::app::state::labels::rescue_path(&document, &rescue_dir);
+    let status = harness.state().state.status.clone().unwrap_or_default();
+    assert!(
+        status.starts_with(&format!(
+            "labels kept in memory: {} cannot be written",
+            dir.display()
+        )) && status.ends_with(&format!("saves them to {}", rescue.display())),
+        "{status}"
+    );
+    assert!(
+        shows(&harness, "labels kept in memory"),
+        "the status line shows it"
+    );
+    let painted = |harness: &Harness<'_, PushlabApp>| {
+        let state = &harness.state().state;
+        let target = state.label_target().expect("a recording");
+        state.labels.labels_of(&target).map(|l| l.segments.len())
+    };
+    assert_eq!(painted(&harness), Some(1), "the edit is kept in memory");
+
+    // Ctrl+S writes them where the message said.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    harness.run_steps(2);
+    let status = harness.state().state.status.clone().unwrap_or_default();
+    assert!(
+        status.contains(&format!("its labels were saved to {}", rescue.display())),
+        "{status}"
+    );
+    let saved = pushlab_core::labels::file::read(&rescue).expect("the rescued labels read back");
+    let key = harness
+        .state()
+        .state
+        .label_target()
+        .expect("a recording")
+        .recording;
+    assert_eq!(saved.recording(&key).map(|l| l.segments.len()), Some(1));
+    // Closing says so too, and the user's folder is as it was.
+    let closing = harness.state_mut().state.labels.save_on_exit();
+    assert!(
+        closing
+            .iter()
+            .any(|l| l.contains(&rescue.display().to_string())),
+        "{closing:?}"
+    );
+    drop(guard);
+    assert!(
+        common::contents(&dir) == before,
+        "the unwritable folder changed"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&rescue_dir);
 }

@@ -14,7 +14,7 @@ use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::geometry::Pose2;
 
 fn app_on(set: &str) -> Harness<'static, PushlabApp> {
-    let dir = common::sample_set(set).expect("sample-data/ is part of the repository");
+    let dir = common::sample_dir(set);
     let state = initial_state(std::slice::from_ref(&dir), Persisted::default());
     assert!(state.run.is_some(), "{:?}", state.session.problems);
     common::harness(PushlabApp::new(state), 0.05)

@@ -250,3 +250,97 @@ fn the_layout_holds_still_while_nothing_happens() {
         "plots keep their default height: {plots:?}"
     );
 }
+
+/// The app's online run on the real MIT pushes (skipped with a message when `../shared/mit-push/`
+/// is absent) at learning rates 10 and 10⁶, for the default `contact` model, a `paper` model and
+/// physics only: every θ it keeps, every loss it plots and the Inspect tab's gradient stay finite.
+#[test]
+fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_real_pushes() {
+    use pushlab::app::state::Command;
+    use pushlab::app::state::timeline::TimelineCommand;
+    use pushlab_core::learn::{OnlineConfig, TrainConfig};
+    use pushlab_core::model::ModelKind;
+    use pushlab_core::model_file::ModelFile;
+
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push");
+    if !dir.is_dir() {
+        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
+        return;
+    }
+    let loaded = pushlab_core::experiment::load(std::slice::from_ref(&dir), None, 10);
+    let no = std::sync::atomic::AtomicBool::new(false);
+    let config = TrainConfig {
+        epochs: 1,
+        horizon: 10,
+        ..TrainConfig::default()
+    };
+    let paper = pushlab_core::experiment::train_combined(
+        ModelKind::Paper,
+        &loaded.used,
+        &config,
+        &mut |_| {},
+        &no,
+    )
+    .expect("trains")
+    .model;
+    for model in ["contact", "paper", "physics only"] {
+        let mut state = initial_state(std::slice::from_ref(&dir), Persisted::default());
+        match model {
+            "paper" => state.use_model_file(
+                ModelFile {
+                    combined: paper.clone(),
+                    pure_nn: None,
+                    training: Default::default(),
+                },
+                "paper".into(),
+            ),
+            "physics only" => {
+                state.models.combined = None;
+                state.restart_run_keeping_frame();
+            }
+            _ => {}
+        }
+        let ids: Vec<_> = state.session.recordings().map(|(id, _)| id).collect();
+        assert_eq!(ids.len(), 4, "{:?}", state.session.problems);
+        for id in ids {
+            state.apply(Command::Select(id));
+            for lr in [10.0, 1e6] {
+                state.apply(Command::SetOnlineConfig(OnlineConfig { steps: 5, lr }));
+                state.apply(Command::Timeline(TimelineCommand::SeekTo(0)));
+                state.apply(Command::ResetTheta);
+                let what = format!(
+                    "{model} at lr {lr} on {:?}",
+                    state.recording().map(|r| &r.source)
+                );
+                let frames = state.run.as_ref().expect("an online run").sample_count();
+                for _ in 0..frames {
+                    state.apply(Command::Timeline(TimelineCommand::Step(1)));
+                    let step = state.current_step();
+                    assert!(
+                        step.is_none_or(|s| s.gradient.iter().all(|g| g.is_finite())),
+                        "{what}: the Inspect tab's gradient {step:?}"
+                    );
+                }
+                let run = state.run.as_ref().expect("an online run");
+                assert!(
+                    run.frontier() + 1 >= frames,
+                    "{what}: learned {}",
+                    run.frontier()
+                );
+                for (k, theta) in run.checkpoints().iter().enumerate() {
+                    assert!(
+                        theta.com_offset.iter().all(|c| c.is_finite()) && theta.h.is_finite(),
+                        "{what}: θ at frame {k} {theta:?}"
+                    );
+                }
+                let losses = run.learned().iter().flatten().chain(run.fixed());
+                for loss in losses {
+                    assert!(
+                        loss.pos.is_finite() && loss.rot.is_finite(),
+                        "{what}: {loss:?}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -37,12 +37,10 @@ fn app_on(paths: &[PathBuf]) -> Harness<'static, PushlabApp> {
 
 #[test]
 fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anything() {
-    let (Some(first), Some(second)) = (
-        common::sample_set("box1-paper-center-front"),
-        common::sample_set("box2-plastic-center-front"),
-    ) else {
-        return;
-    };
+    let (first, second) = (
+        common::sample_dir("box1-paper-center-front"),
+        common::sample_dir("box2-plastic-center-front"),
+    );
     let mut harness = app_on(std::slice::from_ref(&first));
     let before = harness.state().state.session.recording_count();
     assert!(before > 0);
@@ -115,9 +113,7 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
 
 #[test]
 fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
-    let Some(set) = common::sample_set("box1-paper-center-front") else {
-        return;
-    };
+    let set = common::sample_dir("box1-paper-center-front");
     let mut harness = app_on(std::slice::from_ref(&set));
     let fixed_before = harness
         .state()
@@ -194,10 +190,61 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
 }
 
 #[test]
-fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
-    let Some(set) = common::sample_set("box1-paper-center-front") else {
-        return;
+fn a_refused_model_file_keeps_the_current_model_and_the_status_says_why() {
+    let set = common::sample_dir("box1-paper-center-front");
+    let mut harness = app_on(std::slice::from_ref(&set));
+    let (source, combined) = {
+        let models = &harness.state().state.models;
+        (models.source.clone(), models.combined.clone())
     };
+    assert!(
+        source
+            .as_deref()
+            .is_some_and(|s| s.ends_with("default-model.json")),
+        "{source:?}"
+    );
+    let text = std::fs::read_to_string(export::default_model_path().expect("bundled model"))
+        .expect("readable");
+    let scratch = common::scratch_dir("bad-model");
+    let ctx = harness.ctx.clone();
+    for (pointer, why) in [
+        (
+            "/combined/loss_scale/sigma_rot",
+            "combined.loss_scale.sigma_rot: must be > 0, found 0",
+        ),
+        (
+            "/combined/horizon",
+            "combined.horizon: must be at least 1 frame, found 0",
+        ),
+    ] {
+        let mut json: serde_json::Value = serde_json::from_str(&text).expect("json");
+        *json.pointer_mut(pointer).expect("field") = serde_json::json!(0);
+        let bad = scratch.join("bad.json");
+        std::fs::write(&bad, json.to_string()).expect("write");
+        harness
+            .state_mut()
+            .apply_dialog_result(&ctx, DialogResult::LoadModel(bad.clone()));
+        harness.run_steps(2);
+        let state = &harness.state().state;
+        assert_eq!(state.models.source, source);
+        assert!(state.models.combined == combined, "the model changed");
+        let expected = format!(
+            "model not loaded, the combined model (contact) stays in use: {}: {why}",
+            bad.display()
+        );
+        let status = state.status.clone().unwrap_or_default();
+        assert_eq!(status, expected);
+        assert!(
+            harness.query_all_by_label_contains(why).next().is_some(),
+            "the status line shows why"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+}
+
+#[test]
+fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
+    let set = common::sample_dir("box1-paper-center-front");
     let mut harness = app_on(std::slice::from_ref(&set));
     harness.get_by_label("Train").click();
     harness.run_steps(2);
@@ -229,9 +276,7 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
 
 #[test]
 fn exports_write_the_losses_a_png_region_and_the_labels() {
-    let Some(set) = common::sample_set("box1-paper-center-front") else {
-        return;
-    };
+    let set = common::sample_dir("box1-paper-center-front");
     let mut harness = app_on(std::slice::from_ref(&set));
     for _ in 0..20 {
         harness.key_press(egui::Key::ArrowRight);
@@ -286,9 +331,7 @@ fn exports_write_the_losses_a_png_region_and_the_labels() {
 
 #[test]
 fn exporting_the_scene_and_the_plots_writes_pngs_of_their_regions() {
-    let Some(set) = common::sample_set("box1-paper-center-front") else {
-        return;
-    };
+    let set = common::sample_dir("box1-paper-center-front");
     let mut harness = app_on(std::slice::from_ref(&set));
     let scratch = common::scratch_dir("png");
     let ctx = harness.ctx.clone();
@@ -335,9 +378,7 @@ fn exporting_the_scene_and_the_plots_writes_pngs_of_their_regions() {
 
 #[test]
 fn the_train_tab_offers_every_model_kind_and_the_app_shows_which_is_loaded() {
-    let Some(set) = common::sample_set("box1-paper-center-front") else {
-        return;
-    };
+    let set = common::sample_dir("box1-paper-center-front");
     let mut harness = app_on(std::slice::from_ref(&set));
     harness.get_by_label("Train").click();
     harness.run_steps(2);

@@ -179,7 +179,11 @@ impl PushlabApp {
             DialogResult::LoadModel(path) => {
                 self.state.status = Some(match export::load_model(&mut self.state, &path) {
                     Ok(()) => format!("model loaded from {}", path.display()),
-                    Err(e) => format!("{e:#}"),
+                    // The core refused the file before anything changed: say so, and why.
+                    Err(e) => format!(
+                        "model not loaded, the {} stays in use: {e:#}",
+                        self.state.models.learner_name()
+                    ),
                 });
             }
             DialogResult::ExportLabels(path, format) => {
@@ -322,6 +326,9 @@ pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
             let mut state = initial_state(&paths, persisted);
             // Models trained for folders live beside eframe's own state, never in a user's data.
             state.model_store = eframe::storage_dir("pushlab").map(|dir| dir.join("models"));
+            // So are labels whose own folder cannot be written.
+            state.labels.rescue_dir =
+                eframe::storage_dir("pushlab").map(|dir| dir.join("unsaved-labels"));
             Ok(Box::new(PushlabApp::new(state)))
         }),
     )

@@ -1,5 +1,9 @@
 //! What the app's test files share: a harness that runs the app frame by frame as the window does,
 //! and the sample-data sets (read in place, or copied when a test writes labels).
+//!
+//! `sample-data/` is committed, so a missing set can only mean a broken checkout: the test fails
+//! with the path, it never skips. (Skipping is right only for data outside the repository, such as
+//! `../shared/mit-push/`.)
 
 #![allow(dead_code)] // each test file uses its own part
 
@@ -33,17 +37,17 @@ pub fn run_until(
     harness.run_steps(2);
 }
 
-/// A set of the bundled sample data, or `None` (with a message) where it is missing.
-pub fn sample_set(name: &str) -> Option<PathBuf> {
+/// A set of the bundled sample data; panics (fails the test) when it is missing.
+pub fn sample_dir(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("sample-data")
         .join(name);
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is missing", dir.display());
-        None
-    }
+    assert!(
+        dir.is_dir(),
+        "{} is missing: sample-data/ is part of the repository, so the checkout is broken",
+        dir.display()
+    );
+    dir
 }
 
 /// An empty folder of the system's temporary directory for one test.
@@ -55,12 +59,62 @@ pub fn scratch_dir(test: &str) -> PathBuf {
 }
 
 /// A private copy of a sample set, so that a test that writes labels never touches the repository.
-pub fn copy_of_sample_set(name: &str, test: &str) -> Option<PathBuf> {
-    let source = sample_set(name)?;
+pub fn copy_of_sample_set(name: &str, test: &str) -> PathBuf {
+    let source = sample_dir(name);
     let dir = scratch_dir(test);
     for entry in std::fs::read_dir(&source).expect("sample set") {
         let entry = entry.expect("dir entry");
         std::fs::copy(entry.path(), dir.join(entry.file_name())).expect("copy");
     }
-    Some(dir)
+    dir
+}
+
+/// Makes a folder unwritable for this process until dropped: `chmod 555`, and where that does not
+/// stop writes (tests running as root) also the immutable attribute, `chattr +i`.
+pub struct Unwritable(PathBuf);
+
+impl Unwritable {
+    /// `None` where neither stops this process from writing into `dir`.
+    pub fn make(dir: &Path) -> Option<Self> {
+        use std::os::unix::fs::PermissionsExt as _;
+        let writable = || {
+            let probe = dir.join(".probe");
+            let ok = std::fs::write(&probe, b"").is_ok();
+            let _ = std::fs::remove_file(&probe);
+            ok
+        };
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o555)).ok()?;
+        let guard = Self(dir.to_path_buf());
+        if writable() {
+            let _ = std::process::Command::new("chattr")
+                .arg("+i")
+                .arg(dir)
+                .status();
+        }
+        (!writable()).then_some(guard)
+    }
+}
+
+impl Drop for Unwritable {
+    fn drop(&mut self) {
+        use std::os::unix::fs::PermissionsExt as _;
+        let _ = std::process::Command::new("chattr")
+            .arg("-i")
+            .arg(&self.0)
+            .status();
+        let _ = std::fs::set_permissions(&self.0, std::fs::Permissions::from_mode(0o755));
+    }
+}
+
+/// Every file of a folder and its bytes.
+pub fn contents(dir: &Path) -> Vec<(std::ffi::OsString, Vec<u8>)> {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .expect("folder")
+        .map(|e| {
+            let e = e.expect("entry");
+            (e.file_name(), std::fs::read(e.path()).expect("file"))
+        })
+        .collect();
+    files.sort();
+    files
 }

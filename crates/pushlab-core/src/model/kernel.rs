@@ -2,7 +2,7 @@
 //! float type, the loss (eq. 8) and its gradient, and the online step's gradient descent on
 //! `θ_online` (eq. 13) with one rule for `h`'s range and for non-finite steps.
 
-use super::params::{H_MAX, H_MIN, OnlineParams};
+use super::params::{COM_OFFSET_MAX, H_MAX, H_MIN, OnlineParams};
 use super::{Prediction, Sample};
 use crate::learn::LossScale;
 use crate::real::Real;
@@ -98,7 +98,8 @@ pub(crate) trait ThetaPass<T: Real> {
 
 /// The online step of Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps, for any model
 /// kind: predicts with `theta`, then descends the loss in `θ_online / scales` (`θ_i ← θ_i − lr · s_i² ·
-/// ∂ℓ/∂θ_i`), keeping `h` in [`H_MIN`, `H_MAX`]. Returns the prediction and gradient at `theta` and the
+/// ∂ℓ/∂θ_i`), keeping `h` in [`H_MIN`, `H_MAX`] and the COM offset in ±[`COM_OFFSET_MAX`] (projected
+/// gradient descent on the box of physical values). Returns the prediction and gradient at `theta` and the
 /// updated parameters.
 ///
 /// One rule for every kind: a step that makes any component non-finite (a degenerate sample, a wild
@@ -115,6 +116,7 @@ pub(crate) fn descend<T: Real, A: MulAdd>(
 ) -> (Prediction, [f64; 3], OnlineParams) {
     let step = scales.map(|s| T::of(lr * s * s));
     let (h_min, h_max) = (T::of(H_MIN), T::of(H_MAX));
+    let com_max = T::of(COM_OFFSET_MAX);
     let mut th = theta_real(theta);
     let output = pass.forward(&th);
     let prediction = pass.prediction(&th);
@@ -131,10 +133,12 @@ pub(crate) fn descend<T: Real, A: MulAdd>(
         for ((t, gi), si) in next.iter_mut().zip(g).zip(step) {
             *t = A::mul_add(-si, gi, *t);
         }
-        // Checked before clamping: `max` would turn a NaN `h` into `H_MIN`.
+        // Checked before clamping: `max` would turn a NaN into a bound.
         if !next.iter().all(|t| t.is_finite()) {
             break;
         }
+        next[0] = next[0].max(-com_max).min(com_max);
+        next[1] = next[1].max(-com_max).min(com_max);
         next[2] = next[2].max(h_min).min(h_max);
         th = next;
     }

@@ -189,16 +189,33 @@ impl<T: Real, const I: usize> Mlp<T, I> {
     }
 
     /// A network from parameters in the order of [`Mlp::parameters`]; `None` unless there are exactly
-    /// [`parameter_count`]`(I)` finite values.
+    /// [`parameter_count`]`(I)` values, each finite in `T`.
     pub fn from_slice(values: &[f64]) -> Option<Self> {
-        if values.len() != parameter_count(I) || values.iter().any(|v| !v.is_finite()) {
-            return None;
+        Self::try_from_slice(values).ok()
+    }
+
+    /// As [`Mlp::from_slice`], with what is wrong: the count, or the first value that is not a
+    /// finite number in `T` (a weight of 1e39 is finite in a JSON file but infinite in `f32`, and
+    /// would make every prediction NaN).
+    pub fn try_from_slice(values: &[f64]) -> Result<Self, String> {
+        let expected = parameter_count(I);
+        if values.len() != expected {
+            return Err(format!(
+                "the network has {} parameters, expected {expected} for a {I}-16-16-16-4 MLP",
+                values.len()
+            ));
         }
         let mut mlp = Self::zeros();
-        for (p, v) in mlp.parameters_mut().zip(values) {
+        for (k, (p, v)) in mlp.parameters_mut().zip(values).enumerate() {
             *p = T::of(*v);
+            if !p.is_finite() {
+                return Err(format!(
+                    "parameter [{k}] is {v:e}, not a finite number in the network's {}-bit floats",
+                    8 * std::mem::size_of::<T>()
+                ));
+            }
         }
-        Some(mlp)
+        Ok(mlp)
     }
 }
 
@@ -212,13 +229,7 @@ impl<T: Real, const I: usize> Serialize for Mlp<T, I> {
 impl<'de, T: Real, const I: usize> Deserialize<'de> for Mlp<T, I> {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let values = Vec::<f64>::deserialize(deserializer)?;
-        let count = values.len();
-        Self::from_slice(&values).ok_or_else(|| {
-            serde::de::Error::custom(format!(
-                "the network has {count} parameters (or a non-finite one), expected {} finite values for a {I}-16-16-16-4 MLP",
-                parameter_count(I)
-            ))
-        })
+        Self::try_from_slice(&values).map_err(serde::de::Error::custom)
     }
 }
 

@@ -25,7 +25,7 @@ pub use contact::{ContactGeometry, ContactModel};
 pub(crate) use kernel::{RealSample, loss_weights, theta_real};
 pub use mlp::{HIDDEN, INPUTS, Mlp, Network, OUTPUTS, PARAMETER_COUNT, parameter_count};
 pub use paper::PaperModel;
-pub use params::{H_MAX, H_MIN, OnlineParams};
+pub use params::{COM_OFFSET_MAX, H_MAX, H_MIN, OnlineParams};
 pub use physics::{
     ComMotion, LynchGradient, centre_motion, centre_motion_backward, lynch, lynch_backward,
 };

@@ -10,11 +10,17 @@ pub const H_MIN: f64 = 1e-3;
 /// Largest `h` the model accepts, metres: far beyond any tabletop or floor object's size.
 pub const H_MAX: f64 = 2.0;
 
+/// Largest magnitude of each COM offset component the model accepts, metres. A COM 2 m from the
+/// footprint's centre lies outside any object pushed on a table or floor; without a bound, online
+/// learning at a wild learning rate walked it to 10¹⁰ m on real MIT pushes, where the passes overflow
+/// single precision and the gradient shown became NaN.
+pub const COM_OFFSET_MAX: f64 = 2.0;
+
 /// `θ_online = (COM offset, h)` in physical units.
 ///
 /// The COM offset is `COM − geometric centre` in the object frame (the paper's `v` is its negative).
 /// `h` is Lynch's limit-surface parameter (ratio of the maximal friction torque to the maximal friction
-/// force), kept in [`H_MIN`, `H_MAX`].
+/// force), kept in [`H_MIN`, `H_MAX`]; each COM offset component is kept in ±[`COM_OFFSET_MAX`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OnlineParams {
     /// COM − geometric centre, object frame, metres.
@@ -24,14 +30,22 @@ pub struct OnlineParams {
 }
 
 impl OnlineParams {
-    /// Parameters with `h` clamped into [`H_MIN`, `H_MAX`] (and a non-finite `h` replaced by `H_MIN`).
+    /// Parameters with `h` clamped into [`H_MIN`, `H_MAX`] and each COM offset component into
+    /// ±[`COM_OFFSET_MAX`] (a non-finite `h` replaced by `H_MIN`, a non-finite component by 0).
     pub fn clamped(self) -> Self {
         let h = if self.h.is_finite() {
             self.h.clamp(H_MIN, H_MAX)
         } else {
             H_MIN
         };
-        Self { h, ..self }
+        let com_offset = self.com_offset.map(|c| {
+            if c.is_finite() {
+                c.clamp(-COM_OFFSET_MAX, COM_OFFSET_MAX)
+            } else {
+                0.0
+            }
+        });
+        Self { com_offset, h }
     }
 
     /// A physically motivated starting point for an object whose outline is known: the COM at the

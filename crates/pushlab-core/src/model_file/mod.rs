@@ -6,9 +6,13 @@
 //!   "pure_nn": { ... } | null,
 //!   "training": { "report": {...}, "sources": ["path", ...], "pushlab_version": "0.1.0" } }
 //! ```
-//! Version 1 files (before model kinds) have no `kind` and open as `paper`. Files are written
-//! atomically (a temporary file in the same folder, then a rename), so a crash never leaves half a
-//! model behind.
+//! Version 1 files (before model kinds) have no `kind` and open as `paper`. Every file read is
+//! checked against the rules of [`validate`] before any of its numbers is used, and every error names
+//! the file and the JSON path of the field (`combined.loss_scale.sigma_rot: must be > 0, found 0`).
+//! Files are written atomically (a temporary file in the same folder, then a rename), so a crash
+//! never leaves half a model behind.
+
+pub mod validate;
 
 use std::path::{Path, PathBuf};
 
@@ -109,25 +113,42 @@ pub enum ModelFileError {
         "{path}: \"kind\" is {found}, expected one of \"contact\", \"paper\" (written by a newer pushlab?)"
     )]
     UnknownKind { path: PathBuf, found: String },
-    #[error("{path}: line {line}, column {column}: {message}")]
+    /// Not JSON, or a field of the wrong type or shape; the message starts with the field's JSON
+    /// path when there is one (`combined.horizon: invalid type: …`).
+    #[error("{path}: {message} (line {line}, column {column})")]
     Malformed {
         path: PathBuf,
         line: usize,
         column: usize,
         message: String,
     },
+    /// Well-formed, but a value breaks a rule of [`validate`].
+    #[error("{path}: {field}: {message}")]
+    Invalid {
+        path: PathBuf,
+        field: String,
+        message: String,
+    },
 }
 
 impl ModelFile {
-    /// Writes the model to `path` atomically.
+    /// Writes the model to `path` atomically. A model that breaks a rule of [`validate`] is refused
+    /// before anything is written: pushlab never writes a file it would not read back.
     pub fn save(&self, path: &Path) -> Result<(), ModelFileError> {
-        let io = |source| ModelFileError::Io {
+        let json = self.to_json(path)?;
+        write_atomically(path, &json).map_err(|source| ModelFileError::Io {
             path: path.to_owned(),
             source,
-        };
+        })
+    }
+
+    /// The file's JSON text, after checking every rule of [`validate`]; `path` names the file in
+    /// errors.
+    pub fn to_json(&self, path: &Path) -> Result<Vec<u8>, ModelFileError> {
+        self.validate(path)?;
         let kind = self.combined.kind();
         let (pure_nn, training) = (self.pure_nn.as_ref(), &self.training);
-        let json = match &self.combined {
+        match &self.combined {
             CombinedModel::Paper(m) => serde_json::to_vec_pretty(&OnDiskRef {
                 format: FORMAT,
                 version: VERSION,
@@ -145,8 +166,10 @@ impl ModelFile {
                 training,
             }),
         }
-        .map_err(|e| io(std::io::Error::other(e)))?;
-        write_atomically(path, &json).map_err(io)
+        .map_err(|e| ModelFileError::Io {
+            path: path.to_owned(),
+            source: std::io::Error::other(e),
+        })
     }
 
     /// Reads a model from `path`, checking its format, version and shapes.
@@ -158,15 +181,18 @@ impl ModelFile {
         Self::from_json(path, &bytes)
     }
 
-    /// Parses a model from JSON bytes; `path` only names the source in errors.
-    pub fn from_json(path: &Path, bytes: &[u8]) -> Result<Self, ModelFileError> {
-        let malformed = |e: serde_json::Error| ModelFileError::Malformed {
+    /// Checks every rule of [`validate`]; `path` names the file in the error.
+    pub fn validate(&self, path: &Path) -> Result<(), ModelFileError> {
+        validate::check(self).map_err(|(field, message)| ModelFileError::Invalid {
             path: path.to_owned(),
-            line: e.line(),
-            column: e.column(),
-            message: e.to_string(),
-        };
-        let header: Header = serde_json::from_slice(bytes).map_err(malformed)?;
+            field,
+            message,
+        })
+    }
+
+    /// Parses a model from JSON bytes and checks it; `path` only names the source in errors.
+    pub fn from_json(path: &Path, bytes: &[u8]) -> Result<Self, ModelFileError> {
+        let header: Header = parse(path, bytes)?;
         match header.format.as_deref() {
             Some(FORMAT) => {}
             other => {
@@ -208,8 +234,7 @@ impl ModelFile {
         };
         let file = match kind {
             ModelKind::Paper => {
-                let on_disk: OnDisk<PaperModel> =
-                    serde_json::from_slice(bytes).map_err(malformed)?;
+                let on_disk: OnDisk<PaperModel> = parse(path, bytes)?;
                 Self {
                     combined: CombinedModel::Paper(Arc::new(on_disk.combined)),
                     pure_nn: on_disk.pure_nn,
@@ -217,8 +242,7 @@ impl ModelFile {
                 }
             }
             ModelKind::Contact => {
-                let on_disk: OnDisk<ContactModel> =
-                    serde_json::from_slice(bytes).map_err(malformed)?;
+                let on_disk: OnDisk<ContactModel> = parse(path, bytes)?;
                 Self {
                     combined: CombinedModel::Contact(Arc::new(on_disk.combined)),
                     pure_nn: on_disk.pure_nn,
@@ -226,6 +250,34 @@ impl ModelFile {
                 }
             }
         };
+        file.validate(path)?;
         Ok(file)
     }
+}
+
+/// Deserialises `bytes`, naming the JSON path of the field that did not fit.
+fn parse<T: serde::de::DeserializeOwned>(path: &Path, bytes: &[u8]) -> Result<T, ModelFileError> {
+    let malformed = |field: String, e: serde_json::Error| {
+        // serde_json ends its messages with the position, which the error already names.
+        let text = e.to_string();
+        let text = text.split(" at line ").next().unwrap_or_default();
+        ModelFileError::Malformed {
+            path: path.to_owned(),
+            line: e.line(),
+            column: e.column(),
+            message: if field == "." {
+                text.to_owned()
+            } else {
+                format!("{field}: {text}")
+            },
+        }
+    };
+    let mut deserializer = serde_json::Deserializer::from_slice(bytes);
+    let value: T = serde_path_to_error::deserialize(&mut deserializer)
+        .map_err(|e| malformed(e.path().to_string(), e.into_inner()))?;
+    // Trailing characters after the JSON value are an error, as in `serde_json::from_slice`.
+    deserializer
+        .end()
+        .map_err(|e| malformed(".".to_owned(), e))?;
+    Ok(value)
 }
