@@ -38,13 +38,17 @@ impl OnlineParams {
         } else {
             H_MIN
         };
-        let com_offset = self.com_offset.map(|c| {
-            if c.is_finite() {
-                c.clamp(-COM_OFFSET_MAX, COM_OFFSET_MAX)
-            } else {
+        // Within the bound (every real θ) the value passes through one comparison.
+        let bound = |c: f64| {
+            if c.abs() <= COM_OFFSET_MAX {
+                c
+            } else if c.is_nan() {
                 0.0
+            } else {
+                COM_OFFSET_MAX.copysign(c)
             }
-        });
+        };
+        let com_offset = [bound(self.com_offset[0]), bound(self.com_offset[1])];
         Self { com_offset, h }
     }
 
