@@ -7,10 +7,12 @@
 //! (`remember_losses`), so a frame only filters and sorts.
 
 use std::cmp::Ordering;
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 use std::path::PathBuf;
 
 use pushlab_core::experiment::split_of;
+use pushlab_core::labels::LabelDocument;
+use pushlab_core::labels::pipeline::key_of;
 use pushlab_core::recording::{PushParameters, Recording};
 use serde::{Deserialize, Serialize};
 
@@ -167,47 +169,27 @@ impl Row<'_> {
         }
     }
 
-    /// Orders two rows by a column; rows without a value come last.
-    fn compare(&self, other: &Self, column: Column) -> Ordering {
-        let number = |row: &Row<'_>| -> Option<f64> {
-            let p = row.parameters;
-            match column {
-                Column::Position => p.and_then(|p| p.position).map(|s| s.value()),
-                Column::Angle => p.and_then(|p| p.angle_deg),
-                Column::Speed => p.and_then(|p| p.speed_mm_s),
-                Column::Frames => Some(row.recording.trajectory.len() as f64),
-                Column::Labels => Some(row.labels as f64),
-                Column::Online => row.losses.map(|l| online_total(&l)),
-                Column::Fixed => row.losses.map(|l| fixed_total(&l)),
-                _ => None,
-            }
+    /// What the row is sorted by in `column`: a number for numeric columns, else the cell's text.
+    fn sort_key(&self, column: Column) -> SortKey {
+        let p = self.parameters;
+        let number = match column {
+            Column::Position => p.and_then(|p| p.position).map(|s| s.value()),
+            Column::Angle => p.and_then(|p| p.angle_deg),
+            Column::Speed => p.and_then(|p| p.speed_mm_s),
+            Column::Frames => Some(self.recording.trajectory.len() as f64),
+            Column::Labels => Some(self.labels as f64),
+            Column::Online => self.losses.map(|l| online_total(&l)),
+            Column::Fixed => self.losses.map(|l| fixed_total(&l)),
+            _ => return SortKey::Text(Some(self.text(column)).filter(|t| !t.is_empty())),
         };
-        match column {
-            Column::Position
-            | Column::Angle
-            | Column::Speed
-            | Column::Frames
-            | Column::Labels
-            | Column::Online
-            | Column::Fixed => match (number(self), number(other)) {
-                (Some(a), Some(b)) => a.total_cmp(&b),
-                (Some(_), None) => Ordering::Less,
-                (None, Some(_)) => Ordering::Greater,
-                (None, None) => Ordering::Equal,
-            },
-            _ => {
-                let (a, b) = (self.text(column), other.text(column));
-                match (a.is_empty(), b.is_empty()) {
-                    (false, true) => Ordering::Less,
-                    (true, false) => Ordering::Greater,
-                    _ => a.cmp(&b),
-                }
-            }
-        }
+        SortKey::Number(number)
     }
 
     /// Whether every word of `filter` is in one of the row's cells (or the file's name).
     fn matches(&self, filter: &str) -> bool {
+        if filter.trim().is_empty() {
+            return true;
+        }
         let text = Column::ALL
             .iter()
             .map(|c| self.text(*c))
@@ -218,6 +200,40 @@ impl Row<'_> {
         filter
             .split_whitespace()
             .all(|word| text.contains(&word.to_lowercase()))
+    }
+}
+
+/// A row's place in the sort by one column.
+#[derive(Clone, Debug, PartialEq)]
+enum SortKey {
+    Number(Option<f64>),
+    Text(Option<String>),
+}
+
+impl SortKey {
+    /// Orders two keys of one column, values ascending or descending; a missing value comes after
+    /// every value either way (sorting by loss shows the recordings that were run first).
+    fn compare(&self, other: &Self, descending: bool) -> Ordering {
+        fn missing_last<T>(
+            a: &Option<T>,
+            b: &Option<T>,
+            cmp: impl Fn(&T, &T) -> Ordering,
+        ) -> Ordering {
+            match (a, b) {
+                (Some(a), Some(b)) => cmp(a, b),
+                (Some(_), None) => Ordering::Less,
+                (None, Some(_)) => Ordering::Greater,
+                (None, None) => Ordering::Equal,
+            }
+        }
+        let direction = |order: Ordering| if descending { order.reverse() } else { order };
+        match (self, other) {
+            (SortKey::Number(a), SortKey::Number(b)) => {
+                missing_last(a, b, |a, b| direction(a.total_cmp(b)))
+            }
+            (SortKey::Text(a), SortKey::Text(b)) => missing_last(a, b, |a, b| direction(a.cmp(b))),
+            _ => Ordering::Equal,
+        }
     }
 }
 
@@ -232,8 +248,8 @@ fn fixed_total(l: &MeanLosses) -> f64 {
 /// What the browser remembers about recordings, by their file.
 #[derive(Default)]
 pub struct BrowserMemory {
-    parameters: BTreeMap<PathBuf, PushParameters>,
-    losses: BTreeMap<PathBuf, MeanLosses>,
+    parameters: HashMap<PathBuf, PushParameters>,
+    losses: HashMap<PathBuf, MeanLosses>,
 }
 
 impl AppState {
@@ -278,22 +294,41 @@ impl AppState {
 
     /// The browser's rows: every open recording that passes the filter, sorted.
     pub fn browser_rows(&self) -> Vec<Row<'_>> {
-        let mut rows: Vec<Row<'_>> = self
-            .session
-            .recordings()
-            .map(|(id, recording)| self.row(id, recording))
-            .filter(|row| row.matches(&self.browser.filter))
-            .collect();
+        let mut rows = Vec::with_capacity(self.session.recording_count());
+        for (set_index, set) in self.session.sets.iter().enumerate() {
+            // A set's recordings share a folder and so one labels file: looked up once per set.
+            let document = set
+                .recordings
+                .first()
+                .and_then(LabelTarget::of)
+                .and_then(|t| self.labels.document(&t.document));
+            for (index, recording) in set.recordings.iter().enumerate() {
+                let id = RecordingId {
+                    set: set_index,
+                    recording: index,
+                };
+                let row = self.row(id, recording, document);
+                if row.matches(&self.browser.filter) {
+                    rows.push(row);
+                }
+            }
+        }
         let (column, descending) = (self.browser.sort, self.browser.descending);
-        // Stable: equal rows keep the sets' order.
-        rows.sort_by(|a, b| {
-            let order = a.compare(b, column);
-            if descending { order.reverse() } else { order }
-        });
-        rows
+        // Each row's key once (not per comparison); stable: equal rows keep the sets' order.
+        let mut keyed: Vec<(SortKey, Row<'_>)> = rows
+            .drain(..)
+            .map(|row| (row.sort_key(column), row))
+            .collect();
+        keyed.sort_by(|(a, _), (b, _)| a.compare(b, descending));
+        keyed.into_iter().map(|(_, row)| row).collect()
     }
 
-    fn row<'a>(&'a self, id: RecordingId, recording: &'a Recording) -> Row<'a> {
+    fn row<'a>(
+        &'a self,
+        id: RecordingId,
+        recording: &'a Recording,
+        document: Option<&LabelDocument>,
+    ) -> Row<'a> {
         let parameters = self.browsed.parameters.get(&recording.source);
         let name = match parameters {
             Some(p) if recording.name.starts_with("motion_") => {
@@ -305,13 +340,9 @@ impl AppState {
             }
             _ => recording.name.clone(),
         };
-        let target = LabelTarget::of(recording);
-        let document = target
-            .as_ref()
-            .and_then(|t| self.labels.document(&t.document));
         let labels = document
-            .zip(target.as_ref())
-            .and_then(|(d, t)| d.recording(&t.recording));
+            .zip(key_of(&recording.source))
+            .and_then(|(d, key)| d.recording(&key));
         let split = split_of(recording, document.map(|d| d.set())).map(|s| s.name());
         Row {
             id,
@@ -415,6 +446,10 @@ mod tests {
             format!("{:.3}", expected.online_pos + expected.online_rot)
         );
         assert!(rows[1..].iter().all(|r| r.losses.is_none()));
+        // Descending too: the recording that was run comes first, the others after it.
+        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Online)));
+        assert!(state.browser.descending);
+        assert_eq!(state.browser_rows()[0].id, shown);
     }
 
     #[test]
