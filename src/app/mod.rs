@@ -101,8 +101,12 @@ impl PushlabApp {
 
         panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
         panels::timeline::bottom_bar(ui, &self.state, &mut commands);
+        // On a narrow window the browser gives way, so that the scene keeps 300 points beside the
+        // side panel (which its sliders need at full width).
+        let width = ui.available_width();
         egui::Panel::left("browser")
             .default_size(480.0)
+            .max_size((width - 330.0 - 300.0).max(220.0))
             .resizable(true)
             .show(ui, |ui| panels::browser::ui(ui, &self.state, &mut commands));
         egui::Panel::right("side")
