@@ -105,7 +105,7 @@ impl PushlabApp {
         // side panel (which its sliders need at full width).
         let width = ui.available_width();
         egui::Panel::left("browser")
-            .default_size(480.0)
+            .default_size(490.0)
             .max_size((width - 330.0 - 300.0).max(220.0))
             .resizable(true)
             .show(ui, |ui| panels::browser::ui(ui, &self.state, &mut commands));

@@ -163,10 +163,11 @@ fn details(ui: &mut egui::Ui, state: &AppState, row: &Row<'_>) {
 /// the set, frames, split and labels are a horizontal scroll away.
 fn width(column: Column) -> TableColumn {
     let points = match column {
-        Column::Name => 76.0,
+        Column::Name => 88.0,
         Column::Online | Column::Fixed => 44.0,
-        Column::Shape => 54.0,
-        Column::Surface | Column::Position => 46.0,
+        Column::Shape => 56.0,
+        Column::Surface => 46.0,
+        Column::Position => 50.0,
         Column::Side | Column::Angle | Column::Speed => 38.0,
         Column::Set => 120.0,
         Column::Frames | Column::Split | Column::Labels => 48.0,

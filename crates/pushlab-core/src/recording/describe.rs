@@ -24,11 +24,11 @@ impl SidePosition {
         }
     }
 
-    /// As a table shows it: `s 0.80` or `+12.0 mm`.
+    /// As a table shows it: `s 0.80` or `+12 mm`.
     pub fn label(self) -> String {
         match self {
             SidePosition::Fraction(s) => format!("s {s:.2}"),
-            SidePosition::Offset(m) => format!("{:+.1} mm", m * 1e3),
+            SidePosition::Offset(m) => format!("{:+.0} mm", m * 1e3),
         }
     }
 }
