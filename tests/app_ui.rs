@@ -305,7 +305,11 @@ fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_rea
         for id in ids {
             state.apply(Command::Select(id));
             for lr in [10.0, 1e6] {
-                state.apply(Command::SetOnlineConfig(OnlineConfig { steps: 5, lr }));
+                state.apply(Command::SetOnlineConfig(OnlineConfig {
+                    steps: 5,
+                    lr,
+                    ..OnlineConfig::default()
+                }));
                 state.apply(Command::Timeline(TimelineCommand::SeekTo(0)));
                 state.apply(Command::ResetTheta);
                 let what = format!(

@@ -4,6 +4,10 @@
 //! - `predict`, `online_step`: the contact-frame model (the default kind) on a box;
 //! - `predict_64gon`, `online_step_64gon`: the same on a 64-gon (an ellipse outline);
 //! - `paper/predict`, `paper/online_step`: the paper's model;
+//! - `online_step_gauss_newton`: one Gauss–Newton step with the posterior (contact, box), and
+//!   `online_step_gd_posterior`: the paper's step with the posterior kept beside it, as `pushlab eval`
+//!   and the app run it;
+//! - `landscape_64`: the loss over a 64 × 64 grid of COM offsets on the last 25 frames (contact, box);
 //! - `train/train_epoch` (the paper's model) and `train/train_epoch_contact`.
 
 use std::hint::black_box;
@@ -13,8 +17,10 @@ use std::sync::{Arc, OnceLock};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::Point2;
 use pushlab_core::geometry::Outline;
+use pushlab_core::inspect::{ComGrid, com_landscape};
 use pushlab_core::learn::{
-    ContactTrajectory, OnlineConfig, OnlineModel, TrainConfig, train_contact, train_paper,
+    ContactTrajectory, OnlineConfig, OnlineModel, OnlineState, Optimizer, TrainConfig, learn_step,
+    train_contact, train_paper,
 };
 use pushlab_core::model::{
     CombinedModel, ContactGeometry, ObjectMotion, OnlineParams, Sample, SampleInput, lynch,
@@ -186,6 +192,49 @@ fn online_step(c: &mut Criterion) {
     bench_online_step(c, "paper/online_step", |t| (&t.paper, &t.samples));
 }
 
+fn bench_learn_step(c: &mut Criterion, name: &str, optimizer: Optimizer) {
+    let config = OnlineConfig {
+        optimizer,
+        ..OnlineConfig::default()
+    };
+    let mut i = 0;
+    let mut carried = None;
+    c.bench_function(name, |b| {
+        let t = trained();
+        let model = t.contact_box.as_ref();
+        let state = carried.get_or_insert_with(|| OnlineState::start(model));
+        b.iter(|| {
+            i = (i + 1) % t.samples.len();
+            let (step, next) = learn_step(model, black_box(&t.samples[i]), state, &config);
+            *state = next;
+            black_box(step)
+        })
+    });
+}
+
+fn online_step_posterior(c: &mut Criterion) {
+    bench_learn_step(c, "online_step_gauss_newton", Optimizer::GaussNewton);
+    bench_learn_step(c, "online_step_gd_posterior", Optimizer::Gd);
+}
+
+fn landscape(c: &mut Criterion) {
+    let t = trained();
+    let frames = &t.samples[..25];
+    let model = t.contact_box.as_ref();
+    let grid = ComGrid {
+        centre: [0.0, 0.0],
+        half_width: 0.2,
+        cells: 64,
+    };
+    let h = model.theta0().h;
+    let mut group = c.benchmark_group("landscape");
+    group.sample_size(20);
+    group.bench_function("landscape_64", |b| {
+        b.iter(|| black_box(com_landscape(model, frames, &grid, h, &|| false)))
+    });
+    group.finish();
+}
+
 fn train_epoch(c: &mut Criterion) {
     let data = synthetic_trajectories(250, 100, 2);
     let samples: usize = data.iter().map(Vec::len).sum();
@@ -215,5 +264,12 @@ fn train_epoch(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, predict, online_step, train_epoch);
+criterion_group!(
+    benches,
+    predict,
+    online_step,
+    online_step_posterior,
+    landscape,
+    train_epoch
+);
 criterion_main!(benches);

@@ -17,6 +17,7 @@
 pub mod atomic_file;
 pub mod experiment;
 pub mod geometry;
+pub mod inspect;
 pub mod labels;
 pub mod learn;
 pub mod model;

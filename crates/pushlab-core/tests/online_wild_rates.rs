@@ -63,8 +63,12 @@ fn check_rates(
             assert_finite(&step, &format!("{name} fixed on {}", u.source()));
         }
         for lr in [10.0, 1e6] {
-            let config = OnlineConfig { steps: 5, lr };
-            let steps = online_pass(learner.as_ref(), &samples, &config);
+            let config = OnlineConfig {
+                steps: 5,
+                lr,
+                ..OnlineConfig::default()
+            };
+            let (steps, _) = online_pass(learner.as_ref(), &samples, &config);
             for (k, step) in steps.iter().enumerate() {
                 assert_finite(
                     step,

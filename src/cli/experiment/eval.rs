@@ -17,13 +17,13 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 use clap::Args;
 use pushlab_core::atomic_file::write_atomically;
-use pushlab_core::experiment::Domain;
 use pushlab_core::experiment::{
     self, EvalOptions, Evaluation, Loaded, PhysicsNmse, Skipped, UsedRecording,
 };
+use pushlab_core::experiment::{ComSummary, ComTruth, Domain};
 use pushlab_core::labels::Split;
 use pushlab_core::labels::pipeline::LabelMean;
-use pushlab_core::learn::{Loss, Nmse, OnlineConfig, TrainConfig};
+use pushlab_core::learn::{Loss, Nmse, OnlineConfig, Optimizer, TrainConfig};
 use pushlab_core::model::{
     CombinedModel, DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineParams, PureNnModel,
 };
@@ -34,7 +34,7 @@ use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
 use super::training::{self, TrainedModels};
-use super::{DEFAULT_HORIZON, Failure, TrainingArgs, positive_real};
+use super::{DEFAULT_HORIZON, Failure, TrainingArgs, optimizer, positive_real};
 
 /// Arguments of `pushlab eval`.
 #[derive(Debug, Args)]
@@ -57,6 +57,10 @@ pub struct EvalArgs {
     /// Online learning rate on θ_online / s (the paper: 0.005).
     #[arg(long, value_name = "LR", default_value_t = 0.005, value_parser = positive_real)]
     pub lr: f64,
+    /// How θ_online learns: `gd` (the paper's gradient descent, --steps and --lr) or `gauss-newton`
+    /// (one Gauss–Newton step per frame weighed against the frames before; --steps 0 still fixes θ).
+    #[arg(long, value_name = "OPTIMIZER", default_value = "gd", value_parser = optimizer)]
+    pub optimizer: Optimizer,
     /// Write the results as JSON (the format is documented in the README).
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
@@ -90,6 +94,10 @@ pub struct Report {
     pub per_label: Option<PerLabelReport>,
     /// Files and recordings left out, with the reason.
     pub skipped: Vec<Skipped>,
+    /// Over the online pushes with a known COM (simulated sets): how often the 95 % ellipse holds
+    /// it, the mean final error, and how fast the estimate settled within 5 mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_found: Option<ComSummary>,
 }
 
 /// One online trajectory.
@@ -105,9 +113,17 @@ pub struct TrajectoryReport {
     /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
     pub com_offset_learned: [f64; 2],
     pub h_learned: f64,
+    /// The posterior covariance of the learned COM offset (2 × 2, m², object frame; see
+    /// `learn::uncertainty`).
+    pub com_offset_cov: [[f64; 2]; 2],
+    /// The posterior standard deviation of the learned `h`, metres.
+    pub h_std: f64,
     /// From `setting.json`, when known (simulated sets).
     pub com_offset_true: Option<[f64; 2]>,
     pub h_true: Option<f64>,
+    /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_found: Option<ComTruth>,
 }
 
 /// How the numbers were made.
@@ -121,6 +137,7 @@ pub struct ConfigReport {
     pub seed: u64,
     pub steps: usize,
     pub lr: f64,
+    pub optimizer: Optimizer,
     /// The model file given with `--model`, or `null` when trained here.
     pub model: Option<String>,
     pub split_from_labels: bool,
@@ -226,6 +243,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         online: OnlineConfig {
             steps: args.steps,
             lr: args.lr,
+            optimizer: args.optimizer,
         },
         physics: args.physics.then_some(args.contact_tolerance),
     };
@@ -373,8 +391,11 @@ fn report(
                     theta0: r.theta0,
                     com_offset_learned: r.theta_end.com_offset,
                     h_learned: r.theta_end.h,
+                    com_offset_cov: r.posterior_end.com_covariance(),
+                    h_std: r.posterior_end.std()[2],
                     com_offset_true: setting.com_offset,
                     h_true: setting.h,
+                    com_found: r.com_truth,
                 }
             })
             .collect(),
@@ -385,6 +406,7 @@ fn report(
             seed: trained_with.seed,
             steps: args.steps,
             lr: args.lr,
+            optimizer: args.optimizer,
             model: args.model.as_ref().map(|p| p.display().to_string()),
             split_from_labels: args.training.split_from_labels,
             theta0: evaluation.trajectories.first().map(|r| r.theta0),
@@ -400,6 +422,7 @@ fn report(
             online: p.online.iter().map(LabelMeanReport::from).collect(),
         }),
         skipped,
+        com_found: evaluation.com_summary,
     }
 }
 
@@ -496,8 +519,29 @@ fn print_tables(report: &Report, evaluation: &Evaluation, online: &[UsedRecordin
             );
         }
     }
+    if let Some(c) = &report.com_found {
+        println!();
+        println!("{}", com_found_line(c));
+    }
     for s in &evaluation.left_out {
         println!("left out: {}", s.message());
     }
     println!();
+}
+
+/// One line on how well online learning found a known COM.
+fn com_found_line(c: &ComSummary) -> String {
+    let settled = match c.median_frames_to_near {
+        Some(frames) => format!("after a median {frames} frames"),
+        None => "never".into(),
+    };
+    format!(
+        "COM found on {} pushes with a known COM: the 95 % ellipse holds it on {} ({:.0} %); \
+         mean final error {:.1} mm; within 5 mm to the end on {} ({settled})",
+        c.pushes,
+        c.within_95,
+        100.0 * c.coverage(),
+        c.mean_error_m * 1e3,
+        c.settled,
+    )
 }

@@ -105,6 +105,12 @@ pub fn positive(text: &str) -> Result<usize, String> {
 }
 
 /// A finite number above 0.
+/// An online optimiser by name: `gd` or `gauss-newton`.
+pub fn optimizer(text: &str) -> Result<pushlab_core::learn::Optimizer, String> {
+    pushlab_core::learn::Optimizer::from_name(text.trim())
+        .ok_or_else(|| format!("expected gd or gauss-newton, got {text:?}"))
+}
+
 pub fn positive_real(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),

@@ -5,10 +5,14 @@
 
 use std::sync::Arc;
 
+use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Skipped, UsedRecording};
 use crate::geometry::OutlineError;
 use crate::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
-use crate::learn::{Loss, LossScale, Nmse, OnlineConfig, OnlineModel, OnlineStep};
+use crate::learn::{
+    Loss, LossScale, Nmse, OnlineConfig, OnlineModel, OnlineState, OnlineStep, Posterior,
+    learn_step,
+};
 use crate::model::{
     CombinedModel, OnlineParams, PhysicsOnlyModel, PureNnModel, Sample, samples_from_trajectory,
 };
@@ -75,21 +79,23 @@ pub fn fixed_pass(learner: &dyn OnlineModel, samples: &[Sample]) -> Vec<OnlineSt
         .collect()
 }
 
-/// Online learning along one trajectory from `θ_online(0)` (Algorithm 1): the "Online" run.
+/// Online learning along one trajectory from `θ_online(0)` (Algorithm 1, with the configured
+/// optimiser): the "Online" run, and the posterior of `θ_online` after its last frame.
 pub fn online_pass(
     learner: &dyn OnlineModel,
     samples: &[Sample],
     config: &OnlineConfig,
-) -> Vec<OnlineStep> {
-    let mut theta = learner.theta0();
-    samples
+) -> (Vec<OnlineStep>, Posterior) {
+    let mut state = OnlineState::start(learner);
+    let steps = samples
         .iter()
         .map(|s| {
-            let step = learner.online_step(s, &theta, config);
-            theta = step.theta_after;
+            let (step, next) = learn_step(learner, s, &state, config);
+            state = next;
             step
         })
-        .collect()
+        .collect();
+    (steps, state.posterior)
 }
 
 /// One online recording's runs.
@@ -104,6 +110,10 @@ pub struct TrajectoryRun {
     pub theta0: OnlineParams,
     /// `θ_online` after the last online step.
     pub theta_end: OnlineParams,
+    /// Its posterior given every frame learned from (see `learn::uncertainty`).
+    pub posterior_end: Posterior,
+    /// The COM estimate against the recording's true COM, when it has one (simulated sets).
+    pub com_truth: Option<ComTruth>,
 }
 
 /// The physics-only model's NMSE.
@@ -145,6 +155,8 @@ pub struct Evaluation {
     pub per_label: Option<PerLabel>,
     /// Recordings a model could not be evaluated on (the contact-frame model without an outline).
     pub left_out: Vec<Skipped>,
+    /// How well online learning found the COM, over the online pushes with a known COM.
+    pub com_summary: Option<ComSummary>,
 }
 
 /// Evaluates a trained model (and the pure network, when given) on offline and online recordings.
@@ -197,7 +209,7 @@ pub fn evaluate(
         };
         let samples = u.samples(horizon);
         let fixed = fixed_pass(learner.as_ref(), &samples);
-        let learned = online_pass(learner.as_ref(), &samples, &options.online);
+        let (learned, posterior_end) = online_pass(learner.as_ref(), &samples, &options.online);
         trajectories.push(TrajectoryRun {
             recording: index,
             frames: samples.iter().map(|s| s.frame).collect(),
@@ -205,6 +217,12 @@ pub fn evaluate(
             online: learned.iter().map(|s| s.loss).collect(),
             theta0: learner.theta0(),
             theta_end: learned.last().map_or(learner.theta0(), |s| s.theta_after),
+            com_truth: u
+                .recording
+                .setting
+                .com_offset
+                .and_then(|truth| ComTruth::of(&learned, &posterior_end, truth)),
+            posterior_end,
         });
     }
 
@@ -225,6 +243,7 @@ pub fn evaluate(
         fixed: Nmse::of(trajectories.iter().flat_map(|r| r.fixed.iter())),
         online: Nmse::of(trajectories.iter().flat_map(|r| r.online.iter())),
         per_label: per_label(online, &trajectories),
+        com_summary: ComSummary::of(trajectories.iter().filter_map(|r| r.com_truth.as_ref())),
         trajectories,
         physics,
         left_out,
@@ -254,7 +273,7 @@ fn physics_nmse(
         if let Some(m) = model(u) {
             let samples = u.samples(horizon);
             fixed.extend(fixed_pass(&m, &samples).iter().map(|s| s.loss));
-            learned.extend(online_pass(&m, &samples, config).iter().map(|s| s.loss));
+            learned.extend(online_pass(&m, &samples, config).0.iter().map(|s| s.loss));
         }
     }
     PhysicsNmse {

@@ -7,6 +7,7 @@
 //! `θ_online(0)`, the physics-only model's tolerance and loss scale, the fixed and online passes — so
 //! that `pushlab train`, `pushlab eval`, the suite and the app cannot drift apart.
 
+pub mod com_truth;
 pub mod data;
 pub mod domain;
 pub mod evaluate;
@@ -14,6 +15,7 @@ pub mod suite;
 pub mod train;
 pub mod variant;
 
+pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, split_of};
 pub use domain::{Domain, DomainMismatch};
 pub use evaluate::{

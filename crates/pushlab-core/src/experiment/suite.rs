@@ -59,6 +59,9 @@ pub struct SuiteSpec {
     pub steps: usize,
     #[serde(default = "default_lr")]
     pub lr: f64,
+    /// `gd` (the paper's, default) or `gauss-newton`.
+    #[serde(default)]
+    pub optimizer: crate::learn::Optimizer,
     pub experiments: Vec<ExperimentSpec>,
 }
 
@@ -273,6 +276,7 @@ pub fn run_experiment(
             online: OnlineConfig {
                 steps: spec.steps,
                 lr: spec.lr,
+                optimizer: spec.optimizer,
             },
             physics: (spec.physics && i == 0).then_some(spec.contact_tolerance),
         };

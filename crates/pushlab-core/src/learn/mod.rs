@@ -5,6 +5,7 @@ mod adam;
 mod loss;
 mod offline;
 mod online;
+pub mod uncertainty;
 
 pub use loss::{Loss, LossScale, Nmse, mean_std_across, moving_average};
 pub use offline::{
@@ -12,3 +13,4 @@ pub use offline::{
     paper_theta0, train_contact, train_paper, train_pure_nn, training_trajectories,
 };
 pub use online::{ContactLearner, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep};
+pub use uncertainty::{OnlineState, Optimizer, Posterior, learn_step};

@@ -10,9 +10,10 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::loss::{Loss, LossScale};
+use super::uncertainty::{OnlineState, Optimizer, Posterior, learn_step};
 use crate::model::{
-    ContactGeometry, ContactModel, OnlineParams, PaperModel, PhysicsOnlyModel, Prediction,
-    RealSample, Sample, SampleInput,
+    ContactGeometry, ContactModel, Linearization, OnlineParams, PaperModel, PhysicsOnlyModel,
+    Prediction, RealSample, Sample, SampleInput,
 };
 use crate::real::Real;
 
@@ -23,6 +24,9 @@ pub struct OnlineConfig {
     pub steps: usize,
     /// Learning rate on `θ_online` divided component-wise by the model's scales (the paper: 0.005).
     pub lr: f64,
+    /// Gradient descent (the paper's) or Gauss–Newton (`learn::uncertainty`).
+    #[serde(default)]
+    pub optimizer: Optimizer,
 }
 
 impl Default for OnlineConfig {
@@ -30,6 +34,7 @@ impl Default for OnlineConfig {
         Self {
             steps: 5,
             lr: 0.005,
+            optimizer: Optimizer::Gd,
         }
     }
 }
@@ -37,7 +42,11 @@ impl Default for OnlineConfig {
 impl OnlineConfig {
     /// The "fixed" model of the paper's figures: predicts, never updates.
     pub fn fixed() -> Self {
-        Self { steps: 0, lr: 0.0 }
+        Self {
+            steps: 0,
+            lr: 0.0,
+            optimizer: Optimizer::Gd,
+        }
     }
 }
 
@@ -93,6 +102,9 @@ pub trait OnlineModel {
         theta: &OnlineParams,
         config: &OnlineConfig,
     ) -> OnlineStep;
+    /// The sample's residual normalised by the loss's σ and its Jacobian with respect to
+    /// `θ_online` at `theta`: what Gauss–Newton and the posterior of `θ_online` are built from.
+    fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization;
     /// The prediction for a sample, its loss, and the gradient of the loss with respect to
     /// `θ_online` (`[com_x, com_y, h]`, per metre).
     fn loss_and_gradient(
@@ -133,6 +145,10 @@ impl<T: Real> OnlineModel for PaperModel<T> {
         let real = RealSample::<T>::of(sample);
         let result = self.online_update(&real, &theta_before, config.steps, config.lr);
         OnlineStep::of(sample, theta_before, result, &self.loss_scale)
+    }
+
+    fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
+        PaperModel::linearize(self, &RealSample::<T>::of(sample), &theta.clamped())
     }
 }
 
@@ -184,6 +200,11 @@ impl OnlineModel for ContactLearner {
         );
         OnlineStep::of(sample, theta_before, result, &self.model.loss_scale())
     }
+
+    fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
+        self.model
+            .linearize(&self.geometry, sample, &theta.clamped())
+    }
 }
 
 /// The physics-only model learns `θ_online` too; each component is scaled by half the object's size.
@@ -214,6 +235,10 @@ impl OnlineModel for PhysicsOnlyModel {
         let result = self.online_update(sample, &theta_before, config.steps, config.lr);
         OnlineStep::of(sample, theta_before, result, &self.loss_scale())
     }
+
+    fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
+        PhysicsOnlyModel::linearize(self, sample, &theta.clamped())
+    }
 }
 
 macro_rules! forward_online_model {
@@ -231,30 +256,33 @@ macro_rules! forward_online_model {
             fn online_step(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
                 (**self).online_step(sample, theta, config)
             }
+            fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
+                (**self).linearize(sample, theta)
+            }
         }
     )*};
 }
 forward_online_model!(&M, Arc<M>, Box<M>);
 
-/// Learns `θ_online` along a stream of samples (Algorithm 1).
+/// Learns `θ_online` along a stream of samples (Algorithm 1), with the configured optimiser.
 ///
-/// Holds only the current `θ_online`: a caller that wants to rewind keeps the returned
-/// [`OnlineStep`]s (each has `theta_before`) and calls [`OnlineLearner::set_theta`].
+/// Holds only the current `θ_online` and its posterior: a caller that wants to rewind keeps the
+/// returned [`OnlineStep`]s (each has `theta_before`) and calls [`OnlineLearner::set_theta`].
 #[derive(Clone, Debug)]
 pub struct OnlineLearner<M> {
     model: M,
     config: OnlineConfig,
-    theta: OnlineParams,
+    state: OnlineState,
 }
 
 impl<M: OnlineModel> OnlineLearner<M> {
-    /// A learner starting at the model's `θ_online(0)`.
+    /// A learner starting at the model's `θ_online(0)` and the prior.
     pub fn new(model: M, config: OnlineConfig) -> Self {
-        let theta = model.theta0();
+        let state = OnlineState::start(&model);
         Self {
             model,
             config,
-            theta,
+            state,
         }
     }
 
@@ -265,17 +293,24 @@ impl<M: OnlineModel> OnlineLearner<M> {
 
     /// The current `θ_online(t)`.
     pub fn theta(&self) -> OnlineParams {
-        self.theta
+        self.state.theta
     }
 
-    /// Sets `θ_online` (a user's slider, a rewind to a checkpoint); `h` is clamped into range.
+    /// What the frames learned so far say about `θ_online`.
+    pub fn posterior(&self) -> Posterior {
+        self.state.posterior
+    }
+
+    /// Sets `θ_online` (a user's slider, a rewind to a checkpoint); `h` is clamped into range. The
+    /// posterior is kept.
     pub fn set_theta(&mut self, theta: OnlineParams) {
-        self.theta = theta.clamped();
+        self.state = OnlineState::at(theta, self.state.posterior);
     }
 
-    /// Back to `θ_online(0)`, as at the start of each trajectory when resetting per trajectory.
+    /// Back to `θ_online(0)` and the prior, as at the start of each trajectory when resetting per
+    /// trajectory.
     pub fn reset(&mut self) {
-        self.theta = self.model.theta0();
+        self.state = OnlineState::start(&self.model);
     }
 
     /// The update rule.
@@ -283,22 +318,22 @@ impl<M: OnlineModel> OnlineLearner<M> {
         self.config
     }
 
-    /// Changes the update rule (steps, learning rate) from the next step on.
+    /// Changes the update rule (steps, learning rate, optimiser) from the next step on.
     pub fn set_config(&mut self, config: OnlineConfig) {
         self.config = config;
     }
 
     /// Predicts for `sample` with `θ_online(t)`, records the loss, then learns from its outcome.
     pub fn step(&mut self, sample: &Sample) -> OnlineStep {
-        let step = self.model.online_step(sample, &self.theta, &self.config);
-        self.theta = step.theta_after;
+        let (step, next) = learn_step(&self.model, sample, &self.state, &self.config);
+        self.state = next;
         step
     }
 
     /// Predicts and scores `sample` with `θ_online(t)` without learning (the "fixed" run).
     pub fn evaluate(&self, sample: &Sample) -> OnlineStep {
         self.model
-            .online_step(sample, &self.theta, &OnlineConfig::fixed())
+            .online_step(sample, &self.state.theta, &OnlineConfig::fixed())
     }
 
     /// Runs [`OnlineLearner::step`] over a trajectory's samples.

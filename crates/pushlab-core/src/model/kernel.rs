@@ -96,6 +96,46 @@ pub(crate) trait ThetaPass<T: Real> {
     fn prediction(&self, theta: &[T; 3]) -> Prediction;
 }
 
+/// What one sample says about `θ_online` near a point: the prediction there, the residual normalised
+/// by the loss's σ (`r_i = (predicted_i − target_i) / σ_i`, so that the loss is `Σ r_i²`) and its
+/// Jacobian `∂r_i/∂θ_j` (per metre). Gauss–Newton steps and the Laplace posterior of `θ_online` are
+/// built from these (`learn::uncertainty`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Linearization {
+    pub prediction: Prediction,
+    pub residual: [f64; 3],
+    /// Row `i` is the gradient of `r_i` with respect to `[com_x, com_y, h]`.
+    pub jacobian: [[f64; 3]; 3],
+}
+
+/// [`Linearization`] of any kind's pass: one forward pass at `theta` and three backward passes, one
+/// per output (the backward passes only read what the forward pass left).
+#[inline(always)]
+pub(crate) fn linearize<T: Real>(
+    pass: &mut impl ThetaPass<T>,
+    target: &[T; 3],
+    scale: &LossScale,
+    theta: &OnlineParams,
+) -> Linearization {
+    let th = theta_real(theta);
+    let output = pass.forward(&th);
+    let prediction = pass.prediction(&th);
+    let sigma = [scale.sigma_pos[0], scale.sigma_pos[1], scale.sigma_rot];
+    let mut residual = [0.0; 3];
+    let mut jacobian = [[0.0; 3]; 3];
+    for i in 0..3 {
+        residual[i] = (output[i] - target[i]).as_f64() / sigma[i];
+        let mut seed = [T::zero(); 3];
+        seed[i] = T::one();
+        jacobian[i] = pass.backward(&th, seed).map(|d| d.as_f64() / sigma[i]);
+    }
+    Linearization {
+        prediction,
+        residual,
+        jacobian,
+    }
+}
+
 /// The online step of Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps, for any model
 /// kind: predicts with `theta`, then descends the loss in `θ_online / scales` (`θ_i ← θ_i − lr · s_i² ·
 /// ∂ℓ/∂θ_i`), keeping `h` in [`H_MIN`, `H_MAX`] and the COM offset in ±[`COM_OFFSET_MAX`] (projected

@@ -22,6 +22,7 @@ pub(crate) mod tail;
 
 pub use combined::{CombinedModel, LearnerError, ModelKind};
 pub use contact::{ContactGeometry, ContactModel};
+pub use kernel::Linearization;
 pub(crate) use kernel::{RealSample, loss_weights, theta_real};
 pub use mlp::{HIDDEN, INPUTS, Mlp, Network, OUTPUTS, PARAMETER_COUNT, parameter_count};
 pub use paper::PaperModel;

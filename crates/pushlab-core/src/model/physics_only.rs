@@ -2,7 +2,7 @@
 //! pusher disc, the contact moves with the pusher (`u_c = u_r`, a sticking contact), and Lynch's model
 //! with the COM correction does the rest.
 
-use super::kernel::{ThetaPass, descend, loss_weights};
+use super::kernel::{Linearization, ThetaPass, descend, linearize, loss_weights};
 use super::params::OnlineParams;
 use super::tail::TailPass;
 use super::{ObjectMotion, Prediction, RealSample, Sample, SampleInput};
@@ -119,6 +119,17 @@ impl PhysicsOnlyModel {
             self.theta_scales(),
             steps,
             lr,
+        )
+    }
+
+    /// The sample's normalised residual and its Jacobian with respect to `θ_online` at `theta`.
+    pub(crate) fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
+        let real = RealSample::<f64>::of(sample);
+        linearize(
+            &mut self.pass(&sample.input),
+            &real.target,
+            &self.loss_scale,
+            theta,
         )
     }
 

@@ -9,7 +9,9 @@ use nalgebra::{Point2, Vector2};
 use super::frame::ContactGeometry;
 use super::prior::{ConePass, cone_backward, cone_forward, swept_motion};
 use super::{CONTACT_INPUTS, ContactModel};
-use crate::model::kernel::{RealSample, ThetaPass, descend, loss_weights};
+use crate::model::kernel::{
+    Linearization, RealSample, ThetaPass, descend, linearize, loss_weights,
+};
 use crate::model::mlp::{Activations, HIDDEN, Mlp, OUTPUTS};
 use crate::model::params::OnlineParams;
 use crate::model::tail::TailPass;
@@ -445,6 +447,44 @@ impl<T: Real> ContactModel<T> {
             multiply_add: std::marker::PhantomData,
         };
         descend::<T, A>(&mut pass, target, &weights, theta, scales, steps, lr)
+    }
+}
+
+impl<T: Real> ContactModel<T> {
+    /// The sample's normalised residual and its Jacobian with respect to `θ_online` at `theta`, on
+    /// an object of this geometry (see [`linearize`]).
+    pub(crate) fn linearize(
+        &self,
+        geometry: &ContactGeometry,
+        sample: &Sample,
+        theta: &OnlineParams,
+    ) -> Linearization {
+        let prepared = self.prepare(geometry, &sample.input);
+        let target = RealSample::<T>::of(sample).target;
+        self.linearize_prepared(&prepared, &target, theta)
+    }
+
+    crate::simd::dispatch_simd! {
+        /// [`ContactModel::linearize`] of a prepared sample, in the widest SIMD available.
+        fn linearize_prepared(&self, prepared: &Prepared<T>, target: &[T; 3], theta: &OnlineParams)
+            -> Linearization
+            => linearize_portable, linearize_avx2
+    }
+
+    #[inline(always)]
+    fn linearize_portable<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        target: &[T; 3],
+        theta: &OnlineParams,
+    ) -> Linearization {
+        let mut pass = OnlinePass::<T, A> {
+            model: self,
+            prepared,
+            pass: Pass::default(),
+            multiply_add: std::marker::PhantomData,
+        };
+        linearize(&mut pass, target, &self.loss_scale, theta)
     }
 }
 

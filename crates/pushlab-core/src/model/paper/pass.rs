@@ -2,7 +2,9 @@
 
 use super::{PaperModel, Prepared};
 use crate::model::Prediction;
-use crate::model::kernel::{RealSample, ThetaPass, descend, loss_weights};
+use crate::model::kernel::{
+    Linearization, RealSample, ThetaPass, descend, linearize, loss_weights,
+};
 use crate::model::mlp::{Activations, Mlp};
 use crate::model::params::OnlineParams;
 use crate::model::tail::TailPass;
@@ -114,6 +116,30 @@ impl<T: Real> PaperModel<T> {
             steps,
             lr,
         )
+    }
+}
+
+impl<T: Real> PaperModel<T> {
+    crate::simd::dispatch_simd! {
+        /// The sample's normalised residual and its Jacobian with respect to `θ_online` at `theta`
+        /// (see [`linearize`]).
+        pub(crate) fn linearize(&self, sample: &RealSample<T>, theta: &OnlineParams) -> Linearization
+            => linearize_portable, linearize_avx2
+    }
+
+    #[inline(always)]
+    fn linearize_portable<A: MulAdd>(
+        &self,
+        sample: &RealSample<T>,
+        theta: &OnlineParams,
+    ) -> Linearization {
+        let mut pass = OnlinePass::<T, A> {
+            model: self,
+            prepared: self.prepare::<A>(&sample.input),
+            pass: Pass::default(),
+            multiply_add: std::marker::PhantomData,
+        };
+        linearize(&mut pass, &sample.target, &self.loss_scale, theta)
     }
 }
 

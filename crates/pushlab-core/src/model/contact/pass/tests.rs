@@ -258,3 +258,38 @@ fn online_update_descends_the_loss_and_survives_wild_learning_rates() {
         assert!(wild.com_offset.iter().all(|c| c.is_finite()), "lr {lr}");
     }
 }
+
+#[test]
+fn the_linearization_s_jacobian_matches_central_differences_of_its_residual() {
+    let geometry = square();
+    let s = sample();
+    for seed in [1, 2, 3] {
+        let model = model_f64(seed);
+        let theta = OnlineParams {
+            com_offset: [0.012, -0.018],
+            h: 0.07,
+        };
+        let lin = model.linearize(&geometry, &s, &theta);
+        for j in 0..3 {
+            let eps = 1e-7;
+            let at = |sign: f64| {
+                let mut v = [theta.com_offset[0], theta.com_offset[1], theta.h];
+                v[j] += sign * eps;
+                let t = OnlineParams {
+                    com_offset: [v[0], v[1]],
+                    h: v[2],
+                };
+                model.linearize(&geometry, &s, &t).residual
+            };
+            let (plus, minus) = (at(1.0), at(-1.0));
+            for i in 0..3 {
+                let numeric = (plus[i] - minus[i]) / (2.0 * eps);
+                assert!(
+                    (lin.jacobian[i][j] - numeric).abs() <= 1e-5 * (1.0 + numeric.abs()),
+                    "seed {seed} ∂r{i}/∂θ{j}: analytic {} numeric {numeric}",
+                    lin.jacobian[i][j]
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,298 @@
+//! How sure online learning is of `θ_online`, and a faster optimiser built from the same numbers.
+//!
+//! Each learned frame linearises the model at the `θ` it predicted with ([`Linearization`]: the
+//! residual `r = (predicted − measured) / σ` and its Jacobian `J`). Summed over the frames seen so
+//! far, `JᵀJ` is the Gauss–Newton approximation of the loss's curvature; with the noise variance `s²`
+//! estimated from the residuals and a weak Gaussian prior at `θ_online(0)`, the Laplace posterior of
+//! `θ_online` has the covariance `(JᵀJ / s² + Λ₀)⁻¹` ([`Posterior`]).
+//!
+//! The same information matrix gives the Gauss–Newton optimiser ([`Optimizer::GaussNewton`]): after
+//! each frame, `θ ← θ − (JᵀJ / s² + Λ₀)⁻¹ Jₜᵀ rₜ / s²` — the recursive least-squares (extended
+//! Kalman filter without process noise) step, which weighs the new frame against everything seen
+//! before instead of taking a fixed learning rate.
+//!
+//! Assumptions, stated because the calibration depends on them: residuals independent and Gaussian
+//! with one variance per normalised output (frames of one push are correlated, and a learned model's
+//! errors are partly systematic — see the README's calibration table for how often the 95 % region
+//! holds the true COM), and the model linear in `θ` near the estimate.
+
+use nalgebra::{Matrix2, Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+
+use super::{Loss, OnlineConfig, OnlineModel, OnlineStep};
+use crate::model::{COM_OFFSET_MAX, H_MAX, H_MIN, Linearization, OnlineParams, Sample};
+
+/// The prior's standard deviation of every component of `θ_online`, in units of `θ_online(0)`'s `h`
+/// (about a third of the object's size): weak, a COM anywhere on the object is plausible.
+pub const PRIOR_STD_PER_H: f64 = 2.0;
+
+/// Pseudo-frames of the noise-variance estimate's prior: residuals normalised by the loss's σ have a
+/// variance of 1 for a model that predicts nothing, so the first frames start from there.
+const NOISE_PRIOR_FRAMES: f64 = 1.0;
+
+/// χ² with two degrees of freedom at 95 %: the squared Mahalanobis radius of the COM's 95 % ellipse.
+pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
+
+/// How online learning updates `θ_online` from each observed frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Optimizer {
+    /// The paper's: `steps` gradient-descent steps with learning rate `lr` on this frame's loss.
+    #[default]
+    Gd,
+    /// One Gauss–Newton step weighing this frame against the information of every frame before
+    /// (`steps` and `lr` are not used).
+    GaussNewton,
+}
+
+impl Optimizer {
+    /// Both, the paper's first.
+    pub const ALL: [Optimizer; 2] = [Optimizer::Gd, Optimizer::GaussNewton];
+
+    /// The name on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Optimizer::Gd => "gd",
+            Optimizer::GaussNewton => "gauss-newton",
+        }
+    }
+
+    /// The optimiser called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|o| o.name() == name)
+    }
+}
+
+/// The Laplace posterior of `θ_online` given the frames learned so far.
+///
+/// Each frame's residual is kept as its linearisation `r(θ) ≈ J θ − b` (with `b = J θₜ − rₜ` at the
+/// `θₜ` it was linearised at), so that the sum of squared residuals can be evaluated at the current
+/// estimate — exactly for a model linear in `θ` — and the noise variance is that of the fit, not of
+/// the early predictions made far from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Posterior {
+    /// `Σ JᵀJ` over the frames, per square metre.
+    jtj: Matrix3<f64>,
+    /// `Σ Jᵀb`.
+    jtb: Vector3<f64>,
+    /// `Σ |b|²`.
+    btb: f64,
+    frames: usize,
+    /// `Λ₀`: the prior's precision of each component, per square metre.
+    prior_precision: [f64; 3],
+    /// The estimate the noise variance is evaluated at.
+    estimate: Vector3<f64>,
+}
+
+impl Posterior {
+    /// Nothing seen yet: the prior centred at `theta0`, `PRIOR_STD_PER_H × h` wide.
+    pub fn prior(theta0: &OnlineParams) -> Self {
+        let std = PRIOR_STD_PER_H * theta0.h.max(H_MIN);
+        Self {
+            jtj: Matrix3::zeros(),
+            jtb: Vector3::zeros(),
+            btb: 0.0,
+            frames: 0,
+            prior_precision: [1.0 / (std * std); 3],
+            estimate: vector(theta0),
+        }
+    }
+
+    /// Takes in one frame's linearisation at `theta` (a frame whose numbers are not finite is left
+    /// out).
+    pub fn with(mut self, linearization: &Linearization, theta: &OnlineParams) -> Self {
+        let j = Matrix3::from_fn(|i, k| linearization.jacobian[i][k]);
+        let b = j * vector(theta) - Vector3::from(linearization.residual);
+        let jtj = j.transpose() * j;
+        let jtb = j.transpose() * b;
+        if jtj.iter().chain(jtb.iter()).all(|x| x.is_finite()) && b.norm_squared().is_finite() {
+            self.jtj += jtj;
+            self.jtb += jtb;
+            self.btb += b.norm_squared();
+            self.frames += 1;
+        }
+        self
+    }
+
+    /// The same frames, with the noise variance evaluated at `theta` (the estimate after a step).
+    pub fn at(mut self, theta: &OnlineParams) -> Self {
+        self.estimate = vector(theta);
+        self
+    }
+
+    /// Frames taken in.
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    /// `Σ |r(θ)|²` at the estimate, by the frames' linearisations.
+    pub fn residual_sum_of_squares(&self) -> f64 {
+        let t = self.estimate;
+        ((t.transpose() * self.jtj * t)[(0, 0)] - 2.0 * t.dot(&self.jtb) + self.btb).max(0.0)
+    }
+
+    /// `s²`, the variance of a normalised residual at the estimate: the residual sum of squares over
+    /// the frames' three outputs less the three fitted parameters, with one pseudo-frame of
+    /// variance 1 (what a model that predicts nothing has) so that the first frames are not
+    /// over-confident.
+    pub fn noise_variance(&self) -> f64 {
+        let dof = (3.0 * self.frames as f64 - 3.0).max(0.0);
+        (self.residual_sum_of_squares() + 3.0 * NOISE_PRIOR_FRAMES)
+            / (dof + 3.0 * NOISE_PRIOR_FRAMES)
+    }
+
+    /// `JᵀJ / s² + Λ₀`, per square metre.
+    pub fn information(&self) -> Matrix3<f64> {
+        self.jtj / self.noise_variance() + Matrix3::from_diagonal(&self.prior_precision.into())
+    }
+
+    /// The covariance of `[com_x, com_y, h]`, square metres.
+    pub fn covariance(&self) -> Matrix3<f64> {
+        // Positive definite (the prior's diagonal plus a sum of JᵀJ), so the inverse exists.
+        self.information().try_inverse().unwrap_or_else(|| {
+            Matrix3::from_diagonal(&self.prior_precision.map(|p| 1.0 / p).into())
+        })
+    }
+
+    /// The covariance of the COM offset, object frame, square metres.
+    pub fn com_covariance(&self) -> [[f64; 2]; 2] {
+        let c = self.covariance();
+        [[c[(0, 0)], c[(0, 1)]], [c[(1, 0)], c[(1, 1)]]]
+    }
+
+    /// The standard deviations of `[com_x, com_y, h]`, metres.
+    pub fn std(&self) -> [f64; 3] {
+        let c = self.covariance();
+        [0, 1, 2].map(|i| c[(i, i)].max(0.0).sqrt())
+    }
+
+    /// Whether `com` lies inside the 95 % ellipse around `estimate` (both object frame, metres).
+    pub fn com_within_95(&self, estimate: [f64; 2], com: [f64; 2]) -> bool {
+        let c = self.com_covariance();
+        let Some(inverse) = Matrix2::new(c[0][0], c[0][1], c[1][0], c[1][1]).try_inverse() else {
+            return false;
+        };
+        let d = nalgebra::Vector2::new(com[0] - estimate[0], com[1] - estimate[1]);
+        (d.transpose() * inverse * d)[(0, 0)] <= CHI2_2DOF_95
+    }
+
+    /// The 95 % ellipse of the COM offset: its half-axes (metres, major first) and the major axis's
+    /// angle from the object's x axis (radians).
+    pub fn com_ellipse_95(&self) -> ([f64; 2], f64) {
+        let c = self.com_covariance();
+        let (a, b, d) = (c[0][0], c[0][1], c[1][1]);
+        let mean = (a + d) / 2.0;
+        let spread = (((a - d) / 2.0).powi(2) + b * b).sqrt();
+        let (major, minor) = ((mean + spread).max(0.0), (mean - spread).max(0.0));
+        let angle = 0.5 * (2.0 * b).atan2(a - d);
+        (
+            [(CHI2_2DOF_95 * major).sqrt(), (CHI2_2DOF_95 * minor).sqrt()],
+            angle,
+        )
+    }
+}
+
+fn vector(theta: &OnlineParams) -> Vector3<f64> {
+    Vector3::new(theta.com_offset[0], theta.com_offset[1], theta.h)
+}
+
+/// `θ_online` and what the frames seen so far say about it: what online learning carries from frame
+/// to frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OnlineState {
+    pub theta: OnlineParams,
+    pub posterior: Posterior,
+}
+
+impl OnlineState {
+    /// The start of a trajectory: `θ_online(0)` and the prior.
+    pub fn start<M: OnlineModel + ?Sized>(model: &M) -> Self {
+        let theta = model.theta0();
+        Self {
+            theta,
+            posterior: Posterior::prior(&theta),
+        }
+    }
+
+    /// The start from a given `θ` (a user's steering) with the posterior kept.
+    pub fn at(theta: OnlineParams, posterior: Posterior) -> Self {
+        let theta = theta.clamped();
+        Self {
+            theta,
+            posterior: posterior.at(&theta),
+        }
+    }
+}
+
+/// One online step from `state` with the configured optimiser: the prediction with `state.theta`
+/// (its loss and gradient), `θ` after the update, and the posterior with this frame taken in. A pure
+/// function, like [`OnlineModel::online_step`].
+pub fn learn_step<M: OnlineModel + ?Sized>(
+    model: &M,
+    sample: &Sample,
+    state: &OnlineState,
+    config: &OnlineConfig,
+) -> (OnlineStep, OnlineState) {
+    let theta = state.theta.clamped();
+    let linearization = model.linearize(sample, &theta);
+    let posterior = state.posterior.with(&linearization, &theta);
+    let step = match config.optimizer {
+        Optimizer::Gd => model.online_step(sample, &theta, config),
+        Optimizer::GaussNewton => {
+            gauss_newton_step(model, sample, &theta, &linearization, &posterior, config)
+        }
+    };
+    let next = OnlineState {
+        theta: step.theta_after,
+        posterior: posterior.at(&step.theta_after),
+    };
+    (step, next)
+}
+
+/// The Gauss–Newton (recursive least-squares) step: `θ − I⁻¹ Jᵀr / s²` with `I` the information
+/// after this frame, kept inside the bounds of `h` and the COM; a step that is not finite is not
+/// taken. With `config.steps == 0` nothing is learned (the fixed model).
+fn gauss_newton_step<M: OnlineModel + ?Sized>(
+    model: &M,
+    sample: &Sample,
+    theta: &OnlineParams,
+    linearization: &Linearization,
+    posterior: &Posterior,
+    config: &OnlineConfig,
+) -> OnlineStep {
+    let j = Matrix3::from_fn(|i, k| linearization.jacobian[i][k]);
+    let r = Vector3::from(linearization.residual);
+    let jtr = j.transpose() * r;
+    let gradient = (2.0 * jtr).into();
+    let mut after = *theta;
+    if config.steps > 0
+        && let Some(inverse) = posterior.information().try_inverse()
+    {
+        let delta = inverse * jtr / posterior.noise_variance();
+        let next = [
+            theta.com_offset[0] - delta[0],
+            theta.com_offset[1] - delta[1],
+            theta.h - delta[2],
+        ];
+        if next.iter().all(|t| t.is_finite()) {
+            after = OnlineParams {
+                com_offset: [
+                    next[0].clamp(-COM_OFFSET_MAX, COM_OFFSET_MAX),
+                    next[1].clamp(-COM_OFFSET_MAX, COM_OFFSET_MAX),
+                ],
+                h: next[2].clamp(H_MIN, H_MAX),
+            };
+        }
+    }
+    OnlineStep {
+        theta_before: *theta,
+        prediction: linearization.prediction,
+        loss: Loss::of(
+            &linearization.prediction.motion,
+            &sample.target,
+            &model.loss_scale(),
+        ),
+        gradient,
+        theta_after: after,
+    }
+}

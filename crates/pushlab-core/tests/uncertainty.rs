@@ -1,0 +1,542 @@
+//! Beyond the paper's point estimate, checked against independent truth: the posterior of a
+//! linear-Gaussian problem against its closed form and its coverage over repeated noise, the
+//! Jacobians against central differences, Gauss–Newton against gradient descent where the true COM
+//! is known, the loss landscape's minimum against the simulator's COM, and rollouts against the
+//! one-step prediction and the recorded poses.
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use pushlab_core::inspect::{ComGrid, com_landscape, h_slice, rollout};
+use pushlab_core::learn::uncertainty::CHI2_2DOF_95;
+use pushlab_core::learn::{
+    ContactTrajectory, Loss, LossScale, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep,
+    Optimizer, TrainConfig, train_contact, train_paper,
+};
+use pushlab_core::model::{
+    CombinedModel, ContactGeometry, Linearization, ObjectMotion, OnlineParams, PhysicsOnlyModel,
+    Prediction, Sample, SampleInput, sample_at, samples_from_trajectory,
+};
+use pushlab_core::recording::{ObjectShape, PushSide};
+use pushlab_core::rng::SplitMix64;
+use pushlab_core::sim::{GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, generate_set};
+
+/// A model linear in `θ`: the motion is `A(input) θ` with a 3 × 3 matrix built from the input's four
+/// numbers, the loss's σ all 1.
+struct LinearToy;
+
+impl LinearToy {
+    fn matrix(input: &SampleInput) -> Matrix3<f64> {
+        let [a, b] = input.robot_in_object;
+        let [c, d] = input.robot_motion_in_object;
+        Matrix3::new(a, 0.2 * b, c, b, d, 0.5 * a, c + d, a - b, 1.0)
+    }
+}
+
+fn theta_vector(theta: &OnlineParams) -> Vector3<f64> {
+    Vector3::new(theta.com_offset[0], theta.com_offset[1], theta.h)
+}
+
+impl OnlineModel for LinearToy {
+    fn theta0(&self) -> OnlineParams {
+        OnlineParams {
+            com_offset: [0.0, 0.0],
+            h: 0.5,
+        }
+    }
+    fn theta_scales(&self) -> [f64; 3] {
+        [1.0; 3]
+    }
+    fn loss_scale(&self) -> LossScale {
+        LossScale {
+            sigma_pos: [1.0, 1.0],
+            sigma_rot: 1.0,
+        }
+    }
+    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
+        let y = Self::matrix(input) * theta_vector(theta);
+        Prediction {
+            motion: ObjectMotion {
+                translation: [y[0], y[1]],
+                rotation: y[2],
+            },
+            contact: None,
+            contact_motion: None,
+        }
+    }
+    fn online_step(&self, sample: &Sample, theta: &OnlineParams, _: &OnlineConfig) -> OnlineStep {
+        let prediction = self.predict(&sample.input, theta);
+        OnlineStep {
+            theta_before: *theta,
+            prediction,
+            loss: Loss::of(&prediction.motion, &sample.target, &self.loss_scale()),
+            gradient: [0.0; 3],
+            theta_after: *theta,
+        }
+    }
+    fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
+        let prediction = self.predict(&sample.input, theta);
+        let (p, t) = (prediction.motion, sample.target);
+        let a = Self::matrix(&sample.input);
+        Linearization {
+            prediction,
+            residual: [
+                p.translation[0] - t.translation[0],
+                p.translation[1] - t.translation[1],
+                p.rotation - t.rotation,
+            ],
+            jacobian: [0, 1, 2].map(|i| [a[(i, 0)], a[(i, 1)], a[(i, 2)]]),
+        }
+    }
+}
+
+/// `frames` samples of the toy with the true `θ` and Gaussian noise of standard deviation `noise`.
+fn toy_samples(
+    rng: &mut SplitMix64,
+    truth: &OnlineParams,
+    frames: usize,
+    noise: f64,
+) -> Vec<Sample> {
+    (0..frames)
+        .map(|frame| {
+            let input = SampleInput {
+                robot_in_object: [rng.normal(), rng.normal()],
+                robot_motion_in_object: [rng.normal(), rng.normal()],
+            };
+            let y = LinearToy::matrix(&input) * theta_vector(truth);
+            Sample {
+                input,
+                target: ObjectMotion {
+                    translation: [y[0] + noise * rng.normal(), y[1] + noise * rng.normal()],
+                    rotation: y[2] + noise * rng.normal(),
+                },
+                frame,
+            }
+        })
+        .collect()
+}
+
+const GAUSS_NEWTON: OnlineConfig = OnlineConfig {
+    steps: 1,
+    lr: 0.0,
+    optimizer: Optimizer::GaussNewton,
+};
+
+#[test]
+fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_truth() {
+    let truth = OnlineParams {
+        com_offset: [0.03, -0.02],
+        h: 0.42,
+    };
+    let mut rng = SplitMix64::new(17);
+    let samples = toy_samples(&mut rng, &truth, 40, 0.05);
+    let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+    learner.run(&samples);
+    let posterior = learner.posterior();
+    let estimate = theta_vector(&learner.theta());
+
+    // The closed form, from the stacked system A θ = y: the noise variance of the fit at the
+    // estimate and the covariance (AᵀA / s² + Λ₀)⁻¹ with the prior N(θ₀, (2 h₀)² I).
+    let n = samples.len();
+    let a = DMatrix::from_fn(3 * n, 3, |row, col| {
+        LinearToy::matrix(&samples[row / 3].input)[(row % 3, col)]
+    });
+    let y = DVector::from_fn(3 * n, |row, _| {
+        let t = samples[row / 3].target;
+        [t.translation[0], t.translation[1], t.rotation][row % 3]
+    });
+    let residual = &a * DVector::from_column_slice(estimate.as_slice()) - &y;
+    let s2 = (residual.norm_squared() + 3.0) / (3.0 * n as f64 - 3.0 + 3.0);
+    assert!((posterior.noise_variance() - s2).abs() < 1e-9 * s2);
+    let prior_precision = 1.0 / (2.0 * 0.5_f64).powi(2);
+    let information = a.transpose() * &a / s2 + DMatrix::identity(3, 3) * prior_precision;
+    let closed = information.try_inverse().expect("positive definite");
+    let covariance = posterior.covariance();
+    for i in 0..3 {
+        for j in 0..3 {
+            assert!(
+                (covariance[(i, j)] - closed[(i, j)]).abs()
+                    < 1e-9 * closed[(i, i)].abs().max(1e-12),
+                "covariance[{i},{j}] {} against {}",
+                covariance[(i, j)],
+                closed[(i, j)]
+            );
+        }
+    }
+    // The recursive Gauss–Newton steps reach the batch MAP estimate (within a tenth of a standard
+    // deviation: each frame was weighed with the noise variance known when it came).
+    let map = &closed
+        * (a.transpose() * &y / s2
+            + DVector::from_column_slice(&[0.0, 0.0, 0.5]) * prior_precision);
+    for i in 0..3 {
+        assert!(
+            (estimate[i] - map[i]).abs() < 0.1 * closed[(i, i)].sqrt(),
+            "θ[{i}] {} against the MAP {}",
+            estimate[i],
+            map[i]
+        );
+    }
+
+    // Over repeated noise the 95 % ellipse of the COM holds the truth about 95 % of the time. The
+    // noise is that of a model that predicts nothing (normalised variance 1), which the noise
+    // variance's pseudo-frame assumes; smaller noise makes the first frames' ellipses conservative.
+    let trials = 400;
+    let held = (0..trials)
+        .filter(|_| {
+            let samples = toy_samples(&mut rng, &truth, 30, 1.0);
+            let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+            learner.run(&samples);
+            learner
+                .posterior()
+                .com_within_95(learner.theta().com_offset, truth.com_offset)
+        })
+        .count();
+    let coverage = held as f64 / trials as f64;
+    assert!(
+        (0.91..=0.99).contains(&coverage),
+        "the 95 % ellipse held the truth in {:.1} % of {trials} trials",
+        100.0 * coverage
+    );
+}
+
+#[test]
+fn the_95_ellipse_has_the_covariance_s_axes() {
+    let mut rng = SplitMix64::new(3);
+    let truth = OnlineParams {
+        com_offset: [0.01, 0.02],
+        h: 0.3,
+    };
+    let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+    learner.run(&toy_samples(&mut rng, &truth, 10, 0.1));
+    let posterior = learner.posterior();
+    let ([major, minor], angle) = posterior.com_ellipse_95();
+    let c = posterior.com_covariance();
+    // A point on the major axis at the ellipse's edge has Mahalanobis distance² χ²(2, 95 %).
+    let d = [major * angle.cos(), major * angle.sin()];
+    let inverse = nalgebra::Matrix2::new(c[0][0], c[0][1], c[1][0], c[1][1])
+        .try_inverse()
+        .expect("invertible");
+    let v = nalgebra::Vector2::new(d[0], d[1]);
+    let m2 = (v.transpose() * inverse * v)[(0, 0)];
+    assert!((m2 - CHI2_2DOF_95).abs() < 1e-9, "{m2}");
+    assert!(major >= minor && minor > 0.0);
+    let centre = [0.0, 0.0];
+    assert!(posterior.com_within_95(centre, [d[0] * 0.99, d[1] * 0.99]));
+    assert!(!posterior.com_within_95(centre, [d[0] * 1.01, d[1] * 1.01]));
+}
+
+/// A box pushed from the front and the left in turn, noise-free, its COM moved to `com`.
+fn pushes(com: [f64; 2], side: PushSide, seed: u64) -> GeneratedSet {
+    let mut pushes = Vec::new();
+    for offset in [-0.1, -0.05, 0.0, 0.05, 0.1] {
+        for angle in [-15.0, 0.0, 15.0] {
+            pushes.push(PushSpec {
+                contact_offset: offset,
+                push_angle_deg: angle,
+                curvature: 0.0,
+                split: None,
+            });
+        }
+    }
+    generate_set(
+        &SetSpec {
+            name: "uncertainty".into(),
+            object: ObjectShape::Box {
+                width: 0.3,
+                length: 0.4,
+            },
+            com_offset: com,
+            pressure: PressureModel::Uniform,
+            material: None,
+            floor_friction: None,
+            // Sticking contact, as the physics-only model assumes.
+            pusher_friction: 0.9,
+            pusher_radius: 0.05,
+            push_side: side,
+            sample_rate_hz: 10.0,
+            duration_s: 6.0,
+            speed: 0.04,
+            approach: 0.0,
+            noise: NoiseSpec {
+                position_m: 0.0,
+                yaw_deg: 0.0,
+            },
+            start_position_spread_m: 0.2,
+            start_yaw_spread_deg: 90.0,
+            seed,
+            pushes,
+        },
+        &mut |_, _| {},
+    )
+    .expect("valid simulation spec")
+}
+
+/// The sticking pushes of a front set and a left set, interleaved.
+fn front_and_left(com: [f64; 2], seed: u64) -> (GeneratedSet, Vec<Vec<Sample>>) {
+    let front = pushes(com, PushSide::Front, seed);
+    let left = pushes(com, PushSide::Left, seed + 1);
+    let sticking = |set: &GeneratedSet| -> Vec<Vec<Sample>> {
+        set.trajectories
+            .iter()
+            .zip(&set.sliding_fractions)
+            .filter(|(_, sliding)| **sliding == 0.0)
+            .map(|(t, _)| samples_from_trajectory(t, 1))
+            .collect()
+    };
+    let data = sticking(&front)
+        .into_iter()
+        .zip(sticking(&left))
+        .flat_map(|(a, b)| [a, b])
+        .collect();
+    (front, data)
+}
+
+fn physics_model(set: &GeneratedSet, data: &[Vec<Sample>]) -> PhysicsOnlyModel {
+    let outline = set.setting.object.outline().expect("a box");
+    PhysicsOnlyModel::new(
+        outline,
+        set.setting.pusher_radius,
+        0.005,
+        LossScale::from_samples(data.iter().flatten()),
+    )
+}
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+#[test]
+fn jacobians_match_central_differences_of_the_residual_for_every_kind() {
+    let (set, data) = front_and_left([0.02, -0.01], 40);
+    let physics = physics_model(&set, &data);
+    let outline = set.setting.object.outline().expect("a box");
+    let training: Vec<Vec<Sample>> = data.iter().take(6).cloned().collect();
+    let config = TrainConfig {
+        epochs: 3,
+        seed: 1,
+        theta0: Some(OnlineParams::for_outline(&outline)),
+        ..TrainConfig::default()
+    };
+    let never = AtomicBool::new(false);
+    let paper = train_paper(&training, &config, &mut |_| {}, &never).expect("trains");
+    let geometry = Arc::new(ContactGeometry::new(&outline, set.setting.pusher_radius));
+    let contact_data: Vec<ContactTrajectory> = training
+        .iter()
+        .map(|samples| ContactTrajectory {
+            geometry: &geometry,
+            samples,
+        })
+        .collect();
+    let contact = train_contact(&contact_data, &config, &mut |_| {}, &never).expect("trains");
+    let contact = CombinedModel::Contact(Arc::new(contact.model))
+        .learner(Some(&geometry))
+        .expect("outline");
+    // The paper model predicts in f32 (its default) and f64: the check runs on the f64 one, whose
+    // central differences resolve the Jacobian to 1e-4.
+    let paper = paper.model.cast::<f64>();
+    // The contact learner runs its network in f32: wider differences, a looser tolerance (its f64
+    // pass is checked to 1e-6 in the crate's unit tests).
+    let models: [(&str, &dyn OnlineModel, f64, f64); 3] = [
+        ("physics only", &physics, 1e-6, 1e-4),
+        ("paper", &paper, 1e-6, 1e-4),
+        ("contact", contact.as_ref(), 1e-4, 1e-2),
+    ];
+    for (kind, model, eps, tolerance) in models {
+        let mut checked = 0;
+        for sample in data.iter().flatten().step_by(7).take(12) {
+            let theta = OnlineParams {
+                com_offset: [0.012, -0.008],
+                h: 0.11,
+            };
+            let lin = model.linearize(sample, &theta);
+            // The residual is the loss's: Σ r² = ℓ.
+            let loss = model.loss_and_gradient(sample, &theta).1.total();
+            assert!(
+                (lin.residual.iter().map(|r| r * r).sum::<f64>() - loss).abs()
+                    < 1e-6 * (1.0 + loss)
+            );
+            for j in 0..3 {
+                let shifted = |sign: f64| {
+                    let mut v = [theta.com_offset[0], theta.com_offset[1], theta.h];
+                    v[j] += sign * eps;
+                    let t = OnlineParams {
+                        com_offset: [v[0], v[1]],
+                        h: v[2],
+                    };
+                    model.linearize(sample, &t).residual
+                };
+                let (plus, minus) = (shifted(1.0), shifted(-1.0));
+                for i in 0..3 {
+                    let numeric = (plus[i] - minus[i]) / (2.0 * eps);
+                    let analytic = lin.jacobian[i][j];
+                    assert!(
+                        (numeric - analytic).abs()
+                            <= tolerance * (1.0 + numeric.abs().max(analytic.abs())),
+                        "{kind}: ∂r{i}/∂θ{j} analytic {analytic}, numeric {numeric}"
+                    );
+                }
+            }
+            checked += 1;
+        }
+        assert!(checked >= 10, "{kind}: {checked} samples");
+    }
+}
+
+/// Frames learned until the COM estimate came within 5 mm of `truth` and stayed there.
+fn frames_to_5mm(
+    config: OnlineConfig,
+    model: &PhysicsOnlyModel,
+    data: &[Vec<Sample>],
+    truth: [f64; 2],
+) -> (Option<usize>, f64) {
+    let mut learner = OnlineLearner::new(model, config);
+    let mut errors = Vec::new();
+    for trajectory in data {
+        for sample in trajectory {
+            learner.step(sample);
+            errors.push(distance(learner.theta().com_offset, truth));
+        }
+    }
+    let settled = errors.iter().rposition(|&e| e > 0.005).map_or(0, |i| i + 1);
+    let last = *errors.last().expect("frames");
+    ((settled < errors.len()).then_some(settled + 1), last)
+}
+
+#[test]
+fn gauss_newton_finds_a_known_com_in_fewer_frames_than_gradient_descent() {
+    let truth = [0.03, -0.025];
+    let (set, data) = front_and_left(truth, 7);
+    let model = physics_model(&set, &data);
+    assert!(
+        distance(model.theta0().com_offset, truth) > 0.03,
+        "somewhere to go"
+    );
+    let (gd_frames, gd_error) = frames_to_5mm(OnlineConfig::default(), &model, &data, truth);
+    let gauss_newton = OnlineConfig {
+        optimizer: Optimizer::GaussNewton,
+        ..OnlineConfig::default()
+    };
+    let (gn_frames, gn_error) = frames_to_5mm(gauss_newton, &model, &data, truth);
+    let gn_frames = gn_frames.expect("Gauss–Newton settles within 5 mm");
+    assert!(
+        gd_frames.is_none_or(|gd| 2 * gn_frames <= gd),
+        "Gauss–Newton {gn_frames} frames, gradient descent {gd_frames:?}"
+    );
+    assert!(
+        gn_error <= 0.002 && gn_error <= gd_error,
+        "final errors: GN {gn_error}, GD {gd_error}"
+    );
+}
+
+#[test]
+fn switching_the_optimiser_changes_theta_and_zero_steps_learns_nothing() {
+    let (set, data) = front_and_left([0.03, -0.025], 9);
+    let model = physics_model(&set, &data);
+    let run = |config: OnlineConfig| {
+        let mut learner = OnlineLearner::new(&model, config);
+        learner.run(&data[0]);
+        learner.theta()
+    };
+    let gd = run(OnlineConfig::default());
+    let gn = run(OnlineConfig {
+        optimizer: Optimizer::GaussNewton,
+        ..OnlineConfig::default()
+    });
+    assert_ne!(gd, gn);
+    let frozen = run(OnlineConfig {
+        steps: 0,
+        optimizer: Optimizer::GaussNewton,
+        ..OnlineConfig::default()
+    });
+    assert_eq!(frozen, model.theta0());
+}
+
+#[test]
+fn the_landscape_minimum_lies_within_one_cell_of_the_true_com() {
+    let truth = [0.035, -0.02];
+    let (set, data) = front_and_left(truth, 21);
+    let model = physics_model(&set, &data);
+    let h = set.setting.h.expect("the simulator writes h");
+    let frames: Vec<Sample> = data.iter().take(4).flatten().copied().collect();
+    let grid = ComGrid {
+        centre: [0.0, 0.0],
+        half_width: 0.1,
+        cells: 64,
+    };
+    let landscape = com_landscape(&model, &frames, &grid, h, &|| false).expect("not cancelled");
+    assert_eq!(landscape.loss.len(), 64 * 64);
+    let (minimum, loss) = landscape.minimum().expect("finite losses");
+    let cell = grid.cell_size();
+    assert!(
+        (minimum[0] - truth[0]).abs() <= cell && (minimum[1] - truth[1]).abs() <= cell,
+        "minimum at {minimum:?} (loss {loss}), true COM {truth:?}, cell {cell}"
+    );
+    let (low, high) = landscape.range().expect("finite");
+    assert!(
+        high > 10.0 * low.max(1e-9),
+        "a landscape with relief: {low}..{high}"
+    );
+    // The slice over h at the true COM is lowest near the true h.
+    let hs: Vec<f64> = (1..=40).map(|i| h * i as f64 / 20.0).collect();
+    let slice = h_slice(&model, &frames, truth, &hs);
+    let best = (0..hs.len())
+        .min_by(|&a, &b| slice[a].total_cmp(&slice[b]))
+        .expect("values");
+    assert!(
+        (hs[best] - h).abs() <= h / 20.0 + 1e-12,
+        "h slice lowest at {}, true {h}",
+        hs[best]
+    );
+    // Cancelled before it starts: nothing.
+    assert!(com_landscape(&model, &frames, &grid, h, &|| true).is_none());
+}
+
+#[test]
+fn a_rollout_of_one_step_is_the_one_step_prediction_and_the_true_model_tracks_the_recording() {
+    let truth = [0.02, -0.015];
+    let (set, data) = front_and_left(truth, 31);
+    let model = physics_model(&set, &data);
+    let theta = OnlineParams {
+        com_offset: truth,
+        h: set.setting.h.expect("true h"),
+    };
+    let (trajectory, _) = set
+        .trajectories
+        .iter()
+        .zip(&set.sliding_fractions)
+        .find(|(_, sliding)| **sliding == 0.0)
+        .expect("a sticking push");
+    let start = 12;
+    let one = rollout(&model, trajectory, start, 1, 1, &theta);
+    let sample = sample_at(trajectory, start, 1).expect("a sample");
+    let motion = model.predict(&sample.input, &theta).motion;
+    let expected = trajectory.frames[start]
+        .object
+        .moved_by(nalgebra::Vector2::from(motion.translation), motion.rotation);
+    assert_eq!(one.poses, vec![(start + 1, expected)]);
+
+    // The model with the simulator's own COM and h, on a noise-free sticking push, stays with the
+    // recorded poses for 20 steps; with a COM 5 cm off it drifts away.
+    let twenty = rollout(&model, trajectory, start, 1, 20, &theta);
+    assert_eq!(twenty.poses.len(), 20);
+    let (offset, yaw) = twenty.final_error(trajectory).expect("poses");
+    assert!(
+        offset < 0.002 && yaw.abs() < 0.01,
+        "true θ: {offset} m, {yaw} rad"
+    );
+    let wrong = OnlineParams {
+        com_offset: [truth[0] - 0.05, truth[1] + 0.05],
+        ..theta
+    };
+    let (wrong_offset, wrong_yaw) = rollout(&model, trajectory, start, 1, 20, &wrong)
+        .final_error(trajectory)
+        .expect("poses");
+    assert!(wrong_offset > 3.0 * offset.max(1e-4) || wrong_yaw.abs() > 3.0 * yaw.abs().max(1e-3));
+    // At the end of the recording a rollout stops.
+    let end = trajectory.frames.len() - 3;
+    assert_eq!(
+        rollout(&model, trajectory, end, 1, 20, &theta).poses.len(),
+        2
+    );
+}
