@@ -152,7 +152,7 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     let prior_precision = 1.0 / (2.0 * 0.5_f64).powi(2);
     let information = a.transpose() * &a / s2 + DMatrix::identity(3, 3) * prior_precision;
     let closed = information.try_inverse().expect("positive definite");
-    let covariance = posterior.covariance();
+    let covariance = posterior.mode_covariance();
     for i in 0..3 {
         for j in 0..3 {
             assert!(
@@ -164,12 +164,18 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
             );
         }
     }
-    // The recursive Gauss–Newton steps reach the batch MAP estimate (within a tenth of a standard
-    // deviation: each frame was weighed with the noise variance known when it came).
+    // The mode is the batch MAP estimate, and the recursive Gauss–Newton steps reach it (within a
+    // tenth of a standard deviation: each frame was weighed with the noise variance known when it
+    // came); the estimate's error covariance adds its offset from the mode.
     let map = &closed
         * (a.transpose() * &y / s2
             + DVector::from_column_slice(&[0.0, 0.0, 0.5]) * prior_precision);
+    let mode = posterior.mode();
     for i in 0..3 {
+        assert!(
+            (mode[i] - map[i]).abs() < 1e-9 * (1.0 + map[i].abs()),
+            "mode {mode} against {map}"
+        );
         assert!(
             (estimate[i] - map[i]).abs() < 0.1 * closed[(i, i)].sqrt(),
             "θ[{i}] {} against the MAP {}",
@@ -177,6 +183,9 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
             map[i]
         );
     }
+    let offset = estimate - mode;
+    let expected = covariance + offset * offset.transpose();
+    assert!((posterior.covariance() - expected).norm() < 1e-12 * expected.norm());
 
     // Over repeated noise the 95 % ellipse of the COM holds the truth about 95 % of the time. The
     // noise is that of a model that predicts nothing (normalised variance 1), which the noise

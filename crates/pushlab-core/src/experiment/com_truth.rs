@@ -107,10 +107,13 @@ mod tests {
 
     #[test]
     fn frames_to_near_counts_until_the_estimate_stays_within_5_mm() {
-        let prior = Posterior::prior(&OnlineParams {
-            com_offset: [0.0, 0.0],
-            h: 0.1,
-        });
+        let prior = Posterior::prior(
+            &OnlineParams {
+                com_offset: [0.0, 0.0],
+                h: 0.1,
+            },
+            1,
+        );
         // Near at frame 2, away at 3, near from frame 4 (the 5th frame learned) on.
         let path = [0.02, 0.01, 0.004, 0.008, 0.003, 0.001];
         let steps: Vec<_> = path.iter().map(|&x| step([x, 0.0])).collect();

@@ -90,6 +90,10 @@ pub trait OnlineModel {
     fn theta_scales(&self) -> [f64; 3];
     /// The σ that normalise the losses.
     fn loss_scale(&self) -> LossScale;
+    /// Frames between a sample's input and its target (1 for models that take any).
+    fn horizon(&self) -> usize {
+        1
+    }
     /// Predicts with the given `θ_online`.
     fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction;
     /// What one online step from `theta` gives: the prediction with `theta`, its loss and gradient,
@@ -120,6 +124,10 @@ pub trait OnlineModel {
 impl<T: Real> OnlineModel for PaperModel<T> {
     fn theta0(&self) -> OnlineParams {
         PaperModel::theta0(self)
+    }
+
+    fn horizon(&self) -> usize {
+        PaperModel::horizon(self)
     }
 
     fn theta_scales(&self) -> [f64; 3] {
@@ -170,6 +178,10 @@ impl ContactLearner {
 impl OnlineModel for ContactLearner {
     fn theta0(&self) -> OnlineParams {
         self.model.theta0(&self.geometry)
+    }
+
+    fn horizon(&self) -> usize {
+        self.model.horizon()
     }
 
     fn theta_scales(&self) -> [f64; 3] {
@@ -245,6 +257,7 @@ macro_rules! forward_online_model {
     ($($wrapper:ty),*) => {$(
         impl<M: OnlineModel + ?Sized> OnlineModel for $wrapper {
             fn theta0(&self) -> OnlineParams { (**self).theta0() }
+            fn horizon(&self) -> usize { (**self).horizon() }
             fn theta_scales(&self) -> [f64; 3] { (**self).theta_scales() }
             fn loss_scale(&self) -> LossScale { (**self).loss_scale() }
             fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {

@@ -3,11 +3,12 @@
 //! Each learned frame linearises the model at the `θ` it predicted with ([`Linearization`]: the
 //! residual `r = (predicted − measured) / σ` and its Jacobian `J`). Summed over the frames seen so
 //! far, `JᵀJ` is the Gauss–Newton approximation of the loss's curvature; with the noise variance `s²`
-//! estimated from the residuals and a weak Gaussian prior at `θ_online(0)`, the Laplace posterior of
-//! `θ_online` has the covariance `(JᵀJ / s² + Λ₀)⁻¹` ([`Posterior`]).
+//! estimated from the residuals, the samples' overlap `k` (a model predicting `k` frames ahead from
+//! every frame sees each motion `k` times) and a weak Gaussian prior at `θ_online(0)`, the Laplace
+//! posterior of `θ_online` has the covariance `(JᵀJ / (s² k) + Λ₀)⁻¹` ([`Posterior`]).
 //!
 //! The same information matrix gives the Gauss–Newton optimiser ([`Optimizer::GaussNewton`]): after
-//! each frame, `θ ← θ − (JᵀJ / s² + Λ₀)⁻¹ Jₜᵀ rₜ / s²` — the recursive least-squares (extended
+//! each frame, `θ ← θ − (JᵀJ / (s² k) + Λ₀)⁻¹ Jₜᵀ rₜ / (s² k)` — the recursive least-squares (extended
 //! Kalman filter without process noise) step, which weighs the new frame against everything seen
 //! before instead of taking a fixed learning rate.
 //!
@@ -82,11 +83,17 @@ pub struct Posterior {
     prior_precision: [f64; 3],
     /// The estimate the noise variance is evaluated at.
     estimate: Vector3<f64>,
+    /// The prior's mean, `θ_online(0)`.
+    prior_mean: Vector3<f64>,
+    /// Samples per independent sample: a model predicting `k` frames ahead from every frame sees
+    /// each frame's motion in `k` overlapping samples, whose residuals are not independent.
+    overlap: f64,
 }
 
 impl Posterior {
-    /// Nothing seen yet: the prior centred at `theta0`, `PRIOR_STD_PER_H × h` wide.
-    pub fn prior(theta0: &OnlineParams) -> Self {
+    /// Nothing seen yet: the prior centred at `theta0`, `PRIOR_STD_PER_H × h` wide, for samples
+    /// `horizon` frames long taken from every frame.
+    pub fn prior(theta0: &OnlineParams, horizon: usize) -> Self {
         let std = PRIOR_STD_PER_H * theta0.h.max(H_MIN);
         Self {
             jtj: Matrix3::zeros(),
@@ -95,6 +102,8 @@ impl Posterior {
             frames: 0,
             prior_precision: [1.0 / (std * std); 3],
             estimate: vector(theta0),
+            prior_mean: vector(theta0),
+            overlap: horizon.max(1) as f64,
         }
     }
 
@@ -141,17 +150,43 @@ impl Posterior {
             / (dof + 3.0 * NOISE_PRIOR_FRAMES)
     }
 
-    /// `JᵀJ / s² + Λ₀`, per square metre.
-    pub fn information(&self) -> Matrix3<f64> {
-        self.jtj / self.noise_variance() + Matrix3::from_diagonal(&self.prior_precision.into())
+    /// The weight `1 / (s² k)` of a frame's squared residuals in the information, with `k` the
+    /// samples' overlap (their horizon).
+    pub fn frame_weight(&self) -> f64 {
+        1.0 / (self.noise_variance() * self.overlap)
     }
 
-    /// The covariance of `[com_x, com_y, h]`, square metres.
-    pub fn covariance(&self) -> Matrix3<f64> {
+    /// `JᵀJ / (s² k) + Λ₀`, per square metre.
+    pub fn information(&self) -> Matrix3<f64> {
+        self.jtj * self.frame_weight() + Matrix3::from_diagonal(&self.prior_precision.into())
+    }
+
+    /// The posterior's spread about its mode, `(JᵀJ / (s² k) + Λ₀)⁻¹`, square metres.
+    pub fn mode_covariance(&self) -> Matrix3<f64> {
         // Positive definite (the prior's diagonal plus a sum of JᵀJ), so the inverse exists.
         self.information().try_inverse().unwrap_or_else(|| {
             Matrix3::from_diagonal(&self.prior_precision.map(|p| 1.0 / p).into())
         })
+    }
+
+    /// The mode of the linearised posterior, `[com_x, com_y, h]`: the θ that fits the frames'
+    /// linearisations best, given the prior.
+    pub fn mode(&self) -> Vector3<f64> {
+        let prior = Vector3::from(self.prior_precision).component_mul(&self.prior_mean);
+        self.mode_covariance() * (self.jtb * self.frame_weight() + prior)
+    }
+
+    /// The covariance of the estimate's error, `[com_x, com_y, h]`, square metres: the spread about
+    /// the mode plus the estimate's own offset from it, `Σ + δδᵀ`. Gradient descent's estimate lags
+    /// behind the mode (five small steps per frame); Gauss–Newton's sits on it, and `δ ≈ 0`.
+    pub fn covariance(&self) -> Matrix3<f64> {
+        let offset = self.estimate - self.mode();
+        let covariance = self.mode_covariance();
+        if offset.iter().all(|d| d.is_finite()) {
+            covariance + offset * offset.transpose()
+        } else {
+            covariance
+        }
     }
 
     /// The covariance of the COM offset, object frame, square metres.
@@ -210,7 +245,7 @@ impl OnlineState {
         let theta = model.theta0();
         Self {
             theta,
-            posterior: Posterior::prior(&theta),
+            posterior: Posterior::prior(&theta, model.horizon()),
         }
     }
 
@@ -249,7 +284,7 @@ pub fn learn_step<M: OnlineModel + ?Sized>(
     (step, next)
 }
 
-/// The Gauss–Newton (recursive least-squares) step: `θ − I⁻¹ Jᵀr / s²` with `I` the information
+/// The Gauss–Newton (recursive least-squares) step: `θ − I⁻¹ Jᵀr / (s² k)` with `I` the information
 /// after this frame, kept inside the bounds of `h` and the COM; a step that is not finite is not
 /// taken. With `config.steps == 0` nothing is learned (the fixed model).
 fn gauss_newton_step<M: OnlineModel + ?Sized>(
@@ -268,7 +303,7 @@ fn gauss_newton_step<M: OnlineModel + ?Sized>(
     if config.steps > 0
         && let Some(inverse) = posterior.information().try_inverse()
     {
-        let delta = inverse * jtr / posterior.noise_variance();
+        let delta = inverse * jtr * posterior.frame_weight();
         let next = [
             theta.com_offset[0] - delta[0],
             theta.com_offset[1] - delta[1],
