@@ -96,6 +96,14 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
             let response = base_plot(title, group, row_height, duration).show(col, |plot_ui| {
                 let (visible, columns) = visible(plot_ui, duration);
+                band(
+                    plot_ui,
+                    run,
+                    index,
+                    state.theta_ranges()[index],
+                    visible,
+                    columns,
+                );
                 plot_ui.line(
                     Line::new(
                         "θ_online",
@@ -131,6 +139,56 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             k
         };
         commands.push(Command::Timeline(TimelineCommand::SeekTo(k)));
+    }
+}
+
+/// The posterior's ±2σ band around a component of `θ_online(t)`, shaded, kept within the range the
+/// component can take on this object (`range`, metres): the weak prior's band is far wider than the
+/// object and would flatten the curve.
+fn band(
+    plot_ui: &mut PlotUi<'_>,
+    run: &OnlineRun,
+    component: usize,
+    range: (f64, f64),
+    visible: (f64, f64),
+    columns: usize,
+) {
+    let high = run.plot_points(Series::ThetaHigh(component), visible, columns);
+    let low = run.plot_points(Series::ThetaLow(component), visible, columns);
+    if high.len() < 2 || low.len() < 2 {
+        return;
+    }
+    // Upper edge: the highest value per time; lower: the lowest (the envelopes give both per column).
+    let edge = |points: &[[f64; 2]], keep_max: bool| {
+        let mut out: Vec<[f64; 2]> = Vec::with_capacity(points.len());
+        for p in points {
+            match out.last_mut() {
+                Some(last) if last[0] == p[0] => {
+                    if (keep_max && p[1] > last[1]) || (!keep_max && p[1] < last[1]) {
+                        last[1] = p[1];
+                    }
+                }
+                _ => out.push(*p),
+            }
+        }
+        out
+    };
+    let (high, low) = (edge(&high, true), edge(&low, false));
+    let clip = |mut p: [f64; 2]| {
+        p[1] = p[1].clamp(range.0 * 1e3, range.1 * 1e3);
+        p
+    };
+    let color = colors::ONLINE.gamma_multiply(0.18);
+    // One quad per segment: the band is not convex, and egui fills convex polygons only.
+    for (h, l) in high.windows(2).zip(low.windows(2)) {
+        plot_ui.polygon(
+            egui_plot::Polygon::new(
+                "±2σ",
+                PlotPoints::from(vec![clip(h[0]), clip(h[1]), clip(l[1]), clip(l[0])]),
+            )
+            .fill_color(color)
+            .stroke(egui::Stroke::NONE),
+        );
     }
 }
 

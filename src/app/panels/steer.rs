@@ -2,11 +2,11 @@
 //! learning by hand ("Learn this frame") or while playing, reset, and the update rule.
 
 use eframe::egui;
-use pushlab_core::learn::OnlineConfig;
-use pushlab_core::model::{H_MAX, H_MIN, OnlineParams};
+use pushlab_core::learn::{OnlineConfig, Optimizer};
+use pushlab_core::model::OnlineParams;
 
 use crate::app::colors;
-use crate::app::state::{AppState, Command};
+use crate::app::state::{AppState, Command, MAX_WHAT_IF_STEPS};
 
 /// Whether the model fits the open recordings; if not, why, and the button that trains one that does.
 fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
@@ -59,16 +59,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ui.add_space(4.0);
     ui.heading("θ_online at this frame");
     // Slider ranges follow the object: the COM stays within its bounding box, h within its size.
-    let (half_x, half_y, size) = match recording.setting.object.outline() {
-        Ok(outline) => {
-            let (min, max) = outline.bounding_box();
-            (
-                min.x.abs().max(max.x.abs()),
-                min.y.abs().max(max.y.abs()),
-                outline.size(),
-            )
-        }
-        Err(_) => (0.1, 0.1, 0.2),
+    let range = |i: usize| {
+        let (low, high) = state.theta_ranges()[i];
+        low * 1e3..=high * 1e3
     };
     let mut mm = [
         theta.com_offset[0] * 1e3,
@@ -77,24 +70,29 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ];
     let mut changed = false;
     let ranges = [
-        ("COM offset x", -half_x * 1e3..=half_x * 1e3),
-        ("COM offset y", -half_y * 1e3..=half_y * 1e3),
-        (
-            "h",
-            H_MIN * 1e3..=(size * 1e3).clamp(H_MIN * 1e3, H_MAX * 1e3),
-        ),
+        ("COM offset x", range(0)),
+        ("COM offset y", range(1)),
+        ("h", range(2)),
     ];
-    ui.spacing_mut().slider_width = 170.0;
-    for ((label, range), value) in ranges.into_iter().zip(mm.iter_mut()) {
-        changed |= ui
-            .add(
-                egui::Slider::new(value, range)
-                    .text(label)
-                    .suffix(" mm")
-                    .fixed_decimals(2)
-                    .clamping(egui::SliderClamping::Never),
-            )
-            .changed();
+    ui.spacing_mut().slider_width = 150.0;
+    let std = run.spread_at(state.frame()).std();
+    for (((label, range), value), std) in ranges.into_iter().zip(mm.iter_mut()).zip(std) {
+        ui.horizontal(|ui| {
+            changed |= ui
+                .add(
+                    egui::Slider::new(value, range)
+                        .text(label)
+                        .suffix(" mm")
+                        .fixed_decimals(2)
+                        .clamping(egui::SliderClamping::Never),
+                )
+                .changed();
+            ui.label(egui::RichText::new(format!("± {:.1}", std * 1e3)).weak())
+                .on_hover_text(
+                    "One standard deviation of the posterior of θ_online given the frames learned \
+                     so far (Gauss–Newton/Laplace); the scene's ellipse holds the COM with 95 %",
+                );
+        });
     }
     if changed {
         commands.push(Command::SetTheta(OnlineParams {
@@ -140,6 +138,27 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     }
     let mut config = run.config;
     let mut config_changed = false;
+    ui.horizontal(|ui| {
+        ui.label("Optimiser");
+        for (optimizer, text, hover) in [
+            (
+                Optimizer::Gd,
+                "Gradient descent (paper)",
+                "The paper's: GD steps per frame at the learning rate",
+            ),
+            (
+                Optimizer::GaussNewton,
+                "Gauss–Newton",
+                "One Gauss–Newton step per frame, weighed against every frame before \
+                 (steps and learning rate are not used; 0 steps still fixes θ)",
+            ),
+        ] {
+            config_changed |= ui
+                .selectable_value(&mut config.optimizer, optimizer, text)
+                .on_hover_text(hover)
+                .changed();
+        }
+    });
     egui::Grid::new("online-config")
         .num_columns(2)
         .show(ui, |ui| {
@@ -176,4 +195,32 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         run.frontier(),
         run.sample_count()
     ));
+
+    ui.add_space(8.0);
+    ui.heading("What if");
+    let mut steps = state.what_if_steps;
+    ui.horizontal(|ui| {
+        let label = ui.label("Roll ahead k steps");
+        if ui
+            .add(egui::DragValue::new(&mut steps).range(1..=MAX_WHAT_IF_STEPS))
+            .labelled_by(label.id)
+            .on_hover_text(
+                "From this frame, the model is fed its own predicted poses along the recorded \
+                 pusher path; the scene draws them as fading ghosts",
+            )
+            .changed()
+        {
+            commands.push(Command::SetWhatIfSteps(steps));
+        }
+    });
+    if let Some(rollout) = state.what_if()
+        && let Some((offset, yaw)) = rollout.final_error(&recording.trajectory)
+    {
+        ui.label(format!(
+            "After {} steps: {:.1} mm and {:.2}° from the recorded pose",
+            rollout.poses.len(),
+            offset * 1e3,
+            yaw.to_degrees()
+        ));
+    }
 }

@@ -16,6 +16,10 @@ pub struct Layers {
     pub predicted_physics: bool,
     pub com_estimated: bool,
     pub com_true: bool,
+    /// The 95 % ellipse of the estimated COM (the posterior of `θ_online`).
+    pub com_ellipse: bool,
+    /// What-if rollouts: the model's own predictions fed back for k steps, as fading ghosts.
+    pub what_if: bool,
     /// The COM labelled in the recording's metadata (a draggable diamond).
     pub com_label: bool,
     pub contact: bool,
@@ -38,6 +42,8 @@ impl Default for Layers {
             predicted_physics: false,
             com_estimated: true,
             com_true: true,
+            com_ellipse: true,
+            what_if: true,
             com_label: true,
             contact: true,
             grid: true,

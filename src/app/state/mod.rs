@@ -25,7 +25,7 @@ use std::sync::Arc;
 
 use pushlab_core::experiment::DomainMismatch;
 use pushlab_core::learn::{OnlineConfig, TrainConfig};
-use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
+use pushlab_core::model::{H_MAX, H_MIN, ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
@@ -55,8 +55,10 @@ pub enum Command {
     SetLearnWhilePlaying(bool),
     /// Back to `θ_online(0)` at frame 0, forgetting what was learned.
     ResetTheta,
-    /// Change online steps / learning rate (from the current frame on).
+    /// Change online steps / learning rate / optimiser (from the current frame on).
     SetOnlineConfig(OnlineConfig),
+    /// How many steps what-if rollouts run ahead.
+    SetWhatIfSteps(usize),
     /// Train a combined model on the recordings chosen in the training panel (background thread).
     StartTraining,
     /// Stop training after the current epoch, keeping the best model so far.
@@ -111,6 +113,8 @@ pub struct Persisted {
     pub folder_models: BTreeMap<PathBuf, PathBuf>,
     /// The browser's filter and sort.
     pub browser: BrowserView,
+    /// Steps of the what-if rollouts.
+    pub what_if_steps: usize,
 }
 
 impl Default for Persisted {
@@ -124,9 +128,15 @@ impl Default for Persisted {
             online: OnlineConfig::default(),
             folder_models: BTreeMap::new(),
             browser: BrowserView::default(),
+            what_if_steps: DEFAULT_WHAT_IF_STEPS,
         }
     }
 }
+
+/// What-if rollouts run this many steps ahead unless the user chooses otherwise.
+pub const DEFAULT_WHAT_IF_STEPS: usize = 20;
+/// The most steps a what-if rollout runs (each is one prediction, drawn as a ghost).
+pub const MAX_WHAT_IF_STEPS: usize = 500;
 
 /// What the status line says when a background load finished.
 fn load_message(new_recordings: usize, new_problems: usize) -> String {
@@ -176,6 +186,8 @@ pub struct AppState {
     pub browser: BrowserView,
     /// The browser's per-recording parameters and losses.
     browsed: BrowserMemory,
+    /// Steps the what-if rollouts run ahead (`predictions::what_if`).
+    pub what_if_steps: usize,
 }
 
 impl AppState {
@@ -203,7 +215,29 @@ impl AppState {
             folder_models: persisted.folder_models,
             browser: persisted.browser,
             browsed: BrowserMemory::default(),
+            what_if_steps: persisted.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS),
         }
+    }
+
+    /// The range each component of `θ_online` is steered and plotted in, metres: the COM within the
+    /// object's bounding box, `h` up to its size (a default for objects without an outline).
+    pub fn theta_ranges(&self) -> [(f64, f64); 3] {
+        let (half_x, half_y, size) = match self.recording().map(|r| r.setting.object.outline()) {
+            Some(Ok(outline)) => {
+                let (min, max) = outline.bounding_box();
+                (
+                    min.x.abs().max(max.x.abs()),
+                    min.y.abs().max(max.y.abs()),
+                    outline.size(),
+                )
+            }
+            _ => (0.1, 0.1, 0.2),
+        };
+        [
+            (-half_x, half_x),
+            (-half_y, half_y),
+            (H_MIN, size.clamp(H_MIN, H_MAX)),
+        ]
     }
 
     /// What to persist.
@@ -217,6 +251,7 @@ impl AppState {
             online: self.online_config,
             folder_models: self.folder_models.clone(),
             browser: self.browser.clone(),
+            what_if_steps: self.what_if_steps,
         }
     }
 
@@ -388,6 +423,9 @@ impl AppState {
             Command::DismissProblems => self.session.problems.clear(),
             Command::Browser(command) => self.apply_browser(command),
             Command::TrainForOpenRecordings => self.train_for_open_recordings(),
+            Command::SetWhatIfSteps(steps) => {
+                self.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
+            }
             Command::SetOnlineConfig(config) => {
                 self.online_config = config;
                 let frame = self.frame();

@@ -9,15 +9,20 @@
 //! whose sample touches a frame labelled "skip in training", such as bad tracking). Steering θ at frame f (a
 //! slider, "Learn this frame", reset) drops everything after f: the future is re-learned from there.
 //!
-//! Per frame the run keeps only what a long recording can afford (about 40 bytes: θ exactly, the
-//! online and fixed losses as `f32` for plots and tables). Samples are made from the shared trajectory
+//! Per frame the run keeps only what a long recording can afford (about 56 bytes: θ exactly, the
+//! online and fixed losses and the posterior's spread as `f32` for plots, tables and the ellipse).
+//! The posterior itself (`learn::uncertainty`) is kept at the frontier and every [`KEYFRAME`] frames;
+//! cutting back to a frame replays at most that many frames' linearisations from a keyframe. Samples are made from the shared trajectory
 //! when needed, and full predictions are computed again for the frame shown: a million-frame run
 //! holds tens of megabytes, not the gigabytes that a stored sample and `OnlineStep` per frame took.
 
 use std::sync::Arc;
 
 use pushlab_core::labels::pipeline::sample_is_skipped;
-use pushlab_core::learn::{Loss, OnlineConfig, OnlineModel, OnlineStep};
+use pushlab_core::learn::uncertainty::ellipse_95;
+use pushlab_core::learn::{
+    Loss, OnlineConfig, OnlineModel, OnlineState, OnlineStep, Posterior, learn_step,
+};
 use pushlab_core::model::{OnlineParams, Sample, sample_at, sample_count};
 use pushlab_core::trajectory::Trajectory;
 
@@ -43,6 +48,44 @@ impl From<&Loss> for FrameLoss {
     }
 }
 
+/// Frames between kept posteriors.
+pub const KEYFRAME: usize = 64;
+
+/// How sure the run is of `θ_online` at a frame, as drawn: the COM offset's covariance (m², object
+/// frame: xx, xy, yy) and the standard deviation of `h` (m), in `f32`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    pub com_cov: [f32; 3],
+    pub h_std: f32,
+}
+
+impl Spread {
+    fn of(posterior: &Posterior) -> Self {
+        let c = posterior.com_covariance();
+        Self {
+            com_cov: [c[0][0] as f32, c[0][1] as f32, c[1][1] as f32],
+            h_std: posterior.std()[2] as f32,
+        }
+    }
+
+    /// Standard deviations of `[com_x, com_y, h]`, metres.
+    pub fn std(&self) -> [f64; 3] {
+        let [xx, _, yy] = self.com_cov.map(f64::from);
+        [
+            xx.max(0.0).sqrt(),
+            yy.max(0.0).sqrt(),
+            f64::from(self.h_std),
+        ]
+    }
+
+    /// The COM's 95 % ellipse: half-axes (metres, major first) and the major axis's angle in the
+    /// object frame.
+    pub fn ellipse_95(&self) -> ([f64; 2], f64) {
+        let [xx, xy, yy] = self.com_cov.map(f64::from);
+        ellipse_95([[xx, xy], [xy, yy]])
+    }
+}
+
 /// Mean losses over the frames learned so far, online and fixed on the same frames.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MeanLosses {
@@ -64,6 +107,12 @@ pub struct OnlineRun {
     fixed: Vec<FrameLoss>,
     checkpoints: Vec<OnlineParams>,
     learned: Vec<Option<FrameLoss>>,
+    /// The posterior's spread at each checkpoint.
+    spreads: Vec<Spread>,
+    /// The posterior at frames `0, KEYFRAME, 2·KEYFRAME, …` up to the frontier (before `θ` steering
+    /// at that frame is applied), and at the frontier itself.
+    keyframes: Vec<Posterior>,
+    posterior: Posterior,
     /// Sums over the learned frames, for [`OnlineRun::mean_losses`].
     totals: MeanLosses,
     /// Moving averages and min/max envelopes of the series above, for the plots.
@@ -87,7 +136,9 @@ impl OnlineRun {
             .map(|s| FrameLoss::from(&model.online_step(&s, &theta0, &OnlineConfig::fixed()).loss))
             .collect();
         let checkpoints = vec![theta0];
-        let plots = RunPlots::new(&fixed, &checkpoints);
+        let posterior = OnlineState::start(model.as_ref()).posterior;
+        let spreads = vec![Spread::of(&posterior)];
+        let plots = RunPlots::new(&fixed, &checkpoints, &spreads);
         Self {
             model,
             trajectory,
@@ -95,6 +146,9 @@ impl OnlineRun {
             fixed,
             checkpoints,
             learned: Vec::new(),
+            spreads,
+            keyframes: vec![posterior],
+            posterior,
             totals: MeanLosses::default(),
             plots,
             config,
@@ -114,6 +168,11 @@ impl OnlineRun {
     /// `θ_online(0)`.
     pub fn theta0(&self) -> OnlineParams {
         self.model.theta0()
+    }
+
+    /// Frames between a sample's start and its target.
+    pub fn horizon(&self) -> usize {
+        self.horizon
     }
 
     /// Number of samples: one per frame but the last `horizon`.
@@ -149,6 +208,16 @@ impl OnlineRun {
     /// θ as learned so far, one value per frame `0..=frontier`.
     pub fn checkpoints(&self) -> &[OnlineParams] {
         &self.checkpoints
+    }
+
+    /// The posterior's spread at each frame `0..=frontier`.
+    pub fn spreads(&self) -> &[Spread] {
+        &self.spreads
+    }
+
+    /// The posterior's spread in effect at `frame`.
+    pub fn spread_at(&self, frame: usize) -> Spread {
+        self.spreads[frame.min(self.frontier())]
     }
 
     /// The plots' derived series.
@@ -209,7 +278,7 @@ impl OnlineRun {
             }
         }
         self.plots
-            .extend(&self.fixed, &self.learned, &self.checkpoints);
+            .extend(&self.fixed, &self.learned, &self.checkpoints, &self.spreads);
     }
 
     /// Whether the sample at `frame` touches a frame flagged in `skip_frames`.
@@ -221,9 +290,11 @@ impl OnlineRun {
     pub fn set_theta_at(&mut self, frame: usize, theta: OnlineParams) {
         self.truncate_to(frame);
         self.checkpoints[frame] = theta.clamped();
+        self.posterior = self.posterior.at(&self.checkpoints[frame]);
+        self.spreads[frame] = Spread::of(&self.posterior);
         self.plots.cut(&self.learned, frame);
         self.plots
-            .extend(&self.fixed, &self.learned, &self.checkpoints);
+            .extend(&self.fixed, &self.learned, &self.checkpoints, &self.spreads);
     }
 
     /// One online update from the sample at `frame` ("Learn this frame"): θ at the frame becomes the
@@ -232,23 +303,37 @@ impl OnlineRun {
     pub fn learn_this_frame(&mut self, frame: usize) -> Option<OnlineStep> {
         let sample = self.sample(frame)?;
         self.truncate_to(frame);
-        let step = self
-            .model
-            .online_step(&sample, &self.checkpoints[frame], &self.config);
-        self.checkpoints[frame] = step.theta_after;
+        let (step, next) = learn_step(
+            self.model.as_ref(),
+            &sample,
+            &self.state(frame),
+            &self.config,
+        );
+        self.checkpoints[frame] = next.theta;
+        self.posterior = next.posterior;
+        self.spreads[frame] = Spread::of(&self.posterior);
         self.plots.cut(&self.learned, frame);
         self.plots
-            .extend(&self.fixed, &self.learned, &self.checkpoints);
+            .extend(&self.fixed, &self.learned, &self.checkpoints, &self.spreads);
         Some(step)
     }
 
     /// Back to `θ_online(0)` at frame 0, forgetting all learning.
     pub fn reset(&mut self) {
         self.truncate_to(0);
-        self.checkpoints[0] = self.model.theta0();
+        let start = OnlineState::start(self.model.as_ref());
+        self.checkpoints[0] = start.theta;
+        self.posterior = start.posterior;
+        self.keyframes = vec![start.posterior];
+        self.spreads[0] = Spread::of(&start.posterior);
         self.plots.cut(&self.learned, 0);
         self.plots
-            .extend(&self.fixed, &self.learned, &self.checkpoints);
+            .extend(&self.fixed, &self.learned, &self.checkpoints, &self.spreads);
+    }
+
+    /// What learning carries at `frame` (the frontier).
+    fn state(&self, frame: usize) -> OnlineState {
+        OnlineState::at(self.checkpoints[frame], self.posterior)
     }
 
     /// Makes `frame` the frontier: drops what came after it, or holds θ constant up to it.
@@ -258,14 +343,44 @@ impl OnlineRun {
                 self.learned.truncate(frame);
                 self.recount_totals();
                 self.plots.cut(&self.learned, frame);
+                self.posterior = self.replay_posterior(frame);
+                self.keyframes.truncate(frame / KEYFRAME + 1);
             }
             self.checkpoints.truncate(frame + 1);
+            self.spreads.truncate(frame + 1);
         } else {
             let held = self.checkpoints[self.frontier()];
+            let spread = self.spreads[self.frontier()];
             while self.frontier() < frame {
                 self.learned.push(None);
                 self.checkpoints.push(held);
+                self.spreads.push(spread);
+                self.keep_keyframe();
             }
+        }
+    }
+
+    /// The posterior at `frame` (below the frontier): the keyframe before it and the learned frames
+    /// between, linearised at their checkpoints as they were learned.
+    fn replay_posterior(&self, frame: usize) -> Posterior {
+        let key = frame / KEYFRAME;
+        let mut posterior = self.keyframes[key];
+        for k in key * KEYFRAME..frame {
+            if self.learned[k].is_some()
+                && let Some(sample) = self.sample(k)
+            {
+                let theta = self.checkpoints[k];
+                posterior = posterior.with(&self.model.linearize(&sample, &theta), &theta);
+            }
+        }
+        posterior.at(&self.checkpoints[frame])
+    }
+
+    /// Keeps the frontier's posterior when the frontier is a keyframe.
+    fn keep_keyframe(&mut self) {
+        let frontier = self.frontier();
+        if frontier.is_multiple_of(KEYFRAME) && self.keyframes.len() == frontier / KEYFRAME {
+            self.keyframes.push(self.posterior);
         }
     }
 
@@ -274,13 +389,19 @@ impl OnlineRun {
             return;
         };
         self.truncate_to(frame);
-        let step = self
-            .model
-            .online_step(&sample, &self.checkpoints[frame], &self.config);
+        let (step, next) = learn_step(
+            self.model.as_ref(),
+            &sample,
+            &self.state(frame),
+            &self.config,
+        );
         let loss = FrameLoss::from(&step.loss);
         self.add_to_totals(frame, loss);
         self.learned.push(Some(loss));
-        self.checkpoints.push(step.theta_after);
+        self.checkpoints.push(next.theta);
+        self.posterior = next.posterior;
+        self.spreads.push(Spread::of(&self.posterior));
+        self.keep_keyframe();
     }
 
     fn add_to_totals(&mut self, frame: usize, online: FrameLoss) {

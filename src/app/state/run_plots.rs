@@ -11,7 +11,7 @@ use pushlab_core::learn::moving_average;
 use pushlab_core::model::OnlineParams;
 
 use super::envelope::{Envelope, envelope_points};
-use super::online::{FrameLoss, OnlineRun};
+use super::online::{FrameLoss, OnlineRun, Spread};
 
 /// Learned steps in the moving average of the loss plots.
 pub const MOVING_AVERAGE: usize = 25;
@@ -38,10 +38,14 @@ pub enum Series {
     OnlineAverage(LossPart),
     /// A component of `θ_online(t)` in millimetres: 0 the COM offset's x, 1 its y, 2 `h`.
     Theta(usize),
+    /// The lower edge of its ±2σ band (the posterior's), millimetres.
+    ThetaLow(usize),
+    /// The upper edge.
+    ThetaHigh(usize),
 }
 
 impl Series {
-    const ALL: [Series; 11] = [
+    const ALL: [Series; 17] = [
         Series::Fixed(LossPart::Pos),
         Series::Fixed(LossPart::Rot),
         Series::FixedAverage(LossPart::Pos),
@@ -53,6 +57,12 @@ impl Series {
         Series::Theta(0),
         Series::Theta(1),
         Series::Theta(2),
+        Series::ThetaLow(0),
+        Series::ThetaLow(1),
+        Series::ThetaLow(2),
+        Series::ThetaHigh(0),
+        Series::ThetaHigh(1),
+        Series::ThetaHigh(2),
     ];
 
     fn index(self) -> usize {
@@ -63,6 +73,8 @@ impl Series {
             Series::Online(p) => 4 + part(p),
             Series::OnlineAverage(p) => 6 + part(p),
             Series::Theta(c) => 8 + c.min(2),
+            Series::ThetaLow(c) => 11 + c.min(2),
+            Series::ThetaHigh(c) => 14 + c.min(2),
         }
     }
 
@@ -75,7 +87,9 @@ impl Series {
         match self {
             Series::Fixed(_) | Series::FixedAverage(_) => data.fixed.len(),
             Series::Online(_) | Series::OnlineAverage(_) => data.learned.len(),
-            Series::Theta(_) => data.checkpoints.len(),
+            Series::Theta(_) | Series::ThetaLow(_) | Series::ThetaHigh(_) => {
+                data.checkpoints.len().min(data.spreads.len())
+            }
         }
     }
 
@@ -90,6 +104,16 @@ impl Series {
             Series::Online(p) => data.learned[i].map_or(f32::NAN, |l| pick(l, p)),
             Series::OnlineAverage(p) => pick(data.averages.online[i], p),
             Series::Theta(c) => (data.checkpoints[i].to_array()[c.min(2)] * 1e3) as f32,
+            Series::ThetaLow(c) | Series::ThetaHigh(c) => {
+                let c = c.min(2);
+                let sign = if matches!(self, Series::ThetaLow(_)) {
+                    -2.0
+                } else {
+                    2.0
+                };
+                let value = data.checkpoints[i].to_array()[c] + sign * data.spreads[i].std()[c];
+                (value * 1e3) as f32
+            }
         }
     }
 }
@@ -99,6 +123,7 @@ struct Data<'a> {
     fixed: &'a [FrameLoss],
     learned: &'a [Option<FrameLoss>],
     checkpoints: &'a [OnlineParams],
+    spreads: &'a [Spread],
     averages: &'a Averages,
 }
 
@@ -119,12 +144,16 @@ const NO_LOSS: FrameLoss = FrameLoss {
 /// Moving averages and envelopes of one run's series.
 pub struct RunPlots {
     averages: Averages,
-    envelopes: [Envelope; 11],
+    envelopes: [Envelope; 17],
 }
 
 impl RunPlots {
     /// The plots of a run that has learned nothing yet.
-    pub(super) fn new(fixed: &[FrameLoss], checkpoints: &[OnlineParams]) -> Self {
+    pub(super) fn new(
+        fixed: &[FrameLoss],
+        checkpoints: &[OnlineParams],
+        spreads: &[Spread],
+    ) -> Self {
         let average = |pick: fn(&FrameLoss) -> f32| {
             let values: Vec<f64> = fixed.iter().map(|l| f64::from(pick(l))).collect();
             moving_average(&values, MOVING_AVERAGE)
@@ -145,7 +174,7 @@ impl RunPlots {
             averages,
             envelopes: Default::default(),
         };
-        plots.extend(fixed, &[], checkpoints);
+        plots.extend(fixed, &[], checkpoints, spreads);
         plots
     }
 
@@ -155,6 +184,7 @@ impl RunPlots {
         fixed: &[FrameLoss],
         learned: &[Option<FrameLoss>],
         checkpoints: &[OnlineParams],
+        spreads: &[Spread],
     ) {
         let averages = &mut self.averages;
         for step in &learned[averages.online.len().min(learned.len())..] {
@@ -181,6 +211,7 @@ impl RunPlots {
             fixed,
             learned,
             checkpoints,
+            spreads,
             averages: &self.averages,
         };
         for series in Series::ALL {
@@ -224,6 +255,7 @@ impl OnlineRun {
             fixed: self.fixed(),
             learned: self.learned(),
             checkpoints: self.checkpoints(),
+            spreads: self.spreads(),
             averages: &plots.averages,
         };
         envelope_points(

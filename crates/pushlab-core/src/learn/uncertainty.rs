@@ -211,20 +211,24 @@ impl Posterior {
         (d.transpose() * inverse * d)[(0, 0)] <= CHI2_2DOF_95
     }
 
-    /// The 95 % ellipse of the COM offset: its half-axes (metres, major first) and the major axis's
-    /// angle from the object's x axis (radians).
+    /// The 95 % ellipse of the COM offset (see [`ellipse_95`]).
     pub fn com_ellipse_95(&self) -> ([f64; 2], f64) {
-        let c = self.com_covariance();
-        let (a, b, d) = (c[0][0], c[0][1], c[1][1]);
-        let mean = (a + d) / 2.0;
-        let spread = (((a - d) / 2.0).powi(2) + b * b).sqrt();
-        let (major, minor) = ((mean + spread).max(0.0), (mean - spread).max(0.0));
-        let angle = 0.5 * (2.0 * b).atan2(a - d);
-        (
-            [(CHI2_2DOF_95 * major).sqrt(), (CHI2_2DOF_95 * minor).sqrt()],
-            angle,
-        )
+        ellipse_95(self.com_covariance())
     }
+}
+
+/// The 95 % ellipse of a 2-D Gaussian with covariance `c`: its half-axes (metres, major first) and
+/// the major axis's angle from the x axis (radians).
+pub fn ellipse_95(c: [[f64; 2]; 2]) -> ([f64; 2], f64) {
+    let (a, b, d) = (c[0][0], c[0][1], c[1][1]);
+    let mean = (a + d) / 2.0;
+    let spread = (((a - d) / 2.0).powi(2) + b * b).sqrt();
+    let (major, minor) = ((mean + spread).max(0.0), (mean - spread).max(0.0));
+    let angle = 0.5 * (2.0 * b).atan2(a - d);
+    (
+        [(CHI2_2DOF_95 * major).sqrt(), (CHI2_2DOF_95 * minor).sqrt()],
+        angle,
+    )
 }
 
 fn vector(theta: &OnlineParams) -> Vector3<f64> {

@@ -5,8 +5,9 @@
 use eframe::egui::{self, Color32, Pos2, Shape, Stroke, Vec2};
 use nalgebra::{Point2, Vector2};
 use pushlab_core::geometry::{Outline, Pose2};
+use pushlab_core::inspect::Rollout;
 use pushlab_core::model::{ObjectMotion, Prediction};
-use pushlab_core::trajectory::Frame;
+use pushlab_core::trajectory::{Frame, Trajectory};
 
 use super::camera::Projection;
 use crate::app::colors;
@@ -88,6 +89,73 @@ pub fn footprint(
     let centre = projection.to_screen(pose.position);
     let axis = projection.to_screen(pose.point_in_world(Point2::new(outline.size() * 0.15, 0.0)));
     painter.line_segment([centre, axis], Stroke::new(1.0, color.gamma_multiply(0.7)));
+}
+
+/// A what-if rollout: each predicted pose as a ghost footprint fading with the steps ahead, and the
+/// recorded pose at the last step dashed beside it.
+pub fn what_if(
+    painter: &egui::Painter,
+    projection: &Projection,
+    outline: &Outline,
+    rollout: &Rollout,
+    trajectory: &Trajectory,
+) {
+    let steps = rollout.poses.len().max(1) as f32;
+    for (i, (_, pose)) in rollout.poses.iter().enumerate() {
+        let fade = 0.75 - 0.6 * (i as f32 / steps);
+        let points: Vec<Pos2> = outline
+            .vertices()
+            .iter()
+            .map(|v| projection.to_screen(pose.point_in_world(*v)))
+            .collect();
+        painter.add(Shape::closed_line(
+            points,
+            Stroke::new(1.0, colors::ONLINE.gamma_multiply(fade)),
+        ));
+    }
+    if let Some((frame, _)) = rollout.poses.last()
+        && let Some(recorded) = trajectory.frames.get(*frame)
+    {
+        footprint(
+            painter,
+            projection,
+            outline,
+            &recorded.object,
+            FootprintStyle {
+                color: colors::TRUE.gamma_multiply(0.6),
+                line: FootprintLine::Dashed,
+            },
+        );
+    }
+}
+
+/// The 95 % ellipse of the estimated COM: half-axes (metres) and the major axis's angle, both in the
+/// object frame at `pose`, around the COM offset `com`.
+pub fn com_ellipse(
+    painter: &egui::Painter,
+    projection: &Projection,
+    pose: &Pose2,
+    com: [f64; 2],
+    axes: [f64; 2],
+    angle: f64,
+) {
+    if !(axes[0].is_finite() && axes[1].is_finite()) {
+        return;
+    }
+    let (sin, cos) = angle.sin_cos();
+    let points: Vec<Pos2> = (0..64)
+        .map(|i| {
+            let t = std::f64::consts::TAU * f64::from(i) / 64.0;
+            let (a, b) = (axes[0] * t.cos(), axes[1] * t.sin());
+            let in_object = Point2::new(com[0] + a * cos - b * sin, com[1] + a * sin + b * cos);
+            projection.to_screen(pose.point_in_world(in_object))
+        })
+        .collect();
+    painter.add(Shape::convex_polygon(
+        points,
+        colors::ONLINE.gamma_multiply(0.10),
+        Stroke::new(1.5, colors::ONLINE.gamma_multiply(0.8)),
+    ));
 }
 
 /// The object pose reached by `motion` from `pose`, with the motion multiplied by `gain`.

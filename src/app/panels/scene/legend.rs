@@ -51,7 +51,7 @@ pub fn ui(ui: &mut egui::Ui, area: Rect, state: &AppState, commands: &mut Vec<Co
 type Entry<'a> = (&'a mut bool, &'static str, Color32, Option<PredictionLayer>);
 
 /// The toggles in the order the legend lists them.
-fn entries(layers: &mut Layers) -> [Entry<'_>; 12] {
+fn entries(layers: &mut Layers) -> [Entry<'_>; 14] {
     use PredictionLayer::{Fixed, Online, Physics, PureNn};
     [
         (
@@ -93,6 +93,18 @@ fn entries(layers: &mut Layers) -> [Entry<'_>; 12] {
         (
             &mut layers.com_estimated,
             "Estimated COM (drag me)",
+            colors::ONLINE,
+            None,
+        ),
+        (
+            &mut layers.com_ellipse,
+            "COM 95 % ellipse",
+            colors::ONLINE,
+            None,
+        ),
+        (
+            &mut layers.what_if,
+            "What if: k steps ahead (ghosts)",
             colors::ONLINE,
             None,
         ),

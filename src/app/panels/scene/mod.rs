@@ -15,6 +15,7 @@ pub mod legend;
 use eframe::egui::{self, Color32, Rect, Sense};
 use nalgebra::Point2;
 use pushlab_core::geometry::{Outline, Pose2};
+use pushlab_core::inspect::Rollout;
 
 use self::camera::{Camera, CameraMode, Projection, WorldBox};
 use self::draw::FootprintStyle;
@@ -123,6 +124,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &
             outline: outline.as_ref(),
             predictions: state.predictions(),
             gain: state.layers.motion_gain,
+            what_if: state.what_if().filter(|_| state.layers.what_if),
         };
         let markers = markers(state, view, &content);
         let projection = view.projection();
@@ -161,6 +163,8 @@ struct Content<'a> {
     outline: Option<&'a Outline>,
     predictions: Option<FramePredictions>,
     gain: f64,
+    /// The what-if rollout from this frame, when its layer is on.
+    what_if: Option<Rollout>,
 }
 
 impl Content<'_> {
@@ -311,6 +315,9 @@ fn draw_layers(
                 FootprintStyle::MEASURED_NOW,
             );
         }
+        if let (Some(rollout), Some(recording)) = (&content.what_if, state.recording()) {
+            draw::what_if(painter, projection, outline, rollout, &recording.trajectory);
+        }
         for (pose, style) in content.targets(state) {
             draw::footprint(painter, projection, outline, &pose, style);
         }
@@ -333,6 +340,19 @@ fn draw_layers(
         draw::true_com(
             painter,
             projection.to_screen(content.pose.point_in_world(Point2::from(com))),
+        );
+    }
+    if layers.com_ellipse
+        && let (Some(theta), Some(run)) = (state.theta(), &state.run)
+    {
+        let (axes, angle) = run.spread_at(state.frame()).ellipse_95();
+        draw::com_ellipse(
+            painter,
+            projection,
+            &content.pose,
+            theta.com_offset,
+            axes,
+            angle,
         );
     }
     // The markers where the user can grab them, highlighted under the pointer.

@@ -1,0 +1,155 @@
+//! Beyond the paper in the app, driven through the UI: after learning, the Steer tab gives ± for each
+//! component and the scene's COM ellipse shrinks from the prior's; choosing Gauss–Newton changes
+//! `θ_online(t)`; the what-if ghosts follow the sliders.
+
+mod common;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::{Command, Persisted};
+use pushlab::app::{PushlabApp, initial_state};
+use pushlab_core::learn::Optimizer;
+use pushlab_core::model::OnlineParams;
+
+fn app_on(set: &str) -> Harness<'static, PushlabApp> {
+    let dir = common::sample_dir(set);
+    // Learning while playing (the default), so that stepping learns.
+    let persisted = Persisted::default();
+    assert!(persisted.learn_while_playing);
+    let state = initial_state(std::slice::from_ref(&dir), persisted);
+    assert!(state.run.is_some(), "{:?}", state.session.problems);
+    common::harness(PushlabApp::new(state), 0.05)
+}
+
+/// Steps `frames` frames forward one at a time (learning each, as playing does).
+fn step(harness: &mut Harness<'_, PushlabApp>, frames: usize) {
+    for _ in 0..frames {
+        harness
+            .state_mut()
+            .state
+            .apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+    harness.run_steps(2);
+}
+
+fn theta(harness: &Harness<'_, PushlabApp>) -> OnlineParams {
+    harness.state().state.theta().expect("a run")
+}
+
+/// The COM ellipse's half-axes at the frame shown, metres.
+fn ellipse_axes(harness: &Harness<'_, PushlabApp>) -> [f64; 2] {
+    let state = &harness.state().state;
+    let run = state.run.as_ref().expect("a run");
+    run.spread_at(state.frame()).ellipse_95().0
+}
+
+/// The ± values the Steer tab shows, millimetres.
+fn plus_minus(harness: &Harness<'_, PushlabApp>) -> Vec<f64> {
+    harness
+        .query_all_by_label_contains("± ")
+        .filter_map(|node| {
+            let node = node.accesskit_node();
+            node.label()
+                .or_else(|| node.value())
+                .and_then(|l| l.trim_start_matches("± ").parse::<f64>().ok())
+        })
+        .collect()
+}
+
+#[test]
+fn learning_shrinks_the_com_ellipse_and_the_steer_tab_gives_plus_minus() {
+    let mut harness = app_on("box1-paper-ur-front");
+    harness.run_steps(2);
+    let prior = ellipse_axes(&harness);
+    let before = plus_minus(&harness);
+    assert_eq!(before.len(), 3, "± for COM x, COM y and h: {before:?}");
+    step(&mut harness, 40);
+    let learned = ellipse_axes(&harness);
+    assert!(
+        learned[0] < 0.5 * prior[0] && learned[1] > 0.0,
+        "ellipse half-axes {learned:?} after 40 frames, prior {prior:?}"
+    );
+    let after = plus_minus(&harness);
+    assert_eq!(after.len(), 3);
+    for (a, b) in after.iter().zip(&before) {
+        assert!(a < b, "± after learning {after:?}, before {before:?}");
+    }
+    // The legend's toggle hides the ellipse layer.
+    assert!(harness.state().state.layers.com_ellipse);
+    // Scrubbing back restores the earlier, wider ellipse exactly.
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Timeline(TimelineCommand::SeekTo(0)));
+    harness.run_steps(1);
+    assert_eq!(ellipse_axes(&harness), prior);
+}
+
+#[test]
+fn choosing_gauss_newton_in_the_steer_tab_changes_what_is_learned() {
+    let mut gd = app_on("box1-paper-ur-front");
+    step(&mut gd, 30);
+    let mut gn = app_on("box1-paper-ur-front");
+    gn.run_steps(1);
+    gn.get_by_label("Gauss–Newton").click();
+    gn.run_steps(2);
+    assert_eq!(
+        gn.state().state.online_config.optimizer,
+        Optimizer::GaussNewton
+    );
+    step(&mut gn, 30);
+    assert_ne!(theta(&gd), theta(&gn));
+    // Back to the paper's rule from frame 10: the run re-learns from there with gradient descent.
+    gn.state_mut()
+        .state
+        .apply(Command::Timeline(TimelineCommand::SeekTo(0)));
+    gn.run_steps(1);
+    gn.get_by_label("Gradient descent (paper)").click();
+    gn.run_steps(1);
+    step(&mut gn, 30);
+    assert_eq!(
+        theta(&gd),
+        theta(&gn),
+        "the same rule from frame 0 learns the same θ"
+    );
+}
+
+#[test]
+fn what_if_ghosts_follow_the_sliders_and_k_is_chosen_in_steer() {
+    let mut harness = app_on("box1-paper-ur-front");
+    step(&mut harness, 10);
+    let state = &harness.state().state;
+    let before = state.what_if().expect("a run");
+    // k = 20 by default, each step the model's horizon long, up to the end of the push.
+    let run = state.run.as_ref().expect("a run");
+    let frames = state
+        .recording()
+        .expect("a recording")
+        .trajectory
+        .frames
+        .len();
+    let expected = 20.min((frames - 1 - state.frame()) / run.horizon());
+    assert!(expected >= 5, "a push with room to roll ahead");
+    assert_eq!(before.poses.len(), expected);
+    assert!(
+        harness
+            .query_by_label_contains(&format!("After {expected} steps"))
+            .is_some(),
+        "the final pose error is shown"
+    );
+    let mut moved = theta(&harness);
+    moved.com_offset[0] += 0.05;
+    harness.state_mut().state.apply(Command::SetTheta(moved));
+    harness.run_steps(1);
+    let after = harness.state().state.what_if().expect("a run");
+    assert_eq!(after.poses.len(), expected);
+    assert_ne!(before.poses.last(), after.poses.last(), "the ghosts moved");
+    harness.state_mut().state.apply(Command::SetWhatIfSteps(3));
+    harness.run_steps(1);
+    assert_eq!(
+        harness.state().state.what_if().expect("a run").poses.len(),
+        3
+    );
+    assert!(harness.query_by_label_contains("After 3 steps").is_some());
+}
