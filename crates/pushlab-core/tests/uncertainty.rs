@@ -8,6 +8,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use pushlab_core::experiment::ComTruth;
 use pushlab_core::inspect::{ComGrid, com_landscape, h_slice, rollout};
 use pushlab_core::learn::uncertainty::CHI2_2DOF_95;
 use pushlab_core::learn::{
@@ -392,7 +393,8 @@ fn jacobians_match_central_differences_of_the_residual_for_every_kind() {
     }
 }
 
-/// Frames learned until the COM estimate came within 5 mm of `truth` and stayed there.
+/// Frames learned until the COM estimate came within 5 mm of `truth` and stayed there, and the
+/// final error (as `pushlab eval` counts them, `experiment::ComTruth`).
 fn frames_to_5mm(
     config: OnlineConfig,
     model: &PhysicsOnlyModel,
@@ -400,16 +402,9 @@ fn frames_to_5mm(
     truth: [f64; 2],
 ) -> (Option<usize>, f64) {
     let mut learner = OnlineLearner::new(model, config);
-    let mut errors = Vec::new();
-    for trajectory in data {
-        for sample in trajectory {
-            learner.step(sample);
-            errors.push(distance(learner.theta().com_offset, truth));
-        }
-    }
-    let settled = errors.iter().rposition(|&e| e > 0.005).map_or(0, |i| i + 1);
-    let last = *errors.last().expect("frames");
-    ((settled < errors.len()).then_some(settled + 1), last)
+    let steps: Vec<OnlineStep> = data.iter().flat_map(|t| learner.run(t)).collect();
+    let found = ComTruth::of(&steps, &learner.posterior(), truth).expect("frames");
+    (found.frames_to_near, found.error_m)
 }
 
 #[test]

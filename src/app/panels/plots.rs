@@ -92,18 +92,12 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             setting.com_offset.map(|c| c[1]),
             setting.h,
         ];
+        let theta_ranges = state.theta_ranges();
         for (index, col) in cols.iter_mut().enumerate() {
             let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
             let response = base_plot(title, group, row_height, duration).show(col, |plot_ui| {
                 let (visible, columns) = visible(plot_ui, duration);
-                band(
-                    plot_ui,
-                    run,
-                    index,
-                    state.theta_ranges()[index],
-                    visible,
-                    columns,
-                );
+                band(plot_ui, run, index, theta_ranges[index], visible, columns);
                 plot_ui.line(
                     Line::new(
                         "θ_online",

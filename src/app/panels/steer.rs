@@ -59,8 +59,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ui.add_space(4.0);
     ui.heading("θ_online at this frame");
     // Slider ranges follow the object: the COM stays within its bounding box, h within its size.
+    let theta_ranges = state.theta_ranges();
     let range = |i: usize| {
-        let (low, high) = state.theta_ranges()[i];
+        let (low, high) = theta_ranges[i];
         low * 1e3..=high * 1e3
     };
     let mut mm = [

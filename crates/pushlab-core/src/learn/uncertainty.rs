@@ -21,7 +21,7 @@ use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::{Loss, OnlineConfig, OnlineModel, OnlineStep};
-use crate::model::{COM_OFFSET_MAX, H_MAX, H_MIN, Linearization, OnlineParams, Sample};
+use crate::model::{H_MIN, Linearization, OnlineParams, Sample};
 
 /// The prior's standard deviation of every component of `θ_online`, in units of `θ_online(0)`'s `h`
 /// (about a third of the object's size): weak, a COM anywhere on the object is plausible.
@@ -232,7 +232,7 @@ pub fn ellipse_95(c: [[f64; 2]; 2]) -> ([f64; 2], f64) {
 }
 
 fn vector(theta: &OnlineParams) -> Vector3<f64> {
-    Vector3::new(theta.com_offset[0], theta.com_offset[1], theta.h)
+    Vector3::from(theta.to_array())
 }
 
 /// `θ_online` and what the frames seen so far say about it: what online learning carries from frame
@@ -307,20 +307,13 @@ fn gauss_newton_step<M: OnlineModel + ?Sized>(
     if config.steps > 0
         && let Some(inverse) = posterior.information().try_inverse()
     {
-        let delta = inverse * jtr * posterior.frame_weight();
-        let next = [
-            theta.com_offset[0] - delta[0],
-            theta.com_offset[1] - delta[1],
-            theta.h - delta[2],
-        ];
+        let next = vector(theta) - inverse * jtr * posterior.frame_weight();
         if next.iter().all(|t| t.is_finite()) {
             after = OnlineParams {
-                com_offset: [
-                    next[0].clamp(-COM_OFFSET_MAX, COM_OFFSET_MAX),
-                    next[1].clamp(-COM_OFFSET_MAX, COM_OFFSET_MAX),
-                ],
-                h: next[2].clamp(H_MIN, H_MAX),
-            };
+                com_offset: [next[0], next[1]],
+                h: next[2],
+            }
+            .clamped();
         }
     }
     OnlineStep {
