@@ -1,0 +1,330 @@
+//! The rules behind label proposals, each a pure function of per-frame series: the tracking noise
+//! estimated from the recording itself, the pusher's gap to the outline, the pusher's drift over the
+//! object while in contact, pose jumps the pusher cannot explain, and the model's residual spikes.
+//!
+//! Every threshold is a number of standard deviations of a noise estimated from the data (never the
+//! simulator's truth), so that the same rules serve a 10 Hz camera with 2 mm noise and a 250 Hz
+//! motion-capture system with a tenth of a millimetre.
+
+use nalgebra::{Point2, Vector2};
+
+use crate::geometry::{Outline, wrap_angle};
+use crate::trajectory::Trajectory;
+
+/// The smallest noise the rules assume, metres and radians: a noise-free simulation would otherwise
+/// make every tolerance zero and every rounding error significant.
+pub(super) const MIN_POSITION_SD: f64 = 1e-5;
+pub(super) const MIN_YAW_SD: f64 = 1e-5;
+
+/// MAD → standard deviation for Gaussian data.
+const MAD_TO_SD: f64 = 1.482_6;
+
+/// The median of `values` (reordered); `None` when empty.
+pub(super) fn median(values: &mut [f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mid = values.len() / 2;
+    let (_, m, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*m)
+}
+
+/// A robust standard deviation: the median absolute deviation from the median, scaled for Gaussian
+/// data; with the median. `None` when empty.
+pub(super) fn robust_spread(values: &[f64]) -> Option<(f64, f64)> {
+    let mut work = values.to_vec();
+    let centre = median(&mut work)?;
+    for v in &mut work {
+        *v = (*v - centre).abs();
+    }
+    Some((centre, MAD_TO_SD * median(&mut work)?))
+}
+
+/// The noise of a series from its second differences: for a smooth motion sampled with independent
+/// Gaussian errors of σ, `x[k+1] − 2x[k] + x[k−1]` has a standard deviation of √6 σ, and a robust
+/// estimate ignores the few frames where the motion itself changes (contact made, a turn).
+pub(super) fn second_difference_sd(series: &[&[f64]]) -> f64 {
+    let mut d2: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()))
+        .collect();
+    median(&mut d2).map_or(0.0, |m| MAD_TO_SD * m / 6f64.sqrt())
+}
+
+/// The tracking noise of a recording, estimated from the recording alone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NoiseEstimate {
+    /// Of the pusher's recorded x and y, metres.
+    pub robot_sd: f64,
+    /// Of the object's recorded x and y, metres.
+    pub object_sd: f64,
+    /// Of the object's recorded yaw, radians.
+    pub yaw_sd: f64,
+}
+
+impl NoiseEstimate {
+    /// Estimates the noise of every recorded coordinate from its second differences.
+    pub fn of(trajectory: &Trajectory) -> Self {
+        let column = |f: &dyn Fn(&crate::trajectory::Frame) -> f64| -> Vec<f64> {
+            trajectory.frames.iter().map(f).collect()
+        };
+        let (rx, ry) = (column(&|f| f.robot.x), column(&|f| f.robot.y));
+        let (ox, oy) = (
+            column(&|f| f.object.position.x),
+            column(&|f| f.object.position.y),
+        );
+        let yaw = column(&|f| f.object.yaw);
+        Self {
+            robot_sd: second_difference_sd(&[&rx, &ry]).max(MIN_POSITION_SD),
+            object_sd: second_difference_sd(&[&ox, &oy]).max(MIN_POSITION_SD),
+            yaw_sd: second_difference_sd(&[&yaw]).max(MIN_YAW_SD),
+        }
+    }
+
+    /// The noise of the pusher's position seen from the object at `distance` from the object's
+    /// origin: both positions' noise, and the yaw's noise turning the arm.
+    pub fn relative_sd(&self, distance: f64) -> f64 {
+        (self.robot_sd.powi(2) + self.object_sd.powi(2) + (self.yaw_sd * distance).powi(2)).sqrt()
+    }
+}
+
+/// Per frame: the pusher's centre in the object frame, and the gap between the pusher's rim and the
+/// outline (negative: overlap), metres.
+pub(super) fn pusher_in_object_and_gap(
+    trajectory: &Trajectory,
+    outline: &Outline,
+    pusher_radius: f64,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Option<(Vec<Point2<f64>>, Vec<f64>)> {
+    let n = trajectory.len();
+    let mut pusher = Vec::with_capacity(n);
+    let mut gap = Vec::with_capacity(n);
+    for (k, frame) in trajectory.frames.iter().enumerate() {
+        if k % 4096 == 0 && !progress(k) {
+            return None;
+        }
+        let p = frame.object.point_in_object(frame.robot);
+        gap.push(outline.closest_boundary_point(p).signed_distance - pusher_radius);
+        pusher.push(p);
+    }
+    Some((pusher, gap))
+}
+
+/// Whether the object visibly moves around each frame: its position or yaw changes over `±half`
+/// frames by more than `sigmas` standard deviations of the difference of two noisy readings.
+pub(super) fn object_moves(
+    trajectory: &Trajectory,
+    noise: &NoiseEstimate,
+    half: usize,
+    sigmas: f64,
+) -> Vec<bool> {
+    let frames = &trajectory.frames;
+    let n = frames.len();
+    let (position_limit, yaw_limit) = (
+        sigmas * noise.object_sd * 2f64.sqrt(),
+        sigmas * noise.yaw_sd * 2f64.sqrt(),
+    );
+    (0..n)
+        .map(|k| {
+            let (a, b) = (&frames[k.saturating_sub(half)], &frames[(k + half).min(n - 1)]);
+            (b.object.position - a.object.position).norm() > position_limit
+                || (b.object.yaw - a.object.yaw).abs() > yaw_limit
+        })
+        .collect()
+}
+
+/// A running median over `±half` frames (shorter at the ends): it keeps a step (contact made) where
+/// it is and removes single noisy readings.
+pub(super) fn running_median(values: &[f64], half: usize) -> Vec<f64> {
+    let n = values.len();
+    let mut window = Vec::with_capacity(2 * half + 1);
+    (0..n)
+        .map(|k| {
+            window.clear();
+            window.extend_from_slice(&values[k.saturating_sub(half)..(k + half + 1).min(n)]);
+            median(&mut window).unwrap_or(values[k])
+        })
+        .collect()
+}
+
+/// The pusher's drift over the object around one frame: a least-squares velocity of its centre in
+/// the object frame, and how many standard errors from zero it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Drift {
+    /// Metres per second.
+    pub speed: f64,
+    /// `speed` over its standard error (0 when fewer than two frames).
+    pub z: f64,
+    /// The pusher's own speed in the world over the same frames, metres per second.
+    pub pusher_speed: f64,
+}
+
+/// The drift at every frame in `run` (a run of frames in contact), over `±half` frames clipped to the
+/// run. Sticking keeps the pusher's centre fixed on the object; sliding moves it along the outline.
+pub(super) fn drift_in_run(
+    trajectory: &Trajectory,
+    pusher_in_object: &[Point2<f64>],
+    run: std::ops::Range<usize>,
+    half: usize,
+    relative_sd: f64,
+) -> Vec<Drift> {
+    let frames = &trajectory.frames;
+    run.clone()
+        .map(|k| {
+            let window = k.saturating_sub(half).max(run.start)..(k + half + 1).min(run.end);
+            if window.len() < 2 {
+                return Drift::default();
+            }
+            let count = window.len() as f64;
+            let t0 = frames[window.start].time;
+            let mean_t = window.clone().map(|j| frames[j].time - t0).sum::<f64>() / count;
+            let mean_p = window
+                .clone()
+                .map(|j| pusher_in_object[j].coords)
+                .sum::<Vector2<f64>>()
+                / count;
+            let (mut stt, mut stp) = (0.0, Vector2::zeros());
+            for j in window.clone() {
+                let dt = frames[j].time - t0 - mean_t;
+                stt += dt * dt;
+                stp += (pusher_in_object[j].coords - mean_p) * dt;
+            }
+            if stt <= 0.0 {
+                return Drift::default();
+            }
+            let velocity = stp / stt;
+            let standard_error = relative_sd / stt.sqrt();
+            let (first, last) = (&frames[window.start], &frames[window.end - 1]);
+            let span = last.time - first.time;
+            Drift {
+                speed: velocity.norm(),
+                z: velocity.norm() / standard_error,
+                pusher_speed: if span > 0.0 {
+                    (last.robot - first.robot).norm() / span
+                } else {
+                    0.0
+                },
+            }
+        })
+        .collect()
+}
+
+/// For each step `k − 1 → k` (index `k`, 0 for the first frame): how many standard deviations the
+/// object's move or turn exceeds what the pusher's move could cause. In quasi-static pushing the
+/// COM moves no farther than the contact point (eqs. 9–11 shrink the contact's motion), so the
+/// geometric centre moves at most about twice the pusher's move, and the object turns at most by
+/// the pusher's move over a quarter of its size.
+pub(super) fn jump_scores(trajectory: &Trajectory, noise: &NoiseEstimate, size: f64) -> Vec<f64> {
+    let frames = &trajectory.frames;
+    let turn_per_metre = 4.0 / size.max(1e-6);
+    let step_sd_position =
+        (2.0 * noise.object_sd.powi(2) + 4.0 * 2.0 * noise.robot_sd.powi(2)).sqrt();
+    let step_sd_yaw = (2.0 * noise.yaw_sd.powi(2)
+        + turn_per_metre.powi(2) * 2.0 * noise.robot_sd.powi(2))
+    .sqrt();
+    let mut scores = vec![0.0; frames.len()];
+    for k in 1..frames.len() {
+        let (a, b) = (&frames[k - 1], &frames[k]);
+        let pusher_move = (b.robot - a.robot).norm();
+        let object_move = (b.object.position - a.object.position).norm();
+        let turn = wrap_angle(b.object.yaw - a.object.yaw).abs();
+        let position_z = (object_move - 2.0 * pusher_move) / step_sd_position;
+        let yaw_z = (turn - turn_per_metre * pusher_move) / step_sd_yaw;
+        scores[k] = position_z.max(yaw_z).max(0.0);
+    }
+    scores
+}
+
+/// The frames a tracking jump spoiled, from the scores of the steps: a frame whose steps in and out
+/// both jump is a glitch (it alone is marked); a jump on its own (tracking re-acquired elsewhere)
+/// marks the frame it lands on.
+pub(super) fn jump_frames(step_scores: &[f64], sigmas: f64) -> Vec<bool> {
+    let n = step_scores.len();
+    let jumps = |k: usize| k < n && step_scores[k] >= sigmas;
+    let mut bad = vec![false; n];
+    let mut explained = vec![false; n];
+    for k in 1..n {
+        if jumps(k) && jumps(k + 1) && !explained[k] {
+            bad[k] = true;
+            explained[k] = true;
+            explained[k + 1] = true;
+        }
+    }
+    for k in 1..n {
+        if jumps(k) && !explained[k] {
+            bad[k] = true;
+        }
+    }
+    bad
+}
+
+/// Robust z-scores of a model's residuals (the loss of each sample, by its start frame): the
+/// residual's square root (an error, not a squared one) against the median and MAD of all of them.
+pub(super) fn residual_scores(losses: &[f64]) -> Vec<f64> {
+    let errors: Vec<f64> = losses
+        .iter()
+        .map(|&l| if l.is_finite() { l.max(0.0).sqrt() } else { 0.0 })
+        .collect();
+    let Some((centre, spread)) = robust_spread(&errors) else {
+        return Vec::new();
+    };
+    let spread = spread.max(1e-12);
+    errors.iter().map(|e| (e - centre) / spread).collect()
+}
+
+/// The frames behind residual spikes. A sample from `t` to `t + horizon` is made of those two frames;
+/// a bad frame `j` spoils the samples starting at `j` and at `j − horizon`, so a spike shared by two
+/// such samples points at their common frame, and a lone spike marks both of its frames.
+pub(super) fn residual_frames(
+    scores: &[f64],
+    horizon: usize,
+    frames: usize,
+    sigmas: f64,
+) -> Vec<bool> {
+    let horizon = horizon.max(1);
+    let spikes = |t: usize| scores.get(t).is_some_and(|&z| z >= sigmas);
+    let mut bad = vec![false; frames];
+    for t in (0..scores.len()).filter(|&t| spikes(t)) {
+        let paired_after = spikes(t + horizon);
+        let paired_before = t >= horizon && spikes(t - horizon);
+        if paired_after && t + horizon < frames {
+            bad[t + horizon] = true;
+        }
+        if paired_before {
+            bad[t] = true;
+        }
+        if !paired_after && !paired_before {
+            bad[t] = true;
+            if t + horizon < frames {
+                bad[t + horizon] = true;
+            }
+        }
+    }
+    bad
+}
+
+/// The standard normal distribution function, for turning a z-score into a confidence
+/// (Abramowitz & Stegun 7.1.26, error below 1.5e-7).
+pub(super) fn normal_cdf(z: f64) -> f64 {
+    let x = z.abs() / std::f64::consts::SQRT_2;
+    let t = 1.0 / (1.0 + 0.327_591_1 * x);
+    let poly = t
+        * (0.254_829_592
+            + t * (-0.284_496_736 + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
+    let erf = 1.0 - poly * (-x * x).exp();
+    if z >= 0.0 {
+        0.5 * (1.0 + erf)
+    } else {
+        0.5 * (1.0 - erf)
+    }
+}
+
+/// How sure a decision at `margin` standard deviations from its threshold is: 0.5 on the threshold,
+/// 0.84 one σ away, 0.9987 three σ away.
+pub(super) fn confidence(margin: f64) -> f32 {
+    if margin.is_finite() {
+        normal_cdf(margin.abs()) as f32
+    } else {
+        1.0
+    }
+}
