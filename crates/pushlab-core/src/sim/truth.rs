@@ -35,7 +35,9 @@ pub fn truth_labels(set: &GeneratedSet) -> LabelSet {
 /// The segments of one push: contact or no contact on every frame, sticking or slipping where in
 /// contact, sorted by start.
 pub fn truth_segments(contacts: &[FrameContact]) -> Vec<Segment> {
-    let contact = runs(contacts, |c| Some(if c.in_contact() { CONTACT } else { NO_CONTACT }));
+    let contact = runs(contacts, |c| {
+        Some(if c.in_contact() { CONTACT } else { NO_CONTACT })
+    });
     let mode = runs(contacts, |c| {
         c.in_contact()
             .then_some(if c.slipping() { SLIPPING } else { STICKING })
@@ -45,7 +47,7 @@ pub fn truth_segments(contacts: &[FrameContact]) -> Vec<Segment> {
         .chain(mode)
         .map(|(label, frames)| Segment::new(label, frames))
         .collect();
-    segments.sort_by_key(|s| (s.start, s.end));
+    crate::labels::segments::sort(&mut segments);
     segments
 }
 

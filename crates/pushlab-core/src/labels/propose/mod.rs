@@ -130,7 +130,9 @@ pub struct Proposals {
 /// Why no proposals could be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ProposeError {
-    #[error("{recording}: the object's outline is unusable ({reason}), so contact cannot be judged")]
+    #[error(
+        "{recording}: the object's outline is unusable ({reason}), so contact cannot be judged"
+    )]
     Outline { recording: String, reason: String },
     #[error("stopped before the proposals were done")]
     Cancelled,
@@ -231,8 +233,13 @@ pub fn propose(
     // Sticking or slipping, run of contact by run of contact.
     let mut slipping = vec![false; n];
     for run in runs_of(&in_contact, true) {
-        let drifts =
-            rules::drift_in_run(trajectory, &pusher_in_object, run.clone(), window, relative_sd);
+        let drifts = rules::drift_in_run(
+            trajectory,
+            &pusher_in_object,
+            run.clone(),
+            window,
+            relative_sd,
+        );
         for (k, drift) in run.zip(drifts) {
             let e = &mut evidence[k];
             e.drift = drift.speed as f32;
@@ -281,7 +288,13 @@ pub fn propose(
 
     let mut segments = Vec::new();
     let contact_of = |k: usize| if in_contact[k] { CONTACT } else { NO_CONTACT };
-    push_runs(&mut segments, n, |k| Some(contact_of(k)), |e| e.contact_confidence, &evidence);
+    push_runs(
+        &mut segments,
+        n,
+        |k| Some(contact_of(k)),
+        |e| e.contact_confidence,
+        &evidence,
+    );
     push_runs(
         &mut segments,
         n,
@@ -289,7 +302,13 @@ pub fn propose(
         |e| e.mode_confidence,
         &evidence,
     );
-    push_runs(&mut segments, n, |k| bad[k].then_some(BAD_TRACKING), |e| e.bad_confidence, &evidence);
+    push_runs(
+        &mut segments,
+        n,
+        |k| bad[k].then_some(BAD_TRACKING),
+        |e| e.bad_confidence,
+        &evidence,
+    );
     segments.sort_by(|a, b| (a.frames.start, a.label).cmp(&(b.frames.start, b.label)));
     progress(1.0);
     Ok(Proposals {
@@ -353,7 +372,9 @@ fn push_runs(
 impl Proposals {
     /// The proposals covering `frame`.
     pub fn at(&self, frame: usize) -> impl Iterator<Item = &Proposal> {
-        self.segments.iter().filter(move |p| p.frames.contains(&frame))
+        self.segments
+            .iter()
+            .filter(move |p| p.frames.contains(&frame))
     }
 
     /// The proposals as a recording's labels, leaving out segments less sure than `min_confidence`.

@@ -126,7 +126,10 @@ pub(super) fn object_moves(
     );
     (0..n)
         .map(|k| {
-            let (a, b) = (&frames[k.saturating_sub(half)], &frames[(k + half).min(n - 1)]);
+            let (a, b) = (
+                &frames[k.saturating_sub(half)],
+                &frames[(k + half).min(n - 1)],
+            );
             (b.object.position - a.object.position).norm() > position_limit
                 || (b.object.yaw - a.object.yaw).abs() > yaw_limit
         })
@@ -219,9 +222,8 @@ pub(super) fn jump_scores(trajectory: &Trajectory, noise: &NoiseEstimate, size: 
     let turn_per_metre = 4.0 / size.max(1e-6);
     let step_sd_position =
         (2.0 * noise.object_sd.powi(2) + 4.0 * 2.0 * noise.robot_sd.powi(2)).sqrt();
-    let step_sd_yaw = (2.0 * noise.yaw_sd.powi(2)
-        + turn_per_metre.powi(2) * 2.0 * noise.robot_sd.powi(2))
-    .sqrt();
+    let step_sd_yaw =
+        (2.0 * noise.yaw_sd.powi(2) + turn_per_metre.powi(2) * 2.0 * noise.robot_sd.powi(2)).sqrt();
     let mut scores = vec![0.0; frames.len()];
     for k in 1..frames.len() {
         let (a, b) = (&frames[k - 1], &frames[k]);
@@ -263,7 +265,13 @@ pub(super) fn jump_frames(step_scores: &[f64], sigmas: f64) -> Vec<bool> {
 pub(super) fn residual_scores(losses: &[f64]) -> Vec<f64> {
     let errors: Vec<f64> = losses
         .iter()
-        .map(|&l| if l.is_finite() { l.max(0.0).sqrt() } else { 0.0 })
+        .map(|&l| {
+            if l.is_finite() {
+                l.max(0.0).sqrt()
+            } else {
+                0.0
+            }
+        })
         .collect();
     let Some((centre, spread)) = robust_spread(&errors) else {
         return Vec::new();
@@ -310,7 +318,8 @@ pub(super) fn normal_cdf(z: f64) -> f64 {
     let t = 1.0 / (1.0 + 0.327_591_1 * x);
     let poly = t
         * (0.254_829_592
-            + t * (-0.284_496_736 + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
+            + t * (-0.284_496_736
+                + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
     let erf = 1.0 - poly * (-x * x).exp();
     if z >= 0.0 {
         0.5 * (1.0 + erf)
