@@ -40,8 +40,46 @@ pub struct Comparison {
     pub left_out: Vec<String>,
 }
 
+/// Why two files cannot be compared: scores over nothing would read as a result.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CompareError {
+    /// The reference labels no frame of any range label.
+    #[error(
+        "recordings: no frame of any range label, expected at least one labelled segment to compare against"
+    )]
+    EmptyReference,
+    /// The other file labels none of the reference's recordings (likely another set).
+    #[error(
+        "recordings: none of the reference's recordings ({reference}) is labelled, found only {other}; were both files made for the same set?"
+    )]
+    NoSharedRecording { reference: String, other: String },
+}
+
 /// Compares `other` with the reference `truth`.
-pub fn compare(truth: &LabelSet, other: &LabelSet) -> Comparison {
+pub fn compare(truth: &LabelSet, other: &LabelSet) -> Result<Comparison, CompareError> {
+    let has_segments = |set: &LabelSet| set.recordings.values().any(|r| !r.segments.is_empty());
+    if !has_segments(truth) {
+        return Err(CompareError::EmptyReference);
+    }
+    if !truth
+        .recordings
+        .keys()
+        .any(|k| other.recordings.contains_key(k))
+    {
+        let list = |set: &LabelSet| {
+            let names: Vec<&str> = set.recordings.keys().take(3).map(String::as_str).collect();
+            let more = set.recordings.len().saturating_sub(3);
+            match (names.is_empty(), more) {
+                (true, _) => "no recording".to_owned(),
+                (false, 0) => names.join(", "),
+                (false, m) => format!("{} and {m} more", names.join(", ")),
+            }
+        };
+        return Err(CompareError::NoSharedRecording {
+            reference: list(truth),
+            other: list(other),
+        });
+    }
     let empty = RecordingLabels::default();
     let labels = truth
         .schema
@@ -69,7 +107,7 @@ pub fn compare(truth: &LabelSet, other: &LabelSet) -> Comparison {
             }
         })
         .collect();
-    Comparison {
+    Ok(Comparison {
         labels,
         recordings: truth.recordings.len(),
         left_out: other
@@ -78,7 +116,7 @@ pub fn compare(truth: &LabelSet, other: &LabelSet) -> Comparison {
             .filter(|k| !truth.recordings.contains_key(*k))
             .cloned()
             .collect(),
-    }
+    })
 }
 
 /// The frame ranges of `label`, sorted (segments of one label never overlap).
@@ -159,7 +197,7 @@ mod tests {
             // Not in the reference: left out, not counted against it.
             ("c.csv", vec![Segment::new(CONTACT, 0..1000)]),
         ]);
-        let result = compare(&truth, &other);
+        let result = compare(&truth, &other).unwrap();
         let get = |name: &str| result.labels.iter().find(|l| l.label == name).unwrap();
         // Contact: 140 true frames (90 + 50), 95 proposed, of which 90 are true (5..10 is not).
         let contact = get(CONTACT);
@@ -179,5 +217,23 @@ mod tests {
         assert_eq!((bad.precision, bad.recall, bad.f1), (None, None, None));
         assert_eq!(result.left_out, vec!["c.csv".to_owned()]);
         assert_eq!(result.recordings, 2);
+    }
+
+    #[test]
+    fn nothing_to_compare_is_an_error_not_a_score() {
+        let truth = set(&[("a.csv", vec![Segment::new(CONTACT, 0..10)])]);
+        assert_eq!(
+            compare(&set(&[]), &truth),
+            Err(CompareError::EmptyReference)
+        );
+        let other = set(&[
+            ("b.csv", vec![Segment::new(CONTACT, 0..10)]),
+            ("c.csv", vec![Segment::new(CONTACT, 0..10)]),
+        ]);
+        let err = compare(&truth, &other).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "recordings: none of the reference's recordings (a.csv) is labelled, found only b.csv, c.csv; were both files made for the same set?"
+        );
     }
 }

@@ -30,6 +30,7 @@ use std::ops::Range;
 use crate::geometry::Outline;
 use crate::labels::schema::names::{BAD_TRACKING, CONTACT, NO_CONTACT, SLIPPING, STICKING};
 use crate::labels::{RecordingLabels, Segment};
+use crate::learn::LossScale;
 use crate::recording::Recording;
 use crate::trajectory::Trajectory;
 
@@ -55,7 +56,7 @@ impl Default for ProposeOptions {
         Self {
             contact_sigmas: 3.0,
             slip_sigmas: 3.0,
-            window_sigmas: 10.0,
+            window_sigmas: 40.0,
             jump_sigmas: 6.0,
             residual_sigmas: 6.0,
         }
@@ -67,6 +68,10 @@ impl Default for ProposeOptions {
 pub struct Residuals<'a> {
     pub losses: &'a [f64],
     pub horizon: usize,
+    /// The σ the losses are normalised by: with the tracking noise they say how large a residual
+    /// the noise alone makes, below which nothing is a spike (on noise-free data the model's
+    /// smallest kink would otherwise be many σ).
+    pub scale: LossScale,
 }
 
 /// What was measured at one frame (`f32`: a million-frame recording keeps them all).
@@ -176,14 +181,14 @@ pub fn propose(
 ) -> Result<Proposals, ProposeError> {
     let n = trajectory.len();
     let noise = NoiseEstimate::of(trajectory);
-    let (pusher_in_object, raw_gap) =
-        rules::pusher_in_object_and_gap(trajectory, outline, pusher_radius, &mut |k| {
-            progress(0.6 * k as f32 / n.max(1) as f32)
-        })
-        .ok_or(ProposeError::Cancelled)?;
+    let on = rules::pusher_on_object(trajectory, outline, pusher_radius, &mut |k| {
+        progress(0.6 * k as f32 / n.max(1) as f32)
+    })
+    .ok_or(ProposeError::Cancelled)?;
+    let raw_gap = &on.gap;
 
     // The drift's window: the pusher travels `window_sigmas` of the relative noise over it.
-    let mut distances: Vec<f64> = pusher_in_object.iter().map(|p| p.coords.norm()).collect();
+    let mut distances: Vec<f64> = on.centre.iter().map(|p| p.coords.norm()).collect();
     let arm = rules::median(&mut distances).unwrap_or(0.0);
     let relative_sd = noise.relative_sd(arm);
     let mut steps: Vec<f64> = trajectory
@@ -210,7 +215,7 @@ pub fn propose(
     let gap_sd = spread.max(relative_sd);
     let contact_tolerance = gap_offset + options.contact_sigmas * gap_sd;
     const GAP_HALF: usize = 2;
-    let gap = rules::running_median(&raw_gap, GAP_HALF);
+    let gap = rules::running_median(raw_gap, GAP_HALF);
     let smoothed_sd = gap_sd * 1.2533 / ((2 * GAP_HALF + 1) as f64).sqrt();
     let in_contact: Vec<bool> = gap.iter().map(|g| *g <= contact_tolerance).collect();
     if !progress(0.7) {
@@ -235,14 +240,16 @@ pub fn propose(
     for run in runs_of(&in_contact, true) {
         let drifts = rules::drift_in_run(
             trajectory,
-            &pusher_in_object,
+            &on,
+            pusher_radius,
             run.clone(),
             window,
             relative_sd,
+            noise.yaw_sd,
         );
         for (k, drift) in run.zip(drifts) {
             let e = &mut evidence[k];
-            e.drift = drift.speed as f32;
+            e.drift = drift.speed.abs() as f32;
             e.drift_z = drift.z as f32;
             e.pusher_speed = drift.pusher_speed as f32;
             slipping[k] = drift.z >= options.slip_sigmas;
@@ -261,7 +268,11 @@ pub fn propose(
         evidence[k].jump_z = steps[k].max(after) as f32;
     }
     if let Some(residuals) = residuals {
-        let scores = rules::residual_scores(residuals.losses);
+        let [sx, sy] = residuals.scale.sigma_pos;
+        let noise_error = (2.0 * noise.object_sd.powi(2) * (sx.powi(-2) + sy.powi(-2))
+            + 2.0 * (noise.yaw_sd / residuals.scale.sigma_rot).powi(2))
+        .sqrt();
+        let scores = rules::residual_scores(residuals.losses, noise_error);
         let flagged =
             rules::residual_frames(&scores, residuals.horizon, n, options.residual_sigmas);
         for k in 0..n {

@@ -88,26 +88,39 @@ impl NoiseEstimate {
     }
 }
 
-/// Per frame: the pusher's centre in the object frame, and the gap between the pusher's rim and the
-/// outline (negative: overlap), metres.
-pub(super) fn pusher_in_object_and_gap(
+/// Per frame, what the pusher's place on the object says: its centre in the object frame, the
+/// outward normal of the outline nearest to it, and the gap between its rim and the outline
+/// (negative: overlap), metres.
+pub(super) struct PusherOnObject {
+    pub centre: Vec<Point2<f64>>,
+    pub normal: Vec<Vector2<f64>>,
+    pub gap: Vec<f64>,
+}
+
+/// Where the pusher is on the object at every frame; `None` when `progress` asks to stop.
+pub(super) fn pusher_on_object(
     trajectory: &Trajectory,
     outline: &Outline,
     pusher_radius: f64,
     progress: &mut dyn FnMut(usize) -> bool,
-) -> Option<(Vec<Point2<f64>>, Vec<f64>)> {
+) -> Option<PusherOnObject> {
     let n = trajectory.len();
-    let mut pusher = Vec::with_capacity(n);
-    let mut gap = Vec::with_capacity(n);
+    let mut out = PusherOnObject {
+        centre: Vec::with_capacity(n),
+        normal: Vec::with_capacity(n),
+        gap: Vec::with_capacity(n),
+    };
     for (k, frame) in trajectory.frames.iter().enumerate() {
         if k % 4096 == 0 && !progress(k) {
             return None;
         }
         let p = frame.object.point_in_object(frame.robot);
-        gap.push(outline.closest_boundary_point(p).signed_distance - pusher_radius);
-        pusher.push(p);
+        let nearest = outline.closest_boundary_point(p);
+        out.gap.push(nearest.signed_distance - pusher_radius);
+        out.normal.push(nearest.normal);
+        out.centre.push(p);
     }
-    Some((pusher, gap))
+    Some(out)
 }
 
 /// Whether the object visibly moves around each frame: its position or yaw changes over `±half`
@@ -150,58 +163,69 @@ pub(super) fn running_median(values: &[f64], half: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The pusher's drift over the object around one frame: a least-squares velocity of its centre in
-/// the object frame, and how many standard errors from zero it is.
+/// The contact's slip around one frame: a least-squares velocity of the contact along the outline,
+/// and how many standard errors from zero it is.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct Drift {
-    /// Metres per second.
+    /// Metres per second, positive counter-clockwise along the outline.
     pub speed: f64,
-    /// `speed` over its standard error (0 when fewer than two frames).
+    /// `|speed|` over its standard error (0 when fewer than two frames).
     pub z: f64,
     /// The pusher's own speed in the world over the same frames, metres per second.
     pub pusher_speed: f64,
 }
 
-/// The drift at every frame in `run` (a run of frames in contact), over `±half` frames clipped to the
-/// run. Sticking keeps the pusher's centre fixed on the object; sliding moves it along the outline.
+/// The slip at every frame in `run` (a run of frames in contact), over `±half` frames clipped to the
+/// run, from the pusher's centre on the object (`on`), the object's yaw and the pusher's radius.
+///
+/// A disc that does not turn, pressed on a face that does, rolls over the face: even while sticking
+/// its centre moves along the face at `ω r` in the object frame (4 mm/s for a 0.175 m pusher and an
+/// object turning 1.3°/s). The slip is what remains when that rolling is taken out: the tangential
+/// velocity of `centre + r · Δyaw · t`, with `t` the outline's counter-clockwise tangent.
+/// `position_sd` is the noise of one coordinate of the pusher's centre on the object.
 pub(super) fn drift_in_run(
     trajectory: &Trajectory,
-    pusher_in_object: &[Point2<f64>],
+    on: &PusherOnObject,
+    pusher_radius: f64,
     run: std::ops::Range<usize>,
     half: usize,
-    relative_sd: f64,
+    position_sd: f64,
+    yaw_sd: f64,
 ) -> Vec<Drift> {
     let frames = &trajectory.frames;
+    let sd = position_sd.hypot(pusher_radius * yaw_sd);
     run.clone()
         .map(|k| {
             let window = k.saturating_sub(half).max(run.start)..(k + half + 1).min(run.end);
             if window.len() < 2 {
                 return Drift::default();
             }
+            let n = on.normal[k];
+            let tangent = Vector2::new(-n.y, n.x);
+            let slip_coordinate = |j: usize| {
+                let turned = wrap_angle(frames[j].object.yaw - frames[k].object.yaw);
+                on.centre[j].coords.dot(&tangent) + pusher_radius * turned
+            };
             let count = window.len() as f64;
             let t0 = frames[window.start].time;
             let mean_t = window.clone().map(|j| frames[j].time - t0).sum::<f64>() / count;
-            let mean_p = window
-                .clone()
-                .map(|j| pusher_in_object[j].coords)
-                .sum::<Vector2<f64>>()
-                / count;
-            let (mut stt, mut stp) = (0.0, Vector2::zeros());
+            let mean_s = window.clone().map(slip_coordinate).sum::<f64>() / count;
+            let (mut stt, mut sts) = (0.0, 0.0);
             for j in window.clone() {
                 let dt = frames[j].time - t0 - mean_t;
                 stt += dt * dt;
-                stp += (pusher_in_object[j].coords - mean_p) * dt;
+                sts += (slip_coordinate(j) - mean_s) * dt;
             }
             if stt <= 0.0 {
                 return Drift::default();
             }
-            let velocity = stp / stt;
-            let standard_error = relative_sd / stt.sqrt();
+            let speed = sts / stt;
+            let standard_error = sd / stt.sqrt();
             let (first, last) = (&frames[window.start], &frames[window.end - 1]);
             let span = last.time - first.time;
             Drift {
-                speed: velocity.norm(),
-                z: velocity.norm() / standard_error,
+                speed,
+                z: speed.abs() / standard_error,
                 pusher_speed: if span > 0.0 {
                     (last.robot - first.robot).norm() / span
                 } else {
@@ -260,9 +284,16 @@ pub(super) fn jump_frames(step_scores: &[f64], sigmas: f64) -> Vec<bool> {
     bad
 }
 
+/// Samples on either side whose running median a residual is compared with.
+pub(super) const RESIDUAL_HALF: usize = 5;
+
 /// Robust z-scores of a model's residuals (the loss of each sample, by its start frame): the
-/// residual's square root (an error, not a squared one) against the median and MAD of all of them.
-pub(super) fn residual_scores(losses: &[f64]) -> Vec<f64> {
+/// residual's square root (an error, not a squared one) less the running median of its neighbours
+/// (±[`RESIDUAL_HALF`] samples), against the median absolute value of those differences. A model's
+/// own error changes slowly (a contact made, a slip) and is taken out by the running median; a
+/// tracking glitch changes one or two samples and stands out. The spread is at least `noise_error`,
+/// the error the tracking noise alone makes.
+pub(super) fn residual_scores(losses: &[f64], noise_error: f64) -> Vec<f64> {
     let errors: Vec<f64> = losses
         .iter()
         .map(|&l| {
@@ -273,16 +304,21 @@ pub(super) fn residual_scores(losses: &[f64]) -> Vec<f64> {
             }
         })
         .collect();
-    let Some((centre, spread)) = robust_spread(&errors) else {
+    let local = running_median(&errors, RESIDUAL_HALF);
+    let excess: Vec<f64> = errors.iter().zip(&local).map(|(e, m)| e - m).collect();
+    let mut absolute: Vec<f64> = excess.iter().map(|d| d.abs()).collect();
+    let Some(mad) = median(&mut absolute) else {
         return Vec::new();
     };
-    let spread = spread.max(1e-12);
-    errors.iter().map(|e| (e - centre) / spread).collect()
+    let spread = (MAD_TO_SD * mad).max(noise_error).max(1e-12);
+    excess.iter().map(|d| d / spread).collect()
 }
 
 /// The frames behind residual spikes. A sample from `t` to `t + horizon` is made of those two frames;
-/// a bad frame `j` spoils the samples starting at `j` and at `j − horizon`, so a spike shared by two
-/// such samples points at their common frame, and a lone spike marks both of its frames.
+/// a bad frame `j` spoils both samples that contain it, the one starting at `j` and the one at
+/// `j − horizon`, so only spikes in such pairs point at a frame (their common one). A spike alone is
+/// the model's error, not the tracking's — unless its partner sample does not exist (the ends of the
+/// recording), where it marks its frame at that end.
 pub(super) fn residual_frames(
     scores: &[f64],
     horizon: usize,
@@ -290,22 +326,16 @@ pub(super) fn residual_frames(
     sigmas: f64,
 ) -> Vec<bool> {
     let horizon = horizon.max(1);
+    let samples = scores.len();
     let spikes = |t: usize| scores.get(t).is_some_and(|&z| z >= sigmas);
     let mut bad = vec![false; frames];
-    for t in (0..scores.len()).filter(|&t| spikes(t)) {
-        let paired_after = spikes(t + horizon);
-        let paired_before = t >= horizon && spikes(t - horizon);
-        if paired_after && t + horizon < frames {
-            bad[t + horizon] = true;
+    for t in (0..samples).filter(|&t| spikes(t)) {
+        let end = t + horizon;
+        if end < frames && (spikes(end) || end >= samples) {
+            bad[end] = true;
         }
-        if paired_before {
+        if t < horizon {
             bad[t] = true;
-        }
-        if !paired_after && !paired_before {
-            bad[t] = true;
-            if t + horizon < frames {
-                bad[t + horizon] = true;
-            }
         }
     }
     bad

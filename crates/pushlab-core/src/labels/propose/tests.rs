@@ -200,24 +200,37 @@ fn a_pose_glitch_is_bad_tracking_on_its_frame_only() {
 
 #[test]
 fn residual_spikes_point_at_the_frame_two_samples_share() {
-    // Horizon 3: a bad frame 13 spoils the samples starting at 10 and 13.
+    // Horizon 3, 40 samples over 43 frames: a bad frame 13 spoils the samples starting at 10 and 13.
     let mut scores = vec![0.0; 40];
     scores[10] = 9.0;
     scores[13] = 9.0;
-    // A lone spike marks both of its frames.
-    scores[30] = 9.0;
-    let bad = rules::residual_frames(&scores, 3, 42, 6.0);
-    let frames: Vec<usize> = (0..42).filter(|&k| bad[k]).collect();
-    assert_eq!(frames, vec![13, 30, 33]);
-    // Robust scores: errors (√ loss) alternate 1 and 3 m, one is 11. Their median is 3, the median
-    // absolute deviation 2, so σ = 2 × 1.4826 and the spike is 8 / σ = 2.70 σ out.
-    let mut losses: Vec<f64> = (0..50)
-        .map(|k| if k % 2 == 0 { 1.0 } else { 9.0 })
+    // A spike alone is the model's error: nothing marked.
+    scores[25] = 9.0;
+    // At the ends the partner sample does not exist: the first frame, and the last.
+    scores[1] = 9.0;
+    scores[39] = 9.0;
+    let bad = rules::residual_frames(&scores, 3, 43, 6.0);
+    let frames: Vec<usize> = (0..43).filter(|&k| bad[k]).collect();
+    assert_eq!(frames, vec![1, 13, 42]);
+    // Robust scores: errors (√ loss) 1 m, rising to 3 m over the middle (the model's own error,
+    // which the running median follows), with one of 11 m at sample 21 and a noise of ±0.1 m.
+    let errors: Vec<f64> = (0..50)
+        .map(|k| {
+            let level = if (15..35).contains(&k) { 3.0 } else { 1.0 };
+            let noise = if k % 2 == 0 { 0.1 } else { -0.1 };
+            if k == 21 { 11.0 } else { level + noise }
+        })
         .collect();
-    losses[21] = 121.0;
-    let z = rules::residual_scores(&losses);
-    assert!((z[21] - 8.0 / (2.0 * 1.482_6)).abs() < 1e-9, "{}", z[21]);
-    assert!((z[0] + 2.0 / (2.0 * 1.482_6)).abs() < 1e-9, "{}", z[0]);
+    let losses: Vec<f64> = errors.iter().map(|e| e * e).collect();
+    let z = rules::residual_scores(&losses, 0.0);
+    // Away from the steps each error is 0.1 m from its running median (the median of ±0.1 around
+    // the level is +0.1 or −0.1 m), so σ = 0.2 × 1.4826 at most and the spike stands ≥ 26 σ out.
+    assert!(z[21] > 26.0, "{}", z[21]);
+    let largest_other = (0..50)
+        .filter(|&k| k != 21)
+        .map(|k| z[k].abs())
+        .fold(0.0, f64::max);
+    assert!(largest_other < 6.0, "{largest_other}");
 }
 
 #[test]
