@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::Args;
 use pushlab_core::atomic_file::write_atomically;
-use pushlab_core::labels::compare::{Comparison, compare};
+use pushlab_core::labels::compare::{CompareError, Comparison, compare};
 use pushlab_core::labels::file;
 
 /// Arguments of `pushlab labels compare`.
@@ -27,12 +27,13 @@ pub struct CompareArgs {
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let truth = file::read(&args.truth)?;
     let other = file::read(&args.other)?;
-    let result = compare(&truth, &other).with_context(|| {
-        format!(
-            "cannot compare {} with {}",
-            args.other.display(),
-            args.truth.display()
-        )
+    // Each error is about one of the two files: name it, as a file's own errors do.
+    let result = compare(&truth, &other).map_err(|e| {
+        let about = match e {
+            CompareError::EmptyReference => &args.truth,
+            CompareError::NoSharedRecording { .. } => &args.other,
+        };
+        anyhow::anyhow!("{}: {e}", about.display())
     })?;
     print!("{}", table(&result));
     if let Some(path) = &args.json {
