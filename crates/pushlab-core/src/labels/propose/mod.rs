@@ -6,17 +6,18 @@
 //! - **contact / no contact**: the pusher's rim is within a tolerance of the object's outline. The
 //!   tolerance is the gap seen while the object moves (a real setup's calibration offset, 0 in a
 //!   simulation) plus [`ProposeOptions::contact_sigmas`] of the gap's noise, the larger of its spread
-//!   while moving and what the position and yaw noise make of it. The gap is a running median over 5
-//!   frames, so one noisy reading does not break a contact.
-//! - **sticking / slipping** (frames in contact): a sticking contact keeps the pusher's centre fixed
+//!   while moving and what the position and yaw noise make of it — and at least the 98th percentile
+//!   of the gaps seen while the object moves. The gap is a running median over 5 frames, so one
+//!   noisy reading does not break a contact.
+//! - **sticking / slipping** (frames in contact): a sticking contact keeps the contact point fixed
 //!   on the object, a slipping one moves it along the outline. The drift is the least-squares
-//!   velocity of the pusher's centre in the object frame over a window in which the pusher travels
-//!   [`ProposeOptions::window_sigmas`] noise σ; slipping when it is
-//!   [`ProposeOptions::slip_sigmas`] standard errors from zero.
+//!   velocity of the contact along the outline in the object frame, the disc's rolling taken out,
+//!   over a window in which the pusher travels [`ProposeOptions::window_sigmas`] noise σ; slipping
+//!   when it is [`ProposeOptions::slip_sigmas`] standard errors from zero.
 //! - **bad tracking**: a step in which the object moves or turns more than the pusher's move could
 //!   cause, by [`ProposeOptions::jump_sigmas`]; and, given a model's per-sample residuals, a residual
-//!   [`ProposeOptions::residual_sigmas`] robust σ above their median, traced to the frame the
-//!   spiking samples share.
+//!   [`ProposeOptions::residual_sigmas`] robust σ above its neighbours' running median, where both
+//!   samples holding one frame spike (that frame is marked).
 //!
 //! Proposals are not labels: [`Proposals::to_labels`] turns them into a recording's labels for a
 //! proposals file (`pushlab labels propose`), and the app paints one only when the user accepts it.
@@ -213,7 +214,11 @@ pub fn propose(
         (0.0, 0.0)
     };
     let gap_sd = spread.max(relative_sd);
-    let contact_tolerance = gap_offset + options.contact_sigmas * gap_sd;
+    // On a real setup the gap drifts along a push (the pusher presses into the edge, the outline
+    // is not exact: 0.4 mm over an MIT push, 3 MAD σ being 0.15 mm): a gap at which the object was
+    // seen moving under the pusher is contact, whatever the noise says.
+    let seen_pushing = rules::quantile(&moving_gaps, 0.98).unwrap_or(f64::NEG_INFINITY);
+    let contact_tolerance = (gap_offset + options.contact_sigmas * gap_sd).max(seen_pushing);
     const GAP_HALF: usize = 2;
     let gap = rules::running_median(raw_gap, GAP_HALF);
     let smoothed_sd = gap_sd * 1.2533 / ((2 * GAP_HALF + 1) as f64).sqrt();
@@ -262,10 +267,17 @@ pub fn propose(
 
     // Bad tracking: jumps, and the model's residual spikes.
     let steps = rules::jump_scores(trajectory, &noise, outline.size());
+    let glitches = rules::glitch_scores(trajectory, &noise, outline.size());
     let mut bad = rules::jump_frames(&steps, options.jump_sigmas);
+    for (k, glitch) in rules::glitch_frames(&glitches, options.jump_sigmas)
+        .into_iter()
+        .enumerate()
+    {
+        bad[k] |= glitch;
+    }
     for k in 0..n {
         let after = steps.get(k + 1).copied().unwrap_or(0.0);
-        evidence[k].jump_z = steps[k].max(after) as f32;
+        evidence[k].jump_z = steps[k].max(after).max(glitches[k]) as f32;
     }
     if let Some(residuals) = residuals {
         let [sx, sy] = residuals.scale.sigma_pos;

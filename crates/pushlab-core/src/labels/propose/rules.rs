@@ -29,6 +29,15 @@ pub(super) fn median(values: &mut [f64]) -> Option<f64> {
     Some(*m)
 }
 
+/// The `q` quantile of `values` (the nearest rank); `None` when empty.
+pub(super) fn quantile(values: &[f64], q: f64) -> Option<f64> {
+    let mut work = values.to_vec();
+    let last = work.len().checked_sub(1)?;
+    let rank = ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last);
+    let (_, v, _) = work.select_nth_unstable_by(rank, f64::total_cmp);
+    Some(*v)
+}
+
 /// A robust standard deviation: the median absolute deviation from the median, scaled for Gaussian
 /// data; with the median. `None` when empty.
 pub(super) fn robust_spread(values: &[f64]) -> Option<(f64, f64)> {
@@ -123,8 +132,10 @@ pub(super) fn pusher_on_object(
     Some(out)
 }
 
-/// Whether the object visibly moves around each frame: its position or yaw changes over `±half`
-/// frames by more than `sigmas` standard deviations of the difference of two noisy readings.
+/// Whether the object visibly moves on both sides of each frame: its position or yaw changes over
+/// the `half` frames before it and over the `half` frames after it by more than `sigmas` standard
+/// deviations of the difference of two noisy readings. Both sides, so that frames just before the
+/// pusher arrives (still apart) do not count as seen pushing.
 pub(super) fn object_moves(
     trajectory: &Trajectory,
     noise: &NoiseEstimate,
@@ -137,15 +148,13 @@ pub(super) fn object_moves(
         sigmas * noise.object_sd * 2f64.sqrt(),
         sigmas * noise.yaw_sd * 2f64.sqrt(),
     );
+    let moved = |a: usize, b: usize| {
+        let (a, b) = (&frames[a], &frames[b]);
+        (b.object.position - a.object.position).norm() > position_limit
+            || wrap_angle(b.object.yaw - a.object.yaw).abs() > yaw_limit
+    };
     (0..n)
-        .map(|k| {
-            let (a, b) = (
-                &frames[k.saturating_sub(half)],
-                &frames[(k + half).min(n - 1)],
-            );
-            (b.object.position - a.object.position).norm() > position_limit
-                || (b.object.yaw - a.object.yaw).abs() > yaw_limit
-        })
+        .map(|k| moved(k.saturating_sub(half), k) && moved(k, (k + half).min(n - 1)))
         .collect()
 }
 
@@ -261,6 +270,48 @@ pub(super) fn jump_scores(trajectory: &Trajectory, noise: &NoiseEstimate, size: 
     scores
 }
 
+/// For each frame: how many standard deviations its object pose lies off the line through its two
+/// neighbours, beyond what the pusher explains. A pushed object's velocity follows the pusher's: it
+/// bends where the pusher's path bends (up to twice as much, as for a step) and changes by at most
+/// the pusher's step where the object starts or stops; a glitch of one frame does neither. Far more
+/// sensitive than a step's size at a low frame rate, where the pusher's step is large.
+pub(super) fn glitch_scores(trajectory: &Trajectory, noise: &NoiseEstimate, size: f64) -> Vec<f64> {
+    let frames = &trajectory.frames;
+    let turn_per_metre = 4.0 / size.max(1e-6);
+    // A midpoint deviation `x_k − (x_{k−1} + x_{k+1}) / 2` of independent noise has σ √1.5.
+    let dev_sd_position = (1.5f64).sqrt() * noise.object_sd;
+    let dev_sd_yaw = (1.5f64).sqrt() * noise.yaw_sd;
+    // The pusher's bend counts only where it is real: beyond three σ of its own noise (otherwise the
+    // pusher's noise would excuse every glitch of the object's size).
+    let pusher_bend_noise = 3.0 * (1.5f64).sqrt() * noise.robot_sd;
+    let mut scores = vec![0.0; frames.len()];
+    for k in 1..frames.len().saturating_sub(1) {
+        let (a, b, c) = (&frames[k - 1], &frames[k], &frames[k + 1]);
+        let pusher_bend = (b.robot - nalgebra::center(&a.robot, &c.robot)).norm();
+        let pusher_step = (b.robot - a.robot).norm().max((c.robot - b.robot).norm());
+        let allowed = 2.0 * (pusher_bend - pusher_bend_noise).max(0.0) + 0.5 * pusher_step;
+        let midpoint = nalgebra::center(&a.object.position, &c.object.position);
+        let position_z = ((b.object.position - midpoint).norm() - allowed) / dev_sd_position;
+        let bend =
+            0.5 * wrap_angle(b.object.yaw - a.object.yaw - wrap_angle(c.object.yaw - b.object.yaw));
+        let yaw_z = (bend.abs() - turn_per_metre * allowed) / dev_sd_yaw;
+        scores[k] = position_z.max(yaw_z).max(0.0);
+    }
+    scores
+}
+
+/// The glitches among `scores` (from [`glitch_scores`]): frames at or above `sigmas` that score
+/// higher than both neighbours (a glitch bends its neighbours' lines by half as much).
+pub(super) fn glitch_frames(scores: &[f64], sigmas: f64) -> Vec<bool> {
+    let at = |k: usize| scores.get(k).copied().unwrap_or(0.0);
+    (0..scores.len())
+        .map(|k| {
+            let z = at(k);
+            z >= sigmas && z > at(k + 1) && (k == 0 || z > at(k - 1))
+        })
+        .collect()
+}
+
 /// The frames a tracking jump spoiled, from the scores of the steps: a frame whose steps in and out
 /// both jump is a glitch (it alone is marked); a jump on its own (tracking re-acquired elsewhere)
 /// marks the frame it lands on.
@@ -331,10 +382,11 @@ pub(super) fn residual_frames(
     let mut bad = vec![false; frames];
     for t in (0..samples).filter(|&t| spikes(t)) {
         let end = t + horizon;
-        if end < frames && (spikes(end) || end >= samples) {
+        let explained_before = t >= horizon && spikes(t - horizon);
+        if end < frames && (spikes(end) || (end >= samples && !explained_before)) {
             bad[end] = true;
         }
-        if t < horizon {
+        if t < horizon && !spikes(end) {
             bad[t] = true;
         }
     }

@@ -212,6 +212,12 @@ fn residual_spikes_point_at_the_frame_two_samples_share() {
     let bad = rules::residual_frames(&scores, 3, 43, 6.0);
     let frames: Vec<usize> = (0..43).filter(|&k| bad[k]).collect();
     assert_eq!(frames, vec![1, 13, 42]);
+    // A pair at the start points at their common frame 3, not at frame 0 as well.
+    let mut scores = vec![0.0; 40];
+    scores[0] = 9.0;
+    scores[3] = 9.0;
+    let bad = rules::residual_frames(&scores, 3, 43, 6.0);
+    assert_eq!((0..43).filter(|&k| bad[k]).collect::<Vec<_>>(), vec![3]);
     // Robust scores: errors (√ loss) 1 m, rising to 3 m over the middle (the model's own error,
     // which the running median follows), with one of 11 m at sample 21 and a noise of ±0.1 m.
     let errors: Vec<f64> = (0..50)
