@@ -13,10 +13,12 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 use clap::Args;
+use pushlab_core::labels::file as labels_file;
 use pushlab_core::recording::{ObjectShape, PushSide, write_set};
 use pushlab_core::sim::path::face_extent;
 use pushlab_core::sim::{
-    GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, generate_set, read_sample_spec,
+    GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, TRUTH_LABELS_FILE, generate_set,
+    read_sample_spec, truth_labels,
 };
 
 /// Arguments of `pushlab simulate`.
@@ -34,6 +36,11 @@ pub struct SimulateArgs {
     /// Replace existing sets in the output folder (stale CSV files of a replaced set are removed).
     #[arg(long)]
     pub overwrite: bool,
+    /// Also write the simulator's true contact and stick/slip per frame as `truth-labels.json` in
+    /// each set's folder (labels-file format: `contact`, `no contact`, `sticking`, `slipping`), to
+    /// measure proposals or hand labels against with `pushlab labels compare`.
+    #[arg(long)]
+    pub truth_labels: bool,
 
     /// Name of the set (default: the output folder's name).
     #[arg(long)]
@@ -151,6 +158,14 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         remove_stale_csvs(&dir, &set)?;
         write_set(&dir, &set.setting, &set.trajectories)
             .with_context(|| format!("writing {}", dir.display()))?;
+        let truth_path = dir.join(TRUTH_LABELS_FILE);
+        if args.truth_labels {
+            labels_file::write(&truth_path, &truth_labels(&set))?;
+        } else if truth_path.exists() {
+            // A replaced set's truth no longer describes its recordings.
+            std::fs::remove_file(&truth_path)
+                .with_context(|| format!("removing stale {}", truth_path.display()))?;
+        }
         let sliding =
             set.sliding_fractions.iter().sum::<f64>() / set.sliding_fractions.len().max(1) as f64;
         println!(

@@ -10,16 +10,21 @@
 //! - [`file`]: the versioned `pushlab-labels.json` format, its errors and atomic saves;
 //! - [`export`]: JSON and CSV exports with frame times;
 //! - [`pipeline`]: what training and evaluation ask of labels (splits, frames to skip, per-label
-//!   means), independent of the model code.
+//!   means), independent of the model code;
+//! - [`propose`]: label proposals from physics (contact, sticking / slipping, bad tracking), with a
+//!   confidence and a reason per frame, for a person to accept;
+//! - [`compare`]: frame precision, recall and F1 of one labels file against a reference.
 //!
 //! Recordings are keyed by their file name (`push_003.csv`), relative to the folder holding the
 //! labels file; the recordings themselves are never written.
 
+pub mod compare;
 pub mod document;
 pub mod export;
 pub mod file;
 pub mod metadata;
 pub mod pipeline;
+pub mod propose;
 pub mod schema;
 pub mod segments;
 

@@ -11,7 +11,7 @@
 //! The pieces, from small to large: [`contact::pusher_slider_step`] (one step of the physics),
 //! [`world::PushWorld`] (contact detection and integration in substeps), [`record::simulate_push`]
 //! (sampling at a fixed rate with tracking noise), [`spec::generate_set`] (a whole recording set with
-//! its `setting.json`).
+//! its `setting.json`); [`truth`] turns what the contact did per frame into a labels file.
 
 pub mod contact;
 pub mod noise;
@@ -19,17 +19,21 @@ pub mod path;
 pub mod pressure;
 pub mod record;
 pub mod spec;
+pub mod truth;
 pub mod world;
 
 pub use contact::{ContactMode, ObjectStep, lynch_sticking, motion_cone, pusher_slider_step};
 pub use noise::SplitMix64;
 pub use path::{PlanError, PushPlan, PusherPath};
 pub use pressure::{PressureDistribution, PressureError, PressureModel, lynch_h};
-pub use record::{Sampling, SamplingError, SimulatedPush, TrackingNoise, simulate_push};
+pub use record::{
+    FrameContact, Sampling, SamplingError, SimulatedPush, TrackingNoise, simulate_push,
+};
 pub use spec::{
     GeneratedSet, NoiseSpec, PushSpec, SampleSpec, SetSpec, SpecError, SpecFileError, generate_set,
     read_sample_spec,
 };
+pub use truth::{TRUTH_LABELS_FILE, truth_labels};
 pub use world::{PushWorld, SimObject, WorldError};
 
 use crate::geometry::OutlineError;

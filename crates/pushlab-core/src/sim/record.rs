@@ -54,6 +54,36 @@ pub struct SimulatedPush {
     pub sliding_fraction: f64,
     /// Largest overlap removed by the normal correction, metres (second order in the substep).
     pub max_overlap: f64,
+    /// What the contact did after each recorded frame: the true labels a labeling assist is measured
+    /// against (`pushlab simulate --truth-labels`).
+    pub frame_contacts: Vec<FrameContact>,
+}
+
+/// How the contact behaved over one recorded frame's interval, counted in integration substeps.
+///
+/// Frame `k`'s interval is the time from frame `k` to frame `k + 1` (what follows the frame, as a
+/// sample from frame `k` predicts it); the last frame, which has no interval after it, takes the one
+/// before it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameContact {
+    /// Substeps in the interval.
+    pub substeps: u32,
+    /// Substeps in which the pusher pressed on the object (sticking or sliding).
+    pub pressing: u32,
+    /// Pressing substeps in which it slid along the edge.
+    pub sliding: u32,
+}
+
+impl FrameContact {
+    /// Whether the pusher pressed on the object for most of the interval.
+    pub fn in_contact(&self) -> bool {
+        2 * self.pressing > self.substeps
+    }
+
+    /// Whether, while pressing, the contact slid along the edge for most of the time.
+    pub fn slipping(&self) -> bool {
+        2 * self.sliding > self.pressing
+    }
 }
 
 /// Why the sampling parameters are unusable.
@@ -92,20 +122,27 @@ pub fn simulate_push(
 
     let mut world = PushWorld::new(object.clone(), world_from_object, path.position(0.0))?;
     let mut truth = Vec::with_capacity(frames);
+    let mut frame_contacts = Vec::with_capacity(frames);
     let (mut pressing, mut sliding, mut total, mut max_overlap) = (0usize, 0usize, 0usize, 0.0f64);
     for k in 0..frames {
         let time = k as f64 * dt;
         if k > 0 {
+            let mut interval = FrameContact::default();
             for j in 1..=substeps {
                 let t = (k - 1) as f64 * dt + dt * j as f64 / substeps as f64;
                 let report = world.move_pusher_to(path.position(t));
                 total += 1;
+                interval.substeps += 1;
                 max_overlap = max_overlap.max(report.overlap_before_correction);
                 if let Some(mode) = report.mode.filter(|m| *m != super::ContactMode::Separating) {
                     pressing += 1;
                     sliding += usize::from(mode.is_sliding());
+                    interval.pressing += 1;
+                    interval.sliding += u32::from(mode.is_sliding());
                 }
             }
+            // The interval from frame k − 1 to k belongs to frame k − 1.
+            frame_contacts.push(interval);
         }
         truth.push(Frame {
             time,
@@ -132,12 +169,15 @@ pub fn simulate_push(
             .collect(),
         None => truth.clone(),
     };
+    // The last frame has no interval after it: it takes the one before it.
+    frame_contacts.push(frame_contacts.last().copied().unwrap_or_default());
     Ok(SimulatedPush {
         trajectory: Trajectory::new(recorded),
         truth: Trajectory::new(truth),
         contact_fraction: ratio(pressing, total),
         sliding_fraction: ratio(sliding, pressing),
         max_overlap,
+        frame_contacts,
     })
 }
 

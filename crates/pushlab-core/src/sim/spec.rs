@@ -12,7 +12,7 @@ use super::SimError;
 use super::noise::SplitMix64;
 use super::path::{PushPlan, face_extent};
 use super::pressure::{DEFAULT_RESOLUTION, PressureModel, lynch_h};
-use super::record::{Sampling, TrackingNoise, simulate_push};
+use super::record::{FrameContact, Sampling, TrackingNoise, simulate_push};
 use super::world::SimObject;
 use crate::geometry::Pose2;
 use crate::recording::{ObjectShape, PushSide, Setting, TrajectoryEntry};
@@ -103,6 +103,9 @@ pub struct GeneratedSet {
     pub trajectories: Vec<Trajectory>,
     /// How much of each push slid along the edge (fraction of pressing substeps).
     pub sliding_fractions: Vec<f64>,
+    /// Per push, what the contact did after each recorded frame (the true contact and stick/slip
+    /// that [`super::truth::truth_labels`] writes as labels).
+    pub frame_contacts: Vec<Vec<FrameContact>>,
 }
 
 /// Generates the set described by `spec`; `progress(done, total)` is called after each push.
@@ -134,6 +137,7 @@ pub fn generate_set(
     let mut entries = Vec::with_capacity(spec.pushes.len());
     let mut trajectories = Vec::with_capacity(spec.pushes.len());
     let mut sliding_fractions = Vec::with_capacity(spec.pushes.len());
+    let mut frame_contacts = Vec::with_capacity(spec.pushes.len());
     let mut counters: BTreeMap<String, usize> = BTreeMap::new();
     for (index, push) in spec.pushes.iter().enumerate() {
         // One independent stream per push, so that editing one push leaves the others' noise alone.
@@ -176,6 +180,7 @@ pub fn generate_set(
         });
         trajectories.push(rounded(simulated.trajectory));
         sliding_fractions.push(simulated.sliding_fraction);
+        frame_contacts.push(simulated.frame_contacts);
         progress(index + 1, spec.pushes.len());
     }
     let mut extra = serde_json::Map::new();
@@ -207,6 +212,7 @@ pub fn generate_set(
         setting,
         trajectories,
         sliding_fractions,
+        frame_contacts,
     })
 }
 
@@ -256,6 +262,10 @@ pub struct SampleSetting {
     pub com: String,
     pub side: PushSide,
     pub seed: u64,
+    /// Tracking noise of this setting, when it differs from the defaults' (a spec that measures how
+    /// something copes with noise varies it per setting).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<NoiseSpec>,
 }
 
 /// The file `sample-data/spec.json`: named objects, materials, COM offsets and push grids, and the
@@ -399,7 +409,7 @@ impl SampleSpec {
                 duration_s: d.duration_s,
                 speed: d.speed,
                 approach: d.approach,
-                noise: d.noise,
+                noise: s.noise.unwrap_or(d.noise),
                 start_position_spread_m: d.start_position_spread_m,
                 start_yaw_spread_deg: d.start_yaw_spread_deg,
                 seed: s.seed,

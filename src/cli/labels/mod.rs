@@ -1,7 +1,11 @@
-//! `pushlab labels`: set splits, inspect and export a recording set's labels file without the app.
+//! `pushlab labels`: set splits, inspect and export a recording set's labels file without the app,
+//! propose labels from physics ([`propose`]) and compare two labels files ([`compare`]).
 //!
 //! Every change goes through the same [`LabelDocument`] commands as the app, so the file written here
 //! is exactly what the app would write, and it is saved atomically.
+
+mod compare;
+mod propose;
 
 use std::fmt::Write as _;
 use std::fs;
@@ -61,6 +65,11 @@ pub enum LabelsCommand {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+    /// Propose contact / no contact, sticking / slipping and bad tracking from the recordings' own
+    /// physics, into a new labels file (the set's own labels and recordings are never written).
+    Propose(propose::ProposeArgs),
+    /// Per label, frame precision, recall and F1 of OTHER against TRUTH (two labels files).
+    Compare(compare::CompareArgs),
 }
 
 /// Runs one `labels` subcommand; the messages it prints go to stdout.
@@ -110,6 +119,8 @@ pub fn run(command: LabelsCommand) -> anyhow::Result<()> {
             }
             Ok(())
         }
+        LabelsCommand::Propose(args) => propose::run(&args),
+        LabelsCommand::Compare(args) => compare::run(&args),
     }
 }
 
