@@ -26,3 +26,15 @@ pub const GRID_MAJOR: Color32 = Color32::from_gray(80);
 
 /// Warnings a user should act on (a model that does not fit the recordings).
 pub const WARNING: Color32 = Color32::from_rgb(255, 200, 60);
+
+/// The loss landscape's colour scale, lowest loss first (viridis: ordered in lightness, readable
+/// by colour-blind viewers and in greyscale).
+pub const LANDSCAPE_PALETTE: [Color32; 5] = [
+    Color32::from_rgb(68, 1, 84),
+    Color32::from_rgb(59, 82, 139),
+    Color32::from_rgb(33, 145, 140),
+    Color32::from_rgb(94, 201, 98),
+    Color32::from_rgb(253, 231, 37),
+];
+/// Contour lines over the landscape.
+pub const CONTOUR: Color32 = Color32::from_rgba_premultiplied(200, 200, 200, 160);

@@ -10,6 +10,7 @@ use pushlab_core::labels::{LabelKind, LabelSchema};
 use crate::app::View;
 use crate::app::panels::scene::camera::CameraMode;
 use crate::app::state::labels::{ERASE_HOTKEY, LabelAction};
+use crate::app::state::landscape::LandscapeCommand;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
@@ -26,6 +27,8 @@ pub enum KeyAction {
     Redo,
     SaveLabels,
     ToggleCheatSheet,
+    /// Show or hide the loss-landscape window.
+    ToggleLandscape,
     /// How the scene's camera moves (view state).
     Camera(CameraMode),
 }
@@ -53,7 +56,7 @@ const COMMAND: Modifiers = Modifiers::COMMAND;
 
 /// The fixed bindings, most specific first (egui matches Shift loosely, so Shift+→ must be tried
 /// before →, and Ctrl+Shift+Z before Ctrl+Z).
-pub const BINDINGS: [Binding; 18] = [
+pub const BINDINGS: [Binding; 19] = [
     bind(
         NONE,
         Key::Space,
@@ -137,6 +140,12 @@ pub const BINDINGS: [Binding; 18] = [
     ),
     bind(
         NONE,
+        Key::F2,
+        KeyAction::ToggleLandscape,
+        "show / hide the loss landscape",
+    ),
+    bind(
+        NONE,
         Key::F,
         KeyAction::Camera(CameraMode::Follow),
         "camera: follow the object",
@@ -204,6 +213,9 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
                     KeyAction::Redo => commands.push(Command::Label(LabelAction::Redo)),
                     KeyAction::SaveLabels => commands.push(Command::Label(LabelAction::SaveAll)),
                     KeyAction::ToggleCheatSheet => view.show_shortcuts = !view.show_shortcuts,
+                    KeyAction::ToggleLandscape => commands.push(Command::Landscape(
+                        LandscapeCommand::Show(!state.landscape.open),
+                    )),
                     KeyAction::Camera(mode) => view.scene.mode = mode,
                 }
             } else if *key == Key::Questionmark {

@@ -125,6 +125,7 @@ impl PushlabApp {
             panels::scene::ui(ui, &self.state, &mut self.view.scene, &mut commands);
         });
         panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
+        panels::landscape::window(ui.ctx(), &self.state, &mut commands);
 
         for command in commands {
             self.state.apply(command);

@@ -6,6 +6,7 @@ use eframe::egui;
 use crate::app::View;
 use crate::app::dialogs::DialogRequest;
 use crate::app::state::labels::LabelAction;
+use crate::app::state::landscape::LandscapeCommand;
 use crate::app::state::{AppState, Command};
 
 /// Draws the menu bar and the status line.
@@ -102,6 +103,16 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     .clicked()
                 {
                     commands.push(Command::Label(LabelAction::SaveAll));
+                }
+            });
+            ui.menu_button("View", |ui| {
+                let mut open = state.landscape.open;
+                if ui
+                    .add(egui::Checkbox::new(&mut open, "Loss landscape"))
+                    .on_hover_text("the online loss over COM offsets and h at the frame shown (F2)")
+                    .changed()
+                {
+                    commands.push(Command::Landscape(LandscapeCommand::Show(open)));
                 }
             });
             ui.menu_button("Help", |ui| {

@@ -8,6 +8,7 @@ pub mod inspector;
 pub mod label_bands;
 pub mod label_schema;
 pub mod labels;
+pub mod landscape;
 pub mod menu;
 pub mod plots;
 pub mod scene;

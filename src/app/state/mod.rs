@@ -8,6 +8,7 @@ pub mod envelope;
 pub mod fit;
 pub mod label_losses;
 pub mod labels;
+pub mod landscape;
 pub mod layers;
 pub mod models;
 pub mod online;
@@ -25,12 +26,13 @@ use std::sync::Arc;
 
 use pushlab_core::experiment::DomainMismatch;
 use pushlab_core::learn::{OnlineConfig, TrainConfig};
-use pushlab_core::model::{H_MAX, H_MIN, ModelKind, OnlineParams, PhysicsOnlyModel};
+use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::labels::{LabelAction, LabelTarget, Labeling};
+use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
 use self::models::Models;
 use self::online::OnlineRun;
@@ -85,6 +87,8 @@ pub enum Command {
     JumpToLabel {
         forward: bool,
     },
+    /// The loss-landscape window.
+    Landscape(LandscapeCommand),
 }
 
 /// How the shown frame changed, which decides what a held paint key covers.
@@ -188,6 +192,8 @@ pub struct AppState {
     browsed: BrowserMemory,
     /// Steps the what-if rollouts run ahead (`predictions::what_if`).
     pub what_if_steps: usize,
+    /// The loss-landscape window and its background work.
+    pub landscape: LandscapeState,
 }
 
 impl AppState {
@@ -216,28 +222,17 @@ impl AppState {
             browser: persisted.browser,
             browsed: BrowserMemory::default(),
             what_if_steps: persisted.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS),
+            landscape: LandscapeState::default(),
         }
     }
 
-    /// The range each component of `θ_online` is steered and plotted in, metres: the COM within the
-    /// object's bounding box, `h` up to its size (a default for objects without an outline).
+    /// The range each component of `θ_online` is steered and plotted in, metres (the core's
+    /// [`OnlineParams::plausible_ranges`] for the object shown).
     pub fn theta_ranges(&self) -> [(f64, f64); 3] {
-        let (half_x, half_y, size) = match self.recording().map(|r| r.setting.object.outline()) {
-            Some(Ok(outline)) => {
-                let (min, max) = outline.bounding_box();
-                (
-                    min.x.abs().max(max.x.abs()),
-                    min.y.abs().max(max.y.abs()),
-                    outline.size(),
-                )
-            }
-            _ => (0.1, 0.1, 0.2),
-        };
-        [
-            (-half_x, half_x),
-            (-half_y, half_y),
-            (H_MIN, size.clamp(H_MIN, H_MAX)),
-        ]
+        let outline = self
+            .recording()
+            .and_then(|r| r.setting.object.outline().ok());
+        OnlineParams::plausible_ranges(outline.as_ref())
     }
 
     /// What to persist.
@@ -412,6 +407,7 @@ impl AppState {
                 }
             }
             Command::CancelTraining => self.training.cancel(),
+            Command::Landscape(c) => self.apply_landscape(c),
             Command::SetTrainingKind(kind) => self.training.kind = kind,
             Command::ChooseForTraining(choice) => self.choose_for_training(choice),
             Command::SetTrainConfig(config) => {
@@ -472,7 +468,11 @@ impl AppState {
             self.frame_moved(before, how);
         }
         self.remember_losses();
-        self.timeline.playing || self.session.loading().is_some() || self.training.is_running()
+        let landscape = self.update_landscape();
+        self.timeline.playing
+            || self.session.loading().is_some()
+            || self.training.is_running()
+            || landscape
     }
 
     /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames

@@ -8,8 +8,60 @@
 //!
 //! A grid costs `cells² × frames` predictions; rows are computed on scoped threads, one per core.
 
+use serde::{Deserialize, Serialize};
+
 use crate::learn::{Loss, OnlineModel};
-use crate::model::{H_MAX, H_MIN, OnlineParams, Sample};
+use crate::model::{H_MAX, H_MIN, OnlineParams, Sample, sample_at};
+use crate::trajectory::Trajectory;
+
+/// Most samples a landscape scores: a longer span is thinned evenly, so that a grid over a long
+/// recording costs what one over a short push does (the loss is a mean; evenly spaced frames keep it).
+pub const MAX_LANDSCAPE_SAMPLES: usize = 256;
+
+/// Which frames a landscape scores, counted back from the frame shown. Each frame stands for the
+/// sample that predicts from it; the frame shown's is the one the next online step learns from, so
+/// the landscape's downhill is where θ is about to move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LandscapeFrames {
+    /// Only the sample that predicts from the frame shown: what one online step sees.
+    ThisFrame,
+    /// The samples of the last `n` frames up to and including the frame shown.
+    Recent(usize),
+    /// Every frame from the first to the frame shown: what the posterior has seen, and the next step.
+    SoFar,
+}
+
+impl LandscapeFrames {
+    /// The first frame of the span that ends at `frame`.
+    pub fn first(self, frame: usize) -> usize {
+        match self {
+            Self::ThisFrame => frame,
+            Self::Recent(n) => frame.saturating_sub(n.max(1) - 1),
+            Self::SoFar => 0,
+        }
+    }
+}
+
+/// The samples a landscape at `frame` scores: those of `frames` that exist (not within the horizon
+/// of the end) and that `skipped` does not leave out (frames online learning holds θ over, such as
+/// bad tracking), at most [`MAX_LANDSCAPE_SAMPLES`] of them, evenly spaced.
+pub fn landscape_samples(
+    trajectory: &Trajectory,
+    horizon: usize,
+    frame: usize,
+    frames: LandscapeFrames,
+    skipped: &dyn Fn(usize) -> bool,
+) -> Vec<Sample> {
+    let first = frames.first(frame);
+    let span = frame.saturating_sub(first) + 1;
+    let stride = span.div_ceil(MAX_LANDSCAPE_SAMPLES).max(1);
+    (first..=frame)
+        .step_by(stride)
+        .filter(|&k| !skipped(k))
+        .filter_map(|k| sample_at(trajectory, k, horizon))
+        .collect()
+}
 
 /// A square grid of COM offsets, object frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -23,6 +75,19 @@ pub struct ComGrid {
 }
 
 impl ComGrid {
+    /// A square grid of `cells` × `cells` over the COM `ranges` (`[x, y, …]` as
+    /// [`OnlineParams::plausible_ranges`] gives them) with a tenth to spare on each side, so that an
+    /// estimate at the edge of the object still shows inside it.
+    pub fn covering(ranges: &[(f64, f64)], cells: usize) -> Self {
+        let [(x0, x1), (y0, y1)] = [ranges[0], ranges[1]];
+        let half = 0.5 * (x1 - x0).abs().max((y1 - y0).abs());
+        Self {
+            centre: [0.5 * (x0 + x1), 0.5 * (y0 + y1)],
+            half_width: 1.1 * half.max(1e-3),
+            cells: cells.max(2),
+        }
+    }
+
     /// The centre of cell `i` along one axis (`axis` 0 is x, 1 is y), metres.
     pub fn cell_centre(&self, axis: usize, i: usize) -> f64 {
         let size = self.cell_size();
@@ -90,7 +155,8 @@ pub fn mean_loss<M: OnlineModel + ?Sized>(
     }
 }
 
-/// The mean loss of `samples` over `grid` at `h`. `cancelled` is polled once per row; a cancelled
+/// The mean loss of `samples` over `grid` at `h`. `cancelled` is polled once before each row (and
+/// only then, so counting its calls counts the rows begun: a caller's progress); a cancelled
 /// landscape is `None`.
 pub fn com_landscape<M: OnlineModel + Sync + ?Sized>(
     model: &M,
@@ -170,4 +236,92 @@ pub fn h_slice<M: OnlineModel + ?Sized>(
             mean_loss(model, samples, &theta)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Point2;
+
+    use super::*;
+    use crate::geometry::{Outline, Pose2};
+    use crate::trajectory::Frame;
+
+    /// A straight push: the pusher and the object move 1 mm per frame along x, the pusher drifting
+    /// sideways so that every sample differs; frame k's time is k.
+    fn push(frames: usize) -> Trajectory {
+        Trajectory::new(
+            (0..frames)
+                .map(|k| {
+                    let x = k as f64 * 1e-3;
+                    Frame {
+                        time: k as f64,
+                        robot: Point2::new(x - 0.06, k as f64 * 1e-5),
+                        object: Pose2::new(x, 0.0, 0.0),
+                    }
+                })
+                .collect(),
+        )
+    }
+
+    fn start_frames(samples: &[Sample], trajectory: &Trajectory) -> Vec<usize> {
+        // Every sample of the push differs: its start frame is its index among all of them.
+        let all: Vec<Sample> = (0..trajectory.len())
+            .filter_map(|k| sample_at(trajectory, k, 1))
+            .collect();
+        samples
+            .iter()
+            .map(|s| {
+                all.iter()
+                    .position(|a| a == s)
+                    .expect("a sample of the push")
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_frames_of_a_landscape_end_at_the_frame_shown_and_leave_out_skipped_ones() {
+        let trajectory = push(50);
+        let first = |f: LandscapeFrames, frame| f.first(frame);
+        assert_eq!(first(LandscapeFrames::ThisFrame, 20), 20);
+        assert_eq!(first(LandscapeFrames::Recent(5), 20), 16);
+        assert_eq!(first(LandscapeFrames::Recent(50), 20), 0);
+        assert_eq!(first(LandscapeFrames::SoFar, 20), 0);
+        let count = |frames, frame, skipped: &dyn Fn(usize) -> bool| {
+            landscape_samples(&trajectory, 1, frame, frames, skipped).len()
+        };
+        let none = |_| false;
+        assert_eq!(count(LandscapeFrames::ThisFrame, 20, &none), 1);
+        assert_eq!(count(LandscapeFrames::Recent(5), 20, &none), 5);
+        assert_eq!(count(LandscapeFrames::SoFar, 20, &none), 21);
+        // The last frame has no sample (nothing after it to predict).
+        assert_eq!(count(LandscapeFrames::ThisFrame, 49, &none), 0);
+        assert_eq!(count(LandscapeFrames::Recent(5), 20, &|k| k == 18), 4);
+    }
+
+    #[test]
+    fn a_long_span_is_thinned_evenly_to_the_cap() {
+        let trajectory = push(2000);
+        let samples = landscape_samples(&trajectory, 1, 1500, LandscapeFrames::SoFar, &|_| false);
+        assert!(samples.len() <= MAX_LANDSCAPE_SAMPLES);
+        assert!(samples.len() > MAX_LANDSCAPE_SAMPLES / 2);
+        let starts = start_frames(&samples, &trajectory);
+        let gaps: Vec<usize> = starts.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!(gaps.iter().all(|&g| g == gaps[0]), "{gaps:?}");
+    }
+
+    #[test]
+    fn the_grid_covers_the_objects_com_range_with_room_to_spare() {
+        let outline = Outline::rectangle(0.2, 0.1).expect("a valid box");
+        let ranges = OnlineParams::plausible_ranges(Some(&outline));
+        assert_eq!(ranges[0], (-0.1, 0.1));
+        assert_eq!(ranges[1], (-0.05, 0.05));
+        assert_eq!(ranges[2].0, H_MIN);
+        let grid = ComGrid::covering(&ranges, 64);
+        assert_eq!(grid.centre, [0.0, 0.0]);
+        assert!((grid.half_width - 0.11).abs() < 1e-12);
+        assert_eq!(grid.cells, 64);
+        // Every corner of the object lies inside the grid's outer cells.
+        let low = grid.cell_centre(0, 0) - grid.cell_size() / 2.0;
+        assert!(low < -0.1);
+    }
 }

@@ -3,8 +3,13 @@
 //! leave undetermined; rolling the model forward ([`rollout`]) shows what it would do next.
 //! The posterior of `θ_online` itself lives with the learning (`learn::uncertainty`).
 
+pub mod contour;
 pub mod landscape;
 pub mod rollout;
 
-pub use landscape::{ComGrid, Landscape, com_landscape, h_slice};
+pub use contour::{Contour, DEFAULT_QUANTILES, contour_levels, contours};
+pub use landscape::{
+    ComGrid, Landscape, LandscapeFrames, MAX_LANDSCAPE_SAMPLES, com_landscape, h_slice,
+    landscape_samples,
+};
 pub use rollout::{Rollout, rollout};

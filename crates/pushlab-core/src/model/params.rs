@@ -63,6 +63,29 @@ impl OnlineParams {
         .clamped()
     }
 
+    /// The plausible range of each component `[com_x, com_y, h]` for an object, metres: the COM
+    /// within the outline's bounding box (symmetric about the footprint's centre), `h` up to the
+    /// object's size; for an object without an outline, ±0.1 m and `h` up to 0.2 m. Sliders, plots and
+    /// the loss landscape's grid all span these, so that they show the same part of θ's space.
+    pub fn plausible_ranges(outline: Option<&Outline>) -> [(f64, f64); 3] {
+        let (half_x, half_y, size) = match outline {
+            Some(outline) => {
+                let (min, max) = outline.bounding_box();
+                (
+                    min.x.abs().max(max.x.abs()),
+                    min.y.abs().max(max.y.abs()),
+                    outline.size(),
+                )
+            }
+            None => (0.1, 0.1, 0.2),
+        };
+        [
+            (-half_x, half_x),
+            (-half_y, half_y),
+            (H_MIN, size.clamp(H_MIN, H_MAX)),
+        ]
+    }
+
     /// As an array `[com_x, com_y, h]`, the order of gradients.
     pub fn to_array(self) -> [f64; 3] {
         [self.com_offset[0], self.com_offset[1], self.h]

@@ -1,0 +1,254 @@
+//! The loss-landscape window's state: which frames it scores, and the landscape of the frame shown,
+//! computed by pushlab-core (`inspect::com_landscape`, `h_slice`, `contours`) on a worker thread.
+//!
+//! The landscape follows the frame shown and `θ` there, but never queues: while one is computed,
+//! later frames wait, and when it arrives the newest request starts. During playback the window so
+//! shows the landscape of a frame a few frames back, marked as such, rather than falling behind
+//! without end. A user's cancel holds until the request changes (another frame, other frames, a new
+//! θ or model), so that it is not restarted at once. The UI thread only polls.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
+use pushlab_core::inspect::{
+    ComGrid, Contour, DEFAULT_QUANTILES, Landscape, LandscapeFrames, com_landscape, contour_levels,
+    contours, h_slice, landscape_samples,
+};
+use pushlab_core::model::OnlineParams;
+
+use super::AppState;
+
+/// Cells along each side of the COM grid (the 64 × 64 of the `landscape_64` benchmark).
+pub const LANDSCAPE_CELLS: usize = 64;
+/// Values of `h` in the slice.
+pub const H_SLICE_POINTS: usize = 64;
+/// Frames "Last N" scores unless the user chooses otherwise.
+pub const DEFAULT_RECENT: usize = 50;
+
+/// A change to the landscape window.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LandscapeCommand {
+    /// Show or hide the window (hidden, nothing is computed).
+    Show(bool),
+    /// Score these frames.
+    SetFrames(LandscapeFrames),
+    /// Stop the landscape being computed.
+    Cancel,
+    /// Compute the landscape of the frame shown again after a cancel.
+    Compute,
+}
+
+/// What a landscape is computed for: when any of it changes, the landscape shown is out of date.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LandscapeRequest {
+    /// The run's model and trajectory, by address (a new model or recording is a new request).
+    model: usize,
+    trajectory: usize,
+    pub frame: usize,
+    pub frames: LandscapeFrames,
+    /// θ at the frame: the grid is at its `h`, the slice through its COM offset.
+    pub theta: OnlineParams,
+    pub grid: ComGrid,
+}
+
+/// A computed landscape and what it was computed for.
+#[derive(Clone, Debug)]
+pub struct LandscapeResult {
+    pub request: LandscapeRequest,
+    pub landscape: Landscape,
+    pub contours: Vec<Contour>,
+    /// The slice over `h` at θ's COM offset: `(h, mean loss)`, metres.
+    pub h_slice: Vec<(f64, f64)>,
+    /// Samples scored (0: nothing to score at this frame; the landscape is all `NaN`).
+    pub samples: usize,
+    /// Counts results, so that a view can tell a new one from the one it drew.
+    pub generation: u64,
+}
+
+struct Job {
+    request: LandscapeRequest,
+    cancel: Arc<AtomicBool>,
+    rows_begun: Arc<AtomicUsize>,
+    receiver: Receiver<LandscapeResult>,
+}
+
+/// The landscape window's state.
+pub struct LandscapeState {
+    pub open: bool,
+    pub frames: LandscapeFrames,
+    result: Option<LandscapeResult>,
+    job: Option<Job>,
+    /// The request the user cancelled, not started again while it stays the newest.
+    cancelled: Option<LandscapeRequest>,
+    generation: u64,
+}
+
+impl Default for LandscapeState {
+    fn default() -> Self {
+        Self {
+            open: false,
+            frames: LandscapeFrames::Recent(DEFAULT_RECENT),
+            result: None,
+            job: None,
+            cancelled: None,
+            generation: 0,
+        }
+    }
+}
+
+impl LandscapeState {
+    /// The last landscape computed (perhaps for an earlier frame: compare its request).
+    pub fn result(&self) -> Option<&LandscapeResult> {
+        self.result.as_ref()
+    }
+
+    /// The fraction of the running landscape's rows begun, or `None` when none runs.
+    pub fn progress(&self) -> Option<f32> {
+        let job = self.job.as_ref()?;
+        let rows = job.rows_begun.load(Ordering::Relaxed);
+        Some(rows as f32 / job.request.grid.cells.max(1) as f32)
+    }
+
+    /// Whether a landscape is being computed.
+    pub fn is_running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Whether the user cancelled the landscape of the current request.
+    pub fn was_cancelled(&self) -> bool {
+        self.cancelled.is_some()
+    }
+
+    fn stop(&mut self) {
+        if let Some(job) = self.job.take() {
+            job.cancel.store(true, Ordering::Relaxed);
+            self.cancelled = Some(job.request);
+        }
+    }
+
+    /// Takes a finished landscape; returns whether one arrived or the worker ended.
+    fn poll(&mut self) -> bool {
+        let Some(job) = &self.job else {
+            return false;
+        };
+        match job.receiver.try_recv() {
+            Ok(mut result) => {
+                self.generation += 1;
+                result.generation = self.generation;
+                self.result = Some(result);
+                self.job = None;
+                true
+            }
+            Err(TryRecvError::Empty) => false,
+            // Cancelled (nothing sent) or the worker is gone.
+            Err(TryRecvError::Disconnected) => {
+                self.job = None;
+                true
+            }
+        }
+    }
+}
+
+impl AppState {
+    /// Applies a change to the landscape window.
+    pub(super) fn apply_landscape(&mut self, command: LandscapeCommand) {
+        match command {
+            LandscapeCommand::Show(open) => {
+                self.landscape.open = open;
+                if !open {
+                    self.landscape.stop();
+                }
+            }
+            LandscapeCommand::SetFrames(frames) => self.landscape.frames = frames,
+            LandscapeCommand::Cancel => self.landscape.stop(),
+            LandscapeCommand::Compute => self.landscape.cancelled = None,
+        }
+        self.update_landscape();
+    }
+
+    /// What the landscape of the frame shown is computed for, or `None` without a run.
+    pub fn landscape_request(&self) -> Option<LandscapeRequest> {
+        let run = self.run.as_ref()?;
+        let frame = self.frame();
+        Some(LandscapeRequest {
+            model: Arc::as_ptr(run.model()) as *const () as usize,
+            trajectory: run.trajectory() as *const _ as usize,
+            frame,
+            frames: self.landscape.frames,
+            theta: run.theta_at(frame),
+            grid: ComGrid::covering(&self.theta_ranges(), LANDSCAPE_CELLS),
+        })
+    }
+
+    /// Takes a finished landscape and, with the window open and no landscape running, starts the
+    /// one of the frame shown if that is not the one shown. Returns whether anything is running.
+    pub(super) fn update_landscape(&mut self) -> bool {
+        self.landscape.poll();
+        if !self.landscape.open || self.landscape.is_running() {
+            return self.landscape.is_running();
+        }
+        let Some(request) = self.landscape_request() else {
+            return false;
+        };
+        let done = self.landscape.result.as_ref().map(|r| r.request);
+        if done == Some(request) || self.landscape.cancelled == Some(request) {
+            return false;
+        }
+        self.landscape.cancelled = None;
+        self.start_landscape(request);
+        true
+    }
+
+    fn start_landscape(&mut self, request: LandscapeRequest) {
+        let Some(run) = &self.run else {
+            return;
+        };
+        let skip = self.frames_to_skip();
+        let samples = landscape_samples(
+            run.trajectory(),
+            run.horizon(),
+            request.frame,
+            request.frames,
+            &|k| run.is_skipped(k, &skip),
+        );
+        let model = Arc::clone(run.model());
+        let (h_low, h_high) = self.theta_ranges()[2];
+        let hs: Vec<f64> = (0..H_SLICE_POINTS)
+            .map(|i| h_low + (h_high - h_low) * i as f64 / (H_SLICE_POINTS - 1) as f64)
+            .collect();
+        let cancel = Arc::new(AtomicBool::new(false));
+        let rows_begun = Arc::new(AtomicUsize::new(0));
+        let (sender, receiver) = channel();
+        let (worker_cancel, worker_rows) = (Arc::clone(&cancel), Arc::clone(&rows_begun));
+        std::thread::spawn(move || {
+            let polled = || {
+                worker_rows.fetch_add(1, Ordering::Relaxed);
+                worker_cancel.load(Ordering::Relaxed)
+            };
+            let theta = request.theta;
+            let Some(landscape) =
+                com_landscape(model.as_ref(), &samples, &request.grid, theta.h, &polled)
+            else {
+                return;
+            };
+            let levels = contour_levels(&landscape, &DEFAULT_QUANTILES);
+            let slice = h_slice(model.as_ref(), &samples, theta.com_offset, &hs);
+            // The receiver is gone only when the app closed or moved on.
+            let _ = sender.send(LandscapeResult {
+                request,
+                contours: contours(&landscape, &levels),
+                landscape,
+                h_slice: hs.into_iter().zip(slice).collect(),
+                samples: samples.len(),
+                generation: 0,
+            });
+        });
+        self.landscape.job = Some(Job {
+            request,
+            cancel,
+            rows_begun,
+            receiver,
+        });
+    }
+}
