@@ -153,3 +153,38 @@ fn what_if_ghosts_follow_the_sliders_and_k_is_chosen_in_steer() {
     );
     assert!(harness.query_by_label_contains("After 3 steps").is_some());
 }
+
+#[test]
+fn the_inspector_gives_the_what_if_final_pose_error() {
+    let mut harness = app_on("box1-paper-ur-front");
+    step(&mut harness, 10);
+    harness.get_by_label("Inspect").click();
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    let rollout = state.what_if().expect("a run");
+    let trajectory = &state.recording().expect("a recording").trajectory;
+    let (offset, _) = rollout.final_error(trajectory).expect("a rollout");
+    assert!(offset > 1e-4, "a learned model still drifts from the recording");
+    let shown = format!("{:.3} mm", offset * 1e3);
+    assert!(
+        harness.query_by_label_contains("final position error").is_some(),
+        "the inspector's what-if section"
+    );
+    assert!(
+        harness.query_by_label(&shown).is_some(),
+        "the inspector shows {shown}"
+    );
+    // A new θ moves the rollout, and the inspector follows.
+    let mut moved = theta(&harness);
+    moved.com_offset[1] -= 0.05;
+    harness.state_mut().state.apply(Command::SetTheta(moved));
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    let trajectory = &state.recording().expect("a recording").trajectory;
+    let (after, _) = state
+        .what_if()
+        .and_then(|r| r.final_error(trajectory))
+        .expect("a rollout");
+    assert_ne!(format!("{:.3} mm", after * 1e3), shown);
+    assert!(harness.query_by_label(&format!("{:.3} mm", after * 1e3)).is_some());
+}

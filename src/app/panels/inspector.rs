@@ -84,12 +84,29 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
             colors::FIXED,
         );
     });
-    section(ui, "Gradient Gradient of the loss on θ_online", |ui| {
+    section(ui, "Gradient of the loss on θ_online", |ui| {
         let g = step.gradient;
         row(ui, "d loss / d COM x", format!("{:+.4e} /m", g[0]));
         row(ui, "d loss / d COM y", format!("{:+.4e} /m", g[1]));
         row(ui, "d loss / d h", format!("{:+.4e} /m", g[2]));
     });
+    if let Some(rollout) = state.what_if()
+        && let Some((&(last, _), (offset, yaw))) = rollout
+            .poses
+            .last()
+            .zip(rollout.final_error(&recording.trajectory))
+    {
+        section(ui, "What if: rolled ahead with θ at this frame", |ui| {
+            row(
+                ui,
+                "steps (k chosen in Steer)",
+                format!("{} of {}", rollout.poses.len(), state.what_if_steps),
+            );
+            row(ui, "last predicted frame", last.to_string());
+            row(ui, "final position error", format!("{:.3} mm", offset * 1e3));
+            row(ui, "final yaw error", deg(yaw));
+        });
+    }
 }
 
 fn section(ui: &mut egui::Ui, title: &str, body: impl FnOnce(&mut egui::Ui)) {
