@@ -164,10 +164,15 @@ fn the_inspector_gives_the_what_if_final_pose_error() {
     let rollout = state.what_if().expect("a run");
     let trajectory = &state.recording().expect("a recording").trajectory;
     let (offset, _) = rollout.final_error(trajectory).expect("a rollout");
-    assert!(offset > 1e-4, "a learned model still drifts from the recording");
+    assert!(
+        offset > 1e-4,
+        "a learned model still drifts from the recording"
+    );
     let shown = format!("{:.3} mm", offset * 1e3);
     assert!(
-        harness.query_by_label_contains("final position error").is_some(),
+        harness
+            .query_by_label_contains("final position error")
+            .is_some(),
         "the inspector's what-if section"
     );
     assert!(
@@ -186,5 +191,9 @@ fn the_inspector_gives_the_what_if_final_pose_error() {
         .and_then(|r| r.final_error(trajectory))
         .expect("a rollout");
     assert_ne!(format!("{:.3} mm", after * 1e3), shown);
-    assert!(harness.query_by_label(&format!("{:.3} mm", after * 1e3)).is_some());
+    assert!(
+        harness
+            .query_by_label(&format!("{:.3} mm", after * 1e3))
+            .is_some()
+    );
 }

@@ -4,125 +4,28 @@
 //! is known, the loss landscape's minimum against the simulator's COM, and rollouts against the
 //! one-step prediction and the recorded poses.
 
+mod toy;
+
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector};
 use pushlab_core::experiment::ComTruth;
 use pushlab_core::inspect::{ComGrid, com_landscape, h_slice, rollout};
 use pushlab_core::learn::uncertainty::CHI2_2DOF_95;
 use pushlab_core::learn::{
-    ContactTrajectory, Loss, LossScale, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep,
-    Optimizer, TrainConfig, train_contact, train_paper,
+    ContactTrajectory, LossScale, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep, Optimizer,
+    TrainConfig, train_contact, train_paper,
 };
 use pushlab_core::model::{
-    CombinedModel, ContactGeometry, Linearization, ObjectMotion, OnlineParams, PhysicsOnlyModel,
-    Prediction, Sample, SampleInput, sample_at, samples_from_trajectory,
+    CombinedModel, ContactGeometry, OnlineParams, PhysicsOnlyModel, Sample, sample_at,
+    samples_from_trajectory,
 };
 use pushlab_core::recording::{ObjectShape, PushSide};
 use pushlab_core::rng::SplitMix64;
 use pushlab_core::sim::{GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, generate_set};
 
-/// A model linear in `θ`: the motion is `A(input) θ` with a 3 × 3 matrix built from the input's four
-/// numbers, the loss's σ all 1.
-struct LinearToy;
-
-impl LinearToy {
-    fn matrix(input: &SampleInput) -> Matrix3<f64> {
-        let [a, b] = input.robot_in_object;
-        let [c, d] = input.robot_motion_in_object;
-        Matrix3::new(a, 0.2 * b, c, b, d, 0.5 * a, c + d, a - b, 1.0)
-    }
-}
-
-fn theta_vector(theta: &OnlineParams) -> Vector3<f64> {
-    Vector3::new(theta.com_offset[0], theta.com_offset[1], theta.h)
-}
-
-impl OnlineModel for LinearToy {
-    fn theta0(&self) -> OnlineParams {
-        OnlineParams {
-            com_offset: [0.0, 0.0],
-            h: 0.5,
-        }
-    }
-    fn theta_scales(&self) -> [f64; 3] {
-        [1.0; 3]
-    }
-    fn loss_scale(&self) -> LossScale {
-        LossScale {
-            sigma_pos: [1.0, 1.0],
-            sigma_rot: 1.0,
-        }
-    }
-    fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction {
-        let y = Self::matrix(input) * theta_vector(theta);
-        Prediction {
-            motion: ObjectMotion {
-                translation: [y[0], y[1]],
-                rotation: y[2],
-            },
-            contact: None,
-            contact_motion: None,
-        }
-    }
-    fn online_step(&self, sample: &Sample, theta: &OnlineParams, _: &OnlineConfig) -> OnlineStep {
-        let prediction = self.predict(&sample.input, theta);
-        OnlineStep {
-            theta_before: *theta,
-            prediction,
-            loss: Loss::of(&prediction.motion, &sample.target, &self.loss_scale()),
-            gradient: [0.0; 3],
-            theta_after: *theta,
-        }
-    }
-    fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
-        let prediction = self.predict(&sample.input, theta);
-        let (p, t) = (prediction.motion, sample.target);
-        let a = Self::matrix(&sample.input);
-        Linearization {
-            prediction,
-            residual: [
-                p.translation[0] - t.translation[0],
-                p.translation[1] - t.translation[1],
-                p.rotation - t.rotation,
-            ],
-            jacobian: [0, 1, 2].map(|i| [a[(i, 0)], a[(i, 1)], a[(i, 2)]]),
-        }
-    }
-}
-
-/// `frames` samples of the toy with the true `θ` and Gaussian noise of standard deviation `noise`.
-fn toy_samples(
-    rng: &mut SplitMix64,
-    truth: &OnlineParams,
-    frames: usize,
-    noise: f64,
-) -> Vec<Sample> {
-    (0..frames)
-        .map(|frame| {
-            let input = SampleInput {
-                robot_in_object: [rng.normal(), rng.normal()],
-                robot_motion_in_object: [rng.normal(), rng.normal()],
-            };
-            let y = LinearToy::matrix(&input) * theta_vector(truth);
-            Sample {
-                input,
-                target: ObjectMotion {
-                    translation: [y[0] + noise * rng.normal(), y[1] + noise * rng.normal()],
-                    rotation: y[2] + noise * rng.normal(),
-                },
-                frame,
-            }
-        })
-        .collect()
-}
-
-const GAUSS_NEWTON: OnlineConfig = OnlineConfig {
-    steps: 1,
-    lr: 0.0,
-    optimizer: Optimizer::GaussNewton,
-};
+use toy::{GAUSS_NEWTON, LinearToy, theta_vector, toy_samples};
 
 #[test]
 fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_truth() {
@@ -150,8 +53,27 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     let residual = &a * DVector::from_column_slice(estimate.as_slice()) - &y;
     let s2 = (residual.norm_squared() + 3.0) / (3.0 * n as f64 - 3.0 + 3.0);
     assert!((posterior.noise_variance() - s2).abs() < 1e-9 * s2);
+    // The correlation factor: 40 frames make 10 batches of 4 (16 of 1 merged to 8 of 2, 16 of 2 to
+    // 8 of 4); each batch's score Σ Aₜᵀ(Aₜ θ̂ − yₜ) at the estimate, their scatter about the mean,
+    // in the metric of the mean batch's AᵀA, over what independent errors give (s² per frame).
+    assert_eq!(posterior.score_batches(), (10, 4));
+    let theta_hat = DVector::from_column_slice(estimate.as_slice());
+    let batch = |b: usize| a.rows(12 * b, 12);
+    let scores: Vec<DVector<f64>> = (0..10)
+        .map(|b| batch(b).transpose() * (batch(b) * &theta_hat - y.rows(12 * b, 12)))
+        .collect();
+    let mean = scores.iter().fold(DVector::zeros(3), |m, g| m + g) / 10.0;
+    let scatter = scores.iter().fold(DMatrix::zeros(3, 3), |s, g| {
+        s + (g - &mean) * (g - &mean).transpose()
+    }) / 9.0;
+    let mean_ata = (0..10).fold(DMatrix::zeros(3, 3), |s, b| {
+        s + batch(b).transpose() * batch(b)
+    }) / 10.0;
+    let per_frame = (mean_ata.try_inverse().expect("invertible") * scatter).trace() / 3.0;
+    let c = (per_frame / s2).clamp(1.0, 100.0);
+    assert!((posterior.correlation_factor() - c).abs() < 1e-9 * c);
     let prior_precision = 1.0 / (2.0 * 0.5_f64).powi(2);
-    let information = a.transpose() * &a / s2 + DMatrix::identity(3, 3) * prior_precision;
+    let information = a.transpose() * &a / (s2 * c) + DMatrix::identity(3, 3) * prior_precision;
     let closed = information.try_inverse().expect("positive definite");
     let covariance = posterior.mode_covariance();
     for i in 0..3 {
@@ -169,7 +91,7 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     // tenth of a standard deviation: each frame was weighed with the noise variance known when it
     // came); the estimate's error covariance adds its offset from the mode.
     let map = &closed
-        * (a.transpose() * &y / s2
+        * (a.transpose() * &y / (s2 * c)
             + DVector::from_column_slice(&[0.0, 0.0, 0.5]) * prior_precision);
     let mode = posterior.mode();
     for i in 0..3 {

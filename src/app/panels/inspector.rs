@@ -103,7 +103,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
                 format!("{} of {}", rollout.poses.len(), state.what_if_steps),
             );
             row(ui, "last predicted frame", last.to_string());
-            row(ui, "final position error", format!("{:.3} mm", offset * 1e3));
+            row(
+                ui,
+                "final position error",
+                format!("{:.3} mm", offset * 1e3),
+            );
             row(ui, "final yaw error", deg(yaw));
         });
     }

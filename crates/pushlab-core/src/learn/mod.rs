@@ -5,6 +5,7 @@ mod adam;
 mod loss;
 mod offline;
 mod online;
+mod score_batches;
 pub mod uncertainty;
 
 pub use loss::{Loss, LossScale, Nmse, mean_std_across, moving_average};
