@@ -13,6 +13,7 @@ pub mod models;
 pub mod online;
 pub mod overview;
 pub mod predictions;
+pub mod proposals;
 pub mod run_plots;
 pub mod session;
 pub mod timeline;
@@ -35,6 +36,7 @@ use self::layers::Layers;
 use self::models::Models;
 use self::online::OnlineRun;
 use self::overview::PathOverview;
+use self::proposals::{ProposalAction, ProposalState};
 use self::session::{RecordingId, Session};
 use self::timeline::{Timeline, TimelineCommand};
 use self::training::{Training, TrainingChoice};
@@ -85,6 +87,8 @@ pub enum Command {
     JumpToLabel {
         forward: bool,
     },
+    /// Accept or reject label proposals on the selected recording.
+    Proposal(ProposalAction),
 }
 
 /// How the shown frame changed, which decides what a held paint key covers.
@@ -174,6 +178,8 @@ pub struct AppState {
     pub training: Training,
     /// The labels files of the open recordings, and the labeling tools' state.
     pub labels: Labeling,
+    /// The selected recording's label proposals, and those rejected.
+    pub proposals: ProposalState,
     /// A short message for the status bar (what just happened, or what went wrong).
     pub status: Option<String>,
     /// Whether the open recordings lie outside the model's domain (see `fit`).
@@ -209,6 +215,7 @@ impl AppState {
             recent: persisted.recent,
             training: Training::default(),
             labels: Labeling::default(),
+            proposals: ProposalState::default(),
             status: None,
             fit: None,
             model_store: None,
@@ -265,6 +272,7 @@ impl AppState {
             self.start_run();
         }
         self.after_opening();
+        self.proposals.wait();
     }
 
     /// After recordings were opened: the model remembered for their folders comes back, and the
@@ -411,6 +419,7 @@ impl AppState {
                     }
                 }
             }
+            Command::Proposal(action) => self.apply_proposal(action),
             Command::CancelTraining => self.training.cancel(),
             Command::SetTrainingKind(kind) => self.training.kind = kind,
             Command::ChooseForTraining(choice) => self.choose_for_training(choice),
@@ -456,6 +465,7 @@ impl AppState {
         if selected {
             self.start_run();
         }
+        self.proposals.poll();
         if let Some(message) = self.training.poll() {
             self.status = Some(message);
         }
@@ -472,7 +482,10 @@ impl AppState {
             self.frame_moved(before, how);
         }
         self.remember_losses();
-        self.timeline.playing || self.session.loading().is_some() || self.training.is_running()
+        self.timeline.playing
+            || self.session.loading().is_some()
+            || self.training.is_running()
+            || self.proposals.is_running()
     }
 
     /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames
@@ -514,6 +527,7 @@ impl AppState {
 
     fn start_run_keeping_labels(&mut self) {
         let Some(recording) = self.session.selected_recording() else {
+            self.proposals.stop();
             self.run = None;
             self.physics = None;
             self.overview = PathOverview::default();
@@ -539,6 +553,7 @@ impl AppState {
                 None
             }
         };
+        self.refresh_proposals();
     }
 
     /// A fresh online run with the current models (a model trained or loaded), staying at the frame
