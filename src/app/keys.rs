@@ -10,6 +10,7 @@ use pushlab_core::labels::{LabelKind, LabelSchema};
 use crate::app::View;
 use crate::app::panels::scene::camera::CameraMode;
 use crate::app::state::labels::{ERASE_HOTKEY, LabelAction};
+use crate::app::state::proposals::ProposalAction;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
@@ -25,6 +26,10 @@ pub enum KeyAction {
     Undo,
     Redo,
     SaveLabels,
+    /// Accept the label proposals at the playhead.
+    AcceptProposals,
+    /// Reject the label proposals at the playhead.
+    RejectProposals,
     ToggleCheatSheet,
     /// How the scene's camera moves (view state).
     Camera(CameraMode),
@@ -53,7 +58,7 @@ const COMMAND: Modifiers = Modifiers::COMMAND;
 
 /// The fixed bindings, most specific first (egui matches Shift loosely, so Shift+→ must be tried
 /// before →, and Ctrl+Shift+Z before Ctrl+Z).
-pub const BINDINGS: [Binding; 18] = [
+pub const BINDINGS: [Binding; 20] = [
     bind(
         NONE,
         Key::Space,
@@ -131,6 +136,18 @@ pub const BINDINGS: [Binding; 18] = [
     ),
     bind(
         NONE,
+        Key::Enter,
+        KeyAction::AcceptProposals,
+        "accept the label proposals at this frame (one undo step)",
+    ),
+    bind(
+        NONE,
+        Key::Backspace,
+        KeyAction::RejectProposals,
+        "reject the label proposals at this frame",
+    ),
+    bind(
+        NONE,
         Key::F1,
         KeyAction::ToggleCheatSheet,
         "show / hide this sheet (also ?)",
@@ -203,6 +220,12 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
                     KeyAction::Undo => commands.push(Command::Label(LabelAction::Undo)),
                     KeyAction::Redo => commands.push(Command::Label(LabelAction::Redo)),
                     KeyAction::SaveLabels => commands.push(Command::Label(LabelAction::SaveAll)),
+                    KeyAction::AcceptProposals => {
+                        commands.push(Command::Proposal(ProposalAction::AcceptHere));
+                    }
+                    KeyAction::RejectProposals => {
+                        commands.push(Command::Proposal(ProposalAction::RejectHere));
+                    }
                     KeyAction::ToggleCheatSheet => view.show_shortcuts = !view.show_shortcuts,
                     KeyAction::Camera(mode) => view.scene.mode = mode,
                 }

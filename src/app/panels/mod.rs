@@ -10,6 +10,7 @@ pub mod label_schema;
 pub mod labels;
 pub mod menu;
 pub mod plots;
+pub mod proposal_band;
 pub mod scene;
 pub mod shortcuts;
 pub mod steer;
