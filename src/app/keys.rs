@@ -11,6 +11,7 @@ use crate::app::View;
 use crate::app::panels::scene::camera::CameraMode;
 use crate::app::state::labels::{ERASE_HOTKEY, LabelAction};
 use crate::app::state::landscape::LandscapeCommand;
+use crate::app::state::proposals::ProposalAction;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
@@ -26,6 +27,10 @@ pub enum KeyAction {
     Undo,
     Redo,
     SaveLabels,
+    /// Accept the label proposals at the playhead.
+    AcceptProposals,
+    /// Reject the label proposals at the playhead.
+    RejectProposals,
     ToggleCheatSheet,
     /// Show or hide the loss-landscape window.
     ToggleLandscape,
@@ -56,7 +61,7 @@ const COMMAND: Modifiers = Modifiers::COMMAND;
 
 /// The fixed bindings, most specific first (egui matches Shift loosely, so Shift+→ must be tried
 /// before →, and Ctrl+Shift+Z before Ctrl+Z).
-pub const BINDINGS: [Binding; 19] = [
+pub const BINDINGS: [Binding; 21] = [
     bind(
         NONE,
         Key::Space,
@@ -131,6 +136,18 @@ pub const BINDINGS: [Binding; 19] = [
         Key::S,
         KeyAction::SaveLabels,
         "save labels now (they also save by themselves)",
+    ),
+    bind(
+        NONE,
+        Key::Enter,
+        KeyAction::AcceptProposals,
+        "accept the label proposals at this frame (one undo step)",
+    ),
+    bind(
+        NONE,
+        Key::Backspace,
+        KeyAction::RejectProposals,
+        "reject the label proposals at this frame",
     ),
     bind(
         NONE,
@@ -212,6 +229,12 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
                     KeyAction::Undo => commands.push(Command::Label(LabelAction::Undo)),
                     KeyAction::Redo => commands.push(Command::Label(LabelAction::Redo)),
                     KeyAction::SaveLabels => commands.push(Command::Label(LabelAction::SaveAll)),
+                    KeyAction::AcceptProposals => {
+                        commands.push(Command::Proposal(ProposalAction::AcceptHere));
+                    }
+                    KeyAction::RejectProposals => {
+                        commands.push(Command::Proposal(ProposalAction::RejectHere));
+                    }
                     KeyAction::ToggleCheatSheet => view.show_shortcuts = !view.show_shortcuts,
                     KeyAction::ToggleLandscape => commands.push(Command::Landscape(
                         LandscapeCommand::Show(!state.landscape.open),

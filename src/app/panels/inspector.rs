@@ -1,11 +1,14 @@
 //! The frame inspector: for the frame shown, the model's inputs, the network's outputs `c` and `u_c`,
 //! predicted vs true motion, the losses and the gradient on `θ_online` — what an engineer needs to
-//! debug one frame.
+//! debug one frame — and why labels were proposed there.
 
 use eframe::egui::{self, RichText};
 
+use std::path::Path;
+
 use crate::app::colors;
 use crate::app::state::AppState;
+use crate::app::state::proposals::Status;
 
 /// Draws the inspector.
 pub fn ui(ui: &mut egui::Ui, state: &AppState) {
@@ -18,6 +21,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
         ui.label(format!(
             "Frame {frame} has no sample: it is within the prediction horizon of the end."
         ));
+        proposals_section(ui, state, &recording.source, frame);
         return;
     };
     let (sample, step, fixed) = (predictions.sample, predictions.online, predictions.fixed);
@@ -32,6 +36,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
         .map_or(0.0, |f| f.time);
     ui.label(format!("Frame {frame}, t = {time:.3} s"));
     ui.add_space(4.0);
+    proposals_section(ui, state, &recording.source, frame);
     section(ui, "Inputs (object frame at t)", |ui| {
         row(ui, "robot position", mm2(sample.input.robot_in_object));
         row(ui, "robot motion", mm2(sample.input.robot_motion_in_object));
@@ -111,6 +116,47 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
             row(ui, "final yaw error", deg(yaw));
         });
     }
+}
+
+/// Why labels were proposed at `frame`: the gap against the contact tolerance, the drift in σ, the
+/// residual in σ and how sure each proposal is, and whether it is still to be decided.
+fn proposals_section(ui: &mut egui::Ui, state: &AppState, source: &Path, frame: usize) {
+    ui.label(RichText::new("Label proposals at this frame").strong());
+    match state.proposals.status(source) {
+        Status::Ready(proposals) => {
+            let pending = state.pending_proposals();
+            let lines = proposals.why(frame);
+            if lines.is_empty() {
+                ui.weak("nothing proposed here");
+            }
+            for (proposal, line) in proposals.at(frame).zip(lines) {
+                let decided = if state.proposals.is_rejected(source, proposal) {
+                    " (rejected)"
+                } else if pending.iter().any(|p| std::ptr::eq(p.proposal, proposal)) {
+                    ""
+                } else {
+                    " (labelled)"
+                };
+                ui.label(format!("{line}{decided}"));
+            }
+            if let Some(e) = proposals.evidence.get(frame)
+                && e.residual_z.is_finite()
+            {
+                ui.label(format!(
+                    "model residual: {:.1} σ above its running median (bad tracking from {} σ)",
+                    e.residual_z, proposals.options.residual_sigmas
+                ));
+            }
+        }
+        Status::Running(done) => {
+            ui.weak(format!("proposing labels… {:.0} %", 100.0 * done));
+        }
+        Status::Failed(reason) => {
+            ui.weak(reason);
+        }
+        Status::None => {}
+    }
+    ui.add_space(6.0);
 }
 
 fn section(ui: &mut egui::Ui, title: &str, body: impl FnOnce(&mut egui::Ui)) {

@@ -63,6 +63,11 @@ pub enum LabelAction {
     PaintFromInPoint,
     /// Any edit of the selected recording's labels file (metadata form, delete buttons, revert).
     Edit(labels::Command),
+    /// Several edits as one undo step named `description` (accepting label proposals).
+    EditAll {
+        description: String,
+        commands: Vec<labels::Command>,
+    },
     /// Starts one undo step for many edits (dragging the COM label).
     BeginGroup(String),
     /// Ends it.
@@ -212,12 +217,15 @@ impl Labeling {
         match action {
             LabelAction::Hotkey(_)
             | LabelAction::StartErase
+            | LabelAction::EditAll { .. }
             | LabelAction::Undo
             | LabelAction::Redo
                 if self.dragging =>
             {
                 return Some("finish the drag first".into());
             }
+            // A stroke in progress is its own undo step: it ends first.
+            LabelAction::EditAll { .. } => self.end_stroke(),
             LabelAction::BeginGroup(_) => {
                 // One undo step for the drag: a stroke in progress ends first.
                 self.end_stroke();
@@ -294,6 +302,18 @@ impl Labeling {
                 )
             }
             LabelAction::Edit(command) => edit(document, command),
+            LabelAction::EditAll {
+                description,
+                commands,
+            } => {
+                document.begin_group(&description);
+                let refused: Vec<String> = commands
+                    .into_iter()
+                    .filter_map(|c| edit(document, c))
+                    .collect();
+                document.end_group();
+                refused.into_iter().next()
+            }
             LabelAction::BeginGroup(description) => {
                 document.begin_group(&description);
                 None

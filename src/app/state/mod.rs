@@ -14,6 +14,7 @@ pub mod models;
 pub mod online;
 pub mod overview;
 pub mod predictions;
+pub mod proposals;
 pub mod run_plots;
 pub mod session;
 pub mod timeline;
@@ -37,6 +38,7 @@ use self::layers::Layers;
 use self::models::Models;
 use self::online::OnlineRun;
 use self::overview::PathOverview;
+use self::proposals::{ProposalAction, ProposalState};
 use self::session::{RecordingId, Session};
 use self::timeline::{Timeline, TimelineCommand};
 use self::training::{Training, TrainingChoice};
@@ -89,6 +91,8 @@ pub enum Command {
     },
     /// The loss-landscape window.
     Landscape(LandscapeCommand),
+    /// Accept or reject label proposals on the selected recording.
+    Proposal(ProposalAction),
 }
 
 /// How the shown frame changed, which decides what a held paint key covers.
@@ -178,6 +182,8 @@ pub struct AppState {
     pub training: Training,
     /// The labels files of the open recordings, and the labeling tools' state.
     pub labels: Labeling,
+    /// The selected recording's label proposals, and those rejected.
+    pub proposals: ProposalState,
     /// A short message for the status bar (what just happened, or what went wrong).
     pub status: Option<String>,
     /// Whether the open recordings lie outside the model's domain (see `fit`).
@@ -215,6 +221,7 @@ impl AppState {
             recent: persisted.recent,
             training: Training::default(),
             labels: Labeling::default(),
+            proposals: ProposalState::default(),
             status: None,
             fit: None,
             model_store: None,
@@ -260,6 +267,7 @@ impl AppState {
             self.start_run();
         }
         self.after_opening();
+        self.proposals.wait();
     }
 
     /// After recordings were opened: the model remembered for their folders comes back, and the
@@ -406,6 +414,7 @@ impl AppState {
                     }
                 }
             }
+            Command::Proposal(action) => self.apply_proposal(action),
             Command::CancelTraining => self.training.cancel(),
             Command::Landscape(c) => self.apply_landscape(c),
             Command::SetTrainingKind(kind) => self.training.kind = kind,
@@ -452,6 +461,7 @@ impl AppState {
         if selected {
             self.start_run();
         }
+        self.proposals.poll();
         if let Some(message) = self.training.poll() {
             self.status = Some(message);
         }
@@ -472,6 +482,7 @@ impl AppState {
         self.timeline.playing
             || self.session.loading().is_some()
             || self.training.is_running()
+            || self.proposals.is_running()
             || landscape
     }
 
@@ -514,6 +525,7 @@ impl AppState {
 
     fn start_run_keeping_labels(&mut self) {
         let Some(recording) = self.session.selected_recording() else {
+            self.proposals.stop();
             self.run = None;
             self.physics = None;
             self.overview = PathOverview::default();
@@ -539,6 +551,7 @@ impl AppState {
                 None
             }
         };
+        self.refresh_proposals();
     }
 
     /// A fresh online run with the current models (a model trained or loaded), staying at the frame
