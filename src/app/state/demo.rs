@@ -294,7 +294,8 @@ impl AppState {
     }
 
     /// What the narration line says now: training progress while the demo's model trains, else
-    /// what online learning has done at the frame shown.
+    /// what online learning has done so far (θ where learning has got to, the losses over the frames
+    /// learned up to there, whatever frame is shown).
     pub fn narration(&self) -> String {
         if self.training.is_running() {
             return format!(
@@ -308,7 +309,7 @@ impl AppState {
         };
         narration(&NarrationNumbers {
             com_start: run.theta0().com_offset,
-            com_now: run.theta_at(self.frame()).com_offset,
+            com_now: run.theta_at(run.frontier()).com_offset,
             com_true: self.recording().and_then(|r| r.setting.com_offset),
             losses: run.mean_losses(),
         })
