@@ -34,6 +34,8 @@ pub enum KeyAction {
     ToggleCheatSheet,
     /// Show or hide the loss-landscape window.
     ToggleLandscape,
+    /// Switch to or from the presentation layout (view state).
+    TogglePresentation,
     /// How the scene's camera moves (view state).
     Camera(CameraMode),
 }
@@ -61,7 +63,7 @@ const COMMAND: Modifiers = Modifiers::COMMAND;
 
 /// The fixed bindings, most specific first (egui matches Shift loosely, so Shift+→ must be tried
 /// before →, and Ctrl+Shift+Z before Ctrl+Z).
-pub const BINDINGS: [Binding; 21] = [
+pub const BINDINGS: [Binding; 22] = [
     bind(
         NONE,
         Key::Space,
@@ -163,6 +165,12 @@ pub const BINDINGS: [Binding; 21] = [
     ),
     bind(
         NONE,
+        Key::F5,
+        KeyAction::TogglePresentation,
+        "presentation layout on / off (demo mode)",
+    ),
+    bind(
+        NONE,
         Key::F,
         KeyAction::Camera(CameraMode::Follow),
         "camera: follow the object",
@@ -239,6 +247,7 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
                     KeyAction::ToggleLandscape => commands.push(Command::Landscape(
                         LandscapeCommand::Show(!state.landscape.open),
                     )),
+                    KeyAction::TogglePresentation => view.presentation = !view.presentation,
                     KeyAction::Camera(mode) => view.scene.mode = mode,
                 }
             } else if *key == Key::Questionmark {

@@ -52,6 +52,8 @@ pub struct View {
     pub show_shortcuts: bool,
     /// Frames per second and CPU time per frame, for the menu bar.
     pub frame_rate: frame_rate::FrameRate,
+    /// The presentation layout (demo mode): large scene, plots, buttons and narration.
+    pub presentation: bool,
 }
 
 impl Default for View {
@@ -64,6 +66,7 @@ impl Default for View {
             plots_rect: egui::Rect::NOTHING,
             show_shortcuts: false,
             frame_rate: frame_rate::FrameRate::default(),
+            presentation: false,
         }
     }
 }
@@ -100,30 +103,11 @@ impl PushlabApp {
         dropped_files(ui.ctx(), &mut commands);
 
         panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
-        panels::timeline::bottom_bar(ui, &self.state, &mut commands);
-        // On a narrow window the browser gives way, so that the scene keeps 300 points beside the
-        // side panel (which its sliders need at full width).
-        let width = ui.available_width();
-        egui::Panel::left("browser")
-            .default_size(490.0)
-            .max_size((width - 330.0 - 300.0).max(220.0))
-            .resizable(true)
-            .show(ui, |ui| panels::browser::ui(ui, &self.state, &mut commands));
-        egui::Panel::right("side")
-            .default_size(330.0)
-            .max_size(480.0)
-            .resizable(true)
-            .show(ui, |ui| self.side_panel(ui, &mut commands));
-        egui::Panel::bottom("plots")
-            .default_size(360.0)
-            .resizable(true)
-            .show(ui, |ui| {
-                self.view.plots_rect = ui.max_rect();
-                panels::plots::ui(ui, &self.state, &mut commands);
-            });
-        egui::CentralPanel::no_frame().show(ui, |ui| {
-            panels::scene::ui(ui, &self.state, &mut self.view.scene, &mut commands);
-        });
+        if self.view.presentation {
+            panels::presentation::ui(ui, &self.state, &mut self.view, &mut commands);
+        } else {
+            self.workbench(ui, &mut commands);
+        }
         panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
         panels::landscape::window(ui.ctx(), &self.state, &mut commands);
 
@@ -132,6 +116,34 @@ impl PushlabApp {
         }
         self.handle_dialog_results(ui.ctx());
         self.handle_screenshots();
+    }
+
+    /// The usual layout: browser, side panel, scene, plots and timeline.
+    fn workbench(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        panels::timeline::bottom_bar(ui, &self.state, commands);
+        // On a narrow window the browser gives way, so that the scene keeps 300 points beside the
+        // side panel (which its sliders need at full width).
+        let width = ui.available_width();
+        egui::Panel::left("browser")
+            .default_size(490.0)
+            .max_size((width - 330.0 - 300.0).max(220.0))
+            .resizable(true)
+            .show(ui, |ui| panels::browser::ui(ui, &self.state, commands));
+        egui::Panel::right("side")
+            .default_size(330.0)
+            .max_size(480.0)
+            .resizable(true)
+            .show(ui, |ui| self.side_panel(ui, commands));
+        egui::Panel::bottom("plots")
+            .default_size(360.0)
+            .resizable(true)
+            .show(ui, |ui| {
+                self.view.plots_rect = ui.max_rect();
+                panels::plots::ui(ui, &self.state, commands);
+            });
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            panels::scene::ui(ui, &self.state, &mut self.view.scene, commands);
+        });
     }
 
     fn side_panel(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
@@ -292,10 +304,20 @@ pub fn sample_data_dir() -> PathBuf {
     }
 }
 
+/// The suite of the paper's experiments on the sample data, whose experiments are the Demos menu's
+/// presets: `experiments/sample-data.json` beside the sample data.
+pub fn demo_suite_path() -> PathBuf {
+    sample_data_dir()
+        .join("..")
+        .join("experiments")
+        .join("sample-data.json")
+}
+
 /// The app state opened on `paths`, or on the bundled sample data when `paths` is empty, with the
 /// bundled default model when there is one. Used by the binary and by the UI tests.
 pub fn initial_state(paths: &[PathBuf], persisted: Persisted) -> AppState {
     let mut state = AppState::new(persisted, Models::default());
+    state.demos = state::demo::Demos::load(&demo_suite_path());
     if let Some(path) = export::default_model_path()
         && let Err(e) = export::load_model(&mut state, &path)
     {

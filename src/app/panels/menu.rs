@@ -5,6 +5,7 @@ use eframe::egui;
 
 use crate::app::View;
 use crate::app::dialogs::DialogRequest;
+use crate::app::state::demo::DemoCommand;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::landscape::LandscapeCommand;
 use crate::app::state::{AppState, Command};
@@ -115,6 +116,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     commands.push(Command::Landscape(LandscapeCommand::Show(open)));
                 }
             });
+            ui.menu_button("Demos", |ui| demos_menu(ui, state, view, commands));
             ui.menu_button("Help", |ui| {
                 if ui
                     .add(egui::Button::new("Keyboard shortcuts").shortcut_text("?"))
@@ -151,4 +153,27 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
             });
         });
     });
+}
+
+/// The Demos menu: the paper's experiments on the sample data (one click opens a demo in the
+/// presentation layout), and the presentation layout's toggle.
+fn demos_menu(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
+    if let Err(why) = &state.demos.suite {
+        ui.label(format!("no demos: {why}"));
+    }
+    for (index, name) in state.demos.names().into_iter().enumerate() {
+        if ui
+            .add_enabled(!state.training.is_running(), egui::Button::new(name))
+            .on_hover_text("open its online set, train (or reuse) its offline model, and present")
+            .clicked()
+        {
+            commands.push(Command::Demo(DemoCommand::Start(index)));
+            view.presentation = true;
+        }
+    }
+    ui.separator();
+    ui.add(egui::Checkbox::new(
+        &mut view.presentation,
+        "Presentation layout (F5)",
+    ));
 }

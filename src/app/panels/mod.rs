@@ -11,6 +11,7 @@ pub mod labels;
 pub mod landscape;
 pub mod menu;
 pub mod plots;
+pub mod presentation;
 pub mod proposal_band;
 pub mod scene;
 pub mod shortcuts;

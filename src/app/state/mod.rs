@@ -4,6 +4,7 @@
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
 pub mod browser;
+pub mod demo;
 pub mod envelope;
 pub mod fit;
 pub mod label_losses;
@@ -32,6 +33,7 @@ use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
+use self::demo::{DemoCommand, Demos};
 use self::labels::{LabelAction, LabelTarget, Labeling};
 use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
@@ -93,6 +95,8 @@ pub enum Command {
     Landscape(LandscapeCommand),
     /// Accept or reject label proposals on the selected recording.
     Proposal(ProposalAction),
+    /// The Demos menu (see `demo`).
+    Demo(DemoCommand),
 }
 
 /// How the shown frame changed, which decides what a held paint key covers.
@@ -200,6 +204,8 @@ pub struct AppState {
     pub what_if_steps: usize,
     /// The loss-landscape window and its background work.
     pub landscape: LandscapeState,
+    /// The Demos menu's presets and the demo running.
+    pub demos: Demos,
 }
 
 impl AppState {
@@ -230,6 +236,7 @@ impl AppState {
             browsed: BrowserMemory::default(),
             what_if_steps: persisted.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS),
             landscape: LandscapeState::default(),
+            demos: Demos::default(),
         }
     }
 
@@ -415,6 +422,7 @@ impl AppState {
                 }
             }
             Command::Proposal(action) => self.apply_proposal(action),
+            Command::Demo(command) => self.apply_demo(command),
             Command::CancelTraining => self.training.cancel(),
             Command::Landscape(c) => self.apply_landscape(c),
             Command::SetTrainingKind(kind) => self.training.kind = kind,

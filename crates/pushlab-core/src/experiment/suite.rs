@@ -171,6 +171,41 @@ impl SuiteSpec {
         }
         Ok(spec)
     }
+
+    /// The horizon `experiment` runs at: its own, else the suite's.
+    pub fn horizon_of(&self, experiment: &ExperimentSpec) -> usize {
+        experiment.horizon.unwrap_or(self.horizon)
+    }
+
+    /// The split the recordings of a role (offline or online) must be in to be used: `Some` when the
+    /// suite takes splits from labels (`split_from_labels`), `None` when every recording counts.
+    pub fn split_wanted(&self, role: Split) -> Option<Split> {
+        self.split_from_labels.then_some(role)
+    }
+
+    /// How `variant` is trained in `experiment`: the suite's epochs, seed and patience at the
+    /// experiment's horizon, adjusted by the variant.
+    pub fn train_config(&self, experiment: &ExperimentSpec, variant: ModelVariant) -> TrainConfig {
+        variant.configure(&TrainConfig {
+            epochs: self.epochs,
+            seed: self.seed,
+            patience: self.patience,
+            horizon: self.horizon_of(experiment),
+            ..TrainConfig::default()
+        })
+    }
+}
+
+impl ExperimentSpec {
+    /// The offline paths, relative to `base` (the spec file's folder), wildcards expanded.
+    pub fn offline_paths(&self, base: &Path) -> Vec<PathBuf> {
+        expand(base, &self.offline)
+    }
+
+    /// The online paths, relative to `base`, wildcards expanded.
+    pub fn online_paths(&self, base: &Path) -> Vec<PathBuf> {
+        expand(base, &self.online)
+    }
 }
 
 /// One model's numbers in one experiment.
@@ -211,16 +246,15 @@ pub fn run_experiment(
     base: &Path,
     cancel: &AtomicBool,
 ) -> ExperimentResult {
-    let horizon = experiment.horizon.unwrap_or(spec.horizon);
-    let by_split = spec.split_from_labels;
+    let horizon = spec.horizon_of(experiment);
     let offline = load(
-        &expand(base, &experiment.offline),
-        by_split.then_some(Split::Offline),
+        &experiment.offline_paths(base),
+        spec.split_wanted(Split::Offline),
         horizon,
     );
     let online = load(
-        &expand(base, &experiment.online),
-        by_split.then_some(Split::Online),
+        &experiment.online_paths(base),
+        spec.split_wanted(Split::Online),
         horizon,
     );
     let count = |u: &super::data::Loaded| u.samples(horizon).iter().map(Vec::len).sum();
@@ -252,16 +286,9 @@ pub fn run_experiment(
     if !result.errors.is_empty() {
         return result;
     }
-    let config = TrainConfig {
-        epochs: spec.epochs,
-        seed: spec.seed,
-        patience: spec.patience,
-        horizon,
-        ..TrainConfig::default()
-    };
     for (i, &variant) in spec.models.iter().enumerate() {
         let started = Instant::now();
-        let config = variant.configure(&config);
+        let config = spec.train_config(experiment, variant);
         let trained =
             match train_combined(variant.kind(), &offline.used, &config, &mut |_| {}, cancel) {
                 Ok(trained) => trained,

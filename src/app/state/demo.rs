@@ -1,0 +1,401 @@
+//! Demo mode: the paper's experiments on the sample data, one click each, for a lecture.
+//!
+//! The presets are the experiments of `experiments/sample-data.json` (read by the core's
+//! [`SuiteSpec`], so there is one list): a demo opens the experiment's recordings, shows its first
+//! online recording, and uses a model for its offline recordings — the one remembered for their
+//! folders if there is one (the model store, see `fit`), else one trained in the background with the
+//! suite's settings, on the recordings the suite's split rule puts offline. Fixed against Online is
+//! what the loss plots show; [`narration`] says in plain words what the online run has done.
+
+use std::path::{Path, PathBuf};
+
+use pushlab_core::experiment::suite::SuiteSpec;
+use pushlab_core::experiment::{ModelVariant, split_of};
+use pushlab_core::labels::Split;
+use pushlab_core::model_file::ModelFile;
+
+use super::AppState;
+use super::labels::LabelTarget;
+use super::online::MeanLosses;
+use super::session::RecordingId;
+
+/// What the Demos menu asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DemoCommand {
+    /// Start the suite's experiment with this index.
+    Start(usize),
+}
+
+/// The demo suite and the demo running.
+pub struct Demos {
+    /// The suite and the folder its paths are relative to, or why it could not be read.
+    pub suite: Result<(SuiteSpec, PathBuf), String>,
+    /// The demo started last.
+    pub active: Option<ActiveDemo>,
+}
+
+impl Default for Demos {
+    fn default() -> Self {
+        Self {
+            suite: Err("no demo suite loaded".to_owned()),
+            active: None,
+        }
+    }
+}
+
+impl Demos {
+    /// The demos of the suite file at `path` (paths in it are relative to its folder).
+    pub fn load(path: &Path) -> Self {
+        let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+        Self {
+            suite: SuiteSpec::load(path)
+                .map(|spec| (spec, base))
+                .map_err(|e| e.to_string()),
+            active: None,
+        }
+    }
+
+    /// The presets' names, in the suite's order.
+    pub fn names(&self) -> Vec<&str> {
+        match &self.suite {
+            Ok((spec, _)) => spec.experiments.iter().map(|e| e.name.as_str()).collect(),
+            Err(_) => Vec::new(),
+        }
+    }
+}
+
+/// A demo that was started.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ActiveDemo {
+    pub name: String,
+    /// The recordings its offline model is (or was) trained on.
+    pub offline: Vec<RecordingId>,
+    /// Its online recordings; the first is shown.
+    pub online: Vec<RecordingId>,
+    /// Where its model came from, in words.
+    pub model: String,
+}
+
+/// The numbers the narration speaks about.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NarrationNumbers {
+    /// The estimated COM offset at the start of the run and at the frame shown, metres.
+    pub com_start: [f64; 2],
+    pub com_now: [f64; 2],
+    /// The recording's true COM offset, when its setting gives it.
+    pub com_true: Option<[f64; 2]>,
+    /// Mean losses over the frames learned so far (`None`: nothing learned yet).
+    pub losses: Option<MeanLosses>,
+}
+
+/// One plain sentence on what online learning has done so far.
+pub fn narration(n: &NarrationNumbers) -> String {
+    let Some(losses) = n.losses else {
+        return "Nothing learned yet: press Step or Play, and the model adapts its guess of the \
+                centre of mass to this push, frame by frame."
+            .to_owned();
+    };
+    let mm = |a: [f64; 2], b: [f64; 2]| 1000.0 * (a[0] - b[0]).hypot(a[1] - b[1]);
+    let moved = mm(n.com_now, n.com_start);
+    let com = match n.com_true {
+        Some(truth) => {
+            let (before, now) = (mm(n.com_start, truth), mm(n.com_now, truth));
+            if moved < 0.5 {
+                format!("the estimated COM has hardly moved ({now:.0} mm from the true one)")
+            } else if now < before - 0.5 {
+                format!(
+                    "the estimated COM moved {moved:.0} mm toward the true one (now {now:.0} mm from it)"
+                )
+            } else if now > before + 0.5 {
+                format!(
+                    "the estimated COM moved {moved:.0} mm away from the true one (now {now:.0} mm \
+                     from it, {before:.0} mm at the start)"
+                )
+            } else {
+                format!(
+                    "the estimated COM moved {moved:.0} mm but is no closer to the true one \
+                     ({now:.0} mm from it)"
+                )
+            }
+        }
+        None if moved < 0.5 => {
+            "the estimated COM has hardly moved (the true COM is not known)".to_owned()
+        }
+        None => format!("the estimated COM moved {moved:.0} mm (the true COM is not known)"),
+    };
+    let online = losses.online_pos + losses.online_rot;
+    let fixed = losses.fixed_pos + losses.fixed_rot;
+    let loss = compare(online, fixed);
+    let frames = match losses.frames {
+        1 => "1 frame".to_owned(),
+        k => format!("{k} frames"),
+    };
+    format!("After {frames} learned, {com}; {loss}.")
+}
+
+/// The online loss against the fixed model's, in words.
+fn compare(online: f64, fixed: f64) -> String {
+    if !(online.is_finite() && fixed.is_finite()) || online.max(fixed) <= 0.0 {
+        return "the losses cannot be compared yet".to_owned();
+    }
+    let times = |r: f64| {
+        if r.is_finite() {
+            format!("{r:.0}×")
+        } else {
+            "far".to_owned()
+        }
+    };
+    if online < fixed / 1.05 {
+        let ratio = fixed / online;
+        if ratio >= 1.95 {
+            format!(
+                "the online loss is now {} below the fixed model's",
+                times(ratio)
+            )
+        } else {
+            let percent = 100.0 * (1.0 - online / fixed);
+            format!("the online loss is now {percent:.0} % below the fixed model's")
+        }
+    } else if online > fixed * 1.05 {
+        let ratio = online / fixed;
+        let how = if ratio >= 1.95 {
+            times(ratio)
+        } else {
+            format!("{:.0} %", 100.0 * (ratio - 1.0))
+        };
+        format!(
+            "the online loss is {how} above the fixed model's: adapting has not helped on this \
+             push so far"
+        )
+    } else {
+        "the online loss is about the same as the fixed model's".to_owned()
+    }
+}
+
+impl AppState {
+    pub(super) fn apply_demo(&mut self, command: DemoCommand) {
+        match command {
+            DemoCommand::Start(index) => {
+                if let Err(why) = self.start_demo(index) {
+                    self.status = Some(format!("demo not started: {why}"));
+                }
+            }
+        }
+    }
+
+    /// Opens the experiment's recordings, shows its first online one and takes a model for its
+    /// offline ones into use (remembered, else trained in the background).
+    fn start_demo(&mut self, index: usize) -> Result<(), String> {
+        let (spec, base) = self.demos.suite.clone()?;
+        let experiment = spec
+            .experiments
+            .get(index)
+            .ok_or_else(|| format!("there is no demo {index}"))?;
+        if self.training.is_running() {
+            return Err("a model is training; cancel it first".to_owned());
+        }
+        let offline_paths = canonical(&experiment.offline_paths(&base));
+        let online_paths = canonical(&experiment.online_paths(&base));
+        let missing: Vec<PathBuf> = offline_paths
+            .iter()
+            .chain(&online_paths)
+            .filter(|p| self.recordings_under(p, None).is_empty())
+            .cloned()
+            .collect();
+        if !missing.is_empty() {
+            self.open_blocking(&missing);
+        }
+        let offline = self.recordings_in(&offline_paths, spec.split_wanted(Split::Offline));
+        let online = self.recordings_in(&online_paths, spec.split_wanted(Split::Online));
+        let (Some(&shown), false) = (online.first(), offline.is_empty()) else {
+            return Err(format!(
+                "\"{}\" has {} offline and {} online recordings open",
+                experiment.name,
+                offline.len(),
+                online.len()
+            ));
+        };
+        // Stepping is how a lecture sees learning, so learning follows the timeline.
+        self.learn_while_playing = true;
+        self.session.selected = Some(shown);
+        self.start_run();
+        let variant =
+            (spec.models.first().copied()).unwrap_or(ModelVariant::Kind(self.training.kind));
+        let remembered = self.demo_model_for(&offline_paths);
+        let model = match remembered {
+            Some((file, path)) => {
+                self.use_model_file(file, path.display().to_string());
+                format!(
+                    "the {} model trained before for these recordings",
+                    variant.name()
+                )
+            }
+            None => {
+                self.training.kind = variant.kind();
+                self.training.config = spec.train_config(experiment, variant);
+                self.training.chosen = offline.iter().copied().collect();
+                let recordings = self.training_recordings();
+                if recordings.is_empty() {
+                    return Err("its offline recordings have no sample to train on".to_owned());
+                }
+                self.training.start(recordings, offline_paths.clone());
+                format!("a {} model trained now", variant.name())
+            }
+        };
+        self.status = Some(format!("demo \"{}\": {model}", experiment.name));
+        self.demos.active = Some(ActiveDemo {
+            name: experiment.name.clone(),
+            offline,
+            online,
+            model,
+        });
+        Ok(())
+    }
+
+    /// The model remembered for all of these folders (one file), if it can be read.
+    fn demo_model_for(&self, folders: &[PathBuf]) -> Option<(ModelFile, PathBuf)> {
+        let path = self.folder_models.get(folders.first()?)?;
+        if folders
+            .iter()
+            .any(|f| self.folder_models.get(f) != Some(path))
+        {
+            return None;
+        }
+        Some((ModelFile::load(path).ok()?, path.clone()))
+    }
+
+    /// The open recordings under any of `paths` in the split wanted (`None`: any).
+    fn recordings_in(&self, paths: &[PathBuf], want: Option<Split>) -> Vec<RecordingId> {
+        let mut ids: Vec<RecordingId> = paths
+            .iter()
+            .flat_map(|p| self.recordings_under(p, want))
+            .collect();
+        ids.sort();
+        ids.dedup();
+        ids
+    }
+
+    /// The open recordings whose file is `path` or lies in it, in the split wanted.
+    fn recordings_under(&self, path: &Path, want: Option<Split>) -> Vec<RecordingId> {
+        self.session
+            .recordings()
+            .filter(|(_, r)| {
+                let source = r.source.canonicalize().unwrap_or_else(|_| r.source.clone());
+                source.starts_with(path)
+            })
+            .filter(|(_, r)| {
+                let labels = LabelTarget::of(r)
+                    .and_then(|t| self.labels.document(&t.document))
+                    .map(|d| d.set());
+                want.is_none() || split_of(r, labels) == want
+            })
+            .map(|(id, _)| id)
+            .collect()
+    }
+
+    /// What the narration line says now: training progress while the demo's model trains, else
+    /// what online learning has done so far (θ where learning has got to, the losses over the frames
+    /// learned up to there, whatever frame is shown).
+    pub fn narration(&self) -> String {
+        if self.training.is_running() {
+            return format!(
+                "Training the offline model: {} {:.0} % done. Cancel to use what it has learned so far.",
+                self.training.phase(),
+                100.0 * self.training.progress()
+            );
+        }
+        let Some(run) = &self.run else {
+            return "Choose a demo from the Demos menu.".to_owned();
+        };
+        narration(&NarrationNumbers {
+            com_start: run.theta0().com_offset,
+            com_now: run.theta_at(run.frontier()).com_offset,
+            com_true: self.recording().and_then(|r| r.setting.com_offset),
+            losses: run.mean_losses(),
+        })
+    }
+}
+
+/// Paths made canonical where they exist, so that they compare with the recordings' files.
+fn canonical(paths: &[PathBuf]) -> Vec<PathBuf> {
+    paths
+        .iter()
+        .map(|p| p.canonicalize().unwrap_or_else(|_| p.clone()))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn losses(frames: usize, online: f64, fixed: f64) -> Option<MeanLosses> {
+        Some(MeanLosses {
+            frames,
+            online_pos: online / 2.0,
+            online_rot: online / 2.0,
+            fixed_pos: fixed / 2.0,
+            fixed_rot: fixed / 2.0,
+        })
+    }
+
+    fn numbers(now: [f64; 2], truth: Option<[f64; 2]>, losses: Option<MeanLosses>) -> String {
+        narration(&NarrationNumbers {
+            com_start: [0.0, 0.0],
+            com_now: now,
+            com_true: truth,
+            losses,
+        })
+    }
+
+    #[test]
+    fn says_how_far_the_com_moved_toward_the_truth_and_how_much_lower_the_loss_is() {
+        let text = numbers([0.012, 0.0], Some([0.03, 0.0]), losses(40, 0.1, 0.3));
+        assert_eq!(
+            text,
+            "After 40 frames learned, the estimated COM moved 12 mm toward the true one (now 18 mm \
+             from it); the online loss is now 3× below the fixed model's."
+        );
+    }
+
+    #[test]
+    fn says_nothing_was_learned_before_the_first_frame() {
+        let text = numbers([0.0, 0.0], Some([0.03, 0.0]), None);
+        assert!(text.starts_with("Nothing learned yet"), "{text}");
+    }
+
+    #[test]
+    fn says_when_the_true_com_is_not_known() {
+        let text = numbers([0.0, -0.005], None, losses(1, 0.2, 0.25));
+        assert_eq!(
+            text,
+            "After 1 frame learned, the estimated COM moved 5 mm (the true COM is not known); the \
+             online loss is now 20 % below the fixed model's."
+        );
+    }
+
+    #[test]
+    fn says_honestly_when_online_is_worse_than_fixed_and_the_com_moved_away() {
+        let text = numbers([-0.01, 0.0], Some([0.02, 0.0]), losses(12, 0.5, 0.2));
+        assert_eq!(
+            text,
+            "After 12 frames learned, the estimated COM moved 10 mm away from the true one (now \
+             30 mm from it, 20 mm at the start); the online loss is 2× above the fixed model's: \
+             adapting has not helped on this push so far."
+        );
+        let slightly = numbers([0.0, 0.0], Some([0.0, 0.0]), losses(3, 0.23, 0.2));
+        assert!(
+            slightly.contains("hardly moved (0 mm from the true one)")
+                && slightly.contains("15 % above the fixed model's: adapting has not helped"),
+            "{slightly}"
+        );
+    }
+
+    #[test]
+    fn equal_losses_are_about_the_same() {
+        let text = numbers([0.0, 0.0], None, losses(5, 0.2, 0.201));
+        assert!(
+            text.contains("about the same as the fixed model's"),
+            "{text}"
+        );
+    }
+}

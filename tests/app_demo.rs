@@ -1,0 +1,180 @@
+//! Demo mode, driven through the UI: every preset of the Demos menu (the experiments of
+//! `experiments/sample-data.json`) opens its online set with a model of its offline set — trained in
+//! the background the first time, reused after — in the presentation layout; Step learns one frame
+//! and the narration says something new. A snapshot of the presentation layout.
+
+mod common;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use pushlab::app::state::Persisted;
+use pushlab::app::state::demo::DemoCommand;
+use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::{PushlabApp, demo_suite_path, export, initial_state};
+use pushlab_core::experiment::split_of;
+use pushlab_core::experiment::suite::SuiteSpec;
+use pushlab_core::labels::Split;
+
+/// The narration line as the window shows it.
+fn narration_shown(harness: &Harness<'_, PushlabApp>) -> String {
+    let expected = harness.state().state.narration();
+    let shown: Vec<String> = harness
+        .query_all_by_label_contains(&expected[..20])
+        .filter_map(|node| {
+            let node = node.accesskit_node();
+            node.label().or_else(|| node.value())
+        })
+        .collect();
+    assert!(
+        shown.contains(&expected),
+        "the narration {expected:?} is not shown: {shown:?}"
+    );
+    expected
+}
+
+#[test]
+fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
+    let spec = SuiteSpec::load(&demo_suite_path()).expect("the sample-data suite");
+    let mut state = initial_state(&[], Persisted::default());
+    state.model_store = Some(common::scratch_dir("demo-models"));
+    let mut harness = common::harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(2);
+    let mut trained_for = Vec::new();
+    for experiment in &spec.experiments {
+        harness.get_by_label("Demos").click();
+        harness.run_steps(2);
+        harness.get_by_label(&experiment.name).click();
+        harness.run_steps(2);
+        assert!(harness.state().view.presentation, "{}", experiment.name);
+        let offline = experiment.offline.clone();
+        let reused = trained_for.contains(&offline);
+        if !reused {
+            assert!(
+                harness.state().state.training.is_running(),
+                "{}: its offline model trains",
+                experiment.name
+            );
+            assert!(narration_shown(&harness).starts_with("Training the offline model"));
+            trained_for.push(offline);
+        }
+        common::run_until(&mut harness, "the demo's model", |app| {
+            !app.state.training.is_running()
+        });
+        let app = harness.state();
+        let state = &app.state;
+        let store = state
+            .model_store
+            .as_ref()
+            .and_then(|p| p.to_str())
+            .expect("a model store");
+        let demo = state.demos.active.as_ref().expect("a demo");
+        assert_eq!(demo.name, experiment.name);
+        assert_eq!(
+            demo.model.contains("trained before"),
+            reused,
+            "{}: {}",
+            experiment.name,
+            demo.model
+        );
+        assert!(
+            state
+                .models
+                .source
+                .as_deref()
+                .is_some_and(|s| s.contains(store)),
+            "{}: the model in use is the demo's, {:?}",
+            experiment.name,
+            state.models.source
+        );
+        // The recording shown is one of the online set's, in the online split.
+        let shown = state.recording().expect("a recording shown");
+        let folder = shown
+            .source
+            .parent()
+            .and_then(|p| p.file_name())
+            .and_then(|n| n.to_str())
+            .expect("a folder");
+        assert!(
+            experiment.online[0].ends_with(folder),
+            "{}: shows {}",
+            experiment.name,
+            shown.source.display()
+        );
+        assert_eq!(split_of(shown, None), Some(Split::Online));
+        assert_eq!(state.frame(), 0);
+        let before = narration_shown(&harness);
+        assert!(before.starts_with("Nothing learned yet"), "{before}");
+
+        harness.get_by_label("Step").click();
+        harness.run_steps(2);
+        let state = &harness.state().state;
+        let learned = state.run.as_ref().and_then(|r| r.mean_losses());
+        assert_eq!(learned.map(|l| l.frames), Some(1), "{}", experiment.name);
+        let after = narration_shown(&harness);
+        assert_ne!(after, before);
+        assert!(after.starts_with("After 1 frame learned"), "{after}");
+    }
+}
+
+#[test]
+fn f5_leaves_and_enters_the_presentation_layout() {
+    let state = initial_state(
+        &[common::sample_dir("box1-paper-lr-front")],
+        Persisted::default(),
+    );
+    let mut harness = common::harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(2);
+    assert!(harness.query_by_label("Step").is_none());
+    harness.key_press(eframe::egui::Key::F5);
+    harness.run_steps(2);
+    assert!(harness.state().view.presentation);
+    assert!(harness.query_by_label("Step").is_some());
+    harness.key_press(eframe::egui::Key::F5);
+    harness.run_steps(2);
+    assert!(!harness.state().view.presentation);
+    assert!(harness.query_by_label("Step").is_none());
+}
+
+#[test]
+fn presentation_layout_snapshot() {
+    let spec = SuiteSpec::load(&demo_suite_path()).expect("the sample-data suite");
+    let index = spec
+        .experiments
+        .iter()
+        .position(|e| e.name == "R2a COM")
+        .expect("R2a in the suite");
+    let mut state = initial_state(&[], Persisted::default());
+    // The bundled model stands in for a model trained before for the offline set, so that the
+    // picture does not wait for training.
+    let base = demo_suite_path()
+        .parent()
+        .expect("the suite's folder")
+        .to_path_buf();
+    let offline = spec.experiments[index].offline_paths(&base)[0]
+        .canonicalize()
+        .expect("the offline set");
+    let model = export::default_model_path().expect("the bundled model");
+    state.folder_models.insert(offline, model);
+    state.apply(pushlab::app::state::Command::Demo(DemoCommand::Start(
+        index,
+    )));
+    assert!(!state.training.is_running(), "{:?}", state.status);
+    for _ in 0..40 {
+        state.apply(pushlab::app::state::Command::Timeline(
+            TimelineCommand::Step(1),
+        ));
+    }
+    let mut app = PushlabApp::new(state);
+    app.view.presentation = true;
+    let mut harness = Harness::builder()
+        .with_size([1400.0, 900.0])
+        .with_render_cursor(false)
+        .build_ui_state(|ui, app: &mut PushlabApp| app.show(ui), app);
+    harness.run_steps(3);
+    let narration = narration_shown(&harness);
+    assert!(
+        narration.starts_with("After 40 frames learned"),
+        "{narration}"
+    );
+    harness.snapshot("presentation");
+}
