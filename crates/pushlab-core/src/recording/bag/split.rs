@@ -1,0 +1,213 @@
+//! From the two raw pose streams of a bag to pushes: cleaning, optional splitting at gaps, and
+//! resampling onto one grid, by the rules MIT files follow ([`crate::recording::resample`]).
+
+use std::path::Path;
+
+use nalgebra::Point2;
+
+use super::{BagStreams, TopicInfo, TopicSpec, read_streams};
+use crate::geometry::Pose2;
+use crate::recording::error::{BagProblem, LoadError};
+use crate::recording::mit_push::{MIN_DURATION_S, MIN_ROWS};
+use crate::recording::resample::{Interpolator, SpanProblem, clean, grid, unwrap_yaw};
+use crate::trajectory::{Frame, Trajectory};
+
+/// How a bag becomes pushes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImportOptions {
+    /// Rate of the common grid, Hz; `None`: the slower stream's mean rate, rounded to whole Hz.
+    pub rate_hz: Option<f64>,
+    /// Split into several pushes where either stream pauses for longer than this, seconds; `None`:
+    /// the whole bag is one push.
+    pub split_gap_s: Option<f64>,
+}
+
+/// One push taken from a bag.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BagPush {
+    /// Resampled frames, time from 0.
+    pub trajectory: Trajectory,
+    /// Unix time of the first frame, seconds.
+    pub start_unix_s: f64,
+    /// Recoverable defects found, each a sentence with numbers.
+    pub warnings: Vec<String>,
+}
+
+/// A bag imported: its pushes, the grid rate used and the bag's topics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BagImport {
+    pub pushes: Vec<BagPush>,
+    pub rate_hz: f64,
+    pub topics: Vec<TopicInfo>,
+}
+
+/// Reads and imports a bag (an `.mcap` file or a rosbag2 folder).
+pub fn import(
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+    options: ImportOptions,
+) -> Result<BagImport, LoadError> {
+    let streams = read_streams(path, pusher, object)?;
+    let (pushes, rate_hz) =
+        resample_streams(&streams, pusher, object, options).map_err(|problem| LoadError::Bag {
+            path: path.to_path_buf(),
+            problem,
+        })?;
+    Ok(BagImport {
+        pushes,
+        rate_hz,
+        topics: streams.topics,
+    })
+}
+
+/// Mean rate of a cleaned stream, Hz.
+fn mean_rate(rows: &[[f64; 4]]) -> f64 {
+    match (rows.first(), rows.last()) {
+        (Some(a), Some(b)) if rows.len() > 1 && b[0] > a[0] => {
+            (rows.len() - 1) as f64 / (b[0] - a[0])
+        }
+        _ => 0.0,
+    }
+}
+
+/// Cleans both streams, splits them at gaps when asked, and resamples each piece; returns the pushes
+/// and the grid rate.
+pub fn resample_streams(
+    streams: &BagStreams,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+    options: ImportOptions,
+) -> Result<(Vec<BagPush>, f64), BagProblem> {
+    let mut warnings = streams.warnings.clone();
+    let (pusher_key, object_key) = (format!("pusher {pusher}"), format!("object {object}"));
+    let tip = clean(&pusher_key, &streams.pusher, &mut warnings);
+    let mut obj = clean(&object_key, &streams.object, &mut warnings);
+    for (spec, rows) in [(pusher, &tip), (object, &obj)] {
+        if rows.len() < MIN_ROWS {
+            return Err(BagProblem::TooFewRows {
+                topic: spec.to_string(),
+                rows: rows.len(),
+                min: MIN_ROWS,
+            });
+        }
+    }
+    unwrap_yaw(&object_key, &mut obj, &mut warnings);
+    let (tip_rate, obj_rate) = (mean_rate(&tip), mean_rate(&obj));
+    let rate_hz = options
+        .rate_hz
+        .unwrap_or_else(|| tip_rate.min(obj_rate).round().max(1.0));
+    if (tip_rate - obj_rate).abs() > 0.1 * tip_rate.max(obj_rate) {
+        warnings.push(format!(
+            "streams have unequal rates ({pusher_key} {tip_rate:.1} Hz, {object_key} {obj_rate:.1} Hz); aligned by resampling at {rate_hz} Hz"
+        ));
+    }
+    let base_s = streams.base_unix_ns as f64 * 1e-9;
+    let pieces = match options.split_gap_s {
+        Some(gap) => pieces(&tip, &obj, gap),
+        None => vec![(f64::NEG_INFINITY, f64::INFINITY)],
+    };
+    let mut pushes = Vec::new();
+    let mut skipped = Vec::new();
+    let mut last_problem = None;
+    for (from, to) in pieces {
+        let within = |rows: &[[f64; 4]]| -> Vec<[f64; 4]> {
+            rows.iter()
+                .filter(|r| r[0] >= from && r[0] <= to)
+                .copied()
+                .collect()
+        };
+        let (t, o) = (within(&tip), within(&obj));
+        let (start, count) = match grid(&t, &o, rate_hz) {
+            Ok(grid) => grid,
+            Err(problem) => {
+                skipped.push(format!("{:.3}–{:.3} s", from.max(0.0), to));
+                last_problem = Some(problem);
+                continue;
+            }
+        };
+        let mut tip_at = Interpolator::new(&t);
+        let mut obj_at = Interpolator::new(&o);
+        let frames = (0..count)
+            .map(|k| {
+                let time = start + k as f64 / rate_hz;
+                let r = tip_at.at(time);
+                let q = obj_at.at(time);
+                Frame {
+                    time: k as f64 / rate_hz,
+                    robot: Point2::new(r[1], r[2]),
+                    object: Pose2::new(q[1], q[2], q[3]),
+                }
+            })
+            .collect();
+        pushes.push(BagPush {
+            trajectory: Trajectory::new(frames),
+            start_unix_s: base_s + start,
+            warnings: Vec::new(),
+        });
+    }
+    if pushes.is_empty() {
+        return Err(match last_problem {
+            Some(SpanProblem::TooLong(seconds)) => BagProblem::TooLong { seconds },
+            Some(SpanProblem::TooShort(seconds)) => BagProblem::TooShort {
+                seconds,
+                min: MIN_DURATION_S,
+            },
+            None => BagProblem::TooShort {
+                seconds: 0.0,
+                min: MIN_DURATION_S,
+            },
+        });
+    }
+    if !skipped.is_empty() {
+        warnings.push(format!(
+            "{} piece(s) between gaps too short or too long to be a push, skipped (at {})",
+            skipped.len(),
+            skipped.join(", ")
+        ));
+    }
+    for push in &mut pushes {
+        push.warnings.clone_from(&warnings);
+    }
+    Ok((pushes, rate_hz))
+}
+
+/// The time intervals between pauses longer than `gap` seconds in either stream.
+fn pieces(tip: &[[f64; 4]], obj: &[[f64; 4]], gap: f64) -> Vec<(f64, f64)> {
+    let mut holes: Vec<(f64, f64)> = [tip, obj]
+        .iter()
+        .flat_map(|rows| rows.windows(2))
+        .filter(|w| w[1][0] - w[0][0] > gap)
+        .map(|w| (w[0][0], w[1][0]))
+        .collect();
+    holes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut pieces = Vec::new();
+    let mut from = f64::NEG_INFINITY;
+    for (a, b) in holes {
+        if a > from {
+            pieces.push((from, a));
+        }
+        from = from.max(b);
+    }
+    pieces.push((from, f64::INFINITY));
+    pieces
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pieces_split_at_holes_of_either_stream() {
+        let tip: Vec<[f64; 4]> = [0.0, 1.0, 5.0, 6.0]
+            .iter()
+            .map(|&t| [t, 0.0, 0.0, 0.0])
+            .collect();
+        let obj: Vec<[f64; 4]> = [0.0, 0.5, 1.0, 2.5, 5.0, 6.0]
+            .iter()
+            .map(|&t| [t, 0.0, 0.0, 0.0])
+            .collect();
+        let p = pieces(&tip, &obj, 1.2);
+        assert_eq!(p, vec![(f64::NEG_INFINITY, 1.0), (5.0, f64::INFINITY)]);
+    }
+}
