@@ -141,8 +141,13 @@ def odometry_bag(w):
             w.write(obj, ns(t), ser(odom, Odometry.__msgtype__))
 
 
-def mcap_file(name, compression):
-    """PoseStamped for both, in small chunks, with Foxglove's Python writer."""
+def shifted(shift):
+    return [[r[0] + shift, *r[1:]] for r in rows()]
+
+
+def mcap_file(name, compression, repeats=(0.0,)):
+    """PoseStamped for both, in small chunks, with Foxglove's Python writer; the CSV's rows once per
+    entry of `repeats`, shifted by it in seconds (two entries: two pushes with a pause between)."""
     typename = PoseStamped.__msgtype__
     msgdef, _ = TS.generate_msgdef(typename)
     with open(fresh(name), 'wb') as f:
@@ -151,7 +156,7 @@ def mcap_file(name, compression):
         schema = w.register_schema(name=typename, encoding='ros2msg', data=msgdef.encode())
         pusher = w.register_channel(topic='/pusher/pose', message_encoding='cdr', schema_id=schema)
         obj = w.register_channel(topic='/object/pose', message_encoding='cdr', schema_id=schema)
-        for i, (t, rx, ry, ox, oy, th) in enumerate(rows()):
+        for i, (t, rx, ry, ox, oy, th) in ((i, r) for shift in repeats for i, r in enumerate(shifted(shift))):
             w.add_message(pusher, log_time=ns(t), publish_time=ns(t), data=ser(pose_stamped(t, rx, ry, 0.0), typename))
             if i % 2 == 0:
                 w.add_message(obj, log_time=ns(t), publish_time=ns(t), data=ser(pose_stamped(t, ox, oy, th), typename))
@@ -166,6 +171,8 @@ def main():
     mcap_file('lz4.mcap', CompressionType.LZ4)
     # Uncompressed chunks with their CRC (rosbags writes none), for the bad-CRC test.
     mcap_file('crc.mcap', CompressionType.NONE)
+    # Two pushes, the second starting 2.5 s after the first (a 1.3 s pause), for --split-gap.
+    mcap_file('gap.mcap', CompressionType.ZSTD, repeats=(0.0, 2.5))
 
 
 if __name__ == '__main__':

@@ -61,52 +61,48 @@ pub fn import(
     })
 }
 
-/// Mean rate of a cleaned stream, Hz.
-fn mean_rate(rows: &[[f64; 4]]) -> f64 {
-    match (rows.first(), rows.last()) {
-        (Some(a), Some(b)) if rows.len() > 1 && b[0] > a[0] => {
-            (rows.len() - 1) as f64 / (b[0] - a[0])
-        }
-        _ => 0.0,
+/// Rate of a cleaned stream from its median step, Hz: pauses (split at or not) do not lower it.
+fn median_rate(rows: &[[f64; 4]]) -> f64 {
+    let mut steps: Vec<f64> = rows.windows(2).map(|w| w[1][0] - w[0][0]).collect();
+    if steps.is_empty() {
+        return 0.0;
     }
+    let middle = steps.len() / 2;
+    let (_, median, _) = steps.select_nth_unstable_by(middle, f64::total_cmp);
+    1.0 / *median
 }
 
 /// Cleans both streams, splits them at gaps when asked, and resamples each piece; returns the pushes
-/// and the grid rate.
+/// and the grid rate. Without splitting, a stream too short or an overlap too short or long is an
+/// error; with it, such pieces are skipped (and said so), and it is an error only when none is left.
 pub fn resample_streams(
     streams: &BagStreams,
     pusher: &TopicSpec,
     object: &TopicSpec,
     options: ImportOptions,
 ) -> Result<(Vec<BagPush>, f64), BagProblem> {
-    let mut warnings = streams.warnings.clone();
     let (pusher_key, object_key) = (format!("pusher {pusher}"), format!("object {object}"));
-    let tip = clean(&pusher_key, &streams.pusher, &mut warnings);
-    let mut obj = clean(&object_key, &streams.object, &mut warnings);
-    for (spec, rows) in [(pusher, &tip), (object, &obj)] {
-        if rows.len() < MIN_ROWS {
-            return Err(BagProblem::TooFewRows {
-                topic: spec.to_string(),
-                rows: rows.len(),
-                min: MIN_ROWS,
-            });
-        }
-    }
-    unwrap_yaw(&object_key, &mut obj, &mut warnings);
-    let (tip_rate, obj_rate) = (mean_rate(&tip), mean_rate(&obj));
+    // The whole streams, cleaned, give the rates and the pauses; each piece is cleaned again below
+    // so that its warnings speak of it alone.
+    let mut scratch = Vec::new();
+    let tip_all = clean(&pusher_key, &streams.pusher, &mut scratch);
+    let obj_all = clean(&object_key, &streams.object, &mut scratch);
+    let (tip_rate, obj_rate) = (median_rate(&tip_all), median_rate(&obj_all));
     let rate_hz = options
         .rate_hz
         .unwrap_or_else(|| tip_rate.min(obj_rate).round().max(1.0));
+    let mut common = streams.warnings.clone();
     if (tip_rate - obj_rate).abs() > 0.1 * tip_rate.max(obj_rate) {
-        warnings.push(format!(
+        common.push(format!(
             "streams have unequal rates ({pusher_key} {tip_rate:.1} Hz, {object_key} {obj_rate:.1} Hz); aligned by resampling at {rate_hz} Hz"
         ));
     }
     let base_s = streams.base_unix_ns as f64 * 1e-9;
     let pieces = match options.split_gap_s {
-        Some(gap) => pieces(&tip, &obj, gap),
+        Some(gap) => pieces(&tip_all, &obj_all, gap),
         None => vec![(f64::NEG_INFINITY, f64::INFINITY)],
     };
+    let splitting = pieces.len() > 1;
     let mut pushes = Vec::new();
     let mut skipped = Vec::new();
     let mut last_problem = None;
@@ -117,59 +113,90 @@ pub fn resample_streams(
                 .copied()
                 .collect()
         };
-        let (t, o) = (within(&tip), within(&obj));
-        let (start, count) = match grid(&t, &o, rate_hz) {
-            Ok(grid) => grid,
-            Err(problem) => {
-                skipped.push(format!("{:.3}–{:.3} s", from.max(0.0), to));
-                last_problem = Some(problem);
-                continue;
+        let mut warnings = common.clone();
+        let t = clean(&pusher_key, &within(&streams.pusher), &mut warnings);
+        let mut o = clean(&object_key, &within(&streams.object), &mut warnings);
+        let too_few = [(pusher, &t), (object, &o)]
+            .into_iter()
+            .find(|(_, rows)| rows.len() < MIN_ROWS)
+            .map(|(spec, rows)| BagProblem::TooFewRows {
+                topic: spec.to_string(),
+                rows: rows.len(),
+                min: MIN_ROWS,
+            });
+        let problem = match too_few {
+            Some(problem) => Some(problem),
+            None => {
+                unwrap_yaw(&object_key, &mut o, &mut warnings);
+                match grid(&t, &o, rate_hz) {
+                    Ok((start, count)) => {
+                        pushes.push(resample(&t, &o, start, count, rate_hz, base_s, warnings));
+                        None
+                    }
+                    Err(SpanProblem::TooLong(seconds)) => Some(BagProblem::TooLong { seconds }),
+                    Err(SpanProblem::TooShort(seconds)) => Some(BagProblem::TooShort {
+                        seconds,
+                        min: MIN_DURATION_S,
+                    }),
+                }
             }
         };
-        let mut tip_at = Interpolator::new(&t);
-        let mut obj_at = Interpolator::new(&o);
-        let frames = (0..count)
-            .map(|k| {
-                let time = start + k as f64 / rate_hz;
-                let r = tip_at.at(time);
-                let q = obj_at.at(time);
-                Frame {
-                    time: k as f64 / rate_hz,
-                    robot: Point2::new(r[1], r[2]),
-                    object: Pose2::new(q[1], q[2], q[3]),
-                }
-            })
-            .collect();
-        pushes.push(BagPush {
-            trajectory: Trajectory::new(frames),
-            start_unix_s: base_s + start,
-            warnings: Vec::new(),
-        });
+        if let Some(problem) = problem {
+            if !splitting {
+                return Err(problem);
+            }
+            skipped.push(format!("{:.3}–{:.3} s", from.max(0.0), to));
+            last_problem = Some(problem);
+        }
     }
     if pushes.is_empty() {
-        return Err(match last_problem {
-            Some(SpanProblem::TooLong(seconds)) => BagProblem::TooLong { seconds },
-            Some(SpanProblem::TooShort(seconds)) => BagProblem::TooShort {
-                seconds,
-                min: MIN_DURATION_S,
-            },
-            None => BagProblem::TooShort {
-                seconds: 0.0,
-                min: MIN_DURATION_S,
-            },
-        });
+        return Err(last_problem.unwrap_or(BagProblem::TooShort {
+            seconds: 0.0,
+            min: MIN_DURATION_S,
+        }));
     }
     if !skipped.is_empty() {
-        warnings.push(format!(
-            "{} piece(s) between gaps too short or too long to be a push, skipped (at {})",
+        let note = format!(
+            "{} piece(s) between pauses too short or too long to be a push, skipped (at {})",
             skipped.len(),
             skipped.join(", ")
-        ));
-    }
-    for push in &mut pushes {
-        push.warnings.clone_from(&warnings);
+        );
+        for push in &mut pushes {
+            push.warnings.push(note.clone());
+        }
     }
     Ok((pushes, rate_hz))
+}
+
+/// Interpolates both cleaned streams onto the grid `start + k / rate_hz`, `k < count`.
+fn resample(
+    tip: &[[f64; 4]],
+    obj: &[[f64; 4]],
+    start: f64,
+    count: usize,
+    rate_hz: f64,
+    base_s: f64,
+    warnings: Vec<String>,
+) -> BagPush {
+    let mut tip_at = Interpolator::new(tip);
+    let mut obj_at = Interpolator::new(obj);
+    let frames = (0..count)
+        .map(|k| {
+            let time = start + k as f64 / rate_hz;
+            let r = tip_at.at(time);
+            let q = obj_at.at(time);
+            Frame {
+                time: k as f64 / rate_hz,
+                robot: Point2::new(r[1], r[2]),
+                object: Pose2::new(q[1], q[2], q[3]),
+            }
+        })
+        .collect();
+    BagPush {
+        trajectory: Trajectory::new(frames),
+        start_unix_s: base_s + start,
+        warnings,
+    }
 }
 
 /// The time intervals between pauses longer than `gap` seconds in either stream.
