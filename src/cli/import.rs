@@ -39,8 +39,8 @@ pub struct ImportArgs {
     /// Split into several pushes where the pusher or the object pauses for longer than this, seconds.
     #[arg(long, value_name = "SECONDS", value_parser = positive)]
     pub split_gap: Option<f64>,
-    /// Rate of the common time grid, Hz (default: the slower stream's rate).
-    #[arg(long, value_name = "HZ", value_parser = positive)]
+    /// Rate of the common time grid, Hz, at most 5000 (default: the slower stream's rate).
+    #[arg(long, value_name = "HZ", value_parser = rate)]
     pub rate: Option<f64>,
     /// Replace a set already in --out.
     #[arg(long)]
@@ -52,6 +52,17 @@ fn positive(text: &str) -> Result<f64, String> {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         _ => Err(format!("'{text}': expected a positive number")),
     }
+}
+
+fn rate(text: &str) -> Result<f64, String> {
+    let hz = positive(text)?;
+    if hz > bag::MAX_RATE_HZ {
+        return Err(format!(
+            "'{text}': expected at most {} Hz",
+            bag::MAX_RATE_HZ
+        ));
+    }
+    Ok(hz)
 }
 
 /// Runs the command.

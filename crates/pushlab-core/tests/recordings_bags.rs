@@ -373,3 +373,31 @@ fn corrupt_compressed_chunks_are_refused() {
         }
     }
 }
+
+/// Inputs the fuzzer found (`tests/nasty/mcap/fuzz_*`): each must be refused with an error, not a
+/// panic or an allocation of what a corrupt length claims.
+#[test]
+fn nasty_mcap_files_are_refused() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/nasty/mcap");
+    let mut count = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let bytes = std::fs::read(&path).unwrap();
+        let result = bag::import_bytes(
+            &bytes,
+            &path,
+            &spec("/pusher/pose"),
+            &spec("/object/pose"),
+            ImportOptions::default(),
+        );
+        let (file, _) = problem(result);
+        assert_eq!(file, path);
+        assert!(
+            bag::topics_bytes(&bytes, &path).is_err(),
+            "{}",
+            path.display()
+        );
+        count += 1;
+    }
+    assert!(count >= 1);
+}

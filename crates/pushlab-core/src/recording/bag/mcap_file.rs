@@ -1,17 +1,20 @@
 //! Walking the records of one MCAP file held in memory: schemas, channels and messages, inside
 //! chunks or not.
 //!
-//! Foxglove's `mcap` crate parses the records and checks the magic bytes and record lengths; it is
-//! built without its compression features, which compile the zstd and lz4 C libraries. Chunks are
-//! therefore taken whole from its linear reader and decompressed here with pure-Rust decoders
-//! (`ruzstd`, `lz4_flex`), their CRC checked, and their records walked directly: a message record
-//! is four fixed fields and the payload, and reading it in place (no copy, no allocation) is what
-//! keeps a bag of a million poses well under a second.
+//! Foxglove's `mcap` crate (its sans-IO linear reader) frames the file: it checks the magic bytes,
+//! record lengths, truncation and the data end and footer records, and hands over each record's
+//! opcode and body. It is built without its compression features, which compile the zstd and lz4 C
+//! libraries, so chunks are taken whole and decompressed here with pure-Rust decoders (`ruzstd`,
+//! `lz4_flex`), their CRC checked. The few record bodies pushlab needs (schema, channel, message,
+//! chunk) are read here too, with every length checked against the bytes present: the crate's own
+//! record parser reserves whatever a corrupt string length claims (fuzzing found a 2.5 GB
+//! allocation from a 100-byte file). Reading a message in place (no copy, no allocation) is also
+//! what keeps a bag of a million poses well under a second.
 
 use std::collections::HashMap;
 use std::io::Read;
 
-use mcap::records::Record;
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use crate::recording::error::BagProblem;
 
@@ -35,6 +38,7 @@ const MAX_RATIO: u64 = 4096;
 const OP_SCHEMA: u8 = 0x03;
 const OP_CHANNEL: u8 = 0x04;
 const OP_MESSAGE: u8 = 0x05;
+const OP_CHUNK: u8 = 0x06;
 
 /// Calls `on_message(channel, channel_id, log_time_ns, payload)` for every message of the file in
 /// file order. `channels` is filled as channel records appear; a message on a channel not yet
@@ -45,53 +49,120 @@ pub fn for_each_message(
     mut on_message: impl FnMut(&ChannelInfo, u16, u64, &[u8]) -> Result<(), BagProblem>,
 ) -> Result<(), BagProblem> {
     let mut schemas: HashMap<u16, String> = HashMap::new();
-    let reader = mcap::read::LinearReader::new(bytes).map_err(mcap_problem)?;
+    let mut reader = LinearReader::new_with_options(
+        LinearReaderOptions::default()
+            .with_emit_chunks(true)
+            .with_record_length_limit(bytes.len()),
+    );
+    let mut rest = bytes;
     let mut chunk_buffer = Vec::new();
     let mut chunk_index = 0;
-    for record in reader {
-        match record.map_err(mcap_problem)? {
-            Record::Schema { header, .. } => {
-                schemas.insert(header.id, header.name);
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| BagProblem::Mcap(e.to_string()))? {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = need.min(rest.len());
+                reader.insert(n).copy_from_slice(&rest[..n]);
+                reader.notify_read(n);
+                rest = &rest[n..];
             }
-            Record::Channel(channel) => add_channel(&schemas, channels, channel),
-            Record::Message { header, data } => {
-                let channel = channel_of(channels, header.channel_id)?;
-                on_message(channel, header.channel_id, header.log_time, &data)?;
-            }
-            Record::Chunk { header, data } => {
+            LinearReadEvent::Record {
+                opcode: OP_CHUNK,
+                data,
+            } => {
                 let fail = |why: String| BagProblem::Chunk {
                     index: chunk_index,
                     why,
                 };
-                let records = decompress(&header, &data, &mut chunk_buffer).map_err(fail)?;
-                walk_chunk(records, &mut schemas, channels, &mut on_message, &fail)?;
+                let records = decompress(data, &mut chunk_buffer).map_err(fail)?;
+                walk_records(records, &mut schemas, channels, &mut on_message, &fail)?;
                 chunk_index += 1;
             }
-            _ => {}
+            LinearReadEvent::Record { opcode, data } => {
+                let fail = |why: String| BagProblem::Mcap(why);
+                read_record(opcode, data, &mut schemas, channels, &mut on_message, &fail)?;
+            }
         }
     }
     Ok(())
 }
 
-#[allow(clippy::needless_pass_by_value)] // a `map_err` callback
-fn mcap_problem(err: mcap::McapError) -> BagProblem {
-    BagProblem::Mcap(err.to_string())
+/// Bounded little-endian reads from a record body.
+struct Body<'a>(&'a [u8]);
+
+impl<'a> Body<'a> {
+    fn bytes(&mut self, n: usize) -> Option<&'a [u8]> {
+        let (head, tail) = self.0.split_at_checked(n)?;
+        self.0 = tail;
+        Some(head)
+    }
+
+    fn u16(&mut self) -> Option<u16> {
+        Some(u16::from_le_bytes(self.bytes(2)?.try_into().ok()?))
+    }
+
+    fn u32(&mut self) -> Option<u32> {
+        Some(u32::from_le_bytes(self.bytes(4)?.try_into().ok()?))
+    }
+
+    fn u64(&mut self) -> Option<u64> {
+        Some(u64::from_le_bytes(self.bytes(8)?.try_into().ok()?))
+    }
+
+    /// A `u32`-prefixed UTF-8 string (invalid UTF-8 replaced: names are only shown and compared).
+    fn string(&mut self) -> Option<String> {
+        let len = self.u32()? as usize;
+        Some(String::from_utf8_lossy(self.bytes(len)?).into_owned())
+    }
 }
 
-fn add_channel(
-    schemas: &HashMap<u16, String>,
+fn read_record(
+    opcode: u8,
+    body: &[u8],
+    schemas: &mut HashMap<u16, String>,
     channels: &mut HashMap<u16, ChannelInfo>,
-    channel: mcap::records::Channel,
-) {
-    let type_name = schemas.get(&channel.schema_id).cloned().unwrap_or_default();
-    channels.insert(
-        channel.id,
-        ChannelInfo {
-            topic: channel.topic,
-            type_name,
-            encoding: channel.message_encoding,
-        },
-    );
+    on_message: &mut impl FnMut(&ChannelInfo, u16, u64, &[u8]) -> Result<(), BagProblem>,
+    fail: &impl Fn(String) -> BagProblem,
+) -> Result<(), BagProblem> {
+    let mut b = Body(body);
+    match opcode {
+        OP_MESSAGE => {
+            // channel id u16, sequence u32, log time u64, publish time u64, then the payload.
+            let (Some(channel_id), Some(_), Some(log_time), Some(_)) =
+                (b.u16(), b.u32(), b.u64(), b.u64())
+            else {
+                return Err(fail(format!(
+                    "a message record of {} bytes, expected at least 22",
+                    body.len()
+                )));
+            };
+            let channel = channel_of(channels, channel_id)?;
+            on_message(channel, channel_id, log_time, b.0)?;
+        }
+        OP_SCHEMA => {
+            let (Some(id), Some(name)) = (b.u16(), b.string()) else {
+                return Err(fail("a schema record is cut short".to_owned()));
+            };
+            schemas.insert(id, name);
+        }
+        OP_CHANNEL => {
+            let (Some(id), Some(schema_id), Some(topic), Some(encoding)) =
+                (b.u16(), b.u16(), b.string(), b.string())
+            else {
+                return Err(fail("a channel record is cut short".to_owned()));
+            };
+            let type_name = schemas.get(&schema_id).cloned().unwrap_or_default();
+            channels.insert(
+                id,
+                ChannelInfo {
+                    topic,
+                    type_name,
+                    encoding,
+                },
+            );
+        }
+        _ => {}
+    }
+    Ok(())
 }
 
 fn channel_of(channels: &HashMap<u16, ChannelInfo>, id: u16) -> Result<&ChannelInfo, BagProblem> {
@@ -104,13 +175,25 @@ fn channel_of(channels: &HashMap<u16, ChannelInfo>, id: u16) -> Result<&ChannelI
 
 /// The chunk's records, decompressed into `buffer` when compressed, after checking their length and
 /// CRC (a CRC of 0 means the writer did not compute one).
-fn decompress<'a>(
-    header: &mcap::records::ChunkHeader,
-    data: &'a [u8],
-    buffer: &'a mut Vec<u8>,
-) -> Result<&'a [u8], String> {
-    let size = header.uncompressed_size;
-    let records: &[u8] = if header.compression.is_empty() {
+fn decompress<'a>(chunk: &'a [u8], buffer: &'a mut Vec<u8>) -> Result<&'a [u8], String> {
+    // start time u64, end time u64, uncompressed size u64, uncompressed CRC u32, compression
+    // string, compressed size u64, then the compressed records.
+    let mut b = Body(chunk);
+    let (Some(_), Some(_), Some(size), Some(crc), Some(compression), Some(compressed_size)) =
+        (b.u64(), b.u64(), b.u64(), b.u32(), b.string(), b.u64())
+    else {
+        return Err("its header is cut short".to_owned());
+    };
+    let Some(data) = usize::try_from(compressed_size)
+        .ok()
+        .and_then(|n| b.bytes(n))
+    else {
+        return Err(format!(
+            "claims {compressed_size} bytes of records but holds {}",
+            b.0.len()
+        ));
+    };
+    let records: &[u8] = if compression.is_empty() {
         data
     } else {
         let limit = (data.len() as u64)
@@ -125,7 +208,7 @@ fn decompress<'a>(
         buffer.clear();
         // Bounded just above: `size` fits in memory.
         let size = size as usize;
-        match header.compression.as_str() {
+        match compression.as_str() {
             "zstd" => {
                 buffer.reserve_exact(size);
                 ruzstd::decoding::FrameDecoder::new()
@@ -152,12 +235,11 @@ fn decompress<'a>(
             records.len()
         ));
     }
-    if header.uncompressed_crc != 0 {
-        let crc = crc32fast::hash(records);
-        if crc != header.uncompressed_crc {
+    if crc != 0 {
+        let computed = crc32fast::hash(records);
+        if computed != crc {
             return Err(format!(
-                "CRC is {crc:08x}, but its header says {:08x}: the file is corrupt",
-                header.uncompressed_crc
+                "CRC is {computed:08x}, but its header says {crc:08x}: the file is corrupt"
             ));
         }
     }
@@ -165,7 +247,7 @@ fn decompress<'a>(
 }
 
 /// Walks the records of a decompressed chunk: `opcode: u8`, `length: u64`, then the body.
-fn walk_chunk(
+fn walk_records(
     mut records: &[u8],
     schemas: &mut HashMap<u16, String>,
     channels: &mut HashMap<u16, ChannelInfo>,
@@ -186,30 +268,7 @@ fn walk_chunk(
         }
         let (body, rest) = rest.split_at(len as usize);
         records = rest;
-        match op {
-            OP_MESSAGE => {
-                // channel id u16, sequence u32, log time u64, publish time u64, then the payload.
-                let Some((fixed, payload)) = body.split_first_chunk::<22>() else {
-                    return Err(fail(format!(
-                        "a message record of {len} bytes, expected at least 22"
-                    )));
-                };
-                let channel_id = u16::from_le_bytes([fixed[0], fixed[1]]);
-                let mut log_time = [0; 8];
-                log_time.copy_from_slice(&fixed[6..14]);
-                let channel = channel_of(channels, channel_id)?;
-                on_message(channel, channel_id, u64::from_le_bytes(log_time), payload)?;
-            }
-            OP_SCHEMA | OP_CHANNEL => match mcap::parse_record(op, body) {
-                Ok(Record::Schema { header, .. }) => {
-                    schemas.insert(header.id, header.name);
-                }
-                Ok(Record::Channel(channel)) => add_channel(schemas, channels, channel),
-                Ok(_) => {}
-                Err(e) => return Err(fail(format!("a schema or channel record: {e}"))),
-            },
-            _ => {}
-        }
+        read_record(op, body, schemas, channels, on_message, fail)?;
     }
     Ok(())
 }

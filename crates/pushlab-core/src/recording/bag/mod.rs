@@ -167,9 +167,21 @@ impl TopicTable {
 
 /// Lists the topics of a bag with their types, message counts and log-time span.
 pub fn topics(path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
+    topics_in(&bag_files(path)?, read_file)
+}
+
+/// Lists the topics of one `.mcap` file held in memory; `path` is only used in messages.
+pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
+    topics_in(&[path.to_path_buf()], |_| Ok(bytes.to_vec()))
+}
+
+fn topics_in(
+    files: &[PathBuf],
+    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
+) -> Result<Vec<TopicInfo>, LoadError> {
     let mut table = TopicTable::default();
-    for file in bag_files(path)? {
-        let bytes = read_file(&file)?;
+    for file in files {
+        let bytes = load(file)?;
         let mut channels = HashMap::new();
         for_each_message(&bytes, &mut channels, |channel, _, log_time, _| {
             table.note(channel, log_time);
@@ -255,6 +267,32 @@ pub fn read_streams(
     pusher: &TopicSpec,
     object: &TopicSpec,
 ) -> Result<BagStreams, LoadError> {
+    read_streams_in(path, &bag_files(path)?, read_file, pusher, object)
+}
+
+/// [`read_streams`] of one `.mcap` file held in memory; `path` is only used in messages.
+pub fn read_streams_bytes(
+    bytes: &[u8],
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
+    read_streams_in(
+        path,
+        &[path.to_path_buf()],
+        |_| Ok(bytes.to_vec()),
+        pusher,
+        object,
+    )
+}
+
+fn read_streams_in(
+    path: &Path,
+    files: &[PathBuf],
+    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
     let mut streams = [pusher, object].map(|spec| Stream {
         spec,
         rows: Vec::new(),
@@ -264,9 +302,8 @@ pub fn read_streams(
     });
     let mut table = TopicTable::default();
     let mut base: Option<u64> = None;
-    let files = bag_files(path)?;
-    for file in &files {
-        let bytes = read_file(file)?;
+    for file in files {
+        let bytes = load(file)?;
         let mut channels = HashMap::new();
         // The role and type of each channel id, decided once per channel.
         let mut roles: HashMap<u16, Option<([bool; 2], PoseType)>> = HashMap::new();
@@ -439,4 +476,6 @@ fn read_message(
     Ok(())
 }
 
-pub use self::split::{BagImport, BagPush, ImportOptions, import, resample_streams};
+pub use self::split::{
+    BagImport, BagPush, ImportOptions, MAX_RATE_HZ, import, import_bytes, resample_streams,
+};

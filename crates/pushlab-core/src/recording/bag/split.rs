@@ -5,17 +5,22 @@ use std::path::Path;
 
 use nalgebra::Point2;
 
-use super::{BagStreams, TopicInfo, TopicSpec, read_streams};
+use super::{BagStreams, TopicInfo, TopicSpec, read_streams, read_streams_bytes};
 use crate::geometry::Pose2;
 use crate::recording::error::{BagProblem, LoadError};
 use crate::recording::mit_push::{MIN_DURATION_S, MIN_ROWS};
 use crate::recording::resample::{Interpolator, SpanProblem, clean, grid, unwrap_yaw};
 use crate::trajectory::{Frame, Trajectory};
 
+/// Highest grid rate, Hz: far above what a pose tracker publishes, and it bounds the frames a push
+/// can have (with [`crate::recording::mit_push::MAX_DURATION_S`]) whatever the stamps say.
+pub const MAX_RATE_HZ: f64 = 5_000.0;
+
 /// How a bag becomes pushes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImportOptions {
-    /// Rate of the common grid, Hz; `None`: the slower stream's mean rate, rounded to whole Hz.
+    /// Rate of the common grid, Hz; `None`: the slower stream's rate (from its median step), rounded
+    /// to whole Hz. Clamped to 1 … [`MAX_RATE_HZ`].
     pub rate_hz: Option<f64>,
     /// Split into several pushes where either stream pauses for longer than this, seconds; `None`:
     /// the whole bag is one push.
@@ -49,15 +54,37 @@ pub fn import(
     options: ImportOptions,
 ) -> Result<BagImport, LoadError> {
     let streams = read_streams(path, pusher, object)?;
+    finish(path, &streams, pusher, object, options)
+}
+
+/// Imports one `.mcap` file held in memory; `path` is only used in messages.
+pub fn import_bytes(
+    bytes: &[u8],
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+    options: ImportOptions,
+) -> Result<BagImport, LoadError> {
+    let streams = read_streams_bytes(bytes, path, pusher, object)?;
+    finish(path, &streams, pusher, object, options)
+}
+
+fn finish(
+    path: &Path,
+    streams: &BagStreams,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+    options: ImportOptions,
+) -> Result<BagImport, LoadError> {
     let (pushes, rate_hz) =
-        resample_streams(&streams, pusher, object, options).map_err(|problem| LoadError::Bag {
+        resample_streams(streams, pusher, object, options).map_err(|problem| LoadError::Bag {
             path: path.to_path_buf(),
             problem,
         })?;
     Ok(BagImport {
         pushes,
         rate_hz,
-        topics: streams.topics,
+        topics: streams.topics.clone(),
     })
 }
 
@@ -90,7 +117,8 @@ pub fn resample_streams(
     let (tip_rate, obj_rate) = (median_rate(&tip_all), median_rate(&obj_all));
     let rate_hz = options
         .rate_hz
-        .unwrap_or_else(|| tip_rate.min(obj_rate).round().max(1.0));
+        .unwrap_or_else(|| tip_rate.min(obj_rate).round())
+        .clamp(1.0, MAX_RATE_HZ);
     let mut common = streams.warnings.clone();
     if (tip_rate - obj_rate).abs() > 0.1 * tip_rate.max(obj_rate) {
         common.push(format!(
