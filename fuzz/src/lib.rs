@@ -104,3 +104,25 @@ pub fn model(data: &[u8]) {
         );
     }
 }
+
+/// The ROS 2 bag importer (MCAP records, chunk decompression and CRCs, CDR, cleaning and
+/// resampling) on one `.mcap` file, with a PoseStamped-style pusher topic and a `/tf` object (the
+/// seeds' topics), and the topic listing.
+pub fn mcap(data: &[u8]) {
+    use pushlab_core::recording::bag::{self, ImportOptions, TopicSpec};
+    let path = Path::new("fuzz.mcap");
+    let spec = |text: &str| -> TopicSpec { text.parse().expect("a valid topic spec") };
+    for (pusher, object) in [("/pusher/pose", "/object/pose"), ("/tf:pusher_tip", "/tf:box")] {
+        let options = ImportOptions {
+            rate_hz: None,
+            split_gap_s: Some(0.5),
+        };
+        if let Ok(import) = bag::import_bytes(data, path, &spec(pusher), &spec(object), options) {
+            assert!(!import.pushes.is_empty());
+            for push in &import.pushes {
+                check_trajectory(&push.trajectory);
+            }
+        }
+    }
+    let _ = bag::topics_bytes(data, path);
+}

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod experiment;
+mod import;
 mod labels;
 mod simulate;
 mod validate;
@@ -35,7 +36,10 @@ enum Command {
     },
     /// Generate recording sets with the quasi-static push simulator (true COM offset and h known).
     Simulate(Box<simulate::SimulateArgs>),
-    /// Load recordings and report, one line per recording, ok / warnings / error (exit 1 on any error).
+    /// Import a ROS 2 bag (.mcap file or rosbag2 folder) into a native recording set.
+    Import(Box<import::ImportArgs>),
+    /// Load recordings and report, one line per recording, ok / warnings / error (exit 1 on any error);
+    /// for a ROS 2 bag, list its topics with their types, counts and rates.
     Validate(validate::ValidateArgs),
     /// Train the combined model (and with --baseline the pure network) offline; write a model file.
     Train(experiment::train::TrainArgs),
@@ -69,6 +73,13 @@ pub fn run() -> ExitCode {
             }
         },
         Some(Command::Validate(args)) => validate::run(&args),
+        Some(Command::Import(args)) => match import::run(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(err) => {
+                eprintln!("pushlab: {err:#}");
+                ExitCode::from(1)
+            }
+        },
         Some(Command::Train(args)) => experiment::exit_code(experiment::train::run(&args)),
         Some(Command::Eval(args)) => experiment::exit_code(experiment::eval::run(&args)),
         Some(Command::Suite(args)) => experiment::exit_code(experiment::suite::run(&args)),

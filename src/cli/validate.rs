@@ -6,6 +6,10 @@
 //! - `N warning(s): PATH: first; second; …`
 //! - `error: PATH[ line L]: what is wrong, expected what`
 //!
+//! A ROS 2 bag (an `.mcap` file or a rosbag2 folder) holds no push until its topics are chosen, so
+//! for one the lines list its topics instead (`topic: PATH: NAME TYPE, N messages, R Hz[, readable]`)
+//! and an unreadable bag is an `error:` line.
+//!
 //! Exit code 0 when every recording loaded (warnings allowed), 1 when any did not, 2 for wrong
 //! arguments (handled by clap before this runs).
 
@@ -13,19 +17,34 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
+use pushlab_core::recording::bag;
 use pushlab_core::recording::load_paths;
 
 /// Arguments of `pushlab validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
-    /// Set folders, CSV files inside a set, MIT Push Dataset .json/.h5 files, or folders of them.
+    /// Set folders, CSV files inside a set, MIT Push Dataset .json/.h5 files, or folders of them;
+    /// ROS 2 bags (.mcap files, rosbag2 folders) to list their topics.
     #[arg(required = true)]
     pub paths: Vec<PathBuf>,
 }
 
 /// Runs the command; see the module documentation for the output and exit codes.
 pub fn run(args: &ValidateArgs) -> ExitCode {
-    let report = load_paths(&args.paths);
+    let (bags, paths): (Vec<PathBuf>, Vec<PathBuf>) =
+        args.paths.iter().cloned().partition(|p| bag::is_bag(p));
+    let mut failed = false;
+    for path in &bags {
+        failed |= !list_topics(path);
+    }
+    if paths.is_empty() {
+        return if failed {
+            ExitCode::from(1)
+        } else {
+            ExitCode::SUCCESS
+        };
+    }
+    let report = load_paths(&paths);
     let mut with_warnings = 0;
     for set in &report.sets {
         for recording in &set.recordings {
@@ -52,9 +71,43 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         report.recording_count(),
         report.errors.len()
     );
-    if report.errors.is_empty() {
+    if report.errors.is_empty() && !failed {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     }
+}
+
+/// Prints the topics of the bag at `path`, one line each; whether the bag could be read.
+fn list_topics(path: &std::path::Path) -> bool {
+    let topics = match bag::topics(path) {
+        Ok(topics) => topics,
+        Err(err) => {
+            println!("error: {err}");
+            return false;
+        }
+    };
+    let readable = topics.iter().filter(|t| t.pose_type().is_some()).count();
+    for topic in &topics {
+        println!(
+            "topic: {}: {} {}, {} messages, {:.1} Hz{}",
+            path.display(),
+            topic.topic,
+            topic.type_name,
+            topic.count,
+            topic.rate_hz(),
+            if topic.pose_type().is_some() {
+                ", readable"
+            } else {
+                ""
+            }
+        );
+    }
+    println!(
+        "{}: {} topic(s), {readable} readable as a pusher or object pose; import with pushlab import {} --pusher TOPIC[:CHILD_FRAME] --object TOPIC[:CHILD_FRAME] --setting SETTING.json --out SET",
+        path.display(),
+        topics.len(),
+        path.display()
+    );
+    true
 }

@@ -41,6 +41,10 @@ pub enum LoadError {
     /// An MIT Push Dataset file that cannot be used.
     #[error("{}: {problem}", path.display())]
     Mit { path: PathBuf, problem: MitProblem },
+    /// A ROS 2 bag (an `.mcap` file or a rosbag2 folder) that cannot be used; `path` is the `.mcap`
+    /// file the problem is in, or the folder.
+    #[error("{}: {problem}", path.display())]
+    Bag { path: PathBuf, problem: BagProblem },
     /// A path that is none of the things pushlab can open.
     #[error(
         "{}: not a recording: expected a native set folder (with setting.json), a folder of sets, a CSV inside a set, or an MIT Push Dataset .json/.h5 file",
@@ -78,6 +82,7 @@ impl LoadError {
             | LoadError::MissingTrajectory { path }
             | LoadError::NoSetting { path }
             | LoadError::Mit { path, .. }
+            | LoadError::Bag { path, .. }
             | LoadError::NotRecognised { path }
             | LoadError::TooLarge { path, .. }
             | LoadError::NothingFound { path } => path,
@@ -177,6 +182,80 @@ pub enum MitProblem {
         "the tip and object streams overlap for only {seconds:.3} s, expected at least {min} s"
     )]
     TooShort { seconds: f64, min: f64 },
+}
+
+/// What is wrong with a ROS 2 bag, or with the topics asked of it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BagProblem {
+    #[error("not a readable MCAP file: {0}")]
+    Mcap(String),
+    #[error("chunk {index} (counting from 0): {why}")]
+    Chunk { index: usize, why: String },
+    #[error(
+        "a rosbag2 folder, but it holds no .mcap file (expected the files metadata.yaml lists)"
+    )]
+    NoMcapFiles,
+    #[error("no topic `{topic}` in the bag; its topics: {available}")]
+    MissingTopic { topic: String, available: String },
+    #[error(
+        "topic `{topic}` carries {type_name} (encoding {encoding}), which pushlab cannot read; it reads \
+         geometry_msgs/msg/PoseStamped, tf2_msgs/msg/TFMessage, nav_msgs/msg/Odometry and \
+         geometry_msgs/msg/Pose2D in CDR; the bag's topics: {available}"
+    )]
+    UnsupportedType {
+        topic: String,
+        type_name: String,
+        encoding: String,
+        available: String,
+    },
+    #[error(
+        "topic `{topic}` is a tf2_msgs/msg/TFMessage: name the child frame, as `{topic}:FRAME`{}",
+        seen_frames(seen)
+    )]
+    NeedChildFrame { topic: String, seen: Vec<String> },
+    #[error(
+        "topic `{topic}` has no transform with child frame `{frame}`{}",
+        seen_frames(seen)
+    )]
+    NoChildFrame {
+        topic: String,
+        frame: String,
+        seen: Vec<String>,
+    },
+    #[error("topic `{topic}` message {index} ({type_name}): cannot decode: {why}")]
+    Decode {
+        topic: String,
+        /// 0-based among the topic's messages, in file order.
+        index: u64,
+        type_name: &'static str,
+        why: String,
+    },
+    #[error("topic `{topic}` message {index}: {why}")]
+    BadValue {
+        topic: String,
+        index: u64,
+        why: String,
+    },
+    #[error("`{topic}` has only {rows} usable messages, expected at least {min}")]
+    TooFewRows {
+        topic: String,
+        rows: usize,
+        min: usize,
+    },
+    #[error("the pusher and object streams span {seconds:.0} s, expected a push shorter than {max} s (broken timestamps?); split it with --split-gap", max = crate::recording::mit_push::MAX_DURATION_S)]
+    TooLong { seconds: f64 },
+    #[error(
+        "the pusher and object streams overlap for only {seconds:.3} s, expected at least {min} s"
+    )]
+    TooShort { seconds: f64, min: f64 },
+}
+
+fn seen_frames(seen: &[String]) -> String {
+    if seen.is_empty() {
+        "; it carries no transforms".to_owned()
+    } else {
+        format!("; child frames seen: {}", seen.join(", "))
+    }
 }
 
 /// Why a recording set could not be written.

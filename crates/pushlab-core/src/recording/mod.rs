@@ -5,19 +5,21 @@
 //! into [`RecordingSet`]s. [`load_paths`] is the one entry point for opening whatever a user points at;
 //! [`write_set`] writes a native set.
 
+pub mod bag;
 mod describe;
 mod error;
 mod load;
 pub mod mit_push;
 pub mod native;
 mod read;
+mod resample;
 mod setting;
 
 use std::path::PathBuf;
 use std::sync::Arc;
 
 pub use describe::{PushParameters, SidePosition};
-pub use error::{CsvProblem, LoadError, MitProblem, WriteError};
+pub use error::{BagProblem, CsvProblem, LoadError, MitProblem, WriteError};
 pub use load::{LoadReport, load_paths};
 pub use native::{read_set, write_set};
 pub use read::{MEMORY_PER_FILE_BYTE, available_memory};

@@ -31,7 +31,8 @@ use serde::Deserialize;
 pub(crate) use self::set::recordings_for;
 pub use self::set::{KEY_REP, KEY_SHAPE, KEY_SIDE, KEY_SIDE_POSITION, KEY_SPEED, MitShape, shape};
 use super::error::{LoadError, MitProblem};
-use crate::geometry::{Pose2, unwrap_angles};
+use super::resample::{self, Interpolator, SpanProblem, grid, unwrap_yaw};
+use crate::geometry::Pose2;
 use crate::trajectory::{Frame, Trajectory};
 
 /// Rate of the common time grid the streams are resampled onto, Hz: the dataset's nominal rate.
@@ -289,31 +290,14 @@ fn align(
             n_ft - 1
         ));
     }
-    let mut yaw: Vec<f64> = object.iter().map(|r| r[3]).collect();
-    let wraps = unwrap_angles(&mut yaw);
-    if wraps > 0 {
-        warnings.push(format!("object yaw wraps at ±π {wraps} time(s); unwrapped"));
-        for (row, y) in object.iter_mut().zip(&yaw) {
-            row[3] = *y;
-        }
-    }
-
-    let start = tip[0][0].max(object[0][0]);
-    let end = tip[tip.len() - 1][0].min(object[object.len() - 1][0]);
-    let duration = end - start;
-    // Written so that a NaN duration is refused too.
-    if duration.is_nan() || duration < MIN_DURATION_S {
-        return Err(MitProblem::TooShort {
-            seconds: duration.max(0.0),
+    unwrap_yaw("object", &mut object, &mut warnings);
+    let (start, count) = grid(&tip, &object, RESAMPLE_HZ).map_err(|problem| match problem {
+        SpanProblem::TooShort(seconds) => MitProblem::TooShort {
+            seconds,
             min: MIN_DURATION_S,
-        });
-    }
-    if duration > MAX_DURATION_S {
-        return Err(MitProblem::TooLong { seconds: duration });
-    }
-    // Truncation is intended: the grid never reaches past the shorter stream. Bounded by
-    // MAX_DURATION_S × RESAMPLE_HZ.
-    let count = (duration * RESAMPLE_HZ).floor() as usize + 1;
+        },
+        SpanProblem::TooLong(seconds) => MitProblem::TooLong { seconds },
+    })?;
     let mut tip_at = Interpolator::new(&tip);
     let mut object_at = Interpolator::new(&object);
     let frames = (0..count)
@@ -369,60 +353,20 @@ fn check_ranges(streams: &Streams) -> Result<(), MitProblem> {
     Ok(())
 }
 
-/// Keeps the rows whose timestamp increases, reporting backwards and repeated stamps and long gaps.
+/// Keeps the rows whose timestamp increases (see [`resample::clean`]) and refuses a stream left
+/// with fewer than [`MIN_ROWS`].
 fn clean(
     key: &'static str,
     rows: &[[f64; 4]],
     warnings: &mut Vec<String>,
 ) -> Result<Vec<[f64; 4]>, MitProblem> {
-    let mut kept: Vec<[f64; 4]> = Vec::with_capacity(rows.len());
-    let (mut backwards, mut worst, mut repeated) = (0usize, 0.0f64, 0usize);
-    for (i, row) in rows.iter().enumerate() {
-        if i > 0 {
-            let step = row[0] - rows[i - 1][0];
-            if step < 0.0 {
-                backwards += 1;
-                worst = worst.min(step);
-            } else if step == 0.0 {
-                repeated += 1;
-            }
-        }
-        if kept.last().is_none_or(|last| row[0] > last[0]) {
-            kept.push(*row);
-        }
-    }
-    let dropped = rows.len() - kept.len();
-    if backwards > 0 {
-        warnings.push(format!(
-            "{key}: {backwards} timestamp(s) step backwards (worst {:.1} ms); {dropped} row(s) out of order dropped",
-            worst * 1e3
-        ));
-    } else if repeated > 0 {
-        warnings.push(format!(
-            "{key}: {repeated} repeated timestamp(s); {dropped} row(s) dropped"
-        ));
-    }
+    let kept = resample::clean(key, rows, warnings);
     if kept.len() < MIN_ROWS {
         return Err(MitProblem::TooFewRows {
             key,
             rows: kept.len(),
             min: MIN_ROWS,
         });
-    }
-    let (mut gaps, mut longest) = (0usize, 0.0f64);
-    for pair in kept.windows(2) {
-        let step = pair[1][0] - pair[0][0];
-        if step > GAP_WARN_S {
-            gaps += 1;
-            longest = longest.max(step);
-        }
-    }
-    if gaps > 0 {
-        warnings.push(format!(
-            "{key}: {gaps} gap(s) over {:.0} ms (longest {:.1} ms); interpolated across",
-            GAP_WARN_S * 1e3,
-            longest * 1e3
-        ));
     }
     Ok(kept)
 }
@@ -436,39 +380,3 @@ fn repeated_wrench_rows(rows: &[[f64; 4]]) -> usize {
 
 /// Share of repeated rows above which the force stream counts as frozen.
 const FROZEN_SHARE: f64 = 0.5;
-
-/// Linear interpolation in a time-sorted stream, for queries at increasing times (a moving cursor
-/// makes resampling linear in the number of rows). Queries outside the stream clamp to its ends.
-struct Interpolator<'a> {
-    rows: &'a [[f64; 4]],
-    cursor: usize,
-}
-
-impl<'a> Interpolator<'a> {
-    fn new(rows: &'a [[f64; 4]]) -> Self {
-        Self { rows, cursor: 0 }
-    }
-
-    fn at(&mut self, t: f64) -> [f64; 4] {
-        let rows = self.rows;
-        while self.cursor + 2 < rows.len() && rows[self.cursor + 1][0] <= t {
-            self.cursor += 1;
-        }
-        let (a, b) = (
-            rows[self.cursor],
-            rows[(self.cursor + 1).min(rows.len() - 1)],
-        );
-        let span = b[0] - a[0];
-        let w = if span > 0.0 {
-            ((t - a[0]) / span).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        [
-            t,
-            a[1] + w * (b[1] - a[1]),
-            a[2] + w * (b[2] - a[2]),
-            a[3] + w * (b[3] - a[3]),
-        ]
-    }
-}

@@ -1,0 +1,481 @@
+//! Import of ROS 2 bags: `.mcap` files and rosbag2 folders (a `metadata.yaml` beside `.mcap` files),
+//! as `ros2 bag record` writes them since ROS 2 Iron.
+//!
+//! A bag holds many topics; the pusher and the object are two of them, named by the user (a topic,
+//! and for `/tf` the child frame). Each message gives a planar pose: its header stamp (the log time
+//! where the stamp is zero or the type has none), x, y and the yaw of its quaternion. The two
+//! streams then go through the same cleaning and resampling as MIT Push Dataset files
+//! ([`super::resample`]): stamps that do not increase are dropped and reported, gaps are reported,
+//! and both are interpolated onto one grid over the interval both cover.
+//!
+//! Frames are taken as published: both streams must be in the same fixed frame (no transform tree
+//! is resolved).
+
+mod cdr;
+mod mcap_file;
+mod split;
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
+use self::mcap_file::{ChannelInfo, for_each_message};
+use super::error::{BagProblem, LoadError};
+use super::read::read_file;
+
+/// Whether `path` looks like a bag: an `.mcap` file, or a folder with `metadata.yaml`.
+pub fn is_bag(path: &Path) -> bool {
+    if path.is_dir() {
+        path.join("metadata.yaml").is_file()
+    } else {
+        path.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
+    }
+}
+
+/// The `.mcap` files of a bag, in recording order: the file itself, or those a rosbag2 folder's
+/// `metadata.yaml` lists (all `.mcap` files of the folder by name when it lists none).
+pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, LoadError> {
+    if !path.is_dir() {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let metadata = path.join("metadata.yaml");
+    let text = std::fs::read_to_string(&metadata).map_err(|e| LoadError::io(&metadata, e))?;
+    let mut files: Vec<PathBuf> = listed_files(&text)
+        .into_iter()
+        .map(|name| path.join(name))
+        .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+        .collect();
+    if files.is_empty() {
+        let entries = std::fs::read_dir(path).map_err(|e| LoadError::io(path, e))?;
+        files = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+            .collect();
+        files.sort();
+    }
+    if files.is_empty() {
+        return Err(LoadError::Bag {
+            path: path.to_path_buf(),
+            problem: BagProblem::NoMcapFiles,
+        });
+    }
+    Ok(files)
+}
+
+/// The entries of `relative_file_paths:` in a rosbag2 `metadata.yaml` (a YAML block list of plain
+/// names; a YAML library would be a dependency for three lines).
+fn listed_files(yaml: &str) -> Vec<String> {
+    let mut files = Vec::new();
+    let mut in_list = None;
+    for line in yaml.lines() {
+        let indent = line.len() - line.trim_start().len();
+        let trimmed = line.trim();
+        if trimmed.starts_with("relative_file_paths:") {
+            in_list = Some(indent);
+            continue;
+        }
+        let Some(list_indent) = in_list else { continue };
+        if let Some(item) = trimmed.strip_prefix("- ") {
+            files.push(item.trim().trim_matches(['"', '\'']).to_owned());
+        } else if !trimmed.is_empty() && indent <= list_indent {
+            in_list = None;
+        }
+    }
+    files
+}
+
+/// One topic of a bag, for listing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TopicInfo {
+    pub topic: String,
+    /// The message type (the schema name), e.g. `geometry_msgs/msg/PoseStamped`.
+    pub type_name: String,
+    pub encoding: String,
+    pub count: u64,
+    /// First and last log time, nanoseconds.
+    pub first_ns: u64,
+    pub last_ns: u64,
+}
+
+impl TopicInfo {
+    /// Messages per second of log time (0 for fewer than two messages).
+    pub fn rate_hz(&self) -> f64 {
+        let span = self.last_ns.saturating_sub(self.first_ns) as f64 * 1e-9;
+        if self.count < 2 || span <= 0.0 {
+            0.0
+        } else {
+            (self.count - 1) as f64 / span
+        }
+    }
+
+    /// The type pushlab reads it as, when it can (CDR-encoded and a known type).
+    pub fn pose_type(&self) -> Option<PoseType> {
+        (self.encoding == "cdr")
+            .then(|| PoseType::from_schema(&self.type_name))
+            .flatten()
+    }
+}
+
+/// Topics by name, accumulating over the files of a bag.
+#[derive(Default)]
+struct TopicTable(BTreeMap<String, TopicInfo>);
+
+impl TopicTable {
+    fn note(&mut self, channel: &ChannelInfo, log_time: u64) {
+        let info = self
+            .0
+            .entry(channel.topic.clone())
+            .or_insert_with(|| TopicInfo {
+                topic: channel.topic.clone(),
+                type_name: channel.type_name.clone(),
+                encoding: channel.encoding.clone(),
+                count: 0,
+                first_ns: log_time,
+                last_ns: log_time,
+            });
+        info.count += 1;
+        info.first_ns = info.first_ns.min(log_time);
+        info.last_ns = info.last_ns.max(log_time);
+    }
+
+    fn add_silent(&mut self, channel: &ChannelInfo) {
+        self.0
+            .entry(channel.topic.clone())
+            .or_insert_with(|| TopicInfo {
+                topic: channel.topic.clone(),
+                type_name: channel.type_name.clone(),
+                encoding: channel.encoding.clone(),
+                count: 0,
+                first_ns: 0,
+                last_ns: 0,
+            });
+    }
+
+    /// `"/a (type, N messages), /b (…)"` for error messages.
+    fn listing(&self) -> String {
+        if self.0.is_empty() {
+            return "none".to_owned();
+        }
+        self.0
+            .values()
+            .map(|t| format!("{} ({}, {} messages)", t.topic, t.type_name, t.count))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// Lists the topics of a bag with their types, message counts and log-time span.
+pub fn topics(path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
+    topics_in(&bag_files(path)?, read_file)
+}
+
+/// Lists the topics of one `.mcap` file held in memory; `path` is only used in messages.
+pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
+    topics_in(&[path.to_path_buf()], |_| Ok(bytes.to_vec()))
+}
+
+fn topics_in(
+    files: &[PathBuf],
+    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
+) -> Result<Vec<TopicInfo>, LoadError> {
+    let mut table = TopicTable::default();
+    for file in files {
+        let bytes = load(file)?;
+        let mut channels = HashMap::new();
+        for_each_message(&bytes, &mut channels, |channel, _, log_time, _| {
+            table.note(channel, log_time);
+            Ok(())
+        })
+        .map_err(|problem| LoadError::Bag {
+            path: file.clone(),
+            problem,
+        })?;
+        for channel in channels.values() {
+            table.add_silent(channel);
+        }
+    }
+    Ok(table.0.into_values().collect())
+}
+
+/// A topic to read poses from, `TOPIC[:CHILD_FRAME]`; the child frame picks one transform of a
+/// `tf2_msgs/msg/TFMessage` topic such as `/tf`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TopicSpec {
+    pub topic: String,
+    pub child_frame: Option<String>,
+}
+
+impl std::str::FromStr for TopicSpec {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        let (topic, child_frame) = match text.split_once(':') {
+            Some((topic, frame)) => (topic, Some(frame.to_owned())),
+            None => (text, None),
+        };
+        if topic.is_empty() || child_frame.as_deref() == Some("") {
+            return Err(format!("'{text}': expected TOPIC or TOPIC:CHILD_FRAME"));
+        }
+        Ok(Self {
+            topic: topic.to_owned(),
+            child_frame,
+        })
+    }
+}
+
+impl std::fmt::Display for TopicSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.child_frame {
+            Some(frame) => write!(f, "{}:{frame}", self.topic),
+            None => write!(f, "{}", self.topic),
+        }
+    }
+}
+
+/// The raw pose streams of the pusher and the object, rows `[t, x, y, yaw]` with `t` in seconds
+/// since `base_unix_ns`, in file order (not yet cleaned).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BagStreams {
+    pub pusher: Vec<[f64; 4]>,
+    pub object: Vec<[f64; 4]>,
+    /// Unix time, nanoseconds, that `t = 0` stands for: the first pose's time.
+    pub base_unix_ns: u64,
+    /// Every topic of the bag.
+    pub topics: Vec<TopicInfo>,
+    /// Recoverable oddities found while reading (stamps replaced by log times).
+    pub warnings: Vec<String>,
+}
+
+/// Largest position magnitude accepted, metres (as for MIT files).
+const MAX_POSITION_M: f64 = super::mit_push::MAX_POSITION_M;
+
+/// Per-stream reading state.
+struct Stream<'a> {
+    spec: &'a TopicSpec,
+    rows: Vec<[f64; 4]>,
+    /// Messages seen on the topic in the current file, for error messages.
+    index: u64,
+    unstamped: u64,
+    child_frames_seen: Vec<String>,
+}
+
+/// Reads the pusher's and the object's poses from a bag. A topic that is missing, of a type
+/// pushlab cannot read, or a `/tf` child frame never published is refused with the bag's topics.
+pub fn read_streams(
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
+    read_streams_in(path, &bag_files(path)?, read_file, pusher, object)
+}
+
+/// [`read_streams`] of one `.mcap` file held in memory; `path` is only used in messages.
+pub fn read_streams_bytes(
+    bytes: &[u8],
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
+    read_streams_in(
+        path,
+        &[path.to_path_buf()],
+        |_| Ok(bytes.to_vec()),
+        pusher,
+        object,
+    )
+}
+
+fn read_streams_in(
+    path: &Path,
+    files: &[PathBuf],
+    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
+    let mut streams = [pusher, object].map(|spec| Stream {
+        spec,
+        rows: Vec::new(),
+        index: 0,
+        unstamped: 0,
+        child_frames_seen: Vec::new(),
+    });
+    let mut table = TopicTable::default();
+    let mut base: Option<u64> = None;
+    for file in files {
+        let bytes = load(file)?;
+        let mut channels = HashMap::new();
+        // The role and type of each channel id, decided once per channel.
+        let mut roles: HashMap<u16, Option<([bool; 2], PoseType)>> = HashMap::new();
+        for stream in &mut streams {
+            stream.index = 0;
+        }
+        let fail = |problem| LoadError::Bag {
+            path: file.clone(),
+            problem,
+        };
+        for_each_message(&bytes, &mut channels, |channel, id, log_time, payload| {
+            table.note(channel, log_time);
+            let role = *roles.entry(id).or_insert_with(|| {
+                let kind = PoseType::from_schema(&channel.type_name)
+                    .filter(|_| channel.encoding == "cdr")?;
+                let feeds = [pusher, object].map(|spec| spec.topic == channel.topic);
+                feeds.contains(&true).then_some((feeds, kind))
+            });
+            let Some((feeds, kind)) = role else {
+                return Ok(());
+            };
+            read_message(
+                &mut streams,
+                feeds,
+                kind,
+                channel,
+                log_time,
+                payload,
+                &mut base,
+            )
+        })
+        .map_err(fail)?;
+        for channel in channels.values() {
+            table.add_silent(channel);
+        }
+    }
+    let bag_error = |problem| LoadError::Bag {
+        path: path.to_path_buf(),
+        problem,
+    };
+    let mut warnings = Vec::new();
+    for stream in &streams {
+        let spec = stream.spec;
+        let Some(info) = table.0.get(&spec.topic) else {
+            return Err(bag_error(BagProblem::MissingTopic {
+                topic: spec.topic.clone(),
+                available: table.listing(),
+            }));
+        };
+        let Some(kind) = info.pose_type() else {
+            return Err(bag_error(BagProblem::UnsupportedType {
+                topic: spec.topic.clone(),
+                type_name: info.type_name.clone(),
+                encoding: info.encoding.clone(),
+                available: table.listing(),
+            }));
+        };
+        if kind == PoseType::TfMessage
+            && let Some(frame) = &spec.child_frame
+            && stream.rows.is_empty()
+        {
+            return Err(bag_error(BagProblem::NoChildFrame {
+                topic: spec.topic.clone(),
+                frame: frame.clone(),
+                seen: stream.child_frames_seen.clone(),
+            }));
+        }
+        if stream.unstamped > 0 {
+            warnings.push(format!(
+                "{spec}: {} of {} pose(s) without a header stamp; their log time used",
+                stream.unstamped,
+                stream.rows.len()
+            ));
+        }
+    }
+    let [pusher_stream, object_stream] = streams;
+    Ok(BagStreams {
+        pusher: pusher_stream.rows,
+        object: object_stream.rows,
+        base_unix_ns: base.unwrap_or(0),
+        topics: table.0.into_values().collect(),
+        warnings,
+    })
+}
+
+/// Reads one message of a channel that feeds the streams flagged in `feeds` (both, when the pusher
+/// and the object are two child frames of one `/tf` topic).
+fn read_message(
+    streams: &mut [Stream; 2],
+    feeds: [bool; 2],
+    kind: PoseType,
+    channel: &ChannelInfo,
+    log_time: u64,
+    payload: &[u8],
+    base: &mut Option<u64>,
+) -> Result<(), BagProblem> {
+    let index = streams[usize::from(!feeds[0])].index;
+    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
+        stream.index += 1;
+    }
+    let decode_error = |why| BagProblem::Decode {
+        topic: channel.topic.clone(),
+        index,
+        type_name: kind.name(),
+        why,
+    };
+    let mut push = |stream: &mut Stream, pose: cdr::PlanarPose| {
+        let ns = if pose.stamp_ns == 0 {
+            stream.unstamped += 1;
+            log_time
+        } else {
+            pose.stamp_ns
+        };
+        let base = *base.get_or_insert(ns);
+        let t = (i128::from(ns) - i128::from(base)) as f64 * 1e-9;
+        let bad = |why| BagProblem::BadValue {
+            topic: channel.topic.clone(),
+            index,
+            why,
+        };
+        if let Some(v) = [pose.x, pose.y, pose.yaw].iter().find(|v| !v.is_finite()) {
+            return Err(bad(format!(
+                "a pose value is {v}, expected a finite number"
+            )));
+        }
+        if pose.x.abs().max(pose.y.abs()) > MAX_POSITION_M {
+            return Err(bad(format!(
+                "position ({}, {}) m, expected within {MAX_POSITION_M} m of the origin",
+                pose.x, pose.y
+            )));
+        }
+        stream.rows.push([t, pose.x, pose.y, pose.yaw]);
+        Ok(())
+    };
+    if kind != PoseType::TfMessage {
+        let pose = cdr::decode(kind, payload).map_err(decode_error)?;
+        for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
+            push(stream, pose)?;
+        }
+        return Ok(());
+    }
+    let mut frames: Vec<(Vec<u8>, cdr::PlanarPose)> = Vec::new();
+    cdr::decode_tf(payload, |child, pose| frames.push((child.to_vec(), pose)))
+        .map_err(decode_error)?;
+    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
+        let Some(frame) = stream.spec.child_frame.as_deref() else {
+            return Err(BagProblem::NeedChildFrame {
+                topic: channel.topic.clone(),
+                seen: frames
+                    .iter()
+                    .map(|(child, _)| String::from_utf8_lossy(child).into_owned())
+                    .collect(),
+            });
+        };
+        for (child, pose) in &frames {
+            if child == frame.as_bytes() {
+                push(stream, *pose)?;
+            } else if stream.child_frames_seen.len() < 20
+                && !stream
+                    .child_frames_seen
+                    .iter()
+                    .any(|s| s.as_bytes() == child)
+            {
+                stream
+                    .child_frames_seen
+                    .push(String::from_utf8_lossy(child).into_owned());
+            }
+        }
+    }
+    Ok(())
+}
+
+pub use self::split::{
+    BagImport, BagPush, ImportOptions, MAX_RATE_HZ, import, import_bytes, resample_streams,
+};

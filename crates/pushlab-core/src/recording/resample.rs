@@ -1,0 +1,142 @@
+//! Cleaning two pose streams and resampling them onto one time grid, shared by the importers whose
+//! sources record the pusher and the object as separate, unsynchronised streams (MIT Push Dataset
+//! files and ROS 2 bags). One implementation, so that both report the same defects with the same
+//! words and align the streams by the same rules.
+//!
+//! Rows are `[t, x, y, yaw]`, `t` in seconds.
+
+use super::mit_push::{GAP_WARN_S, MAX_DURATION_S, MIN_DURATION_S};
+use crate::geometry::unwrap_angles;
+
+/// Keeps the rows whose timestamp increases, reporting backwards and repeated stamps and long gaps
+/// as warnings that start with `key` (a stream must be monotone to be interpolated).
+pub(crate) fn clean(key: &str, rows: &[[f64; 4]], warnings: &mut Vec<String>) -> Vec<[f64; 4]> {
+    let mut kept: Vec<[f64; 4]> = Vec::with_capacity(rows.len());
+    let (mut backwards, mut worst, mut repeated) = (0usize, 0.0f64, 0usize);
+    for (i, row) in rows.iter().enumerate() {
+        if i > 0 {
+            let step = row[0] - rows[i - 1][0];
+            if step < 0.0 {
+                backwards += 1;
+                worst = worst.min(step);
+            } else if step == 0.0 {
+                repeated += 1;
+            }
+        }
+        if kept.last().is_none_or(|last| row[0] > last[0]) {
+            kept.push(*row);
+        }
+    }
+    let dropped = rows.len() - kept.len();
+    if backwards > 0 {
+        warnings.push(format!(
+            "{key}: {backwards} timestamp(s) step backwards (worst {:.1} ms); {dropped} row(s) out of order dropped",
+            worst * 1e3
+        ));
+    } else if repeated > 0 {
+        warnings.push(format!(
+            "{key}: {repeated} repeated timestamp(s); {dropped} row(s) dropped"
+        ));
+    }
+    let (mut gaps, mut longest) = (0usize, 0.0f64);
+    for pair in kept.windows(2) {
+        let step = pair[1][0] - pair[0][0];
+        if step > GAP_WARN_S {
+            gaps += 1;
+            longest = longest.max(step);
+        }
+    }
+    if gaps > 0 {
+        warnings.push(format!(
+            "{key}: {gaps} gap(s) over {:.0} ms (longest {:.1} ms); interpolated across",
+            GAP_WARN_S * 1e3,
+            longest * 1e3
+        ));
+    }
+    kept
+}
+
+/// Unwraps the yaw column (kept in (−π, π] by every source) so that interpolation never swings the
+/// long way round; reports how often it wrapped.
+pub(crate) fn unwrap_yaw(key: &str, rows: &mut [[f64; 4]], warnings: &mut Vec<String>) {
+    let mut yaw: Vec<f64> = rows.iter().map(|r| r[3]).collect();
+    let wraps = unwrap_angles(&mut yaw);
+    if wraps > 0 {
+        warnings.push(format!("{key} yaw wraps at ±π {wraps} time(s); unwrapped"));
+        for (row, y) in rows.iter_mut().zip(&yaw) {
+            row[3] = *y;
+        }
+    }
+}
+
+/// Why two streams cannot be put on one grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum SpanProblem {
+    /// They overlap for less than [`MIN_DURATION_S`] (the overlap, ≥ 0).
+    TooShort(f64),
+    /// They overlap for more than [`MAX_DURATION_S`].
+    TooLong(f64),
+}
+
+/// The grid over the interval both cleaned, non-empty streams cover: its start time and number of
+/// points at `rate_hz`. The grid never reaches past the shorter stream.
+pub(crate) fn grid(
+    a: &[[f64; 4]],
+    b: &[[f64; 4]],
+    rate_hz: f64,
+) -> Result<(f64, usize), SpanProblem> {
+    let (Some(a0), Some(a1), Some(b0), Some(b1)) = (a.first(), a.last(), b.first(), b.last())
+    else {
+        return Err(SpanProblem::TooShort(0.0));
+    };
+    let start = a0[0].max(b0[0]);
+    let end = a1[0].min(b1[0]);
+    let duration = end - start;
+    // Written so that a NaN duration is refused too.
+    if duration.is_nan() || duration < MIN_DURATION_S {
+        return Err(SpanProblem::TooShort(duration.max(0.0)));
+    }
+    if duration > MAX_DURATION_S {
+        return Err(SpanProblem::TooLong(duration));
+    }
+    // Truncation is intended. Bounded by MAX_DURATION_S × rate.
+    Ok((start, (duration * rate_hz).floor() as usize + 1))
+}
+
+/// Linear interpolation in a time-sorted stream, for queries at increasing times (a moving cursor
+/// makes resampling linear in the number of rows). Queries outside the stream clamp to its ends.
+pub(crate) struct Interpolator<'a> {
+    rows: &'a [[f64; 4]],
+    cursor: usize,
+}
+
+impl<'a> Interpolator<'a> {
+    /// An interpolator over non-empty, time-sorted rows.
+    pub(crate) fn new(rows: &'a [[f64; 4]]) -> Self {
+        Self { rows, cursor: 0 }
+    }
+
+    /// The row at time `t`.
+    pub(crate) fn at(&mut self, t: f64) -> [f64; 4] {
+        let rows = self.rows;
+        while self.cursor + 2 < rows.len() && rows[self.cursor + 1][0] <= t {
+            self.cursor += 1;
+        }
+        let (a, b) = (
+            rows[self.cursor],
+            rows[(self.cursor + 1).min(rows.len() - 1)],
+        );
+        let span = b[0] - a[0];
+        let w = if span > 0.0 {
+            ((t - a[0]) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        [
+            t,
+            a[1] + w * (b[1] - a[1]),
+            a[2] + w * (b[2] - a[2]),
+            a[3] + w * (b[3] - a[3]),
+        ]
+    }
+}

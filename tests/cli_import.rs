@@ -1,0 +1,315 @@
+//! `pushlab import` and `pushlab validate` on ROS 2 bags, end to end: the built binary on the bags
+//! in crates/pushlab-core/tests/bags (written by the Python `rosbags` and `mcap` libraries), the set
+//! it writes loaded back, and the refusals (missing or unreadable topics, corrupt bags, wrong
+//! arguments) with their exit codes and messages.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod cli_common;
+
+use std::path::{Path, PathBuf};
+
+use cli_common::{pushlab, temp_dir};
+
+fn bag(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("crates/pushlab-core/tests/bags")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// A setting.json for the imports, in a fresh folder; returns (folder, setting path).
+fn setting(name: &str) -> (PathBuf, String) {
+    let dir = temp_dir("pushlab-import", name);
+    let path = dir.join("box.json");
+    std::fs::write(
+        &path,
+        r#"{"name": "bag-box", "object": {"shape": "box", "width": 0.1, "length": 0.12},
+            "pusher_radius": 0.005, "material": "wood on MDF", "trajectories": []}"#,
+    )
+    .unwrap();
+    (dir, path.display().to_string())
+}
+
+fn s(path: &Path) -> String {
+    path.display().to_string()
+}
+
+#[test]
+fn a_rosbag2_folder_imports_into_a_set_that_loads() {
+    let (dir, setting) = setting("folder");
+    let out = dir.join("set");
+    let run = pushlab(&[
+        "import",
+        &bag("pose_stamped"),
+        "--pusher",
+        "/pusher/pose",
+        "--object",
+        "/object/pose",
+        "--setting",
+        &setting,
+        "--out",
+        &s(&out),
+    ]);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .contains("pose_stamped.csv: 61 frames at 50 Hz, 1.20 s"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout
+            .contains("warning: /pusher/pose: 1 of 121 pose(s) without a header stamp"),
+        "{}",
+        run.stdout
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("setting.json")).unwrap()).unwrap();
+    assert_eq!(json["material"], "wood on MDF");
+    assert_eq!(json["sample_rate_hz"], 50.0);
+    assert_eq!(json["trajectories"][0]["file"], "pose_stamped.csv");
+    assert_eq!(json["trajectories"][0]["bag_pusher"], "/pusher/pose");
+    assert_eq!(json["trajectories"][0]["start_unix_s"], 1_700_000_000.0);
+    let validate = pushlab(&["validate", &s(&out)]);
+    assert_eq!(validate.code, 0, "{}", validate.stdout);
+    assert!(validate.stdout.contains("ok: "), "{}", validate.stdout);
+    assert!(
+        validate.stdout.contains("(61 frames, 1.20 s)"),
+        "{}",
+        validate.stdout
+    );
+    // A second import into the same folder needs --overwrite.
+    let again = [
+        "import",
+        &bag("zstd.mcap"),
+        "--pusher",
+        "/pusher/pose",
+        "--object",
+        "/object/pose",
+        "--setting",
+        &setting,
+        "--out",
+        &s(&out),
+    ];
+    let run = pushlab(&again);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("pass --overwrite"), "{}", run.stderr);
+    let mut overwrite = again.to_vec();
+    overwrite.push("--overwrite");
+    assert_eq!(pushlab(&overwrite).code, 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn tf_child_frames_and_odometry_import() {
+    let (dir, setting) = setting("kinds");
+    for (name, pusher, object) in [
+        ("tf", "/tf:pusher_tip", "/tf:box"),
+        ("odometry", "/pusher/pose2d", "/object/odom"),
+        ("lz4.mcap", "/pusher/pose", "/object/pose"),
+    ] {
+        let out = dir.join(name);
+        let run = pushlab(&[
+            "import",
+            &bag(name),
+            "--pusher",
+            pusher,
+            "--object",
+            object,
+            "--setting",
+            &setting,
+            "--out",
+            &s(&out),
+        ]);
+        assert_eq!(run.code, 0, "{name}: {}{}", run.stdout, run.stderr);
+        assert!(
+            run.stdout.contains("61 frames at 50 Hz"),
+            "{name}: {}",
+            run.stdout
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn split_gap_makes_one_push_per_piece() {
+    let (dir, setting) = setting("split");
+    let out = dir.join("set");
+    let args = |extra: &[&'static str]| {
+        let mut a: Vec<String> = [
+            "import",
+            &bag("gap.mcap"),
+            "--pusher",
+            "/pusher/pose",
+            "--object",
+            "/object/pose",
+            "--setting",
+            &setting,
+            "--out",
+            &s(&out),
+            "--overwrite",
+        ]
+        .iter()
+        .map(|a| a.to_string())
+        .collect();
+        a.extend(extra.iter().map(|a| a.to_string()));
+        a
+    };
+    let run_with = |extra: &[&'static str]| {
+        let a = args(extra);
+        pushlab(&a.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    let run = run_with(&["--split-gap", "0.5"]);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout.contains("gap_001.csv: 61 frames"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("gap_002.csv: 61 frames"),
+        "{}",
+        run.stdout
+    );
+    assert!(run.stdout.contains("2 push(es) from"), "{}", run.stdout);
+    // Without --split-gap the pause is interpolated across, and said so.
+    let run = run_with(&[]);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("1 push(es) from"), "{}", run.stdout);
+    assert!(
+        run.stdout.contains("gap(s) over 50 ms (longest 1300.0 ms)"),
+        "{}",
+        run.stdout
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn missing_or_unreadable_topics_exit_1_with_the_bags_topics() {
+    let (dir, setting) = setting("refused");
+    let out = s(&dir.join("set"));
+    for (object, expected) in [
+        ("/box/pose", "no topic `/box/pose` in the bag"),
+        ("/note", "topic `/note` carries std_msgs/msg/String"),
+    ] {
+        let run = pushlab(&[
+            "import",
+            &bag("pose_stamped"),
+            "--pusher",
+            "/pusher/pose",
+            "--object",
+            object,
+            "--setting",
+            &setting,
+            "--out",
+            &out,
+        ]);
+        assert_eq!(run.code, 1, "{object}");
+        assert!(run.stderr.contains(expected), "{}", run.stderr);
+        assert!(
+            run.stderr
+                .contains("/pusher/pose (geometry_msgs/msg/PoseStamped, 121 messages)"),
+            "{}",
+            run.stderr
+        );
+        assert!(
+            run.stderr
+                .contains("/note (std_msgs/msg/String, 7 messages)"),
+            "{}",
+            run.stderr
+        );
+    }
+    assert!(!dir.join("set").exists(), "nothing written");
+    let run = pushlab(&[
+        "import",
+        &bag("tf"),
+        "--pusher",
+        "/tf",
+        "--object",
+        "/tf:box",
+        "--setting",
+        &setting,
+        "--out",
+        &out,
+    ]);
+    assert_eq!(run.code, 1);
+    assert!(
+        run.stderr.contains("name the child frame, as `/tf:FRAME`"),
+        "{}",
+        run.stderr
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn wrong_arguments_exit_2() {
+    let (dir, setting) = setting("usage");
+    for pusher in ["/tf:", ""] {
+        let run = pushlab(&[
+            "import",
+            &bag("tf"),
+            "--pusher",
+            pusher,
+            "--object",
+            "/tf:box",
+            "--setting",
+            &setting,
+            "--out",
+            "x",
+        ]);
+        assert_eq!(run.code, 2, "{pusher:?}: {}", run.stderr);
+    }
+    let run = pushlab(&["import", &bag("tf"), "--pusher", "/tf:a"]);
+    assert_eq!(run.code, 2);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn validate_lists_a_bags_topics() {
+    let run = pushlab(&["validate", &bag("pose_stamped"), &bag("tf/tf.mcap")]);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines.len(), 6, "{lines:#?}");
+    assert!(
+        lines[0].ends_with(": /note std_msgs/msg/String, 7 messages, 5.0 Hz"),
+        "{}",
+        lines[0]
+    );
+    assert!(
+        lines[2].ends_with(
+            ": /pusher/pose geometry_msgs/msg/PoseStamped, 121 messages, 100.0 Hz, readable"
+        ),
+        "{}",
+        lines[2]
+    );
+    assert!(lines[3].contains("3 topic(s), 2 readable"), "{}", lines[3]);
+    assert!(
+        lines[4].ends_with(": /tf tf2_msgs/msg/TFMessage, 121 messages, 100.0 Hz, readable"),
+        "{}",
+        lines[4]
+    );
+}
+
+#[test]
+fn corrupt_bags_are_refused_with_exit_1() {
+    let dir = temp_dir("pushlab-import", "corrupt");
+    let bytes = std::fs::read(bag("zstd.mcap")).unwrap();
+    let cut = dir.join("cut.mcap");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let mut wrong = bytes.clone();
+    wrong[0] = b'X';
+    let magic = dir.join("magic.mcap");
+    std::fs::write(&magic, &wrong).unwrap();
+    for path in [&cut, &magic] {
+        let run = pushlab(&["validate", &s(path)]);
+        assert_eq!(run.code, 1, "{}", run.stdout);
+        assert!(
+            run.stdout
+                .starts_with(&format!("error: {}: ", path.display())),
+            "{}",
+            run.stdout
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
