@@ -115,7 +115,7 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
     match request {
         DialogRequest::OpenFiles => FileDialog::new()
             .set_title("Open recordings")
-            .add_filter("Recordings", &["csv", "json", "h5"])
+            .add_filter("Recordings", &["csv", "json", "h5", "mcap"])
             .pick_files()
             .map(DialogResult::Open),
         DialogRequest::OpenFolder => FileDialog::new()

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use pushlab_core::recording::bag::{self, BagImport, ImportOptions, TopicSpec};
-use pushlab_core::recording::{BagProblem, LoadError};
+use pushlab_core::recording::{BagProblem, LoadError, load_paths};
 
 /// Unix time the fixtures stamp the CSV's time 0 at.
 const BASE_S: f64 = 1_700_000_000.0;
@@ -400,4 +400,48 @@ fn nasty_mcap_files_are_refused() {
         count += 1;
     }
     assert!(count >= 1);
+}
+
+#[test]
+fn opening_a_bag_like_a_recording_says_how_to_import_it_and_lists_its_topics() {
+    // A rosbag2 folder, an .mcap file, and a folder holding bags among other things.
+    for path in [fixture("pose_stamped"), fixture("zstd.mcap")] {
+        let report = load_paths(std::slice::from_ref(&path));
+        assert!(report.sets.is_empty());
+        assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
+        let message = report.errors[0].to_string();
+        assert!(
+            message.starts_with(&path.display().to_string()),
+            "{message}"
+        );
+        assert!(message.contains("pushlab import BAG"), "{message}");
+        assert!(
+            message.contains("/pusher/pose (geometry_msgs/msg/PoseStamped)"),
+            "{message}"
+        );
+    }
+    let report = load_paths(&[fixture("pose_stamped")]);
+    assert!(
+        report.errors[0]
+            .to_string()
+            .contains("/note (std_msgs/msg/String, not readable)")
+    );
+    // The fixtures folder: every bag reported once, the folder's .mcap files not twice.
+    let report = load_paths(&[fixture("")]);
+    let bags = report
+        .errors
+        .iter()
+        .filter(|e| e.to_string().contains("a ROS 2 bag"))
+        .count();
+    assert_eq!(bags, 7, "{:?}", report.errors);
+    // A broken bag says what is wrong with it instead.
+    let dir = std::env::temp_dir().join(format!("pushlab-bag-open-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let broken = dir.join("broken.mcap");
+    std::fs::write(&broken, b"not an mcap file at all").expect("write");
+    let report = load_paths(std::slice::from_ref(&broken));
+    let message = report.errors[0].to_string();
+    assert!(!message.contains("pushlab import"), "{message}");
+    assert!(message.contains("broken.mcap"), "{message}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -230,6 +230,11 @@ pub enum BagProblem {
         type_name: &'static str,
         why: String,
     },
+    #[error(
+        "a ROS 2 bag: import it into a recording set first (`pushlab import BAG --pusher TOPIC --object \
+         TOPIC --setting SETTING.json --out SET`), then open the set; its topics: {topics}"
+    )]
+    NeedsImport { topics: String },
     #[error("topic `{topic}` message {index}: {why}")]
     BadValue {
         topic: String,

@@ -4,7 +4,8 @@ use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use super::RecordingSet;
-use super::error::LoadError;
+use super::bag;
+use super::error::{BagProblem, LoadError};
 use super::mit_push::{self, MitPush};
 use super::native::{self, SETTING_FILE};
 
@@ -39,6 +40,9 @@ impl LoadReport {
 /// - a single CSV inside a set, or that set's `setting.json`,
 /// - an MIT Push Dataset `.json` or `.h5` file.
 ///
+/// A ROS 2 bag (an `.mcap` file or a rosbag2 folder) is reported, not opened: which topics are the
+/// pusher and the object is the user's to say, with `pushlab import` (the error lists its topics).
+///
 /// MIT files are grouped into one set per folder, surface and shape, since those share an object
 /// outline and a material; the set's trajectories list the files. Input files are only ever read.
 /// A path reached twice (e.g. a folder and a file inside it) is loaded once.
@@ -68,6 +72,8 @@ impl Loader {
         if meta.is_dir() {
             if path.join(SETTING_FILE).is_file() {
                 self.add_set(path, None);
+            } else if bag::is_bag(path) {
+                self.add_bag(path);
             } else if !self.scan(path, 0) {
                 self.report.errors.push(LoadError::NothingFound {
                     path: path.to_path_buf(),
@@ -92,6 +98,7 @@ impl Loader {
                 }
             }
             Some("json" | "h5") => self.add_mit(path),
+            Some("mcap") => self.add_bag(path),
             _ => self.report.errors.push(LoadError::NotRecognised {
                 path: path.to_path_buf(),
             }),
@@ -118,15 +125,60 @@ impl Loader {
                 if path.join(SETTING_FILE).is_file() {
                     self.add_set(&path, None);
                     found = true;
+                } else if bag::is_bag(&path) {
+                    self.add_bag(&path);
+                    found = true;
                 } else if depth < MAX_DEPTH {
                     found |= self.scan(&path, depth + 1);
                 }
             } else if is_mit_file(&path) && path.is_file() {
                 self.add_mit(&path);
                 found = true;
+            } else if extension(&path).as_deref() == Some("mcap")
+                && !dir.join("metadata.yaml").is_file()
+            {
+                self.add_bag(&path);
+                found = true;
             }
         }
         found
+    }
+
+    /// A ROS 2 bag is not opened as it is (which topics are the pusher and the object, and what the
+    /// object is, are the user's to say): it is reported with its topics and the command that
+    /// imports it, or with what makes it unreadable.
+    fn add_bag(&mut self, path: &Path) {
+        if !self.seen.insert(canonical(path)) {
+            return;
+        }
+        let error = match bag::topics(path) {
+            Ok(topics) => {
+                let listing = topics
+                    .iter()
+                    .map(|t| {
+                        let readable = if t.pose_type().is_some() {
+                            ""
+                        } else {
+                            ", not readable"
+                        };
+                        format!("{} ({}{readable})", t.topic, t.type_name)
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                LoadError::Bag {
+                    path: path.to_path_buf(),
+                    problem: BagProblem::NeedsImport {
+                        topics: if listing.is_empty() {
+                            "none".to_owned()
+                        } else {
+                            listing
+                        },
+                    },
+                }
+            }
+            Err(e) => e,
+        };
+        self.report.errors.push(error);
     }
 
     fn add_set(&mut self, dir: &Path, only: Option<&Path>) {
