@@ -19,7 +19,7 @@
 use std::sync::Arc;
 
 use pushlab_core::labels::pipeline::sample_is_skipped;
-use pushlab_core::learn::uncertainty::ellipse_95;
+use pushlab_core::learn::uncertainty::{com_block, ellipse_95, std_of};
 use pushlab_core::learn::{
     Loss, OnlineConfig, OnlineModel, OnlineState, OnlineStep, Posterior, learn_step,
 };
@@ -61,10 +61,12 @@ pub struct Spread {
 
 impl Spread {
     fn of(posterior: &Posterior) -> Self {
-        let c = posterior.com_covariance();
+        // One covariance for both (each takes an inverse and the correlation factor).
+        let covariance = posterior.covariance();
+        let c = com_block(&covariance);
         Self {
             com_cov: [c[0][0] as f32, c[0][1] as f32, c[1][1] as f32],
-            h_std: posterior.std()[2] as f32,
+            h_std: std_of(&covariance)[2] as f32,
         }
     }
 

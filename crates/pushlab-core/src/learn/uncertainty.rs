@@ -185,30 +185,47 @@ impl Posterior {
 
     /// `JᵀJ / (s² k c) + Λ₀`, per square metre.
     pub fn information(&self) -> Matrix3<f64> {
-        self.jtj * self.frame_weight() + Matrix3::from_diagonal(&self.prior_precision.into())
+        self.information_at(self.frame_weight())
+    }
+
+    fn information_at(&self, weight: f64) -> Matrix3<f64> {
+        self.jtj * weight + Matrix3::from_diagonal(&self.prior_precision.into())
     }
 
     /// The posterior's spread about its mode, `(JᵀJ / (s² k c) + Λ₀)⁻¹`, square metres.
     pub fn mode_covariance(&self) -> Matrix3<f64> {
+        self.mode_covariance_at(self.frame_weight())
+    }
+
+    fn mode_covariance_at(&self, weight: f64) -> Matrix3<f64> {
         // Positive definite (the prior's diagonal plus a sum of JᵀJ), so the inverse exists.
-        self.information().try_inverse().unwrap_or_else(|| {
-            Matrix3::from_diagonal(&self.prior_precision.map(|p| 1.0 / p).into())
-        })
+        self.information_at(weight)
+            .try_inverse()
+            .unwrap_or_else(|| {
+                Matrix3::from_diagonal(&self.prior_precision.map(|p| 1.0 / p).into())
+            })
     }
 
     /// The mode of the linearised posterior, `[com_x, com_y, h]`: the θ that fits the frames'
     /// linearisations best, given the prior.
     pub fn mode(&self) -> Vector3<f64> {
+        let weight = self.frame_weight();
+        self.mode_at(weight, &self.mode_covariance_at(weight))
+    }
+
+    fn mode_at(&self, weight: f64, mode_covariance: &Matrix3<f64>) -> Vector3<f64> {
         let prior = Vector3::from(self.prior_precision).component_mul(&self.prior_mean);
-        self.mode_covariance() * (self.jtb * self.frame_weight() + prior)
+        mode_covariance * (self.jtb * weight + prior)
     }
 
     /// The covariance of the estimate's error, `[com_x, com_y, h]`, square metres: the spread about
     /// the mode plus the estimate's own offset from it, `Σ + δδᵀ`. Gradient descent's estimate lags
     /// behind the mode (five small steps per frame); Gauss–Newton's sits on it, and `δ ≈ 0`.
     pub fn covariance(&self) -> Matrix3<f64> {
-        let offset = self.estimate - self.mode();
-        let covariance = self.mode_covariance();
+        // The weight (with its correlation factor) and the inverse once, for the mode and the spread.
+        let weight = self.frame_weight();
+        let covariance = self.mode_covariance_at(weight);
+        let offset = self.estimate - self.mode_at(weight, &covariance);
         if offset.iter().all(|d| d.is_finite()) {
             covariance + offset * offset.transpose()
         } else {
@@ -218,14 +235,12 @@ impl Posterior {
 
     /// The covariance of the COM offset, object frame, square metres.
     pub fn com_covariance(&self) -> [[f64; 2]; 2] {
-        let c = self.covariance();
-        [[c[(0, 0)], c[(0, 1)]], [c[(1, 0)], c[(1, 1)]]]
+        com_block(&self.covariance())
     }
 
     /// The standard deviations of `[com_x, com_y, h]`, metres.
     pub fn std(&self) -> [f64; 3] {
-        let c = self.covariance();
-        [0, 1, 2].map(|i| c[(i, i)].max(0.0).sqrt())
+        std_of(&self.covariance())
     }
 
     /// Whether `com` lies inside the 95 % ellipse around `estimate` (both object frame, metres).
@@ -256,6 +271,16 @@ pub fn ellipse_95(c: [[f64; 2]; 2]) -> ([f64; 2], f64) {
         [(CHI2_2DOF_95 * major).sqrt(), (CHI2_2DOF_95 * minor).sqrt()],
         angle,
     )
+}
+
+/// The COM offset's 2 × 2 block of a covariance of `[com_x, com_y, h]`.
+pub fn com_block(c: &Matrix3<f64>) -> [[f64; 2]; 2] {
+    [[c[(0, 0)], c[(0, 1)]], [c[(1, 0)], c[(1, 1)]]]
+}
+
+/// The standard deviations on a covariance's diagonal.
+pub fn std_of(c: &Matrix3<f64>) -> [f64; 3] {
+    [0, 1, 2].map(|i| c[(i, i)].max(0.0).sqrt())
 }
 
 fn vector(theta: &OnlineParams) -> Vector3<f64> {
@@ -331,10 +356,11 @@ fn gauss_newton_step<M: OnlineModel + ?Sized>(
     let jtr = j.transpose() * r;
     let gradient = (2.0 * jtr).into();
     let mut after = *theta;
+    let weight = posterior.frame_weight();
     if config.steps > 0
-        && let Some(inverse) = posterior.information().try_inverse()
+        && let Some(inverse) = posterior.information_at(weight).try_inverse()
     {
-        let next = vector(theta) - inverse * jtr * posterior.frame_weight();
+        let next = vector(theta) - inverse * jtr * weight;
         if next.iter().all(|t| t.is_finite()) {
             after = OnlineParams {
                 com_offset: [next[0], next[1]],
