@@ -122,24 +122,8 @@ impl TopicInfo {
 struct TopicTable(BTreeMap<String, TopicInfo>);
 
 impl TopicTable {
-    fn note(&mut self, channel: &ChannelInfo, log_time: u64) {
-        let info = self
-            .0
-            .entry(channel.topic.clone())
-            .or_insert_with(|| TopicInfo {
-                topic: channel.topic.clone(),
-                type_name: channel.type_name.clone(),
-                encoding: channel.encoding.clone(),
-                count: 0,
-                first_ns: log_time,
-                last_ns: log_time,
-            });
-        info.count += 1;
-        info.first_ns = info.first_ns.min(log_time);
-        info.last_ns = info.last_ns.max(log_time);
-    }
-
-    fn add_silent(&mut self, channel: &ChannelInfo) {
+    /// The topic's entry, made empty (no messages) the first time its channel is seen.
+    fn entry(&mut self, channel: &ChannelInfo) -> &mut TopicInfo {
         self.0
             .entry(channel.topic.clone())
             .or_insert_with(|| TopicInfo {
@@ -149,7 +133,25 @@ impl TopicTable {
                 count: 0,
                 first_ns: 0,
                 last_ns: 0,
-            });
+            })
+    }
+
+    fn note(&mut self, channel: &ChannelInfo, log_time: u64) {
+        let info = self.entry(channel);
+        // The span starts at the first message, even when an earlier file of the bag listed the
+        // channel without any (its 0 is not a time).
+        if info.count == 0 {
+            info.first_ns = log_time;
+            info.last_ns = log_time;
+        }
+        info.count += 1;
+        info.first_ns = info.first_ns.min(log_time);
+        info.last_ns = info.last_ns.max(log_time);
+    }
+
+    /// A channel of a file that carried no message on it: listed, with no messages.
+    fn add_silent(&mut self, channel: &ChannelInfo) {
+        self.entry(channel);
     }
 
     /// `"/a (type, N messages), /b (…)"` for error messages.
@@ -479,3 +481,28 @@ fn read_message(
 pub use self::split::{
     BagImport, BagPush, ImportOptions, MAX_RATE_HZ, import, import_bytes, resample_streams,
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_topic_silent_in_an_earlier_file_spans_from_its_first_message() {
+        let channel = ChannelInfo {
+            topic: "/object/pose".to_owned(),
+            type_name: "geometry_msgs/msg/PoseStamped".to_owned(),
+            encoding: "cdr".to_owned(),
+        };
+        let mut table = TopicTable::default();
+        table.add_silent(&channel);
+        for t in [3_000_000_000, 4_000_000_000, 5_000_000_000] {
+            table.note(&channel, t);
+        }
+        let info = &table.0["/object/pose"];
+        assert_eq!(
+            (info.count, info.first_ns, info.last_ns),
+            (3, 3_000_000_000, 5_000_000_000)
+        );
+        assert_eq!(info.rate_hz(), 1.0);
+    }
+}
