@@ -7,26 +7,19 @@ mod common;
 use eframe::egui::Key;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use pushlab::app::state::landscape::LandscapeCommand;
-use pushlab::app::state::timeline::TimelineCommand;
-use pushlab::app::state::{Command, Persisted};
-use pushlab::app::{PushlabApp, initial_state};
+use pushlab::app::PushlabApp;
+use pushlab::app::state::Command;
+use pushlab::app::state::landscape::{LandscapeCommand, LandscapeResult};
 use pushlab_core::inspect::LandscapeFrames;
 
-fn app_on(set: &str) -> Harness<'static, PushlabApp> {
-    let state = initial_state(&[common::sample_dir(set)], Persisted::default());
-    assert!(state.run.is_some(), "{:?}", state.session.problems);
-    common::harness(PushlabApp::new(state), 0.05)
-}
-
-fn step(harness: &mut Harness<'_, PushlabApp>, frames: usize) {
-    for _ in 0..frames {
-        harness
-            .state_mut()
-            .state
-            .apply(Command::Timeline(TimelineCommand::Step(1)));
-    }
-    harness.run_steps(2);
+/// The landscape computed last.
+fn landscape<'a>(harness: &'a Harness<'_, PushlabApp>) -> &'a LandscapeResult {
+    harness
+        .state()
+        .state
+        .landscape
+        .result()
+        .expect("a landscape")
 }
 
 /// Waits for the landscape of the frame shown.
@@ -67,8 +60,8 @@ fn xy_mm(text: &str) -> [f64; 2] {
 
 #[test]
 fn f2_opens_the_landscape_which_marks_theta_the_lowest_cell_and_the_true_com() {
-    let mut harness = app_on("box1-paper-ur-front");
-    step(&mut harness, 30);
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
+    common::step_frames(&mut harness, 30);
     assert!(texts_starting(&harness, "θ at frame").is_empty());
     harness.key_press(Key::F2);
     harness.run_steps(2);
@@ -100,12 +93,7 @@ fn f2_opens_the_landscape_which_marks_theta_the_lowest_cell_and_the_true_com() {
         lowest[0].abs() <= 160.0 && lowest[1].abs() <= 210.0,
         "{lowest:?}"
     );
-    let result = harness
-        .state()
-        .state
-        .landscape
-        .result()
-        .expect("a landscape");
+    let result = landscape(&harness);
     // "Last 50" at frame 30: the samples from frames 0 to 30.
     assert_eq!(result.samples, 31);
     assert_eq!(
@@ -116,28 +104,17 @@ fn f2_opens_the_landscape_which_marks_theta_the_lowest_cell_and_the_true_com() {
 
 #[test]
 fn the_landscape_follows_the_frame_and_the_frames_chosen() {
-    let mut harness = app_on("box1-paper-ur-front");
-    step(&mut harness, 10);
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
+    common::step_frames(&mut harness, 10);
     harness
         .state_mut()
         .state
         .apply(Command::Landscape(LandscapeCommand::Show(true)));
     wait_for_landscape(&mut harness);
-    let first = harness
-        .state()
-        .state
-        .landscape
-        .result()
-        .expect("a landscape")
-        .generation;
-    step(&mut harness, 5);
+    let first = landscape(&harness).generation;
+    common::step_frames(&mut harness, 5);
     wait_for_landscape(&mut harness);
-    let result = harness
-        .state()
-        .state
-        .landscape
-        .result()
-        .expect("a landscape");
+    let result = landscape(&harness);
     assert!(result.generation > first);
     assert_eq!(texts_starting(&harness, "θ at frame 15").len(), 1);
 
@@ -148,12 +125,7 @@ fn the_landscape_follows_the_frame_and_the_frames_chosen() {
         LandscapeFrames::ThisFrame
     );
     wait_for_landscape(&mut harness);
-    let result = harness
-        .state()
-        .state
-        .landscape
-        .result()
-        .expect("a landscape");
+    let result = landscape(&harness);
     assert_eq!(result.samples, 1);
     assert_eq!(
         texts_starting(&harness, "1 samples from frames 15–15").len(),
@@ -163,8 +135,8 @@ fn the_landscape_follows_the_frame_and_the_frames_chosen() {
 
 #[test]
 fn cancel_holds_until_asked_again_and_closing_stops_the_work() {
-    let mut harness = app_on("box1-paper-ur-front");
-    step(&mut harness, 10);
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
+    common::step_frames(&mut harness, 10);
     let state = &mut harness.state_mut().state;
     state.apply(Command::Landscape(LandscapeCommand::Show(true)));
     assert!(state.landscape.is_running());
@@ -182,7 +154,7 @@ fn cancel_holds_until_asked_again_and_closing_stops_the_work() {
     harness.key_press(Key::F2);
     harness.run_steps(1);
     assert!(!harness.state().state.landscape.open);
-    step(&mut harness, 3);
+    common::step_frames(&mut harness, 3);
     assert!(!harness.state().state.landscape.is_running());
     assert!(texts_starting(&harness, "θ at frame").is_empty());
 }

@@ -7,18 +7,11 @@ mod common;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use pushlab::app::PushlabApp;
 use pushlab::app::panels::scene::camera::CameraMode;
+use pushlab::app::state::Command;
 use pushlab::app::state::timeline::TimelineCommand;
-use pushlab::app::state::{Command, Persisted};
-use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::geometry::Pose2;
-
-fn app_on(set: &str) -> Harness<'static, PushlabApp> {
-    let dir = common::sample_dir(set);
-    let state = initial_state(std::slice::from_ref(&dir), Persisted::default());
-    assert!(state.run.is_some(), "{:?}", state.session.problems);
-    common::harness(PushlabApp::new(state), 0.05)
-}
 
 /// The object's outline at `pose` on the screen, as the scene drew it last frame.
 fn object_on_screen(harness: &Harness<'_, PushlabApp>, pose: &Pose2) -> Vec<egui::Pos2> {
@@ -80,7 +73,7 @@ fn play_to_the_end_keeping_the_object_in_view(harness: &mut Harness<'_, PushlabA
 
 #[test]
 fn following_keeps_the_object_in_view_to_the_end_of_a_push_and_keeps_the_zoom() {
-    let mut harness = app_on("box1-paper-center-front");
+    let mut harness = common::app_on_sample("box1-paper-center-front");
     harness.run_steps(2);
     assert_eq!(
         harness.state().view.scene.mode,
@@ -109,7 +102,7 @@ fn following_keeps_the_object_in_view_to_the_end_of_a_push_and_keeps_the_zoom() 
 
 #[test]
 fn the_object_leaves_a_free_camera_and_fit_all_brings_the_whole_push_back() {
-    let mut harness = app_on("box1-paper-center-front");
+    let mut harness = common::app_on_sample("box1-paper-center-front");
     harness.run_steps(2);
     // Drag the empty scene: the camera is freed where the user put it.
     let scene = harness.state().view.scene.rect();
@@ -156,7 +149,7 @@ fn the_object_leaves_a_free_camera_and_fit_all_brings_the_whole_push_back() {
 
 #[test]
 fn the_legend_is_folded_until_asked_for_and_its_toggles_change_the_layers() {
-    let mut harness = app_on("box1-paper-center-front");
+    let mut harness = common::app_on_sample("box1-paper-center-front");
     harness.run_steps(2);
     assert!(
         harness.query_by_label("Predicted: online θ").is_none(),

@@ -6,32 +6,11 @@ mod common;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
+use pushlab::app::PushlabApp;
+use pushlab::app::state::Command;
 use pushlab::app::state::timeline::TimelineCommand;
-use pushlab::app::state::{Command, Persisted};
-use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::learn::Optimizer;
 use pushlab_core::model::OnlineParams;
-
-fn app_on(set: &str) -> Harness<'static, PushlabApp> {
-    let dir = common::sample_dir(set);
-    // Learning while playing (the default), so that stepping learns.
-    let persisted = Persisted::default();
-    assert!(persisted.learn_while_playing);
-    let state = initial_state(std::slice::from_ref(&dir), persisted);
-    assert!(state.run.is_some(), "{:?}", state.session.problems);
-    common::harness(PushlabApp::new(state), 0.05)
-}
-
-/// Steps `frames` frames forward one at a time (learning each, as playing does).
-fn step(harness: &mut Harness<'_, PushlabApp>, frames: usize) {
-    for _ in 0..frames {
-        harness
-            .state_mut()
-            .state
-            .apply(Command::Timeline(TimelineCommand::Step(1)));
-    }
-    harness.run_steps(2);
-}
 
 fn theta(harness: &Harness<'_, PushlabApp>) -> OnlineParams {
     harness.state().state.theta().expect("a run")
@@ -59,12 +38,12 @@ fn plus_minus(harness: &Harness<'_, PushlabApp>) -> Vec<f64> {
 
 #[test]
 fn learning_shrinks_the_com_ellipse_and_the_steer_tab_gives_plus_minus() {
-    let mut harness = app_on("box1-paper-ur-front");
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
     harness.run_steps(2);
     let prior = ellipse_axes(&harness);
     let before = plus_minus(&harness);
     assert_eq!(before.len(), 3, "± for COM x, COM y and h: {before:?}");
-    step(&mut harness, 40);
+    common::step_frames(&mut harness, 40);
     let learned = ellipse_axes(&harness);
     assert!(
         learned[0] < 0.5 * prior[0] && learned[1] > 0.0,
@@ -88,9 +67,9 @@ fn learning_shrinks_the_com_ellipse_and_the_steer_tab_gives_plus_minus() {
 
 #[test]
 fn choosing_gauss_newton_in_the_steer_tab_changes_what_is_learned() {
-    let mut gd = app_on("box1-paper-ur-front");
-    step(&mut gd, 30);
-    let mut gn = app_on("box1-paper-ur-front");
+    let mut gd = common::app_on_sample("box1-paper-ur-front");
+    common::step_frames(&mut gd, 30);
+    let mut gn = common::app_on_sample("box1-paper-ur-front");
     gn.run_steps(1);
     gn.get_by_label("Gauss–Newton").click();
     gn.run_steps(2);
@@ -98,7 +77,7 @@ fn choosing_gauss_newton_in_the_steer_tab_changes_what_is_learned() {
         gn.state().state.online_config.optimizer,
         Optimizer::GaussNewton
     );
-    step(&mut gn, 30);
+    common::step_frames(&mut gn, 30);
     assert_ne!(theta(&gd), theta(&gn));
     // Back to the paper's rule from frame 10: the run re-learns from there with gradient descent.
     gn.state_mut()
@@ -107,7 +86,7 @@ fn choosing_gauss_newton_in_the_steer_tab_changes_what_is_learned() {
     gn.run_steps(1);
     gn.get_by_label("Gradient descent (paper)").click();
     gn.run_steps(1);
-    step(&mut gn, 30);
+    common::step_frames(&mut gn, 30);
     assert_eq!(
         theta(&gd),
         theta(&gn),
@@ -117,8 +96,8 @@ fn choosing_gauss_newton_in_the_steer_tab_changes_what_is_learned() {
 
 #[test]
 fn what_if_ghosts_follow_the_sliders_and_k_is_chosen_in_steer() {
-    let mut harness = app_on("box1-paper-ur-front");
-    step(&mut harness, 10);
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
+    common::step_frames(&mut harness, 10);
     let state = &harness.state().state;
     let before = state.what_if().expect("a run");
     // k = 20 by default, each step the model's horizon long, up to the end of the push.
@@ -156,8 +135,8 @@ fn what_if_ghosts_follow_the_sliders_and_k_is_chosen_in_steer() {
 
 #[test]
 fn the_inspector_gives_the_what_if_final_pose_error() {
-    let mut harness = app_on("box1-paper-ur-front");
-    step(&mut harness, 10);
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
+    common::step_frames(&mut harness, 10);
     harness.get_by_label("Inspect").click();
     harness.run_steps(2);
     let state = &harness.state().state;

@@ -11,7 +11,9 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
-use pushlab::app::PushlabApp;
+use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::{Command, Persisted};
+use pushlab::app::{PushlabApp, initial_state};
 
 /// The app in a 1400×900 window, each step `step_dt` seconds long.
 pub fn harness(app: PushlabApp, step_dt: f32) -> Harness<'static, PushlabApp> {
@@ -19,6 +21,27 @@ pub fn harness(app: PushlabApp, step_dt: f32) -> Harness<'static, PushlabApp> {
         .with_size([1400.0, 900.0])
         .with_step_dt(step_dt)
         .build_ui_state(|ui, app: &mut PushlabApp| app.frame(ui), app)
+}
+
+/// The app on one bundled sample set with the default settings — learning while playing on, so that
+/// stepping learns — in a window whose steps are 0.05 s.
+pub fn app_on_sample(set: &str) -> Harness<'static, PushlabApp> {
+    let persisted = Persisted::default();
+    assert!(persisted.learn_while_playing);
+    let state = initial_state(&[sample_dir(set)], persisted);
+    assert!(state.run.is_some(), "{:?}", state.session.problems);
+    harness(PushlabApp::new(state), 0.05)
+}
+
+/// Steps `frames` frames forward one at a time (learning each, as playing does), then draws.
+pub fn step_frames(harness: &mut Harness<'_, PushlabApp>, frames: usize) {
+    for _ in 0..frames {
+        harness
+            .state_mut()
+            .state
+            .apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+    harness.run_steps(2);
 }
 
 /// Runs frames until `done` holds (background loading or training), with a generous wall-clock
