@@ -285,7 +285,10 @@ fn validate_lists_a_bags_topics() {
     );
     assert!(lines[3].contains("3 topic(s), 2 readable"), "{}", lines[3]);
     assert!(
-        lines[4].ends_with(": /tf tf2_msgs/msg/TFMessage, 121 messages, 100.0 Hz, readable"),
+        lines[4].ends_with(
+            ": /tf tf2_msgs/msg/TFMessage, 121 messages, 100.0 Hz, readable, child frames: \
+             base_link, pusher_tip, box"
+        ),
         "{}",
         lines[4]
     );
@@ -312,4 +315,71 @@ fn corrupt_bags_are_refused_with_exit_1() {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_choice_remembered_beside_the_bag_is_used_by_import_and_validate() {
+    let (dir, setting) = setting("remembered");
+    let bag_path = dir.join("tf.mcap");
+    std::fs::copy(bag("tf/tf.mcap"), &bag_path).unwrap();
+    let out = dir.join("set");
+    // Nothing remembered yet: said, with where it would be.
+    let run = pushlab(&["import", &s(&bag_path), "--out", &s(&out)]);
+    assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr.contains(&format!(
+            "no topics given and none remembered beside the bag (expected {}.pushlab-bag.json)",
+            bag_path.display()
+        )),
+        "{}",
+        run.stderr
+    );
+    // Only some of the three: clap refuses.
+    let run = pushlab(&[
+        "import",
+        &s(&bag_path),
+        "--pusher",
+        "/tf:pusher_tip",
+        "--out",
+        &s(&out),
+    ]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    // As the app writes it.
+    std::fs::write(
+        dir.join("tf.mcap.pushlab-bag.json"),
+        format!(
+            r#"{{"format": "pushlab-bag-choice", "version": 1, "pusher": "/tf:pusher_tip",
+                "object": "/tf:box", "setting_file": "{}"}}"#,
+            Path::new(&setting).file_name().unwrap().to_string_lossy()
+        ),
+    )
+    .unwrap();
+    let run = pushlab(&["import", &s(&bag_path), "--out", &s(&out)]);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("setting.json")).unwrap()).unwrap();
+    assert_eq!(json["trajectories"][0]["bag_object"], "/tf:box");
+    assert_eq!(json["name"], "bag-box");
+    // validate lists the topics with /tf's child frames, then checks the bag as a recording.
+    let run = pushlab(&["validate", &s(&bag_path)]);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .contains("readable, child frames: base_link, pusher_tip, box"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains(&format!(
+            "2 warnings: {}: streams have unequal rates",
+            bag_path.display()
+        )),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("1 recording(s) loaded"),
+        "{}",
+        run.stdout
+    );
 }

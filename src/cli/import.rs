@@ -1,5 +1,6 @@
 //! `pushlab import BAG --pusher TOPIC[:CHILD_FRAME] --object TOPIC[:CHILD_FRAME] --setting SETTING.json
 //! --out SET`: turns a ROS 2 bag (an `.mcap` file or a rosbag2 folder) into a native recording set.
+//! `pushlab import BAG --out SET` uses the choice remembered beside the bag (chosen in the app).
 //!
 //! The setting file gives what a bag does not record (the object's shape, the pusher radius,
 //! materials); its `trajectories` are replaced by the pushes imported: one per bag, or one per piece
@@ -14,9 +15,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 use clap::Args;
-use pushlab_core::recording::bag::{self, ImportOptions, TopicSpec};
-use pushlab_core::recording::native::{SETTING_FILE, parse_setting};
-use pushlab_core::recording::{TrajectoryEntry, write_set};
+use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, TopicSpec};
+use pushlab_core::recording::native::SETTING_FILE;
+use pushlab_core::recording::write_set;
 
 /// Arguments of `pushlab import`.
 #[derive(Debug, Args)]
@@ -24,15 +25,16 @@ pub struct ImportArgs {
     /// The bag: an .mcap file or a rosbag2 folder (with metadata.yaml).
     pub bag: PathBuf,
     /// The pusher's topic; for a tf2_msgs/msg/TFMessage topic such as /tf add the child frame:
-    /// /tf:pusher_tip.
-    #[arg(long, value_name = "TOPIC[:CHILD_FRAME]")]
-    pub pusher: TopicSpec,
+    /// /tf:pusher_tip. Without --pusher, --object and --setting, the choice remembered beside the
+    /// bag (made in the app) is used.
+    #[arg(long, value_name = "TOPIC[:CHILD_FRAME]", requires_all = ["object", "setting"])]
+    pub pusher: Option<TopicSpec>,
     /// The object's topic, as --pusher.
-    #[arg(long, value_name = "TOPIC[:CHILD_FRAME]")]
-    pub object: TopicSpec,
+    #[arg(long, value_name = "TOPIC[:CHILD_FRAME]", requires_all = ["pusher", "setting"])]
+    pub object: Option<TopicSpec>,
     /// A setting.json giving the object, the pusher radius and the rest (its trajectories are replaced).
-    #[arg(long, value_name = "SETTING.json")]
-    pub setting: PathBuf,
+    #[arg(long, value_name = "SETTING.json", requires_all = ["pusher", "object"])]
+    pub setting: Option<PathBuf>,
     /// The folder of the native set to write.
     #[arg(long, value_name = "SET")]
     pub out: PathBuf,
@@ -65,6 +67,38 @@ fn rate(text: &str) -> Result<f64, String> {
     Ok(hz)
 }
 
+/// The topics, setting and options: from the arguments, or remembered beside the bag (where
+/// --split-gap and --rate, when given, override what is remembered).
+fn choice_of(args: &ImportArgs) -> anyhow::Result<BagChoice> {
+    if let (Some(pusher), Some(object), Some(setting)) = (&args.pusher, &args.object, &args.setting)
+    {
+        return Ok(BagChoice {
+            pusher: pusher.clone(),
+            object: object.clone(),
+            setting: SettingSource::File(setting.clone()),
+            options: ImportOptions {
+                rate_hz: args.rate,
+                split_gap_s: args.split_gap,
+            },
+        });
+    }
+    let Some(mut choice) = bag::choice::remembered(&args.bag)? else {
+        bail!(
+            "{}: no topics given and none remembered beside the bag (expected {}): pass --pusher, \
+             --object and --setting, or choose them by opening the bag in the app",
+            args.bag.display(),
+            bag::choice::choice_path(&args.bag).display()
+        );
+    };
+    if args.rate.is_some() {
+        choice.options.rate_hz = args.rate;
+    }
+    if args.split_gap.is_some() {
+        choice.options.split_gap_s = args.split_gap;
+    }
+    Ok(choice)
+}
+
 /// Runs the command.
 pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     if args.out.join(SETTING_FILE).exists() && !args.overwrite {
@@ -73,52 +107,12 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
             args.out.display()
         );
     }
-    let bytes = std::fs::read(&args.setting)
-        .with_context(|| format!("{}: cannot read", args.setting.display()))?;
-    let mut setting = parse_setting(&bytes, &args.setting)?;
-    let options = ImportOptions {
-        rate_hz: args.rate,
-        split_gap_s: args.split_gap,
-    };
-    let import = bag::import(&args.bag, &args.pusher, &args.object, options)?;
-    let stem = args
-        .bag
-        .file_stem()
-        .map_or_else(|| "push".to_owned(), |s| s.to_string_lossy().into_owned());
-    let stem: String = stem
-        .chars()
-        .map(|c| {
-            if c.is_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    let many = import.pushes.len() > 1;
-    setting.trajectories = import
-        .pushes
-        .iter()
-        .enumerate()
-        .map(|(i, push)| {
-            let mut extra = serde_json::Map::new();
-            extra.insert("bag".into(), args.bag.display().to_string().into());
-            extra.insert("bag_pusher".into(), args.pusher.to_string().into());
-            extra.insert("bag_object".into(), args.object.to_string().into());
-            extra.insert("start_unix_s".into(), push.start_unix_s.into());
-            TrajectoryEntry {
-                file: if many {
-                    format!("{stem}_{:03}.csv", i + 1)
-                } else {
-                    format!("{stem}.csv")
-                },
-                contact_offset: None,
-                push_angle_deg: None,
-                extra,
-            }
-        })
-        .collect();
-    setting.sample_rate_hz = Some(import.rate_hz);
+    let choice = choice_of(args)?;
+    let (pusher, object) = (choice.pusher, choice.object);
+    let setting = choice.setting.resolve()?;
+    let options = choice.options;
+    let import = bag::import(&args.bag, &pusher, &object, options)?;
+    let setting = bag::setting_for(&args.bag, &import, &pusher, &object, setting);
     let trajectories: Vec<_> = import.pushes.iter().map(|p| p.trajectory.clone()).collect();
     write_set(&args.out, &setting, &trajectories)
         .with_context(|| format!("writing {}", args.out.display()))?;

@@ -7,8 +7,9 @@
 //! - `error: PATH[ line L]: what is wrong, expected what`
 //!
 //! A ROS 2 bag (an `.mcap` file or a rosbag2 folder) holds no push until its topics are chosen, so
-//! for one the lines list its topics instead (`topic: PATH: NAME TYPE, N messages, R Hz[, readable]`)
-//! and an unreadable bag is an `error:` line.
+//! for one the lines list its topics first (`topic: PATH: NAME TYPE, N messages, R Hz[, readable][,
+//! child frames: A, B]`) and an unreadable bag is an `error:` line; a bag whose choice is remembered
+//! beside it is then validated like any recording.
 //!
 //! Exit code 0 when every recording loaded (warnings allowed), 1 when any did not, 2 for wrong
 //! arguments (handled by clap before this runs).
@@ -31,11 +32,14 @@ pub struct ValidateArgs {
 
 /// Runs the command; see the module documentation for the output and exit codes.
 pub fn run(args: &ValidateArgs) -> ExitCode {
-    let (bags, paths): (Vec<PathBuf>, Vec<PathBuf>) =
+    let (bags, mut paths): (Vec<PathBuf>, Vec<PathBuf>) =
         args.paths.iter().cloned().partition(|p| bag::is_bag(p));
     let mut failed = false;
     for path in &bags {
         failed |= !list_topics(path);
+        if bag::choice::choice_path(path).is_file() {
+            paths.push(path.clone());
+        }
     }
     if paths.is_empty() {
         return if failed {
@@ -89,8 +93,13 @@ fn list_topics(path: &std::path::Path) -> bool {
     };
     let readable = topics.iter().filter(|t| t.pose_type().is_some()).count();
     for topic in &topics {
+        let frames = if topic.child_frames.is_empty() {
+            String::new()
+        } else {
+            format!(", child frames: {}", topic.child_frames.join(", "))
+        };
         println!(
-            "topic: {}: {} {}, {} messages, {:.1} Hz{}",
+            "topic: {}: {} {}, {} messages, {:.1} Hz{}{frames}",
             path.display(),
             topic.topic,
             topic.type_name,

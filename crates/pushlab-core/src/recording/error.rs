@@ -231,10 +231,20 @@ pub enum BagProblem {
         why: String,
     },
     #[error(
-        "a ROS 2 bag: import it into a recording set first (`pushlab import BAG --pusher TOPIC --object \
-         TOPIC --setting SETTING.json --out SET`), then open the set; its topics: {topics}"
+        "a ROS 2 bag whose pusher and object topics are not chosen yet: open it in the app to choose \
+         them (remembered beside the bag), or import it into a recording set (`pushlab import BAG \
+         --pusher TOPIC --object TOPIC --setting SETTING.json --out SET`); its topics: {}",
+        topic_listing(topics)
     )]
-    NeedsImport { topics: String },
+    NeedsImport { topics: Vec<super::bag::TopicInfo> },
+    #[error("not a pushlab bag choice: {why}")]
+    BadChoice { why: String },
+    #[error(
+        "the topics remembered in {} do not fit the bag: {why}; choose them again (in the app: \
+         File → Choose bag topics…) or delete that file",
+        choice_file.display()
+    )]
+    ChoiceFailed { choice_file: PathBuf, why: String },
     #[error("topic `{topic}` message {index}: {why}")]
     BadValue {
         topic: String,
@@ -253,6 +263,25 @@ pub enum BagProblem {
         "the pusher and object streams overlap for only {seconds:.3} s, expected at least {min} s"
     )]
     TooShort { seconds: f64, min: f64 },
+}
+
+/// `"/a (type), /b (type, not readable)"`: a bag's topics as an error lists them.
+fn topic_listing(topics: &[super::bag::TopicInfo]) -> String {
+    if topics.is_empty() {
+        return "none".to_owned();
+    }
+    topics
+        .iter()
+        .map(|t| {
+            let readable = if t.pose_type().is_some() {
+                ""
+            } else {
+                ", not readable"
+            };
+            format!("{} ({}{readable})", t.topic, t.type_name)
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn seen_frames(seen: &[String]) -> String {

@@ -4,7 +4,7 @@ use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use super::RecordingSet;
-use super::bag;
+use super::bag::{self, BagChoice};
 use super::error::{BagProblem, LoadError};
 use super::mit_push::{self, MitPush};
 use super::native::{self, SETTING_FILE};
@@ -40,14 +40,24 @@ impl LoadReport {
 /// - a single CSV inside a set, or that set's `setting.json`,
 /// - an MIT Push Dataset `.json` or `.h5` file.
 ///
-/// A ROS 2 bag (an `.mcap` file or a rosbag2 folder) is reported, not opened: which topics are the
-/// pusher and the object is the user's to say, with `pushlab import` (the error lists its topics).
+/// A ROS 2 bag (an `.mcap` file or a rosbag2 folder) opens with the choice of topics and setting
+/// remembered beside it; without one it is reported with its topics (which are the pusher and the
+/// object is the user's to say: in the app's dialog, or with `pushlab import`).
 ///
 /// MIT files are grouped into one set per folder, surface and shape, since those share an object
 /// outline and a material; the set's trajectories list the files. Input files are only ever read.
 /// A path reached twice (e.g. a folder and a file inside it) is loaded once.
 pub fn load_paths(paths: &[PathBuf]) -> LoadReport {
-    let mut loader = Loader::default();
+    load_paths_choosing(paths, &[])
+}
+
+/// [`load_paths`], opening the bags listed in `choices` as their choice says (whether or not one is
+/// remembered beside them): how the app tries a choice before remembering it.
+pub fn load_paths_choosing(paths: &[PathBuf], choices: &[(PathBuf, BagChoice)]) -> LoadReport {
+    let mut loader = Loader {
+        choices: choices.to_vec(),
+        ..Loader::default()
+    };
     for path in paths {
         loader.add_path(path);
     }
@@ -61,6 +71,8 @@ struct Loader {
     seen: HashSet<PathBuf>,
     /// MIT pushes by (folder, surface, shape), in file-name order.
     mit: BTreeMap<(PathBuf, String, String), Vec<(PathBuf, MitPush)>>,
+    /// Bags to open with a choice given by the caller.
+    choices: Vec<(PathBuf, BagChoice)>,
 }
 
 impl Loader {
@@ -72,6 +84,7 @@ impl Loader {
         if meta.is_dir() {
             if path.join(SETTING_FILE).is_file() {
                 self.add_set(path, None);
+                self.add_bags_in(path);
             } else if bag::is_bag(path) {
                 self.add_bag(path);
             } else if !self.scan(path, 0) {
@@ -124,6 +137,7 @@ impl Loader {
             if is_dir {
                 if path.join(SETTING_FILE).is_file() {
                     self.add_set(&path, None);
+                    self.add_bags_in(&path);
                     found = true;
                 } else if bag::is_bag(&path) {
                     self.add_bag(&path);
@@ -144,41 +158,56 @@ impl Loader {
         found
     }
 
-    /// A ROS 2 bag is not opened as it is (which topics are the pusher and the object, and what the
-    /// object is, are the user's to say): it is reported with its topics and the command that
-    /// imports it, or with what makes it unreadable.
+    /// A ROS 2 bag opens with the choice given for it, or else the one remembered beside it
+    /// ([`bag::choice`]). Without either it is reported with its topics: which are the pusher and
+    /// the object, and what the object is, are the user's to say.
     fn add_bag(&mut self, path: &Path) {
-        if !self.seen.insert(canonical(path)) {
+        let key = canonical(path);
+        if !self.seen.insert(key.clone()) {
             return;
         }
-        let error = match bag::topics(path) {
-            Ok(topics) => {
-                let listing = topics
-                    .iter()
-                    .map(|t| {
-                        let readable = if t.pose_type().is_some() {
-                            ""
-                        } else {
-                            ", not readable"
-                        };
-                        format!("{} ({}{readable})", t.topic, t.type_name)
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ");
-                LoadError::Bag {
+        let given = self.choices.iter().find(|(bag, _)| canonical(bag) == key);
+        let outcome = match given {
+            Some((_, choice)) => bag::open(path, choice),
+            None => match bag::choice::remembered(path) {
+                Ok(Some(choice)) => bag::open(path, &choice).map_err(|e| LoadError::Bag {
                     path: path.to_path_buf(),
-                    problem: BagProblem::NeedsImport {
-                        topics: if listing.is_empty() {
-                            "none".to_owned()
-                        } else {
-                            listing
-                        },
+                    problem: BagProblem::ChoiceFailed {
+                        choice_file: bag::choice::choice_path(path),
+                        why: e.to_string(),
                     },
-                }
-            }
-            Err(e) => e,
+                }),
+                Ok(None) => Err(match bag::topics(path) {
+                    Ok(topics) => LoadError::Bag {
+                        path: path.to_path_buf(),
+                        problem: BagProblem::NeedsImport { topics },
+                    },
+                    Err(e) => e,
+                }),
+                Err(e) => Err(e),
+            },
         };
-        self.report.errors.push(error);
+        match outcome {
+            Ok(set) => self.report.sets.push(set),
+            Err(e) => self.report.errors.push(e),
+        }
+    }
+
+    /// The bags directly inside a set folder: a `setting.json` beside a bag describes its object, so
+    /// a folder holding both is opened with its bags.
+    fn add_bags_in(&mut self, dir: &Path) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return; // the set's own reading reports an unreadable folder
+        };
+        let mut bags: Vec<PathBuf> = entries
+            .filter_map(Result::ok)
+            .map(|e| e.path())
+            .filter(|p| bag::is_bag(p))
+            .collect();
+        bags.sort();
+        for path in bags {
+            self.add_bag(&path);
+        }
     }
 
     fn add_set(&mut self, dir: &Path, only: Option<&Path>) {

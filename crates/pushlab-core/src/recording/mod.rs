@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 pub use describe::{PushParameters, SidePosition};
 pub use error::{BagProblem, CsvProblem, LoadError, MitProblem, WriteError};
-pub use load::{LoadReport, load_paths};
+pub use load::{LoadReport, load_paths, load_paths_choosing};
 pub use native::{read_set, write_set};
 pub use read::{MEMORY_PER_FILE_BYTE, available_memory};
 pub use setting::{ObjectShape, PushSide, Setting, TrajectoryEntry};

@@ -190,7 +190,7 @@ pub fn parse_setting(bytes: &[u8], path: &Path) -> Result<Setting, LoadError> {
 }
 
 /// Checks the values serde cannot: a usable outline, positive sizes, plain file names.
-fn check_setting(setting: &Setting) -> Result<(), (String, String)> {
+pub(crate) fn check_setting(setting: &Setting) -> Result<(), (String, String)> {
     let field = |name: &str, problem: String| Err((name.to_string(), problem));
     if let Err(e) = setting.object.outline() {
         return field(

@@ -11,14 +11,18 @@
 //! Frames are taken as published: both streams must be in the same fixed frame (no transform tree
 //! is resolved).
 
+mod as_set;
 mod cdr;
+pub mod choice;
 mod mcap_file;
 mod split;
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
+pub use self::as_set::{open, setting_for};
 pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
+pub use self::choice::{BagChoice, SettingSource};
 use self::mcap_file::{ChannelInfo, for_each_message};
 use super::error::{BagProblem, LoadError};
 use super::read::read_file;
@@ -96,7 +100,13 @@ pub struct TopicInfo {
     /// First and last log time, nanoseconds.
     pub first_ns: u64,
     pub last_ns: u64,
+    /// For a `tf2_msgs/msg/TFMessage` topic, the child frames its transforms carry, in order of
+    /// first appearance (at most [`MAX_LISTED_FRAMES`]): what `TOPIC:CHILD_FRAME` can name.
+    pub child_frames: Vec<String>,
 }
+
+/// Most child frames listed per TF topic: a tree of a few robots; more is listed as this many.
+pub const MAX_LISTED_FRAMES: usize = 64;
 
 impl TopicInfo {
     /// Messages per second of log time (0 for fewer than two messages).
@@ -133,6 +143,7 @@ impl TopicTable {
                 count: 0,
                 first_ns: 0,
                 last_ns: 0,
+                child_frames: Vec::new(),
             })
     }
 
@@ -147,6 +158,21 @@ impl TopicTable {
         info.count += 1;
         info.first_ns = info.first_ns.min(log_time);
         info.last_ns = info.last_ns.max(log_time);
+    }
+
+    /// Notes the child frames of a TF message for listing. A message that does not decode is left
+    /// to the import, which names it; listing still lists the topic.
+    fn note_frames(&mut self, channel: &ChannelInfo, payload: &[u8]) {
+        let info = self.entry(channel);
+        if info.pose_type() != Some(PoseType::TfMessage) {
+            return;
+        }
+        let frames = &mut info.child_frames;
+        let _ = cdr::decode_tf(payload, |child, _| {
+            if frames.len() < MAX_LISTED_FRAMES && !frames.iter().any(|f| f.as_bytes() == child) {
+                frames.push(String::from_utf8_lossy(child).into_owned());
+            }
+        });
     }
 
     /// A channel of a file that carried no message on it: listed, with no messages.
@@ -185,8 +211,9 @@ fn topics_in(
     for file in files {
         let bytes = load(file)?;
         let mut channels = HashMap::new();
-        for_each_message(&bytes, &mut channels, |channel, _, log_time, _| {
+        for_each_message(&bytes, &mut channels, |channel, _, log_time, payload| {
             table.note(channel, log_time);
+            table.note_frames(channel, payload);
             Ok(())
         })
         .map_err(|problem| LoadError::Bag {

@@ -1,0 +1,292 @@
+//! What a user chose for a bag, and what pushlab offers before they choose.
+//!
+//! A bag does not say which topics are the pusher and the object, nor what the object is. The user
+//! says so once — in the app's dialog, or by hand — and the choice is remembered in a small JSON
+//! file beside the bag (`run1.mcap` → `run1.mcap.pushlab-bag.json`), never inside it. From then on
+//! the bag opens like any recording, in the app and in every CLI command that opens recordings,
+//! because [`super::super::load_paths`] reads the remembered choice. The object comes from a
+//! `setting.json` (a path, kept relative to the choice file so the folder can move) or is entered
+//! (the setting itself is stored).
+//!
+//! The pre-selection ([`suggest`]) only picks a topic when its name makes the role obvious: a wrong
+//! guess silently imports the pusher as the object, which is worse than asking.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::{ImportOptions, PoseType, TopicInfo, TopicSpec};
+use crate::atomic_file::write_atomically;
+use crate::recording::error::{BagProblem, LoadError};
+use crate::recording::native::{SETTING_FILE, check_setting, parse_setting};
+use crate::recording::read::read_file;
+use crate::recording::setting::Setting;
+
+/// Appended to a bag's file or folder name to name its remembered choice.
+pub const CHOICE_SUFFIX: &str = ".pushlab-bag.json";
+
+/// The `format` value of a choice file, so that another tool's JSON is not taken for one.
+const FORMAT: &str = "pushlab-bag-choice";
+
+/// Where the object and the rest of the setting come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SettingSource {
+    /// A `setting.json` file (its `trajectories` are ignored).
+    File(PathBuf),
+    /// Entered by the user; its `trajectories` are ignored.
+    Entered(Setting),
+}
+
+/// Which topics are the pusher and the object, where the setting comes from, and how to import.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BagChoice {
+    pub pusher: TopicSpec,
+    pub object: TopicSpec,
+    pub setting: SettingSource,
+    pub options: ImportOptions,
+}
+
+/// The file as written: flat, readable, with a version.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ChoiceFile {
+    format: String,
+    version: u32,
+    pusher: String,
+    object: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    setting_file: Option<PathBuf>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    setting: Option<Setting>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    split_gap_s: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    rate_hz: Option<f64>,
+}
+
+/// The remembered-choice file of a bag (an `.mcap` file or a rosbag2 folder): beside it, named
+/// after it.
+pub fn choice_path(bag: &Path) -> PathBuf {
+    let name = bag
+        .file_name()
+        .map_or_else(|| "bag".into(), |n| n.to_string_lossy().into_owned());
+    bag.with_file_name(format!("{name}{CHOICE_SUFFIX}"))
+}
+
+/// The choice remembered beside `bag`, if any. A file that exists but cannot be used is an error
+/// naming it and the field.
+pub fn remembered(bag: &Path) -> Result<Option<BagChoice>, LoadError> {
+    let path = choice_path(bag);
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let bytes = read_file(&path)?;
+    parse(&bytes, &path).map(Some)
+}
+
+fn bad(path: &Path, why: String) -> LoadError {
+    LoadError::Bag {
+        path: path.to_path_buf(),
+        problem: BagProblem::BadChoice { why },
+    }
+}
+
+/// Reads a choice file held in memory; `path` names it in messages and anchors a relative
+/// `setting_file`.
+pub fn parse(bytes: &[u8], path: &Path) -> Result<BagChoice, LoadError> {
+    let file: ChoiceFile = serde_json::from_slice(bytes).map_err(|e| bad(path, e.to_string()))?;
+    if file.format != FORMAT {
+        return Err(bad(
+            path,
+            format!("\"format\" is \"{}\", expected \"{FORMAT}\"", file.format),
+        ));
+    }
+    if file.version != 1 {
+        return Err(bad(
+            path,
+            format!(
+                "version {} is not supported, expected 1 (written by a newer pushlab?)",
+                file.version
+            ),
+        ));
+    }
+    let topic = |field: &str, text: &str| {
+        text.parse::<TopicSpec>()
+            .map_err(|why| bad(path, format!("field `{field}`: {why}")))
+    };
+    let pusher = topic("pusher", &file.pusher)?;
+    let object = topic("object", &file.object)?;
+    let setting = match (file.setting_file, file.setting) {
+        (Some(relative), None) => {
+            let folder = path.parent().unwrap_or(Path::new("."));
+            SettingSource::File(folder.join(relative))
+        }
+        (None, Some(setting)) => {
+            check_setting(&setting).map_err(|(field, problem)| {
+                bad(path, format!("field `setting.{field}`: {problem}"))
+            })?;
+            SettingSource::Entered(setting)
+        }
+        _ => {
+            return Err(bad(
+                path,
+                "expected exactly one of `setting_file` and `setting`".to_owned(),
+            ));
+        }
+    };
+    let positive = |field: &str, value: Option<f64>| match value {
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(bad(
+            path,
+            format!("field `{field}`: {v}, expected a positive number"),
+        )),
+        _ => Ok(value),
+    };
+    Ok(BagChoice {
+        pusher,
+        object,
+        setting,
+        options: ImportOptions {
+            split_gap_s: positive("split_gap_s", file.split_gap_s)?,
+            rate_hz: positive("rate_hz", file.rate_hz)?.map(|hz| hz.min(super::MAX_RATE_HZ)),
+        },
+    })
+}
+
+/// Remembers `choice` beside `bag`, atomically. A setting file in the choice file's folder or below
+/// is stored relative to it.
+pub fn remember(bag: &Path, choice: &BagChoice) -> std::io::Result<PathBuf> {
+    let path = choice_path(bag);
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let (setting_file, setting) = match &choice.setting {
+        SettingSource::File(file) => {
+            let relative = file.strip_prefix(folder).unwrap_or(file);
+            (Some(relative.to_path_buf()), None)
+        }
+        SettingSource::Entered(setting) => {
+            let mut setting = setting.clone();
+            setting.trajectories.clear();
+            (None, Some(setting))
+        }
+    };
+    let file = ChoiceFile {
+        format: FORMAT.to_owned(),
+        version: 1,
+        pusher: choice.pusher.to_string(),
+        object: choice.object.to_string(),
+        setting_file,
+        setting,
+        split_gap_s: choice.options.split_gap_s,
+        rate_hz: choice.options.rate_hz,
+    };
+    let mut json = serde_json::to_vec_pretty(&file).map_err(std::io::Error::other)?;
+    json.push(b'\n');
+    write_atomically(&path, &json)?;
+    Ok(path)
+}
+
+impl SettingSource {
+    /// The setting, read and checked when it is a file.
+    pub fn resolve(&self) -> Result<Setting, LoadError> {
+        match self {
+            SettingSource::File(path) => parse_setting(&read_file(path)?, path),
+            SettingSource::Entered(setting) => Ok(setting.clone()),
+        }
+    }
+}
+
+/// The `setting.json` files a bag's object may be described by, nearest first: inside a rosbag2
+/// folder, then in the folder holding the bag. Only those that exist.
+pub fn settings_beside(bag: &Path) -> Vec<PathBuf> {
+    let mut candidates = Vec::new();
+    if bag.is_dir() {
+        candidates.push(bag.join(SETTING_FILE));
+    }
+    if let Some(parent) = bag.parent() {
+        let parent = if parent.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            parent
+        };
+        candidates.push(parent.join(SETTING_FILE));
+    }
+    candidates.retain(|p| p.is_file());
+    candidates
+}
+
+/// Everything a bag's topics offer as a pose stream: each readable topic, and each child frame of a
+/// readable TF topic. In topic order.
+pub fn candidates(topics: &[TopicInfo]) -> Vec<TopicSpec> {
+    let mut specs = Vec::new();
+    for info in topics {
+        match info.pose_type() {
+            None => {}
+            Some(PoseType::TfMessage) => {
+                specs.extend(info.child_frames.iter().map(|frame| TopicSpec {
+                    topic: info.topic.clone(),
+                    child_frame: Some(frame.clone()),
+                }));
+            }
+            Some(_) => specs.push(TopicSpec {
+                topic: info.topic.clone(),
+                child_frame: None,
+            }),
+        }
+    }
+    specs
+}
+
+/// Name parts that say "this is the pusher".
+const PUSHER_WORDS: [&str; 9] = [
+    "pusher", "probe", "finger", "tip", "tool", "ee", "eef", "effector", "robot",
+];
+
+/// Name parts that say "this is the object".
+const OBJECT_WORDS: [&str; 8] = [
+    "object", "obj", "box", "block", "puck", "target", "item", "slider",
+];
+
+/// What a spec's name says it is: pusher, object, both or neither.
+fn roles(spec: &TopicSpec) -> (bool, bool) {
+    let text = spec.to_string().to_ascii_lowercase();
+    let words: Vec<&str> = text
+        .split(|c: char| !c.is_ascii_alphabetic())
+        .filter(|w| !w.is_empty())
+        .collect();
+    let says = |list: &[&str]| words.iter().any(|w| list.contains(w));
+    (says(&PUSHER_WORDS), says(&OBJECT_WORDS))
+}
+
+/// The pusher and object pre-selected among a bag's readable streams: a stream is chosen for a role
+/// when it is the only one whose name says that role and not the other; when one role is found so
+/// and exactly two streams are readable, the other takes the other role. Otherwise nothing is
+/// chosen for that role.
+pub fn suggest(topics: &[TopicInfo]) -> (Option<TopicSpec>, Option<TopicSpec>) {
+    let specs = candidates(topics);
+    let only = |want_pusher: bool| {
+        let mut matching = specs.iter().filter(|s| {
+            let (pusher, object) = roles(s);
+            if want_pusher {
+                pusher && !object
+            } else {
+                object && !pusher
+            }
+        });
+        match (matching.next(), matching.next()) {
+            (Some(one), None) => Some(one.clone()),
+            _ => None,
+        }
+    };
+    let (mut pusher, mut object) = (only(true), only(false));
+    if specs.len() == 2 {
+        let other = |chosen: &TopicSpec| specs.iter().find(|s| *s != chosen).cloned();
+        match (&pusher, &object) {
+            (Some(p), None) => object = other(p),
+            (None, Some(o)) => pusher = other(o),
+            _ => {}
+        }
+    }
+    (pusher, object)
+}
+
+#[cfg(test)]
+mod tests;
