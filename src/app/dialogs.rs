@@ -17,6 +17,8 @@ pub enum DialogRequest {
     SaveModel,
     ExportLabelsCsv,
     ExportLabelsJson,
+    /// A `setting.json` describing a bag's object.
+    BagSetting,
 }
 
 /// What a dialog returned (nothing arrives when it was cancelled).
@@ -29,6 +31,7 @@ pub enum DialogResult {
     LoadModel(PathBuf),
     SaveModel(PathBuf),
     ExportLabels(PathBuf, LabelExportFormat),
+    BagSetting(PathBuf),
     /// No dialog could be shown (neither the XDG desktop portal nor zenity answered).
     Unavailable(String),
 }
@@ -152,6 +155,11 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
             .set_file_name("labels-export.json")
             .save_file()
             .map(|p| DialogResult::ExportLabels(p, LabelExportFormat::Json)),
+        DialogRequest::BagSetting => FileDialog::new()
+            .set_title("The bag's setting.json (object, pusher radius)")
+            .add_filter("setting", &["json"])
+            .pick_file()
+            .map(DialogResult::BagSetting),
     }
 }
 

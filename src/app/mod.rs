@@ -20,6 +20,7 @@ use eframe::egui;
 use self::dialogs::{DialogRequest, DialogResult, Dialogs};
 use self::panels::scene::SceneView;
 use self::state::models::Models;
+use self::state::bag_import::BagCommand;
 use self::state::{AppState, Command, Persisted};
 
 /// Most seconds playback moves in one frame. Playback keeps real time down to 4 frames per second
@@ -110,6 +111,12 @@ impl PushlabApp {
         }
         panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
         panels::landscape::window(ui.ctx(), &self.state, &mut commands);
+        panels::bag_dialog::window(
+            ui.ctx(),
+            &self.state,
+            &mut self.view.dialogs,
+            &mut commands,
+        );
 
         for command in commands {
             self.state.apply(command);
@@ -181,6 +188,9 @@ impl PushlabApp {
     pub fn apply_dialog_result(&mut self, ctx: &egui::Context, result: DialogResult) {
         match result {
             DialogResult::Open(paths) => self.state.apply(Command::Open(paths)),
+            DialogResult::BagSetting(path) => self
+                .state
+                .apply(Command::Bag(BagCommand::UseSettingFile(path))),
             DialogResult::SaveScene(path) => {
                 self.request_screenshot(ctx, self.view.scene.rect(), path)
             }

@@ -7,6 +7,7 @@
 use eframe::egui::{self, RichText};
 use egui_extras::{Column as TableColumn, TableBuilder};
 
+use crate::app::state::bag_import::BagCommand;
 use crate::app::state::browser::{BrowserCommand, Column, Row};
 use crate::app::state::{AppState, Command};
 
@@ -208,6 +209,14 @@ fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             for problem in &state.session.problems {
                 ui.label(RichText::new(&problem.message).small())
                     .on_hover_text(problem.path.display().to_string());
+                if problem.bag_to_choose
+                    && ui
+                        .small_button("Choose topics…")
+                        .on_hover_text("choose this bag's pusher and object topics and its object")
+                        .clicked()
+                {
+                    commands.push(Command::Bag(BagCommand::ChooseAgain(problem.path.clone())));
+                }
             }
         });
 }

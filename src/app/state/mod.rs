@@ -3,6 +3,7 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
+pub mod bag_import;
 pub mod browser;
 pub mod demo;
 pub mod envelope;
@@ -32,6 +33,7 @@ use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
+use self::bag_import::{BagChooser, BagCommand};
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::demo::{DemoCommand, Demos};
 use self::labels::{LabelAction, LabelTarget, Labeling};
@@ -97,6 +99,8 @@ pub enum Command {
     Proposal(ProposalAction),
     /// The Demos menu (see `demo`).
     Demo(DemoCommand),
+    /// The form that chooses a bag's topics and object (see `bag_import`).
+    Bag(BagCommand),
 }
 
 /// How the shown frame changed, which decides what a held paint key covers.
@@ -206,6 +210,8 @@ pub struct AppState {
     pub landscape: LandscapeState,
     /// The Demos menu's presets and the demo running.
     pub demos: Demos,
+    /// ROS 2 bags waiting for their topics to be chosen, and those being opened with a choice.
+    pub bags: BagChooser,
 }
 
 impl AppState {
@@ -237,6 +243,7 @@ impl AppState {
             what_if_steps: persisted.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS),
             landscape: LandscapeState::default(),
             demos: Demos::default(),
+            bags: BagChooser::default(),
         }
     }
 
@@ -434,6 +441,7 @@ impl AppState {
             }
             Command::SetLayers(layers) => self.layers = layers,
             Command::DismissProblems => self.session.problems.clear(),
+            Command::Bag(command) => self.apply_bag(command),
             Command::Browser(command) => self.apply_browser(command),
             Command::TrainForOpenRecordings => self.train_for_open_recordings(),
             Command::SetWhatIfSteps(steps) => {
@@ -466,6 +474,9 @@ impl AppState {
             ));
             self.after_opening();
         }
+        if let Some(message) = self.after_bag_work() {
+            self.status = Some(message);
+        }
         if selected {
             self.start_run();
         }
@@ -491,6 +502,7 @@ impl AppState {
             || self.session.loading().is_some()
             || self.training.is_running()
             || self.proposals.is_running()
+            || self.bags.listing().is_some()
             || landscape
     }
 

@@ -7,7 +7,10 @@ use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
 
-use pushlab_core::recording::{LoadReport, Recording, RecordingSet, load_paths};
+use pushlab_core::recording::bag::{BagChoice, TopicInfo};
+use pushlab_core::recording::{
+    BagProblem, LoadError, LoadReport, Recording, RecordingSet, load_paths, load_paths_choosing,
+};
 
 /// Where a recording sits in the session: set index and recording index within the set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -23,6 +26,24 @@ pub struct LoadProblem {
     pub path: PathBuf,
     /// The full message, naming the file and what was expected.
     pub message: String,
+    /// A bag that opens once its topics are chosen (again): the browser offers to.
+    pub bag_to_choose: bool,
+}
+
+impl LoadProblem {
+    fn of(error: &LoadError) -> Self {
+        Self {
+            path: error.path().to_path_buf(),
+            message: error.to_string(),
+            bag_to_choose: matches!(
+                error,
+                LoadError::Bag {
+                    problem: BagProblem::ChoiceFailed { .. },
+                    ..
+                }
+            ),
+        }
+    }
 }
 
 /// A load running on a worker thread.
@@ -43,6 +64,8 @@ pub struct Session {
     pub selected: Option<RecordingId>,
     /// How long the last load took on its worker thread (for the status bar and the README figure).
     pub last_load_time: Option<Duration>,
+    /// Bags opened without a choice of topics, with their topics: the app asks (see `bag_import`).
+    pub bags_to_choose: Vec<(PathBuf, Vec<TopicInfo>)>,
     job: Option<LoadJob>,
 }
 
@@ -57,6 +80,15 @@ impl Session {
     /// Starts loading paths on a worker thread; a load already running keeps running and this one is
     /// queued behind it by simply loading in parallel (loading only reads files).
     pub fn start_loading(&mut self, paths: Vec<PathBuf>) {
+        self.start_loading_choosing(paths, Vec::new());
+    }
+
+    /// [`Self::start_loading`], opening the bags in `choices` with the choice given for each.
+    pub fn start_loading_choosing(
+        &mut self,
+        paths: Vec<PathBuf>,
+        choices: Vec<(PathBuf, BagChoice)>,
+    ) {
         if paths.is_empty() {
             return;
         }
@@ -70,7 +102,7 @@ impl Session {
         let worker_paths = paths.clone();
         std::thread::spawn(move || {
             let started = Instant::now();
-            let report = load_paths(&worker_paths);
+            let report = load_paths_choosing(&worker_paths, &choices);
             // The receiver is gone only if the app closed; nothing to report then.
             let _ = sender.send((report, started.elapsed()));
         });
@@ -99,6 +131,7 @@ impl Session {
                     self.problems.push(LoadProblem {
                         message: format!("{}: loading stopped unexpectedly", path.display()),
                         path,
+                        bag_to_choose: false,
                     });
                 }
                 false
@@ -109,11 +142,15 @@ impl Session {
     /// Adds the sets of a report (a set folder opened again replaces its older copy) and its errors.
     fn merge(&mut self, report: LoadReport, elapsed: Duration) -> bool {
         self.last_load_time = Some(elapsed);
-        self.problems
-            .extend(report.errors.iter().map(|e| LoadProblem {
-                path: e.path().to_path_buf(),
-                message: e.to_string(),
-            }));
+        for error in report.errors {
+            match error {
+                LoadError::Bag {
+                    path,
+                    problem: BagProblem::NeedsImport { topics },
+                } => self.bags_to_choose.push((path, topics)),
+                error => self.problems.push(LoadProblem::of(&error)),
+            }
+        }
         let mut first_new = None;
         for set in report.sets {
             if set.recordings.is_empty() {

@@ -241,7 +241,7 @@ pub enum BagProblem {
     BadChoice { why: String },
     #[error(
         "the topics remembered in {} do not fit the bag: {why}; choose them again (in the app: \
-         File → Choose bag topics…) or delete that file",
+         its Choose topics… button under the load problems) or delete that file",
         choice_file.display()
     )]
     ChoiceFailed { choice_file: PathBuf, why: String },

@@ -185,13 +185,44 @@ pub fn remember(bag: &Path, choice: &BagChoice) -> std::io::Result<PathBuf> {
 }
 
 impl SettingSource {
-    /// The setting, read and checked when it is a file.
+    /// The setting, read and checked when it is a file; an entered one was checked when entered
+    /// ([`entered_box`]) or read ([`parse`]).
     pub fn resolve(&self) -> Result<Setting, LoadError> {
         match self {
             SettingSource::File(path) => parse_setting(&read_file(path)?, path),
             SettingSource::Entered(setting) => Ok(setting.clone()),
         }
     }
+}
+
+/// A setting entered by hand for a box-shaped object, sizes in metres, checked as a `setting.json`
+/// would be; the error names the field and what was expected.
+pub fn entered_box(
+    name: &str,
+    width: f64,
+    length: f64,
+    pusher_radius: f64,
+    material: Option<&str>,
+) -> Result<Setting, String> {
+    let setting = Setting {
+        name: name.trim().to_owned(),
+        object: crate::recording::ObjectShape::Box { width, length },
+        pusher_radius,
+        material: material.map(str::trim).filter(|m| !m.is_empty()).map(str::to_owned),
+        floor_friction: None,
+        pusher_friction: None,
+        com_offset: None,
+        h: None,
+        push_side: None,
+        sample_rate_hz: None,
+        trajectories: Vec::new(),
+        extra: serde_json::Map::new(),
+    };
+    if setting.name.is_empty() {
+        return Err("name: empty, expected a name for the setting".to_owned());
+    }
+    check_setting(&setting).map_err(|(field, problem)| format!("{field}: {problem}"))?;
+    Ok(setting)
 }
 
 /// The `setting.json` files a bag's object may be described by, nearest first: inside a rosbag2

@@ -1,0 +1,365 @@
+//! Opening a ROS 2 bag in the app: which topics are the pusher and the object, and what the object
+//! is. The rules — the streams a bag offers, the pre-selection, the settings found beside a bag,
+//! the remembered file and the import — are the core's (`recording::bag::choice`); this keeps the
+//! form the user fills in and the bags waiting for one.
+//!
+//! The invariant: a choice is remembered beside a bag only after the bag opened with it, so what is
+//! remembered always worked once; a choice that fails comes back to its form with the error, and the
+//! bag's earlier file (if any) is left as it was.
+
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, channel};
+
+use pushlab_core::recording::bag::{
+    self, BagChoice, ImportOptions, SettingSource, TopicInfo, TopicSpec, choice,
+};
+
+use super::AppState;
+use super::session::LoadProblem;
+
+/// A box entered by hand, in the units the form shows (millimetres).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnteredBox {
+    pub name: String,
+    pub width_mm: f64,
+    pub length_mm: f64,
+    pub pusher_radius_mm: f64,
+    pub material: String,
+}
+
+/// Where the form takes the object from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ObjectSource {
+    /// A `setting.json`; with the setting's name, or why it cannot be used.
+    File {
+        path: PathBuf,
+        checked: Result<String, String>,
+    },
+    Entered(EnteredBox),
+}
+
+/// The choice being made for one bag.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BagForm {
+    pub bag: PathBuf,
+    pub topics: Vec<TopicInfo>,
+    /// The pose streams the bag offers (topics, and TF child frames).
+    pub streams: Vec<TopicSpec>,
+    pub pusher: Option<TopicSpec>,
+    pub object: Option<TopicSpec>,
+    pub object_source: ObjectSource,
+    /// `setting.json` files found beside the bag, nearest first.
+    pub settings_found: Vec<PathBuf>,
+    pub options: ImportOptions,
+    /// Why the last attempt to open the bag with this form failed.
+    pub error: Option<String>,
+}
+
+impl BagForm {
+    /// A form for `bag`: what was remembered for it, or else the core's pre-selection and the
+    /// nearest `setting.json` beside it.
+    pub fn new(bag: PathBuf, topics: Vec<TopicInfo>, remembered: Option<BagChoice>) -> Self {
+        let settings_found = choice::settings_beside(&bag);
+        let streams = choice::candidates(&topics);
+        let stem = bag
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let entered = ObjectSource::Entered(EnteredBox {
+            name: stem,
+            width_mm: 0.0,
+            length_mm: 0.0,
+            pusher_radius_mm: 5.0,
+            material: String::new(),
+        });
+        let (pusher, object, object_source, options) = match remembered {
+            Some(c) => {
+                let source = match c.setting {
+                    SettingSource::File(path) => file_source(path),
+                    SettingSource::Entered(s) => ObjectSource::Entered(entered_of(&s)),
+                };
+                (Some(c.pusher), Some(c.object), source, c.options)
+            }
+            None => {
+                let (pusher, object) = choice::suggest(&topics);
+                let source = settings_found
+                    .first()
+                    .cloned()
+                    .map_or(entered, file_source);
+                (pusher, object, source, ImportOptions::default())
+            }
+        };
+        Self {
+            bag,
+            topics,
+            streams,
+            pusher,
+            object,
+            object_source,
+            settings_found,
+            options,
+            error: None,
+        }
+    }
+
+    /// The choice the form makes, or what is still missing, as the Open button's hover says it.
+    pub fn choice(&self) -> Result<BagChoice, String> {
+        let (Some(pusher), Some(object)) = (&self.pusher, &self.object) else {
+            return Err("choose the pusher's and the object's topics".to_owned());
+        };
+        if pusher == object {
+            return Err(format!("the pusher and the object are both {pusher}"));
+        }
+        let setting = match &self.object_source {
+            ObjectSource::File { path, checked } => match checked {
+                Ok(_) => SettingSource::File(path.clone()),
+                Err(why) => return Err(why.clone()),
+            },
+            ObjectSource::Entered(b) => SettingSource::Entered(
+                choice::entered_box(
+                    &b.name,
+                    b.width_mm * 1e-3,
+                    b.length_mm * 1e-3,
+                    b.pusher_radius_mm * 1e-3,
+                    Some(&b.material),
+                )
+                .map_err(|why| format!("the object: {why}"))?,
+            ),
+        };
+        Ok(BagChoice {
+            pusher: pusher.clone(),
+            object: object.clone(),
+            setting,
+            options: self.options,
+        })
+    }
+}
+
+/// A setting file, read and checked once when chosen (not on every frame the form is drawn).
+fn file_source(path: PathBuf) -> ObjectSource {
+    let checked = SettingSource::File(path.clone())
+        .resolve()
+        .map(|s| s.name)
+        .map_err(|e| e.to_string());
+    ObjectSource::File { path, checked }
+}
+
+fn entered_of(setting: &pushlab_core::recording::Setting) -> EnteredBox {
+    let (width, length) = match setting.object {
+        pushlab_core::recording::ObjectShape::Box { width, length } => (width, length),
+        // Only boxes are entered in the form; a polygon comes from a setting file.
+        pushlab_core::recording::ObjectShape::Polygon { .. } => (0.0, 0.0),
+    };
+    EnteredBox {
+        name: setting.name.clone(),
+        width_mm: width * 1e3,
+        length_mm: length * 1e3,
+        pusher_radius_mm: setting.pusher_radius * 1e3,
+        material: setting.material.clone().unwrap_or_default(),
+    }
+}
+
+/// What the bag form asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BagCommand {
+    SetPusher(TopicSpec),
+    SetObject(TopicSpec),
+    /// Take the object from this `setting.json`.
+    UseSettingFile(PathBuf),
+    /// Enter the object by hand (keeps what was entered before).
+    EnterObject,
+    SetEntered(EnteredBox),
+    SetOptions(ImportOptions),
+    /// Open the bag with the form's choice (remembered once it opened).
+    Open,
+    /// Do not open this bag now; it stays listed as a problem with a way back to its form.
+    Skip,
+    /// Show the form again for a bag (its topics are read on a worker thread).
+    ChooseAgain(PathBuf),
+}
+
+/// Bags waiting for a choice, the ones being opened with one, and topic listings under way.
+#[derive(Default)]
+pub struct BagChooser {
+    /// Forms to fill in, the shown one first.
+    queue: VecDeque<BagForm>,
+    /// Bags being opened with a choice not yet remembered, with the form that made it.
+    trying: Vec<(BagForm, BagChoice)>,
+    /// A bag's topics being read for [`BagCommand::ChooseAgain`].
+    listing: Option<(PathBuf, Receiver<Result<BagForm, String>>)>,
+    /// What was entered by hand before switching to a setting file, restored when switching back.
+    entered_keep: Option<EnteredBox>,
+}
+
+impl BagChooser {
+    /// The form shown, if any.
+    pub fn form(&self) -> Option<&BagForm> {
+        self.queue.front()
+    }
+
+    /// Bags waiting behind the form shown.
+    pub fn waiting(&self) -> usize {
+        self.queue.len().saturating_sub(1)
+    }
+
+    /// The bag whose topics are being read, if any.
+    pub fn listing(&self) -> Option<&Path> {
+        self.listing.as_ref().map(|(p, _)| p.as_path())
+    }
+
+    /// Bags being opened with a choice.
+    pub fn opening(&self) -> impl Iterator<Item = &Path> {
+        self.trying.iter().map(|(f, _)| f.bag.as_path())
+    }
+
+    fn ask(&mut self, form: BagForm) {
+        self.queue.retain(|f| f.bag != form.bag);
+        self.queue.push_back(form);
+    }
+}
+
+impl AppState {
+    pub(super) fn apply_bag(&mut self, command: BagCommand) {
+        if let BagCommand::ChooseAgain(bag) = command {
+            return self.list_topics_of(bag);
+        }
+        let chooser = &mut self.bags;
+        let Some(form) = chooser.queue.front_mut() else {
+            return;
+        };
+        match command {
+            BagCommand::SetPusher(spec) => form.pusher = Some(spec),
+            BagCommand::SetObject(spec) => form.object = Some(spec),
+            BagCommand::UseSettingFile(path) => {
+                if let ObjectSource::Entered(b) = &form.object_source {
+                    chooser.entered_keep = Some(b.clone());
+                }
+                form.object_source = file_source(path);
+            }
+            BagCommand::EnterObject => {
+                if matches!(form.object_source, ObjectSource::File { .. }) {
+                    let kept = chooser.entered_keep.take().unwrap_or(EnteredBox {
+                        name: String::new(),
+                        width_mm: 0.0,
+                        length_mm: 0.0,
+                        pusher_radius_mm: 5.0,
+                        material: String::new(),
+                    });
+                    form.object_source = ObjectSource::Entered(kept);
+                }
+            }
+            BagCommand::SetEntered(entered) => {
+                if matches!(form.object_source, ObjectSource::Entered(_)) {
+                    form.object_source = ObjectSource::Entered(entered);
+                }
+            }
+            BagCommand::SetOptions(options) => form.options = options,
+            BagCommand::Open => match form.choice() {
+                Ok(choice) => {
+                    let bag = form.bag.clone();
+                    // Earlier problems of this bag are retried now; one after this load is new.
+                    self.session.problems.retain(|p| !p.path.starts_with(&bag));
+                    if let Some(mut form) = chooser.queue.pop_front() {
+                        form.error = None;
+                        chooser.trying.retain(|(f, _)| f.bag != bag);
+                        chooser.trying.push((form, choice.clone()));
+                    }
+                    self.session
+                        .start_loading_choosing(vec![bag.clone()], vec![(bag, choice)]);
+                }
+                Err(why) => form.error = Some(why),
+            },
+            BagCommand::Skip => {
+                let bag = form.bag.clone();
+                chooser.queue.pop_front();
+                self.session.problems.push(LoadProblem {
+                    message: format!(
+                        "{}: not opened: its pusher and object topics were not chosen",
+                        bag.display()
+                    ),
+                    path: bag,
+                    bag_to_choose: true,
+                });
+            }
+            BagCommand::ChooseAgain(_) => {}
+        }
+    }
+
+    /// Reads a bag's topics and remembered choice on a worker thread; the form opens when done.
+    fn list_topics_of(&mut self, bag: PathBuf) {
+        if self.bags.listing.is_some() {
+            self.status = Some("still reading another bag's topics".to_owned());
+            return;
+        }
+        let (sender, receiver) = channel();
+        let worker_bag = bag.clone();
+        std::thread::spawn(move || {
+            let form = bag::topics(&worker_bag).map_err(|e| e.to_string()).map(|topics| {
+                // A remembered file that cannot be read is not offered; the form starts afresh.
+                let remembered = choice::remembered(&worker_bag).ok().flatten();
+                BagForm::new(worker_bag, topics, remembered)
+            });
+            let _ = sender.send(form);
+        });
+        self.bags.listing = Some((bag, receiver));
+    }
+
+    /// Merges what loading and topic listing finished: forms for bags that need a choice, and for
+    /// each bag opened with a choice, the choice remembered (it opened) or its form back with the
+    /// error. Returns a message for the status line when there is one.
+    pub(super) fn after_bag_work(&mut self) -> Option<String> {
+        let mut message = None;
+        if let Some((_, receiver)) = &self.bags.listing
+            && let Ok(result) = receiver.try_recv()
+        {
+            self.bags.listing = None;
+            match result {
+                Ok(form) => {
+                    self.session
+                        .problems
+                        .retain(|p| !(p.bag_to_choose && p.path == form.bag));
+                    self.bags.queue.push_front(form);
+                }
+                Err(why) => message = Some(why),
+            }
+        }
+        for (bag, topics) in std::mem::take(&mut self.session.bags_to_choose) {
+            self.bags.ask(BagForm::new(bag, topics, None));
+        }
+        if self.session.loading().is_some() {
+            return message;
+        }
+        for (mut form, choice) in std::mem::take(&mut self.bags.trying) {
+            let bag = form.bag.clone();
+            let failed = self.session.problems.iter().any(|p| p.path.starts_with(&bag));
+            if !failed && self.session.sets.iter().any(|s| s.dir == bag) {
+                message = Some(match choice::remember(&bag, &choice) {
+                    Ok(file) => format!(
+                        "opened {}; its topics are remembered in {}",
+                        bag.display(),
+                        file.display()
+                    ),
+                    Err(e) => format!(
+                        "opened {}, but its topics could not be remembered beside it ({e}); \
+                         they will be asked again",
+                        bag.display()
+                    ),
+                });
+                continue;
+            }
+            // Failed: its problem goes back into its form.
+            let error = self
+                .session
+                .problems
+                .iter()
+                .position(|p| p.path.starts_with(&bag))
+                .map(|i| self.session.problems.remove(i).message);
+            form.error = error.or(Some(format!("{} did not open", bag.display())));
+            self.bags.queue.push_front(form);
+        }
+        message
+    }
+}
+
+#[cfg(test)]
+mod tests;
