@@ -19,8 +19,8 @@ use eframe::egui;
 
 use self::dialogs::{DialogRequest, DialogResult, Dialogs};
 use self::panels::scene::SceneView;
-use self::state::models::Models;
 use self::state::bag_import::BagCommand;
+use self::state::models::Models;
 use self::state::{AppState, Command, Persisted};
 
 /// Most seconds playback moves in one frame. Playback keeps real time down to 4 frames per second
@@ -111,12 +111,7 @@ impl PushlabApp {
         }
         panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
         panels::landscape::window(ui.ctx(), &self.state, &mut commands);
-        panels::bag_dialog::window(
-            ui.ctx(),
-            &self.state,
-            &mut self.view.dialogs,
-            &mut commands,
-        );
+        panels::bag_dialog::window(ui.ctx(), &self.state, &mut self.view.dialogs, &mut commands);
 
         for command in commands {
             self.state.apply(command);

@@ -113,36 +113,37 @@ fn streams(ui: &mut egui::Ui, form: &BagForm, send: &mut impl FnMut(BagCommand))
         );
         return;
     }
-    egui::Grid::new("bag streams").num_columns(2).show(ui, |ui| {
-        for (label, chosen, command) in [
-            (
-                "Pusher",
-                &form.pusher,
-                BagCommand::SetPusher as fn(TopicSpec) -> BagCommand,
-            ),
-            ("Object", &form.object, BagCommand::SetObject),
-        ] {
-            ui.label(label);
-            let shown = chosen
-                .as_ref()
-                .map_or_else(|| "choose…".to_owned(), ToString::to_string);
-            egui::ComboBox::from_id_salt(label)
-                .selected_text(shown)
-                .width(300.0)
-                .show_ui(ui, |ui| {
-                    for spec in &form.streams {
-                        let selected = chosen.as_ref() == Some(spec);
-                        if ui
-                            .selectable_label(selected, spec.to_string())
-                            .clicked()
-                        {
-                            send(command(spec.clone()));
+    egui::Grid::new("bag streams")
+        .num_columns(2)
+        .show(ui, |ui| {
+            for (label, chosen, command) in [
+                (
+                    "Pusher",
+                    &form.pusher,
+                    BagCommand::SetPusher as fn(TopicSpec) -> BagCommand,
+                ),
+                ("Object", &form.object, BagCommand::SetObject),
+            ] {
+                let name = ui.label(label);
+                let shown = chosen
+                    .as_ref()
+                    .map_or_else(|| "choose…".to_owned(), ToString::to_string);
+                egui::ComboBox::from_id_salt(label)
+                    .selected_text(shown)
+                    .width(300.0)
+                    .show_ui(ui, |ui| {
+                        for spec in &form.streams {
+                            let selected = chosen.as_ref() == Some(spec);
+                            if ui.selectable_label(selected, spec.to_string()).clicked() {
+                                send(command(spec.clone()));
+                            }
                         }
-                    }
-                });
-            ui.end_row();
-        }
-    });
+                    })
+                    .response
+                    .labelled_by(name.id);
+                ui.end_row();
+            }
+        });
 }
 
 /// The object: a `setting.json` (found beside the bag, or chosen) or a box entered by hand.
@@ -192,28 +193,30 @@ fn object(
 
 fn entered_box(ui: &mut egui::Ui, entered: &EnteredBox, send: &mut impl FnMut(BagCommand)) {
     let mut edited = entered.clone();
-    egui::Grid::new("entered box").num_columns(2).show(ui, |ui| {
-        ui.label("Name");
-        ui.text_edit_singleline(&mut edited.name);
-        ui.end_row();
-        for (label, value) in [
-            ("Width (along x)", &mut edited.width_mm),
-            ("Length (along y)", &mut edited.length_mm),
-            ("Pusher radius", &mut edited.pusher_radius_mm),
-        ] {
-            ui.label(label);
-            ui.add(
-                egui::DragValue::new(value)
-                    .range(0.0..=2000.0)
-                    .speed(0.5)
-                    .suffix(" mm"),
-            );
+    egui::Grid::new("entered box")
+        .num_columns(2)
+        .show(ui, |ui| {
+            ui.label("Name");
+            ui.text_edit_singleline(&mut edited.name);
             ui.end_row();
-        }
-        ui.label("Material");
-        ui.text_edit_singleline(&mut edited.material);
-        ui.end_row();
-    });
+            for (label, value) in [
+                ("Width (along x)", &mut edited.width_mm),
+                ("Length (along y)", &mut edited.length_mm),
+                ("Pusher radius", &mut edited.pusher_radius_mm),
+            ] {
+                ui.label(label);
+                ui.add(
+                    egui::DragValue::new(value)
+                        .range(0.0..=2000.0)
+                        .speed(0.5)
+                        .suffix(" mm"),
+                );
+                ui.end_row();
+            }
+            ui.label("Material");
+            ui.text_edit_singleline(&mut edited.material);
+            ui.end_row();
+        });
     if edited != *entered {
         send(BagCommand::SetEntered(edited));
     }

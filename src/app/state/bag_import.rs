@@ -82,10 +82,7 @@ impl BagForm {
             }
             None => {
                 let (pusher, object) = choice::suggest(&topics);
-                let source = settings_found
-                    .first()
-                    .cloned()
-                    .map_or(entered, file_source);
+                let source = settings_found.first().cloned().map_or(entered, file_source);
                 (pusher, object, source, ImportOptions::default())
             }
         };
@@ -294,11 +291,13 @@ impl AppState {
         let (sender, receiver) = channel();
         let worker_bag = bag.clone();
         std::thread::spawn(move || {
-            let form = bag::topics(&worker_bag).map_err(|e| e.to_string()).map(|topics| {
-                // A remembered file that cannot be read is not offered; the form starts afresh.
-                let remembered = choice::remembered(&worker_bag).ok().flatten();
-                BagForm::new(worker_bag, topics, remembered)
-            });
+            let form = bag::topics(&worker_bag)
+                .map_err(|e| e.to_string())
+                .map(|topics| {
+                    // A remembered file that cannot be read is not offered; the form starts afresh.
+                    let remembered = choice::remembered(&worker_bag).ok().flatten();
+                    BagForm::new(worker_bag, topics, remembered)
+                });
             let _ = sender.send(form);
         });
         self.bags.listing = Some((bag, receiver));
@@ -331,8 +330,18 @@ impl AppState {
         }
         for (mut form, choice) in std::mem::take(&mut self.bags.trying) {
             let bag = form.bag.clone();
-            let failed = self.session.problems.iter().any(|p| p.path.starts_with(&bag));
-            if !failed && self.session.sets.iter().any(|s| s.dir == bag) {
+            let failed = self
+                .session
+                .problems
+                .iter()
+                .any(|p| p.path.starts_with(&bag));
+            let opened = self.session.sets.iter().position(|s| s.dir == bag);
+            if let (false, Some(set)) = (failed, opened) {
+                // The user just chose this bag: show it.
+                self.apply(super::Command::Select(super::session::RecordingId {
+                    set,
+                    recording: 0,
+                }));
                 message = Some(match choice::remember(&bag, &choice) {
                     Ok(file) => format!(
                         "opened {}; its topics are remembered in {}",

@@ -281,6 +281,9 @@ impl AppState {
             self.start_run();
         }
         self.after_opening();
+        if let Some(message) = self.after_bag_work() {
+            self.status = Some(message);
+        }
         self.proposals.wait();
     }
 

@@ -208,7 +208,10 @@ pub fn entered_box(
         name: name.trim().to_owned(),
         object: crate::recording::ObjectShape::Box { width, length },
         pusher_radius,
-        material: material.map(str::trim).filter(|m| !m.is_empty()).map(str::to_owned),
+        material: material
+            .map(str::trim)
+            .filter(|m| !m.is_empty())
+            .map(str::to_owned),
         floor_friction: None,
         pusher_friction: None,
         com_offset: None,
