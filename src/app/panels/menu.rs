@@ -143,6 +143,13 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                         ui.separator();
                         ui.spinner();
                         ui.label(format!("loading {} path(s)…", paths.len()));
+                        if ui
+                            .small_button("Cancel")
+                            .on_hover_text("stop opening them; what they hold is not added")
+                            .clicked()
+                        {
+                            commands.push(Command::CancelLoading);
+                        }
                     }
                     if let Some(status) = &state.status {
                         ui.separator();

@@ -209,6 +209,14 @@ impl BagChooser {
         self.trying.iter().map(|(f, _)| f.bag.as_path())
     }
 
+    /// The load was cancelled: the bags being opened go back to their forms, saying so.
+    pub(super) fn loading_cancelled(&mut self) {
+        for (mut form, _) in std::mem::take(&mut self.trying) {
+            form.error = Some("opening was cancelled".to_owned());
+            self.queue.push_front(form);
+        }
+    }
+
     fn ask(&mut self, form: BagForm) {
         self.queue.retain(|f| f.bag != form.bag);
         self.queue.push_back(form);

@@ -81,6 +81,8 @@ pub enum Command {
     SetLayers(Layers),
     /// Forget the load problems listed in the browser.
     DismissProblems,
+    /// Stop waiting for the recordings being opened (a large bag, a slow disk).
+    CancelLoading,
     /// Filter or sort the browser's table.
     Browser(BrowserCommand),
     /// Train a model for the open recordings and remember it for their folders (see `fit`).
@@ -444,6 +446,12 @@ impl AppState {
             }
             Command::SetLayers(layers) => self.layers = layers,
             Command::DismissProblems => self.session.problems.clear(),
+            Command::CancelLoading => {
+                if self.session.cancel_loading() {
+                    self.bags.loading_cancelled();
+                    self.status = Some("opening cancelled".to_owned());
+                }
+            }
             Command::Bag(command) => self.apply_bag(command),
             Command::Browser(command) => self.apply_browser(command),
             Command::TrainForOpenRecordings => self.train_for_open_recordings(),

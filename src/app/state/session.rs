@@ -109,6 +109,12 @@ impl Session {
         self.job = Some(LoadJob { paths, receiver });
     }
 
+    /// Stops waiting for the load under way: its results are dropped when the worker finishes
+    /// (loading only reads files, so nothing is left half-done). Returns whether one was running.
+    pub fn cancel_loading(&mut self) -> bool {
+        self.job.take().is_some()
+    }
+
     /// The paths being loaded right now, if any.
     pub fn loading(&self) -> Option<&[PathBuf]> {
         self.job.as_ref().map(|j| j.paths.as_slice())

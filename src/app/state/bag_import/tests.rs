@@ -213,3 +213,21 @@ fn a_skipped_bag_is_listed_and_its_form_comes_back_on_request() {
     assert!(state.session.problems.is_empty());
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn cancelling_the_load_brings_the_form_back_and_remembers_nothing() {
+    let (dir, bag) = tf_bag("cancel", true);
+    let mut state = state_on(&bag);
+    state.apply(Command::Bag(BagCommand::Open));
+    assert!(state.session.loading().is_some());
+    // Before any frame merges the worker's result.
+    state.apply(Command::CancelLoading);
+    assert!(state.session.loading().is_none());
+    assert_eq!(state.status.as_deref(), Some("opening cancelled"));
+    settle(&mut state);
+    assert!(state.recording().is_none());
+    let form = state.bags.form().expect("the form is back");
+    assert_eq!(form.error.as_deref(), Some("opening was cancelled"));
+    assert!(!choice::choice_path(&bag).exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
