@@ -330,7 +330,14 @@ impl AppState {
                 Err(why) => message = Some(why),
             }
         }
-        for (bag, topics) in std::mem::take(&mut self.session.bags_to_choose) {
+        let asked = std::mem::take(&mut self.session.bags_to_choose);
+        if !asked.is_empty() {
+            message = Some(format!(
+                "{} ROS 2 bag(s) wait for their pusher and object topics to be chosen",
+                asked.len()
+            ));
+        }
+        for (bag, topics) in asked {
             self.bags.ask(BagForm::new(bag, topics, None));
         }
         if self.session.loading().is_some() {

@@ -14,6 +14,7 @@ pub mod landscape;
 pub mod layers;
 pub mod models;
 pub mod online;
+mod opening;
 pub mod overview;
 pub mod predictions;
 pub mod proposals;
@@ -41,6 +42,8 @@ use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
 use self::models::Models;
 use self::online::OnlineRun;
+pub use self::opening::MAX_RECENT;
+use self::opening::load_message;
 use self::overview::PathOverview;
 use self::proposals::{ProposalAction, ProposalState};
 use self::session::{RecordingId, Session};
@@ -156,23 +159,6 @@ pub const DEFAULT_WHAT_IF_STEPS: usize = 20;
 /// The most steps a what-if rollout runs (each is one prediction, drawn as a ghost).
 pub const MAX_WHAT_IF_STEPS: usize = 500;
 
-/// What the status line says when a background load finished.
-fn load_message(new_recordings: usize, new_problems: usize) -> String {
-    let opened = match new_recordings {
-        0 => "no new recordings opened".to_owned(),
-        1 => "opened 1 recording".to_owned(),
-        n => format!("opened {n} recordings"),
-    };
-    match new_problems {
-        0 => opened,
-        1 => format!("{opened}; 1 file could not be read (see the browser)"),
-        n => format!("{opened}; {n} files could not be read (see the browser)"),
-    }
-}
-
-/// How many recent paths the File menu remembers.
-pub const MAX_RECENT: usize = 10;
-
 /// The whole app state.
 pub struct AppState {
     pub session: Session,
@@ -270,37 +256,6 @@ impl AppState {
             folder_models: self.folder_models.clone(),
             browser: self.browser.clone(),
             what_if_steps: self.what_if_steps,
-        }
-    }
-
-    /// Opens paths on this thread (command line, tests) and selects the first new recording.
-    pub fn open_blocking(&mut self, paths: &[PathBuf]) {
-        self.remember(paths);
-        self.labels.unreadable.clear();
-        let selected = self.session.open_blocking(paths);
-        self.labels.sync(&self.session);
-        if selected {
-            self.start_run();
-        }
-        self.after_opening();
-        if let Some(message) = self.after_bag_work() {
-            self.status = Some(message);
-        }
-        self.proposals.wait();
-    }
-
-    /// After recordings were opened: the model remembered for their folders comes back, and the
-    /// status line says when the model in use does not fit them.
-    fn after_opening(&mut self) {
-        self.remember_parameters();
-        self.reopen_folder_model();
-        self.refresh_fit();
-        if let Some(mismatch) = &self.fit {
-            let message = format!("warning: {}", mismatch.message);
-            self.status = Some(match self.status.take() {
-                Some(before) => format!("{before} — {message}"),
-                None => message,
-            });
         }
     }
 
@@ -594,14 +549,5 @@ impl AppState {
         if playing {
             self.timeline.apply(TimelineCommand::TogglePlay);
         }
-    }
-
-    fn remember(&mut self, paths: &[PathBuf]) {
-        for path in paths.iter().rev() {
-            let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
-            self.recent.retain(|p| *p != path);
-            self.recent.insert(0, path);
-        }
-        self.recent.truncate(MAX_RECENT);
     }
 }
