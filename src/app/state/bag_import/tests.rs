@@ -96,6 +96,10 @@ fn open_remembers_the_choice_only_once_the_bag_opened() {
     );
     let status = state.status.clone().unwrap();
     assert!(status.contains("its topics are remembered in"), "{status}");
+    // Labels go beside the bag, keyed by its name, like a CSV's.
+    let target = state.label_target().unwrap();
+    assert_eq!(target.document, dir.join("pushlab-labels.json"));
+    assert_eq!(target.recording, "tf");
     // Another session opens it without asking.
     let again = state_on(&bag);
     assert!(again.bags.form().is_none());
