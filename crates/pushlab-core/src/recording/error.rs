@@ -222,6 +222,49 @@ pub enum BagProblem {
         frame: String,
         seen: Vec<String>,
     },
+    #[error(
+        "topic `{topic}` message {index}: frame `{frame}` has two parents, `{first}` and `{second}`; \
+         expected one tree (each frame published under one parent)"
+    )]
+    TwoParents {
+        topic: String,
+        frame: String,
+        first: String,
+        second: String,
+        /// The message (0-based on its topic, in its file) that gave the second parent.
+        index: u64,
+    },
+    #[error(
+        "the transforms of `{topic}` and {static_topic} form a loop: {}; expected a tree",
+        chain.join(" → "), static_topic = crate::recording::bag::TF_STATIC
+    )]
+    FrameLoop {
+        topic: String,
+        /// The frames from the one asked for, up its parents, back to one already on the way.
+        chain: Vec<String>,
+    },
+    #[error(
+        "pusher `{pusher}`'s chain ({}) ends in `{}`, object `{object}`'s ({}) in `{}`; expected \
+         both in one fixed frame",
+        pusher_chain.join(" → "), last(pusher_chain), object_chain.join(" → "), last(object_chain)
+    )]
+    DifferentRoots {
+        pusher: String,
+        /// From the child frame up to the root.
+        pusher_chain: Vec<String>,
+        object: String,
+        object_chain: Vec<String>,
+    },
+    #[error(
+        "`{spec}`: every transform of its chain ({}) is static, so it has no times to be read at; \
+         expected the frame, or a frame above it, published on `{topic}`",
+        chain.join(" → ")
+    )]
+    StaticChain {
+        spec: String,
+        topic: String,
+        chain: Vec<String>,
+    },
     #[error("topic `{topic}` message {index} ({type_name}): cannot decode: {why}")]
     Decode {
         topic: String,
@@ -253,6 +296,10 @@ pub enum BagProblem {
         "the pusher and object streams overlap for only {seconds:.3} s, expected at least {min} s"
     )]
     TooShort { seconds: f64, min: f64 },
+}
+
+fn last(chain: &[String]) -> &str {
+    chain.last().map_or("", String::as_str)
 }
 
 fn seen_frames(seen: &[String]) -> String {

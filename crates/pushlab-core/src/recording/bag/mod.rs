@@ -14,12 +14,15 @@
 mod cdr;
 mod mcap_file;
 mod split;
+mod tf_tree;
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
 use self::mcap_file::{ChannelInfo, for_each_message};
+pub use self::tf_tree::TF_STATIC;
+use self::tf_tree::{Chain, Transforms};
 use super::error::{BagProblem, LoadError};
 use super::read::read_file;
 
@@ -259,7 +262,16 @@ struct Stream<'a> {
     /// Messages seen on the topic in the current file, for error messages.
     index: u64,
     unstamped: u64,
-    child_frames_seen: Vec<String>,
+}
+
+/// What the messages of one channel are read for, decided once per channel.
+#[derive(Clone, Copy)]
+enum Role {
+    /// Single poses feeding the streams flagged.
+    Poses([bool; 2], PoseType),
+    /// Transforms, kept in the given slot of [`Transforms`] for resolving the tree after reading;
+    /// the streams flagged read their child frames from this topic.
+    Tf([bool; 2], usize),
 }
 
 /// Reads the pusher's and the object's poses from a bag. A topic that is missing, of a type
@@ -300,18 +312,20 @@ fn read_streams_in(
         rows: Vec::new(),
         index: 0,
         unstamped: 0,
-        child_frames_seen: Vec::new(),
     });
     let mut table = TopicTable::default();
+    let mut transforms = Transforms::default();
+    // `/tf_static` is read only when a child frame is asked for: then it may hold links of its tree.
+    let wants_tree = pusher.child_frame.is_some() || object.child_frame.is_some();
     let mut base: Option<u64> = None;
-    for file in files {
+    for (file_number, file) in files.iter().enumerate() {
         let bytes = load(file)?;
         let mut channels = HashMap::new();
-        // The role and type of each channel id, decided once per channel.
-        let mut roles: HashMap<u16, Option<([bool; 2], PoseType)>> = HashMap::new();
+        let mut roles: HashMap<u16, Option<Role>> = HashMap::new();
         for stream in &mut streams {
             stream.index = 0;
         }
+        transforms.new_file();
         let fail = |problem| LoadError::Bag {
             path: file.clone(),
             problem,
@@ -322,20 +336,39 @@ fn read_streams_in(
                 let kind = PoseType::from_schema(&channel.type_name)
                     .filter(|_| channel.encoding == "cdr")?;
                 let feeds = [pusher, object].map(|spec| spec.topic == channel.topic);
-                feeds.contains(&true).then_some((feeds, kind))
+                if kind == PoseType::TfMessage {
+                    let keep = feeds.contains(&true) || (wants_tree && channel.topic == TF_STATIC);
+                    return keep.then(|| Role::Tf(feeds, transforms.slot(&channel.topic)));
+                }
+                feeds.contains(&true).then_some(Role::Poses(feeds, kind))
             });
-            let Some((feeds, kind)) = role else {
-                return Ok(());
-            };
-            read_message(
-                &mut streams,
-                feeds,
-                kind,
-                channel,
-                log_time,
-                payload,
-                &mut base,
-            )
+            match role {
+                None => Ok(()),
+                Some(Role::Poses(feeds, kind)) => read_message(
+                    &mut streams,
+                    feeds,
+                    kind,
+                    channel,
+                    log_time,
+                    payload,
+                    &mut base,
+                ),
+                Some(Role::Tf(feeds, slot)) => {
+                    let frames = [0, 1].map(|s| {
+                        feeds[s]
+                            .then_some(streams[s].spec.child_frame.as_deref())
+                            .flatten()
+                    });
+                    let firsts = transforms.record(slot, file_number, log_time, payload, frames)?;
+                    if (0..2).any(|s| feeds[s] && frames[s].is_none()) {
+                        return Err(need_child_frame(&channel.topic, payload));
+                    }
+                    for ns in firsts.into_iter().flatten() {
+                        base.get_or_insert(ns);
+                    }
+                    Ok(())
+                }
+            }
         })
         .map_err(fail)?;
         for channel in channels.values() {
@@ -347,7 +380,8 @@ fn read_streams_in(
         problem,
     };
     let mut warnings = Vec::new();
-    for stream in &streams {
+    let mut chains = [None, None];
+    for (stream, chain) in streams.iter().zip(&mut chains) {
         let spec = stream.spec;
         let Some(info) = table.0.get(&spec.topic) else {
             return Err(bag_error(BagProblem::MissingTopic {
@@ -365,22 +399,42 @@ fn read_streams_in(
         };
         if kind == PoseType::TfMessage
             && let Some(frame) = &spec.child_frame
-            && stream.rows.is_empty()
         {
-            return Err(bag_error(BagProblem::NoChildFrame {
-                topic: spec.topic.clone(),
-                frame: frame.clone(),
-                seen: stream.child_frames_seen.clone(),
-            }));
+            let found = transforms.chain(&spec.topic, frame).map_err(bag_error)?;
+            let Some(found) = found else {
+                return Err(bag_error(BagProblem::NoChildFrame {
+                    topic: spec.topic.clone(),
+                    frame: frame.clone(),
+                    seen: transforms.frames_seen(&spec.topic),
+                }));
+            };
+            *chain = Some(found);
+        }
+    }
+    if let [Some(tip), Some(obj)] = &chains
+        && tip.root() != obj.root()
+    {
+        return Err(bag_error(BagProblem::DifferentRoots {
+            pusher: pusher.to_string(),
+            pusher_chain: tip.frames.clone(),
+            object: object.to_string(),
+            object_chain: obj.frames.clone(),
+        }));
+    }
+    for (stream, chain) in streams.iter_mut().zip(&chains) {
+        if let Some(chain) = chain {
+            read_chain(stream, chain, files, path, &mut base, &mut warnings)?;
         }
         if stream.unstamped > 0 {
             warnings.push(format!(
-                "{spec}: {} of {} pose(s) without a header stamp; their log time used",
+                "{}: {} of {} pose(s) without a header stamp; their log time used",
+                stream.spec,
                 stream.unstamped,
                 stream.rows.len()
             ));
         }
     }
+    drop(chains);
     let [pusher_stream, object_stream] = streams;
     Ok(BagStreams {
         pusher: pusher_stream.rows,
@@ -391,8 +445,89 @@ fn read_streams_in(
     })
 }
 
-/// Reads one message of a channel that feeds the streams flagged in `feeds` (both, when the pusher
-/// and the object are two child frames of one `/tf` topic).
+/// The error for a TFMessage topic named without a child frame, listing the frames of `payload`.
+fn need_child_frame(topic: &str, payload: &[u8]) -> BagProblem {
+    let mut seen = Vec::new();
+    // The message decoded once already: this cannot fail.
+    let _ = cdr::decode_tf(payload, |t| {
+        seen.push(String::from_utf8_lossy(t.child).into_owned());
+    });
+    BagProblem::NeedChildFrame {
+        topic: topic.to_owned(),
+        seen,
+    }
+}
+
+/// Fills a `/tf` stream's rows with its frame's poses in the root of its chain.
+fn read_chain(
+    stream: &mut Stream,
+    chain: &Chain,
+    files: &[PathBuf],
+    path: &Path,
+    base: &mut Option<u64>,
+    warnings: &mut Vec<String>,
+) -> Result<(), LoadError> {
+    let spec = stream.spec.to_string();
+    let error = |file: Option<usize>, problem| LoadError::Bag {
+        path: file
+            .and_then(|f| files.get(f))
+            .map_or_else(|| path.to_path_buf(), Clone::clone),
+        problem,
+    };
+    let found = chain.poses(&spec).map_err(|(file, p)| error(file, p))?;
+    let Some(first) = found.poses.first() else {
+        return Ok(());
+    };
+    let base = *base.get_or_insert(first.at.ns);
+    stream.rows.reserve(found.poses.len());
+    for pose in &found.poses {
+        let (x, y, yaw) = (pose.x, pose.y, pose.yaw);
+        check_pose(found.topic, pose.at.index, x, y, yaw).map_err(|p| error(Some(pose.at.file), p))?;
+        stream.unstamped += u64::from(!pose.at.stamped);
+        stream.rows.push([seconds_since(base, pose.at.ns), x, y, yaw]);
+    }
+    if let Some(dropped) = found.dropped {
+        let (from, to) = dropped.span_ns;
+        warnings.push(format!(
+            "{spec}: {} of {} pose(s) dropped: their time is outside the span of {} ({:.3} … {:.3} s), \
+             which is not extrapolated",
+            dropped.count,
+            found.candidates,
+            dropped.link,
+            seconds_since(base, from),
+            seconds_since(base, to),
+        ));
+    }
+    Ok(())
+}
+
+/// `ns` in seconds after `base`.
+fn seconds_since(base: u64, ns: u64) -> f64 {
+    (i128::from(ns) - i128::from(base)) as f64 * 1e-9
+}
+
+/// Refuses a pose that is not finite or far from the origin (a unit error, a broken tracker).
+fn check_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> Result<(), BagProblem> {
+    let bad = |why| BagProblem::BadValue {
+        topic: topic.to_owned(),
+        index,
+        why,
+    };
+    if let Some(v) = [x, y, yaw].iter().find(|v| !v.is_finite()) {
+        return Err(bad(format!(
+            "a pose value is {v}, expected a finite number"
+        )));
+    }
+    if x.abs().max(y.abs()) > MAX_POSITION_M {
+        return Err(bad(format!(
+            "position ({x}, {y}) m, expected within {MAX_POSITION_M} m of the origin"
+        )));
+    }
+    Ok(())
+}
+
+/// Reads one message of a single-pose channel that feeds the streams flagged in `feeds` (both, when
+/// the pusher and the object are one topic).
 fn read_message(
     streams: &mut [Stream; 2],
     feeds: [bool; 2],
@@ -406,13 +541,13 @@ fn read_message(
     for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
         stream.index += 1;
     }
-    let decode_error = |why| BagProblem::Decode {
+    let pose = cdr::decode(kind, payload).map_err(|why| BagProblem::Decode {
         topic: channel.topic.clone(),
         index,
         type_name: kind.name(),
         why,
-    };
-    let mut push = |stream: &mut Stream, pose: cdr::PlanarPose| {
+    })?;
+    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
         let ns = if pose.stamp_ns == 0 {
             stream.unstamped += 1;
             log_time
@@ -420,60 +555,10 @@ fn read_message(
             pose.stamp_ns
         };
         let base = *base.get_or_insert(ns);
-        let t = (i128::from(ns) - i128::from(base)) as f64 * 1e-9;
-        let bad = |why| BagProblem::BadValue {
-            topic: channel.topic.clone(),
-            index,
-            why,
-        };
-        if let Some(v) = [pose.x, pose.y, pose.yaw].iter().find(|v| !v.is_finite()) {
-            return Err(bad(format!(
-                "a pose value is {v}, expected a finite number"
-            )));
-        }
-        if pose.x.abs().max(pose.y.abs()) > MAX_POSITION_M {
-            return Err(bad(format!(
-                "position ({}, {}) m, expected within {MAX_POSITION_M} m of the origin",
-                pose.x, pose.y
-            )));
-        }
-        stream.rows.push([t, pose.x, pose.y, pose.yaw]);
-        Ok(())
-    };
-    if kind != PoseType::TfMessage {
-        let pose = cdr::decode(kind, payload).map_err(decode_error)?;
-        for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
-            push(stream, pose)?;
-        }
-        return Ok(());
-    }
-    let mut frames: Vec<(Vec<u8>, cdr::PlanarPose)> = Vec::new();
-    cdr::decode_tf(payload, |child, pose| frames.push((child.to_vec(), pose)))
-        .map_err(decode_error)?;
-    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
-        let Some(frame) = stream.spec.child_frame.as_deref() else {
-            return Err(BagProblem::NeedChildFrame {
-                topic: channel.topic.clone(),
-                seen: frames
-                    .iter()
-                    .map(|(child, _)| String::from_utf8_lossy(child).into_owned())
-                    .collect(),
-            });
-        };
-        for (child, pose) in &frames {
-            if child == frame.as_bytes() {
-                push(stream, *pose)?;
-            } else if stream.child_frames_seen.len() < 20
-                && !stream
-                    .child_frames_seen
-                    .iter()
-                    .any(|s| s.as_bytes() == child)
-            {
-                stream
-                    .child_frames_seen
-                    .push(String::from_utf8_lossy(child).into_owned());
-            }
-        }
+        check_pose(&channel.topic, index, pose.x, pose.y, pose.yaw)?;
+        stream
+            .rows
+            .push([seconds_since(base, ns), pose.x, pose.y, pose.yaw]);
     }
     Ok(())
 }
