@@ -142,7 +142,10 @@ fn a_transform_tree_is_resolved_to_the_root() {
     let import = import(&fixture("tf_tree"), "/tf:tip", "/tf:object");
     assert_matches_csv(&import, 0.0);
     assert!(
-        !import.pushes[0].warnings.iter().any(|w| w.contains("dropped")),
+        !import.pushes[0]
+            .warnings
+            .iter()
+            .any(|w| w.contains("dropped")),
         "{:?}",
         import.pushes[0].warnings
     );
@@ -209,7 +212,10 @@ fn a_chain_that_never_moves_has_no_times() {
         ImportOptions::default(),
     ));
     assert!(matches!(p, BagProblem::StaticChain { .. }), "{p}");
-    assert!(p.to_string().contains("(base_link → world) is static"), "{p}");
+    assert!(
+        p.to_string().contains("(base_link → world) is static"),
+        "{p}"
+    );
 }
 
 #[test]

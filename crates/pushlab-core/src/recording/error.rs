@@ -223,14 +223,15 @@ pub enum BagProblem {
         seen: Vec<String>,
     },
     #[error(
-        "topic `{topic}` message {index}: frame `{frame}` has two parents, `{first}` and `{second}`; \
-         expected one tree (each frame published under one parent)"
+        "topic `{topic}` message {index}: frame `{frame}` has two parents, `{}`; expected one tree \
+         (each frame published under one parent)",
+        parents.join("` and `")
     )]
     TwoParents {
         topic: String,
         frame: String,
-        first: String,
-        second: String,
+        /// The first parent seen, then the other.
+        parents: Vec<String>,
         /// The message (0-based on its topic, in its file) that gave the second parent.
         index: u64,
     },
@@ -250,10 +251,10 @@ pub enum BagProblem {
     )]
     DifferentRoots {
         pusher: String,
-        /// From the child frame up to the root.
-        pusher_chain: Vec<String>,
+        /// From the child frame up to the root (boxed slices keep `LoadError` small).
+        pusher_chain: Box<[String]>,
         object: String,
-        object_chain: Vec<String>,
+        object_chain: Box<[String]>,
     },
     #[error(
         "`{spec}`: every transform of its chain ({}) is static, so it has no times to be read at; \

@@ -297,6 +297,48 @@ mod tests {
     }
 
     #[test]
+    fn tf_transforms_give_parent_child_and_the_3d_transform() {
+        // One little-endian TransformStamped: stamp, "world", "tip", translation, rotation.
+        let mut body = Vec::new();
+        body.extend(1u32.to_le_bytes());
+        body.extend(3u32.to_le_bytes());
+        body.extend(7u32.to_le_bytes());
+        for name in ["world", "tip"] {
+            body.resize(body.len().next_multiple_of(4), 0);
+            body.extend((name.len() as u32 + 1).to_le_bytes());
+            body.extend(name.as_bytes());
+            body.push(0);
+        }
+        body.resize(body.len().next_multiple_of(8), 0);
+        for v in [1.0, 2.0, 3.0, 0.5, 0.5, 0.5, 0.5f64] {
+            body.extend(v.to_le_bytes());
+        }
+        let mut bytes = vec![0, 1, 0, 0];
+        bytes.extend(body);
+        let mut got = Vec::new();
+        decode_tf(&bytes, |t| {
+            got.push((
+                t.stamp_ns,
+                t.parent.to_vec(),
+                t.child.to_vec(),
+                t.translation,
+                t.rotation,
+            ));
+        })
+        .unwrap();
+        assert_eq!(
+            got,
+            [(
+                3_000_000_007,
+                b"world".to_vec(),
+                b"tip".to_vec(),
+                [1.0, 2.0, 3.0],
+                [0.5; 4]
+            )]
+        );
+    }
+
+    #[test]
     fn yaw_of_handles_unnormalised_quaternions() {
         let (s, c) = (0.4f64.sin(), 0.4f64.cos());
         assert!((yaw_of([0.0, 0.0, 3.0 * s, 3.0 * c]) - 0.8).abs() < 1e-12);

@@ -8,8 +8,10 @@
 //! ([`super::resample`]): stamps that do not increase are dropped and reported, gaps are reported,
 //! and both are interpolated onto one grid over the interval both cover.
 //!
-//! Frames are taken as published: both streams must be in the same fixed frame (no transform tree
-//! is resolved).
+//! Single-pose topics are taken as published: both streams must be in the same fixed frame. A
+//! `/tf` frame is resolved through its transform tree ([`tf_tree`]): its pose in the root of its
+//! chain of parents, composed from the topic's transforms and `/tf_static`'s; the pusher's and the
+//! object's chains must end in the same root.
 
 mod cdr;
 mod mcap_file;
@@ -203,8 +205,8 @@ fn topics_in(
     Ok(table.0.into_values().collect())
 }
 
-/// A topic to read poses from, `TOPIC[:CHILD_FRAME]`; the child frame picks one transform of a
-/// `tf2_msgs/msg/TFMessage` topic such as `/tf`.
+/// A topic to read poses from, `TOPIC[:CHILD_FRAME]`; the child frame picks one frame of the
+/// transform tree of a `tf2_msgs/msg/TFMessage` topic such as `/tf` (with `/tf_static`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TopicSpec {
     pub topic: String,
@@ -248,7 +250,8 @@ pub struct BagStreams {
     pub base_unix_ns: u64,
     /// Every topic of the bag.
     pub topics: Vec<TopicInfo>,
-    /// Recoverable oddities found while reading (stamps replaced by log times).
+    /// Recoverable oddities found while reading (stamps replaced by log times, `/tf` poses dropped
+    /// outside a moving link's span).
     pub warnings: Vec<String>,
 }
 
@@ -274,8 +277,9 @@ enum Role {
     Tf([bool; 2], usize),
 }
 
-/// Reads the pusher's and the object's poses from a bag. A topic that is missing, of a type
-/// pushlab cannot read, or a `/tf` child frame never published is refused with the bag's topics.
+/// Reads the pusher's and the object's poses from a bag. A topic that is missing or of a type
+/// pushlab cannot read is refused with the bag's topics; a `/tf` frame never published, with the
+/// frames that were; two `/tf` frames in trees of different roots, with both chains.
 pub fn read_streams(
     path: &Path,
     pusher: &TopicSpec,
@@ -416,9 +420,9 @@ fn read_streams_in(
     {
         return Err(bag_error(BagProblem::DifferentRoots {
             pusher: pusher.to_string(),
-            pusher_chain: tip.frames.clone(),
+            pusher_chain: tip.frames.clone().into_boxed_slice(),
             object: object.to_string(),
-            object_chain: obj.frames.clone(),
+            object_chain: obj.frames.clone().into_boxed_slice(),
         }));
     }
     for (stream, chain) in streams.iter_mut().zip(&chains) {
@@ -434,7 +438,6 @@ fn read_streams_in(
             ));
         }
     }
-    drop(chains);
     let [pusher_stream, object_stream] = streams;
     Ok(BagStreams {
         pusher: pusher_stream.rows,
@@ -482,9 +485,12 @@ fn read_chain(
     stream.rows.reserve(found.poses.len());
     for pose in &found.poses {
         let (x, y, yaw) = (pose.x, pose.y, pose.yaw);
-        check_pose(found.topic, pose.at.index, x, y, yaw).map_err(|p| error(Some(pose.at.file), p))?;
+        check_pose(found.topic, pose.at.index, x, y, yaw)
+            .map_err(|p| error(Some(pose.at.file), p))?;
         stream.unstamped += u64::from(!pose.at.stamped);
-        stream.rows.push([seconds_since(base, pose.at.ns), x, y, yaw]);
+        stream
+            .rows
+            .push([seconds_since(base, pose.at.ns), x, y, yaw]);
     }
     if let Some(dropped) = found.dropped {
         let (from, to) = dropped.span_ns;
