@@ -140,6 +140,7 @@ impl<'a> Cdr<'a> {
     }
 
     /// `builtin_interfaces/Time` as nanoseconds (negative stamps count as zero: unset).
+    #[inline]
     fn stamp(&mut self) -> Result<u64, DecodeError> {
         let sec = self.u32("header stamp")? as i32;
         let nanosec = self.u32("header stamp")?;

@@ -513,23 +513,27 @@ fn seconds_since(base: u64, ns: u64) -> f64 {
 }
 
 /// Refuses a pose that is not finite or far from the origin (a unit error, a broken tracker).
+/// Inlined with the words kept out of line: it runs for every pose of a bag.
+#[inline]
 fn check_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> Result<(), BagProblem> {
-    let bad = |why| BagProblem::BadValue {
+    if x.is_finite() && y.is_finite() && yaw.is_finite() && x.abs().max(y.abs()) <= MAX_POSITION_M {
+        return Ok(());
+    }
+    Err(bad_pose(topic, index, x, y, yaw))
+}
+
+#[cold]
+#[inline(never)]
+fn bad_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> BagProblem {
+    let why = match [x, y, yaw].iter().find(|v| !v.is_finite()) {
+        Some(v) => format!("a pose value is {v}, expected a finite number"),
+        None => format!("position ({x}, {y}) m, expected within {MAX_POSITION_M} m of the origin"),
+    };
+    BagProblem::BadValue {
         topic: topic.to_owned(),
         index,
         why,
-    };
-    if let Some(v) = [x, y, yaw].iter().find(|v| !v.is_finite()) {
-        return Err(bad(format!(
-            "a pose value is {v}, expected a finite number"
-        )));
     }
-    if x.abs().max(y.abs()) > MAX_POSITION_M {
-        return Err(bad(format!(
-            "position ({x}, {y}) m, expected within {MAX_POSITION_M} m of the origin"
-        )));
-    }
-    Ok(())
 }
 
 /// Reads one message of a single-pose channel that feeds the streams flagged in `feeds` (both, when
