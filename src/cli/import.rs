@@ -7,6 +7,10 @@
 //! between pauses longer than `--split-gap` seconds. Each push's entry keeps the bag and the Unix
 //! time of its first frame.
 //!
+//! A `/tf` frame (`--pusher /tf:tip`) is the pose of that frame in the root of its transform tree,
+//! composed from the transforms of the topic and of `/tf_static` (`recording/bag/tf_tree.rs`); the
+//! pusher's and the object's chains must end in the same root frame.
+//!
 //! Exit code 0 when the set was written (warnings are printed), 1 when the bag, the topics or the
 //! setting cannot be used (a missing or unreadable topic lists the bag's topics), 2 for wrong
 //! arguments.
@@ -24,9 +28,10 @@ use pushlab_core::recording::write_set;
 pub struct ImportArgs {
     /// The bag: an .mcap file or a rosbag2 folder (with metadata.yaml).
     pub bag: PathBuf,
-    /// The pusher's topic; for a tf2_msgs/msg/TFMessage topic such as /tf add the child frame:
-    /// /tf:pusher_tip. Without --pusher, --object and --setting, the choice remembered beside the
-    /// bag (made in the app) is used.
+    /// The pusher's topic; for a tf2_msgs/msg/TFMessage topic such as /tf add the frame:
+    /// /tf:pusher_tip (its pose in the root of its transform tree, with /tf_static). Without
+    /// --pusher, --object and --setting, the choice remembered beside the bag (made in the app) is
+    /// used.
     #[arg(long, value_name = "TOPIC[:CHILD_FRAME]", requires_all = ["object", "setting"])]
     pub pusher: Option<TopicSpec>,
     /// The object's topic, as --pusher.

@@ -56,15 +56,26 @@ fn import(path: &Path, pusher: &str, object: &str) -> BagImport {
 /// Every frame within interpolation error of the CSV (the object is published at half the rate and
 /// interpolated: over 20 ms the CSV's curves bend by well under 0.1 mm).
 fn assert_matches_csv(import: &BagImport, time_offset_s: f64) {
+    // The grid covers the interval both streams cover: 0 … 1.2 s at 50 Hz.
+    assert_matches_csv_from(import, time_offset_s, 0.0, 61);
+}
+
+/// [`assert_matches_csv`] for a push of `frames` frames that starts at the CSV's time `csv_start_s`.
+fn assert_matches_csv_from(
+    import: &BagImport,
+    time_offset_s: f64,
+    csv_start_s: f64,
+    frames: usize,
+) {
     let rows = csv_rows();
     assert_eq!(import.pushes.len(), 1);
     let push = &import.pushes[0];
     assert_eq!(import.rate_hz, 50.0, "the slower stream's rate");
+    let count = frames;
     let frames = &push.trajectory.frames;
-    // The grid covers the interval both streams cover: 0 … 1.2 s at 50 Hz.
-    assert_eq!(frames.len(), 61, "{}", frames.len());
+    assert_eq!(frames.len(), count, "{}", frames.len());
     let start = push.start_unix_s - BASE_S - time_offset_s;
-    assert!(start.abs() < 1e-6, "starts at {start}");
+    assert!((start - csv_start_s).abs() < 1e-6, "starts at {start}");
     for frame in frames {
         let want = csv_at(&rows, start + frame.time);
         let got = [
@@ -122,6 +133,89 @@ fn a_single_mcap_file_of_a_folder_imports_the_same() {
 fn tf_transforms_are_chosen_by_child_frame() {
     let import = import(&fixture("tf"), "/tf:pusher_tip", "/tf:box");
     assert_matches_csv(&import, 0.0);
+}
+
+#[test]
+fn a_transform_tree_is_resolved_to_the_root() {
+    // tip hangs under tool0 (static, tilted), which moves under base_link, which is static under
+    // world; object is published under world directly.
+    let import = import(&fixture("tf_tree"), "/tf:tip", "/tf:object");
+    assert_matches_csv(&import, 0.0);
+    assert!(
+        !import.pushes[0]
+            .warnings
+            .iter()
+            .any(|w| w.contains("dropped")),
+        "{:?}",
+        import.pushes[0].warnings
+    );
+}
+
+#[test]
+fn a_moving_parent_is_interpolated_at_the_frames_own_stamps() {
+    // object_on_table is published 5 ms before each table pose: the table is interpolated between
+    // two of its poses. Its first pose, before the table's first, is dropped, so the push starts at
+    // the object's second pose, 20 ms in.
+    let import = import(&fixture("tf_tree"), "/tf:tip", "/tf:object_on_table");
+    assert_matches_csv_from(&import, 0.0, 0.02, 60);
+    let warnings = &import.pushes[0].warnings;
+    assert!(
+        warnings.iter().any(|w| w.contains(
+            "/tf:object_on_table: 1 of 61 pose(s) dropped: their time is outside the span of \
+             world → table (0.005 … 1.205 s)"
+        )),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn chains_to_different_roots_are_refused_naming_both() {
+    let (path, p) = problem(bag::import(
+        &fixture("tf_tree"),
+        &spec("/tf:tip"),
+        &spec("/tf:stray"),
+        ImportOptions::default(),
+    ));
+    assert_eq!(path, fixture("tf_tree"));
+    assert!(matches!(p, BagProblem::DifferentRoots { .. }), "{p}");
+    assert_eq!(
+        p.to_string(),
+        "pusher `/tf:tip`'s chain (tip → tool0 → base_link → world) ends in `world`, object \
+         `/tf:stray`'s (stray → odom) in `odom`; expected both in one fixed frame"
+    );
+}
+
+#[test]
+fn an_unknown_frame_in_a_tree_lists_the_frames_seen() {
+    let (_, p) = problem(bag::import(
+        &fixture("tf_tree"),
+        &spec("/tf:tip"),
+        &spec("/tf:cube"),
+        ImportOptions::default(),
+    ));
+    assert!(matches!(p, BagProblem::NoChildFrame { .. }), "{p}");
+    assert!(
+        p.to_string().contains(
+            "no transform with child frame `cube`; child frames seen: tool0, stray, object, \
+             object_on_table, table, base_link, tip"
+        ),
+        "{p}"
+    );
+}
+
+#[test]
+fn a_chain_that_never_moves_has_no_times() {
+    let (_, p) = problem(bag::import(
+        &fixture("tf_tree"),
+        &spec("/tf:base_link"),
+        &spec("/tf:object"),
+        ImportOptions::default(),
+    ));
+    assert!(matches!(p, BagProblem::StaticChain { .. }), "{p}");
+    assert!(
+        p.to_string().contains("(base_link → world) is static"),
+        "{p}"
+    );
 }
 
 #[test]
@@ -433,7 +527,7 @@ fn opening_a_bag_like_a_recording_says_how_to_import_it_and_lists_its_topics() {
         .iter()
         .filter(|e| e.to_string().contains("a ROS 2 bag"))
         .count();
-    assert_eq!(bags, 7, "{:?}", report.errors);
+    assert_eq!(bags, 8, "{:?}", report.errors);
     // A broken bag says what is wrong with it instead.
     let dir = std::env::temp_dir().join(format!("pushlab-bag-open-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");

@@ -222,6 +222,50 @@ pub enum BagProblem {
         frame: String,
         seen: Vec<String>,
     },
+    #[error(
+        "topic `{topic}` message {index}: frame `{frame}` has two parents, `{}`; expected one tree \
+         (each frame published under one parent)",
+        parents.join("` and `")
+    )]
+    TwoParents {
+        topic: String,
+        frame: String,
+        /// The first parent seen, then the other.
+        parents: Vec<String>,
+        /// The message (0-based on its topic, in its file) that gave the second parent.
+        index: u64,
+    },
+    #[error(
+        "the transforms of `{topic}` and {static_topic} form a loop: {}; expected a tree",
+        chain.join(" → "), static_topic = crate::recording::bag::TF_STATIC
+    )]
+    FrameLoop {
+        topic: String,
+        /// The frames from the one asked for, up its parents, back to one already on the way.
+        chain: Vec<String>,
+    },
+    #[error(
+        "pusher `{pusher}`'s chain ({}) ends in `{}`, object `{object}`'s ({}) in `{}`; expected \
+         both in one fixed frame",
+        pusher_chain.join(" → "), last(pusher_chain), object_chain.join(" → "), last(object_chain)
+    )]
+    DifferentRoots {
+        pusher: String,
+        /// From the child frame up to the root (boxed slices keep `LoadError` small).
+        pusher_chain: Box<[String]>,
+        object: String,
+        object_chain: Box<[String]>,
+    },
+    #[error(
+        "`{spec}`: every transform of its chain ({}) is static, so it has no times to be read at; \
+         expected the frame, or a frame above it, published on `{topic}`",
+        chain.join(" → ")
+    )]
+    StaticChain {
+        spec: String,
+        topic: String,
+        chain: Vec<String>,
+    },
     #[error("topic `{topic}` message {index} ({type_name}): cannot decode: {why}")]
     Decode {
         topic: String,
@@ -282,6 +326,10 @@ fn topic_listing(topics: &[super::bag::TopicInfo]) -> String {
         })
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+fn last(chain: &[String]) -> &str {
+    chain.last().map_or("", String::as_str)
 }
 
 fn seen_frames(seen: &[String]) -> String {

@@ -81,6 +81,61 @@ def transform(t, child, x, y, yaw):
     )
 
 
+def quat_matrix(x, y, z, w):
+    """The rotation matrix of a unit quaternion."""
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def matrix_quat(r):
+    """A unit quaternion (x, y, z, w) of a rotation matrix (Shepperd's method)."""
+    trace = r[0, 0] + r[1, 1] + r[2, 2]
+    if trace > 0:
+        s = 2 * math.sqrt(trace + 1)
+        return ((r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, s / 4)
+    i = int(np.argmax([r[0, 0], r[1, 1], r[2, 2]]))
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = 2 * math.sqrt(1 + r[i, i] - r[j, j] - r[k, k])
+    q = [0.0, 0.0, 0.0]
+    q[i] = s / 4
+    q[j] = (r[j, i] + r[i, j]) / s
+    q[k] = (r[k, i] + r[i, k]) / s
+    return (*q, (r[k, j] - r[j, k]) / s)
+
+
+def axis_angle(axis, angle):
+    n = np.array(axis, dtype=float) / np.linalg.norm(axis)
+    return (*(n * math.sin(angle / 2)), math.cos(angle / 2))
+
+
+def iso(translation, q):
+    """A 4x4 homogeneous `parent_from_child` from a translation and a quaternion (x, y, z, w)."""
+    m = np.eye(4)
+    m[:3, :3] = quat_matrix(*q)
+    m[:3, 3] = translation
+    return m
+
+
+def planar(x, y, z, yaw):
+    return iso((x, y, z), (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2)))
+
+
+def transform3(t, parent, child, m):
+    """A TransformStamped of a 4x4 `parent_from_child`."""
+    x, y, z, w = matrix_quat(m[:3, :3])
+    return TransformStamped(
+        header=header(t, parent),
+        child_frame_id=child,
+        transform=Transform(
+            translation=Vector3(x=m[0, 3], y=m[1, 3], z=m[2, 3]),
+            rotation=Quaternion(x=x, y=y, z=z, w=w),
+        ),
+    )
+
+
 def fresh(name):
     path = HERE / name
     if path.exists():
@@ -119,6 +174,47 @@ def tf_bag(w):
         if i % 2 == 0:
             transforms.append(transform(t, 'box', ox, oy, th))
         w.write(tf, ns(t), ser(TFMessage(transforms=transforms), TFMessage.__msgtype__))
+
+
+def tf_tree_bag(w):
+    """A transform tree, as a robot arm and mocap publish it. /tf_static: world -> base_link (moved
+    and turned) and tool0 -> tip (an offset along a tool0 that points down and is tilted, so tool0
+    itself is not planar but the tip is). /tf: base_link -> tool0 at 100 Hz, computed from the CSV's
+    pusher so that world -> base_link -> tool0 -> tip gives it back; world -> object at 50 Hz (the
+    CSV's object); world -> table, a tilted table that moves and turns about a fixed axis at constant
+    speed, published 5 ms after each row, with table -> object_on_table at 50 Hz such that the
+    object on the table is again the CSV's object (an import interpolates the table at the object's
+    stamps, exactly, as lerp and slerp are exact for this motion; its first object pose falls before
+    the table's first transform); odom -> stray, a frame of another root."""
+    tf = w.add_connection('/tf', TFMessage.__msgtype__, typestore=TS)
+    tf_static = w.add_connection('/tf_static', TFMessage.__msgtype__, typestore=TS)
+    world_from_base = planar(0.4, -0.3, 0.0, 0.6)
+    tool0_from_tip = iso((0.01, -0.02, 0.15), matrix_quat(
+        quat_matrix(*axis_angle((1, 0, 0), math.pi)) @ quat_matrix(*axis_angle((0, 1, 0), 0.2))))
+    static = TFMessage(transforms=[
+        transform3(0.0, 'world', 'base_link', world_from_base),
+        transform3(0.0, 'tool0', 'tip', tool0_from_tip),
+    ])
+    w.write(tf_static, ns(0.0), ser(static, TFMessage.__msgtype__))
+
+    def world_from_table(t):
+        return iso((0.3 + 0.05 * t, -0.1 + 0.02 * t, 0.01), axis_angle((0.1, 0.2, 1.0), 0.2 + 0.5 * t))
+
+    for i, (t, rx, ry, ox, oy, th) in enumerate(rows()):
+        world_from_tip = planar(rx, ry, 0.02, 0.0)
+        base_from_tool0 = np.linalg.inv(world_from_base) @ world_from_tip @ np.linalg.inv(tool0_from_tip)
+        transforms = [
+            transform3(t, 'base_link', 'tool0', base_from_tool0),
+            transform3(t, 'odom', 'stray', planar(0.1, 0.0, 0.0, 0.0)),
+        ]
+        if i % 2 == 0:
+            world_from_object = planar(ox, oy, 0.0, th)
+            transforms.append(transform3(t, 'world', 'object', world_from_object))
+            table_from_object = np.linalg.inv(world_from_table(t)) @ world_from_object
+            transforms.append(transform3(t, 'table', 'object_on_table', table_from_object))
+        w.write(tf, ns(t), ser(TFMessage(transforms=transforms), TFMessage.__msgtype__))
+        table = TFMessage(transforms=[transform3(t + 0.005, 'world', 'table', world_from_table(t + 0.005))])
+        w.write(tf, ns(t + 0.005), ser(table, TFMessage.__msgtype__))
 
 
 def odometry_bag(w):
@@ -166,6 +262,7 @@ def mcap_file(name, compression, repeats=(0.0,)):
 def main():
     rosbag('pose_stamped', pose_stamped_bag)
     rosbag('tf', tf_bag)
+    rosbag('tf_tree', tf_tree_bag)
     rosbag('odometry', odometry_bag)
     mcap_file('zstd.mcap', CompressionType.ZSTD)
     mcap_file('lz4.mcap', CompressionType.LZ4)

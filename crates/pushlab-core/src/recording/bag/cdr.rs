@@ -140,6 +140,7 @@ impl<'a> Cdr<'a> {
     }
 
     /// `builtin_interfaces/Time` as nanoseconds (negative stamps count as zero: unset).
+    #[inline]
     fn stamp(&mut self) -> Result<u64, DecodeError> {
         let sec = self.u32("header stamp")? as i32;
         let nanosec = self.u32("header stamp")?;
@@ -198,8 +199,26 @@ pub fn decode(kind: PoseType, bytes: &[u8]) -> Result<PlanarPose, DecodeError> {
     })
 }
 
-/// Reads a `tf2_msgs/msg/TFMessage` and calls `each` with every transform's child frame and pose.
-pub fn decode_tf(bytes: &[u8], mut each: impl FnMut(&[u8], PlanarPose)) -> Result<(), DecodeError> {
+/// One `geometry_msgs/msg/TransformStamped` of a TFMessage, borrowed from the message bytes: the
+/// parent frame (header frame id), the child frame and the full 3-D transform, because a link of a
+/// transform tree may be tilted even when the end of the chain is planar.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transform<'a> {
+    /// Header stamp, nanoseconds (0 when unset).
+    pub stamp_ns: u64,
+    pub parent: &'a [u8],
+    pub child: &'a [u8],
+    /// The child's origin in the parent frame, metres.
+    pub translation: [f64; 3],
+    /// The child's orientation in the parent frame, `[x, y, z, w]` as published (not normalised).
+    pub rotation: [f64; 4],
+}
+
+/// Reads a `tf2_msgs/msg/TFMessage` and calls `each` with every transform in it.
+pub fn decode_tf<'a>(
+    bytes: &'a [u8],
+    mut each: impl FnMut(Transform<'a>),
+) -> Result<(), DecodeError> {
     let mut cdr = Cdr::new(bytes)?;
     let count = cdr.u32("transforms count")?;
     // Each transform is at least 84 bytes: refuse a count the message cannot hold before looping.
@@ -210,18 +229,24 @@ pub fn decode_tf(bytes: &[u8], mut each: impl FnMut(&[u8], PlanarPose)) -> Resul
         ));
     }
     for _ in 0..count {
-        let stamp_ns = cdr.header()?;
+        let stamp_ns = cdr.stamp()?;
+        let parent = cdr.string("header frame_id")?;
         let child = cdr.string("child_frame_id")?;
-        let (x, y, yaw) = cdr.pose()?;
-        each(
+        let mut translation = [0.0; 3];
+        for v in &mut translation {
+            *v = cdr.f64("translation")?;
+        }
+        let mut rotation = [0.0; 4];
+        for v in &mut rotation {
+            *v = cdr.f64("rotation")?;
+        }
+        each(Transform {
+            stamp_ns,
+            parent,
             child,
-            PlanarPose {
-                stamp_ns,
-                x,
-                y,
-                yaw,
-            },
-        );
+            translation,
+            rotation,
+        });
     }
     Ok(())
 }
@@ -268,8 +293,50 @@ mod tests {
                 "{len}"
             );
             assert!(decode(PoseType::Odometry, &bytes[..len]).is_err(), "{len}");
-            let _ = decode_tf(&bytes[..len], |_, _| {});
+            let _ = decode_tf(&bytes[..len], |_| {});
         }
+    }
+
+    #[test]
+    fn tf_transforms_give_parent_child_and_the_3d_transform() {
+        // One little-endian TransformStamped: stamp, "world", "tip", translation, rotation.
+        let mut body = Vec::new();
+        body.extend(1u32.to_le_bytes());
+        body.extend(3u32.to_le_bytes());
+        body.extend(7u32.to_le_bytes());
+        for name in ["world", "tip"] {
+            body.resize(body.len().next_multiple_of(4), 0);
+            body.extend((name.len() as u32 + 1).to_le_bytes());
+            body.extend(name.as_bytes());
+            body.push(0);
+        }
+        body.resize(body.len().next_multiple_of(8), 0);
+        for v in [1.0, 2.0, 3.0, 0.5, 0.5, 0.5, 0.5f64] {
+            body.extend(v.to_le_bytes());
+        }
+        let mut bytes = vec![0, 1, 0, 0];
+        bytes.extend(body);
+        let mut got = Vec::new();
+        decode_tf(&bytes, |t| {
+            got.push((
+                t.stamp_ns,
+                t.parent.to_vec(),
+                t.child.to_vec(),
+                t.translation,
+                t.rotation,
+            ));
+        })
+        .unwrap();
+        assert_eq!(
+            got,
+            [(
+                3_000_000_007,
+                b"world".to_vec(),
+                b"tip".to_vec(),
+                [1.0, 2.0, 3.0],
+                [0.5; 4]
+            )]
+        );
     }
 
     #[test]

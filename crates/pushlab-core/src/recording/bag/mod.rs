@@ -8,22 +8,30 @@
 //! ([`super::resample`]): stamps that do not increase are dropped and reported, gaps are reported,
 //! and both are interpolated onto one grid over the interval both cover.
 //!
-//! Frames are taken as published: both streams must be in the same fixed frame (no transform tree
-//! is resolved).
+//! Single-pose topics are taken as published: both streams must be in the same fixed frame. A
+//! `/tf` frame is resolved through its transform tree ([`tf_tree`]): its pose in the root of its
+//! chain of parents, composed from the topic's transforms and `/tf_static`'s; the pusher's and the
+//! object's chains must end in the same root.
 
 mod as_set;
 mod cdr;
 pub mod choice;
 mod mcap_file;
 mod split;
+mod tf_tree;
+mod topics;
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 pub use self::as_set::{open, setting_for};
 pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
 pub use self::choice::{BagChoice, SettingSource};
 use self::mcap_file::{ChannelInfo, for_each_message};
+pub use self::tf_tree::TF_STATIC;
+use self::tf_tree::{Chain, Transforms};
+use self::topics::TopicTable;
+pub use self::topics::{MAX_LISTED_FRAMES, TopicInfo, topics, topics_bytes};
 use super::error::{BagProblem, LoadError};
 use super::read::read_file;
 
@@ -89,146 +97,8 @@ fn listed_files(yaml: &str) -> Vec<String> {
     files
 }
 
-/// One topic of a bag, for listing.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TopicInfo {
-    pub topic: String,
-    /// The message type (the schema name), e.g. `geometry_msgs/msg/PoseStamped`.
-    pub type_name: String,
-    pub encoding: String,
-    pub count: u64,
-    /// First and last log time, nanoseconds.
-    pub first_ns: u64,
-    pub last_ns: u64,
-    /// For a `tf2_msgs/msg/TFMessage` topic, the child frames its transforms carry, in order of
-    /// first appearance (at most [`MAX_LISTED_FRAMES`]): what `TOPIC:CHILD_FRAME` can name.
-    pub child_frames: Vec<String>,
-}
-
-/// Most child frames listed per TF topic: a tree of a few robots; more is listed as this many.
-pub const MAX_LISTED_FRAMES: usize = 64;
-
-impl TopicInfo {
-    /// Messages per second of log time (0 for fewer than two messages).
-    pub fn rate_hz(&self) -> f64 {
-        let span = self.last_ns.saturating_sub(self.first_ns) as f64 * 1e-9;
-        if self.count < 2 || span <= 0.0 {
-            0.0
-        } else {
-            (self.count - 1) as f64 / span
-        }
-    }
-
-    /// The type pushlab reads it as, when it can (CDR-encoded and a known type).
-    pub fn pose_type(&self) -> Option<PoseType> {
-        (self.encoding == "cdr")
-            .then(|| PoseType::from_schema(&self.type_name))
-            .flatten()
-    }
-}
-
-/// Topics by name, accumulating over the files of a bag.
-#[derive(Default)]
-struct TopicTable(BTreeMap<String, TopicInfo>);
-
-impl TopicTable {
-    /// The topic's entry, made empty (no messages) the first time its channel is seen.
-    fn entry(&mut self, channel: &ChannelInfo) -> &mut TopicInfo {
-        self.0
-            .entry(channel.topic.clone())
-            .or_insert_with(|| TopicInfo {
-                topic: channel.topic.clone(),
-                type_name: channel.type_name.clone(),
-                encoding: channel.encoding.clone(),
-                count: 0,
-                first_ns: 0,
-                last_ns: 0,
-                child_frames: Vec::new(),
-            })
-    }
-
-    fn note(&mut self, channel: &ChannelInfo, log_time: u64) {
-        let info = self.entry(channel);
-        // The span starts at the first message, even when an earlier file of the bag listed the
-        // channel without any (its 0 is not a time).
-        if info.count == 0 {
-            info.first_ns = log_time;
-            info.last_ns = log_time;
-        }
-        info.count += 1;
-        info.first_ns = info.first_ns.min(log_time);
-        info.last_ns = info.last_ns.max(log_time);
-    }
-
-    /// Notes the child frames of a TF message for listing. A message that does not decode is left
-    /// to the import, which names it; listing still lists the topic.
-    fn note_frames(&mut self, channel: &ChannelInfo, payload: &[u8]) {
-        let info = self.entry(channel);
-        if info.pose_type() != Some(PoseType::TfMessage) {
-            return;
-        }
-        let frames = &mut info.child_frames;
-        let _ = cdr::decode_tf(payload, |child, _| {
-            if frames.len() < MAX_LISTED_FRAMES && !frames.iter().any(|f| f.as_bytes() == child) {
-                frames.push(String::from_utf8_lossy(child).into_owned());
-            }
-        });
-    }
-
-    /// A channel of a file that carried no message on it: listed, with no messages.
-    fn add_silent(&mut self, channel: &ChannelInfo) {
-        self.entry(channel);
-    }
-
-    /// `"/a (type, N messages), /b (…)"` for error messages.
-    fn listing(&self) -> String {
-        if self.0.is_empty() {
-            return "none".to_owned();
-        }
-        self.0
-            .values()
-            .map(|t| format!("{} ({}, {} messages)", t.topic, t.type_name, t.count))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
-}
-
-/// Lists the topics of a bag with their types, message counts and log-time span.
-pub fn topics(path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
-    topics_in(&bag_files(path)?, read_file)
-}
-
-/// Lists the topics of one `.mcap` file held in memory; `path` is only used in messages.
-pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
-    topics_in(&[path.to_path_buf()], |_| Ok(bytes.to_vec()))
-}
-
-fn topics_in(
-    files: &[PathBuf],
-    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
-) -> Result<Vec<TopicInfo>, LoadError> {
-    let mut table = TopicTable::default();
-    for file in files {
-        let bytes = load(file)?;
-        let mut channels = HashMap::new();
-        for_each_message(&bytes, &mut channels, |channel, _, log_time, payload| {
-            table.note(channel, log_time);
-            table.note_frames(channel, payload);
-            Ok(())
-        })
-        .map_err(|problem| LoadError::Bag {
-            path: file.clone(),
-            problem,
-        })?;
-        for channel in channels.values() {
-            table.add_silent(channel);
-        }
-    }
-    Ok(table.0.into_values().collect())
-}
-
-/// A topic to read poses from, `TOPIC[:CHILD_FRAME]`; the child frame picks one transform of a
-/// `tf2_msgs/msg/TFMessage` topic such as `/tf`.
+/// A topic to read poses from, `TOPIC[:CHILD_FRAME]`; the child frame picks one frame of the
+/// transform tree of a `tf2_msgs/msg/TFMessage` topic such as `/tf` (with `/tf_static`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TopicSpec {
     pub topic: String,
@@ -272,7 +142,8 @@ pub struct BagStreams {
     pub base_unix_ns: u64,
     /// Every topic of the bag.
     pub topics: Vec<TopicInfo>,
-    /// Recoverable oddities found while reading (stamps replaced by log times).
+    /// Recoverable oddities found while reading (stamps replaced by log times, `/tf` poses dropped
+    /// outside a moving link's span).
     pub warnings: Vec<String>,
 }
 
@@ -286,11 +157,21 @@ struct Stream<'a> {
     /// Messages seen on the topic in the current file, for error messages.
     index: u64,
     unstamped: u64,
-    child_frames_seen: Vec<String>,
 }
 
-/// Reads the pusher's and the object's poses from a bag. A topic that is missing, of a type
-/// pushlab cannot read, or a `/tf` child frame never published is refused with the bag's topics.
+/// What the messages of one channel are read for, decided once per channel.
+#[derive(Clone, Copy)]
+enum Role {
+    /// Single poses feeding the streams flagged.
+    Poses([bool; 2], PoseType),
+    /// Transforms, kept in the given slot of [`Transforms`] for resolving the tree after reading;
+    /// the streams flagged read their child frames from this topic.
+    Tf([bool; 2], usize),
+}
+
+/// Reads the pusher's and the object's poses from a bag. A topic that is missing or of a type
+/// pushlab cannot read is refused with the bag's topics; a `/tf` frame never published, with the
+/// frames that were; two `/tf` frames in trees of different roots, with both chains.
 pub fn read_streams(
     path: &Path,
     pusher: &TopicSpec,
@@ -327,18 +208,20 @@ fn read_streams_in(
         rows: Vec::new(),
         index: 0,
         unstamped: 0,
-        child_frames_seen: Vec::new(),
     });
     let mut table = TopicTable::default();
+    let mut transforms = Transforms::default();
+    // `/tf_static` is read only when a child frame is asked for: then it may hold links of its tree.
+    let wants_tree = pusher.child_frame.is_some() || object.child_frame.is_some();
     let mut base: Option<u64> = None;
-    for file in files {
+    for (file_number, file) in files.iter().enumerate() {
         let bytes = load(file)?;
         let mut channels = HashMap::new();
-        // The role and type of each channel id, decided once per channel.
-        let mut roles: HashMap<u16, Option<([bool; 2], PoseType)>> = HashMap::new();
+        let mut roles: HashMap<u16, Option<Role>> = HashMap::new();
         for stream in &mut streams {
             stream.index = 0;
         }
+        transforms.new_file();
         let fail = |problem| LoadError::Bag {
             path: file.clone(),
             problem,
@@ -349,20 +232,39 @@ fn read_streams_in(
                 let kind = PoseType::from_schema(&channel.type_name)
                     .filter(|_| channel.encoding == "cdr")?;
                 let feeds = [pusher, object].map(|spec| spec.topic == channel.topic);
-                feeds.contains(&true).then_some((feeds, kind))
+                if kind == PoseType::TfMessage {
+                    let keep = feeds.contains(&true) || (wants_tree && channel.topic == TF_STATIC);
+                    return keep.then(|| Role::Tf(feeds, transforms.slot(&channel.topic)));
+                }
+                feeds.contains(&true).then_some(Role::Poses(feeds, kind))
             });
-            let Some((feeds, kind)) = role else {
-                return Ok(());
-            };
-            read_message(
-                &mut streams,
-                feeds,
-                kind,
-                channel,
-                log_time,
-                payload,
-                &mut base,
-            )
+            match role {
+                None => Ok(()),
+                Some(Role::Poses(feeds, kind)) => read_message(
+                    &mut streams,
+                    feeds,
+                    kind,
+                    channel,
+                    log_time,
+                    payload,
+                    &mut base,
+                ),
+                Some(Role::Tf(feeds, slot)) => {
+                    let frames = [0, 1].map(|s| {
+                        feeds[s]
+                            .then_some(streams[s].spec.child_frame.as_deref())
+                            .flatten()
+                    });
+                    let firsts = transforms.record(slot, file_number, log_time, payload, frames)?;
+                    if (0..2).any(|s| feeds[s] && frames[s].is_none()) {
+                        return Err(need_child_frame(&channel.topic, payload));
+                    }
+                    for ns in firsts.into_iter().flatten() {
+                        base.get_or_insert(ns);
+                    }
+                    Ok(())
+                }
+            }
         })
         .map_err(fail)?;
         for channel in channels.values() {
@@ -374,7 +276,8 @@ fn read_streams_in(
         problem,
     };
     let mut warnings = Vec::new();
-    for stream in &streams {
+    let mut chains = [None, None];
+    for (stream, chain) in streams.iter().zip(&mut chains) {
         let spec = stream.spec;
         let Some(info) = table.0.get(&spec.topic) else {
             return Err(bag_error(BagProblem::MissingTopic {
@@ -392,17 +295,36 @@ fn read_streams_in(
         };
         if kind == PoseType::TfMessage
             && let Some(frame) = &spec.child_frame
-            && stream.rows.is_empty()
         {
-            return Err(bag_error(BagProblem::NoChildFrame {
-                topic: spec.topic.clone(),
-                frame: frame.clone(),
-                seen: stream.child_frames_seen.clone(),
-            }));
+            let found = transforms.chain(&spec.topic, frame).map_err(bag_error)?;
+            let Some(found) = found else {
+                return Err(bag_error(BagProblem::NoChildFrame {
+                    topic: spec.topic.clone(),
+                    frame: frame.clone(),
+                    seen: transforms.frames_seen(&spec.topic),
+                }));
+            };
+            *chain = Some(found);
+        }
+    }
+    if let [Some(tip), Some(obj)] = &chains
+        && tip.root() != obj.root()
+    {
+        return Err(bag_error(BagProblem::DifferentRoots {
+            pusher: pusher.to_string(),
+            pusher_chain: tip.frames.clone().into_boxed_slice(),
+            object: object.to_string(),
+            object_chain: obj.frames.clone().into_boxed_slice(),
+        }));
+    }
+    for (stream, chain) in streams.iter_mut().zip(&chains) {
+        if let Some(chain) = chain {
+            read_chain(stream, chain, files, path, &mut base, &mut warnings)?;
         }
         if stream.unstamped > 0 {
             warnings.push(format!(
-                "{spec}: {} of {} pose(s) without a header stamp; their log time used",
+                "{}: {} of {} pose(s) without a header stamp; their log time used",
+                stream.spec,
                 stream.unstamped,
                 stream.rows.len()
             ));
@@ -418,8 +340,96 @@ fn read_streams_in(
     })
 }
 
-/// Reads one message of a channel that feeds the streams flagged in `feeds` (both, when the pusher
-/// and the object are two child frames of one `/tf` topic).
+/// The error for a TFMessage topic named without a child frame, listing the frames of `payload`.
+fn need_child_frame(topic: &str, payload: &[u8]) -> BagProblem {
+    let mut seen = Vec::new();
+    // The message decoded once already: this cannot fail.
+    let _ = cdr::decode_tf(payload, |t| {
+        seen.push(String::from_utf8_lossy(t.child).into_owned());
+    });
+    BagProblem::NeedChildFrame {
+        topic: topic.to_owned(),
+        seen,
+    }
+}
+
+/// Fills a `/tf` stream's rows with its frame's poses in the root of its chain.
+fn read_chain(
+    stream: &mut Stream,
+    chain: &Chain,
+    files: &[PathBuf],
+    path: &Path,
+    base: &mut Option<u64>,
+    warnings: &mut Vec<String>,
+) -> Result<(), LoadError> {
+    let spec = stream.spec.to_string();
+    let error = |file: Option<usize>, problem| LoadError::Bag {
+        path: file
+            .and_then(|f| files.get(f))
+            .map_or_else(|| path.to_path_buf(), Clone::clone),
+        problem,
+    };
+    let found = chain.poses(&spec).map_err(|(file, p)| error(file, p))?;
+    let Some(first) = found.poses.first() else {
+        return Ok(());
+    };
+    let base = *base.get_or_insert(first.at.ns);
+    stream.rows.reserve(found.poses.len());
+    for pose in &found.poses {
+        let (x, y, yaw) = (pose.x, pose.y, pose.yaw);
+        check_pose(found.topic, pose.at.index, x, y, yaw)
+            .map_err(|p| error(Some(pose.at.file), p))?;
+        stream.unstamped += u64::from(!pose.at.stamped);
+        stream
+            .rows
+            .push([seconds_since(base, pose.at.ns), x, y, yaw]);
+    }
+    if let Some(dropped) = found.dropped {
+        let (from, to) = dropped.span_ns;
+        warnings.push(format!(
+            "{spec}: {} of {} pose(s) dropped: their time is outside the span of {} ({:.3} … {:.3} s), \
+             which is not extrapolated",
+            dropped.count,
+            found.candidates,
+            dropped.link,
+            seconds_since(base, from),
+            seconds_since(base, to),
+        ));
+    }
+    Ok(())
+}
+
+/// `ns` in seconds after `base`.
+fn seconds_since(base: u64, ns: u64) -> f64 {
+    (i128::from(ns) - i128::from(base)) as f64 * 1e-9
+}
+
+/// Refuses a pose that is not finite or far from the origin (a unit error, a broken tracker).
+/// Inlined with the words kept out of line: it runs for every pose of a bag.
+#[inline]
+fn check_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> Result<(), BagProblem> {
+    if x.is_finite() && y.is_finite() && yaw.is_finite() && x.abs().max(y.abs()) <= MAX_POSITION_M {
+        return Ok(());
+    }
+    Err(bad_pose(topic, index, x, y, yaw))
+}
+
+#[cold]
+#[inline(never)]
+fn bad_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> BagProblem {
+    let why = match [x, y, yaw].iter().find(|v| !v.is_finite()) {
+        Some(v) => format!("a pose value is {v}, expected a finite number"),
+        None => format!("position ({x}, {y}) m, expected within {MAX_POSITION_M} m of the origin"),
+    };
+    BagProblem::BadValue {
+        topic: topic.to_owned(),
+        index,
+        why,
+    }
+}
+
+/// Reads one message of a single-pose channel that feeds the streams flagged in `feeds` (both, when
+/// the pusher and the object are one topic).
 fn read_message(
     streams: &mut [Stream; 2],
     feeds: [bool; 2],
@@ -433,13 +443,13 @@ fn read_message(
     for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
         stream.index += 1;
     }
-    let decode_error = |why| BagProblem::Decode {
+    let pose = cdr::decode(kind, payload).map_err(|why| BagProblem::Decode {
         topic: channel.topic.clone(),
         index,
         type_name: kind.name(),
         why,
-    };
-    let mut push = |stream: &mut Stream, pose: cdr::PlanarPose| {
+    })?;
+    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
         let ns = if pose.stamp_ns == 0 {
             stream.unstamped += 1;
             log_time
@@ -447,60 +457,10 @@ fn read_message(
             pose.stamp_ns
         };
         let base = *base.get_or_insert(ns);
-        let t = (i128::from(ns) - i128::from(base)) as f64 * 1e-9;
-        let bad = |why| BagProblem::BadValue {
-            topic: channel.topic.clone(),
-            index,
-            why,
-        };
-        if let Some(v) = [pose.x, pose.y, pose.yaw].iter().find(|v| !v.is_finite()) {
-            return Err(bad(format!(
-                "a pose value is {v}, expected a finite number"
-            )));
-        }
-        if pose.x.abs().max(pose.y.abs()) > MAX_POSITION_M {
-            return Err(bad(format!(
-                "position ({}, {}) m, expected within {MAX_POSITION_M} m of the origin",
-                pose.x, pose.y
-            )));
-        }
-        stream.rows.push([t, pose.x, pose.y, pose.yaw]);
-        Ok(())
-    };
-    if kind != PoseType::TfMessage {
-        let pose = cdr::decode(kind, payload).map_err(decode_error)?;
-        for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
-            push(stream, pose)?;
-        }
-        return Ok(());
-    }
-    let mut frames: Vec<(Vec<u8>, cdr::PlanarPose)> = Vec::new();
-    cdr::decode_tf(payload, |child, pose| frames.push((child.to_vec(), pose)))
-        .map_err(decode_error)?;
-    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
-        let Some(frame) = stream.spec.child_frame.as_deref() else {
-            return Err(BagProblem::NeedChildFrame {
-                topic: channel.topic.clone(),
-                seen: frames
-                    .iter()
-                    .map(|(child, _)| String::from_utf8_lossy(child).into_owned())
-                    .collect(),
-            });
-        };
-        for (child, pose) in &frames {
-            if child == frame.as_bytes() {
-                push(stream, *pose)?;
-            } else if stream.child_frames_seen.len() < 20
-                && !stream
-                    .child_frames_seen
-                    .iter()
-                    .any(|s| s.as_bytes() == child)
-            {
-                stream
-                    .child_frames_seen
-                    .push(String::from_utf8_lossy(child).into_owned());
-            }
-        }
+        check_pose(&channel.topic, index, pose.x, pose.y, pose.yaw)?;
+        stream
+            .rows
+            .push([seconds_since(base, ns), pose.x, pose.y, pose.yaw]);
     }
     Ok(())
 }
@@ -508,28 +468,3 @@ fn read_message(
 pub use self::split::{
     BagImport, BagPush, ImportOptions, MAX_RATE_HZ, import, import_bytes, resample_streams,
 };
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_topic_silent_in_an_earlier_file_spans_from_its_first_message() {
-        let channel = ChannelInfo {
-            topic: "/object/pose".to_owned(),
-            type_name: "geometry_msgs/msg/PoseStamped".to_owned(),
-            encoding: "cdr".to_owned(),
-        };
-        let mut table = TopicTable::default();
-        table.add_silent(&channel);
-        for t in [3_000_000_000, 4_000_000_000, 5_000_000_000] {
-            table.note(&channel, t);
-        }
-        let info = &table.0["/object/pose"];
-        assert_eq!(
-            (info.count, info.first_ns, info.last_ns),
-            (3, 3_000_000_000, 5_000_000_000)
-        );
-        assert_eq!(info.rate_hz(), 1.0);
-    }
-}

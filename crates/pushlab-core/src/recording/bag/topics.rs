@@ -1,0 +1,174 @@
+//! Listing a bag's topics: type, encoding, message count, log-time span and, for a TF topic, the
+//! child frames it carries — what `pushlab validate BAG` prints and the app's bag form offers.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+use super::cdr::{self, PoseType};
+use super::mcap_file::{ChannelInfo, for_each_message};
+use super::{LoadError, bag_files};
+use crate::recording::read::read_file;
+
+/// One topic of a bag, for listing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TopicInfo {
+    pub topic: String,
+    /// The message type (the schema name), e.g. `geometry_msgs/msg/PoseStamped`.
+    pub type_name: String,
+    pub encoding: String,
+    pub count: u64,
+    /// First and last log time, nanoseconds.
+    pub first_ns: u64,
+    pub last_ns: u64,
+    /// For a `tf2_msgs/msg/TFMessage` topic, the child frames its transforms carry, in order of
+    /// first appearance (at most [`MAX_LISTED_FRAMES`]): what `TOPIC:CHILD_FRAME` can name.
+    pub child_frames: Vec<String>,
+}
+
+/// Most child frames listed per TF topic: a tree of a few robots; more is listed as this many.
+pub const MAX_LISTED_FRAMES: usize = 64;
+
+impl TopicInfo {
+    /// Messages per second of log time (0 for fewer than two messages).
+    pub fn rate_hz(&self) -> f64 {
+        let span = self.last_ns.saturating_sub(self.first_ns) as f64 * 1e-9;
+        if self.count < 2 || span <= 0.0 {
+            0.0
+        } else {
+            (self.count - 1) as f64 / span
+        }
+    }
+
+    /// The type pushlab reads it as, when it can (CDR-encoded and a known type).
+    pub fn pose_type(&self) -> Option<PoseType> {
+        (self.encoding == "cdr")
+            .then(|| PoseType::from_schema(&self.type_name))
+            .flatten()
+    }
+}
+
+/// Topics by name, accumulating over the files of a bag.
+#[derive(Default)]
+pub(super) struct TopicTable(pub(super) BTreeMap<String, TopicInfo>);
+
+impl TopicTable {
+    /// The topic's entry, made empty (no messages) the first time its channel is seen.
+    fn entry(&mut self, channel: &ChannelInfo) -> &mut TopicInfo {
+        self.0
+            .entry(channel.topic.clone())
+            .or_insert_with(|| TopicInfo {
+                topic: channel.topic.clone(),
+                type_name: channel.type_name.clone(),
+                encoding: channel.encoding.clone(),
+                count: 0,
+                first_ns: 0,
+                last_ns: 0,
+                child_frames: Vec::new(),
+            })
+    }
+
+    pub(super) fn note(&mut self, channel: &ChannelInfo, log_time: u64) {
+        let info = self.entry(channel);
+        // The span starts at the first message, even when an earlier file of the bag listed the
+        // channel without any (its 0 is not a time).
+        if info.count == 0 {
+            info.first_ns = log_time;
+            info.last_ns = log_time;
+        }
+        info.count += 1;
+        info.first_ns = info.first_ns.min(log_time);
+        info.last_ns = info.last_ns.max(log_time);
+    }
+
+    /// Notes the child frames of a TF message for listing. A message that does not decode is left
+    /// to the import, which names it; listing still lists the topic.
+    fn note_frames(&mut self, channel: &ChannelInfo, payload: &[u8]) {
+        let info = self.entry(channel);
+        if info.pose_type() != Some(PoseType::TfMessage) {
+            return;
+        }
+        let frames = &mut info.child_frames;
+        let _ = cdr::decode_tf(payload, |transform| {
+            let child = transform.child;
+            if frames.len() < MAX_LISTED_FRAMES && !frames.iter().any(|f| f.as_bytes() == child) {
+                frames.push(String::from_utf8_lossy(child).into_owned());
+            }
+        });
+    }
+
+    /// A channel of a file that carried no message on it: listed, with no messages.
+    pub(super) fn add_silent(&mut self, channel: &ChannelInfo) {
+        self.entry(channel);
+    }
+
+    /// `"/a (type, N messages), /b (…)"` for error messages.
+    pub(super) fn listing(&self) -> String {
+        if self.0.is_empty() {
+            return "none".to_owned();
+        }
+        self.0
+            .values()
+            .map(|t| format!("{} ({}, {} messages)", t.topic, t.type_name, t.count))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// Lists the topics of a bag with their types, message counts and log-time span.
+pub fn topics(path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
+    topics_in(&bag_files(path)?, read_file)
+}
+
+/// Lists the topics of one `.mcap` file held in memory; `path` is only used in messages.
+pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
+    topics_in(&[path.to_path_buf()], |_| Ok(bytes.to_vec()))
+}
+
+fn topics_in(
+    files: &[PathBuf],
+    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
+) -> Result<Vec<TopicInfo>, LoadError> {
+    let mut table = TopicTable::default();
+    for file in files {
+        let bytes = load(file)?;
+        let mut channels = HashMap::new();
+        for_each_message(&bytes, &mut channels, |channel, _, log_time, payload| {
+            table.note(channel, log_time);
+            table.note_frames(channel, payload);
+            Ok(())
+        })
+        .map_err(|problem| LoadError::Bag {
+            path: file.clone(),
+            problem,
+        })?;
+        for channel in channels.values() {
+            table.add_silent(channel);
+        }
+    }
+    Ok(table.0.into_values().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_topic_silent_in_an_earlier_file_spans_from_its_first_message() {
+        let channel = ChannelInfo {
+            topic: "/object/pose".to_owned(),
+            type_name: "geometry_msgs/msg/PoseStamped".to_owned(),
+            encoding: "cdr".to_owned(),
+        };
+        let mut table = TopicTable::default();
+        table.add_silent(&channel);
+        for t in [3_000_000_000, 4_000_000_000, 5_000_000_000] {
+            table.note(&channel, t);
+        }
+        let info = &table.0["/object/pose"];
+        assert_eq!(
+            (info.count, info.first_ns, info.last_ns),
+            (3, 3_000_000_000, 5_000_000_000)
+        );
+        assert_eq!(info.rate_hz(), 1.0);
+    }
+}
