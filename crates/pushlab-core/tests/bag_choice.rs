@@ -195,3 +195,21 @@ fn a_bag_without_a_choice_lists_its_topics_and_tf_child_frames() {
     assert_eq!(choice::settings_beside(&bag), [dir.join("setting.json")]);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn a_frame_behind_tf_static_is_offered_and_opens() {
+    let (dir, bag) = bag_copy("tree", "tf_tree");
+    let topics = bag::topics(&bag).unwrap();
+    let offered = choice::candidates(&topics);
+    let tip: bag::TopicSpec = "/tf:tip".parse().unwrap();
+    assert!(offered.contains(&tip), "{offered:?}");
+    assert!(
+        offered.iter().all(|s| s.topic != bag::TF_STATIC),
+        "{offered:?}"
+    );
+    let choice = choice_of(&dir, "/tf:tip", "/tf:object", ImportOptions::default());
+    let report = load_paths_choosing(std::slice::from_ref(&bag), &[(bag.clone(), choice)]);
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.sets[0].recordings[0].name, "tf_tree");
+    std::fs::remove_dir_all(dir).unwrap();
+}

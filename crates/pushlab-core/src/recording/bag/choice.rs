@@ -247,15 +247,24 @@ pub fn settings_beside(bag: &Path) -> Vec<PathBuf> {
     candidates
 }
 
-/// Everything a bag's topics offer as a pose stream: each readable topic, and each child frame of a
-/// readable TF topic. In topic order.
+/// Everything a bag's topics offer as a pose stream: each readable topic, and each frame of a
+/// readable TF topic — its own child frames and those of `/tf_static`, since a static offset such as
+/// `tool0 → tip` is reached through the topic's tree ([`super::tf_tree`]). `/tf_static` alone is
+/// not offered (a chain without a moving link has no times). In topic order.
 pub fn candidates(topics: &[TopicInfo]) -> Vec<TopicSpec> {
+    let statics: &[String] = topics
+        .iter()
+        .find(|t| t.topic == super::TF_STATIC && t.pose_type() == Some(PoseType::TfMessage))
+        .map_or(&[], |t| &t.child_frames);
     let mut specs = Vec::new();
     for info in topics {
         match info.pose_type() {
             None => {}
+            Some(PoseType::TfMessage) if info.topic == super::TF_STATIC => {}
             Some(PoseType::TfMessage) => {
-                specs.extend(info.child_frames.iter().map(|frame| TopicSpec {
+                let mut frames: Vec<&String> = info.child_frames.iter().collect();
+                frames.extend(statics.iter().filter(|f| !info.child_frames.contains(f)));
+                specs.extend(frames.into_iter().map(|frame| TopicSpec {
                     topic: info.topic.clone(),
                     child_frame: Some(frame.clone()),
                 }));

@@ -79,6 +79,26 @@ fn child_frames_of_tf_are_candidates_and_can_be_preselected() {
 }
 
 #[test]
+fn frames_reached_through_tf_static_are_offered_on_the_moving_topic() {
+    let topics = [
+        topic("/object/pose", POSE, &[]),
+        topic("/tf", TF, &["tool0"]),
+        topic("/tf_static", TF, &["base_link", "tip"]),
+    ];
+    assert_eq!(
+        candidates(&topics),
+        vec![
+            spec("/object/pose").unwrap(),
+            spec("/tf:tool0").unwrap(),
+            spec("/tf:base_link").unwrap(),
+            spec("/tf:tip").unwrap()
+        ]
+    );
+    // "tool0" and "tip" both say pusher: not obvious, so not chosen.
+    assert_eq!(suggest(&topics), (None, spec("/object/pose")));
+}
+
+#[test]
 fn nothing_is_guessed_when_names_are_ambiguous_or_silent() {
     let two_pushers = [
         topic("/pusher/pose", POSE, &[]),
