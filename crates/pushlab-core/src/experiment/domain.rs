@@ -208,23 +208,14 @@ mod tests {
 
     /// A straight push of a `size`-metre square by a disc of `radius` at `rate` Hz and `speed` m/s.
     fn recording(size: f64, radius: f64, rate: f64, speed: f64) -> Recording {
-        let setting = Setting {
-            name: "test".into(),
-            object: ObjectShape::Box {
+        let setting = Setting::of_object(
+            "test",
+            ObjectShape::Box {
                 width: size,
                 length: size,
             },
-            pusher_radius: radius,
-            material: None,
-            floor_friction: None,
-            pusher_friction: None,
-            com_offset: None,
-            h: None,
-            push_side: None,
-            sample_rate_hz: None,
-            trajectories: Vec::new(),
-            extra: Default::default(),
-        };
+            radius,
+        );
         let frames = (0..50)
             .map(|i| {
                 let t = i as f64 / rate;

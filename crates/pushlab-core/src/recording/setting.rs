@@ -121,3 +121,24 @@ pub struct Setting {
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
 }
+
+impl Setting {
+    /// A setting that knows only its object and pusher radius: material, friction, COM, `h`, side
+    /// and rate unknown, no trajectories (an object entered by hand, a test's).
+    pub fn of_object(name: impl Into<String>, object: ObjectShape, pusher_radius: f64) -> Self {
+        Self {
+            name: name.into(),
+            object,
+            pusher_radius,
+            material: None,
+            floor_friction: None,
+            pusher_friction: None,
+            com_offset: None,
+            h: None,
+            push_side: None,
+            sample_rate_hz: None,
+            trajectories: Vec::new(),
+            extra: serde_json::Map::new(),
+        }
+    }
+}

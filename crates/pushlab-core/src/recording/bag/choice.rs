@@ -204,23 +204,15 @@ pub fn entered_box(
     pusher_radius: f64,
     material: Option<&str>,
 ) -> Result<Setting, String> {
-    let setting = Setting {
-        name: name.trim().to_owned(),
-        object: crate::recording::ObjectShape::Box { width, length },
+    let mut setting = Setting::of_object(
+        name.trim(),
+        crate::recording::ObjectShape::Box { width, length },
         pusher_radius,
-        material: material
-            .map(str::trim)
-            .filter(|m| !m.is_empty())
-            .map(str::to_owned),
-        floor_friction: None,
-        pusher_friction: None,
-        com_offset: None,
-        h: None,
-        push_side: None,
-        sample_rate_hz: None,
-        trajectories: Vec::new(),
-        extra: serde_json::Map::new(),
-    };
+    );
+    setting.material = material
+        .map(str::trim)
+        .filter(|m| !m.is_empty())
+        .map(str::to_owned);
     if setting.name.is_empty() {
         return Err("name: empty, expected a name for the setting".to_owned());
     }

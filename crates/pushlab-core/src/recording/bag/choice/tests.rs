@@ -23,23 +23,16 @@ fn spec(text: &str) -> Option<TopicSpec> {
 }
 
 fn entered() -> Setting {
-    Setting {
-        name: "bench-box".to_owned(),
-        object: ObjectShape::Box {
+    let mut setting = Setting::of_object(
+        "bench-box",
+        ObjectShape::Box {
             width: 0.09,
             length: 0.06,
         },
-        pusher_radius: 0.005,
-        material: Some("abs".to_owned()),
-        floor_friction: None,
-        pusher_friction: None,
-        com_offset: None,
-        h: None,
-        push_side: None,
-        sample_rate_hz: None,
-        trajectories: Vec::new(),
-        extra: serde_json::Map::new(),
-    }
+        0.005,
+    );
+    setting.material = Some("abs".to_owned());
+    setting
 }
 
 fn temp_dir(name: &str) -> PathBuf {
