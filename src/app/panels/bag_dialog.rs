@@ -225,46 +225,73 @@ fn entered_box(ui: &mut egui::Ui, entered: &EnteredBox, send: &mut impl FnMut(Ba
 /// Splitting at pauses and the grid's rate.
 fn options(ui: &mut egui::Ui, options: ImportOptions, send: &mut impl FnMut(BagCommand)) {
     let mut edited = options;
-    ui.horizontal(|ui| {
-        let mut split = edited.split_gap_s.is_some();
-        if ui
-            .checkbox(&mut split, "Split at pauses longer than")
-            .on_hover_text("one push per piece of the bag between pauses of the pusher or object")
-            .changed()
-        {
-            edited.split_gap_s = split.then_some(0.5);
-        }
-        if let Some(gap) = &mut edited.split_gap_s {
-            ui.add(
-                egui::DragValue::new(gap)
-                    .range(0.01..=600.0)
-                    .speed(0.05)
-                    .suffix(" s"),
-            );
-        }
-    });
-    ui.horizontal(|ui| {
-        let mut fixed = edited.rate_hz.is_some();
-        if ui
-            .checkbox(&mut fixed, "Resample at")
-            .on_hover_text("otherwise at the slower stream's rate")
-            .changed()
-        {
-            edited.rate_hz = fixed.then_some(100.0);
-        }
-        if let Some(rate) = &mut edited.rate_hz {
-            ui.add(
-                egui::DragValue::new(rate)
-                    .range(1.0..=pushlab_core::recording::bag::MAX_RATE_HZ)
-                    .suffix(" Hz"),
-            );
-        } else {
-            ui.weak("the slower stream's rate");
-        }
-    });
+    optional_value(
+        ui,
+        &mut edited.split_gap_s,
+        OptionalValue {
+            label: "Split at pauses longer than",
+            hover: "one push per piece of the bag between pauses of the pusher or object",
+            when_off: "one push",
+            initial: 0.5,
+            range: 0.01..=600.0,
+            suffix: " s",
+        },
+    );
+    optional_value(
+        ui,
+        &mut edited.rate_hz,
+        OptionalValue {
+            label: "Resample at",
+            hover: "the rate of the common time grid of both streams",
+            when_off: "the slower stream's rate",
+            initial: 100.0,
+            range: 1.0..=pushlab_core::recording::bag::MAX_RATE_HZ,
+            suffix: " Hz",
+        },
+    );
     if edited != options {
         send(BagCommand::SetOptions(edited));
     }
+}
+
+/// How an import option that may be left to pushlab is shown.
+struct OptionalValue {
+    label: &'static str,
+    hover: &'static str,
+    /// What happens when it is off.
+    when_off: &'static str,
+    /// The value it takes when switched on.
+    initial: f64,
+    range: std::ops::RangeInclusive<f64>,
+    suffix: &'static str,
+}
+
+/// A checkbox that switches an optional value on (with a drag value) or off (leaving it to pushlab).
+fn optional_value(ui: &mut egui::Ui, value: &mut Option<f64>, how: OptionalValue) {
+    ui.horizontal(|ui| {
+        let mut on = value.is_some();
+        if ui
+            .checkbox(&mut on, how.label)
+            .on_hover_text(how.hover)
+            .changed()
+        {
+            *value = on.then_some(how.initial);
+        }
+        match value {
+            Some(v) => {
+                let speed = (how.range.end() - how.range.start()) / 2000.0;
+                ui.add(
+                    egui::DragValue::new(v)
+                        .range(how.range)
+                        .speed(speed.max(0.01))
+                        .suffix(how.suffix),
+                );
+            }
+            None => {
+                ui.weak(how.when_off);
+            }
+        }
+    });
 }
 
 fn buttons(ui: &mut egui::Ui, state: &AppState, form: &BagForm, send: &mut impl FnMut(BagCommand)) {
