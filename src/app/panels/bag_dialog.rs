@@ -231,7 +231,7 @@ fn options(ui: &mut egui::Ui, options: ImportOptions, send: &mut impl FnMut(BagC
         OptionalValue {
             label: "Split at pauses longer than",
             hover: "one push per piece of the bag between pauses of the pusher or object",
-            when_off: "one push",
+            when_off: "off: one push per bag",
             initial: 0.5,
             range: 0.01..=600.0,
             suffix: " s",
@@ -243,7 +243,7 @@ fn options(ui: &mut egui::Ui, options: ImportOptions, send: &mut impl FnMut(BagC
         OptionalValue {
             label: "Resample at",
             hover: "the rate of the common time grid of both streams",
-            when_off: "the slower stream's rate",
+            when_off: "off: the slower stream's rate",
             initial: 100.0,
             range: 1.0..=pushlab_core::recording::bag::MAX_RATE_HZ,
             suffix: " Hz",
