@@ -8,7 +8,7 @@ mod cli_common;
 
 use std::path::{Path, PathBuf};
 
-use cli_common::{pushlab, temp_dir};
+use cli_common::{Run, pushlab, temp_dir};
 
 fn bag(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -31,6 +31,24 @@ fn setting(name: &str) -> (PathBuf, String) {
     (dir, path.display().to_string())
 }
 
+/// Runs `pushlab import BAG --pusher P --object O --setting S --out OUT EXTRA…`.
+fn import(bag: &str, pusher: &str, object: &str, setting: &str, out: &str, extra: &[&str]) -> Run {
+    let mut args = vec![
+        "import",
+        bag,
+        "--pusher",
+        pusher,
+        "--object",
+        object,
+        "--setting",
+        setting,
+        "--out",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    pushlab(&args)
+}
+
 fn s(path: &Path) -> String {
     path.display().to_string()
 }
@@ -39,18 +57,14 @@ fn s(path: &Path) -> String {
 fn a_rosbag2_folder_imports_into_a_set_that_loads() {
     let (dir, setting) = setting("folder");
     let out = dir.join("set");
-    let run = pushlab(&[
-        "import",
+    let run = import(
         &bag("pose_stamped"),
-        "--pusher",
         "/pusher/pose",
-        "--object",
         "/object/pose",
-        "--setting",
         &setting,
-        "--out",
         &s(&out),
-    ]);
+        &[],
+    );
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     assert!(
         run.stdout
@@ -80,24 +94,20 @@ fn a_rosbag2_folder_imports_into_a_set_that_loads() {
         validate.stdout
     );
     // A second import into the same folder needs --overwrite.
-    let again = [
-        "import",
-        &bag("zstd.mcap"),
-        "--pusher",
-        "/pusher/pose",
-        "--object",
-        "/object/pose",
-        "--setting",
-        &setting,
-        "--out",
-        &s(&out),
-    ];
-    let run = pushlab(&again);
+    let again = |extra: &[&str]| {
+        import(
+            &bag("zstd.mcap"),
+            "/pusher/pose",
+            "/object/pose",
+            &setting,
+            &s(&out),
+            extra,
+        )
+    };
+    let run = again(&[]);
     assert_eq!(run.code, 1);
     assert!(run.stderr.contains("pass --overwrite"), "{}", run.stderr);
-    let mut overwrite = again.to_vec();
-    overwrite.push("--overwrite");
-    assert_eq!(pushlab(&overwrite).code, 0);
+    assert_eq!(again(&["--overwrite"]).code, 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -110,18 +120,7 @@ fn tf_child_frames_and_odometry_import() {
         ("lz4.mcap", "/pusher/pose", "/object/pose"),
     ] {
         let out = dir.join(name);
-        let run = pushlab(&[
-            "import",
-            &bag(name),
-            "--pusher",
-            pusher,
-            "--object",
-            object,
-            "--setting",
-            &setting,
-            "--out",
-            &s(&out),
-        ]);
+        let run = import(&bag(name), pusher, object, &setting, &s(&out), &[]);
         assert_eq!(run.code, 0, "{name}: {}{}", run.stdout, run.stderr);
         assert!(
             run.stdout.contains("61 frames at 50 Hz"),
@@ -136,29 +135,17 @@ fn tf_child_frames_and_odometry_import() {
 fn split_gap_makes_one_push_per_piece() {
     let (dir, setting) = setting("split");
     let out = dir.join("set");
-    let args = |extra: &[&'static str]| {
-        let mut a: Vec<String> = [
-            "import",
+    let run_with = |extra: &[&str]| {
+        let mut all = vec!["--overwrite"];
+        all.extend_from_slice(extra);
+        import(
             &bag("gap.mcap"),
-            "--pusher",
             "/pusher/pose",
-            "--object",
             "/object/pose",
-            "--setting",
             &setting,
-            "--out",
             &s(&out),
-            "--overwrite",
-        ]
-        .iter()
-        .map(|a| a.to_string())
-        .collect();
-        a.extend(extra.iter().map(|a| a.to_string()));
-        a
-    };
-    let run_with = |extra: &[&'static str]| {
-        let a = args(extra);
-        pushlab(&a.iter().map(String::as_str).collect::<Vec<_>>())
+            &all,
+        )
     };
     let run = run_with(&["--split-gap", "0.5"]);
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
@@ -193,18 +180,14 @@ fn missing_or_unreadable_topics_exit_1_with_the_bags_topics() {
         ("/box/pose", "no topic `/box/pose` in the bag"),
         ("/note", "topic `/note` carries std_msgs/msg/String"),
     ] {
-        let run = pushlab(&[
-            "import",
+        let run = import(
             &bag("pose_stamped"),
-            "--pusher",
             "/pusher/pose",
-            "--object",
             object,
-            "--setting",
             &setting,
-            "--out",
             &out,
-        ]);
+            &[],
+        );
         assert_eq!(run.code, 1, "{object}");
         assert!(run.stderr.contains(expected), "{}", run.stderr);
         assert!(
@@ -221,18 +204,7 @@ fn missing_or_unreadable_topics_exit_1_with_the_bags_topics() {
         );
     }
     assert!(!dir.join("set").exists(), "nothing written");
-    let run = pushlab(&[
-        "import",
-        &bag("tf"),
-        "--pusher",
-        "/tf",
-        "--object",
-        "/tf:box",
-        "--setting",
-        &setting,
-        "--out",
-        &out,
-    ]);
+    let run = import(&bag("tf"), "/tf", "/tf:box", &setting, &out, &[]);
     assert_eq!(run.code, 1);
     assert!(
         run.stderr.contains("name the child frame, as `/tf:FRAME`"),
@@ -246,18 +218,7 @@ fn missing_or_unreadable_topics_exit_1_with_the_bags_topics() {
 fn wrong_arguments_exit_2() {
     let (dir, setting) = setting("usage");
     for pusher in ["/tf:", ""] {
-        let run = pushlab(&[
-            "import",
-            &bag("tf"),
-            "--pusher",
-            pusher,
-            "--object",
-            "/tf:box",
-            "--setting",
-            &setting,
-            "--out",
-            "x",
-        ]);
+        let run = import(&bag("tf"), pusher, "/tf:box", &setting, "x", &[]);
         assert_eq!(run.code, 2, "{pusher:?}: {}", run.stderr);
     }
     let run = pushlab(&["import", &bag("tf"), "--pusher", "/tf:a"]);
