@@ -279,7 +279,7 @@ fn read_streams_in(
     let mut chains = [None, None];
     for (stream, chain) in streams.iter().zip(&mut chains) {
         let spec = stream.spec;
-        let Some(info) = table.0.get(&spec.topic) else {
+        let Some(info) = table.get(&spec.topic) else {
             return Err(bag_error(BagProblem::MissingTopic {
                 topic: spec.topic.clone(),
                 available: table.listing(),
@@ -335,7 +335,7 @@ fn read_streams_in(
         pusher: pusher_stream.rows,
         object: object_stream.rows,
         base_unix_ns: base.unwrap_or(0),
-        topics: table.0.into_values().collect(),
+        topics: table.into_sorted(),
         warnings,
     })
 }

@@ -1,7 +1,7 @@
 //! Listing a bag's topics: type, encoding, message count, log-time span and, for a TF topic, the
 //! child frames it carries — what `pushlab validate BAG` prints and the app's bag form offers.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use super::cdr::{self, PoseType};
@@ -39,6 +39,21 @@ impl TopicInfo {
         }
     }
 
+    /// Notes the child frames of a TF message for listing. A message that does not decode is left
+    /// to the import, which names it; listing still lists the topic.
+    fn note_frames(&mut self, payload: &[u8]) {
+        if self.pose_type() != Some(PoseType::TfMessage) {
+            return;
+        }
+        let frames = &mut self.child_frames;
+        let _ = cdr::decode_tf(payload, |transform| {
+            let child = transform.child;
+            if frames.len() < MAX_LISTED_FRAMES && !frames.iter().any(|f| f.as_bytes() == child) {
+                frames.push(String::from_utf8_lossy(child).into_owned());
+            }
+        });
+    }
+
     /// The type pushlab reads it as, when it can (CDR-encoded and a known type).
     pub fn pose_type(&self) -> Option<PoseType> {
         (self.encoding == "cdr")
@@ -47,27 +62,41 @@ impl TopicInfo {
     }
 }
 
-/// Topics by name, accumulating over the files of a bag.
+/// Topics by name, accumulating over the files of a bag. Looked up by `&str` for every message of
+/// a bag, so a topic's name is copied once, when it is first seen, not per message.
 #[derive(Default)]
-pub(super) struct TopicTable(pub(super) BTreeMap<String, TopicInfo>);
+pub(super) struct TopicTable {
+    /// In order of first appearance.
+    infos: Vec<TopicInfo>,
+    /// Index into `infos` by topic.
+    by_topic: HashMap<String, usize>,
+}
 
 impl TopicTable {
     /// The topic's entry, made empty (no messages) the first time its channel is seen.
     fn entry(&mut self, channel: &ChannelInfo) -> &mut TopicInfo {
-        self.0
-            .entry(channel.topic.clone())
-            .or_insert_with(|| TopicInfo {
-                topic: channel.topic.clone(),
-                type_name: channel.type_name.clone(),
-                encoding: channel.encoding.clone(),
-                count: 0,
-                first_ns: 0,
-                last_ns: 0,
-                child_frames: Vec::new(),
-            })
+        let index = match self.by_topic.get(channel.topic.as_str()) {
+            Some(&index) => index,
+            None => {
+                self.by_topic
+                    .insert(channel.topic.clone(), self.infos.len());
+                self.infos.push(TopicInfo {
+                    topic: channel.topic.clone(),
+                    type_name: channel.type_name.clone(),
+                    encoding: channel.encoding.clone(),
+                    count: 0,
+                    first_ns: 0,
+                    last_ns: 0,
+                    child_frames: Vec::new(),
+                });
+                self.infos.len() - 1
+            }
+        };
+        &mut self.infos[index]
     }
 
-    pub(super) fn note(&mut self, channel: &ChannelInfo, log_time: u64) {
+    /// Counts one message of the channel's topic at `log_time`; returns the topic's entry.
+    pub(super) fn note(&mut self, channel: &ChannelInfo, log_time: u64) -> &mut TopicInfo {
         let info = self.entry(channel);
         // The span starts at the first message, even when an earlier file of the bag listed the
         // channel without any (its 0 is not a time).
@@ -78,22 +107,18 @@ impl TopicTable {
         info.count += 1;
         info.first_ns = info.first_ns.min(log_time);
         info.last_ns = info.last_ns.max(log_time);
+        info
     }
 
-    /// Notes the child frames of a TF message for listing. A message that does not decode is left
-    /// to the import, which names it; listing still lists the topic.
-    fn note_frames(&mut self, channel: &ChannelInfo, payload: &[u8]) {
-        let info = self.entry(channel);
-        if info.pose_type() != Some(PoseType::TfMessage) {
-            return;
-        }
-        let frames = &mut info.child_frames;
-        let _ = cdr::decode_tf(payload, |transform| {
-            let child = transform.child;
-            if frames.len() < MAX_LISTED_FRAMES && !frames.iter().any(|f| f.as_bytes() == child) {
-                frames.push(String::from_utf8_lossy(child).into_owned());
-            }
-        });
+    /// A topic by name.
+    pub(super) fn get(&self, topic: &str) -> Option<&TopicInfo> {
+        self.by_topic.get(topic).map(|&index| &self.infos[index])
+    }
+
+    /// The topics, sorted by name.
+    pub(super) fn into_sorted(mut self) -> Vec<TopicInfo> {
+        self.infos.sort_by(|a, b| a.topic.cmp(&b.topic));
+        self.infos
     }
 
     /// A channel of a file that carried no message on it: listed, with no messages.
@@ -103,11 +128,13 @@ impl TopicTable {
 
     /// `"/a (type, N messages), /b (…)"` for error messages.
     pub(super) fn listing(&self) -> String {
-        if self.0.is_empty() {
+        if self.infos.is_empty() {
             return "none".to_owned();
         }
-        self.0
-            .values()
+        let mut sorted: Vec<&TopicInfo> = self.infos.iter().collect();
+        sorted.sort_by(|a, b| a.topic.cmp(&b.topic));
+        sorted
+            .into_iter()
             .map(|t| format!("{} ({}, {} messages)", t.topic, t.type_name, t.count))
             .collect::<Vec<_>>()
             .join(", ")
@@ -133,8 +160,7 @@ fn topics_in(
         let bytes = load(file)?;
         let mut channels = HashMap::new();
         for_each_message(&bytes, &mut channels, |channel, _, log_time, payload| {
-            table.note(channel, log_time);
-            table.note_frames(channel, payload);
+            table.note(channel, log_time).note_frames(payload);
             Ok(())
         })
         .map_err(|problem| LoadError::Bag {
@@ -145,11 +171,12 @@ fn topics_in(
             table.add_silent(channel);
         }
     }
-    Ok(table.0.into_values().collect())
+    Ok(table.into_sorted())
 }
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
     use super::*;
 
     #[test]
@@ -164,7 +191,7 @@ mod tests {
         for t in [3_000_000_000, 4_000_000_000, 5_000_000_000] {
             table.note(&channel, t);
         }
-        let info = &table.0["/object/pose"];
+        let info = table.get("/object/pose").unwrap();
         assert_eq!(
             (info.count, info.first_ns, info.last_ns),
             (3, 3_000_000_000, 5_000_000_000)
