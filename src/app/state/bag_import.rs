@@ -28,6 +28,19 @@ pub struct EnteredBox {
     pub material: String,
 }
 
+impl EnteredBox {
+    /// Nothing entered yet: no size (the form asks for one), a 5 mm pusher, the usual probe.
+    fn blank(name: String) -> Self {
+        Self {
+            name,
+            width_mm: 0.0,
+            length_mm: 0.0,
+            pusher_radius_mm: 5.0,
+            material: String::new(),
+        }
+    }
+}
+
 /// Where the form takes the object from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ObjectSource {
@@ -65,13 +78,7 @@ impl BagForm {
         let stem = bag
             .file_stem()
             .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-        let entered = ObjectSource::Entered(EnteredBox {
-            name: stem,
-            width_mm: 0.0,
-            length_mm: 0.0,
-            pusher_radius_mm: 5.0,
-            material: String::new(),
-        });
+        let entered = ObjectSource::Entered(EnteredBox::blank(stem));
         let (pusher, object, object_source, options) = match remembered {
             Some(c) => {
                 let source = match c.setting {
@@ -243,13 +250,10 @@ impl AppState {
             }
             BagCommand::EnterObject => {
                 if matches!(form.object_source, ObjectSource::File { .. }) {
-                    let kept = chooser.entered_keep.take().unwrap_or(EnteredBox {
-                        name: String::new(),
-                        width_mm: 0.0,
-                        length_mm: 0.0,
-                        pusher_radius_mm: 5.0,
-                        material: String::new(),
-                    });
+                    let kept = chooser
+                        .entered_keep
+                        .take()
+                        .unwrap_or_else(|| EnteredBox::blank(String::new()));
                     form.object_source = ObjectSource::Entered(kept);
                 }
             }
