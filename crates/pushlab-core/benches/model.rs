@@ -19,11 +19,12 @@ use nalgebra::Point2;
 use pushlab_core::geometry::Outline;
 use pushlab_core::inspect::{ComGrid, com_landscape};
 use pushlab_core::learn::{
-    ContactTrajectory, OnlineConfig, OnlineModel, OnlineState, Optimizer, TrainConfig, learn_step,
+    ContactTrajectory, OnlineConfig, OnlineState, Optimizer, TrainConfig, learn_step,
     train_contact, train_paper,
 };
 use pushlab_core::model::{
-    CombinedModel, ContactGeometry, ObjectMotion, OnlineParams, Sample, SampleInput, lynch,
+    CombinedModel, ContactGeometry, ObjectMotion, OnlineModel, OnlineParams, Sample, SampleInput,
+    lynch,
 };
 use pushlab_core::rng::SplitMix64;
 
@@ -140,9 +141,9 @@ fn trained() -> &'static Trained {
         ));
         let (gon, samples_64gon) = on_64gon(&data);
         Trained {
-            contact_box: contact.learner(Some(&geometry)).expect("outline"),
-            contact_64gon: contact.learner(Some(&gon)).expect("outline"),
-            paper: paper.learner(None).expect("no outline needed"),
+            contact_box: contact.on_object(Some(&geometry)).expect("outline"),
+            contact_64gon: contact.on_object(Some(&gon)).expect("outline"),
+            paper: paper.on_object(None).expect("no outline needed"),
             samples: data.into_iter().flatten().collect(),
             samples_64gon,
         }
@@ -162,7 +163,7 @@ fn bench_predict(c: &mut Criterion, name: &str, pick: Pick) {
 }
 
 fn bench_online_step(c: &mut Criterion, name: &str, pick: Pick) {
-    let config = OnlineConfig::default();
+    let descent = OnlineConfig::default().descent();
     let mut i = 0;
     // θ carries over from one batch of iterations to the next, as along a real trajectory.
     let mut carried = None;
@@ -171,7 +172,7 @@ fn bench_online_step(c: &mut Criterion, name: &str, pick: Pick) {
         let theta = carried.get_or_insert_with(|| model.theta0());
         b.iter(|| {
             i = (i + 1) % samples.len();
-            let step = model.online_step(black_box(&samples[i]), theta, &config);
+            let step = model.online_step(black_box(&samples[i]), theta, &descent);
             *theta = step.theta_after;
             black_box(step)
         })

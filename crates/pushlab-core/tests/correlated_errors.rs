@@ -7,10 +7,9 @@
 mod toy;
 
 use nalgebra::Vector3;
-use pushlab_core::learn::OnlineLearner;
 use pushlab_core::model::{ObjectMotion, OnlineParams, Sample, SampleInput};
 use pushlab_core::rng::SplitMix64;
-use toy::{GAUSS_NEWTON, LinearToy, theta_vector};
+use toy::{Chain, GAUSS_NEWTON, LinearToy, theta_vector};
 
 const TRUTH: OnlineParams = OnlineParams {
     com_offset: [0.03, -0.02],
@@ -57,7 +56,7 @@ fn coverage(seed: u64, trials: usize, frames: usize, rho: f64) -> (f64, f64) {
     let held = (0..trials)
         .filter(|_| {
             let samples = drifting_samples(&mut rng, frames, rho);
-            let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+            let mut learner = Chain::new(LinearToy, GAUSS_NEWTON);
             learner.run(&samples);
             let posterior = learner.posterior();
             factors.push(posterior.correlation_factor());
@@ -103,13 +102,13 @@ fn too_few_frames_to_compare_batches_leave_the_information_alone() {
     // Errors that never decorrelate, but only three frames: three batches of one, fewer than the
     // four the scatter needs.
     let samples = drifting_samples(&mut rng, 3, 0.999);
-    let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+    let mut learner = Chain::new(LinearToy, GAUSS_NEWTON);
     learner.run(&samples);
     assert_eq!(learner.posterior().score_batches(), (3, 1));
     assert_eq!(learner.posterior().correlation_factor(), 1.0);
     // Forty frames of them: ten batches of four, and the factor says the evidence is overstated.
     let samples = drifting_samples(&mut rng, 40, 0.999);
-    let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+    let mut learner = Chain::new(LinearToy, GAUSS_NEWTON);
     learner.run(&samples);
     assert_eq!(learner.posterior().score_batches(), (10, 4));
     assert!(learner.posterior().correlation_factor() > 1.5);

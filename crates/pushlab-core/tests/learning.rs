@@ -2,11 +2,14 @@
 //! and `h`, online adaptation beats the fixed model where the COM moved, training is reproducible and
 //! cancellable, and model files round-trip and refuse what they cannot read.
 
+mod toy;
+
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pushlab_core::learn::{
-    Nmse, OnlineConfig, OnlineLearner, OnlineModel, TrainConfig, train_paper, train_pure_nn,
-};
+use pushlab_core::learn::{Nmse, OnlineConfig, TrainConfig, train_paper, train_pure_nn};
+use toy::Chain;
+
+use pushlab_core::model::OnlineModel;
 use std::sync::Arc;
 
 use pushlab_core::learn::{ContactTrajectory, train_contact};
@@ -85,7 +88,7 @@ fn samples(set: &GeneratedSet) -> Vec<Vec<Sample>> {
         .collect()
 }
 
-fn mean_total(steps: &[pushlab_core::learn::OnlineStep]) -> f64 {
+fn mean_total(steps: &[pushlab_core::model::OnlineStep]) -> f64 {
     steps.iter().map(|s| s.loss.total()).sum::<f64>() / steps.len() as f64
 }
 
@@ -115,7 +118,7 @@ fn physics_only_online_learning_recovers_the_true_com_offset_and_h() {
         .zip(left_sticking)
         .flat_map(|(a, b)| [a, b])
         .collect();
-    let scale = pushlab_core::learn::LossScale::from_samples(data.iter().flatten());
+    let scale = pushlab_core::model::LossScale::from_samples(data.iter().flatten());
     let model = PhysicsOnlyModel::new(outline, 0.05, 0.005, scale);
     let start = model.theta0();
     assert!(
@@ -123,7 +126,7 @@ fn physics_only_online_learning_recovers_the_true_com_offset_and_h() {
         "learning must have somewhere to go"
     );
     // Carry θ over from push to push, as a robot pushing the same object again would.
-    let mut learner = OnlineLearner::new(&model, OnlineConfig::default());
+    let mut learner = Chain::new(&model, OnlineConfig::default());
     let mut first_push_loss = None;
     let mut last_push_loss = 0.0;
     for trajectory in &data {
@@ -180,10 +183,10 @@ fn combined_model_adapts_online_to_a_moved_com_and_beats_the_fixed_model() {
     let (mut fixed, mut adaptive) = (Vec::new(), Vec::new());
     for trajectory in samples(&online) {
         // Reset per trajectory, as the paper's evaluation does.
-        let mut learner = OnlineLearner::new(&model, OnlineConfig::default());
-        let frozen = OnlineLearner::new(&model, OnlineConfig::fixed());
+        let mut learner = Chain::new(&model, OnlineConfig::default());
+        let frozen = &model;
         for sample in &trajectory {
-            fixed.push(frozen.evaluate(sample).loss);
+            fixed.push(frozen.evaluate(sample, &frozen.theta0()).loss);
             adaptive.push(learner.step(sample).loss);
         }
     }
@@ -306,10 +309,10 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
     let s = &data[0][3];
     let (saved, loaded) = (
         file.combined
-            .learner(None)
+            .on_object(None)
             .expect("the paper model needs no outline"),
         back.combined
-            .learner(None)
+            .on_object(None)
             .expect("the paper model needs no outline"),
     );
     let theta = saved.theta0();
@@ -408,7 +411,7 @@ fn the_contact_model_carries_over_to_another_face_where_the_paper_model_does_not
     let paper = CombinedModel::Paper(Arc::new(paper.model));
     let fixed_nmse = |model: &CombinedModel, set: &GeneratedSet| {
         let learner = model
-            .learner(Some(&geometry))
+            .on_object(Some(&geometry))
             .expect("a box has an outline");
         let theta = learner.theta0();
         let losses: Vec<_> = samples(set)
@@ -438,17 +441,17 @@ fn the_contact_model_learns_a_moved_com_online_and_its_files_round_trip() {
     let online = simulated([0.05, 0.05], PressureModel::Rim, 0.0002, 32);
     let (geometry, model) = train_contact_on(&offline, 60);
     let combined = CombinedModel::Contact(Arc::new(model));
-    let learner = combined.learner(Some(&geometry)).expect("outline");
+    let learner = combined.on_object(Some(&geometry)).expect("outline");
     assert_eq!(
-        combined.learner(None).err(),
-        Some(pushlab_core::model::LearnerError::NoOutline)
+        combined.on_object(None).err(),
+        Some(pushlab_core::model::NoOutline)
     );
     let (mut fixed, mut adaptive) = (Vec::new(), Vec::new());
     for trajectory in samples(&online) {
-        let mut learning = OnlineLearner::new(&learner, OnlineConfig::default());
-        let frozen = OnlineLearner::new(&learner, OnlineConfig::fixed());
+        let mut learning = Chain::new(&learner, OnlineConfig::default());
+        let frozen = &learner;
         for sample in &trajectory {
-            fixed.push(frozen.evaluate(sample).loss);
+            fixed.push(frozen.evaluate(sample, &frozen.theta0()).loss);
             adaptive.push(learning.step(sample).loss);
         }
     }
@@ -471,7 +474,7 @@ fn the_contact_model_learns_a_moved_com_online_and_its_files_round_trip() {
     assert_eq!(back, file);
     assert_eq!(back.combined.kind(), ModelKind::Contact);
     let s = &samples(&online)[0][5];
-    let loaded = back.combined.learner(Some(&geometry)).expect("outline");
+    let loaded = back.combined.on_object(Some(&geometry)).expect("outline");
     assert_eq!(
         loaded.predict(&s.input, &learner.theta0()),
         learner.predict(&s.input, &learner.theta0())

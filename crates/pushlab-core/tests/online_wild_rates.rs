@@ -6,11 +6,11 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
-use pushlab_core::experiment::{
-    self, UsedRecording, fixed_pass, learner_for, online_pass, physics_model,
-};
-use pushlab_core::learn::{OnlineConfig, OnlineModel, OnlineStep, TrainConfig};
-use pushlab_core::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind};
+use std::sync::Arc;
+
+use pushlab_core::experiment::{self, UsedRecording, model_on, online_run, physics_model};
+use pushlab_core::learn::{OnlineConfig, TrainConfig};
+use pushlab_core::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineStep, SharedOnlineModel};
 
 /// The horizon of the MIT suites (`experiments/mit-abs-leave-one-shape-out.json`).
 const HORIZON: usize = 10;
@@ -50,30 +50,27 @@ fn assert_finite(step: &OnlineStep, what: &str) {
     );
 }
 
-/// Online learning at `lr` along every push, for one learner per push.
+/// Online learning at `lr` along every push (the run `pushlab eval` and the app play), for one
+/// model per push: θ, the losses and the gradient at every frame, online and fixed.
 fn check_rates(
     name: &str,
     used: &[UsedRecording],
-    learner: impl Fn(&UsedRecording) -> Box<dyn OnlineModel>,
+    model: impl Fn(&UsedRecording) -> SharedOnlineModel,
 ) {
     for u in used {
-        let learner = learner(u);
-        let samples = u.samples(HORIZON);
-        for step in fixed_pass(learner.as_ref(), &samples) {
-            assert_finite(&step, &format!("{name} fixed on {}", u.source()));
-        }
         for lr in [10.0, 1e6] {
             let config = OnlineConfig {
                 steps: 5,
                 lr,
                 ..OnlineConfig::default()
             };
-            let (steps, _) = online_pass(learner.as_ref(), &samples, &config);
-            for (k, step) in steps.iter().enumerate() {
-                assert_finite(
-                    step,
-                    &format!("{name} at lr {lr} on {} step {k}", u.source()),
-                );
+            let run = online_run(model(u), u, HORIZON, &config);
+            assert_eq!(run.frontier(), run.sample_count(), "learned to the end");
+            for k in 0..run.sample_count() {
+                let at = format!("{name} at lr {lr} on {} frame {k}", u.source());
+                assert_finite(&run.evaluate(k).expect("a sample"), &at);
+                assert_finite(&run.evaluate_fixed(k).expect("a sample"), &at);
+                assert!(run.spread_at(k).std().iter().all(|s| s.is_finite()), "{at}");
             }
         }
     }
@@ -95,12 +92,12 @@ fn no_kind_ever_learns_a_non_finite_theta_or_loss_on_real_pushes_at_lr_10_and_1e
             .expect("trains")
             .model;
         check_rates(kind.name(), &loaded.used, |u| {
-            Box::new(learner_for(&model, u).expect("every MIT object has an outline"))
+            model_on(&model, u).expect("every MIT object has an outline")
         });
         if kind == ModelKind::Contact {
             let scale = model.loss_scale();
             check_rates("physics only", &loaded.used, |u| {
-                Box::new(
+                Arc::new(
                     physics_model(&u.recording, scale, DEFAULT_CONTACT_TOLERANCE)
                         .expect("every MIT object has an outline"),
                 )

@@ -14,18 +14,17 @@ use pushlab_core::experiment::ComTruth;
 use pushlab_core::inspect::{ComGrid, com_landscape, h_slice, rollout};
 use pushlab_core::learn::uncertainty::CHI2_2DOF_95;
 use pushlab_core::learn::{
-    ContactTrajectory, LossScale, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep, Optimizer,
-    TrainConfig, train_contact, train_paper,
+    ContactTrajectory, OnlineConfig, Optimizer, TrainConfig, train_contact, train_paper,
 };
 use pushlab_core::model::{
-    CombinedModel, ContactGeometry, OnlineParams, PhysicsOnlyModel, Sample, sample_at,
-    samples_from_trajectory,
+    CombinedModel, ContactGeometry, LossScale, OnlineModel, OnlineParams, OnlineStep,
+    PhysicsOnlyModel, Sample, sample_at, samples_from_trajectory,
 };
 use pushlab_core::recording::{ObjectShape, PushSide};
 use pushlab_core::rng::SplitMix64;
 use pushlab_core::sim::{GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, generate_set};
 
-use toy::{GAUSS_NEWTON, LinearToy, theta_vector, toy_samples};
+use toy::{Chain, GAUSS_NEWTON, LinearToy, theta_vector, toy_samples};
 
 #[test]
 fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_truth() {
@@ -35,7 +34,7 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     };
     let mut rng = SplitMix64::new(17);
     let samples = toy_samples(&mut rng, &truth, 40, 0.05);
-    let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+    let mut learner = Chain::new(LinearToy, GAUSS_NEWTON);
     learner.run(&samples);
     let posterior = learner.posterior();
     let estimate = theta_vector(&learner.theta());
@@ -117,7 +116,7 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     let held = (0..trials)
         .filter(|_| {
             let samples = toy_samples(&mut rng, &truth, 30, 1.0);
-            let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+            let mut learner = Chain::new(LinearToy, GAUSS_NEWTON);
             learner.run(&samples);
             learner
                 .posterior()
@@ -139,7 +138,7 @@ fn the_95_ellipse_has_the_covariance_s_axes() {
         com_offset: [0.01, 0.02],
         h: 0.3,
     };
-    let mut learner = OnlineLearner::new(LinearToy, GAUSS_NEWTON);
+    let mut learner = Chain::new(LinearToy, GAUSS_NEWTON);
     learner.run(&toy_samples(&mut rng, &truth, 10, 0.1));
     let posterior = learner.posterior();
     let ([major, minor], angle) = posterior.com_ellipse_95();
@@ -262,7 +261,7 @@ fn jacobians_match_central_differences_of_the_residual_for_every_kind() {
         .collect();
     let contact = train_contact(&contact_data, &config, &mut |_| {}, &never).expect("trains");
     let contact = CombinedModel::Contact(Arc::new(contact.model))
-        .learner(Some(&geometry))
+        .on_object(Some(&geometry))
         .expect("outline");
     // The paper model predicts in f32 (its default) and f64: the check runs on the f64 one, whose
     // central differences resolve the Jacobian to 1e-4.
@@ -323,9 +322,10 @@ fn frames_to_5mm(
     data: &[Vec<Sample>],
     truth: [f64; 2],
 ) -> (Option<usize>, f64) {
-    let mut learner = OnlineLearner::new(model, config);
+    let mut learner = Chain::new(model, config);
     let steps: Vec<OnlineStep> = data.iter().flat_map(|t| learner.run(t)).collect();
-    let found = ComTruth::of(&steps, &learner.posterior(), truth).expect("frames");
+    let com_after: Vec<[f64; 2]> = steps.iter().map(|s| s.theta_after.com_offset).collect();
+    let found = ComTruth::of(&com_after, &learner.posterior(), truth).expect("frames");
     (found.frames_to_near, found.error_m)
 }
 
@@ -360,7 +360,7 @@ fn switching_the_optimiser_changes_theta_and_zero_steps_learns_nothing() {
     let (set, data) = front_and_left([0.03, -0.025], 9);
     let model = physics_model(&set, &data);
     let run = |config: OnlineConfig| {
-        let mut learner = OnlineLearner::new(&model, config);
+        let mut learner = Chain::new(&model, config);
         learner.run(&data[0]);
         learner.theta()
     };

@@ -137,7 +137,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     {
         commands.push(Command::SetLearnWhilePlaying(learn));
     }
-    let mut config = run.config;
+    let mut config = run.config();
     let mut config_changed = false;
     ui.horizontal(|ui| {
         ui.label("Optimiser");

@@ -18,8 +18,8 @@ use serde::{Deserialize, Serialize};
 
 use super::AppState;
 use super::labels::LabelTarget;
-use super::online::MeanLosses;
 use super::session::RecordingId;
+use pushlab_core::learn::MeanLosses;
 
 /// A column of the browser's table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -16,8 +16,8 @@ use pushlab_core::model_file::ModelFile;
 
 use super::AppState;
 use super::labels::LabelTarget;
-use super::online::MeanLosses;
 use super::session::RecordingId;
+use pushlab_core::learn::MeanLosses;
 
 /// What the Demos menu asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

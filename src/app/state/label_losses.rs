@@ -44,10 +44,10 @@ pub fn loss_by_label(run: &OnlineRun, labels: Option<&RecordingLabels>) -> Vec<L
             continue;
         };
         frames.push(frame);
-        values[0].push(f64::from(online.pos));
-        values[1].push(f64::from(fixed.pos));
-        values[2].push(f64::from(online.rot));
-        values[3].push(f64::from(fixed.rot));
+        values[0].push(online.pos);
+        values[1].push(fixed.pos);
+        values[2].push(online.rot);
+        values[3].push(fixed.rot);
     }
     let means: Vec<PerLabelMeans> = values
         .iter()

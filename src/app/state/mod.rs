@@ -417,10 +417,8 @@ impl AppState {
                 self.online_config = config;
                 let frame = self.frame();
                 if let Some(run) = &mut self.run {
-                    run.config = config;
                     // Steps learned after this frame used the old rule: learn them again.
-                    let theta = run.theta_at(frame);
-                    run.set_theta_at(frame, theta);
+                    run.set_config_at(frame, config);
                 }
             }
         }

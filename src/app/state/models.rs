@@ -12,7 +12,7 @@ use pushlab_core::model::{
 use pushlab_core::model_file::TrainingMetadata;
 use pushlab_core::recording::Recording;
 
-use super::online::SharedModel;
+use pushlab_core::model::SharedOnlineModel;
 
 /// Horizon of the physics-only model when there is no trained model to take it from.
 pub const DEFAULT_HORIZON: usize = 1;
@@ -42,7 +42,7 @@ impl Models {
     ///
     /// Without a trained model, the physics-only model of the recording's outline learns instead, so
     /// that the app still shows and steers something meaningful.
-    pub fn learner_for(&self, recording: &Recording) -> Result<(SharedModel, usize), String> {
+    pub fn learner_for(&self, recording: &Recording) -> Result<(SharedOnlineModel, usize), String> {
         let unusable = |e: &dyn std::fmt::Display| {
             format!(
                 "{}: the object outline in setting.json is unusable: {e}",
@@ -52,7 +52,7 @@ impl Models {
         if let Some(model) = &self.combined {
             let geometry = geometry_of(&recording.setting);
             let learner = model
-                .learner(geometry.as_ref().ok())
+                .on_object(geometry.as_ref().ok())
                 .map_err(|e| match &geometry {
                     Err(outline) => unusable(outline),
                     Ok(_) => format!("{}: {e}", recording.source.display()),

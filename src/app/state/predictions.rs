@@ -6,8 +6,7 @@
 //! drawn frame is four predictions of one sample, a few microseconds.
 
 use pushlab_core::inspect::{Rollout, rollout};
-use pushlab_core::learn::OnlineStep;
-use pushlab_core::model::{Prediction, Sample};
+use pushlab_core::model::{OnlineStep, Prediction, Sample};
 
 use super::AppState;
 

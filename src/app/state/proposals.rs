@@ -25,7 +25,7 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use pushlab_core::labels::propose::{Proposal, Proposals, ProposeOptions, Residuals, propose_for};
 use pushlab_core::labels::{self, LabelSchema, RecordingLabels};
-use pushlab_core::learn::LossScale;
+use pushlab_core::model::LossScale;
 use pushlab_core::recording::Recording;
 
 use super::AppState;
@@ -319,11 +319,7 @@ impl AppState {
             return;
         };
         let residuals = self.run.as_ref().map(|run| OwnedResiduals {
-            losses: run
-                .fixed()
-                .iter()
-                .map(|l| 2.0 * f64::from(l.pos) + f64::from(l.rot))
-                .collect(),
+            losses: run.fixed().iter().map(|l| l.total()).collect(),
             horizon: run.horizon(),
             scale: run.model().loss_scale(),
         });

@@ -7,11 +7,11 @@
 
 use std::collections::VecDeque;
 
-use pushlab_core::learn::moving_average;
-use pushlab_core::model::OnlineParams;
+use pushlab_core::learn::{self, Spread, moving_average};
+use pushlab_core::model::{FrameLoss, OnlineParams};
 
 use super::envelope::{Envelope, envelope_points};
-use super::online::{FrameLoss, OnlineRun, Spread};
+use super::online::OnlineRun;
 
 /// Learned steps in the moving average of the loss plots.
 pub const MOVING_AVERAGE: usize = 25;
@@ -94,14 +94,14 @@ impl Series {
     }
 
     fn value(self, data: &Data<'_>, i: usize) -> f32 {
-        let pick = |loss: FrameLoss, part: LossPart| match part {
+        let pick = |loss: PlotLoss, part: LossPart| match part {
             LossPart::Pos => loss.pos,
             LossPart::Rot => loss.rot,
         };
         match self {
-            Series::Fixed(p) => pick(data.fixed[i], p),
+            Series::Fixed(p) => pick(PlotLoss::of(&data.fixed[i]), p),
             Series::FixedAverage(p) => pick(data.averages.fixed[i], p),
-            Series::Online(p) => data.learned[i].map_or(f32::NAN, |l| pick(l, p)),
+            Series::Online(p) => data.learned[i].map_or(f32::NAN, |l| pick(PlotLoss::of(&l), p)),
             Series::OnlineAverage(p) => pick(data.averages.online[i], p),
             Series::Theta(c) => (data.checkpoints[i].to_array()[c.min(2)] * 1e3) as f32,
             Series::ThetaLow(c) | Series::ThetaHigh(c) => {
@@ -127,16 +127,33 @@ struct Data<'a> {
     averages: &'a Averages,
 }
 
-#[derive(Default)]
-struct Averages {
-    fixed: Vec<FrameLoss>,
-    /// One per learned frame; NaN where θ was held.
-    online: Vec<FrameLoss>,
-    /// The last [`MOVING_AVERAGE`] learned losses before the end of `online`.
-    recent: VecDeque<FrameLoss>,
+/// A loss as the plots draw it: in `f32`, half the memory of the run's for the averages kept per
+/// frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PlotLoss {
+    pos: f32,
+    rot: f32,
 }
 
-const NO_LOSS: FrameLoss = FrameLoss {
+impl PlotLoss {
+    fn of(loss: &FrameLoss) -> Self {
+        Self {
+            pos: loss.pos as f32,
+            rot: loss.rot as f32,
+        }
+    }
+}
+
+#[derive(Default)]
+struct Averages {
+    fixed: Vec<PlotLoss>,
+    /// One per learned frame; NaN where θ was held.
+    online: Vec<PlotLoss>,
+    /// The last [`MOVING_AVERAGE`] learned losses before the end of `online`.
+    recent: VecDeque<PlotLoss>,
+}
+
+const NO_LOSS: PlotLoss = PlotLoss {
     pos: f32::NAN,
     rot: f32::NAN,
 };
@@ -149,13 +166,11 @@ pub struct RunPlots {
 
 impl RunPlots {
     /// The plots of a run that has learned nothing yet.
-    pub(super) fn new(
-        fixed: &[FrameLoss],
-        checkpoints: &[OnlineParams],
-        spreads: &[Spread],
-    ) -> Self {
-        let average = |pick: fn(&FrameLoss) -> f32| {
-            let values: Vec<f64> = fixed.iter().map(|l| f64::from(pick(l))).collect();
+    pub(super) fn new(run: &mut learn::OnlineRun) -> Self {
+        let average = |pick: fn(&PlotLoss) -> f32| {
+            let values: Vec<f64> = (run.fixed().iter())
+                .map(|l| f64::from(pick(&PlotLoss::of(l))))
+                .collect();
             moving_average(&values, MOVING_AVERAGE)
         };
         let (pos, rot) = (average(|l| l.pos), average(|l| l.rot));
@@ -163,7 +178,7 @@ impl RunPlots {
             fixed: pos
                 .iter()
                 .zip(&rot)
-                .map(|(&pos, &rot)| FrameLoss {
+                .map(|(&pos, &rot)| PlotLoss {
                     pos: pos as f32,
                     rot: rot as f32,
                 })
@@ -174,12 +189,22 @@ impl RunPlots {
             averages,
             envelopes: Default::default(),
         };
-        plots.extend(fixed, &[], checkpoints, spreads);
+        run.take_cut();
+        plots.extend(run.fixed(), &[], run.checkpoints(), run.spreads());
         plots
     }
 
-    /// Follows what the run learned since the last call.
-    pub(super) fn extend(
+    /// Follows the run: cuts back to the first frame it dropped since the last call, then adds what
+    /// it learned.
+    pub(super) fn follow(&mut self, run: &mut learn::OnlineRun) {
+        if let Some(frame) = run.take_cut() {
+            self.cut(run.learned(), frame);
+        }
+        self.extend(run.fixed(), run.learned(), run.checkpoints(), run.spreads());
+    }
+
+    /// Adds what the run learned since the last call.
+    fn extend(
         &mut self,
         fixed: &[FrameLoss],
         learned: &[Option<FrameLoss>],
@@ -190,15 +215,15 @@ impl RunPlots {
         for step in &learned[averages.online.len().min(learned.len())..] {
             let average = match step {
                 Some(loss) => {
-                    averages.recent.push_back(*loss);
+                    averages.recent.push_back(PlotLoss::of(loss));
                     if averages.recent.len() > MOVING_AVERAGE {
                         averages.recent.pop_front();
                     }
                     let n = averages.recent.len() as f32;
-                    let sum = |pick: fn(&FrameLoss) -> f32| {
+                    let sum = |pick: fn(&PlotLoss) -> f32| {
                         averages.recent.iter().map(pick).sum::<f32>() / n
                     };
-                    FrameLoss {
+                    PlotLoss {
                         pos: sum(|l| l.pos),
                         rot: sum(|l| l.rot),
                     }
@@ -221,15 +246,15 @@ impl RunPlots {
 
     /// Forgets what learning did from frame `frame` on (`learned` is already cut back to it): the
     /// online series and `θ` change there.
-    pub(super) fn cut(&mut self, learned: &[Option<FrameLoss>], frame: usize) {
+    fn cut(&mut self, learned: &[Option<FrameLoss>], frame: usize) {
         let averages = &mut self.averages;
         averages.online.truncate(frame.min(learned.len()));
-        let mut recent: Vec<FrameLoss> = learned[..averages.online.len()]
+        let mut recent: Vec<PlotLoss> = learned[..averages.online.len()]
             .iter()
             .rev()
             .flatten()
             .take(MOVING_AVERAGE)
-            .copied()
+            .map(PlotLoss::of)
             .collect();
         recent.reverse();
         averages.recent = recent.into();
@@ -275,8 +300,8 @@ mod tests {
     use std::sync::Arc;
 
     use pushlab_core::geometry::{Outline, Pose2};
-    use pushlab_core::learn::{LossScale, OnlineConfig};
-    use pushlab_core::model::{PhysicsOnlyModel, samples_from_trajectory};
+    use pushlab_core::learn::OnlineConfig;
+    use pushlab_core::model::{LossScale, PhysicsOnlyModel, samples_from_trajectory};
     use pushlab_core::trajectory::{Frame, Trajectory};
 
     /// A 10 cm box pushed off-centre along +x for `n` frames at 100 Hz.
@@ -319,12 +344,7 @@ mod tests {
         run.set_theta_at(150, steered);
         run.learn_through(150, 250, &skip);
 
-        let learned: Vec<f64> = run
-            .learned()
-            .iter()
-            .flatten()
-            .map(|l| f64::from(l.pos))
-            .collect();
+        let learned: Vec<f64> = run.learned().iter().flatten().map(|l| l.pos).collect();
         let expected = moving_average(&learned, MOVING_AVERAGE);
         let drawn: Vec<f64> = all_points(&run, Series::OnlineAverage(LossPart::Pos))
             .iter()

@@ -17,18 +17,14 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 use clap::Args;
 use pushlab_core::atomic_file::write_atomically;
-use pushlab_core::experiment::{
-    self, EvalOptions, Evaluation, Loaded, PhysicsNmse, Skipped, UsedRecording,
-};
-use pushlab_core::experiment::{ComSummary, ComTruth, Domain};
+use pushlab_core::experiment::report::{EvalReport, ReportContext};
+use pushlab_core::experiment::{self, ComSummary, Domain, EvalOptions, Evaluation, UsedRecording};
 use pushlab_core::labels::Split;
-use pushlab_core::labels::pipeline::LabelMean;
-use pushlab_core::learn::{Loss, Nmse, OnlineConfig, Optimizer, TrainConfig};
+use pushlab_core::learn::{Nmse, OnlineConfig, Optimizer, TrainConfig};
 use pushlab_core::model::{
-    CombinedModel, DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineParams, PureNnModel,
+    CombinedModel, DEFAULT_CONTACT_TOLERANCE, FrameLoss, ModelKind, PureNnModel,
 };
 use pushlab_core::model_file::ModelFile;
-use serde::Serialize;
 
 use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
@@ -61,9 +57,13 @@ pub struct EvalArgs {
     /// (one Gauss–Newton step per frame weighed against the frames before; --steps 0 still fixes θ).
     #[arg(long, value_name = "OPTIMIZER", default_value = "gd", value_parser = optimizer)]
     pub optimizer: Optimizer,
-    /// Write the results as JSON (the format is documented in the README).
+    /// Write the results as JSON (the format is documented in the guide).
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
+    /// With --json: also list θ_online and the online and fixed losses at every frame of every
+    /// online trajectory (what the app shows for the same recording, model and settings).
+    #[arg(long, requires = "json")]
+    pub per_frame: bool,
     /// Draw the paper-style figure of the online losses as a PNG.
     #[arg(long, value_name = "OUT.png")]
     pub plot: Option<PathBuf>,
@@ -75,104 +75,6 @@ pub struct EvalArgs {
     /// without contact the physics-only model predicts no motion.
     #[arg(long, value_name = "METRES", default_value_t = DEFAULT_CONTACT_TOLERANCE, value_parser = positive_real)]
     pub contact_tolerance: f64,
-}
-
-/// The JSON report: a stable contract. Fields may be added; existing ones keep their meaning.
-#[derive(Debug, Serialize)]
-pub struct Report {
-    pub offline_nn: Nmse,
-    pub offline: Nmse,
-    pub fixed: Nmse,
-    pub online: Nmse,
-    pub trajectories: Vec<TrajectoryReport>,
-    pub config: ConfigReport,
-    /// With `--physics`: the physics-only model on the offline data, fixed and online.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub physics: Option<PhysicsNmse>,
-    /// When online recordings carry range labels: the mean total loss ℓ per label.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub per_label: Option<PerLabelReport>,
-    /// Files and recordings left out, with the reason.
-    pub skipped: Vec<Skipped>,
-    /// Over the online pushes with a known COM (simulated sets): how often the 95 % ellipse holds
-    /// it, the mean final error, and how fast the estimate settled within 5 mm.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub com_found: Option<ComSummary>,
-}
-
-/// One online trajectory.
-#[derive(Debug, Serialize)]
-pub struct TrajectoryReport {
-    pub source: String,
-    /// Online time steps (samples) run.
-    pub steps: usize,
-    pub fixed: Nmse,
-    pub online: Nmse,
-    /// `θ_online(0)` of this trajectory (per object for the contact-frame model).
-    pub theta0: OnlineParams,
-    /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
-    pub com_offset_learned: [f64; 2],
-    pub h_learned: f64,
-    /// The posterior covariance of the learned COM offset (2 × 2, m², object frame; see
-    /// `learn::uncertainty`).
-    pub com_offset_cov: [[f64; 2]; 2],
-    /// The posterior standard deviation of the learned `h`, metres.
-    pub h_std: f64,
-    /// From `setting.json`, when known (simulated sets).
-    pub com_offset_true: Option<[f64; 2]>,
-    pub h_true: Option<f64>,
-    /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub com_found: Option<ComTruth>,
-}
-
-/// How the numbers were made.
-#[derive(Debug, Serialize)]
-pub struct ConfigReport {
-    /// The combined model's kind: `contact` or `paper`.
-    pub kind: ModelKind,
-    pub horizon: usize,
-    /// Training epochs (most) and seed of the combined model used.
-    pub epochs: usize,
-    pub seed: u64,
-    pub steps: usize,
-    pub lr: f64,
-    pub optimizer: Optimizer,
-    /// The model file given with `--model`, or `null` when trained here.
-    pub model: Option<String>,
-    pub split_from_labels: bool,
-    /// `θ_online(0)` of the first online trajectory (the paper model's, which every trajectory
-    /// shares; the contact-frame model's is per object, see each trajectory).
-    pub theta0: Option<OnlineParams>,
-    pub offline_samples: usize,
-    pub online_samples: usize,
-    pub offline_sources: Vec<String>,
-    pub online_sources: Vec<String>,
-    pub pushlab_version: String,
-}
-
-/// Mean total loss per label on the online data.
-#[derive(Debug, Serialize)]
-pub struct PerLabelReport {
-    pub fixed: Vec<LabelMeanReport>,
-    pub online: Vec<LabelMeanReport>,
-}
-
-#[derive(Debug, Serialize)]
-pub struct LabelMeanReport {
-    pub label: String,
-    pub count: usize,
-    pub mean: f64,
-}
-
-impl From<&LabelMean> for LabelMeanReport {
-    fn from(m: &LabelMean) -> Self {
-        Self {
-            label: m.label.clone(),
-            count: m.count,
-            mean: m.mean,
-        }
-    }
 }
 
 /// Runs `pushlab eval`.
@@ -256,14 +158,20 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     );
     let pass_time = pass_started.elapsed();
 
-    let report = report(
-        args,
+    let report = EvalReport::of(
         &evaluation,
-        &offline,
-        &online,
-        horizon,
-        kind,
-        &trained_with,
+        &ReportContext {
+            offline: &offline,
+            online: &online,
+            horizon,
+            kind,
+            epochs: trained_with.epochs,
+            seed: trained_with.seed,
+            config: options.online,
+            model: args.model.as_ref().map(|p| p.display().to_string()),
+            split_from_labels: args.training.split_from_labels,
+            per_frame: args.per_frame,
+        },
     );
     print_tables(&report, &evaluation, &online.used);
     if let Some(path) = &args.json {
@@ -274,14 +182,17 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.plot {
-        let steps_of = |losses: &[Loss]| StepLosses {
-            total: losses.iter().map(Loss::total).collect(),
-            pos: losses.iter().map(Loss::pos).collect(),
+        let steps_of = |losses: Vec<FrameLoss>| StepLosses {
+            total: losses.iter().map(FrameLoss::total).collect(),
+            pos: losses.iter().map(|l| l.pos).collect(),
             rot: losses.iter().map(|l| l.rot).collect(),
         };
         let runs = &evaluation.trajectories;
-        let fixed: Vec<StepLosses> = runs.iter().map(|r| steps_of(&r.fixed)).collect();
-        let learning: Vec<StepLosses> = runs.iter().map(|r| steps_of(&r.online)).collect();
+        let fixed: Vec<StepLosses> = runs.iter().map(|r| steps_of(r.fixed().collect())).collect();
+        let learning: Vec<StepLosses> = runs
+            .iter()
+            .map(|r| steps_of(r.online().collect()))
+            .collect();
         let means = evaluation.offline_means;
         let figure = Figure {
             title: format!(
@@ -358,74 +269,6 @@ fn models(
     Ok((file.combined, pure_nn, with))
 }
 
-/// The JSON report of an evaluation.
-fn report(
-    args: &EvalArgs,
-    evaluation: &Evaluation,
-    offline: &Loaded,
-    online: &Loaded,
-    horizon: usize,
-    kind: ModelKind,
-    trained_with: &TrainedWith,
-) -> Report {
-    let mut skipped = offline.skipped.clone();
-    skipped.extend(online.skipped.iter().cloned());
-    skipped.extend(evaluation.left_out.iter().cloned());
-    let count = |l: &Loaded| l.samples(horizon).iter().map(Vec::len).sum();
-    Report {
-        offline_nn: evaluation.offline_nn.unwrap_or_default(),
-        offline: evaluation.offline,
-        fixed: evaluation.fixed,
-        online: evaluation.online,
-        trajectories: evaluation
-            .trajectories
-            .iter()
-            .map(|r| {
-                let u = &online.used[r.recording];
-                let setting = &u.recording.setting;
-                TrajectoryReport {
-                    source: u.source(),
-                    steps: r.fixed.len(),
-                    fixed: Nmse::of(&r.fixed),
-                    online: Nmse::of(&r.online),
-                    theta0: r.theta0,
-                    com_offset_learned: r.theta_end.com_offset,
-                    h_learned: r.theta_end.h,
-                    com_offset_cov: r.posterior_end.com_covariance(),
-                    h_std: r.posterior_end.std()[2],
-                    com_offset_true: setting.com_offset,
-                    h_true: setting.h,
-                    com_found: r.com_truth,
-                }
-            })
-            .collect(),
-        config: ConfigReport {
-            kind,
-            horizon,
-            epochs: trained_with.epochs,
-            seed: trained_with.seed,
-            steps: args.steps,
-            lr: args.lr,
-            optimizer: args.optimizer,
-            model: args.model.as_ref().map(|p| p.display().to_string()),
-            split_from_labels: args.training.split_from_labels,
-            theta0: evaluation.trajectories.first().map(|r| r.theta0),
-            offline_samples: count(offline),
-            online_samples: count(online),
-            offline_sources: offline.used.iter().map(UsedRecording::source).collect(),
-            online_sources: online.used.iter().map(UsedRecording::source).collect(),
-            pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
-        },
-        physics: evaluation.physics,
-        per_label: evaluation.per_label.as_ref().map(|p| PerLabelReport {
-            fixed: p.fixed.iter().map(LabelMeanReport::from).collect(),
-            online: p.online.iter().map(LabelMeanReport::from).collect(),
-        }),
-        skipped,
-        com_found: evaluation.com_summary,
-    }
-}
-
 /// The distinct setting names of some recordings, joined with "+".
 fn setting_names(used: &[UsedRecording]) -> String {
     let mut names: Vec<&str> = Vec::new();
@@ -439,7 +282,7 @@ fn setting_names(used: &[UsedRecording]) -> String {
 }
 
 /// Prints the paper-style table, the physics rows, the per-trajectory results and per-label means.
-fn print_tables(report: &Report, evaluation: &Evaluation, online: &[UsedRecording]) {
+fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedRecording]) {
     println!();
     println!(
         "{:<18} {:>9} {:>9}   data ({} model)",

@@ -152,7 +152,7 @@ pub fn run(args: &ProposeArgs) -> anyhow::Result<()> {
 /// first frame: the residuals whose spikes point at frames the model cannot explain.
 fn model_residuals(model: &CombinedModel, recording: &Recording) -> anyhow::Result<Vec<f64>> {
     let geometry = geometry_of(&recording.setting).ok();
-    let learner = model.learner(geometry.as_ref()).with_context(|| {
+    let learner = model.on_object(geometry.as_ref()).with_context(|| {
         format!(
             "{}: the model cannot predict this recording",
             recording.source.display()

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::learn::{OnlineStep, Posterior};
+use crate::learn::Posterior;
 
 /// "Found": within 5 mm of the true COM offset, as the optimiser comparison counts it.
 pub const NEAR_M: f64 = 0.005;
@@ -23,16 +23,16 @@ pub struct ComTruth {
 }
 
 impl ComTruth {
-    /// The measures of one online pass (its steps and final posterior) against `truth`.
-    pub fn of(steps: &[OnlineStep], posterior: &Posterior, truth: [f64; 2]) -> Option<Self> {
-        let last = steps.last()?;
+    /// The measures of one online pass (the COM offset after each frame learned from, and the final
+    /// posterior) against `truth`.
+    pub fn of(com_after: &[[f64; 2]], posterior: &Posterior, truth: [f64; 2]) -> Option<Self> {
+        let end = *com_after.last()?;
         let distance = |com: [f64; 2]| (com[0] - truth[0]).hypot(com[1] - truth[1]);
-        let end = last.theta_after.com_offset;
         let error_m = distance(end);
         // Walk back from the end while the estimate after each frame is near.
-        let settled_from = steps
+        let settled_from = com_after
             .iter()
-            .rposition(|s| distance(s.theta_after.com_offset) > NEAR_M)
+            .rposition(|&com| distance(com) > NEAR_M)
             .map_or(0, |i| i + 1);
         Some(Self {
             error_m,
@@ -84,26 +84,7 @@ impl ComSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::learn::Loss;
-    use crate::model::{ObjectMotion, OnlineParams, Prediction};
-
-    fn step(com: [f64; 2]) -> OnlineStep {
-        let theta = OnlineParams {
-            com_offset: com,
-            h: 0.1,
-        };
-        OnlineStep {
-            theta_before: theta,
-            prediction: Prediction {
-                motion: ObjectMotion::default(),
-                contact: None,
-                contact_motion: None,
-            },
-            loss: Loss::default(),
-            gradient: [0.0; 3],
-            theta_after: theta,
-        }
-    }
+    use crate::model::OnlineParams;
 
     #[test]
     fn frames_to_near_counts_until_the_estimate_stays_within_5_mm() {
@@ -116,13 +97,13 @@ mod tests {
         );
         // Near at frame 2, away at 3, near from frame 4 (the 5th frame learned) on.
         let path = [0.02, 0.01, 0.004, 0.008, 0.003, 0.001];
-        let steps: Vec<_> = path.iter().map(|&x| step([x, 0.0])).collect();
+        let steps: Vec<[f64; 2]> = path.iter().map(|&x| [x, 0.0]).collect();
         let truth = ComTruth::of(&steps, &prior, [0.0, 0.0]).expect("steps");
         assert_eq!(truth.frames_to_near, Some(5));
         assert!((truth.error_m - 0.001).abs() < 1e-12);
         assert!(truth.within_95, "the wide prior holds a COM 1 mm away");
 
-        let away: Vec<_> = [0.001, 0.02].iter().map(|&x| step([x, 0.0])).collect();
+        let away = [[0.001, 0.0], [0.02, 0.0]];
         assert_eq!(
             ComTruth::of(&away, &prior, [0.0, 0.0])
                 .expect("steps")

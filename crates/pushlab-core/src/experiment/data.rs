@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::geometry::OutlineError;
-use crate::labels::pipeline::{frames_to_skip, key_of, labels_file_beside, sample_is_skipped};
+use crate::labels::pipeline::{frames_to_skip, key_of, labels_file_beside};
 use crate::labels::{LabelSet, RecordingLabels, Split, file as labels_file};
-use crate::model::{ContactGeometry, Sample, samples_from_trajectory};
+use crate::model::{ContactGeometry, Sample, sample_is_skipped, samples_from_trajectory};
 use crate::recording::{LoadError, Recording, Setting, load_paths};
 
 /// One recording an experiment uses, with what the models need of it.

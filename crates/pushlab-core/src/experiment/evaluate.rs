@@ -1,7 +1,8 @@
 //! The passes of an experiment, as the paper's tables report them: a trained model on the offline
 //! data, and on each online recording with `θ_online` fixed at `θ_online(0)` ("Fixed") and learned
 //! online from `θ_online(0)` ("Online"); the same for the physics-only model; and the mean loss per
-//! label. `pushlab eval`, the suite and the app compute every number through these functions.
+//! label. `pushlab eval`, the suite and the app compute every number through these functions, and
+//! every online pass is the one [`OnlineRun`] the app plays.
 
 use std::sync::Arc;
 
@@ -9,12 +10,10 @@ use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Skipped, UsedRecording};
 use crate::geometry::OutlineError;
 use crate::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
-use crate::learn::{
-    Loss, LossScale, Nmse, OnlineConfig, OnlineModel, OnlineState, OnlineStep, Posterior,
-    learn_step,
-};
+use crate::learn::{Nmse, OnlineConfig, OnlineRun, Posterior};
 use crate::model::{
-    CombinedModel, OnlineParams, PhysicsOnlyModel, PureNnModel, Sample, samples_from_trajectory,
+    CombinedModel, FrameLoss, Loss, LossScale, NoOutline, OnlineModel, OnlineParams, OnlineStep,
+    PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel, samples_from_trajectory,
 };
 use crate::recording::Recording;
 
@@ -27,13 +26,13 @@ pub struct EvalOptions {
     pub physics: Option<f64>,
 }
 
-/// The learner of a trained model on one recording: `θ_online(0)`, step sizes and predictions for
+/// A trained model bound to one recording's object: `θ_online(0)`, step sizes and predictions for
 /// its object.
-pub fn learner_for(
+pub fn model_on(
     model: &CombinedModel,
     used: &UsedRecording,
-) -> Result<Arc<dyn OnlineModel + Send + Sync>, crate::model::LearnerError> {
-    model.learner(used.geometry.as_ref().ok())
+) -> Result<SharedOnlineModel, NoOutline> {
+    model.on_object(used.geometry.as_ref().ok())
 }
 
 /// The physics-only model of a recording's object and pusher, its losses normalised by `loss_scale`.
@@ -75,27 +74,27 @@ pub fn fixed_pass(learner: &dyn OnlineModel, samples: &[Sample]) -> Vec<OnlineSt
     let theta0 = learner.theta0();
     samples
         .iter()
-        .map(|s| learner.online_step(s, &theta0, &OnlineConfig::fixed()))
+        .map(|s| learner.evaluate(s, &theta0))
         .collect()
 }
 
-/// Online learning along one trajectory from `θ_online(0)` (Algorithm 1, with the configured
-/// optimiser): the "Online" run, and the posterior of `θ_online` after its last frame.
-pub fn online_pass(
-    learner: &dyn OnlineModel,
-    samples: &[Sample],
+/// Online learning along a recording from `θ_online(0)` (Algorithm 1, with the configured optimiser)
+/// on samples `horizon` frames long, holding θ over samples on frames labelled bad tracking: the
+/// "Online" run.
+pub fn online_run(
+    model: SharedOnlineModel,
+    used: &UsedRecording,
+    horizon: usize,
     config: &OnlineConfig,
-) -> (Vec<OnlineStep>, Posterior) {
-    let mut state = OnlineState::start(learner);
-    let steps = samples
-        .iter()
-        .map(|s| {
-            let (step, next) = learn_step(learner, s, &state, config);
-            state = next;
-            step
-        })
-        .collect();
-    (steps, state.posterior)
+) -> OnlineRun {
+    let mut run = OnlineRun::new(
+        model,
+        Arc::clone(&used.recording.trajectory),
+        horizon,
+        *config,
+    );
+    run.learn_all(&used.skip);
+    run
 }
 
 /// One online recording's runs.
@@ -103,17 +102,47 @@ pub fn online_pass(
 pub struct TrajectoryRun {
     /// Index of the recording among the online recordings.
     pub recording: usize,
-    /// The frame each sample starts at.
-    pub frames: Vec<usize>,
-    pub fixed: Vec<Loss>,
-    pub online: Vec<Loss>,
-    pub theta0: OnlineParams,
-    /// `θ_online` after the last online step.
-    pub theta_end: OnlineParams,
-    /// Its posterior given every frame learned from (see `learn::uncertainty`).
-    pub posterior_end: Posterior,
+    /// The online run over every frame: θ, the online and fixed losses and the spread per frame.
+    pub run: OnlineRun,
     /// The COM estimate against the recording's true COM, when it has one (simulated sets).
     pub com_truth: Option<ComTruth>,
+}
+
+impl TrajectoryRun {
+    /// The frames learned from, in order: every sample's but those on frames labelled bad tracking.
+    pub fn frames(&self) -> impl Iterator<Item = usize> + '_ {
+        self.run.learned_steps().map(|(frame, _, _)| frame)
+    }
+
+    /// The fixed model's losses at the frames learned from.
+    pub fn fixed(&self) -> impl Iterator<Item = FrameLoss> + '_ {
+        self.frames().map(|frame| self.run.fixed()[frame])
+    }
+
+    /// The online losses at the frames learned from.
+    pub fn online(&self) -> impl Iterator<Item = FrameLoss> + '_ {
+        self.run.learned_steps().map(|(_, loss, _)| loss)
+    }
+
+    /// Samples learned from.
+    pub fn steps(&self) -> usize {
+        self.run.learned_steps().count()
+    }
+
+    /// `θ_online(0)` of this recording.
+    pub fn theta0(&self) -> OnlineParams {
+        self.run.theta0()
+    }
+
+    /// `θ_online` after the last online step.
+    pub fn theta_end(&self) -> OnlineParams {
+        self.run.theta_at(self.run.frontier())
+    }
+
+    /// Its posterior given every frame learned from (see `learn::uncertainty`).
+    pub fn posterior_end(&self) -> &Posterior {
+        self.run.posterior()
+    }
 }
 
 /// The physics-only model's NMSE.
@@ -171,7 +200,7 @@ pub fn evaluate(
     let horizon = model.horizon();
     let scale = model.loss_scale();
     let mut left_out = Vec::new();
-    let mut learner = |u: &UsedRecording| match learner_for(model, u) {
+    let mut learner = |u: &UsedRecording| match model_on(model, u) {
         Ok(learner) => Some(learner),
         Err(e) => {
             left_out.push(Skipped {
@@ -207,22 +236,18 @@ pub fn evaluate(
         let Some(learner) = learner(u) else {
             continue;
         };
-        let samples = u.samples(horizon);
-        let fixed = fixed_pass(learner.as_ref(), &samples);
-        let (learned, posterior_end) = online_pass(learner.as_ref(), &samples, &options.online);
+        let run = online_run(learner, u, horizon, &options.online);
+        let com_truth = u.recording.setting.com_offset.and_then(|truth| {
+            let after: Vec<[f64; 2]> = run
+                .learned_steps()
+                .map(|(_, _, theta)| theta.com_offset)
+                .collect();
+            ComTruth::of(&after, run.posterior(), truth)
+        });
         trajectories.push(TrajectoryRun {
             recording: index,
-            frames: samples.iter().map(|s| s.frame).collect(),
-            fixed: fixed.iter().map(|s| s.loss).collect(),
-            online: learned.iter().map(|s| s.loss).collect(),
-            theta0: learner.theta0(),
-            theta_end: learned.last().map_or(learner.theta0(), |s| s.theta_after),
-            com_truth: u
-                .recording
-                .setting
-                .com_offset
-                .and_then(|truth| ComTruth::of(&learned, &posterior_end, truth)),
-            posterior_end,
+            run,
+            com_truth,
         });
     }
 
@@ -240,8 +265,8 @@ pub fn evaluate(
             pos: mean(Loss::pos),
             rot: mean(|l| l.rot),
         },
-        fixed: Nmse::of(trajectories.iter().flat_map(|r| r.fixed.iter())),
-        online: Nmse::of(trajectories.iter().flat_map(|r| r.online.iter())),
+        fixed: Nmse::of_frames(trajectories.iter().flat_map(TrajectoryRun::fixed)),
+        online: Nmse::of_frames(trajectories.iter().flat_map(TrajectoryRun::online)),
         per_label: per_label(online, &trajectories),
         com_summary: ComSummary::of(trajectories.iter().filter_map(|r| r.com_truth.as_ref())),
         trajectories,
@@ -271,15 +296,19 @@ fn physics_nmse(
     let (mut fixed, mut learned) = (Vec::new(), Vec::new());
     for u in online {
         if let Some(m) = model(u) {
-            let samples = u.samples(horizon);
-            fixed.extend(fixed_pass(&m, &samples).iter().map(|s| s.loss));
-            learned.extend(online_pass(&m, &samples, config).0.iter().map(|s| s.loss));
+            let run = TrajectoryRun {
+                recording: 0,
+                run: online_run(Arc::new(m), u, horizon, config),
+                com_truth: None,
+            };
+            fixed.extend(run.fixed());
+            learned.extend(run.online());
         }
     }
     PhysicsNmse {
         offline: Nmse::of(&offline_losses),
-        fixed: Nmse::of(&fixed),
-        online: Nmse::of(&learned),
+        fixed: Nmse::of_frames(fixed),
+        online: Nmse::of_frames(learned),
     }
 }
 
@@ -297,10 +326,12 @@ fn per_label(online: &[UsedRecording], runs: &[TrajectoryRun]) -> Option<PerLabe
         let u = &online[r.recording];
         let key = key_of(&u.recording.source).unwrap_or_default();
         let labels = u.labels.as_ref();
-        let totals = |l: &[Loss]| l.iter().map(Loss::total).collect::<Vec<_>>();
+        let frames: Vec<usize> = r.frames().collect();
+        let totals =
+            |l: &mut dyn Iterator<Item = FrameLoss>| l.map(|l| l.total()).collect::<Vec<_>>();
         // Lengths match by construction (one frame per loss), so adding cannot fail.
-        let _ = fixed.add(&key, labels, &r.frames, &totals(&r.fixed));
-        let _ = learned.add(&key, labels, &r.frames, &totals(&r.online));
+        let _ = fixed.add(&key, labels, &frames, &totals(&mut r.fixed()));
+        let _ = learned.add(&key, labels, &frames, &totals(&mut r.online()));
     }
     let list = |m: &PerLabelMeans| std::iter::once(m.all()).chain(m.by_label()).collect();
     Some(PerLabel {

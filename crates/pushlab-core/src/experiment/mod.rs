@@ -11,6 +11,7 @@ pub mod com_truth;
 pub mod data;
 pub mod domain;
 pub mod evaluate;
+pub mod report;
 pub mod suite;
 pub mod train;
 pub mod variant;
@@ -20,7 +21,7 @@ pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, split_of};
 pub use domain::{Domain, DomainMismatch};
 pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, TrajectoryRun, evaluate,
-    fixed_pass, learner_for, loss_scale_for, online_pass, physics_model,
+    fixed_pass, loss_scale_for, model_on, online_run, physics_model,
 };
 pub use train::{paper_theta0_for, train_baseline, train_combined, training_metadata};
 pub use variant::ModelVariant;

@@ -9,10 +9,10 @@ use super::data::UsedRecording;
 use super::domain::Domain;
 use super::variant::{symmetries, transformed};
 use crate::learn::{
-    ContactTrajectory, LossScale, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
+    ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
     train_contact, train_paper, train_pure_nn, training_trajectories,
 };
-use crate::model::{CombinedModel, ModelKind, OnlineParams, PureNnModel, Sample};
+use crate::model::{CombinedModel, LossScale, ModelKind, OnlineParams, PureNnModel, Sample};
 use crate::model_file::TrainingMetadata;
 
 /// Where a model trained on these recordings at `horizon` comes from — their sources, the pushlab

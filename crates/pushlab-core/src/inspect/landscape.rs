@@ -10,8 +10,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::learn::{Loss, OnlineModel};
 use crate::model::{H_MAX, H_MIN, OnlineParams, Sample, sample_at};
+use crate::model::{Loss, OnlineModel};
 use crate::trajectory::Trajectory;
 
 /// Most samples a landscape scores: a longer span is thinned evenly, so that a grid over a long

@@ -6,8 +6,7 @@
 use nalgebra::Vector2;
 
 use crate::geometry::Pose2;
-use crate::learn::OnlineModel;
-use crate::model::{OnlineParams, SampleInput};
+use crate::model::{OnlineModel, OnlineParams, SampleInput};
 use crate::trajectory::Trajectory;
 
 /// The predicted object poses of a rollout and where they end against the recording.

@@ -54,15 +54,6 @@ pub fn frames_to_skip(set: &LabelSet, recording: &str, frame_count: usize) -> Ve
     mask
 }
 
-/// Whether the sample from `frame` to `frame + horizon` (a horizon of 0 counts as 1) touches a frame
-/// flagged in `frame_mask` (see [`frames_to_skip`]): a sample is made from exactly those two frames,
-/// so training, evaluation and the app's online learning leave it out. Frames past the mask's end
-/// are not flagged.
-pub fn sample_is_skipped(frame_mask: &[bool], frame: usize, horizon: usize) -> bool {
-    let flagged = |f: usize| frame_mask.get(f).copied().unwrap_or(false);
-    flagged(frame) || flagged(frame + horizon.max(1))
-}
-
 /// The mean of a value over the frames carrying one label.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LabelMean {
@@ -178,6 +169,7 @@ mod tests {
     use super::super::schema::names::*;
     use super::super::{RecordingMeta, Segment};
     use super::*;
+    use crate::model::sample_is_skipped;
 
     #[test]
     fn splits_select_recordings() {

@@ -1,17 +1,21 @@
-//! Learning: the losses (eqs. 5–8), offline training of the network (eq. 12) and online learning of
-//! `θ_online` (eq. 13, Algorithm 1).
+//! Learning, above the models: offline training of the network (eq. 12), online learning of
+//! `θ_online` (eq. 13, Algorithm 1) with its posterior, and the metrics over many predictions (eq. 7).
 
 mod adam;
-mod loss;
+mod config;
+mod metrics;
 mod offline;
-mod online;
+mod run;
 mod score_batches;
+mod step;
 pub mod uncertainty;
 
-pub use loss::{Loss, LossScale, Nmse, mean_std_across, moving_average};
+pub use config::{OnlineConfig, Optimizer};
+pub use metrics::{Nmse, mean_std_across, moving_average};
 pub use offline::{
     ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, TrainingReport,
     paper_theta0, train_contact, train_paper, train_pure_nn, training_trajectories,
 };
-pub use online::{ContactLearner, OnlineConfig, OnlineLearner, OnlineModel, OnlineStep};
-pub use uncertainty::{OnlineState, Optimizer, Posterior, learn_step};
+pub use run::{KEYFRAME, MeanLosses, OnlineRun};
+pub use step::{OnlineState, learn_step};
+pub use uncertainty::{Posterior, Spread};

@@ -7,7 +7,7 @@
 //! every frame sees each motion `k` times) and a weak Gaussian prior at `θ_online(0)`, the Laplace
 //! posterior of `θ_online` has the covariance `(JᵀJ / (s² k c) + Λ₀)⁻¹` ([`Posterior`]; `c` below).
 //!
-//! The same information matrix gives the Gauss–Newton optimiser ([`Optimizer::GaussNewton`]): after
+//! The same information matrix gives the Gauss–Newton optimiser ([`Optimizer::GaussNewton`](super::Optimizer::GaussNewton), `learn::step`): after
 //! each frame, `θ ← θ − (JᵀJ / (s² k c) + Λ₀)⁻¹ Jₜᵀ rₜ / (s² k c)` — the recursive least-squares (extended
 //! Kalman filter without process noise) step, which weighs the new frame against everything seen
 //! before instead of taking a fixed learning rate.
@@ -24,11 +24,9 @@
 //! estimate.
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
-use serde::{Deserialize, Serialize};
 
 use super::score_batches::{MAX_FACTOR, ScoreBatches};
-use super::{Loss, OnlineConfig, OnlineModel, OnlineStep};
-use crate::model::{H_MIN, Linearization, OnlineParams, Sample};
+use crate::model::{H_MIN, Linearization, OnlineParams};
 
 /// The prior's standard deviation of every component of `θ_online`, in units of `θ_online(0)`'s `h`
 /// (about a third of the object's size): weak, a COM anywhere on the object is plausible.
@@ -40,36 +38,6 @@ const NOISE_PRIOR_FRAMES: f64 = 1.0;
 
 /// χ² with two degrees of freedom at 95 %: the squared Mahalanobis radius of the COM's 95 % ellipse.
 pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
-
-/// How online learning updates `θ_online` from each observed frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Optimizer {
-    /// The paper's: `steps` gradient-descent steps with learning rate `lr` on this frame's loss.
-    #[default]
-    Gd,
-    /// One Gauss–Newton step weighing this frame against the information of every frame before
-    /// (`steps` and `lr` are not used).
-    GaussNewton,
-}
-
-impl Optimizer {
-    /// Both, the paper's first.
-    pub const ALL: [Optimizer; 2] = [Optimizer::Gd, Optimizer::GaussNewton];
-
-    /// The name on the command line and in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Optimizer::Gd => "gd",
-            Optimizer::GaussNewton => "gauss-newton",
-        }
-    }
-
-    /// The optimiser called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|o| o.name() == name)
-    }
-}
 
 /// The Laplace posterior of `θ_online` given the frames learned so far.
 ///
@@ -188,7 +156,9 @@ impl Posterior {
         self.information_at(self.frame_weight())
     }
 
-    fn information_at(&self, weight: f64) -> Matrix3<f64> {
+    /// [`Posterior::information`] with a given frame weight (computed once by a caller that needs it
+    /// twice).
+    pub(super) fn information_at(&self, weight: f64) -> Matrix3<f64> {
         self.jtj * weight + Matrix3::from_diagonal(&self.prior_precision.into())
     }
 
@@ -259,6 +229,45 @@ impl Posterior {
     }
 }
 
+/// How sure a run is of `θ_online` at a frame, compactly enough to keep for every frame of a long
+/// recording (16 bytes): the COM offset's covariance (m², object frame: xx, xy, yy) and the
+/// standard deviation of `h` (m), in `f32` — what the app draws as the ellipse and the ±2σ bands.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    pub com_cov: [f32; 3],
+    pub h_std: f32,
+}
+
+impl Spread {
+    /// The spread of a posterior.
+    pub fn of(posterior: &Posterior) -> Self {
+        // One covariance for both (each takes an inverse and the correlation factor).
+        let covariance = posterior.covariance();
+        let c = com_block(&covariance);
+        Self {
+            com_cov: [c[0][0] as f32, c[0][1] as f32, c[1][1] as f32],
+            h_std: std_of(&covariance)[2] as f32,
+        }
+    }
+
+    /// Standard deviations of `[com_x, com_y, h]`, metres.
+    pub fn std(&self) -> [f64; 3] {
+        let [xx, _, yy] = self.com_cov.map(f64::from);
+        [
+            xx.max(0.0).sqrt(),
+            yy.max(0.0).sqrt(),
+            f64::from(self.h_std),
+        ]
+    }
+
+    /// The COM's 95 % ellipse: half-axes (metres, major first) and the major axis's angle in the
+    /// object frame.
+    pub fn ellipse_95(&self) -> ([f64; 2], f64) {
+        let [xx, xy, yy] = self.com_cov.map(f64::from);
+        ellipse_95([[xx, xy], [xy, yy]])
+    }
+}
+
 /// The 95 % ellipse of a 2-D Gaussian with covariance `c`: its half-axes (metres, major first) and
 /// the major axis's angle from the x axis (radians).
 pub fn ellipse_95(c: [[f64; 2]; 2]) -> ([f64; 2], f64) {
@@ -283,101 +292,7 @@ pub fn std_of(c: &Matrix3<f64>) -> [f64; 3] {
     [0, 1, 2].map(|i| c[(i, i)].max(0.0).sqrt())
 }
 
-fn vector(theta: &OnlineParams) -> Vector3<f64> {
+/// `θ_online` as the vector `[com_x, com_y, h]` the posterior works in.
+pub(super) fn vector(theta: &OnlineParams) -> Vector3<f64> {
     Vector3::from(theta.to_array())
-}
-
-/// `θ_online` and what the frames seen so far say about it: what online learning carries from frame
-/// to frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OnlineState {
-    pub theta: OnlineParams,
-    pub posterior: Posterior,
-}
-
-impl OnlineState {
-    /// The start of a trajectory: `θ_online(0)` and the prior.
-    pub fn start<M: OnlineModel + ?Sized>(model: &M) -> Self {
-        let theta = model.theta0();
-        Self {
-            theta,
-            posterior: Posterior::prior(&theta, model.horizon()),
-        }
-    }
-
-    /// The start from a given `θ` (a user's steering) with the posterior kept.
-    pub fn at(theta: OnlineParams, posterior: Posterior) -> Self {
-        let theta = theta.clamped();
-        Self {
-            theta,
-            posterior: posterior.at(&theta),
-        }
-    }
-}
-
-/// One online step from `state` with the configured optimiser: the prediction with `state.theta`
-/// (its loss and gradient), `θ` after the update, and the posterior with this frame taken in. A pure
-/// function, like [`OnlineModel::online_step`].
-pub fn learn_step<M: OnlineModel + ?Sized>(
-    model: &M,
-    sample: &Sample,
-    state: &OnlineState,
-    config: &OnlineConfig,
-) -> (OnlineStep, OnlineState) {
-    let theta = state.theta.clamped();
-    let linearization = model.linearize(sample, &theta);
-    let posterior = state.posterior.with(&linearization, &theta);
-    let step = match config.optimizer {
-        Optimizer::Gd => model.online_step(sample, &theta, config),
-        Optimizer::GaussNewton => {
-            gauss_newton_step(model, sample, &theta, &linearization, &posterior, config)
-        }
-    };
-    let next = OnlineState {
-        theta: step.theta_after,
-        posterior: posterior.at(&step.theta_after),
-    };
-    (step, next)
-}
-
-/// The Gauss–Newton (recursive least-squares) step: `θ − I⁻¹ Jᵀr / (s² k c)` with `I` the information
-/// after this frame, kept inside the bounds of `h` and the COM; a step that is not finite is not
-/// taken. With `config.steps == 0` nothing is learned (the fixed model).
-fn gauss_newton_step<M: OnlineModel + ?Sized>(
-    model: &M,
-    sample: &Sample,
-    theta: &OnlineParams,
-    linearization: &Linearization,
-    posterior: &Posterior,
-    config: &OnlineConfig,
-) -> OnlineStep {
-    let j = Matrix3::from_fn(|i, k| linearization.jacobian[i][k]);
-    let r = Vector3::from(linearization.residual);
-    let jtr = j.transpose() * r;
-    let gradient = (2.0 * jtr).into();
-    let mut after = *theta;
-    let weight = posterior.frame_weight();
-    if config.steps > 0
-        && let Some(inverse) = posterior.information_at(weight).try_inverse()
-    {
-        let next = vector(theta) - inverse * jtr * weight;
-        if next.iter().all(|t| t.is_finite()) {
-            after = OnlineParams {
-                com_offset: [next[0], next[1]],
-                h: next[2],
-            }
-            .clamped();
-        }
-    }
-    OnlineStep {
-        theta_before: *theta,
-        prediction: linearization.prediction,
-        loss: Loss::of(
-            &linearization.prediction.motion,
-            &sample.target,
-            &model.loss_scale(),
-        ),
-        gradient,
-        theta_after: after,
-    }
 }

@@ -5,8 +5,9 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::contact::{ContactGeometry, ContactModel};
+use super::loss::LossScale;
+use super::online::{ContactModelOnObject, SharedOnlineModel};
 use super::paper::PaperModel;
-use crate::learn::{ContactLearner, LossScale, OnlineModel};
 
 /// Which combined model: the paper's, or the contact-frame model that carries over to other faces,
 /// objects and real data.
@@ -61,12 +62,11 @@ pub enum CombinedModel {
     Contact(Arc<ContactModel>),
 }
 
-/// Why a model cannot learn on a recording.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum LearnerError {
-    #[error("the contact-frame model needs the object's outline, and this recording's is unusable")]
-    NoOutline,
-}
+/// Why a model cannot be bound to a recording's object: the contact-frame model needs the object's
+/// outline, and the recording's is unusable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the contact-frame model needs the object's outline, and this recording's is unusable")]
+pub struct NoOutline;
 
 impl CombinedModel {
     /// Its kind.
@@ -93,17 +93,18 @@ impl CombinedModel {
         }
     }
 
-    /// The model as an online learner on a recording of an object of this geometry (`None` when the
-    /// recording's outline is unusable): `θ_online(0)`, step scales, predictions and online steps.
-    pub fn learner(
+    /// The model bound to an object of this geometry (`None` when the recording's outline is
+    /// unusable): its `θ_online(0)`, step scales, predictions and online steps on that object. The
+    /// paper's model is the same on every object; the contact-frame model needs the outline.
+    pub fn on_object(
         &self,
         geometry: Option<&Arc<ContactGeometry>>,
-    ) -> Result<Arc<dyn OnlineModel + Send + Sync>, LearnerError> {
+    ) -> Result<SharedOnlineModel, NoOutline> {
         Ok(match self {
             CombinedModel::Paper(m) => m.clone(),
-            CombinedModel::Contact(m) => Arc::new(ContactLearner::new(
+            CombinedModel::Contact(m) => Arc::new(ContactModelOnObject::new(
                 m.clone(),
-                geometry.ok_or(LearnerError::NoOutline)?.clone(),
+                geometry.ok_or(NoOutline)?.clone(),
             )),
         })
     }

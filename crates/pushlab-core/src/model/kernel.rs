@@ -4,7 +4,7 @@
 
 use super::params::{COM_OFFSET_MAX, H_MAX, H_MIN, OnlineParams};
 use super::{Prediction, Sample};
-use crate::learn::LossScale;
+use crate::model::LossScale;
 use crate::real::Real;
 use crate::simd::MulAdd;
 

@@ -1,4 +1,6 @@
-//! The prediction models: the paper's combined model and the two baselines, and what they share.
+//! The prediction models: the paper's combined model and the two baselines, and what they share —
+//! the per-sample loss (`loss`) and what online learning needs of a model (`online`), so that
+//! `learn` sits strictly above this module.
 //!
 //! - [`PaperModel`]: COM correction → MLP → Lynch → motion correction (the paper's model).
 //! - [`ContactModel`]: the same structure, with the network seeing the push in a local frame at the
@@ -10,8 +12,10 @@
 mod combined;
 pub mod contact;
 pub(crate) mod kernel;
+mod loss;
 pub(crate) mod mlp;
 pub mod normalization;
+mod online;
 pub mod paper;
 mod params;
 mod physics;
@@ -20,11 +24,13 @@ mod pure_nn;
 mod sample;
 pub(crate) mod tail;
 
-pub use combined::{CombinedModel, LearnerError, ModelKind};
+pub use combined::{CombinedModel, ModelKind, NoOutline};
 pub use contact::{ContactGeometry, ContactModel};
 pub use kernel::Linearization;
 pub(crate) use kernel::{RealSample, loss_weights, theta_real};
+pub use loss::{FrameLoss, Loss, LossScale};
 pub use mlp::{HIDDEN, INPUTS, Mlp, Network, OUTPUTS, PARAMETER_COUNT, parameter_count};
+pub use online::{ContactModelOnObject, Descent, OnlineModel, OnlineStep, SharedOnlineModel};
 pub use paper::PaperModel;
 pub use params::{COM_OFFSET_MAX, H_MAX, H_MIN, OnlineParams};
 pub use physics::{
@@ -33,7 +39,8 @@ pub use physics::{
 pub use physics_only::{DEFAULT_CONTACT_TOLERANCE, PhysicsOnlyModel};
 pub use pure_nn::{OutputNormalization, PureNnModel};
 pub use sample::{
-    ObjectMotion, Sample, SampleInput, sample_at, sample_count, samples_from_trajectory,
+    ObjectMotion, Sample, SampleInput, sample_at, sample_count, sample_is_skipped,
+    samples_from_trajectory,
 };
 
 use serde::{Deserialize, Serialize};

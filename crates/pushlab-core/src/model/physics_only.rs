@@ -7,7 +7,7 @@ use super::params::OnlineParams;
 use super::tail::TailPass;
 use super::{ObjectMotion, Prediction, RealSample, Sample, SampleInput};
 use crate::geometry::Outline;
-use crate::learn::{Loss, LossScale};
+use crate::model::{Loss, LossScale};
 use crate::simd::Unfused;
 
 /// How far the pusher's rim may be from the outline and still count as touching it, metres, unless a

@@ -6,7 +6,7 @@ use super::kernel::RealSample;
 use super::mlp::{Activations, Mlp, Network};
 use super::normalization::{InputNormalization, Stats1, Stats2};
 use super::{ObjectMotion, Prediction, SampleInput};
-use crate::learn::LossScale;
+use crate::model::LossScale;
 use crate::real::Real;
 
 /// How the pure network's outputs are scaled back to metres and radians.

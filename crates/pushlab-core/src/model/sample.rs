@@ -73,6 +73,15 @@ pub fn sample_at(trajectory: &Trajectory, frame: usize, horizon: usize) -> Optio
     })
 }
 
+/// Whether the sample from `frame` to `frame + horizon` (a horizon of 0 counts as 1) touches a frame
+/// flagged in `frame_mask` (labels mark frames of bad tracking: `labels::pipeline::frames_to_skip`): a sample is made from exactly those two frames,
+/// so training, evaluation and the app's online learning leave it out. Frames past the mask's end
+/// are not flagged.
+pub fn sample_is_skipped(frame_mask: &[bool], frame: usize, horizon: usize) -> bool {
+    let flagged = |f: usize| frame_mask.get(f).copied().unwrap_or(false);
+    flagged(frame) || flagged(frame + horizon.max(1))
+}
+
 impl SampleInput {
     /// The pusher centre as a point, object frame.
     pub fn robot_point(&self) -> Point2<f64> {

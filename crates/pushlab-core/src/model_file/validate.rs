@@ -13,12 +13,11 @@
 //! [`finite`], [`positive`], [`non_negative`] and the horizon's and `h`'s ranges.
 
 use crate::experiment::Domain;
-use crate::learn::LossScale;
 use crate::model::contact::ContactInputs;
 use crate::model::normalization::{InputNormalization, Stats1, Stats2};
 use crate::model::{
-    COM_OFFSET_MAX, CombinedModel, ContactModel, H_MAX, H_MIN, Network, OnlineParams, PaperModel,
-    PureNnModel,
+    COM_OFFSET_MAX, CombinedModel, ContactModel, H_MAX, H_MIN, LossScale, Network, OnlineParams,
+    PaperModel, PureNnModel,
 };
 use crate::real::Real;
 

@@ -4,9 +4,10 @@
 #![allow(dead_code)] // each test file uses its own part
 
 use nalgebra::{Matrix3, Vector3};
-use pushlab_core::learn::{Loss, LossScale, OnlineConfig, OnlineModel, OnlineStep, Optimizer};
+use pushlab_core::learn::{OnlineConfig, OnlineState, Optimizer, Posterior, learn_step};
 use pushlab_core::model::{
-    Linearization, ObjectMotion, OnlineParams, Prediction, Sample, SampleInput,
+    Descent, Linearization, Loss, LossScale, ObjectMotion, OnlineModel, OnlineParams, OnlineStep,
+    Prediction, Sample, SampleInput,
 };
 use pushlab_core::rng::SplitMix64;
 
@@ -60,7 +61,7 @@ impl OnlineModel for LinearToy {
             contact_motion: None,
         }
     }
-    fn online_step(&self, sample: &Sample, theta: &OnlineParams, _: &OnlineConfig) -> OnlineStep {
+    fn online_step(&self, sample: &Sample, theta: &OnlineParams, _: &Descent) -> OnlineStep {
         let prediction = self.predict(&sample.input, theta);
         OnlineStep {
             theta_before: *theta,
@@ -110,4 +111,43 @@ pub fn toy_samples(
             }
         })
         .collect()
+}
+
+/// Algorithm 1 chained over loose samples: [`learn_step`] from `θ_online(0)` and the prior, frame after
+/// frame, as the core's `OnlineRun` chains it along a recording. These tests feed samples rather than
+/// recordings (a toy model's, or several pushes of one object with θ carried from push to push), so
+/// they chain the pure step themselves.
+pub struct Chain<M> {
+    model: M,
+    config: OnlineConfig,
+    state: OnlineState,
+}
+
+impl<M: OnlineModel> Chain<M> {
+    pub fn new(model: M, config: OnlineConfig) -> Self {
+        let state = OnlineState::start(&model);
+        Self {
+            model,
+            config,
+            state,
+        }
+    }
+
+    pub fn step(&mut self, sample: &Sample) -> OnlineStep {
+        let (step, next) = learn_step(&self.model, sample, &self.state, &self.config);
+        self.state = next;
+        step
+    }
+
+    pub fn run(&mut self, samples: &[Sample]) -> Vec<OnlineStep> {
+        samples.iter().map(|s| self.step(s)).collect()
+    }
+
+    pub fn theta(&self) -> OnlineParams {
+        self.state.theta
+    }
+
+    pub fn posterior(&self) -> Posterior {
+        self.state.posterior
+    }
 }

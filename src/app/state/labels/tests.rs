@@ -299,8 +299,8 @@ fn losses_by_label_average_online_and_fixed_over_the_same_learned_frames() {
     assert_eq!(sticking.frames, 10);
     let run = state.run.as_ref().unwrap();
     let mean = |f: &dyn Fn(usize) -> f64| (20..30).map(f).sum::<f64>() / 10.0;
-    let online_pos = mean(&|k| f64::from(run.learned()[k].unwrap().pos));
-    let fixed_rot = mean(&|k| f64::from(run.fixed()[k].rot));
+    let online_pos = mean(&|k| run.learned()[k].unwrap().pos);
+    let fixed_rot = mean(&|k| run.fixed()[k].rot);
     assert!((sticking.online_pos - online_pos).abs() < 1e-12);
     assert!((sticking.fixed_rot - fixed_rot).abs() < 1e-12);
     assert_ne!(sticking.online_pos, sticking.fixed_pos);

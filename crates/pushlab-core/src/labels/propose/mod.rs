@@ -31,7 +31,7 @@ use std::ops::Range;
 use crate::geometry::Outline;
 use crate::labels::schema::names::{BAD_TRACKING, CONTACT, NO_CONTACT, SLIPPING, STICKING};
 use crate::labels::{RecordingLabels, Segment};
-use crate::learn::LossScale;
+use crate::model::LossScale;
 use crate::recording::Recording;
 use crate::trajectory::Trajectory;
 

@@ -9,7 +9,7 @@ use nalgebra::Vector2;
 
 use super::{Split, TrainConfig, TrainError, TrainProgress, Trained, Trainee, check, run};
 use crate::learn::adam::SmallAdam;
-use crate::learn::loss::LossScale;
+use crate::model::LossScale;
 use crate::model::contact::{
     BatchPass, CONTACT_INPUTS, ContactGeometry, ContactInputs, Features, TrainingSample,
 };

@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use serde::{Deserialize, Serialize};
 
 use super::adam::Adam;
-use super::loss::LossScale;
+use crate::model::LossScale;
 use crate::model::{Mlp, Network, OnlineParams, Sample, loss_weights};
 use crate::real::Real;
 use crate::rng::SplitMix64;

@@ -5,7 +5,7 @@ use std::sync::atomic::AtomicBool;
 use super::{Split, TrainConfig, TrainError, TrainProgress, Trained, Trainee, check, run};
 use crate::geometry::Outline;
 use crate::learn::adam::SmallAdam;
-use crate::learn::loss::LossScale;
+use crate::model::LossScale;
 use crate::model::kernel::{RealSample, loss_gradient};
 use crate::model::mlp::BATCH;
 use crate::model::normalization::{InputNormalization, Stats2};

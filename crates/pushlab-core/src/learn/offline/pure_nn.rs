@@ -3,7 +3,7 @@
 use std::sync::atomic::AtomicBool;
 
 use super::{Split, TrainConfig, TrainError, TrainProgress, Trained, Trainee, check, run};
-use crate::learn::loss::LossScale;
+use crate::model::LossScale;
 use crate::model::kernel::RealSample;
 use crate::model::mlp::Activations;
 use crate::model::normalization::{InputNormalization, Stats1, Stats2};

@@ -33,7 +33,7 @@ use super::kernel::theta_real;
 use super::mlp::Network;
 use super::params::OnlineParams;
 use super::{Prediction, SampleInput};
-use crate::learn::LossScale;
+use crate::model::LossScale;
 use crate::real::Real;
 
 /// Inputs of the contact-frame network: `g_n / h`, `g_t / h`, gap and tangential offset per motion

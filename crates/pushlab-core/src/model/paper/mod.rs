@@ -24,7 +24,7 @@ use super::mlp::{HIDDEN, Network, OUTPUTS};
 use super::normalization::InputNormalization;
 use super::params::OnlineParams;
 use super::{ObjectMotion, Prediction, SampleInput};
-use crate::learn::LossScale;
+use crate::model::LossScale;
 use crate::real::Real;
 use crate::simd::MulAdd;
 

@@ -173,7 +173,7 @@ impl<T: Real, A: MulAdd> ThetaPass<T> for OnlinePass<'_, T, A> {
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use crate::learn::LossScale;
+    use crate::model::LossScale;
     use crate::model::kernel::{loss_gradient, theta_real};
     use crate::model::mlp::Network;
     use crate::model::normalization::{InputNormalization, Stats2};

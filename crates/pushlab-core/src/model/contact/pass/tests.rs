@@ -6,7 +6,7 @@ use std::f64::consts::FRAC_PI_2;
 use super::super::ContactInputs;
 use super::*;
 use crate::geometry::{Outline, rotate};
-use crate::learn::LossScale;
+use crate::model::LossScale;
 use crate::model::ObjectMotion;
 use crate::model::kernel::{loss_gradient, theta_real};
 use crate::model::mlp::Network;

@@ -1,54 +1,37 @@
-//! Online learning of `θ_online` (eq. 13, Algorithm 1): at each step, predict with `θ_online(t)` and
-//! record the loss; then observe the outcome and take a few gradient-descent steps on `θ_online` only,
-//! with the gradient taken through the whole model.
+//! What online learning needs of a model: `θ_online(0)`, the scales of its components, predictions
+//! with any `θ_online`, and one online step of eq. 13 — the model's own gradient descent on
+//! `θ_online` only, with the gradient taken through the whole model — as a pure function.
 //!
-//! Every model kind runs the same descent (`model::kernel::descend`): one rule for the step sizes, the
-//! range of `h` and non-finite steps.
+//! Every model kind runs the same descent (`kernel::descend`): one rule for the step sizes, the range
+//! of `h` and non-finite steps. How steps chain along a recording, the posterior and Gauss–Newton are
+//! `learn`'s, one layer up.
 
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
 use super::loss::{Loss, LossScale};
-use super::uncertainty::{OnlineState, Optimizer, Posterior, learn_step};
-use crate::model::{
+use super::{
     ContactGeometry, ContactModel, Linearization, OnlineParams, PaperModel, PhysicsOnlyModel,
     Prediction, RealSample, Sample, SampleInput,
 };
 use crate::real::Real;
 
-/// How online learning updates `θ_online` after each observed step.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct OnlineConfig {
-    /// Gradient-descent steps per observed step (the paper: 5). Zero gives the "fixed" model.
+/// The gradient-descent part of an online step (eq. 13): `steps` steps on `θ_online / s` with
+/// learning rate `lr` (the paper: 5 at 0.005). No steps predicts without learning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Descent {
     pub steps: usize,
-    /// Learning rate on `θ_online` divided component-wise by the model's scales (the paper: 0.005).
     pub lr: f64,
-    /// Gradient descent (the paper's) or Gauss–Newton (`learn::uncertainty`).
-    #[serde(default)]
-    pub optimizer: Optimizer,
 }
 
-impl Default for OnlineConfig {
-    fn default() -> Self {
-        Self {
-            steps: 5,
-            lr: 0.005,
-            optimizer: Optimizer::Gd,
-        }
-    }
+impl Descent {
+    /// Predict and differentiate, never update: the "fixed" model.
+    pub const NONE: Descent = Descent { steps: 0, lr: 0.0 };
 }
 
-impl OnlineConfig {
-    /// The "fixed" model of the paper's figures: predicts, never updates.
-    pub fn fixed() -> Self {
-        Self {
-            steps: 0,
-            lr: 0.0,
-            optimizer: Optimizer::Gd,
-        }
-    }
-}
+/// A model bound to an object, shared across threads (the app's UI and its workers, a suite's jobs).
+pub type SharedOnlineModel = Arc<dyn OnlineModel + Send + Sync>;
 
 /// Everything one online step did, so that a UI can show it and rewind to it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -97,15 +80,10 @@ pub trait OnlineModel {
     /// Predicts with the given `θ_online`.
     fn predict(&self, input: &SampleInput, theta: &OnlineParams) -> Prediction;
     /// What one online step from `theta` gives: the prediction with `theta`, its loss and gradient,
-    /// and `θ_online` after `config.steps` gradient-descent steps on `θ_online / s` with learning rate
-    /// `config.lr`, keeping `h` in range. A pure function: nothing is changed, the caller decides
-    /// whether to take `theta_after` (as [`OnlineLearner::step`] does).
-    fn online_step(
-        &self,
-        sample: &Sample,
-        theta: &OnlineParams,
-        config: &OnlineConfig,
-    ) -> OnlineStep;
+    /// and `θ_online` after `descent.steps` gradient-descent steps on `θ_online / s` with learning rate
+    /// `descent.lr`, keeping `h` in range. A pure function: nothing is changed, the caller decides
+    /// whether to take `theta_after` (as `learn`'s online run does).
+    fn online_step(&self, sample: &Sample, theta: &OnlineParams, descent: &Descent) -> OnlineStep;
     /// The sample's residual normalised by the loss's σ and its Jacobian with respect to
     /// `θ_online` at `theta`: what Gauss–Newton and the posterior of `θ_online` are built from.
     fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization;
@@ -116,8 +94,13 @@ pub trait OnlineModel {
         sample: &Sample,
         theta: &OnlineParams,
     ) -> (Prediction, Loss, [f64; 3]) {
-        let step = self.online_step(sample, theta, &OnlineConfig::fixed());
+        let step = self.evaluate(sample, theta);
         (step.prediction, step.loss, step.gradient)
+    }
+    /// The prediction with `theta`, its loss and gradient, without learning (`θ_online` after it is
+    /// `theta` clamped into range): the "fixed" model, and what a UI shows at a frame.
+    fn evaluate(&self, sample: &Sample, theta: &OnlineParams) -> OnlineStep {
+        self.online_step(sample, theta, &Descent::NONE)
     }
 }
 
@@ -143,15 +126,10 @@ impl<T: Real> OnlineModel for PaperModel<T> {
     }
 
     /// The fast path: the whole update runs in the model's float type without allocating.
-    fn online_step(
-        &self,
-        sample: &Sample,
-        theta: &OnlineParams,
-        config: &OnlineConfig,
-    ) -> OnlineStep {
+    fn online_step(&self, sample: &Sample, theta: &OnlineParams, descent: &Descent) -> OnlineStep {
         let theta_before = theta.clamped();
         let real = RealSample::<T>::of(sample);
-        let result = self.online_update(&real, &theta_before, config.steps, config.lr);
+        let result = self.online_update(&real, &theta_before, descent.steps, descent.lr);
         OnlineStep::of(sample, theta_before, result, &self.loss_scale)
     }
 
@@ -160,22 +138,23 @@ impl<T: Real> OnlineModel for PaperModel<T> {
     }
 }
 
-/// The contact-frame model on one object: its geometry decides the contact frame, `θ_online(0)` and
-/// the step scales.
+/// The contact-frame model bound to one object: its geometry decides the contact frame,
+/// `θ_online(0)` and the step scales. The contact model itself is shared by every object it is bound
+/// to.
 #[derive(Clone, Debug)]
-pub struct ContactLearner {
+pub struct ContactModelOnObject {
     model: Arc<ContactModel>,
     geometry: Arc<ContactGeometry>,
 }
 
-impl ContactLearner {
+impl ContactModelOnObject {
     /// The model on an object of this geometry.
     pub fn new(model: Arc<ContactModel>, geometry: Arc<ContactGeometry>) -> Self {
         Self { model, geometry }
     }
 }
 
-impl OnlineModel for ContactLearner {
+impl OnlineModel for ContactModelOnObject {
     fn theta0(&self) -> OnlineParams {
         self.model.theta0(&self.geometry)
     }
@@ -196,19 +175,14 @@ impl OnlineModel for ContactLearner {
         self.model.predict(&self.geometry, input, theta)
     }
 
-    fn online_step(
-        &self,
-        sample: &Sample,
-        theta: &OnlineParams,
-        config: &OnlineConfig,
-    ) -> OnlineStep {
+    fn online_step(&self, sample: &Sample, theta: &OnlineParams, descent: &Descent) -> OnlineStep {
         let theta_before = theta.clamped();
         let result = self.model.online_update(
             &self.geometry,
             sample,
             &theta_before,
-            config.steps,
-            config.lr,
+            descent.steps,
+            descent.lr,
         );
         OnlineStep::of(sample, theta_before, result, &self.model.loss_scale())
     }
@@ -237,14 +211,9 @@ impl OnlineModel for PhysicsOnlyModel {
         PhysicsOnlyModel::predict(self, input, theta)
     }
 
-    fn online_step(
-        &self,
-        sample: &Sample,
-        theta: &OnlineParams,
-        config: &OnlineConfig,
-    ) -> OnlineStep {
+    fn online_step(&self, sample: &Sample, theta: &OnlineParams, descent: &Descent) -> OnlineStep {
         let theta_before = theta.clamped();
-        let result = self.online_update(sample, &theta_before, config.steps, config.lr);
+        let result = self.online_update(sample, &theta_before, descent.steps, descent.lr);
         OnlineStep::of(sample, theta_before, result, &self.loss_scale())
     }
 
@@ -266,8 +235,11 @@ macro_rules! forward_online_model {
             fn loss_and_gradient(&self, sample: &Sample, theta: &OnlineParams) -> (Prediction, Loss, [f64; 3]) {
                 (**self).loss_and_gradient(sample, theta)
             }
-            fn online_step(&self, sample: &Sample, theta: &OnlineParams, config: &OnlineConfig) -> OnlineStep {
-                (**self).online_step(sample, theta, config)
+            fn online_step(&self, sample: &Sample, theta: &OnlineParams, descent: &Descent) -> OnlineStep {
+                (**self).online_step(sample, theta, descent)
+            }
+            fn evaluate(&self, sample: &Sample, theta: &OnlineParams) -> OnlineStep {
+                (**self).evaluate(sample, theta)
             }
             fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
                 (**self).linearize(sample, theta)
@@ -276,81 +248,3 @@ macro_rules! forward_online_model {
     )*};
 }
 forward_online_model!(&M, Arc<M>, Box<M>);
-
-/// Learns `θ_online` along a stream of samples (Algorithm 1), with the configured optimiser.
-///
-/// Holds only the current `θ_online` and its posterior: a caller that wants to rewind keeps the
-/// returned [`OnlineStep`]s (each has `theta_before`) and calls [`OnlineLearner::set_theta`].
-#[derive(Clone, Debug)]
-pub struct OnlineLearner<M> {
-    model: M,
-    config: OnlineConfig,
-    state: OnlineState,
-}
-
-impl<M: OnlineModel> OnlineLearner<M> {
-    /// A learner starting at the model's `θ_online(0)` and the prior.
-    pub fn new(model: M, config: OnlineConfig) -> Self {
-        let state = OnlineState::start(&model);
-        Self {
-            model,
-            config,
-            state,
-        }
-    }
-
-    /// The model it learns for.
-    pub fn model(&self) -> &M {
-        &self.model
-    }
-
-    /// The current `θ_online(t)`.
-    pub fn theta(&self) -> OnlineParams {
-        self.state.theta
-    }
-
-    /// What the frames learned so far say about `θ_online`.
-    pub fn posterior(&self) -> Posterior {
-        self.state.posterior
-    }
-
-    /// Sets `θ_online` (a user's slider, a rewind to a checkpoint); `h` is clamped into range. The
-    /// posterior is kept.
-    pub fn set_theta(&mut self, theta: OnlineParams) {
-        self.state = OnlineState::at(theta, self.state.posterior);
-    }
-
-    /// Back to `θ_online(0)` and the prior, as at the start of each trajectory when resetting per
-    /// trajectory.
-    pub fn reset(&mut self) {
-        self.state = OnlineState::start(&self.model);
-    }
-
-    /// The update rule.
-    pub fn config(&self) -> OnlineConfig {
-        self.config
-    }
-
-    /// Changes the update rule (steps, learning rate, optimiser) from the next step on.
-    pub fn set_config(&mut self, config: OnlineConfig) {
-        self.config = config;
-    }
-
-    /// Predicts for `sample` with `θ_online(t)`, records the loss, then learns from its outcome.
-    pub fn step(&mut self, sample: &Sample) -> OnlineStep {
-        let (step, next) = learn_step(&self.model, sample, &self.state, &self.config);
-        self.state = next;
-        step
-    }
-
-    /// Predicts and scores `sample` with `θ_online(t)` without learning (the "fixed" run).
-    pub fn evaluate(&self, sample: &Sample) -> OnlineStep {
-        self.model
-            .online_step(sample, &self.state.theta, &OnlineConfig::fixed())
-    }
-
-    /// Runs [`OnlineLearner::step`] over a trajectory's samples.
-    pub fn run(&mut self, samples: &[Sample]) -> Vec<OnlineStep> {
-        samples.iter().map(|s| self.step(s)).collect()
-    }
-}

@@ -1,0 +1,227 @@
+//! The JSON report of an evaluation (`pushlab eval --json`): a stable contract, built here beside the
+//! evaluation so that every front end that writes one writes the same. Fields may be added; existing
+//! ones keep their meaning.
+//!
+//! With per-frame output on, each trajectory also lists θ and the losses at every frame, exactly as
+//! the online run kept them (`learn::OnlineRun`) — the numbers the app shows for the same recording,
+//! model and settings, to the bit.
+
+use serde::Serialize;
+
+use super::com_truth::{ComSummary, ComTruth};
+use super::data::{Loaded, Skipped, UsedRecording};
+use super::evaluate::{Evaluation, PhysicsNmse, TrajectoryRun};
+use crate::labels::pipeline::LabelMean;
+use crate::learn::{Nmse, OnlineConfig, Optimizer};
+use crate::model::{FrameLoss, ModelKind, OnlineParams};
+
+/// What the numbers were made with, beyond the evaluation itself.
+#[derive(Clone, Debug)]
+pub struct ReportContext<'a> {
+    pub offline: &'a Loaded,
+    pub online: &'a Loaded,
+    pub horizon: usize,
+    pub kind: ModelKind,
+    /// Training epochs (most) and seed of the combined model used.
+    pub epochs: usize,
+    pub seed: u64,
+    pub config: OnlineConfig,
+    /// The model file evaluated, or `None` when trained for the evaluation.
+    pub model: Option<String>,
+    pub split_from_labels: bool,
+    /// List θ and the losses at every frame of every trajectory.
+    pub per_frame: bool,
+}
+
+/// The report.
+#[derive(Debug, Serialize)]
+pub struct EvalReport {
+    pub offline_nn: Nmse,
+    pub offline: Nmse,
+    pub fixed: Nmse,
+    pub online: Nmse,
+    pub trajectories: Vec<TrajectoryReport>,
+    pub config: ConfigReport,
+    /// The physics-only model on the offline data, fixed and online, when evaluated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physics: Option<PhysicsNmse>,
+    /// When online recordings carry range labels: the mean total loss ℓ per label.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_label: Option<PerLabelReport>,
+    /// Files and recordings left out, with the reason.
+    pub skipped: Vec<Skipped>,
+    /// Over the online pushes with a known COM (simulated sets): how often the 95 % ellipse holds
+    /// it, the mean final error, and how fast the estimate settled within 5 mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_found: Option<ComSummary>,
+}
+
+/// One online trajectory.
+#[derive(Debug, Serialize)]
+pub struct TrajectoryReport {
+    pub source: String,
+    /// Online time steps (samples) run.
+    pub steps: usize,
+    pub fixed: Nmse,
+    pub online: Nmse,
+    /// `θ_online(0)` of this trajectory (per object for the contact-frame model).
+    pub theta0: OnlineParams,
+    /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
+    pub com_offset_learned: [f64; 2],
+    pub h_learned: f64,
+    /// The posterior covariance of the learned COM offset (2 × 2, m², object frame; see
+    /// `learn::uncertainty`).
+    pub com_offset_cov: [[f64; 2]; 2],
+    /// The posterior standard deviation of the learned `h`, metres.
+    pub h_std: f64,
+    /// From `setting.json`, when known (simulated sets).
+    pub com_offset_true: Option<[f64; 2]>,
+    pub h_true: Option<f64>,
+    /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_found: Option<ComTruth>,
+    /// With per-frame output: every frame that has a sample, in order.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames: Option<Vec<FrameReport>>,
+}
+
+/// One frame of an online trajectory.
+#[derive(Debug, Serialize)]
+pub struct FrameReport {
+    pub frame: usize,
+    /// `θ_online` in effect at the frame: what the frame's prediction was made with.
+    pub theta: OnlineParams,
+    /// The online loss, or `null` where θ was held (a sample on a frame labelled bad tracking).
+    pub online: Option<FrameLoss>,
+    /// The fixed model's loss (θ = `θ_online(0)`).
+    pub fixed: FrameLoss,
+}
+
+/// How the numbers were made.
+#[derive(Debug, Serialize)]
+pub struct ConfigReport {
+    /// The combined model's kind: `contact` or `paper`.
+    pub kind: ModelKind,
+    pub horizon: usize,
+    /// Training epochs (most) and seed of the combined model used.
+    pub epochs: usize,
+    pub seed: u64,
+    pub steps: usize,
+    pub lr: f64,
+    pub optimizer: Optimizer,
+    /// The model file given, or `null` when trained for the evaluation.
+    pub model: Option<String>,
+    pub split_from_labels: bool,
+    /// `θ_online(0)` of the first online trajectory (the paper model's, which every trajectory
+    /// shares; the contact-frame model's is per object, see each trajectory).
+    pub theta0: Option<OnlineParams>,
+    pub offline_samples: usize,
+    pub online_samples: usize,
+    pub offline_sources: Vec<String>,
+    pub online_sources: Vec<String>,
+    pub pushlab_version: String,
+}
+
+/// Mean total loss per label on the online data.
+#[derive(Debug, Serialize)]
+pub struct PerLabelReport {
+    pub fixed: Vec<LabelMeanReport>,
+    pub online: Vec<LabelMeanReport>,
+}
+
+/// One label's mean.
+#[derive(Debug, Serialize)]
+pub struct LabelMeanReport {
+    pub label: String,
+    pub count: usize,
+    pub mean: f64,
+}
+
+impl From<&LabelMean> for LabelMeanReport {
+    fn from(m: &LabelMean) -> Self {
+        Self {
+            label: m.label.clone(),
+            count: m.count,
+            mean: m.mean,
+        }
+    }
+}
+
+impl EvalReport {
+    /// The report of an evaluation.
+    pub fn of(evaluation: &Evaluation, context: &ReportContext<'_>) -> Self {
+        let (offline, online) = (context.offline, context.online);
+        let mut skipped = offline.skipped.clone();
+        skipped.extend(online.skipped.iter().cloned());
+        skipped.extend(evaluation.left_out.iter().cloned());
+        let count = |l: &Loaded| l.samples(context.horizon).iter().map(Vec::len).sum();
+        Self {
+            offline_nn: evaluation.offline_nn.unwrap_or_default(),
+            offline: evaluation.offline,
+            fixed: evaluation.fixed,
+            online: evaluation.online,
+            trajectories: evaluation
+                .trajectories
+                .iter()
+                .map(|r| TrajectoryReport::of(r, &online.used[r.recording], context.per_frame))
+                .collect(),
+            config: ConfigReport {
+                kind: context.kind,
+                horizon: context.horizon,
+                epochs: context.epochs,
+                seed: context.seed,
+                steps: context.config.steps,
+                lr: context.config.lr,
+                optimizer: context.config.optimizer,
+                model: context.model.clone(),
+                split_from_labels: context.split_from_labels,
+                theta0: evaluation.trajectories.first().map(TrajectoryRun::theta0),
+                offline_samples: count(offline),
+                online_samples: count(online),
+                offline_sources: offline.used.iter().map(UsedRecording::source).collect(),
+                online_sources: online.used.iter().map(UsedRecording::source).collect(),
+                pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
+            },
+            physics: evaluation.physics,
+            per_label: evaluation.per_label.as_ref().map(|p| PerLabelReport {
+                fixed: p.fixed.iter().map(LabelMeanReport::from).collect(),
+                online: p.online.iter().map(LabelMeanReport::from).collect(),
+            }),
+            skipped,
+            com_found: evaluation.com_summary,
+        }
+    }
+}
+
+impl TrajectoryReport {
+    fn of(r: &TrajectoryRun, used: &UsedRecording, per_frame: bool) -> Self {
+        let setting = &used.recording.setting;
+        let theta_end = r.theta_end();
+        let posterior = r.posterior_end();
+        Self {
+            source: used.source(),
+            steps: r.steps(),
+            fixed: Nmse::of_frames(r.fixed()),
+            online: Nmse::of_frames(r.online()),
+            theta0: r.theta0(),
+            com_offset_learned: theta_end.com_offset,
+            h_learned: theta_end.h,
+            com_offset_cov: posterior.com_covariance(),
+            h_std: posterior.std()[2],
+            com_offset_true: setting.com_offset,
+            h_true: setting.h,
+            com_found: r.com_truth,
+            frames: per_frame.then(|| {
+                let run = &r.run;
+                (0..run.sample_count())
+                    .map(|frame| FrameReport {
+                        frame,
+                        theta: run.theta_at(frame),
+                        online: run.learned().get(frame).copied().flatten(),
+                        fixed: run.fixed()[frame],
+                    })
+                    .collect()
+            }),
+        }
+    }
+}

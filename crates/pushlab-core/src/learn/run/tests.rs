@@ -1,0 +1,268 @@
+use super::*;
+use crate::geometry::{Outline, Pose2};
+use crate::learn::Optimizer;
+use crate::model::{LossScale, OnlineModel, PhysicsOnlyModel, samples_from_trajectory};
+use crate::trajectory::Frame;
+
+/// A 10 cm box pushed along +x at its face, turning slowly (as an off-centre COM would make it):
+/// enough signal for learning to move θ.
+fn push(frames: usize) -> Arc<Trajectory> {
+    let frames = (0..frames)
+        .map(|i| {
+            let t = i as f64 * 0.01;
+            let yaw = 0.3 * t;
+            let object = Pose2::new(0.05 * t, 0.0, yaw);
+            let robot = object.point_in_world(nalgebra::Point2::new(-0.05 - 0.01, 0.01));
+            Frame {
+                time: t,
+                robot,
+                object,
+            }
+        })
+        .collect();
+    Arc::new(Trajectory::new(frames))
+}
+
+fn model(trajectory: &Trajectory) -> SharedOnlineModel {
+    let outline = Outline::rectangle(0.1, 0.1).expect("valid box");
+    let mut scale = LossScale::from_samples(&samples_from_trajectory(trajectory, 1));
+    // This synthetic push barely moves sideways; keep the σ of a real push's millimetres.
+    scale.sigma_pos = scale.sigma_pos.map(|s| s.max(1e-3));
+    scale.sigma_rot = scale.sigma_rot.max(1e-3);
+    Arc::new(PhysicsOnlyModel::new(outline, 0.01, 0.002, scale))
+}
+
+fn run_with(config: OnlineConfig) -> OnlineRun {
+    let trajectory = push(200);
+    OnlineRun::new(model(&trajectory), trajectory, 1, config)
+}
+
+fn run() -> OnlineRun {
+    run_with(OnlineConfig::default())
+}
+
+#[test]
+fn learning_moves_theta_and_keeps_a_checkpoint_per_frame() {
+    let mut run = run();
+    let theta0 = run.theta0();
+    run.learn_through(0, 50, &[]);
+    assert_eq!(run.frontier(), 50);
+    assert_eq!(run.checkpoints().len(), 51);
+    assert_ne!(
+        run.theta_at(50),
+        theta0,
+        "50 steps of learning changed nothing"
+    );
+    for k in 0..50 {
+        let loss = run.learned()[k].expect("every frame was learned");
+        // The step learned at k predicted with θ(k) and moved it to θ(k + 1).
+        let step = run.evaluate(k).expect("frame has a sample");
+        assert_eq!(step.theta_before, run.theta_at(k));
+        assert_eq!(FrameLoss::of(&step.loss), loss);
+        let relearned = run.model().online_step(
+            &run.sample(k).expect("sample"),
+            &run.theta_at(k),
+            &run.config().descent(),
+        );
+        assert_eq!(relearned.theta_after, run.theta_at(k + 1));
+    }
+}
+
+/// Independent of the run's bookkeeping: the chain of [`learn_step`]s over the samples that are not
+/// skipped, as Algorithm 1 states it.
+fn chained(run: &OnlineRun, skip: &[bool]) -> (Vec<OnlineParams>, Vec<FrameLoss>, Posterior) {
+    let model = run.model().clone();
+    let mut state = OnlineState::start(model.as_ref());
+    let (mut thetas, mut losses) = (Vec::new(), Vec::new());
+    for sample in samples_from_trajectory(run.trajectory(), run.horizon()) {
+        if sample_is_skipped(skip, sample.frame, run.horizon()) {
+            continue;
+        }
+        let (step, next) = learn_step(model.as_ref(), &sample, &state, &run.config());
+        losses.push(FrameLoss::of(&step.loss));
+        thetas.push(next.theta);
+        state = next;
+    }
+    (thetas, losses, state.posterior)
+}
+
+#[test]
+fn learning_a_whole_recording_is_algorithm_1_over_the_frames_not_skipped() {
+    for optimizer in Optimizer::ALL {
+        let mut run = run_with(OnlineConfig {
+            optimizer,
+            ..OnlineConfig::default()
+        });
+        let mut skip = vec![false; 200];
+        skip[40..47].fill(true);
+        run.learn_all(&skip);
+        let (thetas, losses, posterior) = chained(&run, &skip);
+        let steps: Vec<_> = run.learned_steps().collect();
+        assert_eq!(steps.len(), losses.len(), "{optimizer:?}");
+        for ((_, loss, theta), (want_loss, want_theta)) in
+            steps.iter().zip(losses.iter().zip(&thetas))
+        {
+            assert_eq!(loss, want_loss);
+            assert_eq!(theta, want_theta);
+        }
+        assert_eq!(run.posterior(), &posterior, "{optimizer:?}");
+        assert_eq!(run.frontier(), run.sample_count());
+    }
+}
+
+#[test]
+fn scrubbing_back_restores_the_exact_earlier_theta_and_replay_is_identical() {
+    for optimizer in Optimizer::ALL {
+        let mut run = run_with(OnlineConfig {
+            optimizer,
+            ..OnlineConfig::default()
+        });
+        run.learn_through(0, 180, &[]);
+        let all = run.checkpoints().to_vec();
+        let spreads = run.spreads().to_vec();
+        let posterior = *run.posterior();
+        // Back to 130 (two keyframes back from the frontier), then the same frames again.
+        let theta = run.theta_at(130);
+        run.set_theta_at(130, theta);
+        assert_eq!(run.frontier(), 130);
+        assert_eq!(run.take_cut(), Some(130));
+        assert_eq!(run.take_cut(), None, "taken once");
+        run.learn_through(130, 180, &[]);
+        assert_eq!(run.checkpoints(), &all[..], "{optimizer:?}");
+        assert_eq!(run.spreads(), &spreads[..], "{optimizer:?}");
+        assert_eq!(run.posterior(), &posterior, "{optimizer:?}");
+    }
+}
+
+#[test]
+fn steering_drops_the_future_and_beyond_the_frontier_theta_is_held() {
+    let mut run = run();
+    run.learn_through(0, 40, &[]);
+    let mut steered = run.theta_at(20);
+    steered.com_offset = [0.01, -0.02];
+    run.set_theta_at(20, steered);
+    assert_eq!(run.frontier(), 20);
+    assert_eq!(run.theta_at(20).com_offset, [0.01, -0.02]);
+    assert_eq!(run.theta_at(150), run.theta_at(20));
+    // Steering ahead of the frontier holds θ over the gap.
+    run.set_theta_at(60, run.theta0());
+    assert_eq!(run.frontier(), 60);
+    assert!(run.learned()[20..60].iter().all(Option::is_none));
+    assert_eq!(run.theta_at(59).com_offset, [0.01, -0.02]);
+}
+
+#[test]
+fn a_new_rule_learns_the_future_again_with_it() {
+    let mut run = run();
+    run.learn_through(0, 100, &[]);
+    let before = run.theta_at(100);
+    let fixed = OnlineConfig::fixed();
+    run.set_config_at(50, fixed);
+    assert_eq!(run.frontier(), 50);
+    run.learn_through(50, 100, &[]);
+    assert_eq!(run.config(), fixed);
+    assert_eq!(run.theta_at(100), run.theta_at(50), "no steps: θ held");
+    assert_ne!(run.theta_at(100), before);
+}
+
+#[test]
+fn learn_this_frame_lowers_the_loss_at_that_frame() {
+    let mut run = run();
+    let before = run.evaluate(10).expect("frame 10 has a sample");
+    let step = run.learn_this_frame(10).expect("frame 10 has a sample");
+    let after = run.evaluate(10).expect("frame 10 has a sample");
+    assert_eq!(step.theta_before, before.theta_before);
+    assert_eq!(run.theta_at(10), step.theta_after);
+    assert!(
+        after.loss.total() < before.loss.total(),
+        "loss {} → {}",
+        before.loss.total(),
+        after.loss.total()
+    );
+}
+
+#[test]
+fn the_last_frames_have_no_sample_and_reset_forgets_everything() {
+    let mut run = run();
+    assert!(run.learn_this_frame(199).is_none());
+    run.learn_through(0, 500, &[]);
+    assert_eq!(run.frontier(), 199);
+    assert!(run.mean_losses().is_some());
+    run.reset();
+    assert_eq!(run.frontier(), 0);
+    assert_eq!(run.theta_at(100), run.theta0());
+    assert_eq!(run.mean_losses(), None);
+    assert_eq!(run.take_cut(), Some(0));
+}
+
+#[test]
+fn mean_losses_average_the_learned_frames_and_the_fixed_losses_there() {
+    let mut run = run();
+    let mut skip = vec![false; 200];
+    skip[10..20].fill(true);
+    run.learn_through(0, 60, &skip);
+    let means = run.mean_losses().expect("frames learned");
+    let learned: Vec<(usize, FrameLoss)> = run.learned_steps().map(|(k, l, _)| (k, l)).collect();
+    assert_eq!(means.frames, learned.len());
+    assert_eq!(learned.len(), 60 - 11, "frames 9..20 touch a skipped frame");
+    let n = learned.len() as f64;
+    let online_pos = learned.iter().map(|(_, l)| l.pos).sum::<f64>() / n;
+    let fixed_rot = learned
+        .iter()
+        .map(|(k, _)| run.fixed()[*k].rot)
+        .sum::<f64>()
+        / n;
+    assert_eq!(means.online_pos, online_pos);
+    assert_eq!(means.fixed_rot, fixed_rot);
+}
+
+#[test]
+fn frames_flagged_to_skip_hold_theta_and_the_rest_learn() {
+    let mut run = run();
+    let mut skip = vec![false; 200];
+    skip[20..25].fill(true);
+    run.learn_through(0, 40, &skip);
+    for k in 0..40 {
+        // Horizon 1: the sample at k uses frames k and k + 1.
+        let skipped = (19..25).contains(&k);
+        assert_eq!(run.learned()[k].is_none(), skipped, "frame {k}");
+        if skipped {
+            assert_eq!(
+                run.checkpoints()[k + 1],
+                run.checkpoints()[k],
+                "θ held at {k}"
+            );
+        }
+    }
+    assert_ne!(
+        run.checkpoints()[40],
+        run.checkpoints()[0],
+        "the other frames learned"
+    );
+    // Playing over the same frames again changes nothing.
+    let before = run.checkpoints().to_vec();
+    run.take_cut();
+    run.learn_through(10, 40, &skip);
+    assert_eq!(run.checkpoints(), &before[..]);
+    assert_eq!(run.take_cut(), None, "nothing was dropped");
+
+    // Flagging frames that were already learned: playing over them again holds θ there.
+    skip[30..33].fill(true);
+    run.learn_through(0, 40, &skip);
+    assert_eq!(
+        run.take_cut(),
+        Some(29),
+        "the first frame done the other way"
+    );
+    for k in 29..33 {
+        assert!(run.learned()[k].is_none(), "frame {k} still learned");
+    }
+    assert!(
+        run.learned()[35].is_some(),
+        "the frames after are learned again"
+    );
+    // And erasing the flags learns them again.
+    skip.fill(false);
+    run.learn_through(0, 40, &skip);
+    assert!(run.learned()[..40].iter().all(Option::is_some));
+}

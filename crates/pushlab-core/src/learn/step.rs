@@ -1,0 +1,106 @@
+//! One step of online learning (Algorithm 1): predict with `θ_online(t)`, take the frame into the
+//! posterior, and update `θ_online` with the configured optimiser — the paper's gradient descent, done
+//! by the model itself, or the Gauss–Newton (recursive least-squares) step built from the posterior's
+//! information. A pure function of (model, sample, state, rule): a run that replays it gets the same
+//! numbers bit for bit.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::config::{OnlineConfig, Optimizer};
+use super::uncertainty::{Posterior, vector};
+use crate::model::{Linearization, Loss, OnlineModel, OnlineParams, OnlineStep, Sample};
+
+/// `θ_online` and what the frames seen so far say about it: what online learning carries from frame
+/// to frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OnlineState {
+    pub theta: OnlineParams,
+    pub posterior: Posterior,
+}
+
+impl OnlineState {
+    /// The start of a trajectory: `θ_online(0)` and the prior.
+    pub fn start<M: OnlineModel + ?Sized>(model: &M) -> Self {
+        let theta = model.theta0();
+        Self {
+            theta,
+            posterior: Posterior::prior(&theta, model.horizon()),
+        }
+    }
+
+    /// The start from a given `θ` (a user's steering) with the posterior kept.
+    pub fn at(theta: OnlineParams, posterior: Posterior) -> Self {
+        let theta = theta.clamped();
+        Self {
+            theta,
+            posterior: posterior.at(&theta),
+        }
+    }
+}
+
+/// One online step from `state` with the configured optimiser: the prediction with `state.theta`
+/// (its loss and gradient), `θ` after the update, and the posterior with this frame taken in. A pure
+/// function, like [`OnlineModel::online_step`].
+pub fn learn_step<M: OnlineModel + ?Sized>(
+    model: &M,
+    sample: &Sample,
+    state: &OnlineState,
+    config: &OnlineConfig,
+) -> (OnlineStep, OnlineState) {
+    let theta = state.theta.clamped();
+    let linearization = model.linearize(sample, &theta);
+    let posterior = state.posterior.with(&linearization, &theta);
+    let step = match config.optimizer {
+        Optimizer::Gd => model.online_step(sample, &theta, &config.descent()),
+        Optimizer::GaussNewton => {
+            gauss_newton_step(model, sample, &theta, &linearization, &posterior, config)
+        }
+    };
+    let next = OnlineState {
+        theta: step.theta_after,
+        posterior: posterior.at(&step.theta_after),
+    };
+    (step, next)
+}
+
+/// The Gauss–Newton (recursive least-squares) step: `θ − I⁻¹ Jᵀr / (s² k c)` with `I` the information
+/// after this frame, kept inside the bounds of `h` and the COM; a step that is not finite is not
+/// taken. With `config.steps == 0` nothing is learned (the fixed model).
+fn gauss_newton_step<M: OnlineModel + ?Sized>(
+    model: &M,
+    sample: &Sample,
+    theta: &OnlineParams,
+    linearization: &Linearization,
+    posterior: &Posterior,
+    config: &OnlineConfig,
+) -> OnlineStep {
+    let j = Matrix3::from_fn(|i, k| linearization.jacobian[i][k]);
+    let r = Vector3::from(linearization.residual);
+    let jtr = j.transpose() * r;
+    let gradient = (2.0 * jtr).into();
+    let mut after = *theta;
+    let weight = posterior.frame_weight();
+    if config.steps > 0
+        && let Some(inverse) = posterior.information_at(weight).try_inverse()
+    {
+        let next = vector(theta) - inverse * jtr * weight;
+        if next.iter().all(|t| t.is_finite()) {
+            after = OnlineParams {
+                com_offset: [next[0], next[1]],
+                h: next[2],
+            }
+            .clamped();
+        }
+    }
+    OnlineStep {
+        theta_before: *theta,
+        prediction: linearization.prediction,
+        loss: Loss::of(
+            &linearization.prediction.motion,
+            &sample.target,
+            &model.loss_scale(),
+        ),
+        gradient,
+        theta_after: after,
+    }
+}

@@ -1,0 +1,110 @@
+//! The app's online run and `pushlab eval`'s are one: for the same recording, model and settings, θ
+//! and the losses at every frame the app plays are those `pushlab eval --json --per-frame` writes, to
+//! the bit — with frames labelled bad tracking held over in both.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command as Process;
+
+use pushlab::app::initial_state;
+use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::{Command, Persisted};
+use pushlab_core::model::FrameLoss;
+use serde_json::Value;
+
+const SET: &str = "box1-paper-lr-front";
+const RECORDING: &str = "online_002.csv";
+/// Frames labelled bad tracking in the copy of the set (half-open).
+const BAD_TRACKING: (usize, usize) = (30, 36);
+
+/// Labels the set's copy with a stretch of bad tracking on the recording, keeping its schema.
+fn label_bad_tracking(dir: &Path) {
+    let path = dir.join("pushlab-labels.json");
+    let mut labels: Value =
+        serde_json::from_slice(&std::fs::read(&path).expect("labels file")).expect("JSON");
+    labels["recordings"][RECORDING]["segments"] = serde_json::json!([
+        {"label": "bad tracking", "start": BAD_TRACKING.0, "end": BAD_TRACKING.1}
+    ]);
+    std::fs::write(&path, serde_json::to_vec_pretty(&labels).expect("JSON")).expect("writes");
+}
+
+fn loss(value: &Value) -> Option<FrameLoss> {
+    serde_json::from_value(value.clone()).ok()
+}
+
+#[test]
+fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
+    let dir = common::copy_of_sample_set(SET, "app-equals-eval");
+    label_bad_tracking(&dir);
+    let csv = dir.join(RECORDING);
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/default-model.json");
+
+    // The app, opened on the recording with the bundled default model and default settings, plays
+    // it to the end learning as it goes.
+    let mut state = initial_state(std::slice::from_ref(&csv), Persisted::default());
+    let frames = state
+        .recording()
+        .expect("the recording is shown")
+        .trajectory
+        .len();
+    for _ in 0..frames {
+        state.apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+    let run = state.run.as_ref().expect("an online run");
+    assert_eq!(run.frontier(), run.sample_count(), "played to the end");
+
+    // `pushlab eval` on the same recording and model, default settings.
+    let json = dir.join("eval.json");
+    let output = Process::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["eval", "--model"])
+        .arg(&model)
+        .arg("--offline")
+        .arg(&dir)
+        .arg("--online")
+        .arg(&csv)
+        .arg("--json")
+        .arg(&json)
+        .arg("--per-frame")
+        .output()
+        .expect("runs pushlab");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&json).expect("report")).expect("JSON");
+    let trajectories = report["trajectories"].as_array().expect("trajectories");
+    assert_eq!(trajectories.len(), 1);
+    let reported = trajectories[0]["frames"]
+        .as_array()
+        .expect("per-frame output");
+    assert_eq!(reported.len(), run.sample_count());
+
+    let mut held = 0;
+    for (k, frame) in reported.iter().enumerate() {
+        let theta = run.theta_at(k);
+        let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
+        assert_eq!(bits(&frame["theta"]["h"]), theta.h.to_bits(), "h at {k}");
+        for (c, value) in theta.com_offset.iter().enumerate() {
+            assert_eq!(
+                bits(&frame["theta"]["com_offset"][c]),
+                value.to_bits(),
+                "COM offset {c} at {k}"
+            );
+        }
+        let online = run.learned()[k];
+        assert_eq!(loss(&frame["online"]), online, "online loss at {k}");
+        assert_eq!(
+            loss(&frame["fixed"]),
+            Some(run.fixed()[k]),
+            "fixed loss at {k}"
+        );
+        held += usize::from(online.is_none());
+    }
+    // Horizon 10: a sample from frame k ends at k + 10, so those starting in the labelled stretch and
+    // those ending in it are held — two stretches of six frames.
+    assert_eq!(held, 2 * (BAD_TRACKING.1 - BAD_TRACKING.0));
+    std::fs::remove_dir_all(&dir).ok();
+}
