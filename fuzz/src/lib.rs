@@ -76,7 +76,7 @@ pub fn model(data: &[u8]) {
         return;
     };
     let geometry = Arc::new(ContactGeometry::new(&outline, 0.005));
-    let Ok(learner) = file.combined.learner(Some(&geometry)) else {
+    let Ok(learner) = file.combined.on_object(Some(&geometry)) else {
         return;
     };
     let sample = Sample {
@@ -96,7 +96,7 @@ pub fn model(data: &[u8]) {
             lr,
             ..OnlineConfig::default()
         };
-        let step = learner.online_step(&sample, &theta0, &config);
+        let step = learner.online_step(&sample, &theta0, &config.descent());
         let theta: OnlineParams = step.theta_after;
         assert!(
             theta.com_offset.iter().all(|c| c.is_finite()) && theta.h.is_finite(),

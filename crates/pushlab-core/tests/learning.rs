@@ -290,7 +290,7 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
             sources: vec!["sim".into()],
             pushlab_version: "test".into(),
             // The domain round-trips with the rest of the file.
-            domain: Some(pushlab_core::experiment::Domain {
+            domain: Some(pushlab_core::domain::Domain {
                 object_size: [0.4, 0.55],
                 pusher_radius: [0.05, 0.05],
                 sample_rate_hz: [10.0, 10.0],

@@ -13,7 +13,7 @@ use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use pushlab_core::experiment::DomainMismatch;
+use pushlab_core::domain::DomainMismatch;
 use pushlab_core::model_file::ModelFile;
 
 use super::AppState;

@@ -28,7 +28,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use pushlab_core::experiment::DomainMismatch;
+use pushlab_core::domain::DomainMismatch;
 use pushlab_core::learn::{OnlineConfig, TrainConfig};
 use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;

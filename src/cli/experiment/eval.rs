@@ -17,8 +17,9 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 use clap::Args;
 use pushlab_core::atomic_file::write_atomically;
+use pushlab_core::domain::Domain;
 use pushlab_core::experiment::report::{EvalReport, ReportContext};
-use pushlab_core::experiment::{self, ComSummary, Domain, EvalOptions, Evaluation, UsedRecording};
+use pushlab_core::experiment::{self, ComSummary, EvalOptions, Evaluation, UsedRecording};
 use pushlab_core::labels::Split;
 use pushlab_core::learn::{Nmse, OnlineConfig, Optimizer, TrainConfig};
 use pushlab_core::model::{

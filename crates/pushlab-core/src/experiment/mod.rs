@@ -1,7 +1,7 @@
 //! One experiment pipeline for the CLI and the app: which recordings and frames an experiment uses
 //! ([`data`]), how a model of each kind is trained on them ([`train`]), and how it is evaluated
-//! ([`evaluate`]); [`suite`] runs a list of experiments in parallel into one table; [`domain`] is
-//! what a model was trained on and whether recordings lie outside it.
+//! ([`evaluate`]); [`suite`] runs a list of experiments in parallel into one table; [`report`] is
+//! `pushlab eval`'s JSON report.
 //!
 //! Every rule lives here once — the split of a recording, the samples left out for bad tracking,
 //! `θ_online(0)`, the physics-only model's tolerance and loss scale, the fixed and online passes — so
@@ -9,7 +9,6 @@
 
 pub mod com_truth;
 pub mod data;
-pub mod domain;
 pub mod evaluate;
 pub mod report;
 pub mod suite;
@@ -18,7 +17,6 @@ pub mod variant;
 
 pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, split_of};
-pub use domain::{Domain, DomainMismatch};
 pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, TrajectoryRun, evaluate,
     fixed_pass, loss_scale_for, model_on, online_run, physics_model,

@@ -6,8 +6,8 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use super::data::UsedRecording;
-use super::domain::Domain;
 use super::variant::{symmetries, transformed};
+use crate::domain::Domain;
 use crate::learn::{
     ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
     train_contact, train_paper, train_pure_nn, training_trajectories,

@@ -18,22 +18,10 @@ use crate::simd::{MulAdd, Unfused};
 
 mod batch;
 mod layers;
+mod shape;
 pub(crate) use self::batch::{BATCH, BatchActivations};
 use self::layers::{accumulate_outer, axpy, back_through, dense, dot, relu, relu_backward};
-
-/// Inputs of the paper's network.
-pub const INPUTS: usize = 4;
-/// Units in each hidden layer.
-pub const HIDDEN: usize = 16;
-/// Outputs of the network.
-pub const OUTPUTS: usize = 4;
-/// Number of weights and biases of the paper's network.
-pub const PARAMETER_COUNT: usize = parameter_count(INPUTS);
-
-/// Number of weights and biases of a network with `inputs` inputs.
-pub const fn parameter_count(inputs: usize) -> usize {
-    inputs * HIDDEN + HIDDEN + 2 * (HIDDEN * HIDDEN + HIDDEN) + HIDDEN * OUTPUTS + OUTPUTS
-}
+pub use self::shape::{HIDDEN, INPUTS, OUTPUTS, PARAMETER_COUNT, parameter_count};
 
 /// Weights and biases of the MLP. Also used for same-shaped quantities: gradients, Adam's moments.
 #[derive(Clone, Debug, PartialEq)]

@@ -12,15 +12,16 @@
 //! Files are written atomically (a temporary file in the same folder, then a rename), so a crash
 //! never leaves half a model behind.
 
+mod contents;
 pub mod validate;
+
+pub use contents::{ModelFile, TrainingMetadata};
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use crate::atomic_file::write_atomically;
-use crate::experiment::Domain;
-use crate::learn::TrainingReport;
 use std::sync::Arc;
 
 use crate::model::{CombinedModel, ContactModel, ModelKind, PaperModel, PureNnModel};
@@ -29,35 +30,6 @@ use crate::model::{CombinedModel, ContactModel, ModelKind, PaperModel, PureNnMod
 pub const FORMAT: &str = "pushlab-model";
 /// The version this pushlab writes; it reads this one and every older one.
 pub const VERSION: u32 = 2;
-
-/// Where a model came from.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct TrainingMetadata {
-    /// The combined model's training run.
-    #[serde(default)]
-    pub report: Option<TrainingReport>,
-    /// The pure network's training run.
-    #[serde(default)]
-    pub pure_nn_report: Option<TrainingReport>,
-    /// The recordings it was trained on.
-    #[serde(default)]
-    pub sources: Vec<String>,
-    /// The pushlab version that trained it.
-    #[serde(default)]
-    pub pushlab_version: String,
-    /// The objects, pushers, frame rates and speeds it was trained on (`null` in files written before
-    /// pushlab recorded it): see [`crate::experiment::Domain`].
-    #[serde(default)]
-    pub domain: Option<Domain>,
-}
-
-/// A trained model as saved on disk.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ModelFile {
-    pub combined: CombinedModel,
-    pub pure_nn: Option<PureNnModel>,
-    pub training: TrainingMetadata,
-}
 
 #[derive(Serialize)]
 struct OnDiskRef<'a, C> {

@@ -12,7 +12,7 @@
 //! (`pure_nn`) and the training domain (`training.domain`) are checked by the same few rules:
 //! [`finite`], [`positive`], [`non_negative`] and the horizon's and `h`'s ranges.
 
-use crate::experiment::Domain;
+use crate::domain::Domain;
 use crate::model::contact::ContactInputs;
 use crate::model::normalization::{InputNormalization, Stats1, Stats2};
 use crate::model::{
@@ -21,7 +21,7 @@ use crate::model::{
 };
 use crate::real::Real;
 
-use super::ModelFile;
+use super::contents::ModelFile;
 
 /// Largest magnitude of a constant in a model file. The model computes in `f32` (largest value
 /// 3.4e38) and squares or inverts some constants; nothing a model describes in metres, radians,

@@ -4,8 +4,9 @@ use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use super::RecordingSet;
+use super::bag::BagProblem;
 use super::bag::{self, BagChoice};
-use super::error::{BagProblem, LoadError};
+use super::error::LoadError;
 use super::mit_push::{self, MitPush};
 use super::native::{self, SETTING_FILE};
 

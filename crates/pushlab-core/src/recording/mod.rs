@@ -12,17 +12,21 @@ mod load;
 pub mod mit_push;
 pub mod native;
 mod read;
-mod resample;
+pub mod resample;
 mod setting;
 
 use std::path::PathBuf;
 use std::sync::Arc;
 
+pub use bag::BagProblem;
 pub use describe::{PushParameters, SidePosition};
-pub use error::{BagProblem, CsvProblem, LoadError, MitProblem, WriteError};
+pub use error::{LoadError, WriteError};
 pub use load::{LoadReport, load_paths, load_paths_choosing};
+pub use mit_push::MitProblem;
+pub use native::CsvProblem;
 pub use native::{read_set, write_set};
 pub use read::{MEMORY_PER_FILE_BYTE, available_memory};
+pub use resample::SpanProblem;
 pub use setting::{ObjectShape, PushSide, Setting, TrajectoryEntry};
 
 use crate::trajectory::Trajectory;

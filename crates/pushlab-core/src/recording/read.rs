@@ -8,7 +8,7 @@
 use std::io::Read;
 use std::path::Path;
 
-use super::LoadError;
+use super::error::LoadError;
 
 /// Bytes of memory opening a recording needs per byte of its file: the file's bytes while it is
 /// parsed, its frames (48 bytes for a ~55-byte CSV line) and what the app keeps per frame.
@@ -24,6 +24,7 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
     let too_large = || LoadError::TooLarge {
         path: path.to_path_buf(),
         bytes: size,
+        needed: size.saturating_mul(MEMORY_PER_FILE_BYTE),
         available: available_memory(),
     };
     bytes
@@ -42,6 +43,7 @@ fn fits_in_memory(path: &Path, size: u64, available: Option<u64>) -> Result<(), 
             Err(LoadError::TooLarge {
                 path: path.to_path_buf(),
                 bytes: size,
+                needed: size.saturating_mul(MEMORY_PER_FILE_BYTE),
                 available,
             })
         }

@@ -3,10 +3,23 @@
 //! files and ROS 2 bags). One implementation, so that both report the same defects with the same
 //! words and align the streams by the same rules.
 //!
-//! Rows are `[t, x, y, yaw]`, `t` in seconds.
+//! Rows are `[t, x, y, yaw]`, `t` in seconds. The limits every stream obeys are here too, with the
+//! one problem of their span, so that each importer's own problems wrap them rather than restate
+//! them.
 
-use super::mit_push::{GAP_WARN_S, MAX_DURATION_S, MIN_DURATION_S};
 use crate::geometry::unwrap_angles;
+
+/// A gap between consecutive samples longer than this is reported, seconds.
+pub const GAP_WARN_S: f64 = 0.050;
+/// Fewest rows a pusher or object stream must keep after cleaning.
+pub const MIN_ROWS: usize = 10;
+/// Shortest usable overlap of the pusher and object streams, seconds.
+pub const MIN_DURATION_S: f64 = 0.1;
+/// Longest accepted push, seconds: a push lasts seconds; more means broken timestamps (and would
+/// make the resampled grid enormous).
+pub const MAX_DURATION_S: f64 = 600.0;
+/// Largest position magnitude accepted, metres from the origin of the recording's frame.
+pub const MAX_POSITION_M: f64 = 100.0;
 
 /// Keeps the rows whose timestamp increases, reporting backwards and repeated stamps and long gaps
 /// as warnings that start with `key` (a stream must be monotone to be interpolated).
@@ -69,13 +82,18 @@ pub(crate) fn unwrap_yaw(key: &str, rows: &mut [[f64; 4]], warnings: &mut Vec<St
     }
 }
 
-/// Why two streams cannot be put on one grid.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum SpanProblem {
+/// Why two streams cannot be put on one grid. Each importer says which streams ("the tip and object
+/// streams …").
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum SpanProblem {
     /// They overlap for less than [`MIN_DURATION_S`] (the overlap, ≥ 0).
-    TooShort(f64),
+    #[error("overlap for only {seconds:.3} s, expected at least {MIN_DURATION_S} s")]
+    TooShort { seconds: f64 },
     /// They overlap for more than [`MAX_DURATION_S`].
-    TooLong(f64),
+    #[error(
+        "span {seconds:.0} s, expected a push shorter than {MAX_DURATION_S} s (broken timestamps?)"
+    )]
+    TooLong { seconds: f64 },
 }
 
 /// The grid over the interval both cleaned, non-empty streams cover: its start time and number of
@@ -87,17 +105,19 @@ pub(crate) fn grid(
 ) -> Result<(f64, usize), SpanProblem> {
     let (Some(a0), Some(a1), Some(b0), Some(b1)) = (a.first(), a.last(), b.first(), b.last())
     else {
-        return Err(SpanProblem::TooShort(0.0));
+        return Err(SpanProblem::TooShort { seconds: 0.0 });
     };
     let start = a0[0].max(b0[0]);
     let end = a1[0].min(b1[0]);
     let duration = end - start;
     // Written so that a NaN duration is refused too.
     if duration.is_nan() || duration < MIN_DURATION_S {
-        return Err(SpanProblem::TooShort(duration.max(0.0)));
+        return Err(SpanProblem::TooShort {
+            seconds: duration.max(0.0),
+        });
     }
     if duration > MAX_DURATION_S {
-        return Err(SpanProblem::TooLong(duration));
+        return Err(SpanProblem::TooLong { seconds: duration });
     }
     // Truncation is intended. Bounded by MAX_DURATION_S × rate.
     Ok((start, (duration * rate_hz).floor() as usize + 1))

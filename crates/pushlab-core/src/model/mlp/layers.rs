@@ -1,7 +1,7 @@
 //! The dense-layer kernels of the MLP on fixed-size arrays: multiply-adds 16 lanes wide that the
 //! compiler vectorises, generic over the float type and over fused (FMA) or portable multiply-adds.
 
-use super::HIDDEN;
+use super::shape::HIDDEN;
 use crate::real::Real;
 use crate::simd::MulAdd;
 

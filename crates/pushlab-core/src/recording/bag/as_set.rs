@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::choice::BagChoice;
-use super::{BagImport, TopicSpec, import};
+use super::spec::TopicSpec;
+use super::split::{BagImport, import};
 use crate::recording::error::LoadError;
 use crate::recording::setting::{Setting, TrajectoryEntry};
 use crate::recording::{Recording, RecordingSet};

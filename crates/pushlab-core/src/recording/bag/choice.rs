@@ -15,9 +15,13 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::{ImportOptions, PoseType, TopicInfo, TopicSpec};
+use super::cdr::PoseType;
+use super::problem::BagProblem;
+use super::spec::TopicSpec;
+use super::split::{ImportOptions, MAX_RATE_HZ};
+use super::topic_info::{TF_STATIC, TopicInfo};
 use crate::atomic_file::write_atomically;
-use crate::recording::error::{BagProblem, LoadError};
+use crate::recording::error::LoadError;
 use crate::recording::native::{SETTING_FILE, check_setting, parse_setting};
 use crate::recording::read::read_file;
 use crate::recording::setting::Setting;
@@ -147,7 +151,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<BagChoice, LoadError> {
         setting,
         options: ImportOptions {
             split_gap_s: positive("split_gap_s", file.split_gap_s)?,
-            rate_hz: positive("rate_hz", file.rate_hz)?.map(|hz| hz.min(super::MAX_RATE_HZ)),
+            rate_hz: positive("rate_hz", file.rate_hz)?.map(|hz| hz.min(MAX_RATE_HZ)),
         },
     })
 }
@@ -246,13 +250,13 @@ pub fn settings_beside(bag: &Path) -> Vec<PathBuf> {
 pub fn candidates(topics: &[TopicInfo]) -> Vec<TopicSpec> {
     let statics: &[String] = topics
         .iter()
-        .find(|t| t.topic == super::TF_STATIC && t.pose_type() == Some(PoseType::TfMessage))
+        .find(|t| t.topic == TF_STATIC && t.pose_type() == Some(PoseType::TfMessage))
         .map_or(&[], |t| &t.child_frames);
     let mut specs = Vec::new();
     for info in topics {
         match info.pose_type() {
             None => {}
-            Some(PoseType::TfMessage) if info.topic == super::TF_STATIC => {}
+            Some(PoseType::TfMessage) if info.topic == TF_STATIC => {}
             Some(PoseType::TfMessage) => {
                 let mut frames: Vec<&String> = info.child_frames.iter().collect();
                 frames.extend(statics.iter().filter(|f| !info.child_frames.contains(f)));

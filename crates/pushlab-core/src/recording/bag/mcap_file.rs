@@ -16,7 +16,7 @@ use std::io::Read;
 
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
-use crate::recording::error::BagProblem;
+use super::problem::BagProblem;
 
 /// What a channel carries.
 #[derive(Clone, Debug, PartialEq, Eq)]

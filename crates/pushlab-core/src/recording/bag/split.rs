@@ -5,15 +5,17 @@ use std::path::Path;
 
 use nalgebra::Point2;
 
-use super::{BagStreams, TopicInfo, TopicSpec, read_streams, read_streams_bytes};
+use super::problem::BagProblem;
+use super::spec::TopicSpec;
+use super::streams::{BagStreams, read_streams, read_streams_bytes};
+use super::topic_info::TopicInfo;
 use crate::geometry::Pose2;
-use crate::recording::error::{BagProblem, LoadError};
-use crate::recording::mit_push::{MIN_DURATION_S, MIN_ROWS};
-use crate::recording::resample::{Interpolator, SpanProblem, clean, grid, unwrap_yaw};
+use crate::recording::error::LoadError;
+use crate::recording::resample::{Interpolator, MIN_ROWS, SpanProblem, clean, grid, unwrap_yaw};
 use crate::trajectory::{Frame, Trajectory};
 
 /// Highest grid rate, Hz: far above what a pose tracker publishes, and it bounds the frames a push
-/// can have (with [`crate::recording::mit_push::MAX_DURATION_S`]) whatever the stamps say.
+/// can have (with [`crate::recording::resample::MAX_DURATION_S`]) whatever the stamps say.
 pub const MAX_RATE_HZ: f64 = 5_000.0;
 
 /// How a bag becomes pushes.
@@ -161,11 +163,7 @@ pub fn resample_streams(
                         pushes.push(resample(&t, &o, start, count, rate_hz, base_s, warnings));
                         None
                     }
-                    Err(SpanProblem::TooLong(seconds)) => Some(BagProblem::TooLong { seconds }),
-                    Err(SpanProblem::TooShort(seconds)) => Some(BagProblem::TooShort {
-                        seconds,
-                        min: MIN_DURATION_S,
-                    }),
+                    Err(span) => Some(BagProblem::Span(span)),
                 }
             }
         };
@@ -178,10 +176,9 @@ pub fn resample_streams(
         }
     }
     if pushes.is_empty() {
-        return Err(last_problem.unwrap_or(BagProblem::TooShort {
-            seconds: 0.0,
-            min: MIN_DURATION_S,
-        }));
+        return Err(
+            last_problem.unwrap_or(BagProblem::Span(SpanProblem::TooShort { seconds: 0.0 }))
+        );
     }
     if !skipped.is_empty() {
         let note = format!(

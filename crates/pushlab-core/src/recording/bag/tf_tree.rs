@@ -16,10 +16,8 @@ use std::collections::HashMap;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
 use super::cdr::{self, Transform, yaw_of};
-use crate::recording::error::BagProblem;
-
-/// The topic whose transforms hold for all times (`tf2_ros::StaticTransformBroadcaster`'s).
-pub const TF_STATIC: &str = "/tf_static";
+use super::problem::BagProblem;
+use super::topic_info::TF_STATIC;
 
 /// One transform of a child frame as published: `parent_from_child` at a time.
 #[derive(Clone, Copy, Debug, PartialEq)]

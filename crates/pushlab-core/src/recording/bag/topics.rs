@@ -4,63 +4,11 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use super::cdr::{self, PoseType};
+use super::files::bag_files;
 use super::mcap_file::{ChannelInfo, for_each_message};
-use super::{LoadError, bag_files};
+use super::topic_info::TopicInfo;
+use crate::recording::error::LoadError;
 use crate::recording::read::read_file;
-
-/// One topic of a bag, for listing.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TopicInfo {
-    pub topic: String,
-    /// The message type (the schema name), e.g. `geometry_msgs/msg/PoseStamped`.
-    pub type_name: String,
-    pub encoding: String,
-    pub count: u64,
-    /// First and last log time, nanoseconds.
-    pub first_ns: u64,
-    pub last_ns: u64,
-    /// For a `tf2_msgs/msg/TFMessage` topic, the child frames its transforms carry, in order of
-    /// first appearance (at most [`MAX_LISTED_FRAMES`]): what `TOPIC:CHILD_FRAME` can name.
-    pub child_frames: Vec<String>,
-}
-
-/// Most child frames listed per TF topic: a tree of a few robots; more is listed as this many.
-pub const MAX_LISTED_FRAMES: usize = 64;
-
-impl TopicInfo {
-    /// Messages per second of log time (0 for fewer than two messages).
-    pub fn rate_hz(&self) -> f64 {
-        let span = self.last_ns.saturating_sub(self.first_ns) as f64 * 1e-9;
-        if self.count < 2 || span <= 0.0 {
-            0.0
-        } else {
-            (self.count - 1) as f64 / span
-        }
-    }
-
-    /// Notes the child frames of a TF message for listing. A message that does not decode is left
-    /// to the import, which names it; listing still lists the topic.
-    fn note_frames(&mut self, payload: &[u8]) {
-        if self.pose_type() != Some(PoseType::TfMessage) {
-            return;
-        }
-        let frames = &mut self.child_frames;
-        let _ = cdr::decode_tf(payload, |transform| {
-            let child = transform.child;
-            if frames.len() < MAX_LISTED_FRAMES && !frames.iter().any(|f| f.as_bytes() == child) {
-                frames.push(String::from_utf8_lossy(child).into_owned());
-            }
-        });
-    }
-
-    /// The type pushlab reads it as, when it can (CDR-encoded and a known type).
-    pub fn pose_type(&self) -> Option<PoseType> {
-        (self.encoding == "cdr")
-            .then(|| PoseType::from_schema(&self.type_name))
-            .flatten()
-    }
-}
 
 /// Topics by name, accumulating over the files of a bag. Looked up by `&str` for every message of
 /// a bag, so a topic's name is copied once, when it is first seen, not per message.

@@ -4,7 +4,8 @@
 //!
 //! What the importer does, in order, and why:
 //! 1. Refuses files it cannot use (missing streams, rows that are not 4 numbers, non-finite values,
-//!    fewer than [`MIN_ROWS`] rows, streams overlapping for less than [`MIN_DURATION_S`]).
+//!    fewer than [`MIN_ROWS`] rows, streams overlapping for less than
+//!    [`MIN_DURATION_S`](super::resample::MIN_DURATION_S)).
 //! 2. Drops samples whose timestamp does not increase (real files step back by up to ~2 ms); a
 //!    stream must be monotone to be interpolated. Counted and reported as a warning.
 //! 3. Unwraps the object's yaw, which the dataset keeps in (−π, π].
@@ -20,6 +21,7 @@
 //! The force stream is only checked (for being frozen), never imported: pushlab's model does not use
 //! forces.
 
+mod problem;
 mod set;
 
 use std::collections::HashMap;
@@ -28,26 +30,16 @@ use std::path::Path;
 use nalgebra::{Point2, Vector2};
 use serde::Deserialize;
 
+pub use self::problem::MitProblem;
 pub(crate) use self::set::recordings_for;
 pub use self::set::{KEY_REP, KEY_SHAPE, KEY_SIDE, KEY_SIDE_POSITION, KEY_SPEED, MitShape, shape};
-use super::error::{LoadError, MitProblem};
-use super::resample::{self, Interpolator, SpanProblem, grid, unwrap_yaw};
+use super::error::LoadError;
+use super::resample::{self, Interpolator, MAX_POSITION_M, MIN_ROWS, grid, unwrap_yaw};
 use crate::geometry::Pose2;
 use crate::trajectory::{Frame, Trajectory};
 
 /// Rate of the common time grid the streams are resampled onto, Hz: the dataset's nominal rate.
 pub const RESAMPLE_HZ: f64 = 250.0;
-/// A gap between consecutive samples longer than this is reported, seconds.
-pub const GAP_WARN_S: f64 = 0.050;
-/// Fewest rows a tip or object stream must keep after cleaning.
-pub const MIN_ROWS: usize = 10;
-/// Shortest usable overlap of the tip and object streams, seconds.
-pub const MIN_DURATION_S: f64 = 0.1;
-/// Longest accepted push, seconds: a push lasts seconds; more means broken timestamps (and would
-/// make the resampled grid enormous).
-pub const MAX_DURATION_S: f64 = 600.0;
-/// Largest position magnitude accepted, metres from the robot base.
-pub const MAX_POSITION_M: f64 = 100.0;
 /// Radius of the dataset's steel pusher, metres.
 pub const PUSHER_RADIUS: f64 = 0.00475;
 /// Pusher–object friction coefficient reported by the dataset's authors.
@@ -291,13 +283,7 @@ fn align(
         ));
     }
     unwrap_yaw("object", &mut object, &mut warnings);
-    let (start, count) = grid(&tip, &object, RESAMPLE_HZ).map_err(|problem| match problem {
-        SpanProblem::TooShort(seconds) => MitProblem::TooShort {
-            seconds,
-            min: MIN_DURATION_S,
-        },
-        SpanProblem::TooLong(seconds) => MitProblem::TooLong { seconds },
-    })?;
+    let (start, count) = grid(&tip, &object, RESAMPLE_HZ).map_err(MitProblem::Span)?;
     let mut tip_at = Interpolator::new(&tip);
     let mut object_at = Interpolator::new(&object);
     let frames = (0..count)

@@ -8,9 +8,9 @@ use std::sync::{Arc, OnceLock};
 use nalgebra::Vector2;
 use serde::Deserialize;
 
+use super::problem::MitProblem;
 use super::{MitPush, PUSHER_FRICTION, PUSHER_RADIUS, RESAMPLE_HZ};
 use crate::geometry::Outline;
-use crate::recording::error::MitProblem;
 use crate::recording::{ObjectShape, Recording, Setting, TrajectoryEntry};
 
 /// One of the dataset's objects, from the shape data shipped with pushlab.

@@ -5,19 +5,19 @@
 //! Values are written with Rust's shortest round-trip float formatting, so a write → read cycle
 //! gives back bit-identical numbers.
 
+mod problem;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use nalgebra::Point2;
 
-use super::error::{CsvProblem, LoadError, WriteError};
+pub use self::problem::{CSV_HEADER, CsvProblem};
+use super::error::{LoadError, WriteError};
 use super::read::read_file;
 use super::{Recording, RecordingSet, Setting};
 use crate::geometry::{Pose2, unwrap_angles};
 use crate::trajectory::{Frame, Trajectory};
-
-/// The only accepted CSV header, in this column order.
-pub const CSV_HEADER: &str = "time,robot_x,robot_y,object_x,object_y,object_theta";
 
 /// The name of the file that makes a folder a recording set.
 pub const SETTING_FILE: &str = "setting.json";

@@ -1,0 +1,69 @@
+//! Which files make a bag: an `.mcap` file, or a rosbag2 folder and the `.mcap` files its
+//! `metadata.yaml` lists.
+
+use std::path::{Path, PathBuf};
+
+use super::problem::BagProblem;
+use crate::recording::error::LoadError;
+
+/// Whether `path` looks like a bag: an `.mcap` file, or a folder with `metadata.yaml`.
+pub fn is_bag(path: &Path) -> bool {
+    if path.is_dir() {
+        path.join("metadata.yaml").is_file()
+    } else {
+        path.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
+    }
+}
+
+/// The `.mcap` files of a bag, in recording order: the file itself, or those a rosbag2 folder's
+/// `metadata.yaml` lists (all `.mcap` files of the folder by name when it lists none).
+pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, LoadError> {
+    if !path.is_dir() {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let metadata = path.join("metadata.yaml");
+    let text = std::fs::read_to_string(&metadata).map_err(|e| LoadError::io(&metadata, e))?;
+    let mut files: Vec<PathBuf> = listed_files(&text)
+        .into_iter()
+        .map(|name| path.join(name))
+        .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+        .collect();
+    if files.is_empty() {
+        let entries = std::fs::read_dir(path).map_err(|e| LoadError::io(path, e))?;
+        files = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+            .collect();
+        files.sort();
+    }
+    if files.is_empty() {
+        return Err(LoadError::Bag {
+            path: path.to_path_buf(),
+            problem: BagProblem::NoMcapFiles,
+        });
+    }
+    Ok(files)
+}
+
+/// The entries of `relative_file_paths:` in a rosbag2 `metadata.yaml` (a YAML block list of plain
+/// names; a YAML library would be a dependency for three lines).
+fn listed_files(yaml: &str) -> Vec<String> {
+    let mut files = Vec::new();
+    let mut in_list = None;
+    for line in yaml.lines() {
+        let indent = line.len() - line.trim_start().len();
+        let trimmed = line.trim();
+        if trimmed.starts_with("relative_file_paths:") {
+            in_list = Some(indent);
+            continue;
+        }
+        let Some(list_indent) = in_list else { continue };
+        if let Some(item) = trimmed.strip_prefix("- ") {
+            files.push(item.trim().trim_matches(['"', '\'']).to_owned());
+        } else if !trimmed.is_empty() && indent <= list_indent {
+            in_list = None;
+        }
+    }
+    files
+}

@@ -1,0 +1,347 @@
+//! Reading the pusher's and the object's raw poses from a bag: one pass over its messages, decoding
+//! the two streams' topics (and the transform trees of `/tf` frames).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::cdr::{self, PoseType};
+use super::files::bag_files;
+use super::mcap_file::{ChannelInfo, for_each_message};
+use super::problem::BagProblem;
+use super::spec::TopicSpec;
+use super::tf_tree::{Chain, Transforms};
+use super::topic_info::{TF_STATIC, TopicInfo};
+use super::topics::TopicTable;
+use crate::recording::error::LoadError;
+use crate::recording::read::read_file;
+use crate::recording::resample::MAX_POSITION_M;
+
+/// The raw pose streams of the pusher and the object, rows `[t, x, y, yaw]` with `t` in seconds
+/// since `base_unix_ns`, in file order (not yet cleaned).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BagStreams {
+    pub pusher: Vec<[f64; 4]>,
+    pub object: Vec<[f64; 4]>,
+    /// Unix time, nanoseconds, that `t = 0` stands for: the first pose's time.
+    pub base_unix_ns: u64,
+    /// Every topic of the bag.
+    pub topics: Vec<TopicInfo>,
+    /// Recoverable oddities found while reading (stamps replaced by log times, `/tf` poses dropped
+    /// outside a moving link's span).
+    pub warnings: Vec<String>,
+}
+
+/// Per-stream reading state.
+struct Stream<'a> {
+    spec: &'a TopicSpec,
+    rows: Vec<[f64; 4]>,
+    /// Messages seen on the topic in the current file, for error messages.
+    index: u64,
+    unstamped: u64,
+}
+
+/// What the messages of one channel are read for, decided once per channel.
+#[derive(Clone, Copy)]
+enum Role {
+    /// Single poses feeding the streams flagged.
+    Poses([bool; 2], PoseType),
+    /// Transforms, kept in the given slot of [`Transforms`] for resolving the tree after reading;
+    /// the streams flagged read their child frames from this topic.
+    Tf([bool; 2], usize),
+}
+
+/// Reads the pusher's and the object's poses from a bag. A topic that is missing or of a type
+/// pushlab cannot read is refused with the bag's topics; a `/tf` frame never published, with the
+/// frames that were; two `/tf` frames in trees of different roots, with both chains.
+pub fn read_streams(
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
+    read_streams_in(path, &bag_files(path)?, read_file, pusher, object)
+}
+
+/// [`read_streams`] of one `.mcap` file held in memory; `path` is only used in messages.
+pub fn read_streams_bytes(
+    bytes: &[u8],
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
+    read_streams_in(
+        path,
+        &[path.to_path_buf()],
+        |_| Ok(bytes.to_vec()),
+        pusher,
+        object,
+    )
+}
+
+fn read_streams_in(
+    path: &Path,
+    files: &[PathBuf],
+    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+) -> Result<BagStreams, LoadError> {
+    let mut streams = [pusher, object].map(|spec| Stream {
+        spec,
+        rows: Vec::new(),
+        index: 0,
+        unstamped: 0,
+    });
+    let mut table = TopicTable::default();
+    let mut transforms = Transforms::default();
+    // `/tf_static` is read only when a child frame is asked for: then it may hold links of its tree.
+    let wants_tree = pusher.child_frame.is_some() || object.child_frame.is_some();
+    let mut base: Option<u64> = None;
+    for (file_number, file) in files.iter().enumerate() {
+        let bytes = load(file)?;
+        let mut channels = HashMap::new();
+        let mut roles: HashMap<u16, Option<Role>> = HashMap::new();
+        for stream in &mut streams {
+            stream.index = 0;
+        }
+        transforms.new_file();
+        let fail = |problem| LoadError::Bag {
+            path: file.clone(),
+            problem,
+        };
+        for_each_message(&bytes, &mut channels, |channel, id, log_time, payload| {
+            table.note(channel, log_time);
+            let role = *roles.entry(id).or_insert_with(|| {
+                let kind = PoseType::from_schema(&channel.type_name)
+                    .filter(|_| channel.encoding == "cdr")?;
+                let feeds = [pusher, object].map(|spec| spec.topic == channel.topic);
+                if kind == PoseType::TfMessage {
+                    let keep = feeds.contains(&true) || (wants_tree && channel.topic == TF_STATIC);
+                    return keep.then(|| Role::Tf(feeds, transforms.slot(&channel.topic)));
+                }
+                feeds.contains(&true).then_some(Role::Poses(feeds, kind))
+            });
+            match role {
+                None => Ok(()),
+                Some(Role::Poses(feeds, kind)) => read_message(
+                    &mut streams,
+                    feeds,
+                    kind,
+                    channel,
+                    log_time,
+                    payload,
+                    &mut base,
+                ),
+                Some(Role::Tf(feeds, slot)) => {
+                    let frames = [0, 1].map(|s| {
+                        feeds[s]
+                            .then_some(streams[s].spec.child_frame.as_deref())
+                            .flatten()
+                    });
+                    let firsts = transforms.record(slot, file_number, log_time, payload, frames)?;
+                    if (0..2).any(|s| feeds[s] && frames[s].is_none()) {
+                        return Err(need_child_frame(&channel.topic, payload));
+                    }
+                    for ns in firsts.into_iter().flatten() {
+                        base.get_or_insert(ns);
+                    }
+                    Ok(())
+                }
+            }
+        })
+        .map_err(fail)?;
+        for channel in channels.values() {
+            table.add_silent(channel);
+        }
+    }
+    let bag_error = |problem| LoadError::Bag {
+        path: path.to_path_buf(),
+        problem,
+    };
+    let mut warnings = Vec::new();
+    let mut chains = [None, None];
+    for (stream, chain) in streams.iter().zip(&mut chains) {
+        let spec = stream.spec;
+        let Some(info) = table.get(&spec.topic) else {
+            return Err(bag_error(BagProblem::MissingTopic {
+                topic: spec.topic.clone(),
+                available: table.listing(),
+            }));
+        };
+        let Some(kind) = info.pose_type() else {
+            return Err(bag_error(BagProblem::UnsupportedType {
+                topic: spec.topic.clone(),
+                type_name: info.type_name.clone(),
+                encoding: info.encoding.clone(),
+                available: table.listing(),
+            }));
+        };
+        if kind == PoseType::TfMessage
+            && let Some(frame) = &spec.child_frame
+        {
+            let found = transforms.chain(&spec.topic, frame).map_err(bag_error)?;
+            let Some(found) = found else {
+                return Err(bag_error(BagProblem::NoChildFrame {
+                    topic: spec.topic.clone(),
+                    frame: frame.clone(),
+                    seen: transforms.frames_seen(&spec.topic),
+                }));
+            };
+            *chain = Some(found);
+        }
+    }
+    if let [Some(tip), Some(obj)] = &chains
+        && tip.root() != obj.root()
+    {
+        return Err(bag_error(BagProblem::DifferentRoots {
+            pusher: pusher.to_string(),
+            pusher_chain: tip.frames.clone().into_boxed_slice(),
+            object: object.to_string(),
+            object_chain: obj.frames.clone().into_boxed_slice(),
+        }));
+    }
+    for (stream, chain) in streams.iter_mut().zip(&chains) {
+        if let Some(chain) = chain {
+            read_chain(stream, chain, files, path, &mut base, &mut warnings)?;
+        }
+        if stream.unstamped > 0 {
+            warnings.push(format!(
+                "{}: {} of {} pose(s) without a header stamp; their log time used",
+                stream.spec,
+                stream.unstamped,
+                stream.rows.len()
+            ));
+        }
+    }
+    let [pusher_stream, object_stream] = streams;
+    Ok(BagStreams {
+        pusher: pusher_stream.rows,
+        object: object_stream.rows,
+        base_unix_ns: base.unwrap_or(0),
+        topics: table.into_sorted(),
+        warnings,
+    })
+}
+
+/// The error for a TFMessage topic named without a child frame, listing the frames of `payload`.
+fn need_child_frame(topic: &str, payload: &[u8]) -> BagProblem {
+    let mut seen = Vec::new();
+    // The message decoded once already: this cannot fail.
+    let _ = cdr::decode_tf(payload, |t| {
+        seen.push(String::from_utf8_lossy(t.child).into_owned());
+    });
+    BagProblem::NeedChildFrame {
+        topic: topic.to_owned(),
+        seen,
+    }
+}
+
+/// Fills a `/tf` stream's rows with its frame's poses in the root of its chain.
+fn read_chain(
+    stream: &mut Stream,
+    chain: &Chain,
+    files: &[PathBuf],
+    path: &Path,
+    base: &mut Option<u64>,
+    warnings: &mut Vec<String>,
+) -> Result<(), LoadError> {
+    let spec = stream.spec.to_string();
+    let error = |file: Option<usize>, problem| LoadError::Bag {
+        path: file
+            .and_then(|f| files.get(f))
+            .map_or_else(|| path.to_path_buf(), Clone::clone),
+        problem,
+    };
+    let found = chain.poses(&spec).map_err(|(file, p)| error(file, p))?;
+    let Some(first) = found.poses.first() else {
+        return Ok(());
+    };
+    let base = *base.get_or_insert(first.at.ns);
+    stream.rows.reserve(found.poses.len());
+    for pose in &found.poses {
+        let (x, y, yaw) = (pose.x, pose.y, pose.yaw);
+        check_pose(found.topic, pose.at.index, x, y, yaw)
+            .map_err(|p| error(Some(pose.at.file), p))?;
+        stream.unstamped += u64::from(!pose.at.stamped);
+        stream
+            .rows
+            .push([seconds_since(base, pose.at.ns), x, y, yaw]);
+    }
+    if let Some(dropped) = found.dropped {
+        let (from, to) = dropped.span_ns;
+        warnings.push(format!(
+            "{spec}: {} of {} pose(s) dropped: their time is outside the span of {} ({:.3} … {:.3} s), \
+             which is not extrapolated",
+            dropped.count,
+            found.candidates,
+            dropped.link,
+            seconds_since(base, from),
+            seconds_since(base, to),
+        ));
+    }
+    Ok(())
+}
+
+/// `ns` in seconds after `base`.
+fn seconds_since(base: u64, ns: u64) -> f64 {
+    (i128::from(ns) - i128::from(base)) as f64 * 1e-9
+}
+
+/// Refuses a pose that is not finite or far from the origin (a unit error, a broken tracker).
+/// Inlined with the words kept out of line: it runs for every pose of a bag.
+#[inline]
+fn check_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> Result<(), BagProblem> {
+    if x.is_finite() && y.is_finite() && yaw.is_finite() && x.abs().max(y.abs()) <= MAX_POSITION_M {
+        return Ok(());
+    }
+    Err(bad_pose(topic, index, x, y, yaw))
+}
+
+#[cold]
+#[inline(never)]
+fn bad_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> BagProblem {
+    let why = match [x, y, yaw].iter().find(|v| !v.is_finite()) {
+        Some(v) => format!("a pose value is {v}, expected a finite number"),
+        None => format!("position ({x}, {y}) m, expected within {MAX_POSITION_M} m of the origin"),
+    };
+    BagProblem::BadValue {
+        topic: topic.to_owned(),
+        index,
+        why,
+    }
+}
+
+/// Reads one message of a single-pose channel that feeds the streams flagged in `feeds` (both, when
+/// the pusher and the object are one topic).
+fn read_message(
+    streams: &mut [Stream; 2],
+    feeds: [bool; 2],
+    kind: PoseType,
+    channel: &ChannelInfo,
+    log_time: u64,
+    payload: &[u8],
+    base: &mut Option<u64>,
+) -> Result<(), BagProblem> {
+    let index = streams[usize::from(!feeds[0])].index;
+    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
+        stream.index += 1;
+    }
+    let pose = cdr::decode(kind, payload).map_err(|why| BagProblem::Decode {
+        topic: channel.topic.clone(),
+        index,
+        type_name: kind.name(),
+        why,
+    })?;
+    for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
+        let ns = if pose.stamp_ns == 0 {
+            stream.unstamped += 1;
+            log_time
+        } else {
+            pose.stamp_ns
+        };
+        let base = *base.get_or_insert(ns);
+        check_pose(&channel.topic, index, pose.x, pose.y, pose.yaw)?;
+        stream
+            .rows
+            .push([seconds_since(base, ns), pose.x, pose.y, pose.yaw]);
+    }
+    Ok(())
+}
