@@ -13,7 +13,7 @@ use pushlab_core::learn::{self, OnlineConfig};
 use pushlab_core::model::{OnlineParams, OnlineStep, SharedOnlineModel};
 use pushlab_core::trajectory::Trajectory;
 
-use super::run_plots::RunPlots;
+use super::run_plots::{RunPlots, Series};
 
 /// Online learning along the selected recording, and what the plots draw of it.
 pub struct OnlineRun {
@@ -37,6 +37,17 @@ impl OnlineRun {
     /// The plots' derived series.
     pub fn plots(&self) -> &RunPlots {
         &self.plots
+    }
+
+    /// The points to draw of `series` for the times `(x_min, x_max)` (seconds since the first frame)
+    /// in a plot `columns` pixels wide: about two per column.
+    pub fn plot_points(
+        &self,
+        series: Series,
+        visible: (f64, f64),
+        columns: usize,
+    ) -> Vec<[f64; 2]> {
+        self.plots.points(&self.run, series, visible, columns)
     }
 
     /// Learns from every frame in `from..to` (see [`learn::OnlineRun::learn_through`]).

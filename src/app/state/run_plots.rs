@@ -11,7 +11,6 @@ use pushlab_core::learn::{self, Spread, moving_average};
 use pushlab_core::model::{FrameLoss, OnlineParams};
 
 use super::envelope::{Envelope, envelope_points};
-use super::online::OnlineRun;
 
 /// Learned steps in the moving average of the loss plots.
 pub const MOVING_AVERAGE: usize = 25;
@@ -264,27 +263,27 @@ impl RunPlots {
     }
 }
 
-impl OnlineRun {
-    /// The points to draw of `series` for the times `(x_min, x_max)` (seconds since the first frame)
-    /// in a plot `columns` pixels wide: about two per column (see `envelope_points`).
-    pub fn plot_points(
+impl RunPlots {
+    /// The points to draw of `series` of `run` for the times `(x_min, x_max)` (seconds since the
+    /// first frame) in a plot `columns` pixels wide: about two per column (see `envelope_points`).
+    pub fn points(
         &self,
+        run: &learn::OnlineRun,
         series: Series,
         visible: (f64, f64),
         columns: usize,
     ) -> Vec<[f64; 2]> {
-        let frames = &self.trajectory().frames;
+        let frames = &run.trajectory().frames;
         let t0 = frames.first().map_or(0.0, |f| f.time);
-        let plots = self.plots();
         let data = Data {
-            fixed: self.fixed(),
-            learned: self.learned(),
-            checkpoints: self.checkpoints(),
-            spreads: self.spreads(),
-            averages: &plots.averages,
+            fixed: run.fixed(),
+            learned: run.learned(),
+            checkpoints: run.checkpoints(),
+            spreads: run.spreads(),
+            averages: &self.averages,
         };
         envelope_points(
-            &plots.envelopes[series.index()],
+            &self.envelopes[series.index()],
             |i| series.value(&data, i),
             |i| frames[i].time - t0,
             series.len(&data),
@@ -298,6 +297,8 @@ impl OnlineRun {
 mod tests {
     use super::*;
     use std::sync::Arc;
+
+    use crate::app::state::online::OnlineRun;
 
     use pushlab_core::geometry::{Outline, Pose2};
     use pushlab_core::learn::OnlineConfig;
