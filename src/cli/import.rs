@@ -7,6 +7,11 @@
 //! between pauses longer than `--split-gap` seconds. Each push's entry keeps the bag and the Unix
 //! time of its first frame.
 //!
+//! With `--camera TOPIC` (repeatable), each camera's frames during each push are written beside its
+//! CSV as an image sequence (`NAME.images/frames.csv` and the images; with several cameras one
+//! folder each, `NAME.images/CAMERA/`): JPEG and PNG frames copied byte for byte, raw ones
+//! (`sensor_msgs/msg/Image`) written as PNG. A frame that cannot be read is left out and counted.
+//!
 //! A `/tf` frame (`--pusher /tf:tip`) is the pose of that frame in the root of its transform tree,
 //! composed from the transforms of the topic and of `/tf_static` (`recording/bag/tf_tree.rs`); the
 //! pusher's and the object's chains must end in the same root frame.
@@ -15,12 +20,16 @@
 //! setting cannot be used (a missing or unreadable topic lists the bag's topics), 2 for wrong
 //! arguments.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use anyhow::{Context, bail};
 use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, TopicSpec};
+use pushlab_core::recording::camera::{CameraStream, FrameProblem, to_stored};
 use pushlab_core::recording::native::SETTING_FILE;
+use pushlab_core::recording::native::images::{images_dir, write_camera};
 use pushlab_core::recording::write_set;
 
 /// Arguments of `pushlab import`.
@@ -49,6 +58,10 @@ pub struct ImportArgs {
     /// Rate of the common time grid, Hz, at most 5000 (default: the slower stream's rate).
     #[arg(long, value_name = "HZ", value_parser = rate)]
     pub rate: Option<f64>,
+    /// A camera topic (sensor_msgs/msg/CompressedImage or Image) whose frames are written beside
+    /// each push; repeat for several. Without any, the cameras remembered with the bag's choice.
+    #[arg(long = "camera", value_name = "TOPIC")]
+    pub cameras: Vec<String>,
     /// Replace a set already in --out.
     #[arg(long)]
     pub overwrite: bool,
@@ -85,6 +98,7 @@ fn choice_of(args: &ImportArgs) -> anyhow::Result<BagChoice> {
                 rate_hz: args.rate,
                 split_gap_s: args.split_gap,
             },
+            cameras: args.cameras.clone(),
         });
     }
     let Some(mut choice) = bag::choice::remembered(&args.bag)? else {
@@ -101,6 +115,9 @@ fn choice_of(args: &ImportArgs) -> anyhow::Result<BagChoice> {
     if args.split_gap.is_some() {
         choice.options.split_gap_s = args.split_gap;
     }
+    if !args.cameras.is_empty() {
+        choice.cameras.clone_from(&args.cameras);
+    }
     Ok(choice)
 }
 
@@ -113,14 +130,17 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
         );
     }
     let choice = choice_of(args)?;
-    let (pusher, object) = (choice.pusher, choice.object);
+    let (pusher, object) = (&choice.pusher, &choice.object);
     let setting = choice.setting.resolve()?;
-    let options = choice.options;
-    let import = bag::import(&args.bag, &pusher, &object, options)?;
-    let setting = bag::setting_for(&args.bag, &import, &pusher, &object, setting);
+    let import =
+        bag::import_with_cameras(&args.bag, pusher, object, &choice.cameras, choice.options)?;
+    let setting = bag::setting_for(&args.bag, &import, pusher, object, setting);
     let trajectories: Vec<_> = import.pushes.iter().map(|p| p.trajectory.clone()).collect();
     write_set(&args.out, &setting, &trajectories)
         .with_context(|| format!("writing {}", args.out.display()))?;
+    for (entry, push) in setting.trajectories.iter().zip(&import.pushes) {
+        write_cameras(&args.out.join(&entry.file), &push.cameras)?;
+    }
     for (entry, push) in setting.trajectories.iter().zip(&import.pushes) {
         let t = &push.trajectory;
         println!(
@@ -143,4 +163,74 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
         args.out.display()
     );
     Ok(())
+}
+
+/// Writes each camera's frames beside the push's CSV, as the native set's image sequence.
+fn write_cameras(csv: &Path, cameras: &[Arc<CameraStream>]) -> anyhow::Result<()> {
+    let folder = images_dir(csv);
+    for camera in cameras {
+        let dir = if cameras.len() == 1 {
+            folder.clone()
+        } else {
+            folder.join(folder_name(&camera.name))
+        };
+        let bar = progress_bar(camera.len() as u64, &camera.name);
+        let mut reader = camera.reader();
+        let mut left_out: Vec<String> = Vec::new();
+        let frames = (0..camera.len()).filter_map(|i| {
+            bar.inc(1);
+            let stored = reader
+                .read(i)
+                .and_then(|image| to_stored(image).map_err(FrameProblem::from));
+            match stored {
+                Ok(image) => Some((camera.times()[i], image)),
+                Err(problem) => {
+                    left_out.push(format!("frame {i} ({:.3} s): {problem}", camera.times()[i]));
+                    None
+                }
+            }
+        });
+        let written =
+            write_camera(&dir, frames).with_context(|| format!("writing {}", dir.display()))?;
+        bar.finish_and_clear();
+        println!(
+            "camera {}: {written} frame(s) -> {}",
+            camera.name,
+            dir.display()
+        );
+        if let Some(first) = left_out.first() {
+            println!(
+                "warning: camera {}: {} frame(s) could not be read and were left out; the first: {first}",
+                camera.name,
+                left_out.len()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A folder name for a camera topic: its words joined by `_` (`/camera/color/image_raw` →
+/// `camera_color_image_raw`).
+fn folder_name(topic: &str) -> String {
+    let name: Vec<&str> = topic
+        .split(|c: char| !c.is_ascii_alphanumeric() && c != '-')
+        .filter(|p| !p.is_empty())
+        .collect();
+    if name.is_empty() {
+        "camera".to_owned()
+    } else {
+        name.join("_")
+    }
+}
+
+/// A progress bar of frames written, on stderr, hidden when it is not a terminal.
+fn progress_bar(frames: u64, camera: &str) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(frames), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames ({eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("camera {camera}"));
+    bar
 }

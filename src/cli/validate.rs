@@ -8,7 +8,8 @@
 //!
 //! A ROS 2 bag (an `.mcap` file or a rosbag2 folder) holds no push until its topics are chosen, so
 //! for one the lines list its topics first (`topic: PATH: NAME TYPE, N messages, R Hz[, readable][,
-//! child frames: A, B]`) and an unreadable bag is an `error:` line; a bag whose choice is remembered
+//! child frames: A, B][, camera: ENCODING W×H]`) and an unreadable bag is an `error:` line; a bag
+//! whose choice is remembered
 //! beside it is then validated like any recording.
 //!
 //! Exit code 0 when every recording loaded (warnings allowed), 1 when any did not, 2 for wrong
@@ -98,8 +99,16 @@ fn list_topics(path: &std::path::Path) -> bool {
         } else {
             format!(", child frames: {}", topic.child_frames.join(", "))
         };
+        let camera = match &topic.camera {
+            Some(c) => match c.size {
+                Some((w, h)) => format!(", camera: {} {w}×{h}", c.encoding),
+                None => format!(", camera: {}", c.encoding),
+            },
+            None if topic.is_camera() => ", camera".to_owned(),
+            None => String::new(),
+        };
         println!(
-            "topic: {}: {} {}, {} messages, {:.1} Hz{}{frames}",
+            "topic: {}: {} {}, {} messages, {:.1} Hz{}{frames}{camera}",
             path.display(),
             topic.topic,
             topic.type_name,
@@ -112,8 +121,9 @@ fn list_topics(path: &std::path::Path) -> bool {
             }
         );
     }
+    let cameras = topics.iter().filter(|t| t.is_camera()).count();
     println!(
-        "{}: {} topic(s), {readable} readable as a pusher or object pose; import with pushlab import {} --pusher TOPIC[:CHILD_FRAME] --object TOPIC[:CHILD_FRAME] --setting SETTING.json --out SET",
+        "{}: {} topic(s), {readable} readable as a pusher or object pose, {cameras} camera(s); import with pushlab import {} --pusher TOPIC[:CHILD_FRAME] --object TOPIC[:CHILD_FRAME] --setting SETTING.json [--camera TOPIC] --out SET",
         path.display(),
         topics.len(),
         path.display()

@@ -233,6 +233,7 @@ mod tests {
             entry: None,
             trajectory: std::sync::Arc::new(Trajectory::new(frames)),
             warnings: Vec::new(),
+            cameras: Vec::new(),
         }
     }
 

@@ -48,6 +48,7 @@ fn choice_of(dir: &Path, pusher: &str, object: &str, options: ImportOptions) -> 
         object: object.parse().unwrap(),
         setting: SettingSource::File(dir.join("setting.json")),
         options,
+        cameras: Vec::new(),
     }
 }
 

@@ -135,6 +135,7 @@ impl BagForm {
             object: object.clone(),
             setting,
             options: self.options,
+            cameras: Vec::new(),
         })
     }
 }

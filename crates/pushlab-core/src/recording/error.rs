@@ -26,6 +26,13 @@ pub enum LoadError {
         line: usize,
         problem: CsvProblem,
     },
+    /// A camera's frame list (`NAME.images/frames.csv`) is malformed at a line (1-based).
+    #[error("{} line {line}: {why}", path.display())]
+    FrameList {
+        path: PathBuf,
+        line: usize,
+        why: String,
+    },
     /// `setting.json` is not valid JSON or does not match the schema.
     #[error("{}: {message}", path.display())]
     SettingJson { path: PathBuf, message: String },
@@ -83,6 +90,7 @@ impl LoadError {
         match self {
             LoadError::Io { path, .. }
             | LoadError::Csv { path, .. }
+            | LoadError::FrameList { path, .. }
             | LoadError::SettingJson { path, .. }
             | LoadError::SettingField { path, .. }
             | LoadError::MissingTrajectory { path }

@@ -6,6 +6,7 @@
 //! [`write_set`] writes a native set.
 
 pub mod bag;
+pub mod camera;
 mod describe;
 mod error;
 mod load;
@@ -29,6 +30,7 @@ pub use read::{MEMORY_PER_FILE_BYTE, available_memory};
 pub use resample::SpanProblem;
 pub use setting::{ObjectShape, PushSide, Setting, TrajectoryEntry};
 
+use self::camera::CameraStream;
 use crate::trajectory::Trajectory;
 
 /// One loaded push.
@@ -47,6 +49,8 @@ pub struct Recording {
     pub trajectory: Arc<Trajectory>,
     /// Recoverable defects found while loading, each a sentence with numbers.
     pub warnings: Vec<String>,
+    /// What its cameras saw: one stream of frames per camera, read when shown.
+    pub cameras: Vec<Arc<CameraStream>>,
 }
 
 /// Pushes that share one setting: a native set folder, or the MIT files of one surface and shape in

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use super::choice::BagChoice;
 use super::spec::TopicSpec;
-use super::split::{BagImport, import};
+use super::split::{BagImport, import_with_cameras};
 use crate::recording::error::LoadError;
 use crate::recording::setting::{Setting, TrajectoryEntry};
 use crate::recording::{Recording, RecordingSet};
@@ -83,7 +83,13 @@ fn source_of(bag: &Path, index: usize, many: bool) -> PathBuf {
 /// The set's folder is the bag's.
 pub fn open(bag: &Path, choice: &BagChoice) -> Result<RecordingSet, LoadError> {
     let base = choice.setting.resolve()?;
-    let import = import(bag, &choice.pusher, &choice.object, choice.options)?;
+    let import = import_with_cameras(
+        bag,
+        &choice.pusher,
+        &choice.object,
+        &choice.cameras,
+        choice.options,
+    )?;
     let setting = Arc::new(setting_for(
         bag,
         &import,
@@ -104,6 +110,7 @@ pub fn open(bag: &Path, choice: &BagChoice) -> Result<RecordingSet, LoadError> {
             entry: Some(entry.clone()),
             trajectory: Arc::new(push.trajectory),
             warnings: push.warnings,
+            cameras: push.cameras,
         })
         .collect();
     Ok(RecordingSet {

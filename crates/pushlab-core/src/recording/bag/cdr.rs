@@ -57,7 +57,7 @@ pub struct PlanarPose {
 pub type DecodeError = String;
 
 /// A cursor over one CDR message.
-struct Cdr<'a> {
+pub(super) struct Cdr<'a> {
     /// The bytes after the encapsulation header (alignment counts from here).
     body: &'a [u8],
     pos: usize,
@@ -65,7 +65,7 @@ struct Cdr<'a> {
 }
 
 impl<'a> Cdr<'a> {
-    fn new(bytes: &'a [u8]) -> Result<Self, DecodeError> {
+    pub(super) fn new(bytes: &'a [u8]) -> Result<Self, DecodeError> {
         let Some((header, body)) = bytes.split_first_chunk::<4>() else {
             return Err(format!(
                 "{} bytes, shorter than the 4-byte CDR header",
@@ -105,7 +105,7 @@ impl<'a> Cdr<'a> {
         Ok(bytes)
     }
 
-    fn u32(&mut self, what: &str) -> Result<u32, DecodeError> {
+    pub(super) fn u32(&mut self, what: &str) -> Result<u32, DecodeError> {
         let b = self.take::<4>(what)?;
         Ok(if self.little {
             u32::from_le_bytes(b)
@@ -123,8 +123,33 @@ impl<'a> Cdr<'a> {
         })
     }
 
+    pub(super) fn u8(&mut self, what: &str) -> Result<u8, DecodeError> {
+        Ok(self.take::<1>(what)?[0])
+    }
+
+    /// What is left of the message after the fields read so far.
+    pub(super) fn rest(&self) -> &'a [u8] {
+        self.body.get(self.pos..).unwrap_or(&[])
+    }
+
+    /// A `sequence<uint8>`: its bytes, borrowed.
+    pub(super) fn bytes(&mut self, what: &str) -> Result<&'a [u8], DecodeError> {
+        let len = self.u32(what)? as usize;
+        let bytes = self
+            .body
+            .get(self.pos..self.pos.saturating_add(len))
+            .ok_or_else(|| {
+                format!(
+                    "the {what} claims {len} bytes but only {} are left",
+                    self.body.len() - self.pos
+                )
+            })?;
+        self.pos += len;
+        Ok(bytes)
+    }
+
     /// A string's bytes without the terminating NUL.
-    fn string(&mut self, what: &str) -> Result<&'a [u8], DecodeError> {
+    pub(super) fn string(&mut self, what: &str) -> Result<&'a [u8], DecodeError> {
         let len = self.u32(what)? as usize;
         let bytes = self
             .body
@@ -141,7 +166,7 @@ impl<'a> Cdr<'a> {
 
     /// `builtin_interfaces/Time` as nanoseconds (negative stamps count as zero: unset).
     #[inline]
-    fn stamp(&mut self) -> Result<u64, DecodeError> {
+    pub(super) fn stamp(&mut self) -> Result<u64, DecodeError> {
         let sec = self.u32("header stamp")? as i32;
         let nanosec = self.u32("header stamp")?;
         Ok(if sec < 0 {
@@ -152,7 +177,7 @@ impl<'a> Cdr<'a> {
     }
 
     /// `std_msgs/Header`: the stamp; the frame id is skipped.
-    fn header(&mut self) -> Result<u64, DecodeError> {
+    pub(super) fn header(&mut self) -> Result<u64, DecodeError> {
         let stamp = self.stamp()?;
         self.string("header frame_id")?;
         Ok(stamp)

@@ -48,6 +48,8 @@ pub struct BagChoice {
     pub object: TopicSpec,
     pub setting: SettingSource,
     pub options: ImportOptions,
+    /// Camera topics whose frames are shown beside the push (none, one or several).
+    pub cameras: Vec<String>,
 }
 
 /// The file as written: flat, readable, with a version.
@@ -66,6 +68,8 @@ struct ChoiceFile {
     split_gap_s: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     rate_hz: Option<f64>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    cameras: Vec<String>,
 }
 
 /// The remembered-choice file of a bag (an `.mcap` file or a rosbag2 folder): beside it, named
@@ -153,6 +157,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<BagChoice, LoadError> {
             split_gap_s: positive("split_gap_s", file.split_gap_s)?,
             rate_hz: positive("rate_hz", file.rate_hz)?.map(|hz| hz.min(MAX_RATE_HZ)),
         },
+        cameras: file.cameras,
     })
 }
 
@@ -181,6 +186,7 @@ pub fn remember(bag: &Path, choice: &BagChoice) -> std::io::Result<PathBuf> {
         setting,
         split_gap_s: choice.options.split_gap_s,
         rate_hz: choice.options.rate_hz,
+        cameras: choice.cameras.clone(),
     };
     let mut json = serde_json::to_vec_pretty(&file).map_err(std::io::Error::other)?;
     json.push(b'\n');

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::mcap::{Bytes, FileSource, Source};
 use super::problem::BagProblem;
 use crate::recording::error::LoadError;
 
@@ -66,4 +67,26 @@ fn listed_files(yaml: &str) -> Vec<String> {
         }
     }
     files
+}
+
+/// Runs `read` on one `.mcap` file of a bag — opened for reading at offsets, or the bytes given
+/// (one file held in memory) — and names the file in what goes wrong.
+pub(super) fn read_file<T>(
+    file: &Path,
+    bytes: Option<&[u8]>,
+    read: impl FnOnce(&dyn Source) -> Result<T, BagProblem>,
+) -> Result<T, LoadError> {
+    let fail = |problem| LoadError::Bag {
+        path: file.to_path_buf(),
+        problem,
+    };
+    match bytes {
+        Some(bytes) => read(&Bytes(bytes)).map_err(fail),
+        None => {
+            let source = std::fs::File::open(file)
+                .and_then(FileSource::new)
+                .map_err(|e| LoadError::io(file, e))?;
+            read(&source).map_err(fail)
+        }
+    }
 }

@@ -20,10 +20,12 @@
 //! and a bag opened as a recording set (`as_set`); what can go wrong is [`BagProblem`].
 
 mod as_set;
+mod camera;
 mod cdr;
 pub mod choice;
 mod files;
-mod mcap_file;
+mod image_msg;
+mod mcap;
 mod problem;
 mod spec;
 mod split;
@@ -36,11 +38,13 @@ pub use self::as_set::{open, setting_for};
 pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
 pub use self::choice::{BagChoice, SettingSource};
 pub use self::files::{bag_files, is_bag};
+pub use self::image_msg::{ImageKind, encode_compressed_image};
 pub use self::problem::BagProblem;
 pub use self::spec::TopicSpec;
 pub use self::split::{
-    BagImport, BagPush, ImportOptions, MAX_RATE_HZ, import, import_bytes, resample_streams,
+    BagImport, BagPush, ImportOptions, MAX_RATE_HZ, import, import_bytes,
+    import_bytes_with_cameras, import_with_cameras, resample_streams,
 };
 pub use self::streams::{BagStreams, read_streams, read_streams_bytes};
-pub use self::topic_info::{MAX_LISTED_FRAMES, TF_STATIC, TopicInfo};
+pub use self::topic_info::{CameraInfo, MAX_LISTED_FRAMES, TF_STATIC, TopicInfo};
 pub use self::topics::{topics, topics_bytes};

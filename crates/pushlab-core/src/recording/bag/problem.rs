@@ -31,6 +31,15 @@ pub enum BagProblem {
         available: String,
     },
     #[error(
+        "topic `{topic}` carries {type_name} (encoding {encoding}), not camera frames; pushlab reads \
+         sensor_msgs/msg/CompressedImage (jpeg, png) and sensor_msgs/msg/Image in CDR"
+    )]
+    NotACamera {
+        topic: String,
+        type_name: String,
+        encoding: String,
+    },
+    #[error(
         "topic `{topic}` is a tf2_msgs/msg/TFMessage: name the child frame, as `{topic}:FRAME`{}",
         seen_frames(seen)
     )]
@@ -146,6 +155,17 @@ fn topic_listing(topics: &[TopicInfo]) -> String {
         })
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+impl BagProblem {
+    /// The problem with the chunk's index filled in, for a problem found inside a chunk before its
+    /// index was known.
+    pub(crate) fn in_chunk(self, index: usize) -> Self {
+        match self {
+            BagProblem::Chunk { why, .. } => BagProblem::Chunk { index, why },
+            other => other,
+        }
+    }
 }
 
 /// What to do about a span too long to be one push: split the bag at its pauses.

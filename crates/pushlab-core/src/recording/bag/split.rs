@@ -2,6 +2,7 @@
 //! resampling onto one grid, by the rules MIT files follow ([`crate::recording::resample`]).
 
 use std::path::Path;
+use std::sync::Arc;
 
 use nalgebra::Point2;
 
@@ -10,6 +11,7 @@ use super::spec::TopicSpec;
 use super::streams::{BagStreams, read_streams, read_streams_bytes};
 use super::topic_info::TopicInfo;
 use crate::geometry::Pose2;
+use crate::recording::camera::CameraStream;
 use crate::recording::error::LoadError;
 use crate::recording::resample::{Interpolator, MIN_ROWS, SpanProblem, clean, grid, unwrap_yaw};
 use crate::trajectory::{Frame, Trajectory};
@@ -30,7 +32,7 @@ pub struct ImportOptions {
 }
 
 /// One push taken from a bag.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct BagPush {
     /// Resampled frames, time from 0.
     pub trajectory: Trajectory,
@@ -38,24 +40,42 @@ pub struct BagPush {
     pub start_unix_s: f64,
     /// Recoverable defects found, each a sentence with numbers.
     pub warnings: Vec<String>,
+    /// The frames of the cameras asked for, on the push's clock: those from a second before its
+    /// first frame to a second after its last.
+    pub cameras: Vec<Arc<CameraStream>>,
 }
 
+/// Seconds of camera frames kept before a push's first frame and after its last: enough for the
+/// frame shown at its start, whatever the camera's rate.
+const CAMERA_MARGIN_S: f64 = 1.0;
+
 /// A bag imported: its pushes, the grid rate used and the bag's topics.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct BagImport {
     pub pushes: Vec<BagPush>,
     pub rate_hz: f64,
     pub topics: Vec<TopicInfo>,
 }
 
-/// Reads and imports a bag (an `.mcap` file or a rosbag2 folder).
+/// Reads and imports the poses of a bag (an `.mcap` file or a rosbag2 folder).
 pub fn import(
     path: &Path,
     pusher: &TopicSpec,
     object: &TopicSpec,
     options: ImportOptions,
 ) -> Result<BagImport, LoadError> {
-    let streams = read_streams(path, pusher, object)?;
+    import_with_cameras(path, pusher, object, &[], options)
+}
+
+/// [`import`], with the frames of the camera topics named indexed for each push, in one pass.
+pub fn import_with_cameras(
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+    cameras: &[String],
+    options: ImportOptions,
+) -> Result<BagImport, LoadError> {
+    let streams = read_streams(path, pusher, object, cameras)?;
     finish(path, &streams, pusher, object, options)
 }
 
@@ -67,7 +87,19 @@ pub fn import_bytes(
     object: &TopicSpec,
     options: ImportOptions,
 ) -> Result<BagImport, LoadError> {
-    let streams = read_streams_bytes(bytes, path, pusher, object)?;
+    import_bytes_with_cameras(bytes, path, pusher, object, &[], options)
+}
+
+/// [`import_bytes`] with cameras (see [`import_with_cameras`]).
+pub fn import_bytes_with_cameras(
+    bytes: &[u8],
+    path: &Path,
+    pusher: &TopicSpec,
+    object: &TopicSpec,
+    cameras: &[String],
+    options: ImportOptions,
+) -> Result<BagImport, LoadError> {
+    let streams = read_streams_bytes(bytes, path, pusher, object, cameras)?;
     finish(path, &streams, pusher, object, options)
 }
 
@@ -160,7 +192,17 @@ pub fn resample_streams(
                 unwrap_yaw(&object_key, &mut o, &mut warnings);
                 match grid(&t, &o, rate_hz) {
                     Ok((start, count)) => {
-                        pushes.push(resample(&t, &o, start, count, rate_hz, base_s, warnings));
+                        let mut push = resample(&t, &o, start, count, rate_hz, base_s, warnings);
+                        let span = (
+                            -CAMERA_MARGIN_S,
+                            push.trajectory.duration() + CAMERA_MARGIN_S,
+                        );
+                        push.cameras = (streams.cameras.iter())
+                            .map(|c| {
+                                Arc::new(c.stream(&streams.bag, streams.base_unix_ns, start, span))
+                            })
+                            .collect();
+                        pushes.push(push);
                         None
                     }
                     Err(span) => Some(BagProblem::Span(span)),
@@ -221,6 +263,7 @@ fn resample(
         trajectory: Trajectory::new(frames),
         start_unix_s: base_s + start,
         warnings,
+        cameras: Vec::new(),
     }
 }
 

@@ -3,17 +3,19 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
+use super::camera::{BagBytes, FoundCamera};
 use super::cdr::{self, PoseType};
-use super::files::bag_files;
-use super::mcap_file::{ChannelInfo, for_each_message};
+use super::files::{bag_files, read_file};
+use super::image_msg::{self, ImageKind};
+use super::mcap::{ChannelInfo, Visit, Visitor, Want, read_messages};
 use super::problem::BagProblem;
 use super::spec::TopicSpec;
 use super::tf_tree::{Chain, Transforms};
 use super::topic_info::{TF_STATIC, TopicInfo};
 use super::topics::TopicTable;
 use crate::recording::error::LoadError;
-use crate::recording::read::read_file;
 use crate::recording::resample::MAX_POSITION_M;
 
 /// The raw pose streams of the pusher and the object, rows `[t, x, y, yaw]` with `t` in seconds
@@ -29,6 +31,10 @@ pub struct BagStreams {
     /// Recoverable oddities found while reading (stamps replaced by log times, `/tf` poses dropped
     /// outside a moving link's span).
     pub warnings: Vec<String>,
+    /// The frames of the camera topics asked for, in the order asked.
+    pub cameras: Vec<FoundCamera>,
+    /// Where the bag's bytes are, for reading the frames later.
+    pub bag: BagBytes,
 }
 
 /// Per-stream reading state.
@@ -48,17 +54,23 @@ enum Role {
     /// Transforms, kept in the given slot of [`Transforms`] for resolving the tree after reading;
     /// the streams flagged read their child frames from this topic.
     Tf([bool; 2], usize),
+    /// Frames of the camera asked for in this place.
+    Camera(usize),
 }
 
-/// Reads the pusher's and the object's poses from a bag. A topic that is missing or of a type
-/// pushlab cannot read is refused with the bag's topics; a `/tf` frame never published, with the
-/// frames that were; two `/tf` frames in trees of different roots, with both chains.
+/// Reads the pusher's and the object's poses from a bag, and indexes the frames of the camera
+/// topics named. A topic that is missing or of a type pushlab cannot read is refused with the bag's
+/// topics; a `/tf` frame never published, with the frames that were; two `/tf` frames in trees of
+/// different roots, with both chains.
 pub fn read_streams(
     path: &Path,
     pusher: &TopicSpec,
     object: &TopicSpec,
+    cameras: &[String],
 ) -> Result<BagStreams, LoadError> {
-    read_streams_in(path, &bag_files(path)?, read_file, pusher, object)
+    let files = bag_files(path)?;
+    let bag = BagBytes::Files(files.clone().into());
+    read_streams_in(path, &files, None, bag, pusher, object, cameras)
 }
 
 /// [`read_streams`] of one `.mcap` file held in memory; `path` is only used in messages.
@@ -67,22 +79,26 @@ pub fn read_streams_bytes(
     path: &Path,
     pusher: &TopicSpec,
     object: &TopicSpec,
+    cameras: &[String],
 ) -> Result<BagStreams, LoadError> {
-    read_streams_in(
-        path,
-        &[path.to_path_buf()],
-        |_| Ok(bytes.to_vec()),
-        pusher,
-        object,
-    )
+    // The bytes are kept for reading frames later only when there are frames to read.
+    let kept = if cameras.is_empty() { &[][..] } else { bytes };
+    let bag = BagBytes::Memory {
+        path: path.to_path_buf(),
+        bytes: Arc::from(kept),
+    };
+    let files = [path.to_path_buf()];
+    read_streams_in(path, &files, Some(bytes), bag, pusher, object, cameras)
 }
 
 fn read_streams_in(
     path: &Path,
     files: &[PathBuf],
-    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
+    bytes: Option<&[u8]>,
+    bag: BagBytes,
     pusher: &TopicSpec,
     object: &TopicSpec,
+    cameras: &[String],
 ) -> Result<BagStreams, LoadError> {
     let mut streams = [pusher, object].map(|spec| Stream {
         spec,
@@ -92,64 +108,27 @@ fn read_streams_in(
     });
     let mut table = TopicTable::default();
     let mut transforms = Transforms::default();
-    // `/tf_static` is read only when a child frame is asked for: then it may hold links of its tree.
     let wants_tree = pusher.child_frame.is_some() || object.child_frame.is_some();
     let mut base: Option<u64> = None;
+    let mut found: Vec<Option<FoundCamera>> = vec![None; cameras.len()];
     for (file_number, file) in files.iter().enumerate() {
-        let bytes = load(file)?;
-        let mut channels = HashMap::new();
-        let mut roles: HashMap<u16, Option<Role>> = HashMap::new();
         for stream in &mut streams {
             stream.index = 0;
         }
         transforms.new_file();
-        let fail = |problem| LoadError::Bag {
-            path: file.clone(),
-            problem,
+        let mut visitor = PoseVisitor {
+            streams: &mut streams,
+            transforms: &mut transforms,
+            base: &mut base,
+            roles: HashMap::new(),
+            wants_tree,
+            file_number,
+            camera_topics: cameras,
+            cameras: &mut found,
         };
-        for_each_message(&bytes, &mut channels, |channel, id, log_time, payload| {
-            table.note(channel, log_time);
-            let role = *roles.entry(id).or_insert_with(|| {
-                let kind = PoseType::from_schema(&channel.type_name)
-                    .filter(|_| channel.encoding == "cdr")?;
-                let feeds = [pusher, object].map(|spec| spec.topic == channel.topic);
-                if kind == PoseType::TfMessage {
-                    let keep = feeds.contains(&true) || (wants_tree && channel.topic == TF_STATIC);
-                    return keep.then(|| Role::Tf(feeds, transforms.slot(&channel.topic)));
-                }
-                feeds.contains(&true).then_some(Role::Poses(feeds, kind))
-            });
-            match role {
-                None => Ok(()),
-                Some(Role::Poses(feeds, kind)) => read_message(
-                    &mut streams,
-                    feeds,
-                    kind,
-                    channel,
-                    log_time,
-                    payload,
-                    &mut base,
-                ),
-                Some(Role::Tf(feeds, slot)) => {
-                    let frames = [0, 1].map(|s| {
-                        feeds[s]
-                            .then_some(streams[s].spec.child_frame.as_deref())
-                            .flatten()
-                    });
-                    let firsts = transforms.record(slot, file_number, log_time, payload, frames)?;
-                    if (0..2).any(|s| feeds[s] && frames[s].is_none()) {
-                        return Err(need_child_frame(&channel.topic, payload));
-                    }
-                    for ns in firsts.into_iter().flatten() {
-                        base.get_or_insert(ns);
-                    }
-                    Ok(())
-                }
-            }
-        })
-        .map_err(fail)?;
-        for channel in channels.values() {
-            table.add_silent(channel);
+        let channels = read_file(file, bytes, |source| read_messages(source, &mut visitor))?;
+        for (channel, stats) in channels.values() {
+            table.add(channel, stats);
         }
     }
     let bag_error = |problem| LoadError::Bag {
@@ -211,6 +190,31 @@ fn read_streams_in(
             ));
         }
     }
+    let mut found_cameras = Vec::with_capacity(cameras.len());
+    for (topic, camera) in cameras.iter().zip(found) {
+        let Some(camera) = camera else {
+            let problem = match table.get(topic) {
+                None => BagProblem::MissingTopic {
+                    topic: topic.clone(),
+                    available: table.listing(),
+                },
+                Some(info) => BagProblem::NotACamera {
+                    topic: topic.clone(),
+                    type_name: info.type_name.clone(),
+                    encoding: info.encoding.clone(),
+                },
+            };
+            return Err(bag_error(problem));
+        };
+        if camera.unstamped > 0 {
+            warnings.push(format!(
+                "camera {topic}: {} of {} frame(s) without a header stamp; their log time used",
+                camera.unstamped,
+                camera.frames.len()
+            ));
+        }
+        found_cameras.push(camera);
+    }
     let [pusher_stream, object_stream] = streams;
     Ok(BagStreams {
         pusher: pusher_stream.rows,
@@ -218,6 +222,8 @@ fn read_streams_in(
         base_unix_ns: base.unwrap_or(0),
         topics: table.into_sorted(),
         warnings,
+        cameras: found_cameras,
+        bag,
     })
 }
 
@@ -306,6 +312,105 @@ fn bad_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> BagProblem {
         topic: topic.to_owned(),
         index,
         why,
+    }
+}
+
+/// The pass over one file of a bag for the pusher's and the object's poses.
+struct PoseVisitor<'a, 'spec> {
+    streams: &'a mut [Stream<'spec>; 2],
+    transforms: &'a mut Transforms,
+    base: &'a mut Option<u64>,
+    /// What each channel is read for, decided once, when it is declared.
+    roles: HashMap<u16, Role>,
+    /// Whether `/tf_static` is read: only when a child frame is asked for, since then it may hold
+    /// links of its tree.
+    wants_tree: bool,
+    file_number: usize,
+    /// The camera topics asked for, and their frames as found (`None` until the topic is seen as a
+    /// camera).
+    camera_topics: &'a [String],
+    cameras: &'a mut Vec<Option<FoundCamera>>,
+}
+
+impl Visitor for PoseVisitor<'_, '_> {
+    fn want(&mut self, channel_id: u16, channel: &ChannelInfo) -> Want {
+        if let Some(slot) = self.camera_topics.iter().position(|t| *t == channel.topic)
+            && let Some(kind) =
+                ImageKind::from_schema(&channel.type_name).filter(|_| channel.encoding == "cdr")
+        {
+            self.cameras[slot].get_or_insert_with(|| FoundCamera::new(channel.topic.clone(), kind));
+            self.roles.insert(channel_id, Role::Camera(slot));
+            return Want::Head(image_msg::STAMP_BYTES);
+        }
+        let role = (|| {
+            let kind =
+                PoseType::from_schema(&channel.type_name).filter(|_| channel.encoding == "cdr")?;
+            let feeds = self
+                .streams
+                .each_ref()
+                .map(|s| s.spec.topic == channel.topic);
+            if kind == PoseType::TfMessage {
+                let keep = feeds.contains(&true) || (self.wants_tree && channel.topic == TF_STATIC);
+                return keep.then(|| Role::Tf(feeds, self.transforms.slot(&channel.topic)));
+            }
+            feeds.contains(&true).then_some(Role::Poses(feeds, kind))
+        })();
+        match role {
+            Some(role) => {
+                self.roles.insert(channel_id, role);
+                Want::Payload
+            }
+            None => Want::Nothing,
+        }
+    }
+
+    fn message(&mut self, visit: Visit<'_>) -> Result<(), BagProblem> {
+        match self.roles.get(&visit.channel_id).copied() {
+            None => Ok(()),
+            Some(Role::Camera(slot)) => {
+                if let Some(camera) = &mut self.cameras[slot] {
+                    camera.note(
+                        visit.data,
+                        visit.log_time,
+                        self.file_number as u32,
+                        visit.at,
+                    );
+                }
+                Ok(())
+            }
+            Some(Role::Poses(feeds, kind)) => read_message(
+                self.streams,
+                feeds,
+                kind,
+                visit.channel,
+                visit.log_time,
+                visit.data,
+                self.base,
+            ),
+            Some(Role::Tf(feeds, slot)) => {
+                let payload = visit.data;
+                let streams = &*self.streams;
+                let frames = [0, 1].map(|s| {
+                    feeds[s]
+                        .then_some(streams[s].spec.child_frame.as_deref())
+                        .flatten()
+                });
+                let firsts = (self.transforms).record(
+                    slot,
+                    self.file_number,
+                    visit.log_time,
+                    payload,
+                    frames,
+                )?;
+                if (0..2).any(|s| feeds[s] && frames[s].is_none()) {
+                    return Err(need_child_frame(&visit.channel.topic, payload));
+                }
+                for ns in firsts.into_iter().flatten() {
+                    self.base.get_or_insert(ns);
+                }
+                Ok(())
+            }
+        }
     }
 }
 

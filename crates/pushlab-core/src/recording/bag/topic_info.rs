@@ -2,6 +2,7 @@
 //! reader: the listing fills it, problems and choices name it.
 
 use super::cdr::{self, PoseType};
+use super::image_msg::ImageKind;
 
 /// The topic whose transforms hold for all times (`tf2_ros::StaticTransformBroadcaster`'s).
 pub const TF_STATIC: &str = "/tf_static";
@@ -20,12 +21,36 @@ pub struct TopicInfo {
     /// For a `tf2_msgs/msg/TFMessage` topic, the child frames its transforms carry, in order of
     /// first appearance (at most [`MAX_LISTED_FRAMES`]): what `TOPIC:CHILD_FRAME` can name.
     pub child_frames: Vec<String>,
+    /// For a camera topic, what its first frame says of its frames.
+    pub camera: Option<CameraInfo>,
+}
+
+/// What a camera topic's first frame says: its encoding (a CompressedImage's format string, an
+/// Image's pixel encoding) and its size, when the first bytes tell it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CameraInfo {
+    pub encoding: String,
+    pub size: Option<(u32, u32)>,
 }
 
 /// Most child frames listed per TF topic: a tree of a few robots; more is listed as this many.
 pub const MAX_LISTED_FRAMES: usize = 64;
 
 impl TopicInfo {
+    /// Whether its messages are camera frames pushlab reads.
+    pub fn is_camera(&self) -> bool {
+        self.encoding == "cdr" && ImageKind::from_schema(&self.type_name).is_some()
+    }
+
+    /// Lists a child frame, once, up to [`MAX_LISTED_FRAMES`].
+    pub(super) fn add_frame(&mut self, frame: &str) {
+        if self.child_frames.len() < MAX_LISTED_FRAMES
+            && !self.child_frames.iter().any(|f| f == frame)
+        {
+            self.child_frames.push(frame.to_owned());
+        }
+    }
+
     /// Messages per second of log time (0 for fewer than two messages).
     pub fn rate_hz(&self) -> f64 {
         let span = self.last_ns.saturating_sub(self.first_ns) as f64 * 1e-9;

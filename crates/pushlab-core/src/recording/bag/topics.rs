@@ -4,11 +4,13 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use super::files::bag_files;
-use super::mcap_file::{ChannelInfo, for_each_message};
-use super::topic_info::TopicInfo;
+use super::cdr::PoseType;
+use super::files::{bag_files, read_file};
+use super::image_msg::{ImageKind, describe};
+use super::mcap::{ChannelInfo, ChannelStats, Visit, Visitor, Want, read_messages};
+use super::problem::BagProblem;
+use super::topic_info::{CameraInfo, TopicInfo};
 use crate::recording::error::LoadError;
-use crate::recording::read::read_file;
 
 /// Topics by name, accumulating over the files of a bag. Looked up by `&str` for every message of
 /// a bag, so a topic's name is copied once, when it is first seen, not per message.
@@ -28,33 +30,27 @@ impl TopicTable {
             None => {
                 self.by_topic
                     .insert(channel.topic.clone(), self.infos.len());
-                self.infos.push(TopicInfo {
-                    topic: channel.topic.clone(),
-                    type_name: channel.type_name.clone(),
-                    encoding: channel.encoding.clone(),
-                    count: 0,
-                    first_ns: 0,
-                    last_ns: 0,
-                    child_frames: Vec::new(),
-                });
+                self.infos.push(empty_topic(channel));
                 self.infos.len() - 1
             }
         };
         &mut self.infos[index]
     }
 
-    /// Counts one message of the channel's topic at `log_time`; returns the topic's entry.
-    pub(super) fn note(&mut self, channel: &ChannelInfo, log_time: u64) -> &mut TopicInfo {
+    /// Adds one file's messages of the channel's topic; returns the topic's entry.
+    pub(super) fn add(&mut self, channel: &ChannelInfo, stats: &ChannelStats) -> &mut TopicInfo {
         let info = self.entry(channel);
-        // The span starts at the first message, even when an earlier file of the bag listed the
-        // channel without any (its 0 is not a time).
-        if info.count == 0 {
-            info.first_ns = log_time;
-            info.last_ns = log_time;
+        if stats.count > 0 {
+            // The span starts at the first message, even when an earlier file of the bag listed
+            // the channel without any (its 0 is not a time).
+            if info.count == 0 {
+                info.first_ns = stats.first;
+                info.last_ns = stats.last;
+            }
+            info.count += stats.count;
+            info.first_ns = info.first_ns.min(stats.first);
+            info.last_ns = info.last_ns.max(stats.last);
         }
-        info.count += 1;
-        info.first_ns = info.first_ns.min(log_time);
-        info.last_ns = info.last_ns.max(log_time);
         info
     }
 
@@ -67,11 +63,6 @@ impl TopicTable {
     pub(super) fn into_sorted(mut self) -> Vec<TopicInfo> {
         self.infos.sort_by(|a, b| a.topic.cmp(&b.topic));
         self.infos
-    }
-
-    /// A channel of a file that carried no message on it: listed, with no messages.
-    pub(super) fn add_silent(&mut self, channel: &ChannelInfo) {
-        self.entry(channel);
     }
 
     /// `"/a (type, N messages), /b (…)"` for error messages.
@@ -89,37 +80,86 @@ impl TopicTable {
     }
 }
 
-/// Lists the topics of a bag with their types, message counts and log-time span.
+/// Lists the topics of a bag with their types, message counts and log-time span. Only the messages
+/// of TF topics (for their child frames) and each camera's first frame (for its encoding and size)
+/// are read; the counts come from the files' indexes.
 pub fn topics(path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
-    topics_in(&bag_files(path)?, read_file)
+    topics_in(&bag_files(path)?, None)
 }
 
 /// Lists the topics of one `.mcap` file held in memory; `path` is only used in messages.
 pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
-    topics_in(&[path.to_path_buf()], |_| Ok(bytes.to_vec()))
+    topics_in(&[path.to_path_buf()], Some(bytes))
 }
 
-fn topics_in(
-    files: &[PathBuf],
-    mut load: impl FnMut(&Path) -> Result<Vec<u8>, LoadError>,
-) -> Result<Vec<TopicInfo>, LoadError> {
+fn topics_in(files: &[PathBuf], bytes: Option<&[u8]>) -> Result<Vec<TopicInfo>, LoadError> {
     let mut table = TopicTable::default();
     for file in files {
-        let bytes = load(file)?;
-        let mut channels = HashMap::new();
-        for_each_message(&bytes, &mut channels, |channel, _, log_time, payload| {
-            table.note(channel, log_time).note_frames(payload);
-            Ok(())
-        })
-        .map_err(|problem| LoadError::Bag {
-            path: file.clone(),
-            problem,
-        })?;
-        for channel in channels.values() {
-            table.add_silent(channel);
+        let mut details = Details::default();
+        let channels = read_file(file, bytes, |source| read_messages(source, &mut details))?;
+        for (id, (channel, stats)) in &channels {
+            let info = table.add(channel, stats);
+            if let Some(found) = details.0.get(id) {
+                for frame in &found.child_frames {
+                    info.add_frame(frame);
+                }
+                if info.camera.is_none() {
+                    info.camera.clone_from(&found.camera);
+                }
+            }
         }
     }
     Ok(table.into_sorted())
+}
+
+/// A channel's topic, with no messages yet.
+fn empty_topic(channel: &ChannelInfo) -> TopicInfo {
+    TopicInfo {
+        topic: channel.topic.clone(),
+        type_name: channel.type_name.clone(),
+        encoding: channel.encoding.clone(),
+        count: 0,
+        first_ns: 0,
+        last_ns: 0,
+        child_frames: Vec::new(),
+        camera: None,
+    }
+}
+
+/// What a listing reads of a file: the child frames of its TF topics, and the first frame of each
+/// camera topic (its encoding and size).
+#[derive(Default)]
+struct Details(HashMap<u16, TopicInfo>);
+
+/// Bytes of a camera message's start read for its encoding and size: the header, the format or
+/// size fields, and a JPEG's frame header or a PNG's IHDR.
+const CAMERA_HEAD: usize = 4096;
+
+impl Visitor for Details {
+    fn want(&mut self, _: u16, channel: &ChannelInfo) -> Want {
+        if channel.encoding != "cdr" {
+            return Want::Nothing;
+        }
+        if PoseType::from_schema(&channel.type_name) == Some(PoseType::TfMessage) {
+            Want::Payload
+        } else if ImageKind::from_schema(&channel.type_name).is_some() {
+            Want::First(CAMERA_HEAD)
+        } else {
+            Want::Nothing
+        }
+    }
+
+    fn message(&mut self, visit: Visit<'_>) -> Result<(), BagProblem> {
+        let info = (self.0.entry(visit.channel_id)).or_insert_with(|| empty_topic(visit.channel));
+        match ImageKind::from_schema(&visit.channel.type_name) {
+            Some(kind) => {
+                let (encoding, size) = describe(kind, visit.data);
+                info.camera = Some(CameraInfo { encoding, size });
+            }
+            None => info.note_frames(visit.data),
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -135,10 +175,13 @@ mod tests {
             encoding: "cdr".to_owned(),
         };
         let mut table = TopicTable::default();
-        table.add_silent(&channel);
-        for t in [3_000_000_000, 4_000_000_000, 5_000_000_000] {
-            table.note(&channel, t);
-        }
+        table.add(&channel, &ChannelStats::default());
+        let stats = ChannelStats {
+            count: 3,
+            first: 3_000_000_000,
+            last: 5_000_000_000,
+        };
+        table.add(&channel, &stats);
         let info = table.get("/object/pose").unwrap();
         assert_eq!(
             (info.count, info.first_ns, info.last_ns),

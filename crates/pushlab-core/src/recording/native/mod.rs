@@ -5,6 +5,7 @@
 //! Values are written with Rust's shortest round-trip float formatting, so a write → read cycle
 //! gives back bit-identical numbers.
 
+pub mod images;
 mod problem;
 
 use std::path::{Path, PathBuf};
@@ -13,6 +14,7 @@ use std::sync::Arc;
 use nalgebra::Point2;
 
 pub use self::problem::{CSV_HEADER, CsvProblem};
+use super::camera::CameraStream;
 use super::error::{LoadError, WriteError};
 use super::read::read_file;
 use super::{Recording, RecordingSet, Setting};
@@ -297,6 +299,7 @@ pub(crate) fn read_set_filtered(
             Ok(bytes) => match parse_csv(&bytes, &path) {
                 Ok(parsed) => recordings.push(Recording {
                     name: file_stem(&path),
+                    cameras: cameras_of(&path, &mut errors),
                     source: path,
                     setting: Arc::clone(&setting),
                     entry: index.map(|i| setting.trajectories[i].clone()),
@@ -320,6 +323,7 @@ pub(crate) fn read_set_filtered(
         let parsed = parse_csv(&bytes, only)?;
         recordings.push(Recording {
             name: file_stem(only),
+            cameras: cameras_of(only, &mut errors),
             source: only.to_path_buf(),
             setting: Arc::clone(&setting),
             entry: None,
@@ -335,6 +339,18 @@ pub(crate) fn read_set_filtered(
         },
         errors,
     ))
+}
+
+/// The cameras of the recording in `csv`; a camera whose frame list is broken is left out and its
+/// error listed with the set's, so that the poses still open.
+fn cameras_of(csv: &Path, errors: &mut Vec<LoadError>) -> Vec<Arc<CameraStream>> {
+    match images::read_cameras(csv) {
+        Ok(cameras) => cameras.into_iter().map(Arc::new).collect(),
+        Err(e) => {
+            errors.push(e);
+            Vec::new()
+        }
+    }
 }
 
 fn csv_files_in(dir: &Path) -> Result<Vec<PathBuf>, LoadError> {

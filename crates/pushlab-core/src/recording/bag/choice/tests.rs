@@ -11,6 +11,7 @@ fn topic(name: &str, type_name: &str, frames: &[&str]) -> TopicInfo {
         count: 100,
         first_ns: 0,
         last_ns: 1_000_000_000,
+        camera: None,
         child_frames: frames.iter().map(|f| (*f).to_owned()).collect(),
     }
 }
@@ -143,6 +144,7 @@ fn a_remembered_choice_reads_back_as_written() {
             rate_hz: Some(100.0),
             split_gap_s: Some(0.5),
         },
+        cameras: vec!["/camera/image_raw/compressed".to_owned()],
     };
     assert_eq!(remembered(&bag).unwrap(), None);
     let written = remember(&bag, &from_file).unwrap();
@@ -152,6 +154,7 @@ fn a_remembered_choice_reads_back_as_written() {
         text.contains("\"setting_file\": \"setting.json\""),
         "{text}"
     );
+    assert!(text.contains("/camera/image_raw/compressed"), "{text}");
     assert_eq!(remembered(&bag).unwrap(), Some(from_file));
 
     let mut setting = entered();
@@ -160,6 +163,7 @@ fn a_remembered_choice_reads_back_as_written() {
         object: "/object".parse().unwrap(),
         setting: SettingSource::Entered(setting.clone()),
         options: ImportOptions::default(),
+        cameras: Vec::new(),
     };
     remember(&bag, &typed).unwrap();
     assert_eq!(remembered(&bag).unwrap(), Some(typed.clone()));

@@ -1,0 +1,198 @@
+#![allow(clippy::unwrap_used)]
+
+use std::borrow::Cow;
+use std::cell::Cell;
+use std::collections::BTreeMap;
+use std::io::Cursor;
+use std::sync::Arc;
+
+use super::*;
+
+/// Counts the bytes read, to show what a pass leaves unread.
+struct Counting<'a> {
+    bytes: Bytes<'a>,
+    read: Cell<u64>,
+}
+
+impl Source for Counting<'_> {
+    fn len(&self) -> u64 {
+        self.bytes.len()
+    }
+
+    fn read_at(&self, offset: u64, buf: &mut [u8]) -> std::io::Result<()> {
+        self.read.set(self.read.get() + buf.len() as u64);
+        self.bytes.read_at(offset, buf)
+    }
+}
+
+/// A bag of 100 Hz poses among 30 Hz "images" of 50 kB, in chunks of about 1 MB, as Foxglove's writer
+/// writes it (with or without a summary).
+fn camera_bag(summary: bool) -> Vec<u8> {
+    let mut out = Cursor::new(Vec::new());
+    let mut writer = mcap::WriteOptions::new()
+        .compression(None)
+        .chunk_size(Some(1 << 20))
+        .emit_summary_records(summary)
+        .emit_summary_offsets(summary)
+        .emit_statistics(summary)
+        .emit_chunk_indexes(summary)
+        .create(&mut out)
+        .unwrap();
+    let schema = |name: &str| {
+        Some(Arc::new(mcap::Schema {
+            id: 0,
+            name: name.to_owned(),
+            encoding: "ros2msg".to_owned(),
+            data: Cow::Borrowed(b""),
+        }))
+    };
+    let pose = writer
+        .add_channel(0, "/pose", "cdr", &BTreeMap::new())
+        .unwrap();
+    let _ = schema;
+    let image = writer
+        .add_channel(0, "/camera/image/compressed", "cdr", &BTreeMap::new())
+        .unwrap();
+    for k in 0..300u64 {
+        let t = 1_000_000_000 + k * 10_000_000;
+        let payload: Vec<u8> = (0..40).map(|i| (k as u8).wrapping_add(i)).collect();
+        writer
+            .write_to_known_channel(
+                &mcap::records::MessageHeader {
+                    channel_id: pose,
+                    sequence: k as u32,
+                    log_time: t,
+                    publish_time: t,
+                },
+                &payload,
+            )
+            .unwrap();
+        if k % 3 == 0 {
+            let frame: Vec<u8> = (0..50_000u32).map(|i| (i as u8) ^ (k as u8)).collect();
+            writer
+                .write_to_known_channel(
+                    &mcap::records::MessageHeader {
+                        channel_id: image,
+                        sequence: k as u32,
+                        log_time: t + 1,
+                        publish_time: t + 1,
+                    },
+                    &frame,
+                )
+                .unwrap();
+        }
+    }
+    writer.finish().unwrap();
+    drop(writer);
+    out.into_inner()
+}
+
+/// Keeps what a pass shows: each message's channel, log time, data and place.
+#[derive(Default)]
+struct Recorder {
+    wants: BTreeMap<String, Want>,
+    seen: Vec<(String, u64, Vec<u8>, MessageAt)>,
+    passed: u64,
+}
+
+impl Visitor for Recorder {
+    fn want(&mut self, _: u16, channel: &ChannelInfo) -> Want {
+        self.wants
+            .get(&channel.topic)
+            .copied()
+            .unwrap_or(Want::Nothing)
+    }
+
+    fn message(&mut self, visit: Visit<'_>) -> Result<(), BagProblem> {
+        let data = visit.data.to_vec();
+        self.seen
+            .push((visit.channel.topic.clone(), visit.log_time, data, visit.at));
+        Ok(())
+    }
+
+    fn progress(&mut self, bytes: u64) {
+        self.passed += bytes;
+    }
+}
+
+fn recorder(wants: &[(&str, Want)]) -> Recorder {
+    Recorder {
+        wants: wants.iter().map(|(t, w)| ((*t).to_owned(), *w)).collect(),
+        ..Recorder::default()
+    }
+}
+
+#[test]
+fn the_poses_of_a_camera_bag_are_read_without_reading_its_images() {
+    let bag = camera_bag(true);
+    let source = Counting {
+        bytes: Bytes(&bag),
+        read: Cell::new(0),
+    };
+    let mut poses = recorder(&[("/pose", Want::Payload)]);
+    let channels = read_messages(&source, &mut poses).unwrap();
+    assert_eq!(poses.seen.len(), 300);
+    for (k, (topic, time, data, _)) in poses.seen.iter().enumerate() {
+        assert_eq!(topic, "/pose");
+        assert_eq!(*time, 1_000_000_000 + k as u64 * 10_000_000);
+        assert_eq!(data[0], k as u8);
+    }
+    let read = source.read.get();
+    assert!(
+        read * 20 < bag.len() as u64,
+        "read {read} of {} bytes for the poses",
+        bag.len()
+    );
+    assert!(poses.passed > bag.len() as u64 * 9 / 10 && poses.passed < bag.len() as u64);
+    // Every channel is counted from the indexes, the images too.
+    let counts: Vec<(String, u64)> = channels
+        .values()
+        .map(|(c, s)| (c.topic.clone(), s.count))
+        .collect();
+    assert_eq!(
+        counts,
+        [
+            ("/pose".to_owned(), 300),
+            ("/camera/image/compressed".to_owned(), 100)
+        ]
+    );
+}
+
+#[test]
+fn without_a_summary_the_same_messages_are_read_from_the_start() {
+    let wants = [
+        ("/pose", Want::Payload),
+        ("/camera/image/compressed", Want::Head(12)),
+    ];
+    let (mut indexed, mut linear) = (recorder(&wants), recorder(&wants));
+    let with = camera_bag(true);
+    let without = camera_bag(false);
+    read_messages(&Bytes(&with), &mut indexed).unwrap();
+    let channels = read_messages(&Bytes(&without), &mut linear).unwrap();
+    assert_eq!(indexed.seen.len(), 400);
+    let strip = |r: &Recorder| -> Vec<(String, u64, Vec<u8>)> {
+        r.seen
+            .iter()
+            .map(|(t, n, d, _)| (t.clone(), *n, d.clone()))
+            .collect()
+    };
+    assert_eq!(strip(&indexed), strip(&linear));
+    assert_eq!(channels.values().map(|(_, s)| s.count).sum::<u64>(), 400);
+    assert!(linear.passed > without.len() as u64 * 9 / 10 && linear.passed < without.len() as u64);
+}
+
+#[test]
+fn a_frame_read_again_is_its_whole_payload() {
+    let bag = camera_bag(true);
+    let mut frames = recorder(&[("/camera/image/compressed", Want::Head(12))]);
+    read_messages(&Bytes(&bag), &mut frames).unwrap();
+    let mut cache = ChunkCache::default();
+    for (k, (_, _, head, at)) in frames.seen.iter().enumerate() {
+        assert_eq!(head.len(), 12);
+        assert_eq!(at.len(), 50_000);
+        let payload = read_payload(&Bytes(&bag), at, &mut cache).unwrap();
+        assert_eq!(&payload[..12], &head[..]);
+        let k = (3 * k) as u8;
+        assert!(payload.iter().enumerate().all(|(i, &b)| b == (i as u8) ^ k));
+    }
+}
