@@ -1,7 +1,7 @@
-//! Every file a user hands `pushlab eval --model` is checked: each kind of bad model file is refused
-//! with exit 1 and a message naming the file and the field (the README's table of bad model files
-//! comes from these cases), and at wild learning rates on real MIT pushes no θ and no loss in the
-//! JSON report is ever non-finite.
+//! Every file a user hands `pushlab eval --model` is checked: each kind of bad model file is
+//! refused with exit 1 and a message naming the file and the field (the guide's table of bad model
+//! files, `docs/src/model.md`, comes from these cases), and at wild learning rates on real MIT
+//! pushes no θ and no loss in the JSON report is ever non-finite.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::{Path, PathBuf};

@@ -1,6 +1,7 @@
 //! How fast the window draws, shown at the right of the menu bar: frames per second while something
 //! moves, and the CPU time the app and egui take per frame. A user playing a long recording can see
-//! whether the machine keeps up, and the README's figures can be checked in the real window.
+//! whether the machine keeps up, and the guide's figures (`docs/src/performance.md`) can be checked
+//! in the real window.
 
 /// Weight of the newest frame in the smoothed figures.
 const SMOOTHING: f32 = 0.05;

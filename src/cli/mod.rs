@@ -50,7 +50,7 @@ enum Command {
     Suite(experiment::suite::SuiteArgs),
 }
 
-/// Exit code for wrong arguments, as documented in the README.
+/// Exit code for wrong arguments, as documented in the guide (`docs/src/experiments.md`).
 pub const EXIT_USAGE: u8 = 2;
 
 /// Parses the command line and runs the chosen command.

@@ -62,7 +62,8 @@ pub struct Session {
     pub problems: Vec<LoadProblem>,
     /// The recording shown in the scene and plots.
     pub selected: Option<RecordingId>,
-    /// How long the last load took on its worker thread (for the status bar and the README figure).
+    /// How long the last load took on its worker thread (for the status bar and the guide's
+    /// figure).
     pub last_load_time: Option<Duration>,
     /// Bags opened without a choice of topics, with their topics: the app asks (see `bag_import`).
     pub bags_to_choose: Vec<(PathBuf, Vec<TopicInfo>)>,

@@ -58,7 +58,7 @@ pub struct EvalArgs {
     /// (one Gauss–Newton step per frame weighed against the frames before; --steps 0 still fixes θ).
     #[arg(long, value_name = "OPTIMIZER", default_value = "gd", value_parser = optimizer)]
     pub optimizer: Optimizer,
-    /// Write the results as JSON (the format is documented in the guide).
+    /// Write the results as JSON (the format is documented in the guide, docs/src/experiments.md).
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
     /// With --json: also list θ_online and the online and fixed losses at every frame of every

@@ -19,8 +19,8 @@ use super::training::{cancel_flag, cancelled};
 /// Arguments of `pushlab suite`.
 #[derive(Debug, Args)]
 pub struct SuiteArgs {
-    /// The suite: a JSON file listing the experiments (see the README); paths in it are relative to
-    /// its folder.
+    /// The suite: a JSON file listing the experiments (see the guide, docs/src/experiments.md);
+    /// paths in it are relative to its folder.
     #[arg(value_name = "SPEC.json")]
     pub spec: PathBuf,
     /// Write every number as JSON.

@@ -1,7 +1,7 @@
 //! How well online learning found the COM, where the recording knows the true one (simulated sets):
 //! the final error, how many frames it took to come within [`NEAR_M`] and stay there, and whether
-//! the 95 % ellipse of the posterior holds the truth. The calibration and optimiser tables of the
-//! README are these numbers, from `pushlab eval`.
+//! the 95 % ellipse of the posterior holds the truth. The calibration and optimiser table of the
+//! guide (`docs/src/model.md`) is these numbers, from `pushlab eval`.
 
 use serde::Serialize;
 

@@ -14,10 +14,11 @@
 //!
 //! Frames of one push are not independent: a learned model's errors on real contact are partly
 //! systematic, the same for hundreds of frames at 250 Hz, and counting each frame as new evidence
-//! made the posterior narrow to a few millimetres while the estimate was centimetres off (the
-//! README's MIT rows). So the information is also divided by a factor `c ≥ 1`: how much more the
-//! scores of consecutive batches of frames scatter than independent errors would make them
-//! (`score_batches`, batch means). Independent errors leave `c ≈ 1`.
+//! made the posterior narrow to a few millimetres while the estimate was centimetres off (the MIT
+//! rows of the guide's calibration table, `docs/src/model.md`). So the information is also divided
+//! by a factor `c ≥ 1`: how much more the scores of consecutive batches of frames scatter than
+//! independent errors would make them (`score_batches`, batch means). Independent errors leave
+//! `c ≈ 1`.
 //!
 //! Assumptions left: Gaussian residuals with one variance per normalised output, errors that
 //! decorrelate within a batch (batches grow with the push), and the model linear in `θ` near the
