@@ -32,6 +32,8 @@ use pushlab_core::recording::native::SETTING_FILE;
 use pushlab_core::recording::native::images::{images_dir, write_camera};
 use pushlab_core::recording::write_set;
 
+use super::load_bar::with_load_bar;
+
 /// Arguments of `pushlab import`.
 #[derive(Debug, Args)]
 pub struct ImportArgs {
@@ -132,8 +134,21 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     let choice = choice_of(args)?;
     let (pusher, object) = (&choice.pusher, &choice.object);
     let setting = choice.setting.resolve()?;
-    let import =
-        bag::import_with_cameras(&args.bag, pusher, object, &choice.cameras, choice.options)?;
+    let size: u64 = bag::bag_files(&args.bag)?
+        .iter()
+        .map(|f| std::fs::metadata(f).map_or(0, |m| m.len()))
+        .sum();
+    let import = with_load_bar("reading the bag", |progress| {
+        progress.plan(1, size);
+        bag::import_with_cameras(
+            &args.bag,
+            pusher,
+            object,
+            &choice.cameras,
+            choice.options,
+            progress,
+        )
+    })?;
     let setting = bag::setting_for(&args.bag, &import, pusher, object, setting);
     let trajectories: Vec<_> = import.pushes.iter().map(|p| p.trajectory.clone()).collect();
     write_set(&args.out, &setting, &trajectories)

@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 mod experiment;
 mod import;
 mod labels;
+mod load_bar;
 mod simulate;
 mod validate;
 

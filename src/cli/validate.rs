@@ -20,7 +20,9 @@ use std::process::ExitCode;
 
 use clap::Args;
 use pushlab_core::recording::bag;
-use pushlab_core::recording::load_paths;
+use pushlab_core::recording::load_paths_with;
+
+use super::load_bar::with_load_bar;
 
 /// Arguments of `pushlab validate`.
 #[derive(Debug, Args)]
@@ -49,7 +51,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
             ExitCode::SUCCESS
         };
     }
-    let report = load_paths(&paths);
+    let report = with_load_bar("loading", |progress| load_paths_with(&paths, &[], progress));
     let mut with_warnings = 0;
     for set in &report.sets {
         for recording in &set.recordings {

@@ -214,3 +214,61 @@ fn a_frame_behind_tf_static_is_offered_and_opens() {
     assert_eq!(report.sets[0].recordings[0].name, "tf_tree");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Cancels once any bytes were reported, counting them.
+#[derive(Default)]
+struct CancelAfterFirst(std::sync::atomic::AtomicU64);
+
+impl pushlab_core::recording::Progress for CancelAfterFirst {
+    fn advance(&self, bytes: u64) {
+        self.0
+            .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    fn is_cancelled(&self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed) > 0
+    }
+}
+
+#[test]
+fn opening_a_bag_reports_its_bytes_and_stops_when_cancelled() {
+    use pushlab_core::recording::{LoadError, LoadProgress, load_paths_with};
+    let (dir, bag) = bag_copy("progress", "zstd.mcap");
+    let choice = choice_of(
+        &dir,
+        "/pusher/pose",
+        "/object/pose",
+        ImportOptions::default(),
+    );
+    bag::choice::remember(&bag, &choice).unwrap();
+    let size = std::fs::metadata(&bag).unwrap().len();
+
+    let progress = LoadProgress::default();
+    let report = load_paths_with(std::slice::from_ref(&bag), &[], &progress);
+    assert_eq!(report.recording_count(), 1, "{:?}", report.errors);
+    let done = progress.snapshot();
+    assert_eq!((done.files_done, done.files_total), (1, 1));
+    assert_eq!((done.bytes_done, done.bytes_total), (size, size));
+
+    let cancelling = CancelAfterFirst::default();
+    let cancelled = bag::open_with(&bag, &choice, &cancelling).unwrap_err();
+    assert!(
+        matches!(cancelled, LoadError::Cancelled { .. }),
+        "{cancelled}"
+    );
+    assert!(
+        cancelled.to_string().ends_with("opening cancelled"),
+        "{cancelled}"
+    );
+
+    let stopped = LoadProgress::default();
+    stopped.cancel();
+    let report = load_paths_with(std::slice::from_ref(&bag), &[], &stopped);
+    assert_eq!(report.recording_count(), 0);
+    assert!(
+        matches!(report.errors[..], [LoadError::Cancelled { .. }]),
+        "{:?}",
+        report.errors
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -79,6 +79,9 @@ pub enum LoadError {
         /// Free memory when it was checked, bytes.
         available: Option<u64>,
     },
+    /// The user stopped the load before this file.
+    #[error("{}: opening cancelled", path.display())]
+    Cancelled { path: PathBuf },
     /// A folder in which no recording was found.
     #[error("{}: no recordings found (no setting.json and no MIT Push Dataset files inside)", path.display())]
     NothingFound { path: PathBuf },
@@ -99,7 +102,8 @@ impl LoadError {
             | LoadError::Bag { path, .. }
             | LoadError::NotRecognised { path }
             | LoadError::TooLarge { path, .. }
-            | LoadError::NothingFound { path } => path,
+            | LoadError::NothingFound { path }
+            | LoadError::Cancelled { path } => path,
         }
     }
 

@@ -9,6 +9,7 @@ use super::bag::{self, BagChoice};
 use super::error::LoadError;
 use super::mit_push::{self, MitPush};
 use super::native::{self, SETTING_FILE};
+use super::progress::{LoadProgress, Progress};
 
 /// Deepest folder nesting searched below a path given by the user; deeper folders are not searched.
 const MAX_DEPTH: usize = 16;
@@ -30,6 +31,17 @@ impl LoadReport {
     pub fn recording_count(&self) -> usize {
         self.sets.iter().map(|s| s.recordings.len()).sum()
     }
+}
+
+/// One thing to load, as planning finds it.
+enum Item {
+    /// A native set folder, or one CSV of it.
+    Set {
+        dir: PathBuf,
+        only: Option<PathBuf>,
+    },
+    Mit(PathBuf),
+    Bag(PathBuf),
 }
 
 /// Loads recordings from the given paths.
@@ -55,6 +67,16 @@ pub fn load_paths(paths: &[PathBuf]) -> LoadReport {
 /// [`load_paths`], opening the bags listed in `choices` as their choice says (whether or not one is
 /// remembered beside them): how the app tries a choice before remembering it.
 pub fn load_paths_choosing(paths: &[PathBuf], choices: &[(PathBuf, BagChoice)]) -> LoadReport {
+    load_paths_with(paths, choices, &LoadProgress::default())
+}
+
+/// [`load_paths_choosing`], telling `progress` the bytes loaded of the total found first, and
+/// stopping (with a [`LoadError::Cancelled`]) at the next file or bag chunk once it is cancelled.
+pub fn load_paths_with(
+    paths: &[PathBuf],
+    choices: &[(PathBuf, BagChoice)],
+    progress: &LoadProgress,
+) -> LoadReport {
     let mut loader = Loader {
         choices: choices.to_vec(),
         ..Loader::default()
@@ -62,12 +84,89 @@ pub fn load_paths_choosing(paths: &[PathBuf], choices: &[(PathBuf, BagChoice)]) 
     for path in paths {
         loader.add_path(path);
     }
+    let sizes: Vec<u64> = loader.items.iter().map(Item::bytes).collect();
+    progress.plan(sizes.len(), sizes.iter().sum());
+    for (item, bytes) in std::mem::take(&mut loader.items).into_iter().zip(sizes) {
+        if progress.is_cancelled() {
+            loader.report.errors.push(LoadError::Cancelled {
+                path: item.path().to_path_buf(),
+            });
+            break;
+        }
+        let counted = Counted::new(progress);
+        loader.load(item, &counted);
+        progress.file_done(counted.reported(), bytes);
+    }
     loader.finish()
+}
+
+impl Item {
+    fn path(&self) -> &Path {
+        match self {
+            Item::Set { dir, only } => only.as_deref().unwrap_or(dir),
+            Item::Mit(path) | Item::Bag(path) => path,
+        }
+    }
+
+    /// Bytes it will read, for the progress bar: the set's CSV files, the MIT file, the bag's files.
+    fn bytes(&self) -> u64 {
+        let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
+        match self {
+            Item::Set {
+                only: Some(file), ..
+            }
+            | Item::Mit(file) => size(file),
+            Item::Set { dir, only: None } => std::fs::read_dir(dir).map_or(0, |entries| {
+                entries
+                    .filter_map(Result::ok)
+                    .map(|e| e.path())
+                    .filter(|p| extension(p).as_deref() == Some("csv"))
+                    .map(|p| size(&p))
+                    .sum()
+            }),
+            Item::Bag(path) => {
+                bag::bag_files(path).map_or(0, |files| files.iter().map(|f| size(f)).sum())
+            }
+        }
+    }
+}
+
+/// A load's progress for one file: what it reported, so that the rest is counted when it is done.
+struct Counted<'a> {
+    inner: &'a LoadProgress,
+    reported: std::sync::atomic::AtomicU64,
+}
+
+impl<'a> Counted<'a> {
+    fn new(inner: &'a LoadProgress) -> Self {
+        Self {
+            inner,
+            reported: std::sync::atomic::AtomicU64::new(0),
+        }
+    }
+
+    fn reported(&self) -> u64 {
+        self.reported.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+impl Progress for Counted<'_> {
+    fn advance(&self, bytes: u64) {
+        self.reported
+            .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
+        self.inner.advance(bytes);
+    }
+
+    fn is_cancelled(&self) -> bool {
+        self.inner.is_cancelled()
+    }
 }
 
 #[derive(Default)]
 struct Loader {
     report: LoadReport,
+    /// What planning found to load, in order.
+    items: Vec<Item>,
     /// Set folders already loaded whole, and single files already loaded.
     seen: HashSet<PathBuf>,
     /// MIT pushes by (folder, surface, shape), in file-name order.
@@ -159,23 +258,39 @@ impl Loader {
         found
     }
 
+    /// Plans a bag (once).
+    fn add_bag(&mut self, path: &Path) {
+        if self.seen.insert(canonical(path)) {
+            self.items.push(Item::Bag(path.to_path_buf()));
+        }
+    }
+
+    /// Loads what planning found.
+    fn load(&mut self, item: Item, progress: &dyn Progress) {
+        match item {
+            Item::Set { dir, only } => self.load_set(&dir, only.as_deref()),
+            Item::Mit(path) => self.load_mit(&path),
+            Item::Bag(path) => self.load_bag(&path, progress),
+        }
+    }
+
     /// A ROS 2 bag opens with the choice given for it, or else the one remembered beside it
     /// ([`bag::choice`]). Without either it is reported with its topics: which are the pusher and
     /// the object, and what the object is, are the user's to say.
-    fn add_bag(&mut self, path: &Path) {
+    fn load_bag(&mut self, path: &Path, progress: &dyn Progress) {
         let key = canonical(path);
-        if !self.seen.insert(key.clone()) {
-            return;
-        }
         let given = self.choices.iter().find(|(bag, _)| canonical(bag) == key);
         let outcome = match given {
-            Some((_, choice)) => bag::open(path, choice),
+            Some((_, choice)) => bag::open_with(path, choice, progress),
             None => match bag::choice::remembered(path) {
-                Ok(Some(choice)) => bag::open(path, &choice).map_err(|e| LoadError::Bag {
-                    path: path.to_path_buf(),
-                    problem: BagProblem::ChoiceFailed {
-                        choice_file: bag::choice::choice_path(path),
-                        why: e.to_string(),
+                Ok(Some(choice)) => bag::open_with(path, &choice, progress).map_err(|e| match e {
+                    LoadError::Cancelled { .. } => e,
+                    e => LoadError::Bag {
+                        path: path.to_path_buf(),
+                        problem: BagProblem::ChoiceFailed {
+                            choice_file: bag::choice::choice_path(path),
+                            why: e.to_string(),
+                        },
                     },
                 }),
                 Ok(None) => Err(match bag::topics(path) {
@@ -211,6 +326,7 @@ impl Loader {
         }
     }
 
+    /// Plans a set (once; a CSV of a set planned whole is not planned again).
     fn add_set(&mut self, dir: &Path, only: Option<&Path>) {
         let whole = canonical(dir);
         if self.seen.contains(&whole) {
@@ -223,6 +339,13 @@ impl Loader {
         } else {
             self.seen.insert(whole);
         }
+        self.items.push(Item::Set {
+            dir: dir.to_path_buf(),
+            only: only.map(Path::to_path_buf),
+        });
+    }
+
+    fn load_set(&mut self, dir: &Path, only: Option<&Path>) {
         match native::read_set_filtered(dir, only) {
             Ok((set, errors)) => {
                 if !set.recordings.is_empty() {
@@ -234,10 +357,14 @@ impl Loader {
         }
     }
 
+    /// Plans an MIT file (once).
     fn add_mit(&mut self, path: &Path) {
-        if !self.seen.insert(canonical(path)) {
-            return;
+        if self.seen.insert(canonical(path)) {
+            self.items.push(Item::Mit(path.to_path_buf()));
         }
+    }
+
+    fn load_mit(&mut self, path: &Path) {
         match mit_push::import_file(path) {
             Ok(push) => {
                 let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();

@@ -9,6 +9,7 @@ use super::choice::BagChoice;
 use super::spec::TopicSpec;
 use super::split::{BagImport, import_with_cameras};
 use crate::recording::error::LoadError;
+use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::setting::{Setting, TrajectoryEntry};
 use crate::recording::{Recording, RecordingSet};
 
@@ -82,6 +83,15 @@ fn source_of(bag: &Path, index: usize, many: bool) -> PathBuf {
 /// Imports a bag as `choice` says and returns its pushes as a set, in memory (nothing is written).
 /// The set's folder is the bag's.
 pub fn open(bag: &Path, choice: &BagChoice) -> Result<RecordingSet, LoadError> {
+    open_with(bag, choice, &NoProgress)
+}
+
+/// [`open`], telling `progress` the bytes read and stopping when it is cancelled.
+pub fn open_with(
+    bag: &Path,
+    choice: &BagChoice,
+    progress: &dyn Progress,
+) -> Result<RecordingSet, LoadError> {
     let base = choice.setting.resolve()?;
     let import = import_with_cameras(
         bag,
@@ -89,6 +99,7 @@ pub fn open(bag: &Path, choice: &BagChoice) -> Result<RecordingSet, LoadError> {
         &choice.object,
         &choice.cameras,
         choice.options,
+        progress,
     )?;
     let setting = Arc::new(setting_for(
         bag,

@@ -76,9 +76,14 @@ pub(super) fn read_file<T>(
     bytes: Option<&[u8]>,
     read: impl FnOnce(&dyn Source) -> Result<T, BagProblem>,
 ) -> Result<T, LoadError> {
-    let fail = |problem| LoadError::Bag {
-        path: file.to_path_buf(),
-        problem,
+    let fail = |problem| match problem {
+        BagProblem::Cancelled => LoadError::Cancelled {
+            path: file.to_path_buf(),
+        },
+        problem => LoadError::Bag {
+            path: file.to_path_buf(),
+            problem,
+        },
     };
     match bytes {
         Some(bytes) => read(&Bytes(bytes)).map_err(fail),

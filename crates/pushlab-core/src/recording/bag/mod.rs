@@ -34,7 +34,7 @@ mod tf_tree;
 mod topic_info;
 mod topics;
 
-pub use self::as_set::{open, setting_for};
+pub use self::as_set::{open, open_with, setting_for};
 pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
 pub use self::choice::{BagChoice, SettingSource};
 pub use self::files::{bag_files, is_bag};

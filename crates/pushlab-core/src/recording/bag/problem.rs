@@ -11,6 +11,9 @@ use crate::recording::resample::SpanProblem;
 pub enum BagProblem {
     #[error("not a readable MCAP file: {0}")]
     Mcap(String),
+    /// The load it was read for was cancelled.
+    #[error("opening cancelled")]
+    Cancelled,
     #[error("chunk {index} (counting from 0): {why}")]
     Chunk { index: usize, why: String },
     #[error(

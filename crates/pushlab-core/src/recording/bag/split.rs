@@ -13,6 +13,7 @@ use super::topic_info::TopicInfo;
 use crate::geometry::Pose2;
 use crate::recording::camera::CameraStream;
 use crate::recording::error::LoadError;
+use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::resample::{Interpolator, MIN_ROWS, SpanProblem, clean, grid, unwrap_yaw};
 use crate::trajectory::{Frame, Trajectory};
 
@@ -64,18 +65,20 @@ pub fn import(
     object: &TopicSpec,
     options: ImportOptions,
 ) -> Result<BagImport, LoadError> {
-    import_with_cameras(path, pusher, object, &[], options)
+    import_with_cameras(path, pusher, object, &[], options, &NoProgress)
 }
 
-/// [`import`], with the frames of the camera topics named indexed for each push, in one pass.
+/// [`import`], with the frames of the camera topics named indexed for each push, in one pass that
+/// reports the bytes it passes to `progress` and stops when it is cancelled.
 pub fn import_with_cameras(
     path: &Path,
     pusher: &TopicSpec,
     object: &TopicSpec,
     cameras: &[String],
     options: ImportOptions,
+    progress: &dyn Progress,
 ) -> Result<BagImport, LoadError> {
-    let streams = read_streams(path, pusher, object, cameras)?;
+    let streams = read_streams(path, pusher, object, cameras, progress)?;
     finish(path, &streams, pusher, object, options)
 }
 

@@ -16,6 +16,7 @@ use super::tf_tree::{Chain, Transforms};
 use super::topic_info::{TF_STATIC, TopicInfo};
 use super::topics::TopicTable;
 use crate::recording::error::LoadError;
+use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::resample::MAX_POSITION_M;
 
 /// The raw pose streams of the pusher and the object, rows `[t, x, y, yaw]` with `t` in seconds
@@ -67,10 +68,11 @@ pub fn read_streams(
     pusher: &TopicSpec,
     object: &TopicSpec,
     cameras: &[String],
+    progress: &dyn Progress,
 ) -> Result<BagStreams, LoadError> {
     let files = bag_files(path)?;
     let bag = BagBytes::Files(files.clone().into());
-    read_streams_in(path, &files, None, bag, pusher, object, cameras)
+    read_streams_in(path, &files, None, bag, pusher, object, cameras, progress)
 }
 
 /// [`read_streams`] of one `.mcap` file held in memory; `path` is only used in messages.
@@ -88,9 +90,19 @@ pub fn read_streams_bytes(
         bytes: Arc::from(kept),
     };
     let files = [path.to_path_buf()];
-    read_streams_in(path, &files, Some(bytes), bag, pusher, object, cameras)
+    read_streams_in(
+        path,
+        &files,
+        Some(bytes),
+        bag,
+        pusher,
+        object,
+        cameras,
+        &NoProgress,
+    )
 }
 
+#[allow(clippy::too_many_arguments)] // one private place that both entry points fill
 fn read_streams_in(
     path: &Path,
     files: &[PathBuf],
@@ -99,6 +111,7 @@ fn read_streams_in(
     pusher: &TopicSpec,
     object: &TopicSpec,
     cameras: &[String],
+    progress: &dyn Progress,
 ) -> Result<BagStreams, LoadError> {
     let mut streams = [pusher, object].map(|spec| Stream {
         spec,
@@ -125,6 +138,7 @@ fn read_streams_in(
             file_number,
             camera_topics: cameras,
             cameras: &mut found,
+            progress,
         };
         let channels = read_file(file, bytes, |source| read_messages(source, &mut visitor))?;
         for (channel, stats) in channels.values() {
@@ -330,6 +344,7 @@ struct PoseVisitor<'a, 'spec> {
     /// camera).
     camera_topics: &'a [String],
     cameras: &'a mut Vec<Option<FoundCamera>>,
+    progress: &'a dyn Progress,
 }
 
 impl Visitor for PoseVisitor<'_, '_> {
@@ -362,6 +377,14 @@ impl Visitor for PoseVisitor<'_, '_> {
             }
             None => Want::Nothing,
         }
+    }
+
+    fn progress(&mut self, bytes: u64) -> Result<(), BagProblem> {
+        self.progress.advance(bytes);
+        if self.progress.is_cancelled() {
+            return Err(BagProblem::Cancelled);
+        }
+        Ok(())
     }
 
     fn message(&mut self, visit: Visit<'_>) -> Result<(), BagProblem> {

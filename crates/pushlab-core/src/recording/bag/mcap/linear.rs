@@ -140,7 +140,7 @@ pub(super) fn read<S: Source + ?Sized>(
             }
             _ => {}
         }
-        visitor.progress(RECORD_HEADER + len);
+        visitor.progress(RECORD_HEADER + len)?;
         at = body_start + len;
     }
     Ok(pass.channels)

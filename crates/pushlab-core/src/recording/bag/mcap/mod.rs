@@ -87,8 +87,10 @@ pub trait Visitor {
     fn want(&mut self, channel_id: u16, channel: &ChannelInfo) -> Want;
     /// A message of a wanted channel, in file order.
     fn message(&mut self, visit: Visit<'_>) -> Result<(), BagProblem>;
-    /// Bytes of the file passed since the last call.
-    fn progress(&mut self, _bytes: u64) {}
+    /// Bytes of the file passed since the last call; an error (a cancelled load) stops the pass.
+    fn progress(&mut self, _bytes: u64) -> Result<(), BagProblem> {
+        Ok(())
+    }
 }
 
 /// A channel's messages over the whole file.

@@ -103,7 +103,7 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
             if !chunk.message_index_offsets.keys().any(wanted)
                 && !chunk.message_index_offsets.is_empty()
             {
-                visitor.progress(chunk.length);
+                visitor.progress(chunk.length)?;
                 continue;
             }
             let whole = !chunk.compression.is_empty()
@@ -116,7 +116,7 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
                 self.messages_of(chunk, &entries, visitor)
                     .map_err(|e| e.in_chunk(index))?;
             }
-            visitor.progress(chunk.length);
+            visitor.progress(chunk.length)?;
         }
         Ok(self.channels)
     }

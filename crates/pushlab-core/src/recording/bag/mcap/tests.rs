@@ -110,8 +110,9 @@ impl Visitor for Recorder {
         Ok(())
     }
 
-    fn progress(&mut self, bytes: u64) {
+    fn progress(&mut self, bytes: u64) -> Result<(), BagProblem> {
         self.passed += bytes;
+        Ok(())
     }
 }
 
