@@ -160,7 +160,7 @@ fn compare_names_the_file_and_field_of_bad_input() {
         (
             "not-json.json",
             "{\"format\": ",
-            "not-json.json:1:11: EOF while parsing a value",
+            "not-json.json: line 1, column 11: EOF while parsing a value",
         ),
         (
             "unknown.json",

@@ -272,7 +272,7 @@ fn setting_errors_name_the_field() {
     );
 
     let err = parse_setting(b"{\"name\": \"x\",\n \"object\": ", path).unwrap_err();
-    assert!(err.to_string().contains("line 2 column"), "{err}");
+    assert!(err.to_string().contains("line 2, column"), "{err}");
 
     // A polygon setting with unknown keys loads.
     let ok = parse_setting(br#"{"name": "x", "object": {"shape": "polygon", "vertices": [[0,0],[1,0],[0,1]], "colour": "red"}, "pusher_radius": 0.01, "future": [1,2]}"#, path)

@@ -216,6 +216,6 @@ fn a_broken_spec_file_is_reported_with_its_line() {
     .unwrap();
     let message = read_sample_spec(&path).unwrap_err().to_string();
     std::fs::remove_dir_all(&dir).ok();
-    assert!(message.contains("spec.json line 3 column"), "{message}");
+    assert!(message.contains("spec.json: line 3, column"), "{message}");
     assert!(message.contains("expected f64"), "{message}");
 }

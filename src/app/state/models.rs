@@ -12,10 +12,8 @@ use pushlab_core::model::{
 use pushlab_core::model_file::TrainingMetadata;
 use pushlab_core::recording::Recording;
 
+use pushlab_core::experiment::DEFAULT_HORIZON;
 use pushlab_core::model::SharedOnlineModel;
-
-/// Horizon of the physics-only model when there is no trained model to take it from.
-pub const DEFAULT_HORIZON: usize = 1;
 
 /// The trained models currently in use.
 #[derive(Clone, Default)]

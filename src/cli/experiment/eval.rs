@@ -18,6 +18,7 @@ use anyhow::{Context, anyhow};
 use clap::Args;
 use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::domain::Domain;
+use pushlab_core::experiment::DEFAULT_HORIZON;
 use pushlab_core::experiment::report::{EvalReport, ReportContext};
 use pushlab_core::experiment::{self, ComSummary, EvalOptions, Evaluation, UsedRecording};
 use pushlab_core::labels::Split;
@@ -31,7 +32,7 @@ use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
 use super::training::{self, TrainedModels};
-use super::{DEFAULT_HORIZON, Failure, TrainingArgs, optimizer, positive_real};
+use super::{Failure, TrainingArgs, optimizer, positive_real};
 
 /// Arguments of `pushlab eval`.
 #[derive(Debug, Args)]

@@ -90,9 +90,6 @@ pub fn model_kind(text: &str) -> Result<ModelKind, String> {
     })
 }
 
-/// The default horizon in frames.
-pub const DEFAULT_HORIZON: usize = 1;
-
 /// A whole number of at least 1.
 pub fn positive(text: &str) -> Result<usize, String> {
     match text.trim().parse::<usize>() {

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, anyhow};
 use clap::Args;
-use pushlab_core::experiment::{self, UsedRecording, paper_theta0_for};
+use pushlab_core::experiment::{self, DEFAULT_HORIZON, UsedRecording, paper_theta0_for};
 use pushlab_core::labels::Split;
 use pushlab_core::learn::TrainConfig;
 use pushlab_core::model::ModelKind;
@@ -14,7 +14,7 @@ use pushlab_core::model_file::{ModelFile, TrainingMetadata};
 
 use super::data;
 use super::training::{self, TrainedModels};
-use super::{DEFAULT_HORIZON, Failure, TrainingArgs};
+use super::{Failure, TrainingArgs};
 
 /// Arguments of `pushlab train`.
 #[derive(Debug, Args)]

@@ -17,6 +17,7 @@ use pushlab_core::labels::export::{self, FrameTimes};
 use pushlab_core::labels::file::{self, LABELS_FILE_NAME};
 use pushlab_core::labels::pipeline::key_of;
 use pushlab_core::labels::{Command, LabelDocument, LabelKind, LabelSet, MetaField, Split};
+use pushlab_core::pattern::wildcard_match;
 use pushlab_core::recording::native::{SETTING_FILE, parse_setting};
 use pushlab_core::recording::{ObjectShape, load_paths};
 
@@ -286,31 +287,6 @@ fn recording_files(folder: &Path) -> anyhow::Result<Vec<String>> {
     Ok(names)
 }
 
-/// Shell-style matching of a whole name: `*` is any text, `?` any one character.
-fn wildcard_match(pattern: &str, name: &str) -> bool {
-    let p: Vec<char> = pattern.chars().collect();
-    let n: Vec<char> = name.chars().collect();
-    // matches[j]: whether the pattern so far matches the first j characters of the name.
-    let mut matches = vec![false; n.len() + 1];
-    matches[0] = true;
-    for &pc in &p {
-        let mut next = vec![false; n.len() + 1];
-        if pc == '*' {
-            let mut any = false;
-            for j in 0..=n.len() {
-                any |= matches[j];
-                next[j] = any;
-            }
-        } else {
-            for j in 1..=n.len() {
-                next[j] = matches[j - 1] && (pc == '?' || pc == n[j - 1]);
-            }
-        }
-        matches = next;
-    }
-    matches[n.len()]
-}
-
 /// A readable summary of a labels file.
 fn summary(path: &Path, set: &LabelSet) -> String {
     let mut out = format!("{}\nlabels:\n", path.display());
@@ -375,17 +351,6 @@ mod tests {
     #![allow(clippy::unwrap_used)]
 
     use super::*;
-
-    #[test]
-    fn wildcards_match_whole_names() {
-        assert!(wildcard_match("push_00?.csv", "push_003.csv"));
-        assert!(!wildcard_match("push_00?.csv", "push_013.csv"));
-        assert!(wildcard_match("*.csv", "a.csv"));
-        assert!(wildcard_match("push_*", "push_"));
-        assert!(!wildcard_match("push", "push_000.csv"));
-        assert!(wildcard_match("a*b*c", "aXXbYc"));
-        assert!(!wildcard_match("a*b*c", "aXXbY"));
-    }
 
     fn folder(name: &str) -> PathBuf {
         let dir =

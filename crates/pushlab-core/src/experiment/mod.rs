@@ -15,6 +15,11 @@ pub mod suite;
 pub mod train;
 pub mod variant;
 
+/// Frames a model predicts ahead unless told otherwise: the paper's one step. `pushlab train` and
+/// `eval` train for it without `--horizon`, and the app's physics-only model (with no trained model to
+/// take a horizon from) predicts that far.
+pub const DEFAULT_HORIZON: usize = 1;
+
 pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, split_of};
 pub use evaluate::{

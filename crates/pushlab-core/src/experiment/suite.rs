@@ -26,9 +26,11 @@ use super::data::{Skipped, load};
 use super::evaluate::{EvalOptions, PhysicsNmse, evaluate};
 use super::train::train_combined;
 use super::variant::ModelVariant;
+use crate::json_problem::JsonProblem;
 use crate::labels::Split;
 use crate::learn::{Nmse, OnlineConfig, TrainConfig};
 use crate::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind};
+use crate::pattern::wildcard_match;
 
 /// A suite as written in its JSON file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -109,13 +111,8 @@ pub enum SuiteError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{path}: line {line}, column {column}: {message}")]
-    Malformed {
-        path: PathBuf,
-        line: usize,
-        column: usize,
-        message: String,
-    },
+    #[error("{path}: {problem}")]
+    Malformed { path: PathBuf, problem: JsonProblem },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
 }
@@ -130,9 +127,7 @@ impl SuiteSpec {
         let spec: SuiteSpec =
             serde_json::from_slice(&bytes).map_err(|e| SuiteError::Malformed {
                 path: path.to_owned(),
-                line: e.line(),
-                column: e.column(),
-                message: e.to_string(),
+                problem: JsonProblem::of(&e),
             })?;
         let invalid = |message: String| SuiteError::Invalid {
             path: path.to_owned(),
@@ -402,48 +397,4 @@ pub fn expand(base: &Path, paths: &[String]) -> Vec<PathBuf> {
         }
     }
     out
-}
-
-/// Whether `text` matches `pattern`, where `*` matches any run of characters and `?` one.
-pub fn wildcard_match(pattern: &str, text: &str) -> bool {
-    let (p, t): (Vec<char>, Vec<char>) = (pattern.chars().collect(), text.chars().collect());
-    let (mut pi, mut ti) = (0, 0);
-    let (mut star, mut mark) = (None, 0);
-    while ti < t.len() {
-        if pi < p.len() && (p[pi] == '?' || p[pi] == t[ti]) {
-            pi += 1;
-            ti += 1;
-        } else if pi < p.len() && p[pi] == '*' {
-            star = Some(pi);
-            mark = ti;
-            pi += 1;
-        } else if let Some(s) = star {
-            pi = s + 1;
-            mark += 1;
-            ti = mark;
-        } else {
-            return false;
-        }
-    }
-    p[pi..].iter().all(|&c| c == '*')
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn wildcards_match_like_a_shell() {
-        assert!(wildcard_match(
-            "*shape=hex*",
-            "motion_surface=abs_shape=hex_a=0.h5"
-        ));
-        assert!(!wildcard_match(
-            "*shape=hex*",
-            "motion_surface=abs_shape=rect1.h5"
-        ));
-        assert!(wildcard_match("push_0?.csv", "push_07.csv"));
-        assert!(!wildcard_match("push_0?.csv", "push_107.csv"));
-        assert!(wildcard_match("*", ""));
-    }
 }

@@ -23,6 +23,7 @@
 //! goes to a temporary file in the same folder, is flushed to disk, then renamed over the old file,
 //! so a crash at any moment leaves either the old or the new file.
 
+use crate::json_problem::JsonProblem;
 use std::collections::BTreeMap;
 use std::fs;
 use std::io;
@@ -56,13 +57,8 @@ pub enum LabelFileError {
     #[error("cannot read labels file {}: {source}", path.display())]
     Read { path: PathBuf, source: io::Error },
     /// Not valid JSON, or a value of the wrong type.
-    #[error("{}:{line}:{column}: {message}", path.display())]
-    Syntax {
-        path: PathBuf,
-        line: usize,
-        column: usize,
-        message: String,
-    },
+    #[error("{}: {problem}", path.display())]
+    Syntax { path: PathBuf, problem: JsonProblem },
     /// Valid JSON but not a pushlab labels file.
     #[error("{}: not a pushlab labels file: expected \"format\": \"{FORMAT}\", found {found}", path.display())]
     Format { path: PathBuf, found: String },
@@ -148,14 +144,7 @@ pub fn read_or_default(path: &Path) -> Result<LabelSet, LabelFileError> {
 pub fn parse(text: &str, path: &Path) -> Result<LabelSet, LabelFileError> {
     let syntax = |e: serde_json::Error| LabelFileError::Syntax {
         path: path.to_owned(),
-        line: e.line(),
-        column: e.column(),
-        message: e
-            .to_string()
-            .split(" at line ")
-            .next()
-            .unwrap_or_default()
-            .to_owned(),
+        problem: JsonProblem::of(&e),
     };
     let value: serde_json::Value = serde_json::from_str(text).map_err(syntax)?;
     let format = value.get("format");
@@ -378,7 +367,7 @@ pub(crate) mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            err.starts_with(&format!("{}:2:0: EOF while parsing", path.display())),
+            err.starts_with(&format!("{}: line 2, column 0: EOF while parsing", path.display())),
             "{err}"
         );
     }
@@ -417,12 +406,15 @@ pub(crate) mod tests {
         let msg = error_of("{\n  \"format\": \"pushlab-labels\",\n  \"version\": 1,,\n}");
         assert_eq!(
             msg,
-            "/data/set/pushlab-labels.json:3:16: key must be a string"
+            "/data/set/pushlab-labels.json: line 3, column 16: key must be a string"
         );
         let msg = error_of(
             "{\"format\": \"pushlab-labels\", \"version\": 1,\n \"recordings\": {\"a.csv\": {\"meta\": {\"split\": \"train\"}}}}",
         );
-        assert!(msg.starts_with("/data/set/pushlab-labels.json:2:"), "{msg}");
+        assert!(
+            msg.starts_with("/data/set/pushlab-labels.json: line 2, column"),
+            "{msg}"
+        );
         assert!(msg.contains("unknown variant `train`"), "{msg}");
         assert!(msg.contains("offline"), "{msg}");
         let msg = error_of(

@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::atomic_file::write_atomically;
+use crate::json_problem::JsonProblem;
 use std::sync::Arc;
 
 use crate::model::{CombinedModel, ContactModel, ModelKind, PaperModel, PureNnModel};
@@ -87,13 +88,8 @@ pub enum ModelFileError {
     UnknownKind { path: PathBuf, found: String },
     /// Not JSON, or a field of the wrong type or shape; the message starts with the field's JSON
     /// path when there is one (`combined.horizon: invalid type: …`).
-    #[error("{path}: {message} (line {line}, column {column})")]
-    Malformed {
-        path: PathBuf,
-        line: usize,
-        column: usize,
-        message: String,
-    },
+    #[error("{path}: {problem}")]
+    Malformed { path: PathBuf, problem: JsonProblem },
     /// Well-formed, but a value breaks a rule of [`validate`].
     #[error("{path}: {field}: {message}")]
     Invalid {
@@ -229,20 +225,9 @@ impl ModelFile {
 
 /// Deserialises `bytes`, naming the JSON path of the field that did not fit.
 fn parse<T: serde::de::DeserializeOwned>(path: &Path, bytes: &[u8]) -> Result<T, ModelFileError> {
-    let malformed = |field: String, e: serde_json::Error| {
-        // serde_json ends its messages with the position, which the error already names.
-        let text = e.to_string();
-        let text = text.split(" at line ").next().unwrap_or_default();
-        ModelFileError::Malformed {
-            path: path.to_owned(),
-            line: e.line(),
-            column: e.column(),
-            message: if field == "." {
-                text.to_owned()
-            } else {
-                format!("{field}: {text}")
-            },
-        }
+    let malformed = |field: String, e: serde_json::Error| ModelFileError::Malformed {
+        path: path.to_owned(),
+        problem: JsonProblem::at_field(&field, &e),
     };
     let mut deserializer = serde_json::Deserializer::from_slice(bytes);
     let value: T = serde_path_to_error::deserialize(&mut deserializer)

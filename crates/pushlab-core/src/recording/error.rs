@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use super::bag::BagProblem;
 use super::mit_push::MitProblem;
 use super::native::CsvProblem;
+use crate::json_problem::JsonProblem;
 
 /// Why a recording (or a whole set) could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -34,8 +35,8 @@ pub enum LoadError {
         why: String,
     },
     /// `setting.json` is not valid JSON or does not match the schema.
-    #[error("{}: {message}", path.display())]
-    SettingJson { path: PathBuf, message: String },
+    #[error("{}: not a valid setting.json: {problem}", path.display())]
+    SettingJson { path: PathBuf, problem: JsonProblem },
     /// `setting.json` parses but a field has an unusable value.
     #[error("{}: field `{field}`: {problem}", path.display())]
     SettingField {

@@ -19,6 +19,7 @@ use super::error::{LoadError, WriteError};
 use super::read::read_file;
 use super::{Recording, RecordingSet, Setting};
 use crate::geometry::{Pose2, unwrap_angles};
+use crate::json_problem::JsonProblem;
 use crate::trajectory::{Frame, Trajectory};
 
 /// The name of the file that makes a folder a recording set.
@@ -181,7 +182,7 @@ fn quote(text: &str) -> String {
 pub fn parse_setting(bytes: &[u8], path: &Path) -> Result<Setting, LoadError> {
     let setting: Setting = serde_json::from_slice(bytes).map_err(|e| LoadError::SettingJson {
         path: path.to_path_buf(),
-        message: format!("not a valid setting.json: {e}"),
+        problem: JsonProblem::of(&e),
     })?;
     check_setting(&setting).map_err(|(field, problem)| LoadError::SettingField {
         path: path.to_path_buf(),

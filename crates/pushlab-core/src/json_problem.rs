@@ -1,0 +1,84 @@
+//! A JSON file's error as pushlab words it: where (line and column) and what, once for every JSON
+//! file it reads (labels, setting, model, simulator spec, suite spec, bag choice), so that they all
+//! read alike: `PATH: line 3, column 17: invalid type: string "big", expected f64`, or, when the
+//! field is known, the field first, since in a one-line file the column says little:
+//! `PATH: combined.horizon: invalid type: … (line 1, column 525)`.
+
+use std::fmt;
+
+/// Where a JSON document went wrong, and what.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct JsonProblem {
+    /// 1-based; 0 when the error has no position (an I/O error while reading).
+    pub line: usize,
+    pub column: usize,
+    /// The JSON path of the field that did not fit (`combined.horizon`), when known.
+    pub field: Option<String>,
+    /// serde_json's message, without the position it appends (this type names it first).
+    pub message: String,
+}
+
+impl JsonProblem {
+    /// The problem of a serde_json error.
+    pub fn of(error: &serde_json::Error) -> Self {
+        let text = error.to_string();
+        let message = text
+            .split(" at line ")
+            .next()
+            .unwrap_or_default()
+            .to_owned();
+        Self {
+            line: error.line(),
+            column: error.column(),
+            field: None,
+            message,
+        }
+    }
+
+    /// The problem of a serde_json error at a field, named by its JSON path (`combined.horizon`), as
+    /// `serde_path_to_error` gives it (`.` for the document itself).
+    pub fn at_field(field: &str, error: &serde_json::Error) -> Self {
+        let mut problem = Self::of(error);
+        if field != "." && !field.is_empty() {
+            problem.field = Some(field.to_owned());
+        }
+        problem
+    }
+}
+
+impl fmt::Display for JsonProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (&self.field, self.line) {
+            (None, 0) => f.write_str(&self.message),
+            (None, line) => write!(f, "line {line}, column {}: {}", self.column, self.message),
+            (Some(field), 0) => write!(f, "{field}: {}", self.message),
+            (Some(field), line) => write!(
+                f,
+                "{field}: {} (line {line}, column {})",
+                self.message, self.column
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_position_is_named_once_before_the_message() {
+        let Err(e) = serde_json::from_str::<f64>("\n  \"big\"") else {
+            panic!("a string is not a number");
+        };
+        let problem = JsonProblem::of(&e);
+        assert_eq!((problem.line, problem.column), (2, 7));
+        assert_eq!(
+            problem.to_string(),
+            "line 2, column 7: invalid type: string \"big\", expected f64"
+        );
+        assert_eq!(
+            JsonProblem::at_field("a.b", &e).to_string(),
+            "a.b: invalid type: string \"big\", expected f64 (line 2, column 7)"
+        );
+    }
+}
