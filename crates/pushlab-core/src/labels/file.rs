@@ -367,7 +367,10 @@ pub(crate) mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            err.starts_with(&format!("{}: line 2, column 0: EOF while parsing", path.display())),
+            err.starts_with(&format!(
+                "{}: line 2, column 0: EOF while parsing",
+                path.display()
+            )),
             "{err}"
         );
     }

@@ -7,11 +7,13 @@
 //! ([`EncodedImage`]); [`decode`] makes it RGBA. A frame that cannot be read or decoded is an error
 //! for that frame only: the rest play on.
 
+mod decoder;
 mod image;
 
 use std::path::PathBuf;
 use std::sync::Arc;
 
+pub use self::decoder::{DEFAULT_BUDGET_BYTES, Decoded, FrameDecoder};
 pub use self::image::{
     EncodedImage, ImageFormat, ImageProblem, MAX_PIXELS, MAX_SIDE, RawEncoding, RgbaImage, decode,
     dimensions, sniff, to_stored,
@@ -70,8 +72,8 @@ impl std::fmt::Debug for CameraStream {
 }
 
 impl CameraStream {
-    /// A stream of frames at `times` (sorted here, with the source's frame order kept alongside:
-    /// the source is asked for frame `i` of its own order).
+    /// A stream of frames at `times`, increasing: frame `i` is frame `i` of `source` (each source
+    /// sorts its frames by time before making its stream).
     pub fn new(name: String, times: Vec<f64>, source: Arc<dyn FrameSource>) -> Self {
         Self {
             name,
@@ -101,6 +103,13 @@ impl CameraStream {
     pub fn frame_at(&self, time: f64) -> Option<usize> {
         let after = self.times.partition_point(|&t| t <= time + 1e-6);
         after.checked_sub(1)
+    }
+
+    /// The frames taken after `time` and at most `ahead_s` later: what to prefetch while playing.
+    pub fn frames_after(&self, time: f64, ahead_s: f64) -> std::ops::Range<usize> {
+        let from = self.times.partition_point(|&t| t <= time + 1e-6);
+        let to = self.times.partition_point(|&t| t <= time + ahead_s + 1e-6);
+        from..to.max(from)
     }
 
     /// A reader of the frames (see [`FrameSource::reader`]).
@@ -150,5 +159,14 @@ mod tests {
         );
         assert_eq!(stream.frame_at(0.15), Some(1));
         assert_eq!(stream.frame_at(5.0), Some(2));
+    }
+
+    #[test]
+    fn the_frames_to_prefetch_are_those_after_the_one_shown() {
+        let stream = CameraStream::new("cam".into(), vec![0.0, 0.1, 0.2, 0.3], Arc::new(Nowhere));
+        assert_eq!(stream.frames_after(0.05, 0.2), 1..3);
+        assert_eq!(stream.frames_after(0.1, 0.1), 2..3, "not the frame shown");
+        assert_eq!(stream.frames_after(0.3, 1.0), 4..4);
+        assert_eq!(stream.frames_after(-1.0, 0.5), 0..0);
     }
 }
