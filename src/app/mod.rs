@@ -55,6 +55,8 @@ pub struct View {
     pub frame_rate: frame_rate::FrameRate,
     /// The presentation layout (demo mode): large scene, plots, buttons and narration.
     pub presentation: bool,
+    /// The camera panel's zoom and textures.
+    pub cameras: panels::camera::CameraView,
 }
 
 impl Default for View {
@@ -68,6 +70,7 @@ impl Default for View {
             show_shortcuts: false,
             frame_rate: frame_rate::FrameRate::default(),
             presentation: false,
+            cameras: panels::camera::CameraView::default(),
         }
     }
 }
@@ -144,6 +147,7 @@ impl PushlabApp {
                 panels::plots::ui(ui, &self.state, commands);
             });
         egui::CentralPanel::no_frame().show(ui, |ui| {
+            panels::camera::beside_scene(ui, &self.state, &mut self.view.cameras);
             panels::scene::ui(ui, &self.state, &mut self.view.scene, commands);
         });
     }

@@ -5,6 +5,7 @@ use eframe::egui;
 
 use crate::app::View;
 use crate::app::dialogs::DialogRequest;
+use crate::app::state::cameras::CameraCommand;
 use crate::app::state::demo::DemoCommand;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::landscape::LandscapeCommand;
@@ -115,6 +116,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 {
                     commands.push(Command::Landscape(LandscapeCommand::Show(open)));
                 }
+                cameras_menu(ui, state, commands);
             });
             ui.menu_button("Demos", |ui| demos_menu(ui, state, view, commands));
             ui.menu_button("Help", |ui| {
@@ -160,6 +162,28 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
             });
         });
     });
+}
+
+/// One checkbox per camera of the recording shown: which the camera panel shows (remembered by
+/// name across recordings and restarts).
+fn cameras_menu(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let streams = state.cameras().streams();
+    ui.separator();
+    if streams.is_empty() {
+        ui.weak("No cameras in this recording");
+        return;
+    }
+    ui.label("Cameras");
+    for stream in streams {
+        let mut shown = state.cameras().is_shown(&stream.name);
+        let label = format!("{} ({} frames)", stream.name, stream.len());
+        if ui.checkbox(&mut shown, label).changed() {
+            commands.push(Command::Camera(CameraCommand::Show {
+                name: stream.name.clone(),
+                shown,
+            }));
+        }
+    }
 }
 
 /// The Demos menu: the paper's experiments on the sample data (one click opens a demo in the

@@ -31,6 +31,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut V
             super::plots::ui(ui, state, commands);
         });
     egui::CentralPanel::no_frame().show(ui, |ui| {
+        super::camera::beside_scene(ui, state, &mut view.cameras);
         super::scene::ui(ui, state, &mut view.scene, commands);
     });
 }

@@ -5,6 +5,7 @@
 
 pub mod bag_import;
 pub mod browser;
+pub mod cameras;
 pub mod demo;
 pub mod envelope;
 pub mod fit;
@@ -24,7 +25,7 @@ pub mod timeline;
 pub mod training;
 mod training_choice;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -36,6 +37,7 @@ use serde::{Deserialize, Serialize};
 
 use self::bag_import::{BagChooser, BagCommand};
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
+use self::cameras::{CameraCommand, Cameras};
 use self::demo::{DemoCommand, Demos};
 use self::labels::{LabelAction, LabelTarget, Labeling};
 use self::landscape::{LandscapeCommand, LandscapeState};
@@ -106,6 +108,8 @@ pub enum Command {
     Demo(DemoCommand),
     /// The form that chooses a bag's topics and object (see `bag_import`).
     Bag(BagCommand),
+    /// Which camera streams the camera panel shows.
+    Camera(CameraCommand),
 }
 
 /// How the shown frame changed, which decides what a held paint key covers.
@@ -136,6 +140,8 @@ pub struct Persisted {
     pub browser: BrowserView,
     /// Steps of the what-if rollouts.
     pub what_if_steps: usize,
+    /// Camera streams the user hid, by name.
+    pub hidden_cameras: BTreeSet<String>,
 }
 
 impl Default for Persisted {
@@ -150,6 +156,7 @@ impl Default for Persisted {
             folder_models: BTreeMap::new(),
             browser: BrowserView::default(),
             what_if_steps: DEFAULT_WHAT_IF_STEPS,
+            hidden_cameras: BTreeSet::new(),
         }
     }
 }
@@ -200,6 +207,8 @@ pub struct AppState {
     pub demos: Demos,
     /// ROS 2 bags waiting for their topics to be chosen, and those being opened with a choice.
     pub bags: BagChooser,
+    /// The selected recording's cameras and their frames.
+    cameras: Cameras,
 }
 
 impl AppState {
@@ -232,6 +241,7 @@ impl AppState {
             landscape: LandscapeState::default(),
             demos: Demos::default(),
             bags: BagChooser::default(),
+            cameras: Cameras::new(persisted.hidden_cameras),
         }
     }
 
@@ -256,7 +266,13 @@ impl AppState {
             folder_models: self.folder_models.clone(),
             browser: self.browser.clone(),
             what_if_steps: self.what_if_steps,
+            hidden_cameras: self.cameras.hidden().clone(),
         }
+    }
+
+    /// The selected recording's cameras and their frames.
+    pub fn cameras(&self) -> &Cameras {
+        &self.cameras
     }
 
     /// Where the selected recording's labels live.
@@ -408,6 +424,7 @@ impl AppState {
                 }
             }
             Command::Bag(command) => self.apply_bag(command),
+            Command::Camera(command) => self.cameras.apply(command),
             Command::Browser(command) => self.apply_browser(command),
             Command::TrainForOpenRecordings => self.train_for_open_recordings(),
             Command::SetWhatIfSteps(steps) => {
@@ -462,7 +479,13 @@ impl AppState {
         }
         self.remember_losses();
         let landscape = self.update_landscape();
+        (self.cameras).update(
+            self.timeline.frame_time(),
+            self.timeline.playing,
+            self.timeline.speed,
+        );
         self.timeline.playing
+            || self.cameras.is_busy()
             || self.session.loading().is_some()
             || self.training.is_running()
             || self.proposals.is_running()
@@ -508,6 +531,7 @@ impl AppState {
     }
 
     fn start_run_keeping_labels(&mut self) {
+        self.cameras.select(self.session.selected_recording());
         let Some(recording) = self.session.selected_recording() else {
             self.proposals.stop();
             self.run = None;

@@ -79,6 +79,11 @@ impl Timeline {
         self.frame_times.len().saturating_sub(1)
     }
 
+    /// The time stamp of the frame shown, seconds on the recording's clock (0 when empty).
+    pub fn frame_time(&self) -> f64 {
+        self.frame_times.get(self.frame).copied().unwrap_or(0.0)
+    }
+
     /// Seconds since the first frame.
     pub fn elapsed(&self) -> f64 {
         self.time - self.frame_times.first().copied().unwrap_or(0.0)
