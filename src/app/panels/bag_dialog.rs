@@ -61,10 +61,39 @@ pub fn window(
             ui.separator();
             object(ui, form, dialogs, &mut send);
             ui.separator();
+            cameras(ui, form, &mut send);
             options(ui, form.options, &mut send);
             ui.separator();
             buttons(ui, state, form, &mut send);
         });
+}
+
+/// One checkbox per camera topic: which are shown beside the push (none, one or several).
+fn cameras(ui: &mut egui::Ui, form: &BagForm, send: &mut impl FnMut(BagCommand)) {
+    let cameras: Vec<_> = form.topics.iter().filter(|t| t.is_camera()).collect();
+    if cameras.is_empty() {
+        return;
+    }
+    ui.label("Cameras to show beside the push:");
+    for topic in cameras {
+        let mut shown = form.cameras.contains(&topic.topic);
+        let what = topic.camera.as_ref().map_or_else(String::new, |c| {
+            let size = c
+                .size
+                .map_or_else(String::new, |(w, h)| format!(", {w}×{h}"));
+            format!(" ({}{size}, {} frames)", c.encoding, topic.count)
+        });
+        if ui
+            .checkbox(&mut shown, format!("{}{what}", topic.topic))
+            .changed()
+        {
+            send(BagCommand::SetCamera {
+                topic: topic.topic.clone(),
+                shown,
+            });
+        }
+    }
+    ui.separator();
 }
 
 /// The bag's topics: name, type, messages, rate, and whether pushlab reads it.

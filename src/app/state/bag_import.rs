@@ -65,6 +65,8 @@ pub struct BagForm {
     /// `setting.json` files found beside the bag, nearest first.
     pub settings_found: Vec<PathBuf>,
     pub options: ImportOptions,
+    /// The camera topics to show beside the push (of the bag's camera topics).
+    pub cameras: Vec<String>,
     /// Why the last attempt to open the bag with this form failed.
     pub error: Option<String>,
 }
@@ -79,18 +81,19 @@ impl BagForm {
             .file_stem()
             .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
         let entered = ObjectSource::Entered(EnteredBox::blank(stem));
-        let (pusher, object, object_source, options) = match remembered {
+        let (pusher, object, object_source, options, cameras) = match remembered {
             Some(c) => {
                 let source = match c.setting {
                     SettingSource::File(path) => file_source(path),
                     SettingSource::Entered(s) => ObjectSource::Entered(entered_of(&s)),
                 };
-                (Some(c.pusher), Some(c.object), source, c.options)
+                (Some(c.pusher), Some(c.object), source, c.options, c.cameras)
             }
             None => {
                 let (pusher, object) = choice::suggest(&topics);
                 let source = settings_found.first().cloned().map_or(entered, file_source);
-                (pusher, object, source, ImportOptions::default())
+                let cameras = choice::suggest_cameras(&topics);
+                (pusher, object, source, ImportOptions::default(), cameras)
             }
         };
         Self {
@@ -102,6 +105,7 @@ impl BagForm {
             object_source,
             settings_found,
             options,
+            cameras,
             error: None,
         }
     }
@@ -135,7 +139,7 @@ impl BagForm {
             object: object.clone(),
             setting,
             options: self.options,
-            cameras: Vec::new(),
+            cameras: self.cameras.clone(),
         })
     }
 }
@@ -175,6 +179,11 @@ pub enum BagCommand {
     EnterObject,
     SetEntered(EnteredBox),
     SetOptions(ImportOptions),
+    /// Show the camera topic beside the push, or not.
+    SetCamera {
+        topic: String,
+        shown: bool,
+    },
     /// Open the bag with the form's choice (remembered once it opened).
     Open,
     /// Do not open this bag now; it stays listed as a problem with a way back to its form.
@@ -264,6 +273,12 @@ impl AppState {
                 }
             }
             BagCommand::SetOptions(options) => form.options = options,
+            BagCommand::SetCamera { topic, shown } => {
+                form.cameras.retain(|t| *t != topic);
+                if shown {
+                    form.cameras.push(topic);
+                }
+            }
             BagCommand::Open => match form.choice() {
                 Ok(choice) => {
                     let bag = form.bag.clone();

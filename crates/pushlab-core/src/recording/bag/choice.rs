@@ -335,5 +335,19 @@ pub fn suggest(topics: &[TopicInfo]) -> (Option<TopicSpec>, Option<TopicSpec>) {
     (pusher, object)
 }
 
+/// The camera topics pre-selected when a bag is opened: those whose name says camera or image
+/// (`/camera/color/image_raw/compressed`, `/overhead_cam/image`), since a bag may carry depth or
+/// debug images nobody labels by.
+pub fn suggest_cameras(topics: &[TopicInfo]) -> Vec<String> {
+    (topics.iter())
+        .filter(|t| t.is_camera())
+        .filter(|t| {
+            let name = t.topic.to_ascii_lowercase();
+            ["cam", "image"].iter().any(|w| name.contains(w))
+        })
+        .map(|t| t.topic.clone())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests;

@@ -267,3 +267,21 @@ fn the_settings_beside_a_bag_are_found_nearest_first() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn cameras_named_camera_or_image_are_pre_selected() {
+    const COMPRESSED: &str = "sensor_msgs/msg/CompressedImage";
+    const RAW: &str = "sensor_msgs/msg/Image";
+    let topics = [
+        topic("/overhead_cam/compressed", COMPRESSED, &[]),
+        topic("/depth/image_raw", RAW, &[]),
+        topic("/debug/overlay", RAW, &[]),
+        topic("/pusher/pose", POSE, &[]),
+        // Named like a camera, but not images pushlab reads.
+        topic("/camera/info", "sensor_msgs/msg/CameraInfo", &[]),
+    ];
+    assert_eq!(
+        suggest_cameras(&topics),
+        ["/overhead_cam/compressed", "/depth/image_raw"]
+    );
+}
