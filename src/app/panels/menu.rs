@@ -141,10 +141,15 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     ui.separator();
                 }
                 ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
-                    if let Some(paths) = state.session.loading() {
+                    if let Some(loading) = state.session.loading() {
                         ui.separator();
                         ui.spinner();
-                        ui.label(format!("loading {} path(s)…", paths.len()));
+                        ui.label(format!("opening {} path(s)", loading.paths));
+                        ui.add(
+                            egui::ProgressBar::new(loading.progress.fraction() as f32)
+                                .desired_width(220.0)
+                                .text(loading.progress.describe()),
+                        );
                         if ui
                             .small_button("Cancel")
                             .on_hover_text("stop opening them; what they hold is not added")

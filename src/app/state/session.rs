@@ -1,16 +1,20 @@
 //! What is open: the recording sets, the load errors, and which recording is selected.
 //!
-//! Loading runs on a worker thread (`start_loading` + `poll_loading`) so that the window keeps
-//! drawing; tests and the command line can load synchronously with `open_blocking`.
+//! Loading runs on worker threads (`start_loading` + `poll_loading`), one per open, side by side, so
+//! that the window keeps drawing and opening a second folder never waits for a large first one;
+//! each load reports its bytes (the status bar's progress bar) and stops at its next file or chunk
+//! when cancelled. Tests and the command line can load synchronously with `open_blocking`.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
 
 use pushlab_core::recording::bag::{BagChoice, TopicInfo};
 use pushlab_core::recording::{
-    BagProblem, LoadError, LoadReport, Recording, RecordingSet, load_paths, load_paths_choosing,
+    BagProblem, LoadError, LoadReport, Recording, RecordingSet, load_paths, load_paths_with,
 };
+use pushlab_core::recording::{LoadProgress, ProgressSnapshot};
 
 /// Where a recording sits in the session: set index and recording index within the set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -50,6 +54,16 @@ impl LoadProblem {
 struct LoadJob {
     paths: Vec<PathBuf>,
     receiver: Receiver<(LoadReport, Duration)>,
+    progress: Arc<LoadProgress>,
+}
+
+/// The loads under way, as the status bar shows them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Loading {
+    /// Paths being opened, over every load.
+    pub paths: usize,
+    /// Bytes and files read of those planned, over every load.
+    pub progress: ProgressSnapshot,
 }
 
 /// The open recordings and the selection.
@@ -67,7 +81,7 @@ pub struct Session {
     pub last_load_time: Option<Duration>,
     /// Bags opened without a choice of topics, with their topics: the app asks (see `bag_import`).
     pub bags_to_choose: Vec<(PathBuf, Vec<TopicInfo>)>,
-    job: Option<LoadJob>,
+    jobs: Vec<LoadJob>,
 }
 
 impl Session {
@@ -78,8 +92,8 @@ impl Session {
         self.merge(report, started.elapsed())
     }
 
-    /// Starts loading paths on a worker thread; a load already running keeps running and this one is
-    /// queued behind it by simply loading in parallel (loading only reads files).
+    /// Starts loading paths on a worker thread, beside any load already running (loading only
+    /// reads files); returns at once.
     pub fn start_loading(&mut self, paths: Vec<PathBuf>) {
         self.start_loading_choosing(paths, Vec::new());
     }
@@ -93,57 +107,65 @@ impl Session {
         if paths.is_empty() {
             return;
         }
-        if let Some(job) = self.job.take() {
-            // Finish the older job first so that its results are not lost.
-            if let Ok((report, elapsed)) = job.receiver.recv() {
-                self.merge(report, elapsed);
-            }
-        }
         let (sender, receiver) = channel();
-        let worker_paths = paths.clone();
+        let progress = Arc::new(LoadProgress::default());
+        let (worker_paths, worker_progress) = (paths.clone(), Arc::clone(&progress));
         std::thread::spawn(move || {
             let started = Instant::now();
-            let report = load_paths_choosing(&worker_paths, &choices);
-            // The receiver is gone only if the app closed; nothing to report then.
+            let report = load_paths_with(&worker_paths, &choices, &worker_progress);
+            // The receiver is gone only if the app closed or the load was cancelled.
             let _ = sender.send((report, started.elapsed()));
         });
-        self.job = Some(LoadJob { paths, receiver });
+        self.jobs.push(LoadJob {
+            paths,
+            receiver,
+            progress,
+        });
     }
 
-    /// Stops waiting for the load under way: its results are dropped when the worker finishes
-    /// (loading only reads files, so nothing is left half-done). Returns whether one was running.
+    /// Cancels every load under way: each stops at its next file or chunk and what it read is not
+    /// added (loading only reads files, so nothing is left half-done). Returns whether one was
+    /// running.
     pub fn cancel_loading(&mut self) -> bool {
-        self.job.take().is_some()
+        for job in &self.jobs {
+            job.progress.cancel();
+        }
+        !std::mem::take(&mut self.jobs).is_empty()
     }
 
-    /// The paths being loaded right now, if any.
-    pub fn loading(&self) -> Option<&[PathBuf]> {
-        self.job.as_ref().map(|j| j.paths.as_slice())
+    /// The loads under way, if any.
+    pub fn loading(&self) -> Option<Loading> {
+        if self.jobs.is_empty() {
+            return None;
+        }
+        Some(Loading {
+            paths: self.jobs.iter().map(|j| j.paths.len()).sum(),
+            progress: (self.jobs.iter())
+                .map(|j| j.progress.snapshot())
+                .fold(ProgressSnapshot::default(), ProgressSnapshot::plus),
+        })
     }
 
-    /// Merges a finished background load. Returns whether a new recording got selected.
+    /// Merges the background loads that finished, in the order they finish. Returns whether a new
+    /// recording got selected.
     pub fn poll_loading(&mut self) -> bool {
-        let Some(job) = &self.job else {
-            return false;
-        };
-        match job.receiver.try_recv() {
-            Ok((report, elapsed)) => {
-                self.job = None;
-                self.merge(report, elapsed)
-            }
-            Err(TryRecvError::Empty) => false,
-            Err(TryRecvError::Disconnected) => {
-                let paths = self.job.take().map(|j| j.paths).unwrap_or_default();
-                for path in paths {
-                    self.problems.push(LoadProblem {
-                        message: format!("{}: loading stopped unexpectedly", path.display()),
-                        path,
-                        bag_to_choose: false,
-                    });
+        let mut selected = false;
+        for job in std::mem::take(&mut self.jobs) {
+            match job.receiver.try_recv() {
+                Ok((report, elapsed)) => selected |= self.merge(report, elapsed),
+                Err(TryRecvError::Empty) => self.jobs.push(job),
+                Err(TryRecvError::Disconnected) => {
+                    for path in job.paths {
+                        self.problems.push(LoadProblem {
+                            message: format!("{}: loading stopped unexpectedly", path.display()),
+                            path,
+                            bag_to_choose: false,
+                        });
+                    }
                 }
-                false
             }
         }
+        selected
     }
 
     /// Adds the sets of a report (a set folder opened again replaces its older copy) and its errors.
@@ -278,6 +300,23 @@ mod tests {
         assert_eq!(session.recording_count(), 50);
         session.open_blocking(std::slice::from_ref(&dir));
         assert_eq!(session.recording_count(), 50, "opening again replaces");
+    }
+
+    #[test]
+    fn a_second_open_starts_at_once_beside_the_first() {
+        let mut session = Session::default();
+        session.start_loading(vec![sample_data()]);
+        session.start_loading(vec![PathBuf::from("/nonexistent/b")]);
+        // Neither was waited for: both are under way until polled.
+        assert_eq!(session.loading().map(|l| l.paths), Some(2));
+        let deadline = Instant::now() + Duration::from_secs(60);
+        while session.loading().is_some() && Instant::now() < deadline {
+            session.poll_loading();
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        assert!(session.recording_count() > 0, "{:?}", session.problems);
+        assert_eq!(session.problems.len(), 1, "{:?}", session.problems);
+        assert!(session.problems[0].message.contains("/nonexistent/b"));
     }
 
     #[test]

@@ -47,6 +47,27 @@ pub struct ProgressSnapshot {
 }
 
 impl ProgressSnapshot {
+    /// What a progress bar says: `1.20 GB of 4.00 GB`, with the file when there are several.
+    pub fn describe(&self) -> String {
+        let bytes = format!("{} of {}", size(self.bytes_done), size(self.bytes_total));
+        if self.files_total > 1 {
+            let file = (self.files_done + 1).min(self.files_total);
+            format!("{bytes}, file {file} of {}", self.files_total)
+        } else {
+            bytes
+        }
+    }
+
+    /// The sum of two loads' progress.
+    pub fn plus(self, other: Self) -> Self {
+        Self {
+            bytes_done: self.bytes_done + other.bytes_done,
+            bytes_total: self.bytes_total + other.bytes_total,
+            files_done: self.files_done + other.files_done,
+            files_total: self.files_total + other.files_total,
+        }
+    }
+
     /// The fraction done, 0 … 1 (0 before anything is planned).
     pub fn fraction(&self) -> f64 {
         if self.bytes_total == 0 {
@@ -93,5 +114,56 @@ impl Progress for LoadProgress {
 
     fn is_cancelled(&self) -> bool {
         self.cancelled.load(Ordering::Relaxed)
+    }
+}
+
+/// A size in bytes as people read it (decimal units, three significant digits).
+fn size(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["kB", "MB", "GB", "TB"];
+    if bytes < 1000 {
+        return format!("{bytes} B");
+    }
+    let mut value = bytes as f64;
+    let mut unit = "B";
+    for u in UNITS {
+        if value < 1000.0 {
+            break;
+        }
+        value /= 1000.0;
+        unit = u;
+    }
+    let digits = if value < 10.0 {
+        2
+    } else if value < 100.0 {
+        1
+    } else {
+        0
+    };
+    format!("{value:.digits$} {unit}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn progress_reads_as_sizes_and_files() {
+        let one = ProgressSnapshot {
+            bytes_done: 1_234_000_000,
+            bytes_total: 4_000_000_000,
+            files_done: 0,
+            files_total: 1,
+        };
+        assert_eq!(one.describe(), "1.23 GB of 4.00 GB");
+        let two = one.plus(ProgressSnapshot {
+            bytes_done: 500,
+            bytes_total: 56_700,
+            files_done: 1,
+            files_total: 2,
+        });
+        assert_eq!(two.describe(), "1.23 GB of 4.00 GB, file 2 of 3");
+        assert_eq!(size(999), "999 B");
+        assert_eq!(size(56_700), "56.7 kB");
+        assert_eq!(size(123_456_789), "123 MB");
     }
 }
