@@ -7,13 +7,13 @@
 use eframe::egui::{self, Key, KeyboardShortcut, Modifiers};
 use pushlab_core::labels::{LabelKind, LabelSchema};
 
-use crate::app::View;
 use crate::app::panels::scene::camera::CameraMode;
 use crate::app::state::labels::{ERASE_HOTKEY, LabelAction};
 use crate::app::state::landscape::LandscapeCommand;
 use crate::app::state::proposals::ProposalAction;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
+use crate::app::view::View;
 
 /// What a fixed binding does.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -9,19 +9,21 @@ pub mod dialogs;
 pub mod export;
 pub mod frame_rate;
 pub mod keys;
+pub mod layout;
 pub mod panels;
 pub mod state;
+pub mod view;
+mod workbench;
 
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{Receiver, Sender, channel};
 
 use eframe::egui;
 
-use self::dialogs::{DialogRequest, DialogResult, Dialogs};
-use self::panels::scene::SceneView;
+use self::dialogs::{DialogRequest, DialogResult};
 use self::state::bag_import::BagCommand;
 use self::state::models::Models;
 use self::state::{AppState, Command, Persisted};
+pub use self::view::{SideTab, View};
 
 /// Most seconds playback moves in one frame. Playback keeps real time down to 4 frames per second
 /// (a software renderer on a busy machine), yet a window that was hidden for minutes does not jump
@@ -30,50 +32,8 @@ pub const MAX_FRAME_STEP_S: f64 = 0.25;
 
 /// Key under which eframe persists [`Persisted`].
 const STORAGE_KEY: &str = "pushlab";
-
-/// The side panel's tabs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SideTab {
-    Steer,
-    Inspect,
-    Train,
-    Labels,
-}
-
-/// View state that is not app state: camera, tabs, pending exports.
-pub struct View {
-    pub scene: SceneView,
-    pub side_tab: SideTab,
-    pub dialogs: Dialogs,
-    /// Messages from screenshots saved on the renderer's thread.
-    pub screenshot_status: (Sender<String>, Receiver<String>),
-    /// Where the plots were drawn last frame (for PNG export; the scene keeps its own rect).
-    pub plots_rect: egui::Rect,
-    /// Whether the keyboard cheat-sheet is showing.
-    pub show_shortcuts: bool,
-    /// Frames per second and CPU time per frame, for the menu bar.
-    pub frame_rate: frame_rate::FrameRate,
-    /// The presentation layout (demo mode): large scene, plots, buttons and narration.
-    pub presentation: bool,
-    /// The camera panel's zoom and textures.
-    pub cameras: panels::camera::CameraView,
-}
-
-impl Default for View {
-    fn default() -> Self {
-        Self {
-            scene: SceneView::default(),
-            side_tab: SideTab::Steer,
-            dialogs: Dialogs::default(),
-            screenshot_status: channel(),
-            plots_rect: egui::Rect::NOTHING,
-            show_shortcuts: false,
-            frame_rate: frame_rate::FrameRate::default(),
-            presentation: false,
-            cameras: panels::camera::CameraView::default(),
-        }
-    }
-}
+/// Key under which eframe persists the window's [`layout::Layout`].
+const LAYOUT_KEY: &str = "pushlab-layout";
 
 /// The app: its state and its view.
 pub struct PushlabApp {
@@ -110,7 +70,7 @@ impl PushlabApp {
         if self.view.presentation {
             panels::presentation::ui(ui, &self.state, &mut self.view, &mut commands);
         } else {
-            self.workbench(ui, &mut commands);
+            workbench::ui(ui, &self.state, &mut self.view, &mut commands);
         }
         panels::shortcuts::window(ui.ctx(), &self.state, &mut self.view.show_shortcuts);
         panels::landscape::window(ui.ctx(), &self.state, &mut commands);
@@ -121,59 +81,6 @@ impl PushlabApp {
         }
         self.handle_dialog_results(ui.ctx());
         self.handle_screenshots();
-    }
-
-    /// The usual layout: browser, side panel, scene, plots and timeline.
-    fn workbench(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
-        panels::timeline::bottom_bar(ui, &self.state, commands);
-        // On a narrow window the browser gives way, so that the scene keeps 300 points beside the
-        // side panel (which its sliders need at full width).
-        let width = ui.available_width();
-        egui::Panel::left("browser")
-            .default_size(490.0)
-            .max_size((width - 330.0 - 300.0).max(220.0))
-            .resizable(true)
-            .show(ui, |ui| panels::browser::ui(ui, &self.state, commands));
-        egui::Panel::right("side")
-            .default_size(330.0)
-            .max_size(480.0)
-            .resizable(true)
-            .show(ui, |ui| self.side_panel(ui, commands));
-        egui::Panel::bottom("plots")
-            .default_size(360.0)
-            .resizable(true)
-            .show(ui, |ui| {
-                self.view.plots_rect = ui.max_rect();
-                panels::plots::ui(ui, &self.state, commands);
-            });
-        egui::CentralPanel::no_frame().show(ui, |ui| {
-            panels::camera::beside_scene(ui, &self.state, &mut self.view.cameras);
-            panels::scene::ui(ui, &self.state, &mut self.view.scene, commands);
-        });
-    }
-
-    fn side_panel(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
-        ui.horizontal(|ui| {
-            for (tab, label) in [
-                (SideTab::Steer, "Steer"),
-                (SideTab::Inspect, "Inspect"),
-                (SideTab::Train, "Train"),
-                (SideTab::Labels, "Labels"),
-            ] {
-                ui.selectable_value(&mut self.view.side_tab, tab, label);
-            }
-        });
-        ui.separator();
-        egui::ScrollArea::vertical().show(ui, |ui| match self.view.side_tab {
-            SideTab::Steer => panels::steer::ui(ui, &self.state, commands),
-            SideTab::Inspect => panels::inspector::ui(ui, &self.state),
-            SideTab::Train => {
-                panels::training::ui(ui, &self.state, &mut self.view.dialogs, commands)
-            }
-            SideTab::Labels => {
-                panels::labels::ui(ui, &self.state, &mut self.view.dialogs, commands)
-            }
-        });
     }
 
     fn handle_dialog_results(&mut self, ctx: &egui::Context) {
@@ -284,6 +191,7 @@ impl eframe::App for PushlabApp {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, STORAGE_KEY, &self.state.persisted());
+        eframe::set_value(storage, LAYOUT_KEY, &self.view.layout);
     }
 }
 
@@ -365,7 +273,11 @@ pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
             // So are labels whose own folder cannot be written.
             state.labels.rescue_dir =
                 eframe::storage_dir("pushlab").map(|dir| dir.join("unsaved-labels"));
-            Ok(Box::new(PushlabApp::new(state)))
+            let mut app = PushlabApp::new(state);
+            if let Some(layout) = cc.storage.and_then(|s| eframe::get_value(s, LAYOUT_KEY)) {
+                app.view.layout = layout;
+            }
+            Ok(Box::new(app))
         }),
     )
     .map_err(|e| anyhow::anyhow!("could not open the window: {e}"))

@@ -3,13 +3,14 @@
 
 use eframe::egui;
 
-use crate::app::View;
 use crate::app::dialogs::DialogRequest;
+use crate::app::layout::Pane;
 use crate::app::state::cameras::CameraCommand;
 use crate::app::state::demo::DemoCommand;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::landscape::LandscapeCommand;
 use crate::app::state::{AppState, Command};
+use crate::app::view::View;
 
 /// Draws the menu bar and the status line.
 pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
@@ -116,6 +117,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 {
                     commands.push(Command::Landscape(LandscapeCommand::Show(open)));
                 }
+                panes_menu(ui, view);
                 cameras_menu(ui, state, commands);
             });
             ui.menu_button("Demos", |ui| demos_menu(ui, state, view, commands));
@@ -167,6 +169,25 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
             });
         });
     });
+}
+
+/// One checkbox per pane of the window (the view's own, remembered across restarts), and Reset
+/// layout.
+fn panes_menu(ui: &mut egui::Ui, view: &mut View) {
+    ui.separator();
+    for pane in Pane::ALL {
+        let mut shown = view.layout.is_shown(pane);
+        if ui.checkbox(&mut shown, pane.title()).changed() {
+            view.layout.set_shown(pane, shown);
+        }
+    }
+    if ui
+        .button("Reset layout")
+        .on_hover_text("every pane shown, where it was at first")
+        .clicked()
+    {
+        view.layout.reset();
+    }
 }
 
 /// One checkbox per camera of the recording shown: which the camera panel shows (remembered by

@@ -5,9 +5,9 @@
 
 use eframe::egui;
 
-use crate::app::View;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
+use crate::app::view::View;
 
 /// How much larger text and controls are than in the usual layout.
 const SCALE: f32 = 1.8;

@@ -1,0 +1,60 @@
+//! What the window keeps for itself, apart from the app's state: the layout of its panes, the
+//! scene's and the cameras' zoom, the tools' tab, open dialogs, pending screenshots. Panels may
+//! change these directly; everything else they ask for with a command.
+
+use std::sync::mpsc::{Receiver, Sender, channel};
+
+use eframe::egui;
+
+use super::dialogs::Dialogs;
+use super::frame_rate::FrameRate;
+use super::layout::Layout;
+use super::panels::camera::CameraView;
+use super::panels::scene::SceneView;
+
+/// The tools pane's tabs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SideTab {
+    Steer,
+    Inspect,
+    Train,
+    Labels,
+}
+
+/// View state that is not app state.
+pub struct View {
+    /// Where the panes are, and which the user hid (remembered across restarts).
+    pub layout: Layout,
+    pub scene: SceneView,
+    pub side_tab: SideTab,
+    pub dialogs: Dialogs,
+    /// Messages from screenshots saved on the renderer's thread.
+    pub screenshot_status: (Sender<String>, Receiver<String>),
+    /// Where the plots were drawn last frame (for PNG export; the scene keeps its own rect).
+    pub plots_rect: egui::Rect,
+    /// Whether the keyboard cheat-sheet is showing.
+    pub show_shortcuts: bool,
+    /// Frames per second and CPU time per frame, for the menu bar.
+    pub frame_rate: FrameRate,
+    /// The presentation layout (demo mode): large scene, plots, buttons and narration.
+    pub presentation: bool,
+    /// The camera panel's zoom and textures.
+    pub cameras: CameraView,
+}
+
+impl Default for View {
+    fn default() -> Self {
+        Self {
+            layout: Layout::default(),
+            scene: SceneView::default(),
+            side_tab: SideTab::Steer,
+            dialogs: Dialogs::default(),
+            screenshot_status: channel(),
+            plots_rect: egui::Rect::NOTHING,
+            show_shortcuts: false,
+            frame_rate: FrameRate::default(),
+            presentation: false,
+            cameras: CameraView::default(),
+        }
+    }
+}
