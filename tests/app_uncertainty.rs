@@ -99,7 +99,7 @@ fn what_if_ghosts_follow_the_sliders_and_k_is_chosen_in_steer() {
     let mut harness = common::app_on_sample("box1-paper-ur-front");
     common::step_frames(&mut harness, 10);
     let state = &harness.state().state;
-    let before = state.what_if().expect("a run");
+    let before = state.what_if().expect("a run").clone();
     // k = 20 by default, each step the model's horizon long, up to the end of the push.
     let run = state.run.as_ref().expect("a run");
     let frames = state

@@ -201,10 +201,10 @@ impl AppState {
     }
 
     fn start_landscape(&mut self, request: LandscapeRequest) {
+        let skip = self.frames_to_skip();
         let Some(run) = &self.run else {
             return;
         };
-        let skip = self.frames_to_skip();
         let samples = landscape_samples(
             run.trajectory(),
             run.horizon(),

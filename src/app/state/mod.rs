@@ -9,6 +9,7 @@ pub mod cameras;
 pub mod demo;
 pub mod envelope;
 pub mod fit;
+mod frame_cache;
 pub mod label_losses;
 pub mod labels;
 pub mod landscape;
@@ -39,6 +40,7 @@ use self::bag_import::{BagChooser, BagCommand};
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::cameras::{CameraCommand, Cameras};
 use self::demo::{DemoCommand, Demos};
+use self::frame_cache::FrameCache;
 use self::labels::{LabelAction, LabelTarget, Labeling};
 use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
@@ -209,6 +211,10 @@ pub struct AppState {
     pub bags: BagChooser,
     /// The selected recording's cameras and their frames.
     cameras: Cameras,
+    /// What several panels read each frame, computed once per change.
+    frame_cache: FrameCache,
+    /// Counts the runs started, so that what was computed for one is not taken for another's.
+    run_generation: u64,
 }
 
 impl AppState {
@@ -242,6 +248,8 @@ impl AppState {
             demos: Demos::default(),
             bags: BagChooser::default(),
             cameras: Cameras::new(persisted.hidden_cameras),
+            frame_cache: FrameCache::default(),
+            run_generation: 0,
         }
     }
 
@@ -318,6 +326,7 @@ impl AppState {
     pub fn apply(&mut self, command: Command) {
         self.apply_command(command);
         self.remember_losses();
+        self.refresh_frame_cache();
     }
 
     fn apply_command(&mut self, command: Command) {
@@ -484,6 +493,7 @@ impl AppState {
             self.timeline.playing,
             self.timeline.speed,
         );
+        self.refresh_frame_cache();
         self.timeline.playing
             || self.cameras.is_busy()
             || self.session.loading().is_some()
@@ -515,13 +525,6 @@ impl AppState {
         }
     }
 
-    /// One flag per frame of the selected recording: labelled "skip in training" (bad tracking).
-    pub fn frames_to_skip(&self) -> Vec<bool> {
-        self.label_target()
-            .map(|t| self.labels.frames_to_skip(&t))
-            .unwrap_or_default()
-    }
-
     /// A fresh timeline and online run for the selected recording; labeling starts over too (no
     /// stroke, no in point).
     pub fn start_run(&mut self) {
@@ -531,6 +534,8 @@ impl AppState {
     }
 
     fn start_run_keeping_labels(&mut self) {
+        self.run_generation += 1;
+        self.frame_cache.clear();
         self.cameras.select(self.session.selected_recording());
         let Some(recording) = self.session.selected_recording() else {
             self.proposals.stop();

@@ -5,7 +5,6 @@
 //! The models behind them are built once per run (`AppState::start_run`); what is computed here per
 //! drawn frame is four predictions of one sample, a few microseconds.
 
-use pushlab_core::inspect::{Rollout, rollout};
 use pushlab_core::model::{OnlineStep, Prediction, Sample};
 
 use super::AppState;
@@ -82,22 +81,6 @@ impl AppState {
             }
             PredictionLayer::Physics => None,
         }
-    }
-
-    /// The what-if rollout from the frame shown: the online model with `θ` at this frame (as learned
-    /// or as the sliders set it) fed its own predictions for `what_if_steps` steps along the recorded
-    /// pusher path. `None` without a run.
-    pub fn what_if(&self) -> Option<Rollout> {
-        let run = self.run.as_ref()?;
-        let frame = self.frame();
-        Some(rollout(
-            run.model().as_ref(),
-            run.trajectory(),
-            frame,
-            run.horizon(),
-            self.what_if_steps,
-            &run.theta_at(frame),
-        ))
     }
 
     /// The online model's prediction, loss and gradient at the frame shown, with θ at that frame.

@@ -164,7 +164,7 @@ struct Content<'a> {
     predictions: Option<FramePredictions>,
     gain: f64,
     /// The what-if rollout from this frame, when its layer is on.
-    what_if: Option<Rollout>,
+    what_if: Option<&'a Rollout>,
 }
 
 impl Content<'_> {
