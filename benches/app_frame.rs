@@ -23,6 +23,7 @@ use egui_kittest::Harness;
 use pushlab::app::state::session::RecordingId;
 use pushlab::app::state::timeline::TimelineCommand;
 use pushlab::app::state::{AppState, Command, Persisted};
+use pushlab::app::state::{OnlineCommand, SessionCommand};
 use pushlab::app::{PushlabApp, initial_state, sample_data_dir};
 use pushlab_core::geometry::Pose2;
 use pushlab_core::recording::{Recording, RecordingSet, Setting, write_set};
@@ -76,7 +77,8 @@ fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
         set: app.state.session.sets.len() - 1,
         recording: 0,
     };
-    app.state.apply(Command::Select(id));
+    app.state
+        .apply(Command::Session(SessionCommand::Select(id)));
     app.state.learn_while_playing = true;
     app.state
         .apply(Command::Timeline(TimelineCommand::TogglePlay));
@@ -95,7 +97,7 @@ fn bench_playing(c: &mut Criterion, name: &str, trajectory: Trajectory) {
         b.iter(|| {
             let state: &mut AppState = &mut harness.state_mut().state;
             if state.frame() + 10 >= frames || !state.timeline.playing {
-                state.apply(Command::ResetTheta);
+                state.apply(Command::Online(OnlineCommand::ResetTheta));
                 state.apply(Command::Timeline(TimelineCommand::JumpStart));
                 if !state.timeline.playing {
                     state.apply(Command::Timeline(TimelineCommand::TogglePlay));

@@ -11,6 +11,7 @@ use std::time::Duration;
 
 use common::{copy_of_sample_set, harness};
 use egui_kittest::kittest::Queryable;
+use pushlab::app::state::SessionCommand;
 use pushlab::app::state::cameras::CameraCommand;
 use pushlab::app::state::timeline::TimelineCommand;
 use pushlab::app::state::{AppState, Command};
@@ -101,7 +102,7 @@ fn select_online_000(state: &mut AppState) {
         .find(|(_, r)| r.name == "online_000")
         .map(|(id, _)| id)
         .expect("online_000 is open");
-    state.apply(Command::Select(id));
+    state.apply(Command::Session(SessionCommand::Select(id)));
 }
 
 /// Seeks to `frame` and draws until its camera image is decoded and shown.

@@ -7,6 +7,7 @@ mod common;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use pushlab::app::state::SessionCommand;
 use pushlab::app::state::{Command, Persisted};
 use pushlab::app::{PushlabApp, initial_state};
 
@@ -15,7 +16,9 @@ fn open_in_background(harness: &mut Harness<'_, PushlabApp>, dir: &std::path::Pa
     harness
         .state_mut()
         .state
-        .apply(Command::Open(vec![dir.to_path_buf()]));
+        .apply(Command::Session(SessionCommand::Open(vec![
+            dir.to_path_buf(),
+        ])));
     common::run_until(harness, "the load", |app| {
         app.state.session.loading().is_none()
     });

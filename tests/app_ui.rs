@@ -7,6 +7,7 @@ use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT as _, Queryable, by};
 use pushlab::app::state::Persisted;
+use pushlab::app::state::{OnlineCommand, SessionCommand};
 use pushlab::app::{PushlabApp, initial_state};
 
 /// The app on the sample data in a 1400×900 window. Like `App::logic`, each frame first advances time
@@ -303,15 +304,15 @@ fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_rea
         let ids: Vec<_> = state.session.recordings().map(|(id, _)| id).collect();
         assert_eq!(ids.len(), 4, "{:?}", state.session.problems);
         for id in ids {
-            state.apply(Command::Select(id));
+            state.apply(Command::Session(SessionCommand::Select(id)));
             for lr in [10.0, 1e6] {
-                state.apply(Command::SetOnlineConfig(OnlineConfig {
+                state.apply(Command::Online(OnlineCommand::SetConfig(OnlineConfig {
                     steps: 5,
                     lr,
                     ..OnlineConfig::default()
-                }));
+                })));
                 state.apply(Command::Timeline(TimelineCommand::SeekTo(0)));
-                state.apply(Command::ResetTheta);
+                state.apply(Command::Online(OnlineCommand::ResetTheta));
                 let what = format!(
                     "{model} at lr {lr} on {:?}",
                     state.recording().map(|r| &r.source)

@@ -8,6 +8,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use pushlab::app::PushlabApp;
 use pushlab::app::state::Command;
+use pushlab::app::state::OnlineCommand;
 use pushlab::app::state::timeline::TimelineCommand;
 use pushlab_core::learn::Optimizer;
 use pushlab_core::model::OnlineParams;
@@ -119,12 +120,18 @@ fn what_if_ghosts_follow_the_sliders_and_k_is_chosen_in_steer() {
     );
     let mut moved = theta(&harness);
     moved.com_offset[0] += 0.05;
-    harness.state_mut().state.apply(Command::SetTheta(moved));
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Online(OnlineCommand::SetTheta(moved)));
     harness.run_steps(1);
     let after = harness.state().state.what_if().expect("a run");
     assert_eq!(after.poses.len(), expected);
     assert_ne!(before.poses.last(), after.poses.last(), "the ghosts moved");
-    harness.state_mut().state.apply(Command::SetWhatIfSteps(3));
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Online(OnlineCommand::SetWhatIfSteps(3)));
     harness.run_steps(1);
     assert_eq!(
         harness.state().state.what_if().expect("a run").poses.len(),
@@ -161,7 +168,10 @@ fn the_inspector_gives_the_what_if_final_pose_error() {
     // A new θ moves the rollout, and the inspector follows.
     let mut moved = theta(&harness);
     moved.com_offset[1] -= 0.05;
-    harness.state_mut().state.apply(Command::SetTheta(moved));
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Online(OnlineCommand::SetTheta(moved)));
     harness.run_steps(2);
     let state = &harness.state().state;
     let trajectory = &state.recording().expect("a recording").trajectory;

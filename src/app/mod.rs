@@ -24,6 +24,7 @@ use self::state::bag_import::BagCommand;
 use self::state::models::Models;
 use self::state::{AppState, Command, Persisted};
 pub use self::view::{SideTab, View};
+use crate::app::state::SessionCommand;
 
 /// Most seconds playback moves in one frame. Playback keeps real time down to 4 frames per second
 /// (a software renderer on a busy machine), yet a window that was hidden for minutes does not jump
@@ -93,7 +94,9 @@ impl PushlabApp {
     /// Public so that tests can answer a dialog the way a user would.
     pub fn apply_dialog_result(&mut self, ctx: &egui::Context, result: DialogResult) {
         match result {
-            DialogResult::Open(paths) => self.state.apply(Command::Open(paths)),
+            DialogResult::Open(paths) => self
+                .state
+                .apply(Command::Session(SessionCommand::Open(paths))),
             DialogResult::BagSetting(path) => self
                 .state
                 .apply(Command::Bag(BagCommand::UseSettingFile(path))),
@@ -206,7 +209,7 @@ fn dropped_files(ctx: &egui::Context, commands: &mut Vec<Command>) {
             .collect()
     });
     if !paths.is_empty() {
-        commands.push(Command::Open(paths));
+        commands.push(Command::Session(SessionCommand::Open(paths)));
     }
 }
 

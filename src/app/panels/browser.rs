@@ -7,6 +7,7 @@
 use eframe::egui::{self, RichText};
 use egui_extras::{Column as TableColumn, TableBuilder};
 
+use crate::app::state::SessionCommand;
 use crate::app::state::bag_import::BagCommand;
 use crate::app::state::browser::{BrowserCommand, Column, Row};
 use crate::app::state::{AppState, Command};
@@ -126,7 +127,7 @@ fn cell(
         .add(egui::Button::selectable(selected, text).truncate())
         .on_hover_ui(|ui| details(ui, state, row));
     if response.clicked() && !selected {
-        commands.push(Command::Select(row.id));
+        commands.push(Command::Session(SessionCommand::Select(row.id)));
     }
 }
 
@@ -199,7 +200,7 @@ fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             ),
         );
         if ui.small_button("Dismiss").clicked() {
-            commands.push(Command::DismissProblems);
+            commands.push(Command::Session(SessionCommand::DismissProblems));
         }
     });
     egui::ScrollArea::vertical()

@@ -5,6 +5,7 @@ use eframe::egui;
 
 use crate::app::dialogs::DialogRequest;
 use crate::app::layout::Pane;
+use crate::app::state::SessionCommand;
 use crate::app::state::cameras::CameraCommand;
 use crate::app::state::demo::DemoCommand;
 use crate::app::state::labels::LabelAction;
@@ -29,7 +30,8 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     }
                     for path in &state.recent {
                         if ui.button(path.display().to_string()).clicked() {
-                            commands.push(Command::Open(vec![path.clone()]));
+                            commands
+                                .push(Command::Session(SessionCommand::Open(vec![path.clone()])));
                         }
                     }
                 });
@@ -157,7 +159,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                             .on_hover_text("stop opening them; what they hold is not added")
                             .clicked()
                         {
-                            commands.push(Command::CancelLoading);
+                            commands.push(Command::Session(SessionCommand::CancelLoading));
                         }
                     }
                     if let Some(status) = &state.status {

@@ -7,6 +7,7 @@ use eframe::egui;
 
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
+use crate::app::state::{OnlineCommand, TrainingCommand};
 use crate::app::view::View;
 
 /// How much larger text and controls are than in the usual layout.
@@ -79,7 +80,7 @@ fn controls(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut
                 .clicked()
             {
                 commands.push(Command::Timeline(TimelineCommand::JumpStart));
-                commands.push(Command::ResetTheta);
+                commands.push(Command::Online(OnlineCommand::ResetTheta));
             }
         });
         if state.training.is_running() {
@@ -91,7 +92,7 @@ fn controls(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut
                     .text(format!("training {}", state.training.phase())),
             );
             if ui.button("Cancel").clicked() {
-                commands.push(Command::CancelTraining);
+                commands.push(Command::Training(TrainingCommand::Cancel));
             }
         }
     });

@@ -7,6 +7,7 @@ use pushlab_core::model::OnlineParams;
 
 use crate::app::colors;
 use crate::app::state::{AppState, Command, MAX_WHAT_IF_STEPS};
+use crate::app::state::{OnlineCommand, TrainingCommand};
 
 /// Whether the model fits the open recordings; if not, why, and the button that trains one that does.
 fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
@@ -28,7 +29,7 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                  (else on all but the one shown); the model is remembered for these folders",
             );
         if train.clicked() {
-            commands.push(Command::TrainForOpenRecordings);
+            commands.push(Command::Training(TrainingCommand::TrainForOpenRecordings));
         }
         if training.is_running() {
             ui.add(
@@ -41,7 +42,7 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                     )),
             );
             if ui.button("Cancel").clicked() {
-                commands.push(Command::CancelTraining);
+                commands.push(Command::Training(TrainingCommand::Cancel));
             }
         }
     });
@@ -96,10 +97,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         });
     }
     if changed {
-        commands.push(Command::SetTheta(OnlineParams {
+        commands.push(Command::Online(OnlineCommand::SetTheta(OnlineParams {
             com_offset: [mm[0] * 1e-3, mm[1] * 1e-3],
             h: mm[2] * 1e-3,
-        }));
+        })));
     }
     if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
         ui.colored_label(
@@ -123,10 +124,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             .on_hover_text("One online update from this frame's sample")
             .clicked()
         {
-            commands.push(Command::LearnThisFrame);
+            commands.push(Command::Online(OnlineCommand::LearnThisFrame));
         }
         if ui.button("Reset to θ_online(0)").clicked() {
-            commands.push(Command::ResetTheta);
+            commands.push(Command::Online(OnlineCommand::ResetTheta));
         }
     });
     let mut learn = state.learn_while_playing;
@@ -135,7 +136,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         .on_hover_text("Learn from every frame the timeline moves forward over")
         .changed()
     {
-        commands.push(Command::SetLearnWhilePlaying(learn));
+        commands.push(Command::Online(OnlineCommand::SetLearnWhilePlaying(learn)));
     }
     let mut config = run.config();
     let mut config_changed = false;
@@ -182,14 +183,16 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             ui.end_row();
         });
     if config_changed {
-        commands.push(Command::SetOnlineConfig(config));
+        commands.push(Command::Online(OnlineCommand::SetConfig(config)));
     }
     if config != OnlineConfig::default()
         && ui
             .small_button("Paper defaults (5 steps, lr 0.005)")
             .clicked()
     {
-        commands.push(Command::SetOnlineConfig(OnlineConfig::default()));
+        commands.push(Command::Online(OnlineCommand::SetConfig(
+            OnlineConfig::default(),
+        )));
     }
     ui.weak(format!(
         "Learned up to frame {} of {}. Scrubbing back restores θ at that frame; playing on re-learns.",
@@ -211,7 +214,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             )
             .changed()
         {
-            commands.push(Command::SetWhatIfSteps(steps));
+            commands.push(Command::Online(OnlineCommand::SetWhatIfSteps(steps)));
         }
     });
     if let Some(rollout) = state.what_if()

@@ -7,6 +7,7 @@ use pushlab_core::model::ModelKind;
 
 use crate::app::colors;
 use crate::app::dialogs::{DialogRequest, Dialogs};
+use crate::app::state::TrainingCommand;
 use crate::app::state::training::TrainingChoice;
 use crate::app::state::{AppState, Command};
 
@@ -32,7 +33,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
                             .clicked()
                             && !chosen
                         {
-                            commands.push(Command::SetTrainingKind(kind));
+                            commands.push(Command::Training(TrainingCommand::SetKind(kind)));
                         }
                     }
                 })
@@ -43,17 +44,21 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     ui.label("Recordings to train on (frames labelled bad tracking are left out):");
     ui.horizontal(|ui| {
         if ui.small_button("All").clicked() {
-            commands.push(Command::ChooseForTraining(TrainingChoice::All));
+            commands.push(Command::Training(TrainingCommand::Choose(
+                TrainingChoice::All,
+            )));
         }
         if ui.small_button("None").clicked() {
-            commands.push(Command::ChooseForTraining(TrainingChoice::None));
+            commands.push(Command::Training(TrainingCommand::Choose(
+                TrainingChoice::None,
+            )));
         }
         if ui
             .small_button("Labelled offline")
             .on_hover_text("the recordings whose split is offline (Labels tab or setting.json)")
             .clicked()
         {
-            commands.push(Command::ChooseOfflineLabelled);
+            commands.push(Command::Training(TrainingCommand::ChooseOfflineLabelled));
         }
     });
     egui::ScrollArea::vertical()
@@ -67,7 +72,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
                 );
                 let mut on = state.training.chosen.contains(&id);
                 if ui.checkbox(&mut on, label).changed() {
-                    commands.push(Command::ChooseForTraining(TrainingChoice::Set(id, on)));
+                    commands.push(Command::Training(TrainingCommand::Choose(
+                        TrainingChoice::Set(id, on),
+                    )));
                 }
             }
         });
@@ -101,12 +108,12 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             });
     });
     if config != state.training.config {
-        commands.push(Command::SetTrainConfig(config));
+        commands.push(Command::Training(TrainingCommand::SetConfig(config)));
     }
     ui.horizontal(|ui| {
         if running {
             if ui.button("Cancel training").clicked() {
-                commands.push(Command::CancelTraining);
+                commands.push(Command::Training(TrainingCommand::Cancel));
             }
             ui.spinner();
         } else if ui
@@ -116,7 +123,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             )
             .clicked()
         {
-            commands.push(Command::StartTraining);
+            commands.push(Command::Training(TrainingCommand::Start));
         }
     });
     if running || !state.training.history.is_empty() {

@@ -17,6 +17,7 @@ use pushlab_core::recording::bag::{
 
 use super::AppState;
 use super::session::LoadProblem;
+use crate::app::state::SessionCommand;
 
 /// A box entered by hand, in the units the form shows (millimetres).
 #[derive(Clone, Debug, PartialEq)]
@@ -373,10 +374,9 @@ impl AppState {
             let opened = self.session.sets.iter().position(|s| s.dir == bag);
             if let (false, Some(set)) = (failed, opened) {
                 // The user just chose this bag: show it.
-                self.apply(super::Command::Select(super::session::RecordingId {
-                    set,
-                    recording: 0,
-                }));
+                self.apply(super::Command::Session(SessionCommand::Select(
+                    super::session::RecordingId { set, recording: 0 },
+                )));
                 message = Some(match choice::remember(&bag, &choice) {
                     Ok(file) => format!(
                         "opened {}; its topics are remembered in {}",

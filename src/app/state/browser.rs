@@ -362,6 +362,7 @@ mod tests {
     use super::*;
     use std::path::Path;
 
+    use crate::app::state::SessionCommand;
     use crate::app::state::models::Models;
     use crate::app::state::timeline::TimelineCommand;
     use crate::app::state::{Command, Persisted};
@@ -436,7 +437,7 @@ mod tests {
             set: shown.set,
             recording: 5,
         };
-        state.apply(Command::Select(other));
+        state.apply(Command::Session(SessionCommand::Select(other)));
         state.apply(Command::Browser(BrowserCommand::SortBy(Column::Online)));
         let rows = state.browser_rows();
         assert_eq!(rows[0].id, shown);

@@ -6,6 +6,7 @@
 pub mod bag_import;
 pub mod browser;
 pub mod cameras;
+mod commands;
 pub mod demo;
 pub mod envelope;
 pub mod fit;
@@ -54,48 +55,20 @@ use self::session::{RecordingId, Session};
 use self::timeline::{Timeline, TimelineCommand};
 use self::training::{Training, TrainingChoice};
 
-/// Everything a panel can ask the app to do.
+/// Everything a panel can ask the app to do: one enum per concern.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Command {
     Timeline(TimelineCommand),
-    /// Show another recording (starts a fresh online run on it).
-    Select(RecordingId),
-    /// Open recordings from these paths (files or folders) in the background.
-    Open(Vec<PathBuf>),
-    /// Steer: set `θ_online` at the current frame.
-    SetTheta(OnlineParams),
-    /// One online update from the current frame's sample.
-    LearnThisFrame,
-    /// Learn from every frame the timeline passes while moving forward.
-    SetLearnWhilePlaying(bool),
-    /// Back to `θ_online(0)` at frame 0, forgetting what was learned.
-    ResetTheta,
-    /// Change online steps / learning rate / optimiser (from the current frame on).
-    SetOnlineConfig(OnlineConfig),
-    /// How many steps what-if rollouts run ahead.
-    SetWhatIfSteps(usize),
-    /// Train a combined model on the recordings chosen in the training panel (background thread).
-    StartTraining,
-    /// Stop training after the current epoch, keeping the best model so far.
-    CancelTraining,
-    /// Which combined model the Train tab trains.
-    SetTrainingKind(ModelKind),
-    /// Which recordings the Train tab trains on.
-    ChooseForTraining(TrainingChoice),
-    /// Epochs, learning rate, horizon and seed of the Train tab.
-    SetTrainConfig(TrainConfig),
+    /// What is open and shown.
+    Session(SessionCommand),
+    /// Online learning on the recording shown.
+    Online(OnlineCommand),
+    /// Offline training in the background.
+    Training(TrainingCommand),
     /// Which layers the scene draws (the legend's toggles).
     SetLayers(Layers),
-    /// Forget the load problems listed in the browser.
-    DismissProblems,
-    /// Stop waiting for the recordings being opened (a large bag, a slow disk).
-    CancelLoading,
     /// Filter or sort the browser's table.
     Browser(BrowserCommand),
-    /// Train a model for the open recordings and remember it for their folders (see `fit`).
-    TrainForOpenRecordings,
-    /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
-    ChooseOfflineLabelled,
     /// Labeling on the selected recording at the frame shown.
     Label(LabelAction),
     /// Jump to the next (`true`) or previous label boundary of the selected recording.
@@ -112,6 +85,55 @@ pub enum Command {
     Bag(BagCommand),
     /// Which camera streams the camera panel shows.
     Camera(CameraCommand),
+}
+
+/// What is open and which recording is shown.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SessionCommand {
+    /// Show another recording (starts a fresh online run on it).
+    Select(RecordingId),
+    /// Open recordings from these paths (files or folders) in the background.
+    Open(Vec<PathBuf>),
+    /// Forget the load problems listed in the browser.
+    DismissProblems,
+    /// Stop the loads under way (a large bag, a slow disk).
+    CancelLoading,
+}
+
+/// Online learning on the recording shown.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OnlineCommand {
+    /// Steer: set `θ_online` at the current frame.
+    SetTheta(OnlineParams),
+    /// One online update from the current frame's sample.
+    LearnThisFrame,
+    /// Learn from every frame the timeline passes while moving forward.
+    SetLearnWhilePlaying(bool),
+    /// Back to `θ_online(0)` at frame 0, forgetting what was learned.
+    ResetTheta,
+    /// Change online steps / learning rate / optimiser (from the current frame on).
+    SetConfig(OnlineConfig),
+    /// How many steps what-if rollouts run ahead.
+    SetWhatIfSteps(usize),
+}
+
+/// Offline training of a combined model, in the background.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TrainingCommand {
+    /// Train on the recordings chosen in the Train tab.
+    Start,
+    /// Stop after the current epoch, keeping the best model so far.
+    Cancel,
+    /// Which combined model the Train tab trains.
+    SetKind(ModelKind),
+    /// Which recordings the Train tab trains on.
+    Choose(TrainingChoice),
+    /// Epochs, learning rate, horizon and seed of the Train tab.
+    SetConfig(TrainConfig),
+    /// Train a model for the open recordings and remember it for their folders (see `fit`).
+    TrainForOpenRecordings,
+    /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
+    ChooseOfflineLabelled,
 }
 
 /// How the shown frame changed, which decides what a held paint key covers.
@@ -344,48 +366,11 @@ impl AppState {
                     self.frame_moved(before, how);
                 }
             }
-            Command::Select(id) => {
-                if self.session.get(id).is_some() {
-                    self.session.selected = Some(id);
-                    self.start_run();
-                }
-            }
-            Command::Open(paths) => {
-                self.remember(&paths);
-                // Opening again is how a fixed labels file gets read again.
-                self.labels.unreadable.clear();
-                self.session.start_loading(paths);
-            }
-            Command::SetTheta(theta) => {
-                let frame = self.frame();
-                if let Some(run) = &mut self.run {
-                    run.set_theta_at(frame, theta);
-                }
-            }
-            Command::LearnThisFrame => {
-                let frame = self.frame();
-                let skip = self.frames_to_skip();
-                if let Some(run) = &mut self.run {
-                    if run.is_skipped(frame, &skip) {
-                        self.status = Some(format!(
-                            "frame {frame} is not learned from: its sample touches a frame labelled \
-                             to skip in training (bad tracking); erase that label to learn from it"
-                        ));
-                    } else if run.learn_this_frame(frame).is_none() {
-                        self.status = Some(format!(
-                            "frame {frame} has no sample: it is within the prediction horizon of the end"
-                        ));
-                    }
-                }
-            }
-            Command::SetLearnWhilePlaying(on) => self.learn_while_playing = on,
-            Command::ResetTheta => {
-                if let Some(run) = &mut self.run {
-                    run.reset();
-                }
-            }
-            Command::StartTraining => self.start_training(),
-            Command::ChooseOfflineLabelled => self.choose_offline_labelled(),
+            Command::Session(c) => self.apply_session(c),
+            Command::Online(c) => self.apply_online(c),
+            Command::Training(c) => self.apply_training(c),
+            Command::SetLayers(layers) => self.layers = layers,
+            Command::Browser(c) => self.apply_browser(c),
             Command::Label(action) => {
                 let target = self.label_target();
                 let frame = self.frame();
@@ -393,60 +378,12 @@ impl AppState {
                     self.status = Some(message);
                 }
             }
-            Command::JumpToLabel { forward } => {
-                let frame = self.frame();
-                let boundary = self
-                    .label_target()
-                    .and_then(|t| self.labels.labels_of(&t).cloned())
-                    .and_then(|l| {
-                        if forward {
-                            l.next_boundary(frame)
-                        } else {
-                            l.previous_boundary(frame)
-                        }
-                    });
-                match boundary {
-                    Some(to) => self.apply(Command::Timeline(TimelineCommand::SeekTo(to))),
-                    None => {
-                        let which = if forward { "after" } else { "before" };
-                        self.status = Some(format!("no label {which} frame {frame}"));
-                    }
-                }
-            }
-            Command::Proposal(action) => self.apply_proposal(action),
-            Command::Demo(command) => self.apply_demo(command),
-            Command::CancelTraining => self.training.cancel(),
+            Command::JumpToLabel { forward } => self.jump_to_label(forward),
             Command::Landscape(c) => self.apply_landscape(c),
-            Command::SetTrainingKind(kind) => self.training.kind = kind,
-            Command::ChooseForTraining(choice) => self.choose_for_training(choice),
-            Command::SetTrainConfig(config) => {
-                if !self.training.is_running() {
-                    self.training.config = config;
-                }
-            }
-            Command::SetLayers(layers) => self.layers = layers,
-            Command::DismissProblems => self.session.problems.clear(),
-            Command::CancelLoading => {
-                if self.session.cancel_loading() {
-                    self.bags.loading_cancelled();
-                    self.status = Some("opening cancelled".to_owned());
-                }
-            }
-            Command::Bag(command) => self.apply_bag(command),
-            Command::Camera(command) => self.cameras.apply(command),
-            Command::Browser(command) => self.apply_browser(command),
-            Command::TrainForOpenRecordings => self.train_for_open_recordings(),
-            Command::SetWhatIfSteps(steps) => {
-                self.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
-            }
-            Command::SetOnlineConfig(config) => {
-                self.online_config = config;
-                let frame = self.frame();
-                if let Some(run) = &mut self.run {
-                    // Steps learned after this frame used the old rule: learn them again.
-                    run.set_config_at(frame, config);
-                }
-            }
+            Command::Proposal(action) => self.apply_proposal(action),
+            Command::Demo(c) => self.apply_demo(c),
+            Command::Bag(c) => self.apply_bag(c),
+            Command::Camera(c) => self.cameras.apply(c),
         }
     }
 

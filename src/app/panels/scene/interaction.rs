@@ -9,6 +9,7 @@ use pushlab_core::model::OnlineParams;
 
 use super::SceneView;
 use super::camera::{CameraMode, Projection};
+use crate::app::state::OnlineCommand;
 use crate::app::state::labels::{LabelAction, LabelTarget};
 use crate::app::state::{AppState, Command};
 
@@ -96,10 +97,10 @@ pub fn handle(
             }
             Some(Drag::Com) => {
                 if let (Some(com), Some(theta)) = (com_under_pointer(), state.theta()) {
-                    commands.push(Command::SetTheta(OnlineParams {
+                    commands.push(Command::Online(OnlineCommand::SetTheta(OnlineParams {
                         com_offset: [com.x, com.y],
                         ..theta
-                    }));
+                    })));
                 }
             }
             Some(Drag::Pan) | None => {

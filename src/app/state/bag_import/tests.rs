@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use super::*;
+use crate::app::state::SessionCommand;
 use crate::app::state::models::Models;
 use crate::app::state::{Command, Persisted};
 
@@ -225,7 +226,7 @@ fn cancelling_the_load_brings_the_form_back_and_remembers_nothing() {
     state.apply(Command::Bag(BagCommand::Open));
     assert!(state.session.loading().is_some());
     // Before any frame merges the worker's result.
-    state.apply(Command::CancelLoading);
+    state.apply(Command::Session(SessionCommand::CancelLoading));
     assert!(state.session.loading().is_none());
     assert_eq!(state.status.as_deref(), Some("opening cancelled"));
     settle(&mut state);

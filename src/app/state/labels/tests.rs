@@ -10,6 +10,7 @@ use super::*;
 use crate::app::state::models::Models;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command, Persisted};
+use crate::app::state::{OnlineCommand, TrainingCommand};
 
 /// A private copy of one sample-data set, so tests never write into the repository.
 /// `sample-data/` is committed: a missing set is a broken checkout, so the test fails.
@@ -60,7 +61,7 @@ fn paint_frames(state: &mut AppState, label_name: &str, first: usize, last: usiz
 /// playing" on (the default), so that each of them is learned from.
 fn learn_from_start(state: &mut AppState, frames: usize) {
     seek(state, 0);
-    state.apply(Command::ResetTheta);
+    state.apply(Command::Online(OnlineCommand::ResetTheta));
     for _ in 0..frames {
         state.apply(Command::Timeline(TimelineCommand::Step(1)));
     }
@@ -251,7 +252,7 @@ fn an_unreadable_labels_file_is_never_overwritten() {
 fn training_chooses_the_offline_split_and_leaves_out_bad_tracking() {
     let dir = copy_of_sample_set("training");
     let mut state = state_on(&dir);
-    state.apply(Command::ChooseOfflineLabelled);
+    state.apply(Command::Training(TrainingCommand::ChooseOfflineLabelled));
     let chosen: Vec<String> = state
         .training
         .chosen
@@ -270,7 +271,7 @@ fn training_chooses_the_offline_split_and_leaves_out_bad_tracking() {
             field: pushlab_core::labels::MetaField::Split(Some(Split::HeldOut)),
         }),
     );
-    state.apply(Command::ChooseOfflineLabelled);
+    state.apply(Command::Training(TrainingCommand::ChooseOfflineLabelled));
     assert_eq!(state.training.chosen.len(), 26);
 
     // Bad tracking over frames 10..=14 of the selected push removes every sample touching them.
@@ -351,7 +352,7 @@ fn online_learning_holds_theta_over_bad_tracking_and_says_why() {
     // Frames 30..=34 and the samples ending on them (the model's horizon before).
     assert!(held >= 5, "{held} frames held");
     seek(&mut state, 32);
-    state.apply(Command::LearnThisFrame);
+    state.apply(Command::Online(OnlineCommand::LearnThisFrame));
     assert!(state.status.as_deref().unwrap().contains("bad tracking"));
 }
 

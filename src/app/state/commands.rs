@@ -1,0 +1,112 @@
+//! The session's, the online run's and training's commands, each applied by its own method, so
+//! that [`AppState::apply`](super::AppState::apply) only routes.
+
+use super::timeline::TimelineCommand;
+use super::{AppState, Command, MAX_WHAT_IF_STEPS, OnlineCommand, SessionCommand, TrainingCommand};
+
+impl AppState {
+    pub(super) fn apply_session(&mut self, command: SessionCommand) {
+        match command {
+            SessionCommand::Select(id) => {
+                if self.session.get(id).is_some() {
+                    self.session.selected = Some(id);
+                    self.start_run();
+                }
+            }
+            SessionCommand::Open(paths) => {
+                self.remember(&paths);
+                // Opening again is how a fixed labels file gets read again.
+                self.labels.unreadable.clear();
+                self.session.start_loading(paths);
+            }
+            SessionCommand::DismissProblems => self.session.problems.clear(),
+            SessionCommand::CancelLoading => {
+                if self.session.cancel_loading() {
+                    self.bags.loading_cancelled();
+                    self.status = Some("opening cancelled".to_owned());
+                }
+            }
+        }
+    }
+
+    pub(super) fn apply_online(&mut self, command: OnlineCommand) {
+        let frame = self.frame();
+        match command {
+            OnlineCommand::SetTheta(theta) => {
+                if let Some(run) = &mut self.run {
+                    run.set_theta_at(frame, theta);
+                }
+            }
+            OnlineCommand::LearnThisFrame => {
+                let skip = self.frames_to_skip();
+                if let Some(run) = &mut self.run {
+                    if run.is_skipped(frame, &skip) {
+                        self.status = Some(format!(
+                            "frame {frame} is not learned from: its sample touches a frame labelled \\
+                             to skip in training (bad tracking); erase that label to learn from it"
+                        ));
+                    } else if run.learn_this_frame(frame).is_none() {
+                        self.status = Some(format!(
+                            "frame {frame} has no sample: it is within the prediction horizon of the end"
+                        ));
+                    }
+                }
+            }
+            OnlineCommand::SetLearnWhilePlaying(on) => self.learn_while_playing = on,
+            OnlineCommand::ResetTheta => {
+                if let Some(run) = &mut self.run {
+                    run.reset();
+                }
+            }
+            OnlineCommand::SetConfig(config) => {
+                self.online_config = config;
+                if let Some(run) = &mut self.run {
+                    // Steps learned after this frame used the old rule: learn them again.
+                    run.set_config_at(frame, config);
+                }
+            }
+            OnlineCommand::SetWhatIfSteps(steps) => {
+                self.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
+            }
+        }
+    }
+
+    pub(super) fn apply_training(&mut self, command: TrainingCommand) {
+        match command {
+            TrainingCommand::Start => self.start_training(),
+            TrainingCommand::Cancel => self.training.cancel(),
+            TrainingCommand::SetKind(kind) => self.training.kind = kind,
+            TrainingCommand::Choose(choice) => self.choose_for_training(choice),
+            TrainingCommand::SetConfig(config) => {
+                if !self.training.is_running() {
+                    self.training.config = config;
+                }
+            }
+            TrainingCommand::TrainForOpenRecordings => self.train_for_open_recordings(),
+            TrainingCommand::ChooseOfflineLabelled => self.choose_offline_labelled(),
+        }
+    }
+
+    /// Seeks to the next (`forward`) or previous label boundary of the recording shown, or says
+    /// there is none.
+    pub(super) fn jump_to_label(&mut self, forward: bool) {
+        let frame = self.frame();
+        let boundary = self
+            .label_target()
+            .and_then(|t| self.labels.labels_of(&t).cloned())
+            .and_then(|l| {
+                if forward {
+                    l.next_boundary(frame)
+                } else {
+                    l.previous_boundary(frame)
+                }
+            });
+        match boundary {
+            Some(to) => self.apply(Command::Timeline(TimelineCommand::SeekTo(to))),
+            None => {
+                let which = if forward { "after" } else { "before" };
+                self.status = Some(format!("no label {which} frame {frame}"));
+            }
+        }
+    }
+}
