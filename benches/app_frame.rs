@@ -79,7 +79,7 @@ fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
     };
     app.state
         .apply(Command::Session(SessionCommand::Select(id)));
-    app.state.learn_while_playing = true;
+    app.state.settings.learn_while_playing = true;
     app.state
         .apply(Command::Timeline(TimelineCommand::TogglePlay));
     Harness::builder()

@@ -154,7 +154,7 @@ fn presentation_layout_snapshot() {
         .canonicalize()
         .expect("the offline set");
     let model = export::default_model_path().expect("the bundled model");
-    state.folder_models.insert(offline, model);
+    state.settings.folder_models.insert(offline, model);
     state.apply(pushlab::app::state::Command::Demo(DemoCommand::Start(
         index,
     )));

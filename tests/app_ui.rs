@@ -192,7 +192,7 @@ fn scrubbing_back_restores_the_earlier_theta() {
     let mut harness = app();
     harness.run_steps(1);
     assert!(
-        harness.state().state.learn_while_playing,
+        harness.state().state.settings.learn_while_playing,
         "learning while playing is on by default"
     );
     for _ in 0..3 {

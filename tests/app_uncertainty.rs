@@ -56,7 +56,7 @@ fn learning_shrinks_the_com_ellipse_and_the_steer_tab_gives_plus_minus() {
         assert!(a < b, "± after learning {after:?}, before {before:?}");
     }
     // The legend's toggle hides the ellipse layer.
-    assert!(harness.state().state.layers.com_ellipse);
+    assert!(harness.state().state.settings.layers.com_ellipse);
     // Scrubbing back restores the earlier, wider ellipse exactly.
     harness
         .state_mut()
@@ -75,7 +75,7 @@ fn choosing_gauss_newton_in_the_steer_tab_changes_what_is_learned() {
     gn.get_by_label("Gauss–Newton").click();
     gn.run_steps(2);
     assert_eq!(
-        gn.state().state.online_config.optimizer,
+        gn.state().state.settings.online.optimizer,
         Optimizer::GaussNewton
     );
     common::step_frames(&mut gn, 30);

@@ -23,7 +23,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     }
     ui.horizontal(|ui| {
         let label = ui.label("Filter");
-        let mut filter = state.browser.filter.clone();
+        let mut filter = state.settings.browser.filter.clone();
         let edit = ui
             .add(
                 egui::TextEdit::singleline(&mut filter)
@@ -63,7 +63,10 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
     for column in Column::ALL {
         builder = builder.column(width(column));
     }
-    let sorted = (state.browser.sort, state.browser.descending);
+    let sorted = (
+        state.settings.browser.sort,
+        state.settings.browser.descending,
+    );
     builder
         .header(ROW_HEIGHT + 2.0, |mut header| {
             for column in Column::ALL {

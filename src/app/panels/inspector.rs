@@ -105,7 +105,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
             row(
                 ui,
                 "steps (k chosen in Steer)",
-                format!("{} of {}", rollout.poses.len(), state.what_if_steps),
+                format!(
+                    "{} of {}",
+                    rollout.poses.len(),
+                    state.settings.what_if_steps
+                ),
             );
             row(ui, "last predicted frame", last.to_string());
             row(

@@ -25,10 +25,10 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     view.dialogs.open(DialogRequest::OpenFolder);
                 }
                 ui.menu_button("Open recent", |ui| {
-                    if state.recent.is_empty() {
+                    if state.settings.recent.is_empty() {
                         ui.label("nothing yet");
                     }
-                    for path in &state.recent {
+                    for path in &state.settings.recent {
                         if ui.button(path.display().to_string()).clicked() {
                             commands
                                 .push(Command::Session(SessionCommand::Open(vec![path.clone()])));

@@ -130,7 +130,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             commands.push(Command::Online(OnlineCommand::ResetTheta));
         }
     });
-    let mut learn = state.learn_while_playing;
+    let mut learn = state.settings.learn_while_playing;
     if ui
         .checkbox(&mut learn, "Learn while playing")
         .on_hover_text("Learn from every frame the timeline moves forward over")
@@ -202,7 +202,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 
     ui.add_space(8.0);
     ui.heading("What if");
-    let mut steps = state.what_if_steps;
+    let mut steps = state.settings.what_if_steps;
     ui.horizontal(|ui| {
         let label = ui.label("Roll ahead k steps");
         if ui

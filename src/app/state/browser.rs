@@ -256,9 +256,9 @@ impl AppState {
     /// Applies one browser command.
     pub(super) fn apply_browser(&mut self, command: BrowserCommand) {
         match command {
-            BrowserCommand::SetFilter(filter) => self.browser.filter = filter,
+            BrowserCommand::SetFilter(filter) => self.settings.browser.filter = filter,
             BrowserCommand::SortBy(column) => {
-                let view = &mut self.browser;
+                let view = &mut self.settings.browser;
                 view.descending = view.sort == column && !view.descending;
                 view.sort = column;
             }
@@ -308,12 +308,12 @@ impl AppState {
                     recording: index,
                 };
                 let row = self.row(id, recording, document);
-                if row.matches(&self.browser.filter) {
+                if row.matches(&self.settings.browser.filter) {
                     rows.push(row);
                 }
             }
         }
-        let (column, descending) = (self.browser.sort, self.browser.descending);
+        let (column, descending) = (self.settings.browser.sort, self.settings.browser.descending);
         // Each row's key once (not per comparison); stable: equal rows keep the sets' order.
         let mut keyed: Vec<(SortKey, Row<'_>)> = rows
             .drain(..)
@@ -422,7 +422,7 @@ mod tests {
         let mut state = state_on(&sample_data().join("box1-paper-center-front"));
         let shown = state.session.selected.expect("a selection");
         assert!(state.browser_rows().iter().all(|r| r.losses.is_none()));
-        state.learn_while_playing = true;
+        state.settings.learn_while_playing = true;
         for _ in 0..30 {
             state.apply(Command::Timeline(TimelineCommand::Step(1)));
         }
@@ -449,7 +449,7 @@ mod tests {
         assert!(rows[1..].iter().all(|r| r.losses.is_none()));
         // Descending too: the recording that was run comes first, the others after it.
         state.apply(Command::Browser(BrowserCommand::SortBy(Column::Online)));
-        assert!(state.browser.descending);
+        assert!(state.settings.browser.descending);
         assert_eq!(state.browser_rows()[0].id, shown);
     }
 

@@ -52,21 +52,21 @@ impl AppState {
                     }
                 }
             }
-            OnlineCommand::SetLearnWhilePlaying(on) => self.learn_while_playing = on,
+            OnlineCommand::SetLearnWhilePlaying(on) => self.settings.learn_while_playing = on,
             OnlineCommand::ResetTheta => {
                 if let Some(run) = &mut self.run {
                     run.reset();
                 }
             }
             OnlineCommand::SetConfig(config) => {
-                self.online_config = config;
+                self.settings.online = config;
                 if let Some(run) = &mut self.run {
                     // Steps learned after this frame used the old rule: learn them again.
                     run.set_config_at(frame, config);
                 }
             }
             OnlineCommand::SetWhatIfSteps(steps) => {
-                self.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
+                self.settings.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
             }
         }
     }

@@ -216,7 +216,7 @@ impl AppState {
             ));
         };
         // Stepping is how a lecture sees learning, so learning follows the timeline.
-        self.learn_while_playing = true;
+        self.settings.learn_while_playing = true;
         self.session.selected = Some(shown);
         self.start_run();
         let variant =
@@ -254,10 +254,10 @@ impl AppState {
 
     /// The model remembered for all of these folders (one file), if it can be read.
     fn demo_model_for(&self, folders: &[PathBuf]) -> Option<(ModelFile, PathBuf)> {
-        let path = self.folder_models.get(folders.first()?)?;
+        let path = self.settings.folder_models.get(folders.first()?)?;
         if folders
             .iter()
-            .any(|f| self.folder_models.get(f) != Some(path))
+            .any(|f| self.settings.folder_models.get(f) != Some(path))
         {
             return None;
         }

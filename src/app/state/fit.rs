@@ -109,7 +109,9 @@ impl AppState {
                 Ok(path) => {
                     source = path.display().to_string();
                     for folder in &for_folders {
-                        self.folder_models.insert(folder.clone(), path.clone());
+                        self.settings
+                            .folder_models
+                            .insert(folder.clone(), path.clone());
                     }
                 }
                 Err(why) => {
@@ -148,7 +150,7 @@ impl AppState {
         let remembered = self
             .open_folders()
             .into_iter()
-            .find_map(|folder| Some((self.folder_models.get(&folder)?.clone(), folder)));
+            .find_map(|folder| Some((self.settings.folder_models.get(&folder)?.clone(), folder)));
         let Some((path, folder)) = remembered else {
             return;
         };

@@ -59,7 +59,7 @@ impl AppState {
             run: self.run_generation,
             frame: self.frame(),
             theta: run.theta_at(self.frame()),
-            steps: self.what_if_steps,
+            steps: self.settings.what_if_steps,
         });
         let Some(key) = key else {
             self.frame_cache.what_if = None;

@@ -192,6 +192,11 @@ pub const MAX_WHAT_IF_STEPS: usize = 500;
 
 /// The whole app state.
 pub struct AppState {
+    /// What survives a restart, kept here as it is saved: the recent paths, layers, online
+    /// settings, the models per folder, the browser's view, the what-if steps. Playback speed and
+    /// loop, and the cameras hidden, are the timeline's and the cameras' own while the app runs
+    /// (this holds what they started with); [`AppState::persisted`] takes them from there.
+    pub settings: Persisted,
     pub session: Session,
     pub models: Models,
     pub timeline: Timeline,
@@ -202,10 +207,6 @@ pub struct AppState {
     pub physics: Option<PhysicsOnlyModel>,
     /// The selected recording's path as the scene draws it whole (built once per selection).
     pub overview: PathOverview,
-    pub learn_while_playing: bool,
-    pub online_config: OnlineConfig,
-    pub layers: Layers,
-    pub recent: Vec<PathBuf>,
     pub training: Training,
     /// The labels files of the open recordings, and the labeling tools' state.
     pub labels: Labeling,
@@ -217,14 +218,8 @@ pub struct AppState {
     fit: Option<DomainMismatch>,
     /// Where models trained for folders are kept (the app's data folder); `None`: not kept.
     pub model_store: Option<PathBuf>,
-    /// The model trained for each folder of recordings.
-    pub folder_models: BTreeMap<PathBuf, PathBuf>,
-    /// The browser's filter and sort.
-    pub browser: BrowserView,
     /// The browser's per-recording parameters and losses.
     browsed: BrowserMemory,
-    /// Steps the what-if rollouts run ahead (`predictions::what_if`).
-    pub what_if_steps: usize,
     /// The loss-landscape window and its background work.
     pub landscape: LandscapeState,
     /// The Demos menu's presets and the demo running.
@@ -245,31 +240,28 @@ impl AppState {
         let mut timeline = Timeline::new(Vec::new());
         timeline.apply(TimelineCommand::SetSpeed(persisted.speed));
         timeline.apply(TimelineCommand::SetLoop(persisted.looping));
+        let cameras = Cameras::new(persisted.hidden_cameras.clone());
+        let mut settings = persisted;
+        settings.what_if_steps = settings.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS);
         Self {
+            settings,
             session: Session::default(),
             models,
             timeline,
             run: None,
             physics: None,
             overview: PathOverview::default(),
-            learn_while_playing: persisted.learn_while_playing,
-            online_config: persisted.online,
-            layers: persisted.layers,
-            recent: persisted.recent,
             training: Training::default(),
             labels: Labeling::default(),
             proposals: ProposalState::default(),
             status: None,
             fit: None,
             model_store: None,
-            folder_models: persisted.folder_models,
-            browser: persisted.browser,
             browsed: BrowserMemory::default(),
-            what_if_steps: persisted.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS),
             landscape: LandscapeState::default(),
             demos: Demos::default(),
             bags: BagChooser::default(),
-            cameras: Cameras::new(persisted.hidden_cameras),
+            cameras,
             frame_cache: FrameCache::default(),
             run_generation: 0,
         }
@@ -284,19 +276,13 @@ impl AppState {
         OnlineParams::plausible_ranges(outline.as_ref())
     }
 
-    /// What to persist.
+    /// What to persist: the settings, with the timeline's speed and loop and the cameras hidden.
     pub fn persisted(&self) -> Persisted {
         Persisted {
-            recent: self.recent.clone(),
-            layers: self.layers.clone(),
             speed: self.timeline.speed,
             looping: self.timeline.looping,
-            learn_while_playing: self.learn_while_playing,
-            online: self.online_config,
-            folder_models: self.folder_models.clone(),
-            browser: self.browser.clone(),
-            what_if_steps: self.what_if_steps,
             hidden_cameras: self.cameras.hidden().clone(),
+            ..self.settings.clone()
         }
     }
 
@@ -369,7 +355,7 @@ impl AppState {
             Command::Session(c) => self.apply_session(c),
             Command::Online(c) => self.apply_online(c),
             Command::Training(c) => self.apply_training(c),
-            Command::SetLayers(layers) => self.layers = layers,
+            Command::SetLayers(layers) => self.settings.layers = layers,
             Command::Browser(c) => self.apply_browser(c),
             Command::Label(action) => {
                 let target = self.label_target();
@@ -454,7 +440,7 @@ impl AppState {
                 self.labels.stroke_to(now);
             }
         }
-        if self.learn_while_playing && now > before && self.run.is_some() {
+        if self.settings.learn_while_playing && now > before && self.run.is_some() {
             let skip = self.frames_to_skip();
             if let Some(run) = &mut self.run {
                 run.learn_through(before, now, &skip);
@@ -494,7 +480,7 @@ impl AppState {
                 model,
                 Arc::clone(&recording.trajectory),
                 horizon,
-                self.online_config,
+                self.settings.online,
             )),
             Err(message) => {
                 self.status = Some(message);

@@ -57,9 +57,9 @@ impl AppState {
     pub(super) fn remember(&mut self, paths: &[PathBuf]) {
         for path in paths.iter().rev() {
             let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
-            self.recent.retain(|p| *p != path);
-            self.recent.insert(0, path);
+            self.settings.recent.retain(|p| *p != path);
+            self.settings.recent.insert(0, path);
         }
-        self.recent.truncate(MAX_RECENT);
+        self.settings.recent.truncate(MAX_RECENT);
     }
 }

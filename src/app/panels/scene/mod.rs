@@ -123,8 +123,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &
             pusher_radius: recording.setting.pusher_radius,
             outline: outline.as_ref(),
             predictions: state.predictions(),
-            gain: state.layers.motion_gain,
-            what_if: state.what_if().filter(|_| state.layers.what_if),
+            gain: state.settings.layers.motion_gain,
+            what_if: state.what_if().filter(|_| state.settings.layers.what_if),
         };
         let markers = markers(state, view, &content);
         let projection = view.projection();
@@ -173,7 +173,7 @@ impl Content<'_> {
         let Some(p) = &self.predictions else {
             return Vec::new();
         };
-        let layers = &state.layers;
+        let layers = &state.settings.layers;
         let at = |motion| draw::exaggerated(&self.pose, motion, self.gain);
         let mut targets = Vec::new();
         if layers.true_target {
@@ -227,12 +227,12 @@ fn markers(state: &AppState, view: &SceneView, content: &Content<'_>) -> Markers
     let at = |com: [f64; 2]| projection.to_screen(content.pose.point_in_world(Point2::from(com)));
     let com_label = state
         .label_target()
-        .filter(|t| state.layers.com_label && state.labels.read_only_reason(t).is_none())
+        .filter(|t| state.settings.layers.com_label && state.labels.read_only_reason(t).is_none())
         .and_then(|t| state.labels.labels_of(&t).and_then(|l| l.meta.com_offset));
     Markers {
         com: state
             .theta()
-            .filter(|_| state.layers.com_estimated)
+            .filter(|_| state.settings.layers.com_estimated)
             .map(|t| at(t.com_offset)),
         com_label: com_label.map(at),
     }
@@ -288,7 +288,7 @@ fn draw_layers(
     content: &Content<'_>,
     response: &egui::Response,
 ) {
-    let layers = &state.layers;
+    let layers = &state.settings.layers;
     if layers.grid {
         draw::grid(painter, projection, view.rect);
     }
