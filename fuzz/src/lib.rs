@@ -126,3 +126,22 @@ pub fn mcap(data: &[u8]) {
     }
     let _ = bag::topics_bytes(data, path);
 }
+
+/// A camera message (`sensor_msgs/msg/CompressedImage` or `Image`, CDR) read as either kind, its
+/// frame decoded to RGBA and its start described for listing: every refusal an error, never a
+/// panic, and an accepted frame as large as it says.
+pub fn image_message(data: &[u8]) {
+    use pushlab_core::recording::bag::{ImageKind, decode_image_message, describe_image_message};
+    use pushlab_core::recording::camera::decode;
+    for kind in [ImageKind::Compressed, ImageKind::Raw] {
+        let _ = describe_image_message(kind, data);
+        if let Ok((_, encoded)) = decode_image_message(kind, data)
+            && let Ok(image) = decode(&encoded)
+        {
+            assert_eq!(
+                image.pixels.len(),
+                4 * image.width as usize * image.height as usize
+            );
+        }
+    }
+}

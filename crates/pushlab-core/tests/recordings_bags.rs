@@ -545,7 +545,7 @@ fn opening_a_bag_like_a_recording_says_how_to_import_it_and_lists_its_topics() {
         .iter()
         .filter(|e| e.to_string().contains("a ROS 2 bag"))
         .count();
-    assert_eq!(bags, 8, "{:?}", report.errors);
+    assert_eq!(bags, 10, "{:?}", report.errors);
     // A broken bag says what is wrong with it instead.
     let dir = std::env::temp_dir().join(format!("pushlab-bag-open-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");

@@ -15,10 +15,18 @@ use crate::app::state::{Command, Persisted};
 /// A fresh folder with a copy of the `/tf` fixture bag (a rosbag2 folder) and, when asked, a
 /// `setting.json` beside it; returns (folder, bag).
 fn tf_bag(test: &str, with_setting: bool) -> (PathBuf, PathBuf) {
-    let from = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("crates/pushlab-core/tests/bags/tf");
+    copied_bag("tf", test, with_setting)
+}
+
+/// A fresh folder with a copy of the fixture bag `fixture` (a rosbag2 folder) and, when asked, a
+/// `setting.json` beside it; returns (folder, bag).
+fn copied_bag(fixture: &str, test: &str, with_setting: bool) -> (PathBuf, PathBuf) {
+    let from = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("crates/pushlab-core/tests/bags")
+        .join(fixture);
     let dir = std::env::temp_dir().join(format!("pushlab-bag-form-{test}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let bag = dir.join("tf");
+    let bag = dir.join(fixture);
     std::fs::create_dir_all(&bag).unwrap();
     for entry in std::fs::read_dir(&from).unwrap() {
         let entry = entry.unwrap();
@@ -75,6 +83,38 @@ fn a_bag_without_a_choice_asks_with_the_cores_preselection() {
         }
     );
     assert_eq!(form.streams.len(), 3, "base_link, pusher_tip and box");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn the_form_offers_the_cameras_and_the_bag_opens_with_those_ticked() {
+    let (dir, bag) = copied_bag("camera", "cameras", true);
+    let mut state = state_on(&bag);
+    let form = state.bags.form().expect("a form for the bag");
+    // Every camera topic here says camera or image in its name: all are ticked.
+    assert_eq!(
+        form.cameras,
+        [
+            "/camera/image/compressed",
+            "/camera/image_raw",
+            "/depth/image_mono16"
+        ]
+    );
+    state.apply(Command::Bag(BagCommand::SetCamera {
+        topic: "/depth/image_mono16".to_owned(),
+        shown: false,
+    }));
+    state.apply(Command::Bag(BagCommand::Open));
+    settle(&mut state);
+    let names: Vec<_> = (state.cameras().streams().iter())
+        .map(|s| s.name.clone())
+        .collect();
+    assert_eq!(names, ["/camera/image/compressed", "/camera/image_raw"]);
+    let remembered = choice::remembered(&bag).unwrap().expect("remembered");
+    assert_eq!(remembered.cameras, names);
+    // Opened again, the remembered cameras come with it.
+    let again = state_on(&bag);
+    assert_eq!(again.cameras().streams().len(), 2);
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -38,7 +38,10 @@ pub use self::as_set::{open, open_with, setting_for};
 pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
 pub use self::choice::{BagChoice, SettingSource};
 pub use self::files::{bag_files, is_bag};
-pub use self::image_msg::{ImageKind, encode_compressed_image};
+pub use self::image_msg::{
+    ImageKind, decode as decode_image_message, describe as describe_image_message,
+    encode_compressed_image,
+};
 pub use self::problem::BagProblem;
 pub use self::spec::TopicSpec;
 pub use self::split::{
