@@ -3,7 +3,8 @@
 //! with CRCs, as `ros2 bag record` writes them by default), written in the setup with the Rust
 //! `mcap` writer. Target (issue 15): under 2 s, reading, decoding, cleaning and resampling.
 //!
-//! Run: `cargo bench -p pushlab-core --bench bag`.
+//! Run: `cargo bench -p pushlab-core --bench bag`. Under `cargo test` it runs once on 10,000
+//! messages.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::collections::BTreeMap;
@@ -15,9 +16,12 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use pushlab_core::recording::bag::{self, ImportOptions, TopicSpec, encode_pose_stamped};
 
 const MESSAGES: u64 = 1_000_000;
+/// Under `cargo test` (no `--bench`) the bench runs once on a bag this much smaller, so that the
+/// test run does not write a 131 MB file.
+const TEST_MODE_DIVISOR: u64 = 100;
 const RATE_HZ: u64 = 1_000;
 
-fn write_bag(path: &Path) {
+fn write_bag(path: &Path, messages: u64) {
     let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
     let mut writer = mcap::Writer::new(file).unwrap();
     let schema = writer
@@ -31,7 +35,7 @@ fn write_bag(path: &Path) {
         .add_channel(schema, "/object/pose", "cdr", &none)
         .unwrap();
     let base = 1_700_000_000_000_000_000u64;
-    for i in 0..MESSAGES / 2 {
+    for i in 0..messages / 2 {
         let ns = base + i * (1_000_000_000 / RATE_HZ);
         let t = i as f64 / RATE_HZ as f64;
         for (channel, x, y, yaw) in [
@@ -60,7 +64,15 @@ fn bench(c: &mut Criterion) {
     let dir = std::env::temp_dir().join(format!("pushlab-bench-bag-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("poses.mcap");
-    write_bag(&path);
+    let measuring = std::env::args().any(|a| a == "--bench");
+    write_bag(
+        &path,
+        if measuring {
+            MESSAGES
+        } else {
+            MESSAGES / TEST_MODE_DIVISOR
+        },
+    );
     let pusher: TopicSpec = "/pusher/pose".parse().unwrap();
     let object: TopicSpec = "/object/pose".parse().unwrap();
     let once = bag::import(&path, &pusher, &object, ImportOptions::default()).unwrap();
