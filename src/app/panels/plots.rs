@@ -95,7 +95,16 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         let theta_ranges = state.theta_ranges();
         for (index, col) in cols.iter_mut().enumerate() {
             let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
-            let response = base_plot(title, group, row_height, duration).show(col, |plot_ui| {
+            // A COM offset plot spans at least ±1 mm: one that stays put (−1e-16 m) would
+            // otherwise be drawn at the scale of its rounding noise. (h's plot includes 0.)
+            let plot = base_plot(title, group, row_height, duration);
+            let plot = if index < 2 {
+                plot.include_y(-MIN_COM_HALF_SPAN_MM)
+                    .include_y(MIN_COM_HALF_SPAN_MM)
+            } else {
+                plot
+            };
+            let response = plot.show(col, |plot_ui| {
                 let (visible, columns) = visible(plot_ui, duration);
                 band(plot_ui, run, index, theta_ranges[index], visible, columns);
                 plot_ui.line(
@@ -135,6 +144,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         commands.push(Command::Timeline(TimelineCommand::SeekTo(k)));
     }
 }
+
+/// Half the smallest span of a COM offset plot's y axis, millimetres.
+const MIN_COM_HALF_SPAN_MM: f64 = 1.0;
 
 /// The posterior's ±2σ band around a component of `θ_online(t)`, shaded, kept within the range the
 /// component can take on this object (`range`, metres): the weak prior's band is far wider than the
