@@ -149,10 +149,17 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                         ui.separator();
                         ui.spinner();
                         ui.label(format!("opening {} path(s)", loading.paths));
+                        let mut text = loading.progress.describe();
+                        if let Some(left) = loading.progress.remaining(loading.elapsed) {
+                            text.push_str(&format!(
+                                ", about {:.0} s left",
+                                left.as_secs_f64().ceil()
+                            ));
+                        }
                         ui.add(
                             egui::ProgressBar::new(loading.progress.fraction() as f32)
-                                .desired_width(220.0)
-                                .text(loading.progress.describe()),
+                                .desired_width(260.0)
+                                .text(text),
                         );
                         if ui
                             .small_button("Cancel")

@@ -55,6 +55,7 @@ struct LoadJob {
     paths: Vec<PathBuf>,
     receiver: Receiver<(LoadReport, Duration)>,
     progress: Arc<LoadProgress>,
+    started: Instant,
 }
 
 /// The loads under way, as the status bar shows them.
@@ -64,6 +65,8 @@ pub struct Loading {
     pub paths: usize,
     /// Bytes and files read of those planned, over every load.
     pub progress: ProgressSnapshot,
+    /// Since the oldest load started.
+    pub elapsed: Duration,
 }
 
 /// The open recordings and the selection.
@@ -120,6 +123,7 @@ impl Session {
             paths,
             receiver,
             progress,
+            started: Instant::now(),
         });
     }
 
@@ -143,6 +147,10 @@ impl Session {
             progress: (self.jobs.iter())
                 .map(|j| j.progress.snapshot())
                 .fold(ProgressSnapshot::default(), ProgressSnapshot::plus),
+            elapsed: (self.jobs.iter())
+                .map(|j| j.started.elapsed())
+                .max()
+                .unwrap_or_default(),
         })
     }
 

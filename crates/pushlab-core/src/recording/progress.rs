@@ -58,6 +58,14 @@ impl ProgressSnapshot {
         }
     }
 
+    /// How long the rest should take at the rate so far, once enough is done to tell (2 % of the
+    /// bytes and half a second).
+    pub fn remaining(&self, elapsed: std::time::Duration) -> Option<std::time::Duration> {
+        let done = self.fraction();
+        (done >= 0.02 && done < 1.0 && elapsed.as_secs_f64() >= 0.5)
+            .then(|| elapsed.mul_f64((1.0 - done) / done))
+    }
+
     /// The sum of two loads' progress.
     pub fn plus(self, other: Self) -> Self {
         Self {
@@ -163,6 +171,22 @@ mod tests {
         });
         assert_eq!(two.describe(), "1.23 GB of 4.00 GB, file 2 of 3");
         assert_eq!(size(999), "999 B");
+        let quarter = ProgressSnapshot {
+            bytes_done: 250,
+            bytes_total: 1000,
+            files_done: 0,
+            files_total: 1,
+        };
+        let elapsed = std::time::Duration::from_secs(2);
+        assert_eq!(
+            quarter.remaining(elapsed),
+            Some(std::time::Duration::from_secs(6))
+        );
+        assert_eq!(
+            quarter.remaining(std::time::Duration::from_millis(100)),
+            None,
+            "too soon"
+        );
         assert_eq!(size(56_700), "56.7 kB");
         assert_eq!(size(123_456_789), "123 MB");
     }
