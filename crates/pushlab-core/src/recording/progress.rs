@@ -62,7 +62,7 @@ impl ProgressSnapshot {
     /// bytes and half a second).
     pub fn remaining(&self, elapsed: std::time::Duration) -> Option<std::time::Duration> {
         let done = self.fraction();
-        (done >= 0.02 && done < 1.0 && elapsed.as_secs_f64() >= 0.5)
+        ((0.02..1.0).contains(&done) && elapsed.as_secs_f64() >= 0.5)
             .then(|| elapsed.mul_f64((1.0 - done) / done))
     }
 
