@@ -130,7 +130,6 @@ fn each_layer_imports_only_from_the_layers_below() {
 }
 
 #[test]
-#[ignore = "labels/document.rs and labels/file.rs are being split; enabled when that lands"]
 fn no_source_file_is_over_600_lines() {
     let mut long = Vec::new();
     let mut seen: Vec<PathBuf> = Vec::new();

@@ -315,10 +315,14 @@ pub fn definitions(text: &str) -> Vec<String> {
 /// Lines of non-test code in a file: up to its inline `#[cfg(test)] mod tests` block (test modules
 /// stand last in this code base), all of it for a file without one.
 pub fn code_lines(text: &str) -> usize {
-    let code = match text.find("#[cfg(test)]\nmod tests {") {
-        Some(at) => &text[..at],
-        None => text,
-    };
+    let at = [
+        "#[cfg(test)]\nmod tests {",
+        "#[cfg(test)]\npub(crate) mod tests {",
+    ]
+    .iter()
+    .filter_map(|marker| text.find(marker))
+    .min();
+    let code = at.map_or(text, |at| &text[..at]);
     code.lines().count()
 }
 
