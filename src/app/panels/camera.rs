@@ -122,7 +122,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut CameraView) {
 
 /// One stream: its caption, then its image (or why there is none).
 fn stream_ui(ui: &mut egui::Ui, frame: &CameraFrame<'_>, view: &mut StreamView) {
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.strong(&frame.stream.name);
         ui.label(caption(frame));
     });

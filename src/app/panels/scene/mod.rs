@@ -79,7 +79,8 @@ impl SceneView {
 
 /// The camera modes and the legend's fold, above the scene.
 fn toolbar(ui: &mut egui::Ui, view: &mut SceneView) {
-    ui.horizontal(|ui| {
+    // Wrapped: in a narrow tile the buttons go on a second row rather than under the next tile.
+    ui.horizontal_wrapped(|ui| {
         ui.label("Camera");
         for mode in CameraMode::ALL {
             if ui
