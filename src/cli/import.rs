@@ -24,6 +24,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::{Context, bail};
+
+use super::experiment::args::positive_real;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, TopicSpec};
@@ -55,7 +57,7 @@ pub struct ImportArgs {
     #[arg(long, value_name = "SET")]
     pub out: PathBuf,
     /// Split into several pushes where the pusher or the object pauses for longer than this, seconds.
-    #[arg(long, value_name = "SECONDS", value_parser = positive)]
+    #[arg(long, value_name = "SECONDS", value_parser = positive_real)]
     pub split_gap: Option<f64>,
     /// Rate of the common time grid, Hz, at most 5000 (default: the slower stream's rate).
     #[arg(long, value_name = "HZ", value_parser = rate)]
@@ -69,15 +71,8 @@ pub struct ImportArgs {
     pub overwrite: bool,
 }
 
-fn positive(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("'{text}': expected a positive number")),
-    }
-}
-
 fn rate(text: &str) -> Result<f64, String> {
-    let hz = positive(text)?;
+    let hz = positive_real(text)?;
     if hz > bag::MAX_RATE_HZ {
         return Err(format!(
             "'{text}': expected at most {} Hz",

@@ -5,6 +5,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use self::exit::EXIT_USAGE;
+
+mod exit;
 mod experiment;
 mod import;
 mod labels;
@@ -51,9 +54,6 @@ enum Command {
     Suite(experiment::suite::SuiteArgs),
 }
 
-/// Exit code for wrong arguments, as documented in the guide (`docs/src/experiments.md`).
-pub const EXIT_USAGE: u8 = 2;
-
 /// Parses the command line and runs the chosen command.
 pub fn run() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -81,9 +81,9 @@ pub fn run() -> ExitCode {
                 ExitCode::from(1)
             }
         },
-        Some(Command::Train(args)) => experiment::exit_code(experiment::train::run(&args)),
-        Some(Command::Eval(args)) => experiment::exit_code(experiment::eval::run(&args)),
-        Some(Command::Suite(args)) => experiment::exit_code(experiment::suite::run(&args)),
+        Some(Command::Train(args)) => exit::exit_code(experiment::train::run(&args)),
+        Some(Command::Eval(args)) => exit::exit_code(experiment::eval::run(&args)),
+        Some(Command::Suite(args)) => exit::exit_code(experiment::suite::run(&args)),
         Some(Command::Simulate(args)) => match simulate::run(&args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(err) => {

@@ -28,11 +28,12 @@ use pushlab_core::model::{
 };
 use pushlab_core::model_file::ModelFile;
 
+use super::args::{TrainingArgs, optimizer, positive_real};
 use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
 use super::training::{self, TrainedModels};
-use super::{Failure, TrainingArgs, optimizer, positive_real};
+use crate::cli::exit::Failure;
 
 /// Arguments of `pushlab eval`.
 #[derive(Debug, Args)]

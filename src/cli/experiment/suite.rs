@@ -13,8 +13,8 @@ use pushlab_core::experiment::variant::ModelVariant;
 use pushlab_core::learn::Nmse;
 use serde::Serialize;
 
-use super::Failure;
 use super::training::{cancel_flag, cancelled};
+use crate::cli::exit::Failure;
 
 /// Arguments of `pushlab suite`.
 #[derive(Debug, Args)]
@@ -27,7 +27,7 @@ pub struct SuiteArgs {
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
     /// Experiments run at once [default: the number of cores].
-    #[arg(long, value_name = "N", value_parser = super::positive)]
+    #[arg(long, value_name = "N", value_parser = super::args::positive)]
     pub jobs: Option<usize>,
     /// Compare these models instead of the spec's "models", comma-separated: contact, paper, or the
     /// ablations contact-no-prior, contact-prior-only, paper-augmented.

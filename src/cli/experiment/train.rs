@@ -12,9 +12,10 @@ use pushlab_core::learn::TrainConfig;
 use pushlab_core::model::ModelKind;
 use pushlab_core::model_file::{ModelFile, TrainingMetadata};
 
+use super::args::TrainingArgs;
 use super::data;
 use super::training::{self, TrainedModels};
-use super::{Failure, TrainingArgs};
+use crate::cli::exit::Failure;
 
 /// Arguments of `pushlab train`.
 #[derive(Debug, Args)]
