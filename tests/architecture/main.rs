@@ -9,7 +9,7 @@
 mod graph;
 mod source;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use graph::{Crate, ModPath, cycles};
@@ -41,12 +41,35 @@ fn shown(path: &ModPath) -> String {
     }
 }
 
+/// The one import cycle left, written out so that any other fails the test and this one cannot
+/// grow unnoticed: `app::state` holds the sub-states' types, and these children still implement
+/// `AppState` methods (their commands reach into the whole state). It ends when each sub-state's
+/// `apply` returns effects instead (issue 22, part 3). The test also fails once it is gone, so
+/// that this list is removed with it.
+const KNOWN_CYCLES: &[&[&str]] = &[&[
+    "app::state",
+    "app::state::bag_import",
+    "app::state::browser",
+    "app::state::demo",
+    "app::state::frame_cache",
+    "app::state::landscape",
+    "app::state::opening",
+    "app::state::proposals",
+]];
+
 #[test]
 fn no_module_imports_a_module_that_imports_it_back() {
     let mut problems = Vec::new();
-    // The core for now; the app and the CLI join as their restructuring lands.
+    let mut known_seen = vec![false; KNOWN_CYCLES.len()];
     for (name, krate) in crates() {
         for cycle in cycles(krate.edges()) {
+            let members: BTreeSet<String> = cycle.iter().map(shown).collect();
+            if let Some(k) = KNOWN_CYCLES.iter().position(|known| {
+                known.len() == members.len() && known.iter().all(|m| members.contains(*m))
+            }) {
+                known_seen[k] = true;
+                continue;
+            }
             let links: Vec<String> = cycle
                 .iter()
                 .flat_map(|a| {
@@ -57,6 +80,13 @@ fn no_module_imports_a_module_that_imports_it_back() {
                 })
                 .collect();
             problems.push(format!("{name}: {}", links.join(", ")));
+        }
+    }
+    for (known, seen) in KNOWN_CYCLES.iter().zip(known_seen) {
+        if !seen {
+            problems.push(format!(
+                "the known cycle {known:?} is gone: remove it from KNOWN_CYCLES"
+            ));
         }
     }
     assert!(

@@ -7,25 +7,14 @@ use pushlab_core::geometry::Pose2;
 use pushlab_core::labels::MetaField;
 use pushlab_core::model::OnlineParams;
 
-use super::SceneView;
 use super::camera::{CameraMode, Projection};
+use super::view::{Drag, SceneView};
 use crate::app::state::OnlineCommand;
 use crate::app::state::labels::{LabelAction, LabelTarget};
 use crate::app::state::{AppState, Command};
 
 /// Pick radius of the COM markers, points.
 pub const PICK_RADIUS: f32 = 10.0;
-
-/// What a drag that started in the scene moves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Drag {
-    /// The estimated COM: steers `θ_online` at the frame shown.
-    Com,
-    /// The COM label of the recording's metadata (one undo step per drag).
-    ComLabel,
-    /// The view.
-    Pan,
-}
 
 /// Where the two draggable markers are on the screen this frame, if drawn.
 #[derive(Clone, Copy, Debug, Default)]

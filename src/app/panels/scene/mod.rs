@@ -11,71 +11,20 @@ pub mod camera;
 pub mod draw;
 pub mod interaction;
 pub mod legend;
+mod view;
 
-use eframe::egui::{self, Color32, Rect, Sense};
+use eframe::egui::{self, Color32, Sense};
 use nalgebra::Point2;
 use pushlab_core::geometry::{Outline, Pose2};
 use pushlab_core::inspect::Rollout;
 
 use self::camera::{Camera, CameraMode, Projection, WorldBox};
 use self::draw::FootprintStyle;
-use self::interaction::{Drag, Markers};
+use self::interaction::Markers;
+pub use self::view::{Drag, SceneView};
 use crate::app::colors;
 use crate::app::state::predictions::FramePredictions;
-use crate::app::state::session::RecordingId;
 use crate::app::state::{AppState, Command};
-
-/// The scene's view state: the camera and how it moves, the legend, the drag in progress.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SceneView {
-    pub camera: Camera,
-    pub mode: CameraMode,
-    /// Whether the legend (the layer toggles) is unfolded.
-    pub legend_open: bool,
-    /// What the pointer is dragging.
-    pub drag: Option<Drag>,
-    /// The recording the camera was last framed for; a new selection is framed afresh.
-    framed: Option<RecordingId>,
-    /// Where the scene was drawn last frame, screen points (for PNG export and tests).
-    rect: Rect,
-}
-
-impl Default for SceneView {
-    fn default() -> Self {
-        Self {
-            camera: Camera::default(),
-            mode: CameraMode::default(),
-            legend_open: false,
-            drag: None,
-            framed: None,
-            rect: Rect::NOTHING,
-        }
-    }
-}
-
-impl SceneView {
-    /// Where the scene was drawn last frame, screen points.
-    pub fn rect(&self) -> Rect {
-        self.rect
-    }
-
-    /// The part of the scene the camera uses: all of it, or right of the open legend.
-    pub fn viewport(&self) -> Rect {
-        if self.legend_open {
-            Rect::from_min_max(
-                egui::pos2(legend::area(self.rect).right(), self.rect.top()),
-                self.rect.max,
-            )
-        } else {
-            self.rect
-        }
-    }
-
-    /// How world points were mapped to the screen last frame.
-    pub fn projection(&self) -> Projection {
-        self.camera.on(self.viewport())
-    }
-}
 
 /// The camera modes and the legend's fold, above the scene.
 fn toolbar(ui: &mut egui::Ui, view: &mut SceneView) {
