@@ -117,10 +117,12 @@ impl PushPlan {
         if !(self.speed.is_finite() && self.speed > 0.0) {
             return Err(PlanError::BadSpeed(self.speed));
         }
-        let [dx, dy] = self.side.push_direction();
-        let push_in_object = Vector2::new(dx, dy);
         let (contact, outward) = face_point(outline, self.side, self.contact_offset)?;
-        let direction_in_object = rotate(push_in_object, self.push_angle_deg.to_radians());
+        // From the normal of the face touched, not from the side's push direction: on a polygon the
+        // face at an offset may be tilted, and an angle from the side's direction could point along
+        // or out of it, starting the pusher inside the object. From the normal, the pusher always
+        // moves into the face, and its whole approach stays clear of a convex outline.
+        let direction_in_object = rotate(-outward, self.push_angle_deg.to_radians());
         let touching = contact + outward * radius;
         let start_in_object = touching - direction_in_object * self.approach.max(0.0);
         let start = object_pose.point_in_world(start_in_object);
