@@ -17,6 +17,7 @@
 
 mod linear;
 mod payload;
+mod prefetch;
 mod reader;
 mod records;
 mod source;

@@ -1,7 +1,9 @@
 //! The two ways through a file — by its indexes, or from the start — and reading one message again.
 
 use std::collections::BTreeMap;
+use std::sync::atomic::AtomicUsize;
 
+use super::prefetch::Prefetch;
 use super::records::{
     self, ChunkHeader, ChunkIndex, MAGIC, MAX_CHUNK_BYTES, MESSAGE_HEADER, OP_CHUNK, OP_MESSAGE,
     OP_MESSAGE_INDEX, RECORD_HEADER,
@@ -54,7 +56,6 @@ struct Indexed<'a, S: Source + ?Sized> {
     chunks: Vec<ChunkIndex>,
     channels: Channels,
     wants: BTreeMap<u16, Want>,
-    buffer: Vec<u8>,
 }
 
 impl<'a, S: Source + ?Sized> Indexed<'a, S> {
@@ -70,7 +71,6 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
             chunks: summary.chunks,
             channels,
             wants,
-            buffer: Vec::new(),
         }
     }
 
@@ -88,6 +88,30 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
 
     fn run(mut self, visitor: &mut dyn Visitor) -> Result<Channels, BagProblem> {
         let chunks = std::mem::take(&mut self.chunks);
+        // Compressed chunks holding something wanted are read whole; their decompression, most
+        // of the time of a zstd camera bag, runs ahead on worker threads while this one visits.
+        let ahead: Vec<usize> = (chunks.iter().enumerate())
+            .filter(|(_, c)| !c.compression.is_empty())
+            .filter(|(_, c)| {
+                c.message_index_offsets.is_empty()
+                    || (c.message_index_offsets.keys()).any(|id| self.want(*id) != Want::Nothing)
+            })
+            .map(|(index, _)| index)
+            .collect();
+        let (source, next) = (self.source, AtomicUsize::new(0));
+        std::thread::scope(|scope| {
+            let mut prefetched = Prefetch::start(scope, source, &chunks, &ahead, &next);
+            self.visit_chunks(&chunks, &mut prefetched, visitor)
+        })?;
+        Ok(self.channels)
+    }
+
+    fn visit_chunks(
+        &mut self,
+        chunks: &[ChunkIndex],
+        prefetched: &mut Prefetch,
+        visitor: &mut dyn Visitor,
+    ) -> Result<(), BagProblem> {
         for (index, chunk) in chunks.iter().enumerate() {
             let fail = |why: String| BagProblem::Chunk { index, why };
             let entries = self.message_indexes(chunk).map_err(fail)?;
@@ -110,7 +134,12 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
                 || chunk.message_index_offsets.is_empty()
                 || (chunk.message_index_offsets.keys()).all(|c| self.want(*c) == Want::Payload);
             if whole {
-                self.whole_chunk(chunk, visitor)
+                let read = match prefetched.take(index) {
+                    Some(read) => read,
+                    None => read_whole(self.source, chunk),
+                };
+                let (header, records) = read.map_err(|e| e.in_chunk(index))?;
+                self.visit_records(chunk, &header, &records, visitor)
                     .map_err(|e| e.in_chunk(index))?;
             } else {
                 self.messages_of(chunk, &entries, visitor)
@@ -118,7 +147,7 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
             }
             visitor.progress(chunk.length)?;
         }
-        Ok(self.channels)
+        Ok(())
     }
 
     /// The message indexes after a chunk: `(log time, offset in the records, channel)` of every
@@ -152,60 +181,19 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
 
     /// The chunk's header, read from the file and checked against its index.
     fn chunk_header(&self, chunk: &ChunkIndex) -> Result<ChunkHeader, BagProblem> {
-        let len = RECORD_HEADER + records::chunk_header_len(chunk.compression.len() as u64);
-        let bytes = (self.source)
-            .read_vec(chunk.start, len.min(chunk.length))
-            .map_err(|e| io_problem(&e))?;
-        let header = (bytes.first() == Some(&OP_CHUNK))
-            .then(|| records::chunk_header(&bytes[RECORD_HEADER as usize..]))
-            .flatten()
-            .filter(|h| {
-                h.compression == chunk.compression && h.records_len == chunk.compressed_size
-            })
-            .ok_or_else(|| chunk_problem("its header does not match the summary's index of it"))?;
-        if RECORD_HEADER + header.header_len + header.records_len > chunk.length {
-            return Err(chunk_problem("its records run past its end"));
-        }
-        Ok(header)
+        chunk_header(self.source, chunk)
     }
 
-    /// Reads a chunk whole (decompressing it when compressed) and visits what is wanted of it.
-    fn whole_chunk(
-        &mut self,
-        chunk: &ChunkIndex,
-        visitor: &mut dyn Visitor,
-    ) -> Result<(), BagProblem> {
-        let header = self.chunk_header(chunk)?;
-        if header.records_len > MAX_CHUNK_BYTES {
-            return Err(chunk_problem(&format!(
-                "claims {} bytes of records, more than pushlab accepts",
-                header.records_len
-            )));
-        }
-        let data = (self.source)
-            .read_vec(
-                chunk.start + RECORD_HEADER + header.header_len,
-                header.records_len,
-            )
-            .map_err(|e| io_problem(&e))?;
-        let mut buffer = std::mem::take(&mut self.buffer);
-        let result = self.visit_records(chunk, &header, &data, &mut buffer, visitor);
-        self.buffer = buffer;
-        result
-    }
-
-    /// Visits what is wanted of a chunk's records (decompressed into `buffer` when compressed);
+    /// Visits what is wanted of a chunk's records (decompressed, when the chunk is compressed);
     /// counts the messages of a chunk without message indexes.
     fn visit_records(
         &mut self,
         chunk: &ChunkIndex,
         header: &ChunkHeader,
-        data: &[u8],
-        buffer: &mut Vec<u8>,
+        records: &[u8],
         visitor: &mut dyn Visitor,
     ) -> Result<(), BagProblem> {
         let records_start = chunk.start + RECORD_HEADER + header.header_len;
-        let records = records::decompress(header, data, buffer).map_err(|w| chunk_problem(&w))?;
         let compressed = !header.compression.is_empty();
         let unindexed = chunk.message_index_offsets.is_empty();
         for record in records::walk(records) {
@@ -425,6 +413,53 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
         end.filter(|&end| end > offset && end <= records_end)
             .ok_or_else(|| chunk_problem("a message record runs past the chunk's records"))
     }
+}
+
+/// A chunk's header, read from the file and checked against its index.
+pub(super) fn chunk_header<S: Source + ?Sized>(
+    source: &S,
+    chunk: &ChunkIndex,
+) -> Result<ChunkHeader, BagProblem> {
+    let len = RECORD_HEADER + records::chunk_header_len(chunk.compression.len() as u64);
+    let bytes = source
+        .read_vec(chunk.start, len.min(chunk.length))
+        .map_err(|e| io_problem(&e))?;
+    let header = (bytes.first() == Some(&OP_CHUNK))
+        .then(|| records::chunk_header(&bytes[RECORD_HEADER as usize..]))
+        .flatten()
+        .filter(|h| h.compression == chunk.compression && h.records_len == chunk.compressed_size)
+        .ok_or_else(|| chunk_problem("its header does not match the summary's index of it"))?;
+    if RECORD_HEADER + header.header_len + header.records_len > chunk.length {
+        return Err(chunk_problem("its records run past its end"));
+    }
+    Ok(header)
+}
+
+/// A chunk's header and its records, read whole and decompressed when compressed.
+pub(super) fn read_whole<S: Source + ?Sized>(
+    source: &S,
+    chunk: &ChunkIndex,
+) -> Result<(ChunkHeader, Vec<u8>), BagProblem> {
+    let header = chunk_header(source, chunk)?;
+    if header.records_len > MAX_CHUNK_BYTES {
+        return Err(chunk_problem(&format!(
+            "claims {} bytes of records, more than pushlab accepts",
+            header.records_len
+        )));
+    }
+    let data = source
+        .read_vec(
+            chunk.start + RECORD_HEADER + header.header_len,
+            header.records_len,
+        )
+        .map_err(|e| io_problem(&e))?;
+    // Decompressed (or, uncompressed, checked) here: its size and CRC against the header.
+    let mut buffer = Vec::new();
+    records::decompress(&header, &data, &mut buffer).map_err(|w| chunk_problem(&w))?;
+    if header.compression.is_empty() {
+        return Ok((header, data));
+    }
+    Ok((header, buffer))
 }
 
 /// The body of the record starting at `at` of `bytes`.

@@ -5,7 +5,7 @@ use std::fs::File;
 use std::io;
 
 /// Bytes read at offsets.
-pub trait Source {
+pub trait Source: Sync {
     /// The source's length in bytes.
     fn len(&self) -> u64;
 

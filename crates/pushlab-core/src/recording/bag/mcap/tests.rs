@@ -1,17 +1,17 @@
 #![allow(clippy::unwrap_used)]
 
 use std::borrow::Cow;
-use std::cell::Cell;
 use std::collections::BTreeMap;
 use std::io::Cursor;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::*;
 
 /// Counts the bytes read, to show what a pass leaves unread.
 struct Counting<'a> {
     bytes: Bytes<'a>,
-    read: Cell<u64>,
+    read: AtomicU64,
 }
 
 impl Source for Counting<'_> {
@@ -20,7 +20,7 @@ impl Source for Counting<'_> {
     }
 
     fn read_at(&self, offset: u64, buf: &mut [u8]) -> std::io::Result<()> {
-        self.read.set(self.read.get() + buf.len() as u64);
+        self.read.fetch_add(buf.len() as u64, Ordering::Relaxed);
         self.bytes.read_at(offset, buf)
     }
 }
@@ -128,7 +128,7 @@ fn the_poses_of_a_camera_bag_are_read_without_reading_its_images() {
     let bag = camera_bag(true);
     let source = Counting {
         bytes: Bytes(&bag),
-        read: Cell::new(0),
+        read: AtomicU64::new(0),
     };
     let mut poses = recorder(&[("/pose", Want::Payload)]);
     let channels = read_messages(&source, &mut poses).unwrap();
@@ -138,7 +138,7 @@ fn the_poses_of_a_camera_bag_are_read_without_reading_its_images() {
         assert_eq!(*time, 1_000_000_000 + k as u64 * 10_000_000);
         assert_eq!(data[0], k as u8);
     }
-    let read = source.read.get();
+    let read = source.read.load(Ordering::Relaxed);
     assert!(
         read * 20 < bag.len() as u64,
         "read {read} of {} bytes for the poses",
