@@ -29,7 +29,10 @@ Topics, all stamped in their header (the log time is the stamp plus a receive de
   (the object's stamps 4 ms after the pusher's, as from two tracker clients): a 0.10 x 0.12 m box
   pushed quasi-statically around a circle of radius 0.3 m at 2.1 cm/s, its yaw swinging +/-0.15
   rad about the path's heading, by a 5 mm pusher touching its back face at an offset sweeping
-  +/-2 cm; 0.2 mm and 5 mrad of Gaussian noise.
+  +/-2 cm; 0.2 mm and 5 mrad of Gaussian noise. A session of pushes: 50 s of pushing, then 5 s
+  in which the poses are not published (the push script publishes them only while it pushes),
+  then the next push from where the box stopped; the camera runs throughout. pushlab takes a push
+  to be at most 600 s long, so the bag is imported with `--split-gap 1` (one push per 50 s).
 
 Messages are written in log-time order, as a recorder receives them. The bag grows until its
 messages hold `--size-gb` x 10^9 bytes (4.0: ~13.5 minutes, ~24,000 frames); `--size-gb 0.05`
@@ -69,6 +72,7 @@ WIDTH, HEIGHT, DISTINCT_FRAMES = 1280, 720, 60
 
 BOX_LENGTH, PUSHER_RADIUS = 0.12, 0.005
 CIRCLE_CENTRE, CIRCLE_RADIUS, LOOP_S = (0.5, 0.0), 0.3, 90.0
+PUSH_TICKS, PAUSE_TICKS = 5_000, 500  # 50 s of pushing, 5 s of pause (100 Hz ticks)
 
 
 def header(ns, frame):
@@ -175,16 +179,21 @@ def main():
         while written < target:
             # Everything stamped in this 10 ms tick; written once nothing later can be received first.
             ns = BASE_NS + tick * POSE_PERIOD_NS
-            t = tick * POSE_PERIOD_NS / 1e9
-            px, py, pyaw = pusher_pose(t)
-            msg = pose_stamped(ns, px + rng.normal(0, 2e-4), py + rng.normal(0, 2e-4),
-                               pyaw + rng.normal(0, 5e-3))
-            pending.append((ns + delay(), pusher, TS.serialize_cdr(msg, PoseStamped.__msgtype__)))
-            ons = ns + OBJECT_LAG_NS
-            ox, oy, _, oyaw = object_pose(t + OBJECT_LAG_NS / 1e9)
-            msg = pose_stamped(ons, ox + rng.normal(0, 2e-4), oy + rng.normal(0, 2e-4),
-                               oyaw + rng.normal(0, 5e-3))
-            pending.append((ons + delay(), obj, TS.serialize_cdr(msg, PoseStamped.__msgtype__)))
+            push, in_push = divmod(tick, PUSH_TICKS + PAUSE_TICKS)
+            if in_push < PUSH_TICKS:
+                # Time spent pushing so far: the box moves only while pushed.
+                t = (push * PUSH_TICKS + in_push) * POSE_PERIOD_NS / 1e9
+                px, py, pyaw = pusher_pose(t)
+                msg = pose_stamped(ns, px + rng.normal(0, 2e-4), py + rng.normal(0, 2e-4),
+                                   pyaw + rng.normal(0, 5e-3))
+                pending.append((ns + delay(), pusher,
+                                TS.serialize_cdr(msg, PoseStamped.__msgtype__)))
+                ons = ns + OBJECT_LAG_NS
+                ox, oy, _, oyaw = object_pose(t + OBJECT_LAG_NS / 1e9)
+                msg = pose_stamped(ons, ox + rng.normal(0, 2e-4), oy + rng.normal(0, 2e-4),
+                                   oyaw + rng.normal(0, 5e-3))
+                pending.append((ons + delay(), obj,
+                                TS.serialize_cdr(msg, PoseStamped.__msgtype__)))
             while frame * CAMERA_PERIOD_NS < (tick + 1) * POSE_PERIOD_NS:
                 fns = BASE_NS + frame * CAMERA_PERIOD_NS
                 jpeg = with_comment(frames[frame % DISTINCT_FRAMES], f'pushlab camera-bag frame {frame}')
