@@ -2,7 +2,7 @@
 """Writes a real-size ROS 2 camera bag for pushlab's streaming-import experiment (issue 23): a
 rosbag2 folder with one MCAP file holding a 30 Hz camera and two 100 Hz poses of a push.
 
-    python3 generate.py OUT_FOLDER [--size-gb 4.0] [--seed 1]
+    python3 generate.py OUT_FOLDER [--size-gb 4.0] [--chunks zstd|none] [--seed 1]
 
 Written with `rosbags` (0.11.9, pinned in requirements.txt), independently of pushlab, the way
 `ros2 bag record -s mcap` writes with its default storage settings as closely as rosbags can:
@@ -12,11 +12,12 @@ Written with `rosbags` (0.11.9, pinned in requirements.txt), independently of pu
 - chunked, each chunk followed by its message indexes, a summary with the chunk indexes and
   statistics: what lets a reader seek to the chunks of the topics it wants;
 - zstd chunk compression (`Writer.set_compression(CompressionMode.STORAGE, ZSTD)`, rosbags' only
-  chunk compression). ros2 bag's MCAP plugin without a preset opens `mcap::McapWriterOptions("ros2")`,
-  whose defaults are zstd chunks at the default level, 768 KiB chunks and chunk CRCs. rosbags
-  differs in two details it does not let us choose: it closes a chunk once it passes 1 MiB of
-  uncompressed records (not 768 KiB) and writes no chunk CRC (0, "not computed", as the
-  `zstd_fast` preset does).
+  chunk compression, at zstd's default level 3). ros2 bag's MCAP plugin without a preset opens
+  `mcap::McapWriterOptions("ros2")`, whose defaults are zstd chunks at the default level, 768 KiB
+  chunks and chunk CRCs. rosbags differs in two details it does not let us choose: it closes a
+  chunk once it passes 1 MiB of uncompressed records (not 768 KiB) and writes no chunk CRC (0,
+  "not computed", as the `zstd_fast` preset does). `--chunks none` writes uncompressed chunks
+  instead, as `ros2 bag record` does with a storage config saying `compression: None`.
 
 Topics, all stamped in their header (the log time is the stamp plus a receive delay of 1-3 ms):
 
@@ -141,6 +142,8 @@ def main():
     parser.add_argument('out', type=Path, help='the rosbag2 folder to write (must not exist)')
     parser.add_argument('--size-gb', type=float, default=4.0,
                         help='stop once the messages hold this many 10^9 bytes (default 4.0)')
+    parser.add_argument('--chunks', choices=['zstd', 'none'], default='zstd',
+                        help='chunk compression (default zstd)')
     parser.add_argument('--seed', type=int, default=1)
     args = parser.parse_args()
     if args.out.exists():
@@ -157,7 +160,8 @@ def main():
         return int(rng.integers(1_000_000, 3_000_000))
 
     writer = Writer(args.out, version=9, storage_plugin=StoragePlugin.MCAP)
-    writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
+    if args.chunks == 'zstd':
+        writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
     with writer:
         camera = writer.add_connection(CAMERA, CompressedImage.__msgtype__, typestore=TS)
         pusher = writer.add_connection(PUSHER, PoseStamped.__msgtype__, typestore=TS)
