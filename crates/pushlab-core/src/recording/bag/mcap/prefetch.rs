@@ -79,7 +79,7 @@ impl Prefetch {
             return None;
         }
         // Chunks planned before this one and not taken are no longer wanted.
-        self.arrived.retain(|&k, _| k > index);
+        self.arrived.retain(|&k, _| k >= index);
         if let Some(read) = self.arrived.remove(&index) {
             return Some(read);
         }
@@ -93,5 +93,52 @@ impl Prefetch {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::mpsc::sync_channel;
+
+    use super::*;
+
+    /// A stand-in for chunk `k` read: an error naming it, which is all the bookkeeping looks at.
+    fn read(k: usize) -> Read {
+        Err(BagProblem::Mcap(format!("chunk {k}")))
+    }
+
+    fn name(read: Option<Read>) -> String {
+        match read {
+            Some(Err(BagProblem::Mcap(name))) => name,
+            other => panic!("expected a chunk, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn chunks_arriving_out_of_order_are_each_taken_once_in_order() {
+        let (send, results) = sync_channel(8);
+        // Two workers finish 3 and 5 before 1, as a second core does.
+        for k in [3, 1, 5, 4] {
+            send.send((k, read(k))).unwrap();
+        }
+        drop(send);
+        let mut prefetch = Prefetch {
+            results: Some(results),
+            arrived: BTreeMap::new(),
+            planned: vec![1, 3, 4, 5],
+        };
+        assert!(
+            prefetch.take(2).is_none(),
+            "chunk 2 was not planned: read by the caller"
+        );
+        assert_eq!(
+            name(prefetch.take(3)),
+            "chunk 3",
+            "1 was skipped, 3 arrived first"
+        );
+        // 4 and 5 arrived while 3 was waited for, or are still in the channel: none is lost.
+        assert_eq!(name(prefetch.take(4)), "chunk 4");
+        assert_eq!(name(prefetch.take(5)), "chunk 5");
+        assert!(prefetch.arrived.is_empty(), "nothing kept once taken");
     }
 }
