@@ -15,6 +15,7 @@
 //! or only its first bytes and where the message lies (`MessageAt`), to read it again later — a
 //! camera's frames are indexed so when a bag is opened and read one at a time as they are shown.
 
+mod chunk;
 mod linear;
 mod payload;
 mod prefetch;

@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::{Receiver, sync_channel};
 use std::thread::Scope;
 
-use super::reader::read_whole;
+use super::chunk::read_whole;
 use super::records::{ChunkHeader, ChunkIndex};
 use super::source::Source;
 use crate::recording::bag::problem::BagProblem;

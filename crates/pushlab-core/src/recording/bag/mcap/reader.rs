@@ -3,10 +3,11 @@
 use std::collections::BTreeMap;
 use std::sync::atomic::AtomicUsize;
 
+use super::chunk::{chunk_header, read_whole};
 use super::prefetch::Prefetch;
 use super::records::{
-    self, ChunkHeader, ChunkIndex, MAGIC, MAX_CHUNK_BYTES, MESSAGE_HEADER, OP_CHUNK, OP_MESSAGE,
-    OP_MESSAGE_INDEX, RECORD_HEADER,
+    self, ChunkHeader, ChunkIndex, MAGIC, MESSAGE_HEADER, OP_MESSAGE, OP_MESSAGE_INDEX,
+    RECORD_HEADER,
 };
 use super::source::Source;
 use super::summary::{self, Summary};
@@ -413,53 +414,6 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
         end.filter(|&end| end > offset && end <= records_end)
             .ok_or_else(|| chunk_problem("a message record runs past the chunk's records"))
     }
-}
-
-/// A chunk's header, read from the file and checked against its index.
-pub(super) fn chunk_header<S: Source + ?Sized>(
-    source: &S,
-    chunk: &ChunkIndex,
-) -> Result<ChunkHeader, BagProblem> {
-    let len = RECORD_HEADER + records::chunk_header_len(chunk.compression.len() as u64);
-    let bytes = source
-        .read_vec(chunk.start, len.min(chunk.length))
-        .map_err(|e| io_problem(&e))?;
-    let header = (bytes.first() == Some(&OP_CHUNK))
-        .then(|| records::chunk_header(&bytes[RECORD_HEADER as usize..]))
-        .flatten()
-        .filter(|h| h.compression == chunk.compression && h.records_len == chunk.compressed_size)
-        .ok_or_else(|| chunk_problem("its header does not match the summary's index of it"))?;
-    if RECORD_HEADER + header.header_len + header.records_len > chunk.length {
-        return Err(chunk_problem("its records run past its end"));
-    }
-    Ok(header)
-}
-
-/// A chunk's header and its records, read whole and decompressed when compressed.
-pub(super) fn read_whole<S: Source + ?Sized>(
-    source: &S,
-    chunk: &ChunkIndex,
-) -> Result<(ChunkHeader, Vec<u8>), BagProblem> {
-    let header = chunk_header(source, chunk)?;
-    if header.records_len > MAX_CHUNK_BYTES {
-        return Err(chunk_problem(&format!(
-            "claims {} bytes of records, more than pushlab accepts",
-            header.records_len
-        )));
-    }
-    let data = source
-        .read_vec(
-            chunk.start + RECORD_HEADER + header.header_len,
-            header.records_len,
-        )
-        .map_err(|e| io_problem(&e))?;
-    // Decompressed (or, uncompressed, checked) here: its size and CRC against the header.
-    let mut buffer = Vec::new();
-    records::decompress(&header, &data, &mut buffer).map_err(|w| chunk_problem(&w))?;
-    if header.compression.is_empty() {
-        return Ok((header, data));
-    }
-    Ok((header, buffer))
 }
 
 /// The body of the record starting at `at` of `bytes`.
