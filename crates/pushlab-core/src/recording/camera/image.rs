@@ -179,12 +179,35 @@ fn decode_compressed(
         }
         other => corrupt(other.to_string()),
     })?;
+    // 16-bit grey (a depth camera's `mono16`, as `pushlab import` stores it) is stretched from
+    // its darkest to its brightest value, as the raw frame is: not cut to its top 8 bits, which
+    // leaves depth in millimetres nearly black.
+    if let image::DynamicImage::ImageLuma16(grey) = &decoded {
+        return Ok(stretched_mono16(grey.width(), grey.height(), grey.as_raw()));
+    }
     let rgba = decoded.into_rgba8();
     Ok(RgbaImage {
         width: rgba.width(),
         height: rgba.height(),
         pixels: rgba.into_raw(),
     })
+}
+
+/// 16-bit grey values, row by row, shown from the darkest to the brightest.
+fn stretched_mono16(width: u32, height: u32, values: &[u16]) -> RgbaImage {
+    let (low, high) = (values.iter()).fold((u16::MAX, 0), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    let span = f32::from(high.saturating_sub(low).max(1));
+    let pixels = (values.iter())
+        .flat_map(|&v| {
+            let g = (f32::from(v.saturating_sub(low)) / span * 255.0).round() as u8;
+            [g, g, g, 255]
+        })
+        .collect();
+    RgbaImage {
+        width,
+        height,
+        pixels,
+    }
 }
 
 fn decode_raw(
@@ -460,8 +483,12 @@ mod tests {
             },
             bytes: vec![0x34, 0x12, 0xFF, 0xFF],
         };
+        let shown_raw = decode(&mono16).unwrap();
         let stored = to_stored(mono16).unwrap();
         assert_eq!(stored.format, ImageFormat::Png);
+        // Shown from the stored PNG as from the raw frame: depth stretched, not cut to 8 bits.
+        assert_eq!(decode(&stored).unwrap().pixels, shown_raw.pixels);
+        assert_eq!(shown_raw.pixel(0, 0), Some([0, 0, 0, 255]));
         let back = image::load_from_memory(&stored.bytes)
             .unwrap()
             .into_luma16();

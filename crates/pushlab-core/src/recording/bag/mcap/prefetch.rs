@@ -98,6 +98,8 @@ impl Prefetch {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use std::sync::mpsc::sync_channel;
 
     use super::*;
