@@ -220,27 +220,21 @@ fn decode_raw(
 ) -> Result<RgbaImage, ImageProblem> {
     check_raw(bytes, encoding, width, height, step)?;
     let (w, h, step) = (width as usize, height as usize, step as usize);
+    if encoding == RawEncoding::Mono16 {
+        // Depth or IR: shown from its darkest to its brightest value, as a 16-bit PNG is.
+        let value = |b: &[u8]| {
+            if big_endian {
+                u16::from_be_bytes([b[0], b[1]])
+            } else {
+                u16::from_le_bytes([b[0], b[1]])
+            }
+        };
+        let values: Vec<u16> = (0..h)
+            .flat_map(|y| bytes[y * step..y * step + 2 * w].chunks_exact(2).map(value))
+            .collect();
+        return Ok(stretched_mono16(width, height, &values));
+    }
     let mut pixels = Vec::with_capacity(4 * w * h);
-    // Mono16 (depth, IR) is shown from its darkest to its brightest value.
-    let mono16 = |b: &[u8]| {
-        if big_endian {
-            u16::from_be_bytes([b[0], b[1]])
-        } else {
-            u16::from_le_bytes([b[0], b[1]])
-        }
-    };
-    let (low, high) = if encoding == RawEncoding::Mono16 {
-        (0..h)
-            .flat_map(|y| {
-                bytes[y * step..y * step + 2 * w]
-                    .chunks_exact(2)
-                    .map(mono16)
-            })
-            .fold((u16::MAX, 0), |(lo, hi), v| (lo.min(v), hi.max(v)))
-    } else {
-        (0, 0)
-    };
-    let span = f32::from(high.saturating_sub(low).max(1));
     for y in 0..h {
         let line = &bytes[y * step..];
         for x in 0..w {
@@ -259,12 +253,8 @@ fn decode_raw(
                     line[4 * x],
                     line[4 * x + 3],
                 ],
-                RawEncoding::Mono8 => [line[x], line[x], line[x], 255],
-                RawEncoding::Mono16 => {
-                    let v = mono16(&line[2 * x..2 * x + 2]).saturating_sub(low);
-                    let g = (f32::from(v) / span * 255.0).round() as u8;
-                    [g, g, g, 255]
-                }
+                // Mono16 was shown above; the pattern only keeps the match whole.
+                RawEncoding::Mono8 | RawEncoding::Mono16 => [line[x], line[x], line[x], 255],
             };
             pixels.extend_from_slice(&px);
         }
