@@ -330,27 +330,15 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
             ));
         }
         let body = &rest[..rest.len().min(len as usize)];
-        let (id, stamp, head) =
-            records::message(body).ok_or_else(|| message_cut_short(body.len()))?;
-        if id != channel_id || stamp != log_time {
-            return Err(chunk_problem(
-                "a message index points at a message of another channel or time",
-            ));
-        }
-        let (channel, _) = self
-            .channels
-            .get(&channel_id)
-            .ok_or_else(|| undeclared(channel_id))?;
-        visitor.message(Visit {
-            channel_id,
-            channel,
-            log_time,
-            data: head,
-            at: MessageAt::File {
-                offset: records_start + offset + RECORD_HEADER + MESSAGE_HEADER,
-                len: len - MESSAGE_HEADER,
-            },
-        })
+        let entry = (log_time, offset, channel_id);
+        self.visit_indexed(
+            body,
+            entry,
+            records_start,
+            len - MESSAGE_HEADER,
+            |head| head,
+            visitor,
+        )
     }
 
     /// Visits a whole message record read through its index entry.
@@ -360,6 +348,22 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
         (log_time, offset, channel_id): (u64, u64, u16),
         records_start: u64,
         want: Want,
+        visitor: &mut dyn Visitor,
+    ) -> Result<(), BagProblem> {
+        let len = body.len().saturating_sub(MESSAGE_HEADER as usize) as u64;
+        let entry = (log_time, offset, channel_id);
+        self.visit_indexed(body, entry, records_start, len, |p| head(p, want), visitor)
+    }
+
+    /// Checks that `body` (all of a message record's body, or its start) is the message its index
+    /// entry names, then visits `data` of its payload, which is `len` bytes at its offset.
+    fn visit_indexed(
+        &self,
+        body: &[u8],
+        (log_time, offset, channel_id): (u64, u64, u16),
+        records_start: u64,
+        len: u64,
+        data: impl FnOnce(&[u8]) -> &[u8],
         visitor: &mut dyn Visitor,
     ) -> Result<(), BagProblem> {
         let (id, stamp, payload) =
@@ -377,10 +381,10 @@ impl<'a, S: Source + ?Sized> Indexed<'a, S> {
             channel_id,
             channel,
             log_time,
-            data: head(payload, want),
+            data: data(payload),
             at: MessageAt::File {
                 offset: records_start + offset + RECORD_HEADER + MESSAGE_HEADER,
-                len: payload.len() as u64,
+                len,
             },
         })
     }
