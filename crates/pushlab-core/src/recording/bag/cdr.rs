@@ -150,17 +150,7 @@ impl<'a> Cdr<'a> {
 
     /// A string's bytes without the terminating NUL.
     pub(super) fn string(&mut self, what: &str) -> Result<&'a [u8], DecodeError> {
-        let len = self.u32(what)? as usize;
-        let bytes = self
-            .body
-            .get(self.pos..self.pos.saturating_add(len))
-            .ok_or_else(|| {
-                format!(
-                    "the {what} claims {len} bytes but only {} are left",
-                    self.body.len() - self.pos
-                )
-            })?;
-        self.pos += len;
+        let bytes = self.bytes(what)?;
         Ok(bytes.strip_suffix(&[0]).unwrap_or(bytes))
     }
 
