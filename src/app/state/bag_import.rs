@@ -15,9 +15,8 @@ use pushlab_core::recording::bag::{
     self, BagChoice, ImportOptions, SettingSource, TopicInfo, TopicSpec, choice,
 };
 
-use super::AppState;
-use super::session::LoadProblem;
-use crate::app::state::SessionCommand;
+use super::effect::Effect;
+use super::session::{LoadProblem, RecordingId, Session};
 
 /// A box entered by hand, in the units the form shows (millimetres).
 #[derive(Clone, Debug, PartialEq)]
@@ -241,29 +240,29 @@ impl BagChooser {
     }
 }
 
-impl AppState {
-    pub(super) fn apply_bag(&mut self, command: BagCommand) {
+impl BagChooser {
+    /// Applies a command to the form shown (the first waiting). What it asks of the rest of the app
+    /// — a bag to open with its choice, a problem for the browser, a status line — comes back as
+    /// effects.
+    pub fn apply(&mut self, command: BagCommand) -> Vec<Effect> {
         if let BagCommand::ChooseAgain(bag) = command {
-            return self.list_topics_of(bag);
+            return self.list_topics_of(bag).into_iter().collect();
         }
-        let chooser = &mut self.bags;
-        let Some(form) = chooser.queue.front_mut() else {
-            return;
+        let Some(form) = self.queue.front_mut() else {
+            return Vec::new();
         };
         match command {
             BagCommand::SetPusher(spec) => form.pusher = Some(spec),
             BagCommand::SetObject(spec) => form.object = Some(spec),
             BagCommand::UseSettingFile(path) => {
                 if let ObjectSource::Entered(b) = &form.object_source {
-                    chooser.entered_keep = Some(b.clone());
+                    self.entered_keep = Some(b.clone());
                 }
                 form.object_source = file_source(path);
             }
             BagCommand::EnterObject => {
                 if matches!(form.object_source, ObjectSource::File { .. }) {
-                    let kept = chooser
-                        .entered_keep
-                        .take()
+                    let kept = (self.entered_keep.take())
                         .unwrap_or_else(|| EnteredBox::blank(String::new()));
                     form.object_source = ObjectSource::Entered(kept);
                 }
@@ -283,39 +282,42 @@ impl AppState {
             BagCommand::Open => match form.choice() {
                 Ok(choice) => {
                     let bag = form.bag.clone();
-                    // Earlier problems of this bag are retried now; one after this load is new.
-                    self.session.problems.retain(|p| !p.path.starts_with(&bag));
-                    if let Some(mut form) = chooser.queue.pop_front() {
+                    if let Some(mut form) = self.queue.pop_front() {
                         form.error = None;
-                        chooser.trying.retain(|(f, _)| f.bag != bag);
-                        chooser.trying.push((form, choice.clone()));
+                        self.trying.retain(|(f, _)| f.bag != bag);
+                        self.trying.push((form, choice.clone()));
                     }
-                    self.session
-                        .start_loading_choosing(vec![bag.clone()], vec![(bag, choice)]);
+                    return vec![Effect::OpenBag {
+                        bag,
+                        choice: Box::new(choice),
+                    }];
                 }
                 Err(why) => form.error = Some(why),
             },
             BagCommand::Skip => {
                 let bag = form.bag.clone();
-                chooser.queue.pop_front();
-                self.session.problems.push(LoadProblem {
+                self.queue.pop_front();
+                return vec![Effect::Problem(LoadProblem {
                     message: format!(
                         "{}: not opened: its pusher and object topics were not chosen",
                         bag.display()
                     ),
                     path: bag,
                     bag_to_choose: true,
-                });
+                })];
             }
             BagCommand::ChooseAgain(_) => {}
         }
+        Vec::new()
     }
 
     /// Reads a bag's topics and remembered choice on a worker thread; the form opens when done.
-    fn list_topics_of(&mut self, bag: PathBuf) {
-        if self.bags.listing.is_some() {
-            self.status = Some("still reading another bag's topics".to_owned());
-            return;
+    /// Says so instead while another bag's topics are being read.
+    fn list_topics_of(&mut self, bag: PathBuf) -> Option<Effect> {
+        if self.listing.is_some() {
+            return Some(Effect::Status(
+                "still reading another bag's topics".to_owned(),
+            ));
         }
         let (sender, receiver) = channel();
         let worker_bag = bag.clone();
@@ -329,55 +331,48 @@ impl AppState {
                 });
             let _ = sender.send(form);
         });
-        self.bags.listing = Some((bag, receiver));
+        self.listing = Some((bag, receiver));
+        None
     }
 
-    /// Merges what loading and topic listing finished: forms for bags that need a choice, and for
-    /// each bag opened with a choice, the choice remembered (it opened) or its form back with the
-    /// error. Returns a message for the status line when there is one.
-    pub(super) fn after_bag_work(&mut self) -> Option<String> {
-        let mut message = None;
-        if let Some((_, receiver)) = &self.bags.listing
+    /// Merges what loading and topic listing finished: forms for bags that need a choice (the
+    /// session's list of them is taken), and for each bag opened with a choice, the choice
+    /// remembered (it opened: the bag is shown) or its form back with the session's error for it.
+    pub fn poll(&mut self, session: &mut Session) -> Vec<Effect> {
+        let mut effects = Vec::new();
+        if let Some((_, receiver)) = &self.listing
             && let Ok(result) = receiver.try_recv()
         {
-            self.bags.listing = None;
+            self.listing = None;
             match result {
                 Ok(form) => {
-                    self.session
-                        .problems
-                        .retain(|p| !(p.bag_to_choose && p.path == form.bag));
-                    self.bags.queue.push_front(form);
+                    (session.problems).retain(|p| !(p.bag_to_choose && p.path == form.bag));
+                    self.queue.push_front(form);
                 }
-                Err(why) => message = Some(why),
+                Err(why) => effects.push(Effect::Status(why)),
             }
         }
-        let asked = std::mem::take(&mut self.session.bags_to_choose);
+        let asked = std::mem::take(&mut session.bags_to_choose);
         if !asked.is_empty() {
-            message = Some(format!(
+            effects.push(Effect::Status(format!(
                 "{} ROS 2 bag(s) wait for their pusher and object topics to be chosen",
                 asked.len()
-            ));
+            )));
         }
         for (bag, topics) in asked {
-            self.bags.ask(BagForm::new(bag, topics, None));
+            self.ask(BagForm::new(bag, topics, None));
         }
-        if self.session.loading().is_some() {
-            return message;
+        if session.loading().is_some() {
+            return effects;
         }
-        for (mut form, choice) in std::mem::take(&mut self.bags.trying) {
+        for (mut form, choice) in std::mem::take(&mut self.trying) {
             let bag = form.bag.clone();
-            let failed = self
-                .session
-                .problems
-                .iter()
-                .any(|p| p.path.starts_with(&bag));
-            let opened = self.session.sets.iter().position(|s| s.dir == bag);
+            let failed = session.problems.iter().any(|p| p.path.starts_with(&bag));
+            let opened = session.sets.iter().position(|s| s.dir == bag);
             if let (false, Some(set)) = (failed, opened) {
                 // The user just chose this bag: show it.
-                self.apply(super::Command::Session(SessionCommand::Select(
-                    super::session::RecordingId { set, recording: 0 },
-                )));
-                message = Some(match choice::remember(&bag, &choice) {
+                effects.push(Effect::Select(RecordingId { set, recording: 0 }));
+                effects.push(Effect::Status(match choice::remember(&bag, &choice) {
                     Ok(file) => format!(
                         "opened {}; its topics are remembered in {}",
                         bag.display(),
@@ -388,20 +383,17 @@ impl AppState {
                          they will be asked again",
                         bag.display()
                     ),
-                });
+                }));
                 continue;
             }
             // Failed: its problem goes back into its form.
-            let error = self
-                .session
-                .problems
-                .iter()
+            let error = (session.problems.iter())
                 .position(|p| p.path.starts_with(&bag))
-                .map(|i| self.session.problems.remove(i).message);
+                .map(|i| session.problems.remove(i).message);
             form.error = error.or(Some(format!("{} did not open", bag.display())));
-            self.bags.queue.push_front(form);
+            self.queue.push_front(form);
         }
-        message
+        effects
     }
 }
 

@@ -16,9 +16,9 @@ use pushlab_core::labels::pipeline::key_of;
 use pushlab_core::recording::{PushParameters, Recording};
 use serde::{Deserialize, Serialize};
 
-use super::AppState;
-use super::labels::LabelTarget;
-use super::session::RecordingId;
+use super::labels::{LabelTarget, Labeling};
+use super::online::OnlineRun;
+use super::session::{RecordingId, Session};
 use pushlab_core::learn::MeanLosses;
 
 /// A column of the browser's table.
@@ -252,74 +252,76 @@ pub struct BrowserMemory {
     losses: HashMap<PathBuf, MeanLosses>,
 }
 
-impl AppState {
-    /// Applies one browser command.
-    pub(super) fn apply_browser(&mut self, command: BrowserCommand) {
+impl BrowserView {
+    /// Applies one browser command: the filter, or the sort (the same column again reverses it).
+    pub fn apply(&mut self, command: BrowserCommand) {
         match command {
-            BrowserCommand::SetFilter(filter) => self.settings.browser.filter = filter,
+            BrowserCommand::SetFilter(filter) => self.filter = filter,
             BrowserCommand::SortBy(column) => {
-                let view = &mut self.settings.browser;
-                view.descending = view.sort == column && !view.descending;
-                view.sort = column;
+                self.descending = self.sort == column && !self.descending;
+                self.sort = column;
             }
         }
     }
+}
 
+impl BrowserMemory {
     /// Reads the push parameters of open recordings not seen before (once per file: a native
     /// push's speed is measured over its frames).
-    pub(super) fn remember_parameters(&mut self) {
-        for (_, recording) in self.session.recordings() {
-            if !self.browsed.parameters.contains_key(&recording.source) {
-                self.browsed
-                    .parameters
-                    .insert(recording.source.clone(), PushParameters::of(recording));
+    pub fn remember_parameters(&mut self, session: &Session) {
+        for (_, recording) in session.recordings() {
+            if !self.parameters.contains_key(&recording.source) {
+                (self.parameters).insert(recording.source.clone(), PushParameters::of(recording));
             }
         }
     }
 
-    /// Keeps the selected recording's mean losses as its run learns.
-    pub(super) fn remember_losses(&mut self) {
-        if let (Some(run), Some(recording)) = (&self.run, self.session.selected_recording())
+    /// Keeps the mean losses of the recording shown as its run learns.
+    pub fn remember_losses(&mut self, run: Option<&OnlineRun>, recording: Option<&Recording>) {
+        if let (Some(run), Some(recording)) = (run, recording)
             && let Some(losses) = run.mean_losses()
-            && self.browsed.losses.get(&recording.source) != Some(&losses)
+            && self.losses.get(&recording.source) != Some(&losses)
         {
-            self.browsed.losses.insert(recording.source.clone(), losses);
+            self.losses.insert(recording.source.clone(), losses);
         }
     }
 
     /// The mean losses last seen on a recording's run.
-    pub fn remembered_losses(&self, recording: &Recording) -> Option<MeanLosses> {
-        self.browsed.losses.get(&recording.source).copied()
+    pub fn losses_of(&self, recording: &Recording) -> Option<MeanLosses> {
+        self.losses.get(&recording.source).copied()
     }
 
-    /// The browser's rows: every open recording that passes the filter, sorted.
-    pub fn browser_rows(&self) -> Vec<Row<'_>> {
-        let mut rows = Vec::with_capacity(self.session.recording_count());
-        for (set_index, set) in self.session.sets.iter().enumerate() {
+    /// The browser's rows: every open recording that passes the view's filter, sorted by its
+    /// column.
+    pub fn rows<'a>(
+        &'a self,
+        session: &'a Session,
+        labels: &Labeling,
+        view: &BrowserView,
+    ) -> Vec<Row<'a>> {
+        let mut rows = Vec::with_capacity(session.recording_count());
+        for (set_index, set) in session.sets.iter().enumerate() {
             // A set's recordings share a folder and so one labels file: looked up once per set.
-            let document = set
-                .recordings
-                .first()
+            let document = (set.recordings.first())
                 .and_then(LabelTarget::of)
-                .and_then(|t| self.labels.document(&t.document));
+                .and_then(|t| labels.document(&t.document));
             for (index, recording) in set.recordings.iter().enumerate() {
                 let id = RecordingId {
                     set: set_index,
                     recording: index,
                 };
-                let row = self.row(id, recording, document);
-                if row.matches(&self.settings.browser.filter) {
+                let row = self.row(id, recording, &set.setting.name, document);
+                if row.matches(&view.filter) {
                     rows.push(row);
                 }
             }
         }
-        let (column, descending) = (self.settings.browser.sort, self.settings.browser.descending);
         // Each row's key once (not per comparison); stable: equal rows keep the sets' order.
         let mut keyed: Vec<(SortKey, Row<'_>)> = rows
             .drain(..)
-            .map(|row| (row.sort_key(column), row))
+            .map(|row| (row.sort_key(view.sort), row))
             .collect();
-        keyed.sort_by(|(a, _), (b, _)| a.compare(b, descending));
+        keyed.sort_by(|(a, _), (b, _)| a.compare(b, view.descending));
         keyed.into_iter().map(|(_, row)| row).collect()
     }
 
@@ -327,9 +329,10 @@ impl AppState {
         &'a self,
         id: RecordingId,
         recording: &'a Recording,
+        set: &'a str,
         document: Option<&LabelDocument>,
     ) -> Row<'a> {
-        let parameters = self.browsed.parameters.get(&recording.source);
+        let parameters = self.parameters.get(&recording.source);
         let name = match parameters {
             Some(p) if recording.name.starts_with("motion_") => {
                 let rep = p
@@ -347,12 +350,12 @@ impl AppState {
         Row {
             id,
             recording,
-            set: &self.session.sets[id.set].setting.name,
+            set,
             name,
             parameters,
             split,
             labels: labels.map_or(0, |l| l.segments.len() + l.events.len()),
-            losses: self.remembered_losses(recording),
+            losses: self.losses_of(recording),
         }
     }
 }
@@ -365,7 +368,7 @@ mod tests {
     use crate::app::state::SessionCommand;
     use crate::app::state::models::Models;
     use crate::app::state::timeline::TimelineCommand;
-    use crate::app::state::{Command, Persisted};
+    use crate::app::state::{AppState, Command, Persisted};
 
     fn state_on(dir: &Path) -> AppState {
         let mut state = AppState::new(Persisted::default(), Models::default());

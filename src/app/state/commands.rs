@@ -1,10 +1,33 @@
 //! The session's, the online run's and training's commands, each applied by its own method, so
 //! that [`AppState::apply`](super::AppState::apply) only routes.
 
+use super::effect::Effect;
 use super::timeline::TimelineCommand;
 use super::{AppState, Command, MAX_WHAT_IF_STEPS, OnlineCommand, SessionCommand, TrainingCommand};
 
 impl AppState {
+    /// Carries out, in order, what sub-states' commands asked of the rest of the state.
+    pub(super) fn apply_effects(&mut self, effects: Vec<Effect>) {
+        for effect in effects {
+            match effect {
+                Effect::Status(message) => self.status = Some(message),
+                Effect::Select(id) => self.apply_session(SessionCommand::Select(id)),
+                Effect::OpenBag { bag, choice } => {
+                    // Earlier problems of this bag are retried now; one after this load is new.
+                    self.session.problems.retain(|p| !p.path.starts_with(&bag));
+                    (self.session).start_loading_choosing(vec![bag.clone()], vec![(bag, *choice)]);
+                }
+                Effect::Problem(problem) => self.session.problems.push(problem),
+                Effect::Label(action) => {
+                    let (target, frame) = (self.label_target(), self.frame());
+                    if let Some(message) = self.labels.apply(target.as_ref(), frame, action) {
+                        self.status = Some(message);
+                    }
+                }
+            }
+        }
+    }
+
     pub(super) fn apply_session(&mut self, command: SessionCommand) {
         match command {
             SessionCommand::Select(id) => {

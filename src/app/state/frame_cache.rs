@@ -4,23 +4,25 @@
 //!
 //! Each is kept with the key it was computed for and computed again only when the key changes —
 //! another frame, θ, step count or run for the rollout; another recording or labels edit for the
-//! mask — so a frame that changes nothing costs nothing, and a paused app computes neither.
+//! mask — so a frame that changes nothing costs nothing, and a paused app computes neither. The
+//! cache knows nothing of the rest of the state: the owner hands it the run and the labels.
 
 use std::sync::Arc;
 
 use pushlab_core::inspect::{Rollout, rollout};
 use pushlab_core::model::OnlineParams;
 
-use super::AppState;
-use super::labels::LabelTarget;
+use super::labels::{LabelTarget, Labeling};
+use super::online::OnlineRun;
 
 /// The rollout and the mask, with what they were computed for.
 #[derive(Default)]
 pub struct FrameCache {
-    what_if: Option<(WhatIfKey, Option<Rollout>)>,
+    what_if: Option<(WhatIfKey, Rollout)>,
     skip: Option<(SkipKey, Arc<[bool]>)>,
 }
 
+/// What a what-if rollout is computed for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct WhatIfKey {
     run: u64,
@@ -36,73 +38,63 @@ impl FrameCache {
     pub fn clear(&mut self) {
         *self = Self::default();
     }
-}
 
-impl AppState {
-    /// The what-if rollout from the frame shown: the online model with `θ` at this frame (as learned
-    /// or as the sliders set it) fed its own predictions for `what_if_steps` steps along the recorded
-    /// pusher path. `None` without a run. Computed by [`AppState::refresh_frame_cache`].
+    /// The rollout last computed by [`FrameCache::refresh_what_if`].
     pub fn what_if(&self) -> Option<&Rollout> {
-        self.frame_cache.what_if.as_ref()?.1.as_ref()
+        self.what_if.as_ref().map(|(_, rollout)| rollout)
     }
 
-    /// One flag per frame of the selected recording: labelled "skip in training" (bad tracking).
-    /// Shared, so that learning reads it without copying.
-    pub fn frames_to_skip(&mut self) -> Arc<[bool]> {
-        self.refresh_skip();
-        (self.frame_cache.skip.as_ref()).map_or_else(|| Arc::from([]), |(_, mask)| Arc::clone(mask))
-    }
-
-    /// Computes again what changed since the last call: once per frame and after each command.
-    pub(super) fn refresh_frame_cache(&mut self) {
-        let key = self.run.as_ref().map(|run| WhatIfKey {
-            run: self.run_generation,
-            frame: self.frame(),
-            theta: run.theta_at(self.frame()),
-            steps: self.settings.what_if_steps,
-        });
-        let Some(key) = key else {
-            self.frame_cache.what_if = None;
+    /// The what-if rollout from `frame`: the run's model with `θ` at this frame (as learned or as
+    /// the sliders set it) fed its own predictions for `steps` steps along the recorded pusher
+    /// path; `None` without a run. `generation` tells runs apart.
+    pub fn refresh_what_if(
+        &mut self,
+        run: Option<&OnlineRun>,
+        generation: u64,
+        frame: usize,
+        steps: usize,
+    ) {
+        let Some(run) = run else {
+            self.what_if = None;
             return;
         };
-        if self
-            .frame_cache
-            .what_if
-            .as_ref()
-            .is_some_and(|(k, _)| *k == key)
-        {
+        let key = WhatIfKey {
+            run: generation,
+            frame,
+            theta: run.theta_at(frame),
+            steps,
+        };
+        if self.what_if.as_ref().is_some_and(|(k, _)| *k == key) {
             return;
         }
-        let rollout = self.run.as_ref().map(|run| {
-            rollout(
-                run.model().as_ref(),
-                run.trajectory(),
-                key.frame,
-                run.horizon(),
-                key.steps,
-                &key.theta,
-            )
-        });
-        self.frame_cache.what_if = Some((key, rollout));
+        let rollout = rollout(
+            run.model().as_ref(),
+            run.trajectory(),
+            key.frame,
+            run.horizon(),
+            key.steps,
+            &key.theta,
+        );
+        self.what_if = Some((key, rollout));
     }
 
-    fn refresh_skip(&mut self) {
-        let target = self.label_target();
+    /// One flag per frame of `target`'s recording: labelled "skip in training" (bad tracking).
+    /// Shared, so that learning reads it without copying.
+    pub fn frames_to_skip(
+        &mut self,
+        target: Option<LabelTarget>,
+        labels: &Labeling,
+    ) -> Arc<[bool]> {
         let state = (target.as_ref())
-            .and_then(|t| self.labels.document(&t.document))
+            .and_then(|t| labels.document(&t.document))
             .map(|d| d.state_id());
         let key = (target, state);
-        if self
-            .frame_cache
-            .skip
-            .as_ref()
-            .is_some_and(|(k, _)| *k == key)
-        {
-            return;
+        if !self.skip.as_ref().is_some_and(|(k, _)| *k == key) {
+            let mask = (key.0.as_ref())
+                .map(|t| labels.frames_to_skip(t))
+                .unwrap_or_default();
+            self.skip = Some((key, Arc::from(mask)));
         }
-        let mask = (key.0.as_ref())
-            .map(|t| self.labels.frames_to_skip(t))
-            .unwrap_or_default();
-        self.frame_cache.skip = Some((key, Arc::from(mask)));
+        (self.skip.as_ref()).map_or_else(|| Arc::from([]), |(_, mask)| Arc::clone(mask))
     }
 }

@@ -17,7 +17,7 @@ use pushlab_core::inspect::{
 };
 use pushlab_core::model::OnlineParams;
 
-use super::AppState;
+use super::online::OnlineRun;
 
 /// Cells along each side of the COM grid (the 64 × 64 of the `landscape_64` benchmark).
 pub const LANDSCAPE_CELLS: usize = 64;
@@ -150,70 +150,77 @@ impl LandscapeState {
     }
 }
 
-impl AppState {
-    /// Applies a change to the landscape window.
-    pub(super) fn apply_landscape(&mut self, command: LandscapeCommand) {
+/// What the owner hands the landscape: the run of the recording shown, the frame shown, the ranges
+/// θ is plotted in and the frames labelled to skip.
+pub struct LandscapeSource<'a> {
+    pub run: &'a OnlineRun,
+    pub frame: usize,
+    pub ranges: [(f64, f64); 3],
+    pub skip: Arc<[bool]>,
+}
+
+impl LandscapeSource<'_> {
+    /// What the landscape of this frame is computed for.
+    fn request(&self, frames: LandscapeFrames) -> LandscapeRequest {
+        LandscapeRequest {
+            model: Arc::as_ptr(self.run.model()) as *const () as usize,
+            trajectory: self.run.trajectory() as *const _ as usize,
+            frame: self.frame,
+            frames,
+            theta: self.run.theta_at(self.frame),
+            grid: ComGrid::covering(&self.ranges, LANDSCAPE_CELLS),
+        }
+    }
+}
+
+impl LandscapeState {
+    /// Applies a change to the landscape window (the owner then calls [`LandscapeState::update`]).
+    pub fn apply(&mut self, command: LandscapeCommand) {
         match command {
             LandscapeCommand::Show(open) => {
-                self.landscape.open = open;
+                self.open = open;
                 if !open {
-                    self.landscape.stop();
+                    self.stop();
                 }
             }
-            LandscapeCommand::SetFrames(frames) => self.landscape.frames = frames,
-            LandscapeCommand::Cancel => self.landscape.stop(),
-            LandscapeCommand::Compute => self.landscape.cancelled = None,
+            LandscapeCommand::SetFrames(frames) => self.frames = frames,
+            LandscapeCommand::Cancel => self.stop(),
+            LandscapeCommand::Compute => self.cancelled = None,
         }
-        self.update_landscape();
-    }
-
-    /// What the landscape of the frame shown is computed for, or `None` without a run.
-    pub fn landscape_request(&self) -> Option<LandscapeRequest> {
-        let run = self.run.as_ref()?;
-        let frame = self.frame();
-        Some(LandscapeRequest {
-            model: Arc::as_ptr(run.model()) as *const () as usize,
-            trajectory: run.trajectory() as *const _ as usize,
-            frame,
-            frames: self.landscape.frames,
-            theta: run.theta_at(frame),
-            grid: ComGrid::covering(&self.theta_ranges(), LANDSCAPE_CELLS),
-        })
     }
 
     /// Takes a finished landscape and, with the window open and no landscape running, starts the
-    /// one of the frame shown if that is not the one shown. Returns whether anything is running.
-    pub(super) fn update_landscape(&mut self) -> bool {
-        self.landscape.poll();
-        if !self.landscape.open || self.landscape.is_running() {
-            return self.landscape.is_running();
+    /// one of `source` (the frame shown) if that is neither the one shown nor the one cancelled.
+    /// Returns whether anything is running.
+    pub fn update(&mut self, source: Option<LandscapeSource<'_>>) -> bool {
+        self.poll();
+        if !self.open || self.is_running() {
+            return self.is_running();
         }
-        let Some(request) = self.landscape_request() else {
+        let Some(source) = source else {
             return false;
         };
-        let done = self.landscape.result.as_ref().map(|r| r.request);
-        if done == Some(request) || self.landscape.cancelled == Some(request) {
+        let request = source.request(self.frames);
+        let done = self.result.as_ref().map(|r| r.request);
+        if done == Some(request) || self.cancelled == Some(request) {
             return false;
         }
-        self.landscape.cancelled = None;
-        self.start_landscape(request);
+        self.cancelled = None;
+        self.start(request, &source);
         true
     }
 
-    fn start_landscape(&mut self, request: LandscapeRequest) {
-        let skip = self.frames_to_skip();
-        let Some(run) = &self.run else {
-            return;
-        };
+    fn start(&mut self, request: LandscapeRequest, source: &LandscapeSource<'_>) {
+        let run = source.run;
         let samples = landscape_samples(
             run.trajectory(),
             run.horizon(),
             request.frame,
             request.frames,
-            &|k| run.is_skipped(k, &skip),
+            &|k| run.is_skipped(k, &source.skip),
         );
         let model = Arc::clone(run.model());
-        let (h_low, h_high) = self.theta_ranges()[2];
+        let (h_low, h_high) = source.ranges[2];
         let hs: Vec<f64> = (0..H_SLICE_POINTS)
             .map(|i| h_low + (h_high - h_low) * i as f64 / (H_SLICE_POINTS - 1) as f64)
             .collect();
@@ -244,7 +251,7 @@ impl AppState {
                 generation: 0,
             });
         });
-        self.landscape.job = Some(Job {
+        self.job = Some(Job {
             request,
             cancel,
             rows_begun,

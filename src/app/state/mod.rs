@@ -8,6 +8,7 @@ pub mod browser;
 pub mod cameras;
 mod commands;
 pub mod demo;
+pub mod effect;
 pub mod envelope;
 pub mod fit;
 mod frame_cache;
@@ -23,9 +24,11 @@ pub mod predictions;
 pub mod proposals;
 pub mod run_plots;
 pub mod session;
+mod start_demo;
 pub mod timeline;
 pub mod training;
 mod training_choice;
+mod views;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -41,16 +44,15 @@ use self::bag_import::{BagChooser, BagCommand};
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::cameras::{CameraCommand, Cameras};
 use self::demo::{DemoCommand, Demos};
+use self::effect::Effect;
 use self::frame_cache::FrameCache;
-use self::labels::{LabelAction, LabelTarget, Labeling};
+use self::labels::{LabelAction, Labeling};
 use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
 use self::models::Models;
 use self::online::OnlineRun;
-pub use self::opening::MAX_RECENT;
-use self::opening::load_message;
 use self::overview::PathOverview;
-use self::proposals::{ProposalAction, ProposalState};
+use self::proposals::{ProposalAction, ProposalState, ProposalTarget};
 use self::session::{RecordingId, Session};
 use self::timeline::{Timeline, TimelineCommand};
 use self::training::{Training, TrainingChoice};
@@ -267,15 +269,6 @@ impl AppState {
         }
     }
 
-    /// The range each component of `θ_online` is steered and plotted in, metres (the core's
-    /// [`OnlineParams::plausible_ranges`] for the object shown).
-    pub fn theta_ranges(&self) -> [(f64, f64); 3] {
-        let outline = self
-            .recording()
-            .and_then(|r| r.setting.object.outline().ok());
-        OnlineParams::plausible_ranges(outline.as_ref())
-    }
-
     /// What to persist: the settings, with the timeline's speed and loop and the cameras hidden.
     pub fn persisted(&self) -> Persisted {
         Persisted {
@@ -284,28 +277,6 @@ impl AppState {
             hidden_cameras: self.cameras.hidden().clone(),
             ..self.settings.clone()
         }
-    }
-
-    /// The selected recording's cameras and their frames.
-    pub fn cameras(&self) -> &Cameras {
-        &self.cameras
-    }
-
-    /// Where the selected recording's labels live.
-    pub fn label_target(&self) -> Option<LabelTarget> {
-        self.recording().and_then(LabelTarget::of)
-    }
-
-    /// Mean online and fixed losses by label over the frames learned so far on the selected
-    /// recording ("all" first); empty without an online run.
-    pub fn loss_by_label(&self) -> Vec<label_losses::LabelLoss> {
-        let Some(run) = &self.run else {
-            return Vec::new();
-        };
-        let labels = self
-            .label_target()
-            .and_then(|t| self.labels.labels_of(&t).cloned());
-        label_losses::loss_by_label(run, labels.as_ref())
     }
 
     /// Saves labels files whose autosave is due; `now_s` is any steady clock in seconds.
@@ -356,19 +327,33 @@ impl AppState {
             Command::Online(c) => self.apply_online(c),
             Command::Training(c) => self.apply_training(c),
             Command::SetLayers(layers) => self.settings.layers = layers,
-            Command::Browser(c) => self.apply_browser(c),
-            Command::Label(action) => {
-                let target = self.label_target();
-                let frame = self.frame();
-                if let Some(message) = self.labels.apply(target.as_ref(), frame, action) {
-                    self.status = Some(message);
-                }
-            }
+            Command::Browser(c) => self.settings.browser.apply(c),
+            Command::Label(action) => self.apply_effects(vec![Effect::Label(action)]),
             Command::JumpToLabel { forward } => self.jump_to_label(forward),
-            Command::Landscape(c) => self.apply_landscape(c),
-            Command::Proposal(action) => self.apply_proposal(action),
+            Command::Landscape(c) => {
+                self.landscape.apply(c);
+                self.update_landscape();
+            }
+            Command::Proposal(action) => {
+                let target = self.label_target();
+                let recording = self.session.selected_recording();
+                let (Some(recording), Some(target)) = (recording, target) else {
+                    return;
+                };
+                let on = ProposalTarget {
+                    source: &recording.source,
+                    target: &target,
+                    labels: &self.labels,
+                    frame: self.timeline.frame(),
+                };
+                let effects = self.proposals.apply(action, on);
+                self.apply_effects(effects);
+            }
             Command::Demo(c) => self.apply_demo(c),
-            Command::Bag(c) => self.apply_bag(c),
+            Command::Bag(c) => {
+                let effects = self.bags.apply(c);
+                self.apply_effects(effects);
+            }
             Command::Camera(c) => self.cameras.apply(c),
         }
     }
@@ -376,23 +361,7 @@ impl AppState {
     /// Advances time by `dt` seconds and merges finished background work. Returns whether anything
     /// is still moving (so the caller keeps repainting).
     pub fn advance(&mut self, dt: f64) -> bool {
-        let was_loading = self.session.loading().is_some();
-        let (recordings, problems) = (self.session.recording_count(), self.session.problems.len());
-        let selected = self.session.poll_loading();
-        if was_loading && self.session.loading().is_none() {
-            self.labels.sync(&self.session);
-            self.status = Some(load_message(
-                self.session.recording_count().saturating_sub(recordings),
-                self.session.problems.len() - problems,
-            ));
-            self.after_opening();
-        }
-        if let Some(message) = self.after_bag_work() {
-            self.status = Some(message);
-        }
-        if selected {
-            self.start_run();
-        }
+        self.poll_opening();
         self.proposals.poll();
         if let Some(message) = self.training.poll() {
             self.status = Some(message);
@@ -487,7 +456,7 @@ impl AppState {
                 None
             }
         };
-        self.refresh_proposals();
+        (self.proposals).refresh(self.session.selected_recording(), self.run.as_ref());
     }
 
     /// A fresh online run with the current models (a model trained or loaded), staying at the frame

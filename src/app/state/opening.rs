@@ -1,5 +1,7 @@
 //! Opening recordings: on this thread (command line, tests) or merged from the loading thread, the
-//! recent paths the File menu lists, and what the status line says after a load.
+//! recent paths the File menu lists, and what the status line says after a load. Opening touches
+//! the session, the labels, the bags' forms, the model per folder and the fit, so it is the whole
+//! state's; nothing here is imported by the state itself.
 
 use std::path::PathBuf;
 
@@ -9,7 +11,7 @@ use super::AppState;
 pub const MAX_RECENT: usize = 10;
 
 /// What the status line says when a background load finished.
-pub(super) fn load_message(new_recordings: usize, new_problems: usize) -> String {
+fn load_message(new_recordings: usize, new_problems: usize) -> String {
     let opened = match new_recordings {
         0 => "no new recordings opened".to_owned(),
         1 => "opened 1 recording".to_owned(),
@@ -33,15 +35,36 @@ impl AppState {
             self.start_run();
         }
         self.after_opening();
-        if let Some(message) = self.after_bag_work() {
-            self.status = Some(message);
-        }
+        let effects = self.bags.poll(&mut self.session);
+        self.apply_effects(effects);
         self.proposals.wait();
+    }
+
+    /// Merges what the loading threads finished: the recordings (the first new one shown), the
+    /// labels files beside them, the bags waiting for a choice, and a status line saying what
+    /// opened.
+    pub(super) fn poll_opening(&mut self) {
+        let was_loading = self.session.loading().is_some();
+        let (recordings, problems) = (self.session.recording_count(), self.session.problems.len());
+        let selected = self.session.poll_loading();
+        if was_loading && self.session.loading().is_none() {
+            self.labels.sync(&self.session);
+            self.status = Some(load_message(
+                self.session.recording_count().saturating_sub(recordings),
+                self.session.problems.len() - problems,
+            ));
+            self.after_opening();
+        }
+        let effects = self.bags.poll(&mut self.session);
+        self.apply_effects(effects);
+        if selected {
+            self.start_run();
+        }
     }
 
     /// After recordings were opened: the model remembered for their folders comes back, and the
     /// status line says when the model in use does not fit them.
-    pub(super) fn after_opening(&mut self) {
+    fn after_opening(&mut self) {
         self.remember_parameters();
         self.reopen_folder_model();
         self.refresh_fit();
@@ -54,6 +77,7 @@ impl AppState {
         }
     }
 
+    /// Puts opened paths first in the recent list.
     pub(super) fn remember(&mut self, paths: &[PathBuf]) {
         for path in paths.iter().rev() {
             let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());

@@ -28,8 +28,9 @@ use pushlab_core::labels::{self, LabelSchema, RecordingLabels};
 use pushlab_core::model::LossScale;
 use pushlab_core::recording::Recording;
 
-use super::AppState;
-use super::labels::LabelAction;
+use super::effect::Effect;
+use super::labels::{LabelAction, LabelTarget, Labeling};
+use super::online::OnlineRun;
 
 /// Fewer frames than this give no proposals (no noise to estimate, no window to measure drift in).
 pub const MIN_FRAMES: usize = 5;
@@ -310,50 +311,56 @@ fn frames_text(ranges: &[Range<usize>]) -> String {
     }
 }
 
-impl AppState {
-    /// Proposes labels for the selected recording again (it was selected, or the model whose
-    /// residuals mark bad tracking changed).
-    pub(super) fn refresh_proposals(&mut self) {
-        let Some(recording) = self.session.selected_recording() else {
-            self.proposals.stop();
+/// Where a proposals action applies: the recording shown (its file and labels) at the frame shown.
+#[derive(Clone, Copy)]
+pub struct ProposalTarget<'a> {
+    pub source: &'a Path,
+    pub target: &'a LabelTarget,
+    pub labels: &'a Labeling,
+    pub frame: usize,
+}
+
+impl ProposalState {
+    /// Proposes labels for the recording shown again (it was selected, or the model whose
+    /// residuals mark bad tracking changed); stops proposing when nothing is shown.
+    pub fn refresh(&mut self, recording: Option<&Recording>, run: Option<&OnlineRun>) {
+        let Some(recording) = recording else {
+            self.stop();
             return;
         };
-        let residuals = self.run.as_ref().map(|run| OwnedResiduals {
+        let residuals = run.map(|run| OwnedResiduals {
             losses: run.fixed().iter().map(|l| l.total()).collect(),
             horizon: run.horizon(),
             scale: run.model().loss_scale(),
         });
-        self.proposals.start(recording, residuals);
+        self.start(recording, residuals);
     }
 
-    /// The selected recording's pending proposals (see [`ProposalState::pending`]).
-    pub fn pending_proposals(&self) -> Vec<Pending<'_>> {
-        let (Some(recording), Some(target)) = (self.recording(), self.label_target()) else {
-            return Vec::new();
-        };
+    /// The pending proposals of the recording at `source` against its labels in `labels` (the
+    /// default schema while its labels file is unreadable).
+    pub fn pending_in(
+        &self,
+        source: &Path,
+        target: &LabelTarget,
+        labels: &Labeling,
+    ) -> Vec<Pending<'_>> {
         let default_schema;
-        let schema = match self.labels.schema_of(&target) {
+        let schema = match labels.schema_of(target) {
             Some(schema) => schema,
             None => {
                 default_schema = LabelSchema::default();
                 &default_schema
             }
         };
-        let labels = self.labels.labels_of(&target);
-        self.proposals.pending(&recording.source, labels, schema)
+        self.pending(source, labels.labels_of(target), schema)
     }
 
-    /// Applies a proposals action on the selected recording at the frame shown.
-    pub(super) fn apply_proposal(&mut self, action: ProposalAction) {
-        let (Some(source), Some(target)) = (
-            self.recording().map(|r| r.source.clone()),
-            self.label_target(),
-        ) else {
-            return;
-        };
-        let frame = self.frame();
-        let chosen: Vec<(usize, Proposal, Vec<Range<usize>>)> = {
-            let pending = self.pending_proposals();
+    /// Applies a proposals action: rejecting and restoring here, accepting as one labels edit
+    /// returned as an effect (with what the status line says).
+    pub fn apply(&mut self, action: ProposalAction, on: ProposalTarget<'_>) -> Vec<Effect> {
+        let frame = on.frame;
+        let chosen: Vec<(Proposal, Vec<Range<usize>>)> = {
+            let pending = self.pending_in(on.source, on.target, on.labels);
             let picked: Vec<&Pending<'_>> = match &action {
                 ProposalAction::Accept(i) | ProposalAction::Reject(i) => {
                     pending.iter().filter(|p| p.index == *i).collect()
@@ -368,32 +375,27 @@ impl AppState {
                     .collect(),
                 ProposalAction::RestoreRejected => Vec::new(),
             };
-            picked
-                .into_iter()
-                .map(|p| (p.index, p.proposal.clone(), p.open.clone()))
+            (picked.into_iter())
+                .map(|p| (p.proposal.clone(), p.open.clone()))
                 .collect()
         };
+        let status = |text: String| vec![Effect::Status(text)];
         match action {
             ProposalAction::RestoreRejected => {
-                let n = self
-                    .proposals
-                    .rejected
-                    .remove(&source)
-                    .map_or(0, |r| r.len());
-                self.status = Some(match n {
+                let n = (self.rejected.remove(on.source)).map_or(0, |r| r.len());
+                status(match n {
                     0 => "no rejected proposals to restore".to_owned(),
                     1 => "1 rejected proposal shown again".to_owned(),
                     n => format!("{n} rejected proposals shown again"),
-                });
+                })
             }
             ProposalAction::Reject(_) | ProposalAction::RejectHere => {
                 if chosen.is_empty() {
-                    self.status = Some(format!("no proposal to reject at frame {frame}"));
-                    return;
+                    return status(format!("no proposal to reject at frame {frame}"));
                 }
-                let rejected = self.proposals.rejected.entry(source).or_default();
+                let rejected = self.rejected.entry(on.source.to_path_buf()).or_default();
                 let mut what = Vec::new();
-                for (_, proposal, _) in &chosen {
+                for (proposal, _) in &chosen {
                     rejected.insert(key_of(proposal));
                     what.push(format!(
                         "{} ({})",
@@ -401,29 +403,29 @@ impl AppState {
                         frames_text(std::slice::from_ref(&proposal.frames))
                     ));
                 }
-                self.status = Some(format!(
+                status(format!(
                     "rejected the proposed {}; the Proposals menu restores rejected proposals",
                     what.join(", ")
-                ));
+                ))
             }
             ProposalAction::Accept(_)
             | ProposalAction::AcceptHere
             | ProposalAction::AcceptAll(_) => {
                 if chosen.is_empty() {
-                    self.status = Some(match action {
+                    return status(match action {
                         ProposalAction::AcceptAll(label) => {
                             format!("no pending proposal of {label:?} to accept")
                         }
                         _ => format!("no proposal to accept at frame {frame}"),
                     });
-                    return;
                 }
+                let recording = &on.target.recording;
                 let mut commands = Vec::new();
                 let mut what = Vec::new();
-                for (_, proposal, open) in &chosen {
+                for (proposal, open) in &chosen {
                     for frames in open {
                         commands.push(labels::Command::Paint {
-                            recording: target.recording.clone(),
+                            recording: recording.clone(),
                             label: proposal.label.to_owned(),
                             frames: frames.clone(),
                         });
@@ -432,26 +434,19 @@ impl AppState {
                 }
                 let description = match &action {
                     ProposalAction::AcceptAll(label) => format!(
-                        "accept {} proposed {label:?} segments on {}",
+                        "accept {} proposed {label:?} segments on {recording}",
                         chosen.len(),
-                        target.recording
                     ),
-                    _ => format!(
-                        "accept proposed {} on {}",
-                        what.join(", "),
-                        target.recording
-                    ),
+                    _ => format!("accept proposed {} on {recording}", what.join(", ")),
                 };
-                let message = self.labels.apply(
-                    Some(&target),
-                    frame,
-                    LabelAction::EditAll {
-                        description: description.clone(),
+                // The labels' own message (a refusal, a rescue) replaces this one.
+                vec![
+                    Effect::Status(format!("{description} (Ctrl+Z undoes)")),
+                    Effect::Label(LabelAction::EditAll {
+                        description,
                         commands,
-                    },
-                );
-                self.status =
-                    Some(message.unwrap_or_else(|| format!("{description} (Ctrl+Z undoes)")));
+                    }),
+                ]
             }
         }
     }

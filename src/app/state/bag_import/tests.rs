@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use super::*;
 use crate::app::state::SessionCommand;
 use crate::app::state::models::Models;
-use crate::app::state::{Command, Persisted};
+use crate::app::state::{AppState, Command, Persisted};
 
 /// A fresh folder with a copy of the `/tf` fixture bag (a rosbag2 folder) and, when asked, a
 /// `setting.json` beside it; returns (folder, bag).

@@ -12,7 +12,7 @@ use super::*;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::models::Models;
 use crate::app::state::timeline::TimelineCommand;
-use crate::app::state::{Command, Persisted};
+use crate::app::state::{AppState, Command, Persisted};
 
 /// A private copy of one sample-data set, each CSV cut to `rows` frames when given.
 fn copy_of_sample_set(test: &str, rows: Option<usize>) -> PathBuf {
