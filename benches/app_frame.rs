@@ -20,7 +20,6 @@ use std::sync::Arc;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use egui_kittest::Harness;
-use pushlab::app::state::session::RecordingId;
 use pushlab::app::state::timeline::TimelineCommand;
 use pushlab::app::state::{AppState, Command, Persisted};
 use pushlab::app::state::{OnlineCommand, SessionCommand};
@@ -60,7 +59,7 @@ fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
             .expect("the sample data opens")
             .setting,
     );
-    app.state.session.sets.push(RecordingSet {
+    let id = app.state.add_set(RecordingSet {
         dir: PathBuf::from("bench"),
         setting: Arc::clone(&setting),
         recordings: vec![Recording {
@@ -73,13 +72,10 @@ fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
             cameras: Vec::new(),
         }],
     });
-    let id = RecordingId {
-        set: app.state.session.sets.len() - 1,
-        recording: 0,
-    };
     app.state
         .apply(Command::Session(SessionCommand::Select(id)));
-    app.state.settings.learn_while_playing = true;
+    app.state
+        .apply(Command::Online(OnlineCommand::SetLearnWhilePlaying(true)));
     app.state
         .apply(Command::Timeline(TimelineCommand::TogglePlay));
     Harness::builder()
@@ -96,17 +92,17 @@ fn bench_playing(c: &mut Criterion, name: &str, trajectory: Trajectory) {
     c.bench_function(name, |b| {
         b.iter(|| {
             let state: &mut AppState = &mut harness.state_mut().state;
-            if state.frame() + 10 >= frames || !state.timeline.playing {
+            if state.frame() + 10 >= frames || !state.timeline().playing {
                 state.apply(Command::Online(OnlineCommand::ResetTheta));
                 state.apply(Command::Timeline(TimelineCommand::JumpStart));
-                if !state.timeline.playing {
+                if !state.timeline().playing {
                     state.apply(Command::Timeline(TimelineCommand::TogglePlay));
                 }
             }
             harness.step();
         })
     });
-    let run = harness.state().state.run.as_ref().expect("a run");
+    let run = harness.state().state.run().expect("a run");
     assert!(run.frontier() > 0, "the benchmark did not learn");
 }
 
@@ -136,11 +132,11 @@ fn open_1m(c: &mut Criterion) {
         b.iter(|| {
             let state = initial_state(std::slice::from_ref(&dir), Persisted::default());
             assert!(
-                state.session.problems.is_empty(),
+                state.session().problems.is_empty(),
                 "{:?}",
-                state.session.problems
+                state.session().problems
             );
-            assert_eq!(state.run.as_ref().expect("a run").sample_count(), 999_991);
+            assert_eq!(state.run().expect("a run").sample_count(), 999_991);
             let mut harness = Harness::builder()
                 .with_size([1400.0, 900.0])
                 .build_ui_state(
@@ -161,9 +157,9 @@ fn open_sample_data(c: &mut Criterion) {
     c.bench_function("open_sample_data", |b| {
         b.iter(|| {
             let state = initial_state(std::slice::from_ref(&dir), Persisted::default());
-            assert!(state.session.problems.is_empty());
-            assert!(state.run.is_some());
-            black_box(state.session.recording_count())
+            assert!(state.session().problems.is_empty());
+            assert!(state.run().is_some());
+            black_box(state.session().recording_count())
         })
     });
 }

@@ -75,9 +75,9 @@ struct Played {
 fn play(dir: &Path, seconds: f64) -> Played {
     let state = initial_state(&[dir.to_path_buf()], Persisted::default());
     assert!(
-        state.session.problems.is_empty(),
+        state.session().problems.is_empty(),
         "{:?}",
-        state.session.problems
+        state.session().problems
     );
     assert_eq!(state.cameras().streams().len(), 1, "the camera is read");
     let mut harness = Harness::builder()
@@ -98,7 +98,7 @@ fn play(dir: &Path, seconds: f64) -> Played {
     let mut shown = std::collections::BTreeSet::new();
     shown.insert(0);
     let (mut slowest_step, mut steps) = (Duration::ZERO, 0);
-    while harness.state().state.timeline.playing {
+    while harness.state().state.timeline().playing {
         steps += 1;
         // The window would draw this step at this wall-clock time.
         let due = Duration::from_secs_f64(steps as f64 / 60.0);
@@ -109,7 +109,7 @@ fn play(dir: &Path, seconds: f64) -> Played {
         harness.step();
         slowest_step = slowest_step.max(began.elapsed());
         let state = &harness.state().state;
-        let frames = state.cameras().shown(state.timeline.frame_time());
+        let frames = state.cameras().shown(state.timeline().frame_time());
         if let Some(frame) = frames.first()
             && let Some(index) = frame.frame
             && matches!(frame.decoded, Some(Ok(_)))

@@ -60,7 +60,7 @@ fn app_with_dropped(bag: &std::path::Path) -> egui_kittest::Harness<'static, Pus
         .dropped_files
         .push(std::sync::Arc::new(Dropped(bag.to_path_buf())));
     run_until(&mut harness, "the bag's form", |app| {
-        app.state.bags.form().is_some()
+        app.state.bags().form().is_some()
     });
     harness
 }
@@ -77,7 +77,7 @@ fn a_dropped_bag_asks_for_its_topics_then_opens_and_is_remembered() {
     harness.run_steps(2);
     harness.get_by_label("/tf:base_link").click();
     harness.run_steps(2);
-    let form = harness.state().state.bags.form().unwrap();
+    let form = harness.state().state.bags().form().unwrap();
     assert_eq!(form.pusher, Some("/tf:base_link".parse().unwrap()));
     // …and back, then opens.
     harness.get_by_label("Pusher").click();
@@ -86,9 +86,9 @@ fn a_dropped_bag_asks_for_its_topics_then_opens_and_is_remembered() {
     harness.run_steps(2);
     harness.get_by_label("Open").click();
     harness.run_steps(1);
-    assert_eq!(harness.state().state.bags.opening().count(), 1);
+    assert_eq!(harness.state().state.bags().opening().count(), 1);
     run_until(&mut harness, "the bag to open", |app| {
-        app.state.bags.opening().count() == 0 && app.state.session.loading().is_none()
+        app.state.bags().opening().count() == 0 && app.state.session().loading().is_none()
     });
     assert!(harness.query_by_label("tf (rosbag2 folder)").is_none());
     let app = harness.state();
@@ -107,11 +107,11 @@ fn a_skipped_bag_comes_back_with_choose_topics() {
     let mut harness = app_with_dropped(&bag);
     harness.get_by_label("Skip").click();
     harness.run_steps(2);
-    assert!(harness.state().state.bags.form().is_none());
+    assert!(harness.state().state.bags().form().is_none());
     harness.get_by_label_contains("not opened: its pusher and object topics were not chosen");
     harness.get_by_label("Choose topics…").click();
     run_until(&mut harness, "the form again", |app| {
-        app.state.bags.form().is_some()
+        app.state.bags().form().is_some()
     });
     harness.get_by_label("tf (rosbag2 folder)");
     assert!(harness.query_by_label("Choose topics…").is_none());

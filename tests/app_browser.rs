@@ -13,7 +13,7 @@ use pushlab::app::{PushlabApp, initial_state};
 fn app() -> Harness<'static, PushlabApp> {
     let app = PushlabApp::new(initial_state(&[], Persisted::default()));
     assert_eq!(
-        app.state.session.recording_count(),
+        app.state.session().recording_count(),
         324,
         "the sample data opens"
     );
@@ -74,11 +74,11 @@ fn filtering_sorting_and_picking_a_recording_from_the_table() {
         let rows = harness.state().state.browser_rows();
         (rows[0].id, rows[0].name.clone())
     };
-    assert_ne!(harness.state().state.session.selected, Some(id));
+    assert_ne!(harness.state().state.session().selected, Some(id));
     harness.get_by_label(&name).click();
     harness.run_steps(2);
     let state = &harness.state().state;
-    assert_eq!(state.session.selected, Some(id));
+    assert_eq!(state.session().selected, Some(id));
     assert_eq!(
         state.recording().map(|r| r.name.as_str()),
         Some(name.as_str())
@@ -89,7 +89,12 @@ fn filtering_sorting_and_picking_a_recording_from_the_table() {
 fn a_recording_run_shows_its_mean_losses_in_the_table() {
     let mut harness = app();
     harness.run_steps(2);
-    let shown = harness.state().state.session.selected.expect("a recording");
+    let shown = harness
+        .state()
+        .state
+        .session()
+        .selected
+        .expect("a recording");
     let row_of = |h: &Harness<'_, PushlabApp>| {
         let state = &h.state().state;
         let rows = state.browser_rows();
@@ -109,7 +114,7 @@ fn a_recording_run_shows_its_mean_losses_in_the_table() {
     let mean = harness
         .state()
         .state
-        .run
+        .run()
         .as_ref()
         .and_then(|r| r.mean_losses())
         .expect("25 frames learned");

@@ -98,7 +98,7 @@ fn disc_centre(image: &pushlab_core::recording::camera::RgbaImage) -> (f64, f64)
 }
 
 fn select_online_000(state: &mut AppState) {
-    let id = (state.session.recordings())
+    let id = (state.session().recordings())
         .find(|(_, r)| r.name == "online_000")
         .map(|(id, _)| id)
         .expect("online_000 is open");
@@ -109,7 +109,7 @@ fn select_online_000(state: &mut AppState) {
 fn scrub_to(harness: &mut egui_kittest::Harness<'_, PushlabApp>, frame: usize) {
     let state = &mut harness.state_mut().state;
     state.apply(Command::Timeline(TimelineCommand::SeekTo(frame)));
-    let time = state.timeline.frame_time();
+    let time = state.timeline().frame_time();
     harness.run_steps(1);
     (harness.state().state.cameras()).wait_for_shown(time, Duration::from_secs(30));
     harness.run_steps(2);
@@ -125,14 +125,14 @@ fn scrubbing_shows_the_image_taken_at_the_frame_with_its_offset() {
         state.cameras().streams().len(),
         1,
         "{:?}",
-        state.session.problems
+        state.session().problems
     );
     let mut harness = harness(PushlabApp::new(state), 0.05);
 
     for frame in [37, 5, 80, 37] {
         scrub_to(&mut harness, frame);
         let state = &harness.state().state;
-        let time = state.timeline.frame_time();
+        let time = state.timeline().frame_time();
         // The image at or before the frame's time, counted independently of the app.
         let k = ((time - FIRST_S) * RATE_HZ + 1e-9).floor() as usize;
         let taken = FIRST_S + k as f64 / RATE_HZ;
@@ -178,7 +178,7 @@ fn a_corrupt_image_is_named_in_the_panel_and_the_next_one_plays() {
     scrub_to(&mut harness, 22);
     harness.get_by_label_contains("frame 66 of");
     let state = &harness.state().state;
-    let image = state.cameras().shown(state.timeline.frame_time())[0]
+    let image = state.cameras().shown(state.timeline().frame_time())[0]
         .decoded
         .clone();
     assert!(

@@ -36,7 +36,7 @@ fn narration_shown(harness: &Harness<'_, PushlabApp>) -> String {
 fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
     let spec = SuiteSpec::load(&demo_suite_path()).expect("the sample-data suite");
     let mut state = initial_state(&[], Persisted::default());
-    state.model_store = Some(common::scratch_dir("demo-models"));
+    state.keep_files_in(Some(common::scratch_dir("demo-app-dir")));
     let mut harness = common::harness(PushlabApp::new(state), 0.05);
     harness.run_steps(2);
     let mut trained_for = Vec::new();
@@ -50,7 +50,7 @@ fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
         let reused = trained_for.contains(&offline);
         if !reused {
             assert!(
-                harness.state().state.training.is_running(),
+                harness.state().state.training().is_running(),
                 "{}: its offline model trains",
                 experiment.name
             );
@@ -58,16 +58,15 @@ fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
             trained_for.push(offline);
         }
         common::run_until(&mut harness, "the demo's model", |app| {
-            !app.state.training.is_running()
+            !app.state.training().is_running()
         });
         let app = harness.state();
         let state = &app.state;
         let store = state
-            .model_store
-            .as_ref()
+            .model_store()
             .and_then(|p| p.to_str())
             .expect("a model store");
-        let demo = state.demos.active.as_ref().expect("a demo");
+        let demo = state.demos().active.as_ref().expect("a demo");
         assert_eq!(demo.name, experiment.name);
         assert_eq!(
             demo.model.contains("trained before"),
@@ -78,13 +77,13 @@ fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
         );
         assert!(
             state
-                .models
+                .models()
                 .source
                 .as_deref()
                 .is_some_and(|s| s.contains(store)),
             "{}: the model in use is the demo's, {:?}",
             experiment.name,
-            state.models.source
+            state.models().source
         );
         // The recording shown is one of the online set's, in the online split.
         let shown = state.recording().expect("a recording shown");
@@ -108,7 +107,7 @@ fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
         harness.get_by_label("Step").click();
         harness.run_steps(2);
         let state = &harness.state().state;
-        let learned = state.run.as_ref().and_then(|r| r.mean_losses());
+        let learned = state.run().and_then(|r| r.mean_losses());
         assert_eq!(learned.map(|l| l.frames), Some(1), "{}", experiment.name);
         let after = narration_shown(&harness);
         assert_ne!(after, before);
@@ -143,7 +142,6 @@ fn presentation_layout_snapshot() {
         .iter()
         .position(|e| e.name == "R2a COM")
         .expect("R2a in the suite");
-    let mut state = initial_state(&[], Persisted::default());
     // The bundled model stands in for a model trained before for the offline set, so that the
     // picture does not wait for training.
     let base = demo_suite_path()
@@ -154,11 +152,13 @@ fn presentation_layout_snapshot() {
         .canonicalize()
         .expect("the offline set");
     let model = export::default_model_path().expect("the bundled model");
-    state.settings.folder_models.insert(offline, model);
+    let mut persisted = Persisted::default();
+    persisted.folder_models.insert(offline, model);
+    let mut state = initial_state(&[], persisted);
     state.apply(pushlab::app::state::Command::Demo(DemoCommand::Start(
         index,
     )));
-    assert!(!state.training.is_running(), "{:?}", state.status);
+    assert!(!state.training().is_running(), "{:?}", state.status());
     for _ in 0..40 {
         state.apply(pushlab::app::state::Command::Timeline(
             TimelineCommand::Step(1),

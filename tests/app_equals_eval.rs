@@ -51,7 +51,7 @@ fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
     for _ in 0..frames {
         state.apply(Command::Timeline(TimelineCommand::Step(1)));
     }
-    let run = state.run.as_ref().expect("an online run");
+    let run = state.run().expect("an online run");
     assert_eq!(run.frontier(), run.sample_count(), "played to the end");
 
     // `pushlab eval` on the same recording and model, default settings.

@@ -20,7 +20,7 @@ fn open_in_background(harness: &mut Harness<'_, PushlabApp>, dir: &std::path::Pa
             dir.to_path_buf(),
         ])));
     common::run_until(harness, "the load", |app| {
-        app.state.session.loading().is_none()
+        app.state.session().loading().is_none()
     });
 }
 
@@ -36,7 +36,7 @@ fn a_recording_larger_than_memory_is_refused_by_name_and_what_is_open_stays() {
         0.05,
     );
     harness.run_steps(2);
-    let open_before = harness.state().state.session.recording_count();
+    let open_before = harness.state().state.session().recording_count();
 
     // A set whose one push is a terabyte (a sparse file: no disk is used).
     let dir = common::scratch_dir("too-large");
@@ -53,12 +53,12 @@ fn a_recording_larger_than_memory_is_refused_by_name_and_what_is_open_stays() {
 
     let state = &harness.state().state;
     assert_eq!(
-        state.session.recording_count(),
+        state.session().recording_count(),
         open_before,
         "what was open stays"
     );
     let problem = state
-        .session
+        .session()
         .problems
         .iter()
         .find(|p| p.path.ends_with("push_000.csv"))
@@ -89,7 +89,7 @@ fn a_folder_that_vanishes_while_open_keeps_playing_and_opening_it_again_says_it_
         0.05,
     );
     harness.run_steps(2);
-    let recordings = harness.state().state.session.recording_count();
+    let recordings = harness.state().state.session().recording_count();
     assert_eq!(recordings, 36);
     // Paint a label (unsaved), then the folder goes away: a dataset on a drive that was unmounted.
     harness.key_down(egui::Key::Num1);
@@ -108,7 +108,7 @@ fn a_folder_that_vanishes_while_open_keeps_playing_and_opening_it_again_says_it_
         harness
             .state()
             .state
-            .run
+            .run()
             .as_ref()
             .expect("a run")
             .frontier()
@@ -118,15 +118,20 @@ fn a_folder_that_vanishes_while_open_keeps_playing_and_opening_it_again_says_it_
     // Saving the labels says where it could not write; nothing is lost from memory.
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
     harness.run_steps(1);
-    let status = harness.state().state.status.clone().unwrap_or_default();
+    let status = harness
+        .state()
+        .state
+        .status()
+        .unwrap_or_default()
+        .to_owned();
     assert!(status.starts_with("labels not saved"), "{status}");
     assert!(status.contains("vanish"), "names the file: {status}");
 
     // Opening it again reports the folder by name and keeps what is open.
     open_in_background(&mut harness, &dir);
     let state = &harness.state().state;
-    assert_eq!(state.session.recording_count(), recordings);
-    let problem = state.session.problems.last().expect("a problem");
+    assert_eq!(state.session().recording_count(), recordings);
+    let problem = state.session().problems.last().expect("a problem");
     assert_eq!(problem.path, dir);
     assert!(
         problem.message.contains("cannot read"),

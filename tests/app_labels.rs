@@ -21,7 +21,7 @@ fn app_on(dir: &Path) -> Harness<'static, PushlabApp> {
     assert!(
         app.state.recording().is_some(),
         "{:?}",
-        app.state.session.problems
+        app.state.session().problems
     );
     let mut harness = common::harness(app, 0.05);
     harness.run_steps(2);
@@ -158,7 +158,7 @@ fn event_key_bands_and_next_label_key() {
 
     // Clicking the bands jumps to the frame under the pointer.
     let bands = harness.get_by_label("Label bands").rect();
-    let frames = harness.state().state.timeline.len() as f32;
+    let frames = harness.state().state.timeline().len() as f32;
     let at = egui::pos2(
         bands.left() + bands.width() * (22.5 / frames),
         bands.center().y,
@@ -199,7 +199,7 @@ fn metadata_form_edits_are_undoable_typing_is_one_step_and_keys_do_not_fire_in_t
         let state = &h.state().state;
         let target = state.label_target().expect("target");
         state
-            .labels
+            .labels()
             .labels_of(&target)
             .map(|l| l.meta.clone())
             .unwrap_or_default()
@@ -315,7 +315,7 @@ fn quick_presses_within_one_frame_all_count_and_events_land_during_a_stroke() {
     harness.key_press(egui::Key::ArrowRight);
     harness.run_steps(2);
     assert_eq!(harness.state().state.frame(), 17);
-    assert_eq!(harness.state().state.labels.in_point, Some(16));
+    assert_eq!(harness.state().state.labels().in_point, Some(16));
     assert!(shows(&harness, "contact lost: frame 16"));
     // A tap and a step in one frame paint one frame only.
     harness.key_press(egui::Key::Num2);
@@ -343,7 +343,7 @@ fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
         let state = &app.state;
         let target = state.label_target().expect("target");
         let com = state
-            .labels
+            .labels()
             .labels_of(&target)
             .and_then(|l| l.meta.com_offset)
             .expect("the sample data labels the COM");
@@ -369,7 +369,7 @@ fn dragging_the_com_label_diamond_moves_the_label_in_one_undo_step() {
         let state = &h.state().state;
         let target = state.label_target().expect("target");
         state
-            .labels
+            .labels()
             .labels_of(&target)
             .and_then(|l| l.meta.com_offset)
             .expect("a COM label")
@@ -396,7 +396,7 @@ fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
     seek(&mut harness, 10);
     harness.key_down(egui::Key::Num1);
     harness.run_steps(2);
-    assert_eq!(harness.state().state.labels.stroke_hotkey(), Some("1"));
+    assert_eq!(harness.state().state.labels().stroke_hotkey(), Some("1"));
     // The user clicks into the notes while still holding "1", then lets go of it.
     harness
         .get_by_role_and_label(egui::accesskit::Role::MultilineTextInput, "Notes")
@@ -404,7 +404,7 @@ fn letting_go_of_a_paint_key_while_typing_ends_the_stroke() {
     harness.run_steps(2);
     harness.key_up(egui::Key::Num1);
     harness.run_steps(2);
-    assert_eq!(harness.state().state.labels.stroke_hotkey(), None);
+    assert_eq!(harness.state().state.labels().stroke_hotkey(), None);
     harness.event(egui::Event::Text("hello".to_owned()));
     harness.run_steps(2);
     harness.key_press(egui::Key::Escape);
@@ -477,7 +477,7 @@ fn opening_a_folder_without_labels_and_closing_it_writes_nothing_into_it() {
     harness.key_press(egui::Key::Space);
     harness.run_steps(30);
     harness.state_mut().state.autosave_labels(1e6);
-    let closing = harness.state_mut().state.labels.save_on_exit();
+    let closing = harness.state_mut().state.save_labels_on_exit();
     assert!(closing.is_empty(), "{closing:?}");
     assert!(
         !dir.join(LABELS_FILE_NAME).exists(),
@@ -488,7 +488,7 @@ fn opening_a_folder_without_labels_and_closing_it_writes_nothing_into_it() {
     harness.run_steps(1);
     harness.key_up(egui::Key::Num3);
     harness.run_steps(1);
-    harness.state_mut().state.labels.save_on_exit();
+    harness.state_mut().state.save_labels_on_exit();
     assert!(dir.join(LABELS_FILE_NAME).exists(), "an edit is saved");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -503,9 +503,10 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
         );
         return;
     };
-    let rescue_dir = common::scratch_dir("rescue");
+    let app_dir = common::scratch_dir("rescue");
+    let rescue_dir = app_dir.join("unsaved-labels");
     let mut harness = app_on(&dir);
-    harness.state_mut().state.labels.rescue_dir = Some(rescue_dir.clone());
+    harness.state_mut().state.keep_files_in(Some(app_dir));
     harness.key_down(egui::Key::Num3);
     harness.run_steps(1);
     harness.key_up(egui::Key::Num3);
@@ -516,7 +517,12 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
     harness.run_steps(1);
     let document = dir.join(LABELS_FILE_NAME);
     let rescue = pushlab::app::state::labels::rescue_path(&document, &rescue_dir);
-    let status = harness.state().state.status.clone().unwrap_or_default();
+    let status = harness
+        .state()
+        .state
+        .status()
+        .unwrap_or_default()
+        .to_owned();
     assert!(
         status.starts_with(&format!(
             "labels kept in memory: {} cannot be written",
@@ -531,14 +537,19 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
     let painted = |harness: &Harness<'_, PushlabApp>| {
         let state = &harness.state().state;
         let target = state.label_target().expect("a recording");
-        state.labels.labels_of(&target).map(|l| l.segments.len())
+        state.labels().labels_of(&target).map(|l| l.segments.len())
     };
     assert_eq!(painted(&harness), Some(1), "the edit is kept in memory");
 
     // Ctrl+S writes them where the message said.
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
     harness.run_steps(2);
-    let status = harness.state().state.status.clone().unwrap_or_default();
+    let status = harness
+        .state()
+        .state
+        .status()
+        .unwrap_or_default()
+        .to_owned();
     assert!(
         status.contains(&format!("its labels were saved to {}", rescue.display())),
         "{status}"
@@ -552,7 +563,7 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
         .recording;
     assert_eq!(saved.recording(&key).map(|l| l.segments.len()), Some(1));
     // Closing says so too, and the user's folder is as it was.
-    let closing = harness.state_mut().state.labels.save_on_exit();
+    let closing = harness.state_mut().state.save_labels_on_exit();
     assert!(
         closing
             .iter()

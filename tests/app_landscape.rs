@@ -17,7 +17,7 @@ fn landscape<'a>(harness: &'a Harness<'_, PushlabApp>) -> &'a LandscapeResult {
     harness
         .state()
         .state
-        .landscape
+        .landscape()
         .result()
         .expect("a landscape")
 }
@@ -26,9 +26,9 @@ fn landscape<'a>(harness: &'a Harness<'_, PushlabApp>) -> &'a LandscapeResult {
 fn wait_for_landscape(harness: &mut Harness<'_, PushlabApp>) {
     common::run_until(harness, "the landscape of the frame shown", |app| {
         let state = &app.state;
-        !state.landscape.is_running()
+        !state.landscape().is_running()
             && state
-                .landscape
+                .landscape()
                 .result()
                 .is_some_and(|r| r.request.frame == state.frame())
     });
@@ -65,7 +65,7 @@ fn f2_opens_the_landscape_which_marks_theta_the_lowest_cell_and_the_true_com() {
     assert!(texts_starting(&harness, "θ at frame").is_empty());
     harness.key_press(Key::F2);
     harness.run_steps(2);
-    assert!(harness.state().state.landscape.open);
+    assert!(harness.state().state.landscape().open);
     wait_for_landscape(&mut harness);
 
     let theta = harness.state().state.theta().expect("a run").com_offset;
@@ -121,7 +121,7 @@ fn the_landscape_follows_the_frame_and_the_frames_chosen() {
     harness.get_by_label("this one").click();
     harness.run_steps(2);
     assert_eq!(
-        harness.state().state.landscape.frames,
+        harness.state().state.landscape().frames,
         LandscapeFrames::ThisFrame
     );
     wait_for_landscape(&mut harness);
@@ -139,22 +139,22 @@ fn cancel_holds_until_asked_again_and_closing_stops_the_work() {
     common::step_frames(&mut harness, 10);
     let state = &mut harness.state_mut().state;
     state.apply(Command::Landscape(LandscapeCommand::Show(true)));
-    assert!(state.landscape.is_running());
+    assert!(state.landscape().is_running());
     state.apply(Command::Landscape(LandscapeCommand::Cancel));
-    assert!(!state.landscape.is_running() && state.landscape.was_cancelled());
+    assert!(!state.landscape().is_running() && state.landscape().was_cancelled());
     harness.run_steps(5);
-    assert!(harness.state().state.landscape.result().is_none());
-    assert!(!harness.state().state.landscape.is_running());
+    assert!(harness.state().state.landscape().result().is_none());
+    assert!(!harness.state().state.landscape().is_running());
     harness.get_by_label("Compute").click();
     harness.run_steps(1);
     wait_for_landscape(&mut harness);
-    assert!(harness.state().state.landscape.result().is_some());
+    assert!(harness.state().state.landscape().result().is_some());
 
     // F2 again closes the window: nothing more is computed as the frame moves.
     harness.key_press(Key::F2);
     harness.run_steps(1);
-    assert!(!harness.state().state.landscape.open);
+    assert!(!harness.state().state.landscape().open);
     common::step_frames(&mut harness, 3);
-    assert!(!harness.state().state.landscape.is_running());
+    assert!(!harness.state().state.landscape().is_running());
     assert!(texts_starting(&harness, "θ at frame").is_empty());
 }

@@ -22,7 +22,7 @@ fn app_on(dir: &Path) -> Harness<'static, PushlabApp> {
     assert!(
         app.state.recording().is_some(),
         "{:?}",
-        app.state.session.problems
+        app.state.session().problems
     );
     let mut harness = common::harness(app, 0.05);
     harness.run_steps(2);
@@ -57,7 +57,7 @@ fn segments(harness: &Harness<'_, PushlabApp>) -> Vec<Segment> {
     let state = &harness.state().state;
     let target = state.label_target().expect("target");
     state
-        .labels
+        .labels()
         .labels_of(&target)
         .map(|l| l.segments.clone())
         .unwrap_or_default()
@@ -92,7 +92,7 @@ fn pending_count(harness: &Harness<'_, PushlabApp>) -> usize {
 /// drawn.
 fn band_point(harness: &Harness<'_, PushlabApp>, row: usize, frame: usize) -> egui::Pos2 {
     let band = harness.get_by_label("Proposals band").rect();
-    let frames = harness.state().state.timeline.len() as f32;
+    let frames = harness.state().state.timeline().len() as f32;
     egui::pos2(
         band.left() + band.width() * ((frame as f32 + 0.5) / frames),
         band.top() + 6.0 + 9.0 * row as f32,
@@ -252,7 +252,7 @@ fn enter_accepts_the_proposals_at_the_playhead_and_the_inspector_says_why() {
     harness.run_steps(2);
     let state = &harness.state().state;
     let target = state.label_target().expect("target");
-    let labels = state.labels.labels_of(&target).expect("labelled");
+    let labels = state.labels().labels_of(&target).expect("labelled");
     assert!(labels.has_label_at(STICKING, frame) && labels.has_label_at(CONTACT, frame));
     assert!(
         texts(&harness, "sticking: the pusher drifts")[0].ends_with("(labelled)"),

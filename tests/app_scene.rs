@@ -58,14 +58,14 @@ fn play_to_the_end_keeping_the_object_in_view(harness: &mut Harness<'_, PushlabA
             );
         }
         frames += 1;
-        if !harness.state().state.timeline.playing {
+        if !harness.state().state.timeline().playing {
             break;
         }
     }
     let state = &harness.state().state;
     assert_eq!(
         state.frame(),
-        state.timeline.last_frame(),
+        state.timeline().last_frame(),
         "played to the end"
     );
     frames
@@ -157,11 +157,11 @@ fn the_legend_is_folded_until_asked_for_and_its_toggles_change_the_layers() {
     );
     harness.get_by_label("Show layers").click();
     harness.run_steps(1);
-    assert!(harness.state().state.settings.layers.predicted_fixed);
+    assert!(harness.state().state.settings().layers.predicted_fixed);
     harness.get_by_label("Predicted: fixed θ(0)").click();
     harness.run_steps(1);
     assert!(
-        !harness.state().state.settings.layers.predicted_fixed,
+        !harness.state().state.settings().layers.predicted_fixed,
         "the toggle sent its command"
     );
     // Open, it takes the scene's left strip and the camera uses the rest.

@@ -6,7 +6,8 @@ mod common;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT as _, Queryable, by};
-use pushlab::app::state::Persisted;
+use pushlab::app::state::models::Models;
+use pushlab::app::state::{AppState, Persisted};
 use pushlab::app::state::{OnlineCommand, SessionCommand};
 use pushlab::app::{PushlabApp, initial_state};
 
@@ -15,9 +16,9 @@ use pushlab::app::{PushlabApp, initial_state};
 fn app() -> Harness<'static, PushlabApp> {
     let app = PushlabApp::new(initial_state(&[], Persisted::default()));
     assert!(
-        app.state.session.recording_count() > 0,
+        app.state.session().recording_count() > 0,
         "the sample data did not open: {:?}",
-        app.state.session.problems
+        app.state.session().problems
     );
     common::harness(app, 0.05)
 }
@@ -25,7 +26,7 @@ fn app() -> Harness<'static, PushlabApp> {
 /// Seeks with the scrub slider to the middle of the push, then steps forward until the pusher is in
 /// contact (the model's gradient is non-zero), as a user would look for a frame with a push.
 fn go_to_a_pushing_frame(harness: &mut Harness<'_, PushlabApp>) {
-    let middle = harness.state().state.timeline.len() / 2;
+    let middle = harness.state().state.timeline().len() / 2;
     harness
         .get_by_role_and_label(egui::accesskit::Role::Slider, "Frame")
         .set_value_accesskit(middle as f64);
@@ -67,9 +68,9 @@ fn opening_the_sample_data_lists_its_recordings_and_selects_the_first() {
     harness.run_steps(2);
     let state = &harness.state().state;
     assert!(
-        state.session.problems.is_empty(),
+        state.session().problems.is_empty(),
         "{:?}",
-        state.session.problems
+        state.session().problems
     );
     let first = state.recording().expect("first recording selected");
     let name = first.name.clone();
@@ -123,7 +124,7 @@ fn step_buttons_and_keys_move_exactly_one_or_ten_frames() {
     assert_eq!(harness.state().state.frame(), 0);
     harness.key_press(egui::Key::Space);
     harness.run_steps(1);
-    assert!(harness.state().state.timeline.playing);
+    assert!(harness.state().state.timeline().playing);
 }
 
 #[test]
@@ -192,7 +193,7 @@ fn scrubbing_back_restores_the_earlier_theta() {
     let mut harness = app();
     harness.run_steps(1);
     assert!(
-        harness.state().state.settings.learn_while_playing,
+        harness.state().state.settings().learn_while_playing,
         "learning while playing is on by default"
     );
     for _ in 0..3 {
@@ -296,13 +297,14 @@ fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_rea
                 "paper".into(),
             ),
             "physics only" => {
-                state.models.combined = None;
-                state.restart_run_keeping_frame();
+                // As the app starts without a model file: no combined model.
+                state = AppState::new(Persisted::default(), Models::default());
+                state.open_blocking(std::slice::from_ref(&dir));
             }
             _ => {}
         }
-        let ids: Vec<_> = state.session.recordings().map(|(id, _)| id).collect();
-        assert_eq!(ids.len(), 4, "{:?}", state.session.problems);
+        let ids: Vec<_> = state.session().recordings().map(|(id, _)| id).collect();
+        assert_eq!(ids.len(), 4, "{:?}", state.session().problems);
         for id in ids {
             state.apply(Command::Session(SessionCommand::Select(id)));
             for lr in [10.0, 1e6] {
@@ -317,7 +319,7 @@ fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_rea
                     "{model} at lr {lr} on {:?}",
                     state.recording().map(|r| &r.source)
                 );
-                let frames = state.run.as_ref().expect("an online run").sample_count();
+                let frames = state.run().expect("an online run").sample_count();
                 for _ in 0..frames {
                     state.apply(Command::Timeline(TimelineCommand::Step(1)));
                     let step = state.current_step();
@@ -326,7 +328,7 @@ fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_rea
                         "{what}: the Inspect tab's gradient {step:?}"
                     );
                 }
-                let run = state.run.as_ref().expect("an online run");
+                let run = state.run().expect("an online run");
                 assert!(
                     run.frontier() + 1 >= frames,
                     "{what}: learned {}",

@@ -20,7 +20,7 @@ fn theta(harness: &Harness<'_, PushlabApp>) -> OnlineParams {
 /// The COM ellipse's half-axes at the frame shown, metres.
 fn ellipse_axes(harness: &Harness<'_, PushlabApp>) -> [f64; 2] {
     let state = &harness.state().state;
-    let run = state.run.as_ref().expect("a run");
+    let run = state.run().expect("a run");
     run.spread_at(state.frame()).ellipse_95().0
 }
 
@@ -56,7 +56,7 @@ fn learning_shrinks_the_com_ellipse_and_the_steer_tab_gives_plus_minus() {
         assert!(a < b, "± after learning {after:?}, before {before:?}");
     }
     // The legend's toggle hides the ellipse layer.
-    assert!(harness.state().state.settings.layers.com_ellipse);
+    assert!(harness.state().state.settings().layers.com_ellipse);
     // Scrubbing back restores the earlier, wider ellipse exactly.
     harness
         .state_mut()
@@ -75,7 +75,7 @@ fn choosing_gauss_newton_in_the_steer_tab_changes_what_is_learned() {
     gn.get_by_label("Gauss–Newton").click();
     gn.run_steps(2);
     assert_eq!(
-        gn.state().state.settings.online.optimizer,
+        gn.state().state.settings().online.optimizer,
         Optimizer::GaussNewton
     );
     common::step_frames(&mut gn, 30);
@@ -102,7 +102,7 @@ fn what_if_ghosts_follow_the_sliders_and_k_is_chosen_in_steer() {
     let state = &harness.state().state;
     let before = state.what_if().expect("a run").clone();
     // k = 20 by default, each step the model's horizon long, up to the end of the push.
-    let run = state.run.as_ref().expect("a run");
+    let run = state.run().expect("a run");
     let frames = state
         .recording()
         .expect("a recording")

@@ -11,8 +11,9 @@ use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::dialogs::{DialogResult, LabelExportFormat};
-use pushlab::app::state::Persisted;
+use pushlab::app::state::{Command, Persisted, TrainingCommand};
 use pushlab::app::{PushlabApp, export, initial_state};
+use pushlab_core::learn::TrainConfig;
 
 /// A file dropped on the window, as the native integration hands it over.
 #[derive(Debug)]
@@ -42,7 +43,7 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
         common::sample_dir("box2-plastic-center-front"),
     );
     let mut harness = app_on(std::slice::from_ref(&first));
-    let before = harness.state().state.session.recording_count();
+    let before = harness.state().state.session().recording_count();
     assert!(before > 0);
 
     let scratch = common::scratch_dir("drop");
@@ -56,27 +57,27 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
     }
     harness.run_steps(1);
     common::run_until(&mut harness, "the dropped paths to load", |app| {
-        app.state.session.loading().is_none()
+        app.state.session().loading().is_none()
     });
 
     let state = &harness.state().state;
     assert!(
-        state.session.recording_count() > before,
+        state.session().recording_count() > before,
         "the dropped folder added recordings"
     );
     assert_eq!(
-        state.session.selected.map(|s| s.set),
+        state.session().selected.map(|s| s.set),
         Some(0),
         "the recording shown stays selected"
     );
     assert!(
         state
-            .session
+            .session()
             .problems
             .iter()
             .any(|p| p.path == bad && p.message.contains("not-a-push.csv")),
         "{:?}",
-        state.session.problems
+        state.session().problems
     );
     assert!(
         harness
@@ -118,7 +119,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     let fixed_before = harness
         .state()
         .state
-        .run
+        .run()
         .as_ref()
         .expect("an online run")
         .fixed()[10]
@@ -127,44 +128,44 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     harness.run_steps(2);
     harness.get_by_label("Labelled offline").click();
     harness.run_steps(2);
-    assert_eq!(harness.state().state.training.chosen.len(), 27);
+    assert_eq!(harness.state().state.training().chosen.len(), 27);
     harness
         .get_by_role_and_label(egui::accesskit::Role::SpinButton, "Epochs")
         .set_value_accesskit(3.0);
     harness.run_steps(2);
-    assert_eq!(harness.state().state.training.config.epochs, 3);
+    assert_eq!(harness.state().state.training().config.epochs, 3);
     harness
         .query_all_by_label("Train")
         .last()
         .expect("the Train button")
         .click();
     harness.run_steps(1);
-    assert!(harness.state().state.training.is_running());
+    assert!(harness.state().state.training().is_running());
     common::run_until(&mut harness, "training to finish", |app| {
-        !app.state.training.is_running()
+        !app.state.training().is_running()
     });
 
     let state = &harness.state().state;
-    let status = state.status.clone().unwrap_or_default();
+    let status = state.status().unwrap_or_default().to_owned();
     assert!(
         status.contains("training the contact model finished after 3 epochs"),
         "{status}"
     );
     assert_eq!(
-        state.models.kind(),
+        state.models().kind(),
         Some(pushlab_core::model::ModelKind::Contact),
         "the Train tab trains the default kind"
     );
     assert_eq!(
-        state.training.history.len(),
+        state.training().history.len(),
         3,
         "one progress report per epoch"
     );
     assert_eq!(
-        state.models.source.as_deref(),
+        state.models().source.as_deref(),
         Some("trained in the app (unsaved)")
     );
-    let fixed_after = state.run.as_ref().expect("an online run").fixed()[10].pos;
+    let fixed_after = state.run().expect("an online run").fixed()[10].pos;
     assert_ne!(
         fixed_before, fixed_after,
         "predictions come from the new model"
@@ -180,11 +181,15 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     // Save it from the app and load it back: same predictions.
     let scratch = common::scratch_dir("train");
     let model = scratch.join("model.json");
-    export::save_model(&harness.state().state, &model).expect("save model");
+    harness
+        .state()
+        .state
+        .save_model(&model)
+        .expect("save model");
     let mut state = initial_state(std::slice::from_ref(&set), Persisted::default());
-    export::load_model(&mut state, &model).expect("load model");
+    state.load_model(&model).expect("load model");
     state.restart_run_keeping_frame();
-    let reloaded = state.run.as_ref().expect("an online run").fixed()[10].pos;
+    let reloaded = state.run().expect("an online run").fixed()[10].pos;
     assert_eq!(reloaded, fixed_after);
     let _ = std::fs::remove_dir_all(&scratch);
 }
@@ -194,7 +199,7 @@ fn a_refused_model_file_keeps_the_current_model_and_the_status_says_why() {
     let set = common::sample_dir("box1-paper-center-front");
     let mut harness = app_on(std::slice::from_ref(&set));
     let (source, combined) = {
-        let models = &harness.state().state.models;
+        let models = &harness.state().state.models();
         (models.source.clone(), models.combined.clone())
     };
     assert!(
@@ -226,13 +231,13 @@ fn a_refused_model_file_keeps_the_current_model_and_the_status_says_why() {
             .apply_dialog_result(&ctx, DialogResult::LoadModel(bad.clone()));
         harness.run_steps(2);
         let state = &harness.state().state;
-        assert_eq!(state.models.source, source);
-        assert!(state.models.combined == combined, "the model changed");
+        assert_eq!(state.models().source, source);
+        assert!(state.models().combined == combined, "the model changed");
         let expected = format!(
             "model not loaded, the combined model (contact) stays in use: {}: {why}",
             bad.display()
         );
-        let status = state.status.clone().unwrap_or_default();
+        let status = state.status().unwrap_or_default().to_owned();
         assert_eq!(status, expected);
         assert!(
             harness.query_all_by_label_contains(why).next().is_some(),
@@ -250,26 +255,30 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
     harness.run_steps(2);
     harness.get_by_label("All").click();
     harness.run_steps(2);
-    harness.state_mut().state.training.config.epochs = 10_000;
-    harness.state_mut().state.training.config.patience = 0;
+    let config = TrainConfig {
+        epochs: 10_000,
+        patience: 0,
+        ..harness.state().state.training().config
+    };
+    (harness.state_mut().state).apply(Command::Training(TrainingCommand::SetConfig(config)));
     harness
         .query_all_by_label("Train")
         .last()
         .expect("the Train button")
         .click();
     common::run_until(&mut harness, "the first epoch", |app| {
-        !app.state.training.history.is_empty()
+        !app.state.training().history.is_empty()
     });
     harness.get_by_label("Cancel training").click();
     common::run_until(&mut harness, "training to stop", |app| {
-        !app.state.training.is_running()
+        !app.state.training().is_running()
     });
     let state = &harness.state().state;
-    let status = state.status.clone().unwrap_or_default();
+    let status = state.status().unwrap_or_default().to_owned();
     assert!(status.contains("model cancelled"), "{status}");
-    assert!(state.training.history.len() < 10_000);
+    assert!(state.training().history.len() < 10_000);
     assert_eq!(
-        state.models.source.as_deref(),
+        state.models().source.as_deref(),
         Some("trained in the app (unsaved)")
     );
 }
@@ -287,11 +296,11 @@ fn exports_write_the_losses_a_png_region_and_the_labels() {
 
     // Losses: one row per sample, online values up to the frame learned.
     let csv_path = scratch.join("losses.csv");
-    let rows = export::save_losses_csv(state, &csv_path).expect("losses csv");
+    let rows = state.save_losses_csv(&csv_path).expect("losses csv");
     let text = std::fs::read_to_string(&csv_path).expect("read csv");
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), rows + 1);
-    assert_eq!(rows, state.run.as_ref().expect("run").sample_count());
+    assert_eq!(rows, state.run().expect("run").sample_count());
     assert!(lines[0].starts_with("frame,time,fixed_loss_pos"));
     let row_5: Vec<&str> = lines[6].split(',').collect();
     assert_eq!(row_5[0], "5");
@@ -314,13 +323,16 @@ fn exports_write_the_losses_a_png_region_and_the_labels() {
 
     // Labels of the whole folder, with frame times.
     let labels_path = scratch.join("labels.csv");
-    let label_rows =
-        export::export_labels(state, &labels_path, LabelExportFormat::Csv).expect("labels csv");
+    let label_rows = state
+        .export_labels(&labels_path, LabelExportFormat::Csv)
+        .expect("labels csv");
     let text = std::fs::read_to_string(&labels_path).expect("read labels csv");
     assert_eq!(text.lines().count(), label_rows + 1);
     assert!(text.starts_with("recording,label,kind,first_frame,last_frame,first_time,last_time"));
     let json_path = scratch.join("labels.json");
-    export::export_labels(state, &json_path, LabelExportFormat::Json).expect("labels json");
+    state
+        .export_labels(&json_path, LabelExportFormat::Json)
+        .expect("labels json");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json_path).expect("read json"))
             .expect("valid json");
@@ -347,7 +359,12 @@ fn exporting_the_scene_and_the_plots_writes_pngs_of_their_regions() {
     ] {
         harness.state_mut().apply_dialog_result(&ctx, result);
         harness.run_steps(3);
-        let status = harness.state().state.status.clone().unwrap_or_default();
+        let status = harness
+            .state()
+            .state
+            .status()
+            .unwrap_or_default()
+            .to_owned();
         assert!(status.starts_with("saved "), "{status}");
         assert!(status.ends_with(name), "{status}");
     }
@@ -392,12 +409,16 @@ fn the_train_tab_offers_every_model_kind_and_the_app_shows_which_is_loaded() {
         .click();
     harness.run_steps(2);
     assert_eq!(
-        harness.state().state.training.kind,
+        harness.state().state.training().kind,
         pushlab_core::model::ModelKind::Paper
     );
     harness.get_by_label("Labelled offline").click();
     harness.run_steps(1);
-    harness.state_mut().state.training.config.epochs = 2;
+    let config = TrainConfig {
+        epochs: 2,
+        ..harness.state().state.training().config
+    };
+    (harness.state_mut().state).apply(Command::Training(TrainingCommand::SetConfig(config)));
     harness
         .query_all_by_label("Train")
         .last()
@@ -405,10 +426,10 @@ fn the_train_tab_offers_every_model_kind_and_the_app_shows_which_is_loaded() {
         .click();
     harness.run_steps(1);
     common::run_until(&mut harness, "training to finish", |app| {
-        !app.state.training.is_running()
+        !app.state.training().is_running()
     });
     assert_eq!(
-        harness.state().state.models.kind(),
+        harness.state().state.models().kind(),
         Some(pushlab_core::model::ModelKind::Paper)
     );
     harness.run_steps(2);
@@ -460,9 +481,13 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
     let store = scratch.join("models");
 
     let mut state = initial_state(std::slice::from_ref(&set), Persisted::default());
-    state.model_store = Some(store.clone());
-    state.training.config.epochs = 3;
-    let status = state.status.clone().unwrap_or_default();
+    state.keep_files_in(Some(scratch.clone()));
+    let config = TrainConfig {
+        epochs: 3,
+        ..state.training().config
+    };
+    state.apply(Command::Training(TrainingCommand::SetConfig(config)));
+    let status = state.status().unwrap_or_default().to_owned();
     assert!(
         status.contains("warning: the model was trained on objects of 0.40–0.55 m"),
         "{status}"
@@ -488,9 +513,9 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
     );
     harness.get_by_label("Train for these recordings").click();
     harness.run_steps(1);
-    assert!(harness.state().state.training.is_running());
+    assert!(harness.state().state.training().is_running());
     common::run_until(&mut harness, "training for these recordings", |app| {
-        !app.state.training.is_running()
+        !app.state.training().is_running()
     });
 
     let state = &harness.state().state;
@@ -514,17 +539,17 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
         "every layer comes from the model that fits"
     );
     assert!(
-        state.models.pure_nn.is_some(),
+        state.models().pure_nn.is_some(),
         "the pure-NN layer has a baseline trained on the same recordings"
     );
-    let status = state.status.clone().unwrap_or_default();
+    let status = state.status().unwrap_or_default().to_owned();
     assert!(
         status.contains("its pure-NN baseline after 3 epochs"),
         "{status}"
     );
     // No labels: trained on every recording but the one shown.
-    assert_eq!(state.training.chosen.len(), 3);
-    let source = PathBuf::from(state.models.source.clone().expect("a model source"));
+    assert_eq!(state.training().chosen.len(), 3);
+    let source = PathBuf::from(state.models().source.clone().expect("a model source"));
     assert!(source.starts_with(&store) && source.is_file(), "{source:?}");
     let persisted = state.persisted();
     let folder = std::path::absolute(&set).expect("an absolute path");
@@ -533,14 +558,14 @@ fn recordings_outside_the_model_s_domain_are_said_and_a_model_trained_for_them_i
     // Opening the folder again (after a restart) reopens its model.
     let state = initial_state(std::slice::from_ref(&set), persisted);
     assert_eq!(
-        state.models.source.as_deref(),
+        state.models().source.as_deref(),
         Some(source.display().to_string().as_str())
     );
     assert!(
-        state.models.pure_nn.is_some(),
+        state.models().pure_nn.is_some(),
         "the baseline is in the model file"
     );
-    let status = state.status.clone().unwrap_or_default();
+    let status = state.status().unwrap_or_default().to_owned();
     assert!(
         status.contains("reopened the model trained for"),
         "{status}"

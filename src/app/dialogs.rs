@@ -5,6 +5,8 @@ use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::time::{Duration, Instant};
 
+pub use super::state::LabelExportFormat;
+
 /// What the user asked a dialog for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DialogRequest {
@@ -34,13 +36,6 @@ pub enum DialogResult {
     BagSetting(PathBuf),
     /// No dialog could be shown (neither the XDG desktop portal nor zenity answered).
     Unavailable(String),
-}
-
-/// The two label export formats.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LabelExportFormat {
-    Csv,
-    Json,
 }
 
 /// Dialogs in flight.

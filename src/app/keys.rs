@@ -191,7 +191,7 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
     if ctx.egui_wants_keyboard_input() {
         // A widget has the keyboard (typing in the notes, say): no shortcut fires, but a paint key
         // let go must still end its stroke, or the stroke would paint on and swallow the typing.
-        if let Some(key) = state.labels.stroke_hotkey().and_then(Key::from_name)
+        if let Some(key) = state.labels().stroke_hotkey().and_then(Key::from_name)
             && !ctx.input(|i| i.key_down(key))
         {
             commands.push(Command::Label(LabelAction::EndStroke));
@@ -199,9 +199,9 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
         return;
     }
     let target = state.label_target();
-    let schema = target.as_ref().and_then(|t| state.labels.schema_of(t));
+    let schema = target.as_ref().and_then(|t| state.labels().schema_of(t));
     ctx.input_mut(|i| {
-        let mut held = state.labels.stroke_hotkey().and_then(Key::from_name);
+        let mut held = state.labels().stroke_hotkey().and_then(Key::from_name);
         let mut consumed = vec![false; i.events.len()];
         for (index, event) in i.events.iter().enumerate() {
             let egui::Event::Key {
@@ -245,7 +245,7 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
                     }
                     KeyAction::ToggleCheatSheet => view.show_shortcuts = !view.show_shortcuts,
                     KeyAction::ToggleLandscape => commands.push(Command::Landscape(
-                        LandscapeCommand::Show(!state.landscape.open),
+                        LandscapeCommand::Show(!state.landscape().open),
                     )),
                     KeyAction::TogglePresentation => view.presentation = !view.presentation,
                     KeyAction::Camera(mode) => view.scene.mode = mode,

@@ -22,7 +22,7 @@ use eframe::egui;
 use self::dialogs::{DialogRequest, DialogResult};
 use self::state::bag_import::BagCommand;
 use self::state::models::Models;
-use self::state::{AppState, Command, Persisted};
+use self::state::{AppState, Command, FileCommand, Persisted};
 pub use self::view::{SideTab, View};
 use crate::app::state::SessionCommand;
 
@@ -106,35 +106,19 @@ impl PushlabApp {
             DialogResult::SavePlots(path) => {
                 self.request_screenshot(ctx, self.view.plots_rect, path)
             }
-            DialogResult::SaveLossCsv(path) => {
-                self.state.status = Some(match export::save_losses_csv(&self.state, &path) {
-                    Ok(rows) => format!("saved {rows} rows of losses to {}", path.display()),
-                    Err(e) => format!("could not save {}: {e:#}", path.display()),
-                });
-            }
-            DialogResult::LoadModel(path) => {
-                self.state.status = Some(match export::load_model(&mut self.state, &path) {
-                    Ok(()) => format!("model loaded from {}", path.display()),
-                    // The core refused the file before anything changed: say so, and why.
-                    Err(e) => format!(
-                        "model not loaded, the {} stays in use: {e:#}",
-                        self.state.models.learner_name()
-                    ),
-                });
-            }
+            DialogResult::SaveLossCsv(path) => self
+                .state
+                .apply(Command::File(FileCommand::SaveLosses(path))),
+            DialogResult::LoadModel(path) => self
+                .state
+                .apply(Command::File(FileCommand::LoadModel(path))),
             DialogResult::ExportLabels(path, format) => {
-                self.state.status = Some(match export::export_labels(&self.state, &path, format) {
-                    Ok(rows) => format!("exported {rows} label rows to {}", path.display()),
-                    Err(e) => format!("could not export labels: {e:#}"),
-                });
+                (self.state).apply(Command::File(FileCommand::ExportLabels(path, format)))
             }
-            DialogResult::Unavailable(message) => self.state.status = Some(message),
-            DialogResult::SaveModel(path) => {
-                self.state.status = Some(match export::save_model(&self.state, &path) {
-                    Ok(()) => format!("model saved to {}", path.display()),
-                    Err(e) => format!("{e:#}"),
-                });
-            }
+            DialogResult::Unavailable(message) => self.state.apply(Command::Report(message)),
+            DialogResult::SaveModel(path) => self
+                .state
+                .apply(Command::File(FileCommand::SaveModel(path))),
         }
     }
 
@@ -157,7 +141,7 @@ impl PushlabApp {
 
     fn handle_screenshots(&mut self) {
         while let Ok(message) = self.view.screenshot_status.1.try_recv() {
-            self.state.status = Some(message);
+            self.state.apply(Command::Report(message));
         }
     }
 }
@@ -169,7 +153,7 @@ impl eframe::App for PushlabApp {
             ctx.request_repaint();
         }
         self.state.autosave_labels(ctx.input(|i| i.time));
-        if self.state.labels.any_unsaved() {
+        if self.state.labels().any_unsaved() {
             // Wake up to autosave even when nothing else moves.
             ctx.request_repaint_after(std::time::Duration::from_millis(250));
         }
@@ -177,14 +161,14 @@ impl eframe::App for PushlabApp {
 
     fn on_exit(&mut self) {
         // Closing the window must not lose labels that autosave had not written yet.
-        for line in self.state.labels.save_on_exit() {
+        for line in self.state.save_labels_on_exit() {
             eprintln!("pushlab: {line}");
         }
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         // Frame intervals count only while the window animates; idle gaps are the user's pauses.
-        let animating = self.state.timeline.playing;
+        let animating = self.state.timeline().playing;
         let interval = ui.input(|i| i.unstable_dt);
         self.view
             .frame_rate
@@ -237,11 +221,11 @@ pub fn demo_suite_path() -> PathBuf {
 /// bundled default model when there is one. Used by the binary and by the UI tests.
 pub fn initial_state(paths: &[PathBuf], persisted: Persisted) -> AppState {
     let mut state = AppState::new(persisted, Models::default());
-    state.demos = state::demo::Demos::load(&demo_suite_path());
+    state.load_demos(&demo_suite_path());
     if let Some(path) = export::default_model_path()
-        && let Err(e) = export::load_model(&mut state, &path)
+        && let Err(e) = state.load_model(&path)
     {
-        state.status = Some(format!("{e:#}"));
+        state.apply(Command::Report(format!("{e:#}")));
     }
     let paths = if paths.is_empty() {
         vec![sample_data_dir()]
@@ -271,11 +255,7 @@ pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
                 .and_then(|s| eframe::get_value(s, STORAGE_KEY))
                 .unwrap_or_default();
             let mut state = initial_state(&paths, persisted);
-            // Models trained for folders live beside eframe's own state, never in a user's data.
-            state.model_store = eframe::storage_dir("pushlab").map(|dir| dir.join("models"));
-            // So are labels whose own folder cannot be written.
-            state.labels.rescue_dir =
-                eframe::storage_dir("pushlab").map(|dir| dir.join("unsaved-labels"));
+            state.keep_files_in(eframe::storage_dir("pushlab"));
             let mut app = PushlabApp::new(state);
             if let Some(layout) = cc.storage.and_then(|s| eframe::get_value(s, LAYOUT_KEY)) {
                 app.view.layout = layout;

@@ -29,7 +29,7 @@ pub fn app_on_sample(set: &str) -> Harness<'static, PushlabApp> {
     let persisted = Persisted::default();
     assert!(persisted.learn_while_playing);
     let state = initial_state(&[sample_dir(set)], persisted);
-    assert!(state.run.is_some(), "{:?}", state.session.problems);
+    assert!(state.run().is_some(), "{:?}", state.session().problems);
     harness(PushlabApp::new(state), 0.05)
 }
 

@@ -17,7 +17,7 @@ pub fn window(
     dialogs: &mut Dialogs,
     commands: &mut Vec<Command>,
 ) {
-    let chooser = &state.bags;
+    let chooser = &state.bags();
     if let Some(bag) = chooser.listing()
         && chooser.form().is_none()
     {
@@ -348,7 +348,7 @@ fn buttons(ui: &mut egui::Ui, state: &AppState, form: &BagForm, send: &mut impl 
             ui.weak(why);
         }
     });
-    let waiting = state.bags.waiting();
+    let waiting = state.bags().waiting();
     if waiting > 0 {
         ui.weak(format!("{waiting} more bag(s) waiting"));
     }

@@ -18,12 +18,12 @@ const ROW_HEIGHT: f32 = 18.0;
 /// Draws the browser.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ui.heading("Recordings");
-    if state.session.sets.is_empty() {
+    if state.session().sets.is_empty() {
         ui.label("Nothing open. Use File > Open, or drop files or folders here.");
     }
     ui.horizontal(|ui| {
         let label = ui.label("Filter");
-        let mut filter = state.settings.browser.filter.clone();
+        let mut filter = state.settings().browser.filter.clone();
         let edit = ui
             .add(
                 egui::TextEdit::singleline(&mut filter)
@@ -39,7 +39,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ui.weak(format!(
         "{} of {} recordings",
         rows.len(),
-        state.session.recording_count()
+        state.session().recording_count()
     ));
     let table_height = ui.available_height() - problems_height(state);
     egui::ScrollArea::horizontal()
@@ -64,8 +64,8 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
         builder = builder.column(width(column));
     }
     let sorted = (
-        state.settings.browser.sort,
-        state.settings.browser.descending,
+        state.settings().browser.sort,
+        state.settings().browser.descending,
     );
     builder
         .header(ROW_HEIGHT + 2.0, |mut header| {
@@ -84,7 +84,7 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
         .body(|body| {
             body.rows(ROW_HEIGHT, rows.len(), |mut table_row| {
                 let row = &rows[table_row.index()];
-                let selected = state.session.selected == Some(row.id);
+                let selected = state.session().selected == Some(row.id);
                 table_row.set_selected(selected);
                 for column in Column::ALL {
                     table_row.col(|ui| cell(ui, state, row, column, selected, commands));
@@ -181,7 +181,7 @@ fn width(column: Column) -> TableColumn {
 }
 
 fn problems_height(state: &AppState) -> f32 {
-    if state.session.problems.is_empty() {
+    if state.session().problems.is_empty() {
         0.0
     } else {
         160.0
@@ -190,7 +190,7 @@ fn problems_height(state: &AppState) -> f32 {
 
 /// Load problems, each naming the file and the reason; they stay until dismissed.
 fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
-    if state.session.problems.is_empty() {
+    if state.session().problems.is_empty() {
         return;
     }
     ui.separator();
@@ -199,7 +199,7 @@ fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             ui.visuals().error_fg_color,
             format!(
                 "{} file(s) could not be loaded",
-                state.session.problems.len()
+                state.session().problems.len()
             ),
         );
         if ui.small_button("Dismiss").clicked() {
@@ -210,7 +210,7 @@ fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         .id_salt("problems")
         .max_height(130.0)
         .show(ui, |ui| {
-            for problem in &state.session.problems {
+            for problem in &state.session().problems {
                 ui.label(RichText::new(&problem.message).small())
                     .on_hover_text(problem.path.display().to_string());
                 if problem.bag_to_choose

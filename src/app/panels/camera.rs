@@ -107,7 +107,7 @@ pub fn beside_scene(ui: &mut egui::Ui, state: &AppState, view: &mut CameraView) 
 
 /// Draws each shown stream, sharing the height among them.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut CameraView) {
-    let frames = state.cameras().shown(state.timeline.frame_time());
+    let frames = state.cameras().shown(state.timeline().frame_time());
     if frames.is_empty() {
         return;
     }

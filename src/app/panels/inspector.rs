@@ -13,7 +13,7 @@ use crate::app::state::proposals::Status;
 /// Draws the inspector.
 pub fn ui(ui: &mut egui::Ui, state: &AppState) {
     let frame = state.frame();
-    let (Some(_), Some(recording)) = (&state.run, state.recording()) else {
+    let (Some(_), Some(recording)) = (&state.run(), state.recording()) else {
         ui.weak("Select a recording to inspect its frames.");
         return;
     };
@@ -108,7 +108,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
                 format!(
                     "{} of {}",
                     rollout.poses.len(),
-                    state.settings.what_if_steps
+                    state.settings().what_if_steps
                 ),
             );
             row(ui, "last predicted frame", last.to_string());
@@ -126,7 +126,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
 /// residual in σ and how sure each proposal is, and whether it is still to be decided.
 fn proposals_section(ui: &mut egui::Ui, state: &AppState, source: &Path, frame: usize) {
     ui.label(RichText::new("Label proposals at this frame").strong());
-    match state.proposals.status(source) {
+    match state.proposals().status(source) {
         Status::Ready(proposals) => {
             let pending = state.pending_proposals();
             let lines = proposals.why(frame);
@@ -134,7 +134,7 @@ fn proposals_section(ui: &mut egui::Ui, state: &AppState, source: &Path, frame: 
                 ui.weak("nothing proposed here");
             }
             for (proposal, line) in proposals.at(frame).zip(lines) {
-                let decided = if state.proposals.is_rejected(source, proposal) {
+                let decided = if state.proposals().is_rejected(source, proposal) {
                     " (rejected)"
                 } else if pending.iter().any(|p| std::ptr::eq(p.proposal, proposal)) {
                     ""

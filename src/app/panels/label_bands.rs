@@ -17,9 +17,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, width: f32, commands: &mut Vec<Co
         return;
     };
     let empty = RecordingLabels::default();
-    let labels = state.labels.labels_of(&target).unwrap_or(&empty);
+    let labels = state.labels().labels_of(&target).unwrap_or(&empty);
     let default_schema = LabelSchema::default();
-    let schema = state.labels.schema_of(&target).unwrap_or(&default_schema);
+    let schema = state.labels().schema_of(&target).unwrap_or(&default_schema);
     let rows: Vec<&str> = schema
         .labels
         .iter()
@@ -42,7 +42,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, width: f32, commands: &mut Vec<Co
     };
 
     if band_rows == 0 {
-        let hint = match state.labels.read_only_reason(&target) {
+        let hint = match state.labels().read_only_reason(&target) {
             Some(_) => "labels are read-only: see the Labels tab",
             None => {
                 "no labels yet: hold a label's key (1–5) while stepping, or press ? for all keys"
@@ -95,7 +95,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, width: f32, commands: &mut Vec<Co
             }
         }
     }
-    if let Some(in_point) = state.labels.in_point {
+    if let Some(in_point) = state.labels().in_point {
         let x = x_of(in_point);
         painter.line_segment(
             [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],

@@ -23,14 +23,14 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     let mut act = |a: LabelAction| commands.push(Command::Label(a));
     ui.label(format!("Labels of {}", target.recording));
     ui.small(target.document.display().to_string());
-    if let Some(reason) = state.labels.read_only_reason(&target) {
+    if let Some(reason) = state.labels().read_only_reason(&target) {
         ui.colored_label(
             egui::Color32::from_rgb(230, 90, 80),
             format!("Read-only, the labels file is left untouched: {reason}"),
         );
         return;
     }
-    let Some(document) = state.labels.document(&target.document) else {
+    let Some(document) = state.labels().document(&target.document) else {
         return;
     };
     ui.horizontal(|ui| {
@@ -96,21 +96,21 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     let empty = RecordingLabels::default();
     let labels = document.recording(&target.recording).unwrap_or(&empty);
     let frame = state.frame();
-    palette(ui, schema, state.labels.active.as_deref(), &mut act);
+    palette(ui, schema, state.labels().active.as_deref(), &mut act);
     ui.horizontal(|ui| {
-        match state.labels.in_point {
+        match state.labels().in_point {
             Some(f) => ui.label(format!("In point: frame {f}")),
             None => ui.label("In point: not set"),
         };
         if ui.button("Set in").on_hover_text("I").clicked() {
             act(LabelAction::SetInPoint);
         }
-        if state.labels.in_point.is_some() && ui.button("Clear in").clicked() {
+        if state.labels().in_point.is_some() && ui.button("Clear in").clicked() {
             act(LabelAction::ClearInPoint);
         }
         if ui
             .add_enabled(
-                state.labels.in_point.is_some() && state.labels.active.is_some(),
+                state.labels().in_point.is_some() && state.labels().active.is_some(),
                 egui::Button::new("Paint in to here"),
             )
             .on_hover_text("O: paints the chosen label from the in point to this frame")

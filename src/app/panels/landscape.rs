@@ -19,7 +19,7 @@ const MAX_PATH_POINTS: usize = 1000;
 /// Draws the window when it is open (first over the browser, which matters least while one push is
 /// inspected); closing it sends the command that stops its work.
 pub fn window(ctx: &egui::Context, state: &AppState, commands: &mut Vec<Command>) {
-    if !state.landscape.open {
+    if !state.landscape().open {
         return;
     }
     let mut open = true;
@@ -36,7 +36,7 @@ pub fn window(ctx: &egui::Context, state: &AppState, commands: &mut Vec<Command>
 
 fn contents(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     frames_choice(ui, state, commands);
-    let landscape = &state.landscape;
+    let landscape = &state.landscape();
     if let Some(progress) = landscape.progress() {
         ui.horizontal(|ui| {
             ui.add(
@@ -57,7 +57,7 @@ fn contents(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         });
     }
     let Some(result) = landscape.result() else {
-        if state.run.is_none() {
+        if state.run().is_none() {
             ui.weak("The landscape appears when a recording is selected and a model is in use.");
         }
         return;
@@ -77,7 +77,7 @@ fn contents(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 }
 
 fn frames_choice(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
-    let current = state.landscape.frames;
+    let current = state.landscape().frames;
     ui.horizontal(|ui| {
         ui.label("Frames:");
         let mut choose =
@@ -248,7 +248,7 @@ fn com_plot(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult, side:
 
 /// θ's COM offset from the first frame to `frame`, millimetres, at most [`MAX_PATH_POINTS`].
 fn theta_path(state: &AppState, frame: usize) -> Vec<[f64; 2]> {
-    let Some(run) = &state.run else {
+    let Some(run) = &state.run() else {
         return Vec::new();
     };
     let checkpoints = run.checkpoints();

@@ -25,10 +25,10 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     view.dialogs.open(DialogRequest::OpenFolder);
                 }
                 ui.menu_button("Open recent", |ui| {
-                    if state.settings.recent.is_empty() {
+                    if state.settings().recent.is_empty() {
                         ui.label("nothing yet");
                     }
-                    for path in &state.settings.recent {
+                    for path in &state.settings().recent {
                         if ui.button(path.display().to_string()).clicked() {
                             commands
                                 .push(Command::Session(SessionCommand::Open(vec![path.clone()])));
@@ -41,7 +41,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 }
                 if ui
                     .add_enabled(
-                        state.models.combined.is_some(),
+                        state.models().combined.is_some(),
                         egui::Button::new("Save model…"),
                     )
                     .clicked()
@@ -57,7 +57,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 }
                 if ui
                     .add_enabled(
-                        state.run.is_some(),
+                        state.run().is_some(),
                         egui::Button::new("Export losses as CSV…"),
                     )
                     .clicked()
@@ -68,7 +68,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
             ui.menu_button("Edit", |ui| {
                 let document = state
                     .label_target()
-                    .and_then(|t| state.labels.document(&t.document).cloned());
+                    .and_then(|t| state.labels().document(&t.document).cloned());
                 let undo = document
                     .as_ref()
                     .and_then(|d| d.undo_description().map(str::to_owned));
@@ -102,7 +102,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 ui.separator();
                 if ui
                     .add_enabled(
-                        state.labels.any_unsaved(),
+                        state.labels().any_unsaved(),
                         egui::Button::new("Save labels").shortcut_text("Ctrl+S"),
                     )
                     .clicked()
@@ -111,7 +111,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 }
             });
             ui.menu_button("View", |ui| {
-                let mut open = state.landscape.open;
+                let mut open = state.landscape().open;
                 if ui
                     .add(egui::Checkbox::new(&mut open, "Loss landscape"))
                     .on_hover_text("the online loss over COM offsets and h at the frame shown (F2)")
@@ -132,9 +132,9 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 }
             });
             ui.separator();
-            let model = match &state.models.source {
-                Some(source) => format!("Model: {} ({source})", state.models.learner_name()),
-                None => format!("Model: {}", state.models.learner_name()),
+            let model = match &state.models().source {
+                Some(source) => format!("Model: {} ({source})", state.models().learner_name()),
+                None => format!("Model: {}", state.models().learner_name()),
             };
             ui.label(model);
             // Right to left: the frame rate keeps its place, the status line takes what is left
@@ -145,7 +145,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     ui.separator();
                 }
                 ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
-                    if let Some(loading) = state.session.loading() {
+                    if let Some(loading) = state.session().loading() {
                         ui.separator();
                         ui.spinner();
                         ui.label(format!("opening {} path(s)", loading.paths));
@@ -169,7 +169,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                             commands.push(Command::Session(SessionCommand::CancelLoading));
                         }
                     }
-                    if let Some(status) = &state.status {
+                    if let Some(status) = state.status() {
                         ui.separator();
                         ui.add(egui::Label::new(status).truncate())
                             .on_hover_text(status);
@@ -224,12 +224,12 @@ fn cameras_menu(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>
 /// The Demos menu: the paper's experiments on the sample data (one click opens a demo in the
 /// presentation layout), and the presentation layout's toggle.
 fn demos_menu(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
-    if let Err(why) = &state.demos.suite {
+    if let Err(why) = &state.demos().suite {
         ui.label(format!("no demos: {why}"));
     }
-    for (index, name) in state.demos.names().into_iter().enumerate() {
+    for (index, name) in state.demos().names().into_iter().enumerate() {
         if ui
-            .add_enabled(!state.training.is_running(), egui::Button::new(name))
+            .add_enabled(!state.training().is_running(), egui::Button::new(name))
             .on_hover_text("open its online set, train (or reuse) its offline model, and present")
             .clicked()
         {

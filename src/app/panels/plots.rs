@@ -18,7 +18,7 @@ use crate::app::state::{AppState, Command};
 
 /// Draws the plots.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
-    let (Some(run), Some(recording)) = (&state.run, state.recording()) else {
+    let (Some(run), Some(recording)) = (&state.run(), state.recording()) else {
         ui.centered_and_justified(|ui| ui.weak("Plots appear when a recording is selected"));
         return;
     };
@@ -26,7 +26,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     let t0 = frames.first().map_or(0.0, |f| f.time);
     let now = frames.get(state.frame()).map_or(0.0, |f| f.time - t0);
     // Per recording, so that a new selection starts with its whole duration in view.
-    let group = Id::unique(("pushlab-plots", state.session.selected));
+    let group = Id::unique(("pushlab-plots", state.session().selected));
     let duration = recording.trajectory.duration().max(1e-3);
 
     let mut seek: Option<f64> = None;

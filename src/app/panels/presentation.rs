@@ -40,7 +40,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut V
 /// The demo's name, the big buttons, and the training progress while its model trains.
 fn controls(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
     ui.horizontal(|ui| {
-        let title = match (&state.demos.active, state.recording()) {
+        let title = match (&state.demos().active, state.recording()) {
             (Some(demo), Some(r)) => format!("{} — {}", demo.name, r.name),
             (None, Some(r)) => r.name.clone(),
             (_, None) => "no recording".to_owned(),
@@ -58,8 +58,8 @@ fn controls(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut
     });
     ui.horizontal(|ui| {
         let big = egui::vec2(150.0, 0.0);
-        ui.add_enabled_ui(state.run.is_some(), |ui| {
-            let play = if state.timeline.playing {
+        ui.add_enabled_ui(state.run().is_some(), |ui| {
+            let play = if state.timeline().playing {
                 "Pause"
             } else {
                 "Play"
@@ -83,13 +83,13 @@ fn controls(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut
                 commands.push(Command::Online(OnlineCommand::ResetTheta));
             }
         });
-        if state.training.is_running() {
+        if state.training().is_running() {
             ui.add_space(20.0);
             ui.spinner();
             ui.add(
-                egui::ProgressBar::new(state.training.progress())
+                egui::ProgressBar::new(state.training().progress())
                     .desired_width(260.0)
-                    .text(format!("training {}", state.training.phase())),
+                    .text(format!("training {}", state.training().phase())),
             );
             if ui.button("Cancel").clicked() {
                 commands.push(Command::Training(TrainingCommand::Cancel));

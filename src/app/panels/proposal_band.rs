@@ -22,17 +22,17 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, width: f32, commands: &mut Vec<Co
         return;
     };
     let default_schema = LabelSchema::default();
-    let schema = state.labels.schema_of(&target).unwrap_or(&default_schema);
+    let schema = state.labels().schema_of(&target).unwrap_or(&default_schema);
     let pending = state.pending_proposals();
     // Rows from every proposal, decided or not, so that they stay put while the user decides.
     let proposed: Vec<&str> = state
-        .proposals
+        .proposals()
         .of(&recording.source)
         .map(|p| p.segments.iter().map(|s| s.label).collect())
         .unwrap_or_default();
     let rows = rows_of(schema, &proposed);
-    let rejected = state.proposals.rejected_count(&recording.source);
-    let note = match state.proposals.status(&recording.source) {
+    let rejected = state.proposals().rejected_count(&recording.source);
+    let note = match state.proposals().status(&recording.source) {
         Status::None => Some(String::new()),
         Status::Running(done) => Some(format!("proposing labels… {:.0} %", 100.0 * done)),
         Status::Failed(reason) => Some(reason.to_owned()),
@@ -80,7 +80,7 @@ fn band(
         return;
     };
     let default_schema = LabelSchema::default();
-    let schema = state.labels.schema_of(&target).unwrap_or(&default_schema);
+    let schema = state.labels().schema_of(&target).unwrap_or(&default_schema);
     let height = ROW_HEIGHT * rows.len().max(1) as f32 + 4.0;
     let (rect, response) = ui.allocate_exact_size(Vec2::new(width, height), Sense::click());
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Proposals band"));
@@ -193,9 +193,9 @@ pub fn menu(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         return;
     };
     let default_schema = LabelSchema::default();
-    let schema = state.labels.schema_of(&target).unwrap_or(&default_schema);
+    let schema = state.labels().schema_of(&target).unwrap_or(&default_schema);
     let pending = state.pending_proposals();
-    let rejected = state.proposals.rejected_count(&recording.source);
+    let rejected = state.proposals().rejected_count(&recording.source);
     let mut send = |action| commands.push(Command::Proposal(action));
     ui.menu_button(format!("Proposals ({})", pending.len()), |ui| {
         for label in &schema.labels {

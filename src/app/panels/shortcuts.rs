@@ -12,7 +12,7 @@ pub fn window(ctx: &egui::Context, state: &AppState, open: &mut bool) {
     let default_schema = LabelSchema::default();
     let schema = state
         .label_target()
-        .and_then(|t| state.labels.schema_of(&t))
+        .and_then(|t| state.labels().schema_of(&t))
         .unwrap_or(&default_schema);
     egui::Window::new("Keyboard shortcuts")
         .open(open)

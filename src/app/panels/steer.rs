@@ -11,7 +11,7 @@ use crate::app::state::{OnlineCommand, TrainingCommand};
 
 /// Whether the model fits the open recordings; if not, why, and the button that trains one that does.
 fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
-    let training = &state.training;
+    let training = &state.training();
     if let Some(mismatch) = state.domain_mismatch() {
         ui.colored_label(colors::WARNING, format!("Warning: {}", mismatch.message));
     }
@@ -50,12 +50,13 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 
 /// Draws the steering controls.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
-    let (Some(theta), Some(recording), Some(run)) = (state.theta(), state.recording(), &state.run)
+    let (Some(theta), Some(recording), Some(run)) =
+        (state.theta(), state.recording(), &state.run())
     else {
         ui.weak("Select a recording to steer the model.");
         return;
     };
-    ui.label(format!("Learning with: {}", state.models.learner_name()));
+    ui.label(format!("Learning with: {}", state.models().learner_name()));
     model_fit(ui, state, commands);
     ui.add_space(4.0);
     ui.heading("θ_online at this frame");
@@ -130,7 +131,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             commands.push(Command::Online(OnlineCommand::ResetTheta));
         }
     });
-    let mut learn = state.settings.learn_while_playing;
+    let mut learn = state.settings().learn_while_playing;
     if ui
         .checkbox(&mut learn, "Learn while playing")
         .on_hover_text("Learn from every frame the timeline moves forward over")
@@ -202,7 +203,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 
     ui.add_space(8.0);
     ui.heading("What if");
-    let mut steps = state.settings.what_if_steps;
+    let mut steps = state.settings().what_if_steps;
     ui.horizontal(|ui| {
         let label = ui.label("Roll ahead k steps");
         if ui

@@ -9,7 +9,7 @@ use crate::app::state::{AppState, Command};
 
 /// Draws the timeline bar at the bottom of the window.
 pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
-    let timeline = &state.timeline;
+    let timeline = &state.timeline();
     let mut timeline_commands = Vec::new();
     let mut send = |c: TimelineCommand| timeline_commands.push(Command::Timeline(c));
     egui::Panel::bottom("timeline").show(ui, |ui| {
@@ -112,12 +112,12 @@ fn saved_indicator(ui: &mut egui::Ui, state: &AppState) {
         return;
     };
     let file = target.document.display().to_string();
-    if let Some(reason) = state.labels.read_only_reason(&target) {
+    if let Some(reason) = state.labels().read_only_reason(&target) {
         ui.colored_label(egui::Color32::from_rgb(230, 90, 80), "labels read-only")
             .on_hover_text(reason);
         return;
     }
-    match state.labels.save_state(&target) {
+    match state.labels().save_state(&target) {
         Some(SaveState::Saved) => {
             ui.colored_label(egui::Color32::from_rgb(120, 200, 120), "labels saved")
                 .on_hover_text(format!("{file} holds every edit"));

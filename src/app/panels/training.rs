@@ -14,8 +14,8 @@ use crate::app::state::{AppState, Command};
 /// Draws the training panel.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: &mut Vec<Command>) {
     ui.heading("Train a combined model");
-    let running = state.training.is_running();
-    ui.label(match state.models.kind() {
+    let running = state.training().is_running();
+    ui.label(match state.models().kind() {
         Some(kind) => format!("In use: the {kind} model ({})", kind.description()),
         None => "In use: physics only (no trained model)".to_owned(),
     });
@@ -23,10 +23,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         ui.horizontal(|ui| {
             let label = ui.label("Model kind");
             egui::ComboBox::from_id_salt("model-kind")
-                .selected_text(state.training.kind.name())
+                .selected_text(state.training().kind.name())
                 .show_ui(ui, |ui| {
                     for kind in ModelKind::ALL {
-                        let chosen = state.training.kind == kind;
+                        let chosen = state.training().kind == kind;
                         if ui
                             .selectable_label(chosen, kind.name())
                             .on_hover_text(kind.description())
@@ -65,12 +65,13 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         .id_salt("train-choice")
         .max_height(140.0)
         .show(ui, |ui| {
-            for (id, recording) in state.session.recordings() {
+            for (id, recording) in state.session().recordings() {
                 let label = format!(
                     "{} / {}",
-                    state.session.sets[id.set].setting.name, recording.name
+                    state.session().sets[id.set].setting.name,
+                    recording.name
                 );
-                let mut on = state.training.chosen.contains(&id);
+                let mut on = state.training().chosen.contains(&id);
                 if ui.checkbox(&mut on, label).changed() {
                     commands.push(Command::Training(TrainingCommand::Choose(
                         TrainingChoice::Set(id, on),
@@ -78,7 +79,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
                 }
             }
         });
-    let mut config = state.training.config;
+    let mut config = state.training().config;
     ui.add_enabled_ui(!running, |ui| {
         egui::Grid::new("train-config")
             .num_columns(2)
@@ -107,7 +108,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
                 ui.end_row();
             });
     });
-    if config != state.training.config {
+    if config != state.training().config {
         commands.push(Command::Training(TrainingCommand::SetConfig(config)));
     }
     ui.horizontal(|ui| {
@@ -118,7 +119,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             ui.spinner();
         } else if ui
             .add_enabled(
-                !state.training.chosen.is_empty(),
+                !state.training().chosen.is_empty(),
                 egui::Button::new("Train"),
             )
             .clicked()
@@ -126,23 +127,23 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             commands.push(Command::Training(TrainingCommand::Start));
         }
     });
-    if running || !state.training.history.is_empty() {
-        let last = state.training.history.last();
+    if running || !state.training().history.is_empty() {
+        let last = state.training().history.last();
         let text = last.map_or("starting…".to_owned(), |p| {
             format!(
                 "epoch {} / {}, train loss {:.4}",
                 p.epoch, p.epochs, p.train_loss
             )
         });
-        ui.add(egui::ProgressBar::new(state.training.progress()).text(text));
+        ui.add(egui::ProgressBar::new(state.training().progress()).text(text));
         let train: PlotPoints = state
-            .training
+            .training()
             .history
             .iter()
             .map(|p| [p.epoch as f64, p.train_loss])
             .collect();
         let validation: PlotPoints = state
-            .training
+            .training()
             .history
             .iter()
             .filter_map(|p| p.validation_loss.map(|v| [p.epoch as f64, v]))
@@ -163,7 +164,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         }
         if ui
             .add_enabled(
-                state.models.combined.is_some(),
+                state.models().combined.is_some(),
                 egui::Button::new("Save model…"),
             )
             .clicked()

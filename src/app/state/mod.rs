@@ -10,6 +10,7 @@ mod commands;
 pub mod demo;
 pub mod effect;
 pub mod envelope;
+mod files;
 pub mod fit;
 mod frame_cache;
 pub mod label_losses;
@@ -87,6 +88,31 @@ pub enum Command {
     Bag(BagCommand),
     /// Which camera streams the camera panel shows.
     Camera(CameraCommand),
+    /// A file asked for from a menu: losses, labels, a model.
+    File(FileCommand),
+    /// A message for the status line from outside the state (a dialog that could not be shown,
+    /// a screenshot saved).
+    Report(String),
+}
+
+/// Files the menus ask for; each outcome is said on the status line (see `files`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum FileCommand {
+    /// The online run's losses and θ per frame, as CSV.
+    SaveLosses(PathBuf),
+    /// Load a model file and learn online with it.
+    LoadModel(PathBuf),
+    /// Save the model in use as a model file.
+    SaveModel(PathBuf),
+    /// The labels of the folder shown, as CSV or JSON.
+    ExportLabels(PathBuf, LabelExportFormat),
+}
+
+/// The two label export formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LabelExportFormat {
+    Csv,
+    Json,
 }
 
 /// What is open and which recording is shown.
@@ -198,36 +224,36 @@ pub struct AppState {
     /// settings, the models per folder, the browser's view, the what-if steps. Playback speed and
     /// loop, and the cameras hidden, are the timeline's and the cameras' own while the app runs
     /// (this holds what they started with); [`AppState::persisted`] takes them from there.
-    pub settings: Persisted,
-    pub session: Session,
-    pub models: Models,
-    pub timeline: Timeline,
+    settings: Persisted,
+    session: Session,
+    models: Models,
+    timeline: Timeline,
     /// Online learning on the selected recording; `None` until a recording is selected.
-    pub run: Option<OnlineRun>,
+    run: Option<OnlineRun>,
     /// The physics-only model of the selected recording (for its prediction layer), built once per
     /// run rather than once per drawn frame.
-    pub physics: Option<PhysicsOnlyModel>,
+    physics: Option<PhysicsOnlyModel>,
     /// The selected recording's path as the scene draws it whole (built once per selection).
-    pub overview: PathOverview,
-    pub training: Training,
+    overview: PathOverview,
+    training: Training,
     /// The labels files of the open recordings, and the labeling tools' state.
-    pub labels: Labeling,
+    labels: Labeling,
     /// The selected recording's label proposals, and those rejected.
-    pub proposals: ProposalState,
+    proposals: ProposalState,
     /// A short message for the status bar (what just happened, or what went wrong).
-    pub status: Option<String>,
+    status: Option<String>,
     /// Whether the open recordings lie outside the model's domain (see `fit`).
     fit: Option<DomainMismatch>,
     /// Where models trained for folders are kept (the app's data folder); `None`: not kept.
-    pub model_store: Option<PathBuf>,
+    model_store: Option<PathBuf>,
     /// The browser's per-recording parameters and losses.
     browsed: BrowserMemory,
     /// The loss-landscape window and its background work.
-    pub landscape: LandscapeState,
+    landscape: LandscapeState,
     /// The Demos menu's presets and the demo running.
-    pub demos: Demos,
+    demos: Demos,
     /// ROS 2 bags waiting for their topics to be chosen, and those being opened with a choice.
-    pub bags: BagChooser,
+    bags: BagChooser,
     /// The selected recording's cameras and their frames.
     cameras: Cameras,
     /// What several panels read each frame, computed once per change.
@@ -269,6 +295,29 @@ impl AppState {
         }
     }
 
+    /// Where the app keeps its own files, beside eframe's state and never in a user's data: models
+    /// trained for folders (`models/`) and labels whose own folder cannot be written
+    /// (`unsaved-labels/`). `None`: neither is kept.
+    pub fn keep_files_in(&mut self, app_dir: Option<PathBuf>) {
+        self.model_store = app_dir.as_ref().map(|dir| dir.join("models"));
+        self.labels.rescue_dir = app_dir.map(|dir| dir.join("unsaved-labels"));
+    }
+
+    /// Reads the Demos menu's presets from a suite file (see `demo`).
+    pub fn load_demos(&mut self, suite: &std::path::Path) {
+        self.demos = Demos::load(suite);
+    }
+
+    /// Adds a set built in memory (benchmarks, tests) without showing it; returns its first
+    /// recording's id.
+    pub fn add_set(&mut self, set: pushlab_core::recording::RecordingSet) -> RecordingId {
+        self.session.sets.push(set);
+        RecordingId {
+            set: self.session.sets.len() - 1,
+            recording: 0,
+        }
+    }
+
     /// What to persist: the settings, with the timeline's speed and loop and the cameras hidden.
     pub fn persisted(&self) -> Persisted {
         Persisted {
@@ -277,6 +326,12 @@ impl AppState {
             hidden_cameras: self.cameras.hidden().clone(),
             ..self.settings.clone()
         }
+    }
+
+    /// Saves every labels file with unsaved edits now (the window is closing); returns what to
+    /// tell the user about each that could not be written where it belongs.
+    pub fn save_labels_on_exit(&mut self) -> Vec<String> {
+        self.labels.save_on_exit()
     }
 
     /// Saves labels files whose autosave is due; `now_s` is any steady clock in seconds.
@@ -355,6 +410,8 @@ impl AppState {
                 self.apply_effects(effects);
             }
             Command::Camera(c) => self.cameras.apply(c),
+            Command::File(c) => self.apply_file(c),
+            Command::Report(message) => self.status = Some(message),
         }
     }
 

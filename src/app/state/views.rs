@@ -10,15 +10,103 @@ use pushlab_core::learn::MeanLosses;
 use pushlab_core::model::OnlineParams;
 use pushlab_core::recording::Recording;
 
-use super::AppState;
+use pushlab_core::model::PhysicsOnlyModel;
+
+use super::bag_import::BagChooser;
 use super::browser::Row;
 use super::cameras::Cameras;
+use super::demo::Demos;
 use super::label_losses;
 use super::labels::LabelTarget;
+use super::labels::Labeling;
 use super::landscape::LandscapeSource;
+use super::landscape::LandscapeState;
+use super::models::Models;
+use super::online::OnlineRun;
+use super::overview::PathOverview;
 use super::proposals::Pending;
+use super::proposals::ProposalState;
+use super::session::Session;
+use super::timeline::Timeline;
+use super::training::Training;
+use super::{AppState, Persisted};
 
 impl AppState {
+    /// The persisted settings as they stand (layers, online settings, the browser's view…).
+    pub fn settings(&self) -> &Persisted {
+        &self.settings
+    }
+
+    /// The open sets, what is loading and what failed.
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
+    /// The models in use.
+    pub fn models(&self) -> &Models {
+        &self.models
+    }
+
+    /// Playback: the frame shown, playing, speed, loop.
+    pub fn timeline(&self) -> &Timeline {
+        &self.timeline
+    }
+
+    /// Online learning on the selected recording; `None` until a recording is selected.
+    pub fn run(&self) -> Option<&OnlineRun> {
+        self.run.as_ref()
+    }
+
+    /// The physics-only model of the selected recording (its prediction layer), once per run.
+    pub fn physics(&self) -> Option<&PhysicsOnlyModel> {
+        self.physics.as_ref()
+    }
+
+    /// The selected recording's whole path, thinned for drawing.
+    pub fn overview(&self) -> &PathOverview {
+        &self.overview
+    }
+
+    /// Offline training in the background, and the Train tab's choices.
+    pub fn training(&self) -> &Training {
+        &self.training
+    }
+
+    /// The labels files of the open recordings, and the labeling tools' state.
+    pub fn labels(&self) -> &Labeling {
+        &self.labels
+    }
+
+    /// The selected recording's label proposals, and those rejected.
+    pub fn proposals(&self) -> &ProposalState {
+        &self.proposals
+    }
+
+    /// The status line: what just happened, or what went wrong.
+    pub fn status(&self) -> Option<&str> {
+        self.status.as_deref()
+    }
+
+    /// Where models trained for folders are kept (see [`AppState::keep_files_in`]).
+    pub fn model_store(&self) -> Option<&std::path::Path> {
+        self.model_store.as_deref()
+    }
+
+    /// The loss-landscape window and its background work.
+    pub fn landscape(&self) -> &LandscapeState {
+        &self.landscape
+    }
+
+    /// The Demos menu's presets and the demo running.
+    pub fn demos(&self) -> &Demos {
+        &self.demos
+    }
+
+    /// Bags waiting for their topics to be chosen, and those being opened with a choice.
+    pub fn bags(&self) -> &BagChooser {
+        &self.bags
+    }
+
     /// The range each component of `θ_online` is steered and plotted in, metres (the core's
     /// [`OnlineParams::plausible_ranges`] for the object shown).
     pub fn theta_ranges(&self) -> [(f64, f64); 3] {

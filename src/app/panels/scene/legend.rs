@@ -15,7 +15,7 @@ pub const WIDTH: f32 = 236.0;
 /// The open legend's layer toggles and the motion gain, drawn in `area` (the scene's left strip).
 /// A prediction layer that draws nothing, or draws a model trained on other data, says so.
 pub fn ui(ui: &mut egui::Ui, area: Rect, state: &AppState, commands: &mut Vec<Command>) {
-    let layers = &state.settings.layers;
+    let layers = &state.settings().layers;
     let mut edited = layers.clone();
     let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area.shrink(6.0)));
     egui::Frame::popup(child.style())

@@ -73,8 +73,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &
             pusher_radius: recording.setting.pusher_radius,
             outline: outline.as_ref(),
             predictions: state.predictions(),
-            gain: state.settings.layers.motion_gain,
-            what_if: state.what_if().filter(|_| state.settings.layers.what_if),
+            gain: state.settings().layers.motion_gain,
+            what_if: state.what_if().filter(|_| state.settings().layers.what_if),
         };
         let markers = markers(state, view, &content);
         let projection = view.projection();
@@ -123,7 +123,7 @@ impl Content<'_> {
         let Some(p) = &self.predictions else {
             return Vec::new();
         };
-        let layers = &state.settings.layers;
+        let layers = &state.settings().layers;
         let at = |motion| draw::exaggerated(&self.pose, motion, self.gain);
         let mut targets = Vec::new();
         if layers.true_target {
@@ -177,12 +177,14 @@ fn markers(state: &AppState, view: &SceneView, content: &Content<'_>) -> Markers
     let at = |com: [f64; 2]| projection.to_screen(content.pose.point_in_world(Point2::from(com)));
     let com_label = state
         .label_target()
-        .filter(|t| state.settings.layers.com_label && state.labels.read_only_reason(t).is_none())
-        .and_then(|t| state.labels.labels_of(&t).and_then(|l| l.meta.com_offset));
+        .filter(|t| {
+            state.settings().layers.com_label && state.labels().read_only_reason(t).is_none()
+        })
+        .and_then(|t| state.labels().labels_of(&t).and_then(|l| l.meta.com_offset));
     Markers {
         com: state
             .theta()
-            .filter(|_| state.settings.layers.com_estimated)
+            .filter(|_| state.settings().layers.com_estimated)
             .map(|t| at(t.com_offset)),
         com_label: com_label.map(at),
     }
@@ -194,7 +196,7 @@ fn aim(state: &AppState, view: &mut SceneView, content: &Content<'_>) {
     let viewport = view.viewport();
     let object_size = content.outline.map_or(0.05, Outline::size);
     let whole_push = state
-        .overview
+        .overview()
         .bounds
         .map(|(min, max)| WorldBox { min, max }.grown(0.8 * object_size));
     let Some(object) = content.footprint_box(&content.pose) else {
@@ -207,8 +209,8 @@ fn aim(state: &AppState, view: &mut SceneView, content: &Content<'_>) {
             target = target.union(footprint);
         }
     }
-    if view.framed != state.session.selected {
-        view.framed = state.session.selected;
+    if view.framed != state.session().selected {
+        view.framed = state.session().selected;
         view.camera = match (view.mode, whole_push) {
             (CameraMode::Follow, _) | (_, None) => {
                 Camera::fitting(target.grown(object_size), viewport)
@@ -238,12 +240,12 @@ fn draw_layers(
     content: &Content<'_>,
     response: &egui::Response,
 ) {
-    let layers = &state.settings.layers;
+    let layers = &state.settings().layers;
     if layers.grid {
         draw::grid(painter, projection, view.rect);
     }
     if layers.robot_path {
-        draw::path(painter, projection, &state.overview.robot_path);
+        draw::path(painter, projection, &state.overview().robot_path);
     }
     if layers.trails
         && let Some(recording) = state.recording()
@@ -293,7 +295,7 @@ fn draw_layers(
         );
     }
     if layers.com_ellipse
-        && let (Some(theta), Some(run)) = (state.theta(), &state.run)
+        && let (Some(theta), Some(run)) = (state.theta(), &state.run())
     {
         let (axes, angle) = run.spread_at(state.frame()).ellipse_95();
         draw::com_ellipse(

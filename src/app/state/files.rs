@@ -1,0 +1,132 @@
+//! Files the user asks for from the menus: the losses of the run as CSV, the labels of the folder
+//! shown exported as CSV or JSON, a model file loaded or saved. Each is a [`FileCommand`] whose
+//! outcome is said on the status line; the methods return it too, for callers that want the error
+//! (the command line's model, tests). Writes are atomic: a failed save leaves the old file.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::Context as _;
+use pushlab_core::labels::export as label_export;
+use pushlab_core::labels::pipeline::{key_of, labels_file_beside};
+use pushlab_core::model_file::ModelFile;
+
+use super::{AppState, FileCommand, LabelExportFormat};
+
+impl AppState {
+    /// Carries out a file command and says on the status line what happened.
+    pub(super) fn apply_file(&mut self, command: FileCommand) {
+        let message = match command {
+            FileCommand::SaveLosses(path) => match self.save_losses_csv(&path) {
+                Ok(rows) => format!("saved {rows} rows of losses to {}", path.display()),
+                Err(e) => format!("could not save {}: {e:#}", path.display()),
+            },
+            FileCommand::LoadModel(path) => match self.load_model(&path) {
+                Ok(()) => format!("model loaded from {}", path.display()),
+                // The core refused the file before anything changed: say so, and why.
+                Err(e) => format!(
+                    "model not loaded, the {} stays in use: {e:#}",
+                    self.models.learner_name()
+                ),
+            },
+            FileCommand::ExportLabels(path, format) => match self.export_labels(&path, format) {
+                Ok(rows) => format!("exported {rows} label rows to {}", path.display()),
+                Err(e) => format!("could not export labels: {e:#}"),
+            },
+            FileCommand::SaveModel(path) => match self.save_model(&path) {
+                Ok(()) => format!("model saved to {}", path.display()),
+                Err(e) => format!("{e:#}"),
+            },
+        };
+        self.status = Some(message);
+    }
+
+    /// Exports the labels file of the selected recording's folder (every recording in it, with
+    /// frame times from the open recordings) as CSV or JSON. Returns the number of segment and
+    /// event rows.
+    pub fn export_labels(&self, path: &Path, format: LabelExportFormat) -> anyhow::Result<usize> {
+        let target = (self.label_target()).context("select a recording whose labels to export")?;
+        let document = (self.labels.document(&target.document))
+            .with_context(|| format!("{} could not be read", target.document.display()))?;
+        let times: BTreeMap<String, Vec<f64>> = (self.session.recordings())
+            .filter(|(_, r)| labels_file_beside(&r.source) == target.document)
+            .filter_map(|(_, r)| {
+                let key = key_of(&r.source)?;
+                Some((key, r.trajectory.frames.iter().map(|f| f.time).collect()))
+            })
+            .collect();
+        let set = document.set();
+        let rows = label_export::rows(set, &times)?.len();
+        let text = match format {
+            LabelExportFormat::Csv => label_export::to_csv(set, &times)?,
+            LabelExportFormat::Json => label_export::to_json(set, &times)?,
+        };
+        label_export::write(path, &text)?;
+        Ok(rows)
+    }
+
+    /// The online run's losses as CSV, one row per sample: the fixed and online losses and `θ` at
+    /// the frame (`θ_online(0)`, and with θ at each learned frame: the step that was learned there)
+    /// at full precision. `None` without a run.
+    pub fn losses_csv(&self) -> Option<String> {
+        let run = self.run.as_ref()?;
+        let recording = self.recording()?;
+        let frames = &recording.trajectory.frames;
+        let t0 = frames.first().map_or(0.0, |f| f.time);
+        let mut csv = String::from(
+            "frame,time,fixed_loss_pos,fixed_loss_rot,online_loss_pos,online_loss_rot,com_offset_x,com_offset_y,h\n",
+        );
+        for k in 0..run.sample_count() {
+            let time = frames.get(k).map_or(f64::NAN, |f| f.time - t0);
+            let fixed = run.evaluate_fixed(k)?.loss;
+            let _ = write!(csv, "{k},{time},{},{}", fixed.pos(), fixed.rot);
+            match run.learned().get(k).copied().flatten() {
+                Some(_) => {
+                    let online = run.evaluate(k)?.loss;
+                    let _ = write!(csv, ",{},{}", online.pos(), online.rot);
+                }
+                None => csv.push_str(",,"),
+            }
+            if k <= run.frontier() {
+                let theta = run.theta_at(k);
+                let [x, y] = theta.com_offset;
+                let _ = writeln!(csv, ",{x},{y},{}", theta.h);
+            } else {
+                csv.push_str(",,,\n");
+            }
+        }
+        Some(csv)
+    }
+
+    /// Saves [`AppState::losses_csv`] atomically; returns the number of data rows.
+    pub fn save_losses_csv(&self, path: &Path) -> anyhow::Result<usize> {
+        let csv = self
+            .losses_csv()
+            .context("no recording selected: nothing to export")?;
+        pushlab_core::atomic_file::write_atomically(path, csv.as_bytes())
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+        Ok(csv.lines().count().saturating_sub(1))
+    }
+
+    /// Loads a model file and restarts online learning with it; a file the core refuses changes
+    /// nothing.
+    pub fn load_model(&mut self, path: &Path) -> anyhow::Result<()> {
+        let file = ModelFile::load(path)?;
+        self.use_model_file(file, path.display().to_string());
+        Ok(())
+    }
+
+    /// Saves the combined model in use (and the pure-network baseline, if any) as a model file.
+    pub fn save_model(&self, path: &Path) -> anyhow::Result<()> {
+        let combined = (self.models.combined.as_ref())
+            .context("no trained model to save: train one or load a model file first")?;
+        let file = ModelFile {
+            combined: combined.clone(),
+            pure_nn: self.models.pure_nn.as_deref().cloned(),
+            training: self.models.training.clone(),
+        };
+        file.save(path)?;
+        Ok(())
+    }
+}
