@@ -313,6 +313,72 @@ fn the_model_kind_is_chosen_recorded_and_checked() {
     );
 }
 
+/// Issue 26: a set simulated at the default 0.05 m/s with 2 mm tracking noise at 50 Hz was read as
+/// pushing at 0.15–0.22 m/s (frame-to-frame noise summed as motion), so a model trained at the same
+/// speed at 10 Hz warned about the speed. It still differs in frame rate, and says only that.
+#[test]
+fn a_noisy_set_at_a_higher_rate_is_not_read_as_faster_pushes() {
+    let dir = temp_dir("noisy-rate");
+    let simulate = |name: &str, rate: &str| {
+        let out = dir.join(name).display().to_string();
+        let run = pushlab(&[
+            "simulate",
+            "--out",
+            &out,
+            "--rate",
+            rate,
+            "--duration",
+            "4",
+            "--pushes",
+            "2",
+        ]);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        out
+    };
+    let (slow, fast) = (simulate("at-10-hz", "10"), simulate("at-50-hz", "50"));
+    let trained = dir.join("model.json").display().to_string();
+    let run = pushlab(&[
+        "train",
+        "--data",
+        &slow,
+        "--horizon",
+        "1",
+        "--epochs",
+        "1",
+        "--out",
+        &trained,
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let default = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/default-model.json")
+        .display()
+        .to_string();
+    for model in [&trained, &default] {
+        let run = pushlab(&[
+            "eval",
+            "--model",
+            model,
+            "--offline",
+            &slow,
+            "--online",
+            &fast,
+        ]);
+        assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+        let warning = run
+            .stderr
+            .lines()
+            .find(|l| l.starts_with("warning: the model was trained on"))
+            .unwrap_or_else(|| panic!("no warning in:\n{}", run.stderr));
+        assert!(
+            warning.contains("frames at 10 Hz")
+                && warning.contains("here have frames at 50 Hz:")
+                && !warning.contains("pushes at"),
+            "{model}: {warning}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn eval_warns_when_the_online_recordings_lie_outside_the_model_s_domain() {
     let dir = temp_dir("domain");

@@ -29,8 +29,13 @@ pub struct Domain {
     pub pusher_radius: [f64; 2],
     /// Frame rate, Hz (each recording's mean).
     pub sample_rate_hz: [f64; 2],
-    /// Mean speed of the pusher over a recording, m/s.
-    pub pusher_speed: [f64; 2],
+    /// The pusher's speed over a recording ([`crate::trajectory::Trajectory::pusher_speed`]: net displacement over
+    /// one-second windows), m/s. `None` when read from a model file older than version 3: those
+    /// summed frame-to-frame steps, which counts tracking noise as motion (a 0.05 m/s push at 50 Hz
+    /// with 2 mm noise read 0.18 m/s), so their speeds cannot be compared with today's and are not
+    /// (nor can they be re-derived: the file keeps the range, not the recordings).
+    #[serde(default)]
+    pub pusher_speed: Option<[f64; 2]>,
     /// Prediction horizon, frames.
     pub horizon: usize,
 }
@@ -46,17 +51,11 @@ struct Measures {
 
 impl Measures {
     fn of(recording: &Recording) -> Self {
-        let frames = &recording.trajectory.frames;
-        let path: f64 = frames
-            .windows(2)
-            .map(|w| (w[1].robot - w[0].robot).norm())
-            .sum();
-        let duration = recording.trajectory.duration();
         Self {
             object_size: recording.setting.object.outline().ok().map(|o| o.size()),
             pusher_radius: recording.setting.pusher_radius,
             sample_rate_hz: recording.trajectory.mean_rate_hz(),
-            pusher_speed: if duration > 0.0 { path / duration } else { 0.0 },
+            pusher_speed: recording.trajectory.pusher_speed().unwrap_or(0.0),
         }
     }
 }
@@ -83,7 +82,7 @@ impl Domain {
             object_size: range(measures.iter().filter_map(|m| m.object_size))?,
             pusher_radius: range(measures.iter().map(|m| m.pusher_radius))?,
             sample_rate_hz: range(measures.iter().map(|m| m.sample_rate_hz))?,
-            pusher_speed: range(measures.iter().map(|m| m.pusher_speed))?,
+            pusher_speed: Some(range(measures.iter().map(|m| m.pusher_speed))?),
             horizon,
         })
     }
@@ -103,7 +102,8 @@ impl Domain {
                 !(m.object_size.is_none_or(|s| inside(s, self.object_size))
                     && inside(m.pusher_radius, self.pusher_radius)
                     && inside(m.sample_rate_hz, self.sample_rate_hz)
-                    && (m.pusher_speed == 0.0 || inside(m.pusher_speed, self.pusher_speed)))
+                    && (m.pusher_speed == 0.0
+                        || self.pusher_speed.is_none_or(|r| inside(m.pusher_speed, r))))
             })
             .collect();
         if outside.is_empty() {
@@ -111,30 +111,33 @@ impl Domain {
         }
         let mut trained = Vec::new();
         let mut found = Vec::new();
-        let mut compare = |name: &str, unit: Unit, ours: [f64; 2], theirs: Option<[f64; 2]>| {
-            let Some(theirs) = theirs else { return };
-            let differs = theirs[0] < ours[0] / SLACK || theirs[1] > ours[1] * SLACK;
-            if differs {
-                trained.push(format!("{name} {}", unit.range(ours)));
-                found.push(format!("{name} {}", unit.range(theirs)));
-            }
-        };
+        let mut compare =
+            |name: &str, unit: Unit, ours: Option<[f64; 2]>, theirs: Option<[f64; 2]>| {
+                let (Some(ours), Some(theirs)) = (ours, theirs) else {
+                    return;
+                };
+                let differs = theirs[0] < ours[0] / SLACK || theirs[1] > ours[1] * SLACK;
+                if differs {
+                    trained.push(format!("{name} {}", unit.range(ours)));
+                    found.push(format!("{name} {}", unit.range(theirs)));
+                }
+            };
         compare(
             "objects of",
             Unit::Metres,
-            self.object_size,
+            Some(self.object_size),
             range(outside.iter().filter_map(|m| m.object_size)),
         );
         compare(
             "a pusher radius of",
             Unit::Millimetres,
-            self.pusher_radius,
+            Some(self.pusher_radius),
             range(outside.iter().map(|m| m.pusher_radius)),
         );
         compare(
             "frames at",
             Unit::Hertz,
-            self.sample_rate_hz,
+            Some(self.sample_rate_hz),
             range(outside.iter().map(|m| m.sample_rate_hz)),
         );
         compare(
@@ -275,6 +278,15 @@ mod tests {
             ),
             "{}",
             fast.message
+        );
+        // A domain read from a file before version 3 has no speeds: speed is not compared.
+        let unknown_speed = Domain {
+            pusher_speed: None,
+            ..domain
+        };
+        assert_eq!(
+            unknown_speed.mismatch(&[recording(0.4, 0.05, 10.0, 0.5)]),
+            None
         );
     }
 }

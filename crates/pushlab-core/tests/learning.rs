@@ -294,7 +294,7 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
                 object_size: [0.4, 0.55],
                 pusher_radius: [0.05, 0.05],
                 sample_rate_hz: [10.0, 10.0],
-                pusher_speed: [0.03, 0.06],
+                pusher_speed: Some([0.03, 0.06]),
                 horizon: 1,
             }),
         },
@@ -322,18 +322,23 @@ fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
     );
 
     let text = std::fs::read_to_string(&path).expect("readable");
-    assert!(text.contains("\"version\": 2") && text.contains("\"kind\": \"paper\""));
+    assert!(text.contains("\"version\": 3") && text.contains("\"kind\": \"paper\""));
     // A version-1 file (before model kinds: no "kind") opens as the paper's model.
     let version_1 = text
-        .replacen("\"version\": 2", "\"version\": 1", 1)
+        .replacen("\"version\": 3", "\"version\": 1", 1)
         .replacen("\"kind\": \"paper\",", "", 1);
     let old = ModelFile::from_json(&path, version_1.as_bytes()).expect("a version-1 file opens");
     assert_eq!(old.combined.kind(), ModelKind::Paper);
-    assert_eq!(old, file);
+    // … without its domain's pusher speeds, which files before version 3 measured by summed steps.
+    let mut without_speeds = file.clone();
+    if let Some(domain) = without_speeds.training.domain.as_mut() {
+        domain.pusher_speed = None;
+    }
+    assert_eq!(old, without_speeds);
     let unknown = text.replacen("\"kind\": \"paper\"", "\"kind\": \"quantum\"", 1);
     let err = ModelFile::from_json(&path, unknown.as_bytes()).expect_err("unknown kind");
     assert!(err.to_string().contains("\"kind\" is \"quantum\""), "{err}");
-    let newer = text.replacen("\"version\": 2", "\"version\": 7", 1);
+    let newer = text.replacen("\"version\": 3", "\"version\": 7", 1);
     let err = ModelFile::from_json(&path, newer.as_bytes()).expect_err("version 7");
     assert!(matches!(err, ModelFileError::WrongVersion { .. }));
     let message = err.to_string();

@@ -1,6 +1,6 @@
 //! Model files are checked before any number is used: every kind of bad value a user could put into
 //! `assets/default-model.json` (or a `paper` model) is refused with the file and the JSON path of the
-//! field, a good file and a version-1 file still open, and pushlab never saves a file it would refuse.
+//! field, a good file and version-1 and -2 files still open, and pushlab never saves a file it would refuse.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -234,7 +234,7 @@ fn every_bad_value_of_a_paper_model_is_refused_with_its_field() {
     check_cases(&text, PAPER_CASES);
     // A version-1 file (before kinds) is migrated and checked by the same rules.
     let version_1 = text
-        .replacen("\"version\": 2", "\"version\": 1", 1)
+        .replacen("\"version\": 3", "\"version\": 1", 1)
         .replacen("\"kind\": \"paper\",", "", 1);
     let old = ModelFile::from_json(Path::new("old.json"), version_1.as_bytes())
         .expect("a version-1 file opens");
@@ -244,6 +244,28 @@ fn every_bad_value_of_a_paper_model_is_refused_with_its_field() {
         message.contains("combined.theta0.h: must be between"),
         "{message}"
     );
+}
+
+#[test]
+fn a_file_before_version_3_opens_without_its_domains_pusher_speeds() {
+    let text = default_model_text();
+    let current =
+        ModelFile::from_json(Path::new("model.json"), text.as_bytes()).expect("the default opens");
+    let speeds = current
+        .training
+        .domain
+        .as_ref()
+        .and_then(|d| d.pusher_speed);
+    assert!(speeds.is_some(), "a version-3 file keeps its speeds");
+    // Older files summed noisy frame-to-frame steps: their speeds are dropped, the rest is kept.
+    let version_2 = edited(&text, "/version", json!(2));
+    let old = ModelFile::from_json(Path::new("old.json"), version_2.as_bytes())
+        .expect("a version-2 file opens");
+    let mut expected = current.clone();
+    if let Some(domain) = expected.training.domain.as_mut() {
+        domain.pusher_speed = None;
+    }
+    assert_eq!(old, expected);
 }
 
 #[test]

@@ -1,12 +1,13 @@
 //! Model files: a trained combined model (and optionally its pure-network baseline) as versioned JSON.
 //!
 //! ```json
-//! { "format": "pushlab-model", "version": 2, "kind": "contact" | "paper",
+//! { "format": "pushlab-model", "version": 3, "kind": "contact" | "paper",
 //!   "combined": { ...the kind's data: "network": [numbers], normalisation, "loss_scale", "horizon"… },
 //!   "pure_nn": { ... } | null,
 //!   "training": { "report": {...}, "sources": ["path", ...], "pushlab_version": "0.1.0" } }
 //! ```
-//! Version 1 files (before model kinds) have no `kind` and open as `paper`. Every file read is
+//! Version 1 files (before model kinds) have no `kind` and open as `paper`; files before version 3
+//! open without their training domain's pusher speeds (measured by an older, noise-prone rule). Every file read is
 //! checked against the rules of [`validate`] before any of its numbers is used, and every error names
 //! the file and the JSON path of the field (`combined.loss_scale.sigma_rot: must be > 0, found 0`).
 //! Files are written atomically (a temporary file in the same folder, then a rename), so a crash
@@ -29,8 +30,13 @@ use crate::model::{CombinedModel, ContactModel, ModelKind, PaperModel, PureNnMod
 
 /// The `format` field of every model file.
 pub const FORMAT: &str = "pushlab-model";
-/// The version this pushlab writes; it reads this one and every older one.
-pub const VERSION: u32 = 2;
+/// The version this pushlab writes; it reads this one and every older one. Version 2 added the
+/// kinds; version 3 measures the training domain's pusher speeds robustly
+/// ([`crate::trajectory::Trajectory::pusher_speed`]), so older files' speeds are dropped on load
+/// (see [`crate::domain::Domain::pusher_speed`]).
+pub const VERSION: u32 = 3;
+/// The first version whose training domain's pusher speeds are read.
+const ROBUST_SPEED_VERSION: u64 = 3;
 
 #[derive(Serialize)]
 struct OnDiskRef<'a, C> {
@@ -200,7 +206,7 @@ impl ModelFile {
                 });
             }
         };
-        let file = match kind {
+        let mut file = match kind {
             ModelKind::Paper => {
                 let on_disk: OnDisk<PaperModel> = parse(path, bytes)?;
                 Self {
@@ -218,6 +224,12 @@ impl ModelFile {
                 }
             }
         };
+        if version < ROBUST_SPEED_VERSION
+            && let Some(domain) = &mut file.training.domain
+        {
+            // Summed noisy steps, not comparable with today's speeds: unknown rather than wrong.
+            domain.pusher_speed = None;
+        }
         file.validate(path)?;
         Ok(file)
     }

@@ -246,11 +246,12 @@ fn pure_nn(field: &str, m: &PureNnModel, combined_horizon: usize) -> Result<(), 
 /// by them).
 fn domain(field: &str, d: &Domain) -> Result<(), Problem> {
     for (name, range) in [
-        ("object_size", d.object_size),
-        ("pusher_radius", d.pusher_radius),
-        ("sample_rate_hz", d.sample_rate_hz),
+        ("object_size", Some(d.object_size)),
+        ("pusher_radius", Some(d.pusher_radius)),
+        ("sample_rate_hz", Some(d.sample_rate_hz)),
         ("pusher_speed", d.pusher_speed),
     ] {
+        let Some(range) = range else { continue };
         let at = format!("{field}.{name}");
         each(&at, &range, positive)?;
         if range[0] > range[1] {

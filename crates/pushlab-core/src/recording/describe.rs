@@ -46,7 +46,8 @@ pub struct PushParameters {
     pub position: Option<SidePosition>,
     /// Push angle from the side's normal, degrees.
     pub angle_deg: Option<f64>,
-    /// The MIT name's nominal pusher speed, or the pusher's mean speed over a native push, mm/s.
+    /// The MIT name's nominal pusher speed, or the pusher's speed over a native push
+    /// ([`crate::trajectory::Trajectory::pusher_speed`]), mm/s.
     pub speed_mm_s: Option<f64>,
     /// The MIT name's repetition number.
     pub repetition: Option<u32>,
@@ -87,36 +88,11 @@ impl PushParameters {
             side: mit_side.or_else(|| setting.push_side.map(|s| s.name().to_owned())),
             position,
             angle_deg: entry.and_then(|e| e.push_angle_deg),
-            speed_mm_s: number(KEY_SPEED).or_else(|| mean_pusher_speed(recording).map(|v| v * 1e3)),
+            speed_mm_s: number(KEY_SPEED)
+                .or_else(|| recording.trajectory.pusher_speed().map(|v| v * 1e3)),
             repetition: number(KEY_REP).map(|r| r as u32),
         }
     }
-}
-
-/// How far the pusher gets per second, averaged over windows of one second (the whole push when
-/// shorter), m/s; `None` for fewer than two frames. Windows, not frame-to-frame steps: tracking
-/// noise adds to every step's length (by a quarter at the sample data's 10 Hz and 2 mm noise) but
-/// barely to a second's displacement.
-fn mean_pusher_speed(recording: &Recording) -> Option<f64> {
-    let frames = &recording.trajectory.frames;
-    let duration = recording.trajectory.duration();
-    if frames.len() < 2 || duration.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        return None;
-    }
-    let window = duration.min(1.0);
-    let (mut sum, mut count, mut end) = (0.0, 0usize, 0);
-    for (start, first) in frames.iter().enumerate() {
-        end = end.max(start);
-        while end < frames.len() && frames[end].time < first.time + window {
-            end += 1;
-        }
-        let Some(last) = frames.get(end) else {
-            break;
-        };
-        sum += (last.robot - first.robot).norm() / (last.time - first.time);
-        count += 1;
-    }
-    (count > 0).then(|| sum / count as f64)
 }
 
 #[cfg(test)]
