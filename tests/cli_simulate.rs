@@ -54,6 +54,14 @@ fn simulate_writes_a_set_with_the_true_com_and_h_and_refuses_to_overwrite_it() {
     assert_eq!(set.setting.com_offset, Some([0.02, -0.03]));
     assert!(set.setting.h.unwrap() > 0.05);
     assert_eq!(set.recordings.len(), 4);
+    // Two pushes spread over the middle 80 % of the 0.3 m front face, each at both angles.
+    let offsets: Vec<Option<f64>> = set
+        .setting
+        .trajectories
+        .iter()
+        .map(|t| t.contact_offset)
+        .collect();
+    assert_eq!(offsets, [-0.12, -0.12, 0.12, 0.12].map(Some));
     let csv = std::fs::read_to_string(dir.join("push_000.csv")).unwrap();
     assert!(csv.starts_with("time,robot_x,robot_y,object_x,object_y,object_theta\n"));
     assert_eq!(csv.lines().count(), 1 + 21);

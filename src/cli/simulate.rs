@@ -15,7 +15,7 @@ use anyhow::{Context, bail};
 use clap::Args;
 use pushlab_core::labels::file as labels_file;
 use pushlab_core::recording::{ObjectShape, PushSide, write_set};
-use pushlab_core::sim::path::face_extent;
+use pushlab_core::sim::path::{contact_offsets, spread_fractions};
 use pushlab_core::sim::{
     GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, TRUTH_LABELS_FILE, generate_set,
     read_sample_spec, truth_labels,
@@ -254,18 +254,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
             if args.pushes == 0 {
                 bail!("--pushes: expected at least 1");
             }
-            let (middle, half) = face_extent(&outline, side);
-            let n = args.pushes;
-            (0..n)
-                .map(|i| {
-                    let fraction = if n == 1 {
-                        0.0
-                    } else {
-                        -0.8 + 1.6 * i as f64 / (n - 1) as f64
-                    };
-                    ((middle + fraction * half) * 1e6).round() / 1e6
-                })
-                .collect()
+            contact_offsets(&outline, side, &spread_fractions(args.pushes))
         }
     };
     let angles = parse_list(&args.push_angles).context("--push-angles")?;

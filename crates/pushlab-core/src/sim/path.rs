@@ -150,6 +150,33 @@ pub fn face_extent(outline: &Outline, side: PushSide) -> (f64, f64) {
     (0.5 * (low + high), 0.5 * (high - low))
 }
 
+/// The contact offsets at `fractions` of `side`'s half extent from its middle (−1 and 1 are the
+/// face's two ends; see [`face_extent`]), metres rounded to 1 µm so that offsets read back from
+/// `setting.json` look like the fractions that made them. The one grid of contact offsets: a
+/// sample-data spec's push grids and `pushlab simulate --pushes` both take theirs from here.
+pub fn contact_offsets(outline: &Outline, side: PushSide, fractions: &[f64]) -> Vec<f64> {
+    let (middle, half) = face_extent(outline, side);
+    fractions
+        .iter()
+        .map(|fraction| ((middle + fraction * half) * 1e6).round() / 1e6)
+        .collect()
+}
+
+/// `count` fractions for [`contact_offsets`], evenly spaced over the middle 80 % of the face
+/// (−0.8 to 0.8; the middle alone for one): pushes that spread over the face without starting at
+/// a corner.
+pub fn spread_fractions(count: usize) -> Vec<f64> {
+    (0..count)
+        .map(|i| {
+            if count == 1 {
+                0.0
+            } else {
+                -0.8 + 1.6 * i as f64 / (count - 1) as f64
+            }
+        })
+        .collect()
+}
+
 fn across_range(outline: &Outline, side: PushSide) -> (f64, f64) {
     let [dx, dy] = side.push_direction();
     let across = Vector2::new(-dy, dx);

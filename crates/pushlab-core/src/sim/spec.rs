@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use super::SimError;
 use super::noise::SplitMix64;
-use super::path::{PushPlan, face_extent};
+use super::path::{PushPlan, contact_offsets};
 use super::pressure::{DEFAULT_RESOLUTION, PressureModel, lynch_h};
 use super::record::{FrameContact, Sampling, TrackingNoise, simulate_push};
 use super::world::SimObject;
@@ -368,13 +368,12 @@ impl SampleSpec {
                 index,
                 message: format!("object '{}': {e}", s.object),
             })?;
-            let (middle, half) = face_extent(&outline, s.side);
             let mut pushes = Vec::new();
             for (split, grid) in &self.pushes {
-                for fraction in &grid.offset_fractions {
+                for contact_offset in contact_offsets(&outline, s.side, &grid.offset_fractions) {
                     for angle in &grid.push_angles_deg {
                         pushes.push(PushSpec {
-                            contact_offset: round_micro(middle + fraction * half),
+                            contact_offset,
                             push_angle_deg: *angle,
                             curvature: 0.0,
                             split: Some(split.clone()),
@@ -442,9 +441,4 @@ fn rounded(trajectory: Trajectory) -> Trajectory {
             })
             .collect(),
     )
-}
-
-/// Rounds to a micrometre so that offsets read back from `setting.json` look like the spec's.
-fn round_micro(x: f64) -> f64 {
-    (x * 1e6).round() / 1e6
 }
