@@ -80,19 +80,38 @@ fn simulate_writes_a_set_with_the_true_com_and_h_and_refuses_to_overwrite_it() {
 fn simulate_names_the_bad_parameter() {
     let dir = temp_dir("bad");
     let out = dir.to_str().unwrap();
-    let run = |extra: &[&str]| {
+    // Exit 2 for a value clap refuses (the documented code of wrong arguments), 1 for a set that
+    // cannot be simulated.
+    let run = |extra: &[&str], code: i32| {
         let mut args = vec!["simulate", "--out", out];
         args.extend_from_slice(extra);
         let output = pushlab(&args);
-        assert_eq!(output.status.code(), Some(1));
-        String::from_utf8_lossy(&output.stderr).into_owned()
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert_eq!(output.status.code(), Some(code), "{stderr}");
+        stderr
     };
-    assert!(run(&["--pressure", "wood"]).contains(
-        "--pressure: 'wood' is not a pressure model, expected one of: uniform, rim, centre, feet"
-    ));
+    let wood = run(&["--pressure", "wood"], 2);
     assert!(
-        run(&["--contact-offsets", "0.5"]).contains("contact offset 0.5 m is off the front face")
+        wood.contains("invalid value 'wood' for '--pressure <PRESSURE>'")
+            && wood.contains("[possible values: uniform, rim, centre, feet]"),
+        "{wood}"
     );
-    assert!(run(&["--box", "0.3by0.4"]).contains("--box: expected WIDTHxLENGTH"));
+    let up = run(&["--side", "up"], 2);
+    assert!(
+        up.contains("[possible values: front, left, back, right]"),
+        "{up}"
+    );
+    assert!(
+        run(&["--contact-offsets", "0.5"], 1)
+            .contains("contact offset 0.5 m is off the front face")
+    );
+    let by = run(&["--box", "0.3by0.4"], 2);
+    assert!(
+        by.contains("for '--box <WxL>': expected WIDTHxLENGTH in metres, e.g. 0.3x0.4"),
+        "{by}"
+    );
+    assert!(
+        run(&["--box=-0.3x0.4"], 2).contains("the width '-0.3' is not a number of metres above 0")
+    );
     assert!(!dir.exists(), "a refused command wrote files");
 }

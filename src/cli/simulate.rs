@@ -10,11 +10,13 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 use anyhow::{Context, bail};
 use clap::Args;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use pushlab_core::labels::file as labels_file;
-use pushlab_core::recording::{ObjectShape, PushSide, write_set};
+use pushlab_core::recording::{BoxSize, ObjectShape, PushSide, write_set};
 use pushlab_core::sim::path::{contact_offsets, spread_fractions};
 use pushlab_core::sim::{
     GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, TRUTH_LABELS_FILE, generate_set,
@@ -50,9 +52,10 @@ pub struct SimulateArgs {
         long = "box",
         value_name = "WxL",
         default_value = "0.3x0.4",
+        value_parser = clap::value_parser!(BoxSize),
         conflicts_with = "polygon"
     )]
-    pub box_size: String,
+    pub box_size: BoxSize,
     /// Convex polygon instead of a box: counter-clockwise vertices "x,y;x,y;…" in metres, object frame.
     #[arg(long)]
     pub polygon: Option<String>,
@@ -64,9 +67,11 @@ pub struct SimulateArgs {
         allow_hyphen_values = true
     )]
     pub com_offset: String,
-    /// How the weight rests on the floor (sets h): uniform, rim, centre or feet.
-    #[arg(long, default_value = "uniform")]
-    pub pressure: String,
+    /// How the weight rests on the floor (sets h).
+    #[arg(long, default_value = "uniform", value_parser = one_of::<PressureModel>(
+        PressureModel::ALL.map(|p| PossibleValue::new(p.name()).aliases(p.aliases()))
+    ))]
+    pub pressure: PressureModel,
     /// Material name written into setting.json (default: the pressure model's name).
     #[arg(long)]
     pub material: Option<String>,
@@ -80,8 +85,10 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 0.3)]
     pub pusher_friction: f64,
     /// Pushed face: front (at −x, pushed toward +x), left (at +y, pushed toward −y), back or right.
-    #[arg(long, default_value = "front")]
-    pub side: String,
+    #[arg(long, default_value = "front", value_parser = one_of::<PushSide>(
+        PushSide::ALL.map(|s| PossibleValue::new(s.name()))
+    ))]
+    pub side: PushSide,
     /// Number of contact offsets, evenly spaced over the middle 80 % of the face (ignored with
     /// --contact-offsets). Every offset is pushed at every angle of --push-angles.
     #[arg(long, default_value_t = 9)]
@@ -214,16 +221,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
         Some(text) => ObjectShape::Polygon {
             vertices: parse_points(text).context("--polygon")?,
         },
-        None => {
-            let (w, l) = args
-                .box_size
-                .split_once(['x', 'X'])
-                .context("--box: expected WIDTHxLENGTH in metres, e.g. 0.3x0.4")?;
-            ObjectShape::Box {
-                width: parse_number(w).context("--box width")?,
-                length: parse_number(l).context("--box length")?,
-            }
-        }
+        None => ObjectShape::from(args.box_size),
     };
     let outline = object
         .outline()
@@ -232,22 +230,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
     let [cx, cy] = com[..] else {
         bail!("--com-offset: expected two numbers X,Y, got {}", com.len());
     };
-    let pressure = PressureModel::from_name(&args.pressure).with_context(|| {
-        format!(
-            "--pressure: '{}' is not a pressure model, expected one of: {}",
-            args.pressure,
-            PressureModel::ALL.map(PressureModel::name).join(", ")
-        )
-    })?;
-    let side = PushSide::ALL
-        .into_iter()
-        .find(|s| s.name() == args.side)
-        .with_context(|| {
-            format!(
-                "--side: '{}' is not a side, expected front, left, back or right",
-                args.side
-            )
-        })?;
+    let (pressure, side) = (args.pressure, args.side);
     let offsets = match &args.contact_offsets {
         Some(text) => parse_list(text).context("--contact-offsets")?,
         None => {
@@ -304,6 +287,16 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
         seed: args.seed,
         pushes,
     })
+}
+
+/// A clap parser of a core type's `FromStr` that lists `values` (its names, with their aliases) in
+/// the help and in a refusal.
+fn one_of<T>(values: impl IntoIterator<Item = PossibleValue>) -> impl TypedValueParser<Value = T>
+where
+    T: FromStr + Clone + Send + Sync + 'static,
+    T::Err: std::error::Error + Send + Sync + 'static,
+{
+    PossibleValuesParser::new(values).try_map(|name| name.parse::<T>())
 }
 
 fn parse_number(text: &str) -> anyhow::Result<f64> {

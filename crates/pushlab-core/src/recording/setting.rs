@@ -1,6 +1,8 @@
 //! `setting.json`: what a recording set is about — the object, the pusher, the material and, when
 //! known, the true COM offset and `h`.
 
+use std::str::FromStr;
+
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::{Outline, OutlineError};
@@ -22,6 +24,53 @@ impl ObjectShape {
             ObjectShape::Box { width, length } => Outline::rectangle(*width, *length),
             ObjectShape::Polygon { vertices } => Outline::try_from(vertices.clone()),
         }
+    }
+}
+
+/// A box's footprint as a command line writes it, `WIDTHxLENGTH` in metres (`0.3x0.4`): width along
+/// the object's x axis, length along y. Parsed here so that every tool reads it alike.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoxSize {
+    pub width: f64,
+    pub length: f64,
+}
+
+impl From<BoxSize> for ObjectShape {
+    fn from(size: BoxSize) -> Self {
+        ObjectShape::Box {
+            width: size.width,
+            length: size.length,
+        }
+    }
+}
+
+/// Text that is not a [`BoxSize`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum BoxSizeError {
+    #[error("expected WIDTHxLENGTH in metres, e.g. 0.3x0.4, found '{0}'")]
+    NotWidthByLength(String),
+    #[error("the {side} '{found}' is not a number of metres above 0")]
+    NotPositive { side: &'static str, found: String },
+}
+
+impl FromStr for BoxSize {
+    type Err = BoxSizeError;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let (width, length) = text
+            .split_once(['x', 'X'])
+            .ok_or_else(|| BoxSizeError::NotWidthByLength(text.to_owned()))?;
+        let metres = |side: &'static str, part: &str| match part.trim().parse::<f64>() {
+            Ok(m) if m.is_finite() && m > 0.0 => Ok(m),
+            _ => Err(BoxSizeError::NotPositive {
+                side,
+                found: part.trim().to_owned(),
+            }),
+        };
+        Ok(Self {
+            width: metres("width", width)?,
+            length: metres("length", length)?,
+        })
     }
 }
 
@@ -65,6 +114,23 @@ impl PushSide {
             PushSide::Back => "back",
             PushSide::Right => "right",
         }
+    }
+}
+
+/// A name that is not a [`PushSide`]'s.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("'{0}' is not a side, expected one of: {names}", names = PushSide::ALL.map(PushSide::name).join(", "))]
+pub struct UnknownSide(pub String);
+
+impl FromStr for PushSide {
+    type Err = UnknownSide;
+
+    /// The side of this [`PushSide::name`].
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|side| side.name() == name)
+            .ok_or_else(|| UnknownSide(name.to_owned()))
     }
 }
 
@@ -140,5 +206,49 @@ impl Setting {
             trajectories: Vec::new(),
             extra: serde_json::Map::new(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sides_and_box_sizes_parse_and_refusals_name_what_is_accepted() {
+        for side in PushSide::ALL {
+            assert_eq!(side.name().parse(), Ok(side));
+        }
+        assert_eq!(
+            "up".parse::<PushSide>().map_err(|e| e.to_string()),
+            Err("'up' is not a side, expected one of: front, left, back, right".to_owned())
+        );
+        assert_eq!(
+            "0.3x0.4".parse(),
+            Ok(BoxSize {
+                width: 0.3,
+                length: 0.4
+            })
+        );
+        assert_eq!(
+            " 0.3 X 0.4 ".parse::<BoxSize>().map(ObjectShape::from),
+            Ok(ObjectShape::Box {
+                width: 0.3,
+                length: 0.4
+            })
+        );
+        let refusal = |text: &str| text.parse::<BoxSize>().map_err(|e| e.to_string());
+        assert_eq!(
+            refusal("0.3by0.4"),
+            Err("expected WIDTHxLENGTH in metres, e.g. 0.3x0.4, found '0.3by0.4'".to_owned())
+        );
+        assert_eq!(
+            refusal("0x0.4"),
+            Err("the width '0' is not a number of metres above 0".to_owned())
+        );
+        assert_eq!(
+            refusal("0.3xabc"),
+            Err("the length 'abc' is not a number of metres above 0".to_owned())
+        );
+        assert!(refusal("infx1").is_err());
     }
 }

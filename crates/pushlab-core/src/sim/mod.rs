@@ -25,7 +25,7 @@ pub mod world;
 pub use contact::{ContactMode, ObjectStep, lynch_sticking, motion_cone, pusher_slider_step};
 pub use noise::SplitMix64;
 pub use path::{PlanError, PushPlan, PusherPath};
-pub use pressure::{PressureDistribution, PressureError, PressureModel, lynch_h};
+pub use pressure::{PressureDistribution, PressureError, PressureModel, UnknownPressure, lynch_h};
 pub use record::{
     FrameContact, Sampling, SamplingError, SimulatedPush, TrackingNoise, simulate_push,
 };

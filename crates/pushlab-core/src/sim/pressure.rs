@@ -55,15 +55,33 @@ impl PressureModel {
         }
     }
 
-    /// The model with this name (`center` is accepted for `centre`).
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "uniform" => Some(PressureModel::Uniform),
-            "rim" => Some(PressureModel::Rim),
-            "centre" | "center" => Some(PressureModel::Centre),
-            "feet" => Some(PressureModel::Feet),
-            _ => None,
+    /// Other names accepted for this model (`center` for `centre`).
+    pub fn aliases(self) -> &'static [&'static str] {
+        match self {
+            PressureModel::Centre => &["center"],
+            _ => &[],
         }
+    }
+
+    /// The model with this name or alias.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|model| model.name() == name || model.aliases().contains(&name))
+    }
+}
+
+/// A name that is not a [`PressureModel`]'s.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("'{0}' is not a pressure model, expected one of: {names}", names = PressureModel::ALL.map(PressureModel::name).join(", "))]
+pub struct UnknownPressure(pub String);
+
+impl std::str::FromStr for PressureModel {
+    type Err = UnknownPressure;
+
+    /// The model of this name or alias ([`PressureModel::from_name`]).
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
+        Self::from_name(name).ok_or_else(|| UnknownPressure(name.to_owned()))
     }
 }
 
@@ -282,6 +300,21 @@ fn tilted_weights(weights: &[f64], offsets: &[Vector2<f64>], g: Vector2<f64>) ->
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pressure_models_parse_by_name_or_alias_and_a_refusal_names_them_all() {
+        for model in PressureModel::ALL {
+            assert_eq!(model.name().parse(), Ok(model));
+        }
+        assert_eq!("center".parse(), Ok(PressureModel::Centre));
+        assert_eq!(
+            "wood".parse::<PressureModel>().map_err(|e| e.to_string()),
+            Err(
+                "'wood' is not a pressure model, expected one of: uniform, rim, centre, feet"
+                    .into()
+            )
+        );
+    }
 
     #[test]
     fn balancing_converges_where_the_objective_is_within_rounding() {
