@@ -32,7 +32,7 @@ use super::args::{TrainingArgs, optimizer, positive_real};
 use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
-use super::training::{self, TrainedModels};
+use super::train_progress::{self, TrainedModels};
 use crate::cli::exit::Failure;
 
 /// Arguments of `pushlab eval`.
@@ -84,7 +84,7 @@ pub struct EvalArgs {
 pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     let started = Instant::now();
     // Ctrl-C from here on stops training cleanly instead of killing the process.
-    training::cancel_flag();
+    train_progress::cancel_flag();
     let model_file = match &args.model {
         Some(path) => Some(ModelFile::load(path).map_err(|e| anyhow!("{e}"))?),
         None => None,
@@ -139,7 +139,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     let training_started = Instant::now();
     let (combined, pure_nn, trained_with) = models(model_file, kind, &offline.used, &config)?;
     let training_time = training_started.elapsed();
-    if training::cancelled() {
+    if train_progress::cancelled() {
         println!("training stopped by Ctrl-C: evaluating the best models so far");
     }
 
@@ -238,11 +238,11 @@ fn models(
 ) -> anyhow::Result<(CombinedModel, PureNnModel, TrainedWith)> {
     let Some(file) = file else {
         let TrainedModels { combined, pure_nn } =
-            training::train_models(kind, offline, config, true)?;
+            train_progress::train_models(kind, offline, config, true)?;
         let pure_nn = match pure_nn {
             Some(trained) => trained.model,
             // Ctrl-C during the combined model's training: the baseline still needs a model.
-            None => training::train_pure_nn(offline, config)?.model,
+            None => train_progress::train_pure_nn(offline, config)?.model,
         };
         let with = TrainedWith {
             epochs: combined.report.config.epochs,
@@ -266,7 +266,7 @@ fn models(
             println!(
                 "the model file has no pure network for this horizon: training one on --offline"
             );
-            training::train_pure_nn(offline, config)?.model
+            train_progress::train_pure_nn(offline, config)?.model
         }
     };
     Ok((file.combined, pure_nn, with))

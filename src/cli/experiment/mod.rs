@@ -4,7 +4,7 @@
 //! Which recordings, samples and models an experiment uses, and how they are trained and evaluated,
 //! is `pushlab_core::experiment`; these modules parse the command line and present the results:
 //! - [`data`]: the summary of the recordings used;
-//! - [`training`]: offline training with a progress bar and Ctrl-C;
+//! - [`train_progress`]: offline training's per-epoch progress bar and the Ctrl-C cancel flag;
 //! - [`train`]: the `train` command;
 //! - [`eval`]: the `eval` command, its table and its JSON report;
 //! - [`suite`]: the `suite` command, many experiments in parallel into one table;
@@ -18,4 +18,4 @@ pub mod eval;
 pub mod plot;
 pub mod suite;
 pub mod train;
-pub mod training;
+pub mod train_progress;

@@ -13,7 +13,7 @@ use pushlab_core::experiment::variant::ModelVariant;
 use pushlab_core::learn::Nmse;
 use serde::Serialize;
 
-use super::training::{cancel_flag, cancelled};
+use super::train_progress::{cancel_flag, cancelled};
 use crate::cli::exit::Failure;
 
 /// Arguments of `pushlab suite`.

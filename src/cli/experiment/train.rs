@@ -14,7 +14,7 @@ use pushlab_core::model_file::{ModelFile, TrainingMetadata};
 
 use super::args::TrainingArgs;
 use super::data;
-use super::training::{self, TrainedModels};
+use super::train_progress::{self, TrainedModels};
 use crate::cli::exit::Failure;
 
 /// Arguments of `pushlab train`.
@@ -37,7 +37,7 @@ pub struct TrainArgs {
 /// Runs `pushlab train`.
 pub fn run(args: &TrainArgs) -> Result<(), Failure> {
     // Ctrl-C from here on stops training cleanly instead of killing the process.
-    training::cancel_flag();
+    train_progress::cancel_flag();
     let horizon = args.training.horizon.unwrap_or(DEFAULT_HORIZON);
     let kind = args.training.model_kind.unwrap_or_default();
     let split = args.training.split_from_labels.then_some(Split::Offline);
@@ -51,7 +51,7 @@ pub fn run(args: &TrainArgs) -> Result<(), Failure> {
     }
     let config = train_config(&args.training, horizon, kind, &loaded.used);
     let TrainedModels { combined, pure_nn } =
-        training::train_models(kind, &loaded.used, &config, args.baseline)?;
+        train_progress::train_models(kind, &loaded.used, &config, args.baseline)?;
     let file = ModelFile {
         combined: combined.model,
         pure_nn: pure_nn.as_ref().map(|t| t.model.clone()),

@@ -23,7 +23,7 @@ use pushlab_core::model_file::ModelFile;
 use pushlab_core::recording::native::SETTING_FILE;
 use pushlab_core::recording::{Recording, load_paths};
 
-use crate::cli::experiment::training::{cancel_flag, cancelled};
+use crate::cli::experiment::train_progress::{cancel_flag, cancelled};
 
 /// Arguments of `pushlab labels propose`.
 #[derive(Debug, Args)]
