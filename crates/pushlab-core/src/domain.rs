@@ -188,10 +188,13 @@ impl Unit {
             Unit::MetresPerSecond => (1.0, "m/s", 3),
         };
         let (lo, hi) = (lo * scale, hi * scale);
-        if (hi - lo).abs() <= 0.005 * hi.abs() {
-            format!("{lo:.digits$} {unit}")
+        let (low, high) = (format!("{lo:.digits$}"), format!("{hi:.digits$}"));
+        // One number when the range is narrower than 0.5 % or than the digits shown (0.040 m/s, not
+        // 0.040–0.040).
+        if (hi - lo).abs() <= 0.005 * hi.abs() || low == high {
+            format!("{low} {unit}")
         } else {
-            format!("{lo:.digits$}–{hi:.digits$} {unit}")
+            format!("{low}–{high} {unit}")
         }
     }
 }
@@ -276,6 +279,21 @@ mod tests {
             fast.message.ends_with(
                 "here have pushes at 0.500 m/s: its predictions there are extrapolations (train a model for them)"
             ),
+            "{}",
+            fast.message
+        );
+        // A range narrower than the digits shown is one number.
+        let steady = Domain::of(
+            &[
+                recording(0.4, 0.05, 10.0, 0.0398),
+                recording(0.4, 0.05, 10.0, 0.0404),
+            ],
+            1,
+        )
+        .unwrap();
+        let fast = steady.mismatch(&[recording(0.4, 0.05, 10.0, 0.5)]).unwrap();
+        assert!(
+            fast.message.contains("trained on pushes at 0.040 m/s;"),
             "{}",
             fast.message
         );
