@@ -248,7 +248,7 @@ fn the_model_kind_is_chosen_recorded_and_checked() {
     };
     let kind_of = |path: &Path| -> String {
         let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        assert_eq!(v["version"], 2);
+        assert_eq!(v["version"], 3);
         v["kind"].as_str().unwrap().to_owned()
     };
 
