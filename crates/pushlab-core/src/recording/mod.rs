@@ -21,7 +21,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 pub use bag::BagProblem;
-pub use describe::{PushParameters, SidePosition};
+pub use describe::PushParameters;
 pub use error::{LoadError, WriteError};
 pub use load::{LoadReport, load_paths, load_paths_choosing, load_paths_with};
 pub use mit_push::MitProblem;
