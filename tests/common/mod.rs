@@ -33,6 +33,16 @@ pub fn app_on_sample(set: &str) -> Harness<'static, PushlabApp> {
     harness(PushlabApp::new(state), 0.05)
 }
 
+/// The status line's text ("" when it says nothing).
+pub fn status(harness: &Harness<'_, PushlabApp>) -> String {
+    harness
+        .state()
+        .state
+        .status()
+        .unwrap_or_default()
+        .to_owned()
+}
+
 /// Steps `frames` frames forward one at a time (learning each, as playing does), then draws.
 pub fn step_frames(harness: &mut Harness<'_, PushlabApp>, frames: usize) {
     for _ in 0..frames {
