@@ -83,9 +83,10 @@ pub fn sample_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// An empty folder of the system's temporary directory for one test.
+/// An empty folder for one test under cargo's `target/tmp`: emptied when the test starts, so runs
+/// leave one folder per test there rather than one per run in the system's temporary directory.
 pub fn scratch_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pushlab-test-{test}-{}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("pushlab-test-{test}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir
