@@ -16,7 +16,7 @@ use anyhow::{Context, bail};
 use clap::Args;
 use pushlab_core::geometry::{OutlineError, Pose2, PushT};
 use pushlab_core::labels::file as labels_file;
-use pushlab_core::recording::{ObjectShape, PushSide, write_set};
+use pushlab_core::recording::{ObjectShape, PushSide, ShapePreset, write_set};
 use pushlab_core::sim::path::face_extent;
 use pushlab_core::sim::{
     GeneratedSet, NoiseSpec, PlanError, PressureModel, PushPlan, PushSpec, SetSpec,
@@ -226,10 +226,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
         (Some(text), _) => ObjectShape::Polygon {
             vertices: parse_points(text).context("--polygon")?,
         },
-        (None, Some(name)) => ObjectShape::Preset {
-            preset: name.clone(),
-            metres_per_px: args.metres_per_px,
-        },
+        (None, Some(name)) => ShapePreset::shape(name.as_str(), args.metres_per_px),
         (None, None) => {
             let (w, l) = args
                 .box_size
@@ -244,7 +241,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
     let flag = match object {
         ObjectShape::Box { .. } => "--box",
         ObjectShape::Polygon { .. } => "--polygon",
-        ObjectShape::Preset { .. } => match object.outline() {
+        ObjectShape::Preset(_) => match object.outline() {
             Err(OutlineError::BadScale(_)) => "--metres-per-px",
             _ => "--preset",
         },
@@ -253,7 +250,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
         .outline()
         .with_context(|| format!("{flag}: the object is not a simple counter-clockwise outline"))?;
     let pusher_radius = args.pusher_radius.unwrap_or(match &object {
-        ObjectShape::Preset { metres_per_px, .. } => PushT::AGENT_RADIUS_PX * metres_per_px,
+        ObjectShape::Preset(p) => PushT::AGENT_RADIUS_PX * p.metres_per_px,
         _ => 0.175,
     });
     let com = parse_list(&args.com_offset).context("--com-offset")?;

@@ -158,7 +158,7 @@ fn entered_of(setting: &pushlab_core::recording::Setting) -> EnteredBox {
         pushlab_core::recording::ObjectShape::Box { width, length } => (width, length),
         // Only boxes are entered in the form; a polygon or a preset comes from a setting file.
         pushlab_core::recording::ObjectShape::Polygon { .. }
-        | pushlab_core::recording::ObjectShape::Preset { .. } => (0.0, 0.0),
+        | pushlab_core::recording::ObjectShape::Preset(_) => (0.0, 0.0),
     };
     EnteredBox {
         name: setting.name.clone(),

@@ -339,10 +339,10 @@ mod tests {
         let (a, b) = (Point2::new(0.0, 0.0), Point2::new(1.0, 0.0));
         // Straight down onto the flat side: the centre stops 0.1 above it.
         let t = disc_sweep_hits_segment(Point2::new(0.5, 1.0), Vector2::new(0.0, -2.0), 0.1, a, b);
-        assert!((t.unwrap() - 0.45).abs() < 1e-15);
+        assert!((t.expect("hits") - 0.45).abs() < 1e-15);
         // Along the line onto the end: the centre stops 0.1 before b.
         let t = disc_sweep_hits_segment(Point2::new(3.0, 0.0), Vector2::new(-4.0, 0.0), 0.1, a, b);
-        assert!((t.unwrap() - 1.9 / 4.0).abs() < 1e-15);
+        assert!((t.expect("hits") - 1.9 / 4.0).abs() < 1e-15);
         assert_eq!(
             disc_sweep_hits_segment(Point2::new(3.0, 1.0), Vector2::new(-4.0, 0.0), 0.1, a, b),
             None

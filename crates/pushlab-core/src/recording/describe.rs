@@ -71,7 +71,7 @@ impl PushParameters {
                 format!("{:.0}×{:.0}", width * 1e3, length * 1e3)
             }
             (None, ObjectShape::Polygon { vertices }) => format!("{}-gon", vertices.len()),
-            (None, ObjectShape::Preset { preset, .. }) => preset.clone(),
+            (None, ObjectShape::Preset(p)) => p.preset.clone(),
         };
         let mit_side = number(KEY_SIDE).map(|i| format!("i {i}"));
         let position = match (

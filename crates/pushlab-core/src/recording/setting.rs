@@ -17,14 +17,29 @@ pub enum ObjectShape {
     /// counter-clockwise in the object frame, metres. The object frame's origin should be its area
     /// centroid: pushlab reports COM offsets from the origin.
     Polygon { vertices: Vec<[f64; 2]> },
-    /// A named outline (one of [`crate::geometry::PRESET_NAMES`]), in its own units scaled to metres:
-    /// `push-t` is gym-pusht's T in pixels (see [`crate::geometry::PushT`] for its frame).
-    Preset {
-        preset: String,
-        /// Metres per unit of the preset (per pixel for `push-t`); 0.001 unless given.
-        #[serde(default = "default_metres_per_px")]
-        metres_per_px: f64,
-    },
+    /// A named outline (boxed: a setting stays as small as with a polygon's vertex list).
+    Preset(Box<ShapePreset>),
+}
+
+/// A named outline (one of [`crate::geometry::PRESET_NAMES`]) in its own units scaled to metres:
+/// `push-t` is gym-pusht's T in pixels (see [`crate::geometry::PushT`] for its frame).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShapePreset {
+    /// The preset's name.
+    pub preset: String,
+    /// Metres per unit of the preset (per pixel for `push-t`); 0.001 unless given.
+    #[serde(default = "default_metres_per_px")]
+    pub metres_per_px: f64,
+}
+
+impl ShapePreset {
+    /// A preset shape, boxed into an [`ObjectShape`].
+    pub fn shape(preset: impl Into<String>, metres_per_px: f64) -> ObjectShape {
+        ObjectShape::Preset(Box::new(Self {
+            preset: preset.into(),
+            metres_per_px,
+        }))
+    }
 }
 
 fn default_metres_per_px() -> f64 {
@@ -37,10 +52,7 @@ impl ObjectShape {
         match self {
             ObjectShape::Box { width, length } => Outline::rectangle(*width, *length),
             ObjectShape::Polygon { vertices } => Outline::try_from(vertices.clone()),
-            ObjectShape::Preset {
-                preset,
-                metres_per_px,
-            } => Outline::preset(preset, *metres_per_px),
+            ObjectShape::Preset(p) => Outline::preset(&p.preset, p.metres_per_px),
         }
     }
 
@@ -51,8 +63,8 @@ impl ObjectShape {
         match (self, error) {
             (ObjectShape::Box { .. }, _) => None,
             (ObjectShape::Polygon { .. }, _) => Some("vertices"),
-            (ObjectShape::Preset { .. }, OutlineError::BadScale(_)) => Some("metres_per_px"),
-            (ObjectShape::Preset { .. }, _) => Some("preset"),
+            (ObjectShape::Preset(_), OutlineError::BadScale(_)) => Some("metres_per_px"),
+            (ObjectShape::Preset(_), _) => Some("preset"),
         }
     }
 }
