@@ -9,8 +9,8 @@ use super::{ObjectShape, Recording};
 /// The parameters of one push, each `None` where the recording does not say.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PushParameters {
-    /// The object: the MIT shape's name, a box's width × length in millimetres, or a polygon's
-    /// vertex count (`6-gon`).
+    /// The object: the MIT shape's name, a box's width × length in millimetres, a polygon's
+    /// vertex count (`6-gon`) or a preset's name (`push-t`).
     pub shape: String,
     /// The surface (the setting's material).
     pub surface: Option<String>,
@@ -51,6 +51,7 @@ impl PushParameters {
                 format!("{:.0}×{:.0}", width * 1e3, length * 1e3)
             }
             (None, ObjectShape::Polygon { vertices }) => format!("{}-gon", vertices.len()),
+            (None, ObjectShape::Preset(p)) => p.preset.clone(),
         };
         Self {
             shape,

@@ -30,7 +30,7 @@ pub use native::{read_set, write_set};
 pub use progress::{LoadProgress, NoProgress, Progress, ProgressSnapshot};
 pub use read::{MEMORY_PER_FILE_BYTE, available_memory};
 pub use resample::SpanProblem;
-pub use setting::{ObjectShape, PushSide, Setting, TrajectoryEntry};
+pub use setting::{ObjectShape, PushSide, Setting, ShapePreset, TrajectoryEntry};
 
 use self::camera::CameraStream;
 use crate::trajectory::Trajectory;
