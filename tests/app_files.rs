@@ -118,12 +118,7 @@ fn a_folder_that_vanishes_while_open_keeps_playing_and_opening_it_again_says_it_
     // Saving the labels says where it could not write; nothing is lost from memory.
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
     harness.run_steps(1);
-    let status = harness
-        .state()
-        .state
-        .status()
-        .unwrap_or_default()
-        .to_owned();
+    let status = common::status(&harness);
     assert!(status.starts_with("labels not saved"), "{status}");
     assert!(status.contains("vanish"), "names the file: {status}");
 

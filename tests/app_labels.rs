@@ -517,12 +517,7 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
     harness.run_steps(1);
     let document = dir.join(LABELS_FILE_NAME);
     let rescue = pushlab::app::state::labels::rescue_path(&document, &rescue_dir);
-    let status = harness
-        .state()
-        .state
-        .status()
-        .unwrap_or_default()
-        .to_owned();
+    let status = common::status(&harness);
     assert!(
         status.starts_with(&format!(
             "labels kept in memory: {} cannot be written",
@@ -544,12 +539,7 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
     // Ctrl+S writes them where the message said.
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
     harness.run_steps(2);
-    let status = harness
-        .state()
-        .state
-        .status()
-        .unwrap_or_default()
-        .to_owned();
+    let status = common::status(&harness);
     assert!(
         status.contains(&format!("its labels were saved to {}", rescue.display())),
         "{status}"

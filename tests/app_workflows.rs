@@ -359,12 +359,7 @@ fn exporting_the_scene_and_the_plots_writes_pngs_of_their_regions() {
     ] {
         harness.state_mut().apply_dialog_result(&ctx, result);
         harness.run_steps(3);
-        let status = harness
-            .state()
-            .state
-            .status()
-            .unwrap_or_default()
-            .to_owned();
+        let status = common::status(&harness);
         assert!(status.starts_with("saved "), "{status}");
         assert!(status.ends_with(name), "{status}");
     }

@@ -13,7 +13,8 @@ fn pushlab(args: &[&str]) -> Output {
 }
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pushlab-cli-sim-{name}-{}", std::process::id()));
+    let dir =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("pushlab-cli-sim-{name}"));
     std::fs::remove_dir_all(&dir).ok();
     dir
 }

@@ -2,7 +2,8 @@
 //! COM offset and `h` are known.
 //!
 //! Two modes:
-//! - one set from command-line parameters: `pushlab simulate --out DIR --box 0.3x0.4 --pressure rim …`;
+//! - one set from command-line parameters: `pushlab simulate --out DIR --box 0.3x0.4 --pressure rim …`
+//!   (or `--polygon "x,y;…"`, any simple outline, or `--preset push-t`, the Push-T T);
 //! - many sets from a spec file: `pushlab simulate --spec sample-data/spec.json --out sample-data`
 //!   (this is how the bundled sample data is made).
 //!
@@ -15,12 +16,13 @@ use std::str::FromStr;
 use anyhow::{Context, bail};
 use clap::Args;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use pushlab_core::geometry::{OutlineError, Pose2, PushT};
 use pushlab_core::labels::file as labels_file;
-use pushlab_core::recording::{BoxSize, ObjectShape, PushSide, write_set};
+use pushlab_core::recording::{BoxSize, ObjectShape, PushSide, ShapePreset, write_set};
 use pushlab_core::sim::path::{contact_offsets, spread_fractions};
 use pushlab_core::sim::{
-    GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, TRUTH_LABELS_FILE, generate_set,
-    read_sample_spec, truth_labels,
+    GeneratedSet, NoiseSpec, PlanError, PressureModel, PushPlan, PushSpec, SetSpec,
+    TRUTH_LABELS_FILE, generate_set, read_sample_spec, truth_labels,
 };
 
 /// Arguments of `pushlab simulate`.
@@ -30,7 +32,7 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Generate every setting of this spec file (JSON; see sample-data/README.md) instead of one set.
-    #[arg(long, conflicts_with_all = ["name", "box_size", "polygon", "com_offset", "pressure", "material",
+    #[arg(long, conflicts_with_all = ["name", "box_size", "polygon", "preset", "metres_per_px", "com_offset", "pressure", "material",
         "floor_friction", "pusher_radius", "pusher_friction", "side", "pushes", "contact_offsets",
         "push_angles", "curvature", "speed", "rate", "duration", "approach", "noise_position",
         "noise_yaw", "seed"])]
@@ -53,12 +55,20 @@ pub struct SimulateArgs {
         value_name = "WxL",
         default_value = "0.3x0.4",
         value_parser = clap::value_parser!(BoxSize),
-        conflicts_with = "polygon"
+        conflicts_with_all = ["polygon", "preset"]
     )]
     pub box_size: BoxSize,
-    /// Convex polygon instead of a box: counter-clockwise vertices "x,y;x,y;…" in metres, object frame.
-    #[arg(long)]
+    /// A polygon instead of a box: counter-clockwise vertices "x,y;x,y;…" in metres, object frame
+    /// (origin at its area centroid). Convex or not; it must not touch or cross itself.
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "preset")]
     pub polygon: Option<String>,
+    /// A named outline instead of a box: push-t (gym-pusht's T, 120 px wide, in pixels scaled by
+    /// --metres-per-px; its pusher is 15 px unless --pusher-radius is given).
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+    /// Metres per pixel (per unit) of --preset.
+    #[arg(long, value_name = "M", default_value_t = PushT::DEFAULT_METRES_PER_PX, requires = "preset")]
+    pub metres_per_px: f64,
     /// True COM − geometric centre "x,y" in metres, object frame.
     #[arg(
         long,
@@ -78,9 +88,9 @@ pub struct SimulateArgs {
     /// Floor friction coefficient, recorded in setting.json (the quasi-static motion does not use it).
     #[arg(long)]
     pub floor_friction: Option<f64>,
-    /// Pusher disc radius, metres.
-    #[arg(long, default_value_t = 0.175)]
-    pub pusher_radius: f64,
+    /// Pusher disc radius, metres [default: 0.175, or with --preset push-t 15 px at its scale].
+    #[arg(long)]
+    pub pusher_radius: Option<f64>,
     /// Pusher–object Coulomb friction coefficient.
     #[arg(long, default_value_t = 0.3)]
     pub pusher_friction: f64,
@@ -90,7 +100,9 @@ pub struct SimulateArgs {
     ))]
     pub side: PushSide,
     /// Number of contact offsets, evenly spaced over the middle 80 % of the face (ignored with
-    /// --contact-offsets). Every offset is pushed at every angle of --push-angles.
+    /// --contact-offsets). Every offset is pushed at every angle of --push-angles; on a non-convex
+    /// object, an offset and angle where another part of the object is in the pusher's way are left
+    /// out (and said so).
     #[arg(long, default_value_t = 9)]
     pub pushes: usize,
     /// Contact offsets in metres from the face's middle, positive to the left of the push direction,
@@ -217,15 +229,28 @@ fn remove_stale_csvs(dir: &Path, set: &GeneratedSet) -> anyhow::Result<()> {
 
 /// One set from the command-line parameters.
 fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
-    let object = match &args.polygon {
-        Some(text) => ObjectShape::Polygon {
+    let object = match (&args.polygon, &args.preset) {
+        (Some(text), _) => ObjectShape::Polygon {
             vertices: parse_points(text).context("--polygon")?,
         },
-        None => ObjectShape::from(args.box_size),
+        (None, Some(name)) => ShapePreset::shape(name.as_str(), args.metres_per_px),
+        (None, None) => ObjectShape::from(args.box_size),
+    };
+    let flag = match object {
+        ObjectShape::Box { .. } => "--box",
+        ObjectShape::Polygon { .. } => "--polygon",
+        ObjectShape::Preset(_) => match object.outline() {
+            Err(OutlineError::BadScale(_)) => "--metres-per-px",
+            _ => "--preset",
+        },
     };
     let outline = object
         .outline()
-        .context("the object is not a convex counter-clockwise outline")?;
+        .with_context(|| format!("{flag}: the object is not a simple counter-clockwise outline"))?;
+    let pusher_radius = args.pusher_radius.unwrap_or(match &object {
+        ObjectShape::Preset(p) => PushT::AGENT_RADIUS_PX * p.metres_per_px,
+        _ => 0.175,
+    });
     let com = parse_list(&args.com_offset).context("--com-offset")?;
     let [cx, cy] = com[..] else {
         bail!("--com-offset: expected two numbers X,Y, got {}", com.len());
@@ -241,7 +266,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
         }
     };
     let angles = parse_list(&args.push_angles).context("--push-angles")?;
-    let pushes = offsets
+    let mut pushes: Vec<PushSpec> = offsets
         .iter()
         .flat_map(|&contact_offset| {
             angles.iter().map(move |&push_angle_deg| PushSpec {
@@ -252,6 +277,37 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
             })
         })
         .collect();
+    if args.contact_offsets.is_none() && !outline.is_convex() {
+        let all = pushes.len();
+        pushes.retain(|push| {
+            let plan = PushPlan {
+                side,
+                contact_offset: push.contact_offset,
+                push_angle_deg: push.push_angle_deg,
+                speed: args.speed,
+                curvature: push.curvature,
+                approach: args.approach,
+            };
+            !matches!(
+                plan.path(&outline, &Pose2::new(0.0, 0.0, 0.0), pusher_radius),
+                Err(PlanError::Blocked { .. })
+            )
+        });
+        if pushes.is_empty() {
+            bail!(
+                "--side {}: on this object every offset and angle has another part of the object in \
+                 the pusher's way; try another side or a smaller --pusher-radius",
+                side.name()
+            );
+        }
+        if pushes.len() < all {
+            eprintln!(
+                "note: left out {} of {all} pushes where another part of the object is in the \
+                 pusher's way",
+                all - pushes.len()
+            );
+        }
+    }
     let name = match &args.name {
         Some(name) => name.clone(),
         None => args
@@ -272,7 +328,7 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
         ),
         floor_friction: args.floor_friction,
         pusher_friction: args.pusher_friction,
-        pusher_radius: args.pusher_radius,
+        pusher_radius,
         push_side: side,
         sample_rate_hz: args.rate,
         duration_s: args.duration,

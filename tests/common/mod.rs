@@ -33,6 +33,16 @@ pub fn app_on_sample(set: &str) -> Harness<'static, PushlabApp> {
     harness(PushlabApp::new(state), 0.05)
 }
 
+/// The status line's text ("" when it says nothing).
+pub fn status(harness: &Harness<'_, PushlabApp>) -> String {
+    harness
+        .state()
+        .state
+        .status()
+        .unwrap_or_default()
+        .to_owned()
+}
+
 /// Steps `frames` frames forward one at a time (learning each, as playing does), then draws.
 pub fn step_frames(harness: &mut Harness<'_, PushlabApp>, frames: usize) {
     for _ in 0..frames {
@@ -73,9 +83,10 @@ pub fn sample_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// An empty folder of the system's temporary directory for one test.
+/// An empty folder for one test under cargo's `target/tmp`: emptied when the test starts, so runs
+/// leave one folder per test there rather than one per run in the system's temporary directory.
 pub fn scratch_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pushlab-test-{test}-{}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("pushlab-test-{test}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir

@@ -264,10 +264,46 @@ fn setting_errors_name_the_field() {
         "{err}"
     );
 
-    let err = parse_setting(br#"{"name": "x", "object": {"shape": "polygon", "vertices": [[0,0],[2,0],[1,0.5],[2,2],[0,2]]}, "pusher_radius": 0.01}"#, path)
+    // A non-convex polygon loads; one that crosses itself is refused, naming the field and edges.
+    let notched = parse_setting(br#"{"name": "x", "object": {"shape": "polygon", "vertices": [[0,0],[2,0],[1,0.5],[2,2],[0,2]]}, "pusher_radius": 0.01}"#, path)
+        .expect("a simple non-convex outline loads");
+    assert!(!notched.object.outline().unwrap().is_convex());
+    let err = parse_setting(br#"{"name": "x", "object": {"shape": "polygon", "vertices": [[0,0],[2,2],[2,0],[0,2]]}, "pusher_radius": 0.01}"#, path)
         .unwrap_err();
     assert!(
-        err.to_string().contains("not convex and counter-clockwise"),
+        err.to_string().ends_with(
+            "field `object.vertices`: edges 0 and 2 touch or cross; an outline must go round once \
+             without meeting itself, expected a simple counter-clockwise outline"
+        ),
+        "{err}"
+    );
+    let err = parse_setting(br#"{"name": "x", "object": {"shape": "polygon", "vertices": [[0,0],[0,1],[1,0]]}, "pusher_radius": 0.01}"#, path)
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("field `object.vertices`: the outline's vertices go clockwise"),
+        "{err}"
+    );
+
+    // The Push-T T by name, at the default millimetre per pixel or a given scale.
+    let t = parse_setting(br#"{"name": "x", "object": {"shape": "preset", "preset": "push-t"}, "pusher_radius": 0.015}"#, path)
+        .expect("the T loads");
+    let outline = t.object.outline().unwrap();
+    assert!((outline.area() - 0.0063).abs() < 1e-12);
+    let t = parse_setting(br#"{"name": "x", "object": {"shape": "preset", "preset": "push-t", "metres_per_px": 0.002}, "pusher_radius": 0.03}"#, path)
+        .expect("the T loads");
+    assert!((t.object.outline().unwrap().size() - 0.24).abs() < 1e-12);
+    let err = parse_setting(br#"{"name": "x", "object": {"shape": "preset", "preset": "push-x"}, "pusher_radius": 0.01}"#, path)
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("field `object.preset`: unknown preset 'push-x', expected one of: push-t"),
+        "{err}"
+    );
+    let err = parse_setting(br#"{"name": "x", "object": {"shape": "preset", "preset": "push-t", "metres_per_px": -1}, "pusher_radius": 0.01}"#, path)
+        .unwrap_err();
+    assert!(
+        err.to_string().contains("field `object.metres_per_px`: a preset's scale must be a positive finite number of metres per unit, got -1"),
         "{err}"
     );
 

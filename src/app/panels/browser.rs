@@ -60,7 +60,8 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
         .auto_shrink([false, false])
         .max_scroll_height(f32::INFINITY)
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center));
-    for column in Column::ALL {
+    let columns = state.browser_columns();
+    for &column in &columns {
         builder = builder.column(width(column));
     }
     let sorted = (
@@ -69,7 +70,7 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
     );
     builder
         .header(ROW_HEIGHT + 2.0, |mut header| {
-            for column in Column::ALL {
+            for &column in &columns {
                 header.col(|ui| {
                     if ui
                         .add(egui::Button::new(header_text(ui, column, sorted)).frame(false))
@@ -86,7 +87,7 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
                 let row = &rows[table_row.index()];
                 let selected = state.session().selected == Some(row.id);
                 table_row.set_selected(selected);
-                for column in Column::ALL {
+                for &column in &columns {
                     table_row.col(|ui| cell(ui, state, row, column, selected, commands));
                 }
             });
@@ -173,7 +174,8 @@ fn width(column: Column) -> TableColumn {
         Column::Shape => 56.0,
         Column::Surface => 46.0,
         Column::Position => 50.0,
-        Column::Side | Column::Angle | Column::Speed => 38.0,
+        Column::Side | Column::Angle | Column::Speed | Column::MitPosition => 38.0,
+        Column::MitSide => 30.0,
         Column::Set => 120.0,
         Column::Frames | Column::Split | Column::Labels => 48.0,
     };

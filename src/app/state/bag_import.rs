@@ -156,8 +156,9 @@ fn file_source(path: PathBuf) -> ObjectSource {
 fn entered_of(setting: &pushlab_core::recording::Setting) -> EnteredBox {
     let (width, length) = match setting.object {
         pushlab_core::recording::ObjectShape::Box { width, length } => (width, length),
-        // Only boxes are entered in the form; a polygon comes from a setting file.
-        pushlab_core::recording::ObjectShape::Polygon { .. } => (0.0, 0.0),
+        // Only boxes are entered in the form; a polygon or a preset comes from a setting file.
+        pushlab_core::recording::ObjectShape::Polygon { .. }
+        | pushlab_core::recording::ObjectShape::Preset(_) => (0.0, 0.0),
     };
     EnteredBox {
         name: setting.name.clone(),

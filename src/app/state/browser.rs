@@ -28,8 +28,14 @@ pub enum Column {
     Name,
     Shape,
     Surface,
+    /// A native set's pushed face.
     Side,
+    /// A native push's contact offset (named `Position` in files saved before the MIT columns).
     Position,
+    /// The MIT file name's side index `i`.
+    MitSide,
+    /// The MIT file name's position along the side `s`.
+    MitPosition,
     Angle,
     Speed,
     Frames,
@@ -41,7 +47,7 @@ pub enum Column {
 
 impl Column {
     /// Every column, in the table's order.
-    pub const ALL: [Column; 13] = [
+    pub const ALL: [Column; 15] = [
         Column::Name,
         Column::Online,
         Column::Fixed,
@@ -49,6 +55,8 @@ impl Column {
         Column::Surface,
         Column::Side,
         Column::Position,
+        Column::MitSide,
+        Column::MitPosition,
         Column::Angle,
         Column::Speed,
         Column::Set,
@@ -65,7 +73,9 @@ impl Column {
             Column::Shape => "Shape",
             Column::Surface => "Surface",
             Column::Side => "Side",
-            Column::Position => "Pos",
+            Column::Position => "Offset",
+            Column::MitSide => "MIT i",
+            Column::MitPosition => "MIT s",
             Column::Angle => "Angle",
             Column::Speed => "mm/s",
             Column::Frames => "Frames",
@@ -85,9 +95,13 @@ impl Column {
             Column::Name => "The file's short name (hover for the whole path)",
             Column::Shape => "The object (the MIT shape, or the box's size)",
             Column::Surface => "The surface (the setting's material)",
-            Column::Side => "The pushed side (a box face, or the MIT side index i)",
+            Column::Side => "The pushed face of a native set's object",
             Column::Position => {
-                "Where along the side the push starts: the MIT s (0..1) or the contact offset from the face's middle"
+                "Where along the face the push starts: the contact offset from the face's middle, mm"
+            }
+            Column::MitSide => "The MIT file name's i: which side of the shape is pushed",
+            Column::MitPosition => {
+                "The MIT file name's s: where along that side the push starts, 0..1"
             }
             Column::Angle => "Push angle from the side's normal",
             Column::Speed => "Pusher speed, mm/s: the MIT name's v, or measured on a native push",
@@ -155,7 +169,14 @@ impl Row<'_> {
             Column::Shape => optional(p.map(|p| p.shape.clone())),
             Column::Surface => optional(p.and_then(|p| p.surface.clone())),
             Column::Side => optional(p.and_then(|p| p.side.clone())),
-            Column::Position => optional(p.and_then(|p| p.position).map(|s| s.label())),
+            Column::Position => optional(
+                p.and_then(|p| p.contact_offset)
+                    .map(|m| format!("{:+.0} mm", m * 1e3)),
+            ),
+            Column::MitSide => optional(p.and_then(|p| p.mit_side).map(|i| format!("{i}"))),
+            Column::MitPosition => {
+                optional(p.and_then(|p| p.mit_position).map(|s| format!("{s:.2}")))
+            }
             Column::Angle => optional(p.and_then(|p| p.angle_deg).map(|a| format!("{a:+.0}°"))),
             Column::Speed => optional(p.and_then(|p| p.speed_mm_s).map(|v| format!("{v:.0}"))),
             Column::Frames => self.recording.trajectory.len().to_string(),
@@ -173,7 +194,9 @@ impl Row<'_> {
     fn sort_key(&self, column: Column) -> SortKey {
         let p = self.parameters;
         let number = match column {
-            Column::Position => p.and_then(|p| p.position).map(|s| s.value()),
+            Column::Position => p.and_then(|p| p.contact_offset),
+            Column::MitSide => p.and_then(|p| p.mit_side),
+            Column::MitPosition => p.and_then(|p| p.mit_position),
             Column::Angle => p.and_then(|p| p.angle_deg),
             Column::Speed => p.and_then(|p| p.speed_mm_s),
             Column::Frames => Some(self.recording.trajectory.len() as f64),
@@ -284,6 +307,35 @@ impl BrowserMemory {
         {
             self.losses.insert(recording.source.clone(), losses);
         }
+    }
+
+    /// The columns the table shows for the open recordings: every column, except the parameter
+    /// columns no open recording has a value in (MIT's `i` and `s` with only native sets open, a
+    /// native face and offset with only MIT files).
+    pub fn columns(&self, session: &Session) -> Vec<Column> {
+        let mut has = [false; 4];
+        for (_, recording) in session.recordings() {
+            if let Some(p) = self.parameters.get(&recording.source) {
+                let values = [
+                    p.side.is_some(),
+                    p.contact_offset.is_some(),
+                    p.mit_side.is_some(),
+                    p.mit_position.is_some(),
+                ];
+                for (h, v) in has.iter_mut().zip(values) {
+                    *h |= v;
+                }
+            }
+        }
+        let optional = [
+            Column::Side,
+            Column::Position,
+            Column::MitSide,
+            Column::MitPosition,
+        ];
+        (Column::ALL.into_iter())
+            .filter(|c| optional.iter().position(|o| o == c).is_none_or(|i| has[i]))
+            .collect()
     }
 
     /// The mean losses last seen on a recording's run.
@@ -475,10 +527,41 @@ mod tests {
         assert_eq!(speeds.first().map(String::as_str), Some("50"));
         assert_eq!(speeds.last().map(String::as_str), Some("100"));
         assert!(column(&state, Column::Surface).iter().all(|s| s == "abs"));
+        // MIT's i and s in their own columns, not in the native face and offset ones (issue 26.4).
+        let positions = column(&state, Column::MitPosition);
+        assert!(
+            positions
+                .iter()
+                .all(|s| s.parse::<f64>().is_ok_and(|s| (0.0..=1.0).contains(&s))),
+            "{positions:?}"
+        );
+        let sides = column(&state, Column::MitSide);
+        assert!(sides.iter().all(|i| i.parse::<f64>().is_ok()), "{sides:?}");
+        assert!(column(&state, Column::Side).iter().all(String::is_empty));
         assert!(
             column(&state, Column::Position)
                 .iter()
-                .all(|p| p.starts_with("s 0."))
+                .all(String::is_empty)
+        );
+        // Only MIT files open: the native columns are not shown at all.
+        let shown = state.browser_columns();
+        assert!(shown.contains(&Column::MitSide) && shown.contains(&Column::MitPosition));
+        assert!(!shown.contains(&Column::Side) && !shown.contains(&Column::Position));
+    }
+
+    #[test]
+    fn native_sets_show_their_face_and_offset_and_no_mit_columns() {
+        let state = state_on(&sample_data().join("box1-paper-center-left"));
+        let shown = state.browser_columns();
+        assert!(shown.contains(&Column::Side) && shown.contains(&Column::Position));
+        assert!(!shown.contains(&Column::MitSide) && !shown.contains(&Column::MitPosition));
+        assert!(column(&state, Column::Side).iter().all(|s| s == "left"));
+        let offsets = column(&state, Column::Position);
+        assert!(
+            offsets
+                .iter()
+                .all(|o| o.ends_with(" mm") && o.starts_with(['+', '-'])),
+            "{offsets:?}"
         );
     }
 }

@@ -13,7 +13,7 @@ use pushlab_core::recording::Recording;
 use pushlab_core::model::PhysicsOnlyModel;
 
 use super::bag_import::BagChooser;
-use super::browser::Row;
+use super::browser::{Column, Row};
 use super::cameras::Cameras;
 use super::demo::Demos;
 use super::label_losses;
@@ -161,6 +161,11 @@ impl AppState {
     /// The browser's rows: every open recording that passes the filter, sorted.
     pub fn browser_rows(&self) -> Vec<Row<'_>> {
         (self.browsed).rows(&self.session, &self.labels, &self.settings.browser)
+    }
+
+    /// The browser's columns for the recordings open (see `BrowserMemory::columns`).
+    pub fn browser_columns(&self) -> Vec<Column> {
+        self.browsed.columns(&self.session)
     }
 
     /// The mean losses last seen on a recording's run.

@@ -263,6 +263,7 @@ fn describe(shape: &ObjectShape) -> String {
     match shape {
         ObjectShape::Box { width, length } => format!("box {width} m × {length} m"),
         ObjectShape::Polygon { vertices } => format!("polygon with {} vertices", vertices.len()),
+        ObjectShape::Preset(p) => format!("preset {} at {} m per unit", p.preset, p.metres_per_px),
     }
 }
 

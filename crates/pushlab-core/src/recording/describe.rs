@@ -6,44 +6,24 @@
 use super::mit_push::{KEY_REP, KEY_SHAPE, KEY_SIDE, KEY_SIDE_POSITION, KEY_SPEED};
 use super::{ObjectShape, Recording};
 
-/// Where along the pushed side a push starts.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SidePosition {
-    /// The MIT dataset's `s`: a fraction of the side, 0..1.
-    Fraction(f64),
-    /// A native set's contact offset: metres from the face's middle, positive to the left of the
-    /// push direction.
-    Offset(f64),
-}
-
-impl SidePosition {
-    /// A number to sort by.
-    pub fn value(self) -> f64 {
-        match self {
-            SidePosition::Fraction(v) | SidePosition::Offset(v) => v,
-        }
-    }
-
-    /// As a table shows it: `s 0.80` or `+12 mm`.
-    pub fn label(self) -> String {
-        match self {
-            SidePosition::Fraction(s) => format!("s {s:.2}"),
-            SidePosition::Offset(m) => format!("{:+.0} mm", m * 1e3),
-        }
-    }
-}
-
 /// The parameters of one push, each `None` where the recording does not say.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PushParameters {
-    /// The object: the MIT shape's name, a box's width × length in millimetres, or a polygon's
-    /// vertex count (`6-gon`).
+    /// The object: the MIT shape's name, a box's width × length in millimetres, a polygon's
+    /// vertex count (`6-gon`) or a preset's name (`push-t`).
     pub shape: String,
     /// The surface (the setting's material).
     pub surface: Option<String>,
-    /// The pushed side: a native set's face (`front`…) or the MIT side index (`i 2`).
+    /// A native set's pushed face (`front`, `left`, …).
     pub side: Option<String>,
-    pub position: Option<SidePosition>,
+    /// A native push's contact offset: metres from the face's middle, positive to the left of the
+    /// push direction.
+    pub contact_offset: Option<f64>,
+    /// The MIT file name's `i`: which side of the shape is pushed (an index into the shape's
+    /// sides, not a native face: the two are different things and get different columns).
+    pub mit_side: Option<f64>,
+    /// The MIT file name's `s`: where along that side the push starts, a fraction 0..1.
+    pub mit_position: Option<f64>,
     /// Push angle from the side's normal, degrees.
     pub angle_deg: Option<f64>,
     /// The MIT name's nominal pusher speed, or the pusher's speed over a native push
@@ -72,21 +52,15 @@ impl PushParameters {
                 format!("{:.0}×{:.0}", width * 1e3, length * 1e3)
             }
             (None, ObjectShape::Polygon { vertices }) => format!("{}-gon", vertices.len()),
-        };
-        let mit_side = number(KEY_SIDE).map(|i| format!("i {i}"));
-        let position = match (
-            number(KEY_SIDE_POSITION),
-            entry.and_then(|e| e.contact_offset),
-        ) {
-            (Some(s), _) => Some(SidePosition::Fraction(s)),
-            (None, Some(m)) => Some(SidePosition::Offset(m)),
-            (None, None) => None,
+            (None, ObjectShape::Preset(p)) => p.preset.clone(),
         };
         Self {
             shape,
             surface: setting.material.clone(),
-            side: mit_side.or_else(|| setting.push_side.map(|s| s.name().to_owned())),
-            position,
+            side: setting.push_side.map(|s| s.name().to_owned()),
+            contact_offset: entry.and_then(|e| e.contact_offset),
+            mit_side: number(KEY_SIDE),
+            mit_position: number(KEY_SIDE_POSITION),
             angle_deg: entry.and_then(|e| e.push_angle_deg),
             speed_mm_s: number(KEY_SPEED)
                 .or_else(|| recording.trajectory.pusher_speed().map(|v| v * 1e3)),
@@ -130,14 +104,12 @@ mod tests {
         let p = PushParameters::of(rect);
         assert_eq!(p.shape, "rect1");
         assert_eq!(p.surface.as_deref(), Some("abs"));
-        assert_eq!(p.side.as_deref(), Some("i 2"));
-        assert_eq!(p.position, Some(SidePosition::Fraction(0.8)));
+        assert_eq!(p.mit_side, Some(2.0));
+        assert_eq!(p.mit_position, Some(0.8));
+        // An MIT push has no native face or contact offset: its i and s are not those.
+        assert_eq!((p.side, p.contact_offset), (None, None));
         assert!((p.angle_deg.expect("an angle") - 0.349f64.to_degrees()).abs() < 1e-9);
         assert_eq!(p.speed_mm_s, Some(75.0));
-        assert_eq!(
-            p.position.map(SidePosition::label).as_deref(),
-            Some("s 0.80")
-        );
     }
 
     #[test]
@@ -152,7 +124,8 @@ mod tests {
         assert_eq!(p.surface.as_deref(), Some("paper"));
         assert_eq!(p.side.as_deref(), Some("left"));
         let entry = r.entry.as_ref().expect("listed in setting.json");
-        assert_eq!(p.position, entry.contact_offset.map(SidePosition::Offset));
+        assert_eq!(p.contact_offset, entry.contact_offset);
+        assert_eq!((p.mit_side, p.mit_position), (None, None));
         // The sample data pushes at 40 mm/s (sample-data/README.md), with 2 mm tracking noise.
         let speed = p.speed_mm_s.expect("a speed");
         assert!((39.0..41.0).contains(&speed), "{speed} mm/s");

@@ -21,7 +21,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 pub use bag::BagProblem;
-pub use describe::{PushParameters, SidePosition};
+pub use describe::PushParameters;
 pub use error::{LoadError, WriteError};
 pub use load::{LoadReport, load_paths, load_paths_choosing, load_paths_with};
 pub use mit_push::MitProblem;
@@ -31,7 +31,8 @@ pub use progress::{LoadProgress, NoProgress, Progress, ProgressSnapshot};
 pub use read::{MEMORY_PER_FILE_BYTE, available_memory};
 pub use resample::SpanProblem;
 pub use setting::{
-    BoxSize, BoxSizeError, ObjectShape, PushSide, Setting, TrajectoryEntry, UnknownSide,
+    BoxSize, BoxSizeError, ObjectShape, PushSide, Setting, ShapePreset, TrajectoryEntry,
+    UnknownSide,
 };
 
 use self::camera::CameraStream;

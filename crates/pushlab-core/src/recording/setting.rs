@@ -7,22 +7,66 @@ use serde::{Deserialize, Serialize};
 
 use crate::geometry::{Outline, OutlineError};
 
-/// The object's footprint as written in `setting.json`.
+/// The object's footprint as written in `setting.json`: `{"shape": "box", "width": W, "length":
+/// L}`, `{"shape": "polygon", "vertices": [[x, y], …]}` or `{"shape": "preset", "preset": "push-t",
+/// "metres_per_px": 0.001}`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "lowercase")]
 pub enum ObjectShape {
     /// A box centred on the object frame: `width` along the object's x axis, `length` along y, metres.
     Box { width: f64, length: f64 },
-    /// A convex polygon, vertices counter-clockwise in the object frame, metres.
+    /// A simple polygon (convex or not; it must not touch or cross itself), vertices
+    /// counter-clockwise in the object frame, metres. The object frame's origin should be its area
+    /// centroid: pushlab reports COM offsets from the origin.
     Polygon { vertices: Vec<[f64; 2]> },
+    /// A named outline (boxed: a setting stays as small as with a polygon's vertex list).
+    Preset(Box<ShapePreset>),
+}
+
+/// A named outline (one of [`crate::geometry::PRESET_NAMES`]) in its own units scaled to metres:
+/// `push-t` is gym-pusht's T in pixels (see [`crate::geometry::PushT`] for its frame).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShapePreset {
+    /// The preset's name.
+    pub preset: String,
+    /// Metres per unit of the preset (per pixel for `push-t`); 0.001 unless given.
+    #[serde(default = "default_metres_per_px")]
+    pub metres_per_px: f64,
+}
+
+impl ShapePreset {
+    /// A preset shape, boxed into an [`ObjectShape`].
+    pub fn shape(preset: impl Into<String>, metres_per_px: f64) -> ObjectShape {
+        ObjectShape::Preset(Box::new(Self {
+            preset: preset.into(),
+            metres_per_px,
+        }))
+    }
+}
+
+fn default_metres_per_px() -> f64 {
+    crate::geometry::PushT::DEFAULT_METRES_PER_PX
 }
 
 impl ObjectShape {
-    /// The outline of the footprint, checked for convexity.
+    /// The outline of the footprint, checked to be a simple counter-clockwise polygon.
     pub fn outline(&self) -> Result<Outline, OutlineError> {
         match self {
             ObjectShape::Box { width, length } => Outline::rectangle(*width, *length),
             ObjectShape::Polygon { vertices } => Outline::try_from(vertices.clone()),
+            ObjectShape::Preset(p) => Outline::preset(&p.preset, p.metres_per_px),
+        }
+    }
+
+    /// The JSON path of the field `error` (from [`ObjectShape::outline`]) is about, below the
+    /// object's own key: `vertices` for a polygon's outline, `preset` or `metres_per_px` for a preset,
+    /// nothing for a box (its message names width and length).
+    pub fn field_of(&self, error: &OutlineError) -> Option<&'static str> {
+        match (self, error) {
+            (ObjectShape::Box { .. }, _) => None,
+            (ObjectShape::Polygon { .. }, _) => Some("vertices"),
+            (ObjectShape::Preset(_), OutlineError::BadScale(_)) => Some("metres_per_px"),
+            (ObjectShape::Preset(_), _) => Some("preset"),
         }
     }
 }

@@ -1,12 +1,14 @@
 //! A quasi-static pusher–slider simulator: the source of truth with a known COM offset and `h`.
 //!
-//! Model (Lynch & Mason): a convex object slides on a floor with Coulomb friction; its limit surface is
-//! the ellipsoid centred at the COM whose torque axis is scaled by `h` = max friction torque / max
-//! friction force, computed from a pressure distribution over the footprint ([`pressure`]). A disc
-//! pusher follows its commanded path exactly (position control). While it presses on the object, the
-//! contact point sticks when the push lies inside the motion cone and slides along the edge on the
-//! cone's boundary otherwise ([`contact`]); the object never moves without contact and the pusher never
-//! penetrates ([`world`]). Inertia is ignored: the object stops the instant the pusher stops pressing.
+//! Model (Lynch & Mason): an object of any simple outline (convex or not) slides on a floor with
+//! Coulomb friction; its limit surface is the ellipsoid centred at the COM whose torque axis is scaled
+//! by `h` = max friction torque / max friction force, computed from a pressure distribution over the
+//! footprint's own region ([`pressure`]). A disc pusher follows its commanded path exactly (position
+//! control). While it presses on the object, the contact point sticks when the push lies inside the
+//! motion cone and slides along the edge on the cone's boundary otherwise ([`contact`]); the object
+//! never moves without contact and the pusher never penetrates ([`world`], which also says what
+//! happens in a concave corner, where the disc touches two faces). Inertia is ignored: the object
+//! stops the instant the pusher stops pressing.
 //!
 //! The pieces, from small to large: [`contact::pusher_slider_step`] (one step of the physics),
 //! [`world::PushWorld`] (contact detection and integration in substeps), [`record::simulate_push`]

@@ -4,7 +4,7 @@
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::{Outline, Pose2, rotate};
+use crate::geometry::{Outline, Pose2, cross, rotate};
 use crate::recording::PushSide;
 
 /// A commanded path of the pusher's centre, world frame, starting at time 0.
@@ -98,6 +98,16 @@ pub enum PlanError {
     BadAngle(f64),
     #[error("pusher speed {0} m/s must be positive and finite")]
     BadSpeed(f64),
+    #[error(
+        "at contact offset {offset} m and {angle_deg}°, the pusher would meet another part of the \
+         object before it reaches the {side} face (a notch narrower than the disc, or a part in its \
+         way); choose another offset or angle"
+    )]
+    Blocked {
+        offset: f64,
+        angle_deg: f64,
+        side: &'static str,
+    },
 }
 
 impl PushPlan {
@@ -121,10 +131,30 @@ impl PushPlan {
         // From the normal of the face touched, not from the side's push direction: on a polygon the
         // face at an offset may be tilted, and an angle from the side's direction could point along
         // or out of it, starting the pusher inside the object. From the normal, the pusher always
-        // moves into the face, and its whole approach stays clear of a convex outline.
+        // moves into the face, and its whole approach stays clear of a convex outline (a non-convex
+        // one is checked below).
         let direction_in_object = rotate(-outward, self.push_angle_deg.to_radians());
         let touching = contact + outward * radius;
         let start_in_object = touching - direction_in_object * self.approach.max(0.0);
+        // A non-convex outline may be in the disc's way: another face nearer than the contact where
+        // the disc touches, or met on the approach.
+        if !outline.is_convex() {
+            let tolerance = 1e-9 * outline.size();
+            let overlaps_at_touch =
+                outline.closest_boundary_point(touching).signed_distance - radius < -tolerance;
+            let approach = touching - start_in_object;
+            let met_before = approach.norm() > tolerance
+                && outline
+                    .disc_first_touch(start_in_object, approach, radius)
+                    .is_some_and(|t| (1.0 - t) * approach.norm() > tolerance);
+            if overlaps_at_touch || met_before {
+                return Err(PlanError::Blocked {
+                    offset: self.contact_offset,
+                    angle_deg: self.push_angle_deg,
+                    side: self.side.name(),
+                });
+            }
+        }
         let start = object_pose.point_in_world(start_in_object);
         let direction = object_pose.vector_in_world(direction_in_object);
         Ok(if self.curvature == 0.0 {
@@ -189,8 +219,9 @@ fn across_range(outline: &Outline, side: PushSide) -> (f64, f64) {
 }
 
 /// The point of `side`'s face at `offset` from its middle (the centroid's projection onto the face) and
-/// the outward normal there: where the line along the push direction through that offset enters the
-/// outline.
+/// the outward normal there: where the line along the push direction through that offset first enters
+/// the outline (on a non-convex outline, the first of the faces it crosses, which may lie deep in a
+/// notch).
 pub fn face_point(
     outline: &Outline,
     side: PushSide,
@@ -210,9 +241,12 @@ pub fn face_point(
     if !(offset > low && offset < high) {
         return Err(off_face());
     }
+    let base = centroid + across * offset;
+    if !outline.is_convex() {
+        return first_entry(outline, Point2::from(base), push).ok_or_else(off_face);
+    }
     // Entry of the line {centroid + offset·across + s·push} into the outline: the largest s at which
     // it crosses an edge whose outward normal faces against the push.
-    let base = centroid + across * offset;
     let mut entry: Option<(f64, Vector2<f64>)> = None;
     for (a, b) in outline.edges() {
         let e = b - a;
@@ -228,6 +262,30 @@ pub fn face_point(
     }
     let (s, outward) = entry.ok_or_else(off_face)?;
     Ok((Point2::from(base + push * s), outward))
+}
+
+/// Where the line `base + s·push` first enters a (non-convex) outline and the outward normal there:
+/// the smallest `s` at which it crosses an edge facing against the push.
+fn first_entry(
+    outline: &Outline,
+    base: Point2<f64>,
+    push: Vector2<f64>,
+) -> Option<(Point2<f64>, Vector2<f64>)> {
+    let mut entry: Option<(f64, Vector2<f64>)> = None;
+    for (a, b) in outline.edges() {
+        let e = b - a;
+        let outward = Vector2::new(e.y, -e.x).normalize();
+        let denominator = cross(push, e);
+        if outward.dot(&push) >= 0.0 || denominator == 0.0 {
+            continue;
+        }
+        let w = a - base;
+        let (s, u) = (cross(w, e) / denominator, cross(w, push) / denominator);
+        if (0.0..=1.0).contains(&u) && entry.is_none_or(|(best, _)| s < best) {
+            entry = Some((s, outward));
+        }
+    }
+    entry.map(|(s, outward)| (base + push * s, outward))
 }
 
 #[cfg(test)]
@@ -261,6 +319,38 @@ mod tests {
         let path = plan.path(&b, &pose, 0.1).unwrap();
         let at_contact = pose.point_in_object(path.position(0.01 / 0.05));
         assert!((at_contact - Point2::new(-0.25, -0.05)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn face_points_of_the_t_lie_on_the_first_face_crossed() {
+        use crate::geometry::PushT;
+        let t = PushT::outline(0.001).unwrap();
+        let local = |x: f64, y: f64| PushT::object_from_local(Point2::new(x, y), 0.001);
+        // Pushed toward −y from +y ("left"): through the stem at x = 0, the stem's end (y = 120 px);
+        // at x = 40 px, down the notch to the bar's inner edge (y = 30 px).
+        let (p, n) = face_point(&t, PushSide::Left, 0.0).unwrap();
+        assert!((p - local(0.0, 120.0)).norm() < 1e-12 && (n.y - 1.0).abs() < 1e-12);
+        let (p, n) = face_point(&t, PushSide::Left, 0.04).unwrap();
+        assert!((p - local(40.0, 30.0)).norm() < 1e-12 && (n.y - 1.0).abs() < 1e-12);
+        // A 15 mm disc fits the 45 mm notch at 40 mm, but not at 20 mm from the axis (5 mm from
+        // the stem).
+        let plan = |offset: f64| PushPlan {
+            side: PushSide::Left,
+            contact_offset: offset,
+            push_angle_deg: 0.0,
+            speed: 0.05,
+            curvature: 0.0,
+            approach: 0.02,
+        };
+        let pose = Pose2::new(0.0, 0.0, 0.0);
+        assert!(plan(0.04).path(&t, &pose, 0.015).is_ok());
+        let blocked = plan(0.02).path(&t, &pose, 0.015).unwrap_err();
+        assert!(matches!(blocked, PlanError::Blocked { .. }), "{blocked}");
+        assert!(
+            blocked
+                .to_string()
+                .contains("before it reaches the left face")
+        );
     }
 
     #[test]

@@ -20,8 +20,11 @@ pub const DEFAULT_RESOLUTION: usize = 200;
 
 /// The shape of a material's base pressure distribution over the footprint.
 ///
-/// `ρ` below is the footprint's gauge about its centroid: 0 at the centroid, 1 on the outline, and
-/// level sets that are scaled copies of the outline.
+/// `ρ` below runs from 0 in the middle to 1 on the outline. For a convex outline it is the
+/// footprint's gauge about its centroid (level sets that are scaled copies of the outline); a
+/// non-convex footprint has no such copies inside it (the centroid of a T or a C need not even see its
+/// whole outline), so there `ρ = 1 − d/d_max`, with `d` a point's distance to the outline and `d_max`
+/// the largest over the footprint (level sets are the outline moved inward).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum PressureModel {
@@ -32,7 +35,9 @@ pub enum PressureModel {
     /// Pressure `∝ (1 − ρ)²`, concentrated in the middle: a bottom that bulges down.
     #[serde(alias = "center")]
     Centre,
-    /// Equal weight on one foot per vertex, each 85 % of the way from the centroid to its vertex.
+    /// Equal weight on one foot per corner, each 85 % of the way from the centroid to its vertex; on
+    /// a non-convex outline one per convex corner, moved inward along its bisector by as much (a
+    /// foot that would fall outside the footprint is refused, naming the vertex).
     Feet,
 }
 
@@ -96,6 +101,11 @@ pub enum PressureError {
     ComOutsideSupport { x: f64, y: f64, model: &'static str },
     #[error("the pressure grid has no cell inside the outline; increase the resolution")]
     Empty,
+    #[error(
+        "the foot at vertex {vertex} lies outside the footprint (the outline is too thin there); \
+         choose another pressure model for this outline"
+    )]
+    FootOutside { vertex: usize },
 }
 
 /// A pressure distribution as weighted points of the footprint, object frame; weights sum to 1.
@@ -115,11 +125,7 @@ impl PressureDistribution {
     ) -> Result<Self, PressureError> {
         let centroid = outline.centroid();
         if model == PressureModel::Feet {
-            let points: Vec<_> = outline
-                .vertices()
-                .iter()
-                .map(|v| centroid + (v - centroid) * 0.85)
-                .collect();
+            let points = feet(outline, centroid)?;
             let weights = vec![1.0 / points.len() as f64; points.len()];
             return Ok(Self { points, weights });
         }
@@ -129,26 +135,50 @@ impl PressureDistribution {
             ((max.x - min.x) / cell).ceil() as usize,
             ((max.y - min.y) / cell).ceil() as usize,
         );
-        let (mut points, mut weights) = (Vec::new(), Vec::new());
+        let mut points = Vec::new();
         for i in 0..nx {
             for j in 0..ny {
                 let p = Point2::new(
                     min.x + (i as f64 + 0.5) * cell,
                     min.y + (j as f64 + 0.5) * cell,
                 );
-                if !outline.contains(p) {
-                    continue;
+                if outline.contains(p) {
+                    points.push(p);
                 }
-                let rho = gauge(outline, centroid, p);
-                let w = match model {
-                    PressureModel::Uniform | PressureModel::Feet => 1.0,
-                    PressureModel::Rim => rho.powi(4),
-                    PressureModel::Centre => (1.0 - rho).max(0.0).powi(2),
-                };
-                points.push(p);
-                weights.push(w);
             }
         }
+        let rhos: Vec<f64> = if model == PressureModel::Uniform {
+            vec![0.0; points.len()]
+        } else if outline.is_convex() {
+            points
+                .iter()
+                .map(|&p| gauge(outline, centroid, p))
+                .collect()
+        } else {
+            let depths: Vec<f64> = points
+                .iter()
+                .map(|&p| -outline.closest_boundary_point(p).signed_distance)
+                .collect();
+            let deepest = depths.iter().copied().fold(0.0, f64::max);
+            depths
+                .iter()
+                .map(|d| {
+                    if deepest > 0.0 {
+                        1.0 - d / deepest
+                    } else {
+                        1.0
+                    }
+                })
+                .collect()
+        };
+        let mut weights: Vec<f64> = rhos
+            .iter()
+            .map(|&rho| match model {
+                PressureModel::Uniform | PressureModel::Feet => 1.0,
+                PressureModel::Rim => rho.powi(4),
+                PressureModel::Centre => (1.0 - rho).max(0.0).powi(2),
+            })
+            .collect();
         let total: f64 = weights.iter().sum();
         if points.is_empty() || total <= 0.0 {
             return Err(PressureError::Empty);
@@ -259,6 +289,37 @@ pub fn lynch_h(
     let com = Point2::from(com_offset);
     let base = PressureDistribution::new(outline, model, resolution)?;
     Ok(base.balanced_at(com, model)?.h_about(com))
+}
+
+/// The feet of [`PressureModel::Feet`]: 85 % of the way from the centroid to each vertex of a convex
+/// outline. A non-convex footprint's straight line from the centroid to a corner may leave it (the T's
+/// bar corners seen from its stem), so there a foot stands at each convex corner, moved inward along
+/// the corner's bisector by the same 15 % of its distance from the centroid, and is checked to stand
+/// on the footprint.
+fn feet(outline: &Outline, centroid: Point2<f64>) -> Result<Vec<Point2<f64>>, PressureError> {
+    let vertices = outline.vertices();
+    if outline.is_convex() {
+        return Ok(vertices
+            .iter()
+            .map(|v| centroid + (v - centroid) * 0.85)
+            .collect());
+    }
+    let n = vertices.len();
+    let mut feet = Vec::with_capacity(n);
+    for (vertex, &v) in vertices.iter().enumerate() {
+        let (before, after) = (vertices[(vertex + n - 1) % n], vertices[(vertex + 1) % n]);
+        let (incoming, outgoing) = ((v - before).normalize(), (after - v).normalize());
+        if crate::geometry::cross(incoming, outgoing) <= 0.0 {
+            continue; // A reflex or straight corner has no foot.
+        }
+        let inward = (outgoing - incoming).normalize();
+        let foot = v + inward * (0.15 * (v - centroid).norm());
+        if !outline.contains(foot) {
+            return Err(PressureError::FootOutside { vertex });
+        }
+        feet.push(foot);
+    }
+    Ok(feet)
 }
 
 /// The gauge of a convex outline about an interior point: the smallest `s` with `p` inside the
@@ -396,6 +457,107 @@ mod tests {
                     .all(|w| *w > 0.0 || model != PressureModel::Uniform)
             );
         }
+    }
+
+    /// `∫∫ |r| dA` over the rectangle `[x0, x1] × [y0, y1]`, in closed form: the antiderivative
+    /// `G = x·y·r/3 + x³·ln(y + r)/6 + y³·ln(x + r)/6` (r = |(x, y)|) at the four corners.
+    fn distance_integral_over_rectangle(x0: f64, x1: f64, y0: f64, y1: f64) -> f64 {
+        let g = |x: f64, y: f64| {
+            let r = x.hypot(y);
+            let mut value = x * y * r / 3.0;
+            if x != 0.0 && y + r > 0.0 {
+                value += x.powi(3) * (y + r).ln() / 6.0;
+            }
+            if y != 0.0 && x + r > 0.0 {
+                value += y.powi(3) * (x + r).ln() / 6.0;
+            }
+            value
+        };
+        g(x1, y1) - g(x0, y1) - g(x1, y0) + g(x0, y0)
+    }
+
+    /// Lynch's `h` of a uniform pressure over the Push-T T about a point on its axis, pixels, from
+    /// the closed forms of its two rectangles (bar and stem), independent of any outline code.
+    fn t_uniform_h_px(about_local_y: f64) -> f64 {
+        let y = about_local_y;
+        let bar = distance_integral_over_rectangle(-60.0, 60.0, -y, 30.0 - y);
+        let stem = distance_integral_over_rectangle(-15.0, 15.0, 30.0 - y, 120.0 - y);
+        (bar + stem) / 6300.0
+    }
+
+    #[test]
+    fn the_closed_form_of_a_square_is_the_known_one() {
+        let exact = (2f64.sqrt() + (1.0 + 2f64.sqrt()).ln()) / 6.0;
+        assert!((distance_integral_over_rectangle(-0.5, 0.5, -0.5, 0.5) - exact).abs() < 1e-15);
+    }
+
+    #[test]
+    fn uniform_h_over_the_push_t_matches_its_two_rectangles() {
+        use crate::geometry::PushT;
+        let scale = 0.001;
+        let t = PushT::outline(scale).unwrap();
+        // About the geometric centre (local y = 285/7 px): ≈ 39.93 mm.
+        let exact = t_uniform_h_px(285.0 / 7.0) * scale;
+        assert!((exact - 0.039925).abs() < 1e-6, "{exact}");
+        let h = lynch_h(&t, PressureModel::Uniform, Vector2::zeros(), 400).unwrap();
+        assert!((h - exact).abs() < 2e-5, "h = {h}, exact {exact}");
+        let grid = t.uniform_pressure_h(Point2::origin(), 400);
+        assert!((grid - exact).abs() < 2e-5, "grid {grid}, exact {exact}");
+        // The mean distance is below the radius of gyration √(J/A), J from the rectangles' polar
+        // moments moved to the centroid (parallel axes): a check that `h` is the mean, not the RMS.
+        let polar = |w: f64, l: f64, centre_y: f64| {
+            w * l * (w * w + l * l) / 12.0 + w * l * (centre_y - 285.0 / 7.0).powi(2)
+        };
+        let gyration = ((polar(120.0, 30.0, 15.0) + polar(30.0, 90.0, 75.0)) / 6300.0).sqrt();
+        assert!(exact / scale < gyration && gyration < 1.2 * exact / scale);
+        // About the true COM, local (0, 45) px: uniform weight, another point.
+        let com = PushT::com_offset(scale);
+        let exact_com = t_uniform_h_px(45.0) * scale;
+        let grid = t.uniform_pressure_h(Point2::from(com), 400);
+        assert!((grid - exact_com).abs() < 2e-5, "{grid} {exact_com}");
+        // Balanced over that COM, the pressure centre lies on it.
+        let base = PressureDistribution::new(&t, PressureModel::Uniform, 200).unwrap();
+        let balanced = base
+            .balanced_at(Point2::from(com), PressureModel::Uniform)
+            .unwrap();
+        assert!((balanced.centroid() - Point2::from(com)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn every_model_works_on_the_t_and_orders_h_from_rim_to_centre() {
+        let t = crate::geometry::PushT::outline(0.001).unwrap();
+        let h = |m| lynch_h(&t, m, Vector2::zeros(), 200).unwrap();
+        let (rim, uniform, centre) = (
+            h(PressureModel::Rim),
+            h(PressureModel::Uniform),
+            h(PressureModel::Centre),
+        );
+        assert!(
+            rim > uniform && uniform > centre,
+            "{rim} {uniform} {centre}"
+        );
+        // Six feet, one per convex corner (the two inner corners carry none), all on the T.
+        let feet = PressureDistribution::new(&t, PressureModel::Feet, 10).unwrap();
+        assert_eq!(feet.points.len(), 6);
+        assert!(feet.points.iter().all(|p| t.contains(*p)));
+        // A C of 2 % thick arms is too thin for feet moved in by 15 % of their distance from its
+        // centroid.
+        let c = Outline::try_from(vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 0.02],
+            [0.02, 0.02],
+            [0.02, 0.98],
+            [1.0, 0.98],
+            [1.0, 1.0],
+            [0.0, 1.0],
+        ])
+        .unwrap();
+        let err = PressureDistribution::new(&c, PressureModel::Feet, 10).unwrap_err();
+        assert!(
+            err.to_string().contains("lies outside the footprint"),
+            "{err}"
+        );
     }
 
     #[test]

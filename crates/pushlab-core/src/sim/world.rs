@@ -3,6 +3,16 @@
 //! freely until it touches the object, then pushes it quasi-statically; any remaining overlap (second
 //! order in the step) is removed by pushing the object further along the contact normal, so the pusher
 //! never penetrates.
+//!
+//! **One contact at a time, also in a concave corner.** The pusher pushes at the outline point nearest
+//! its centre (the deepest contact; the lower-numbered edge on an exact tie). A disc pressed into a
+//! concave corner of a non-convex object (the notch between the T's bar and stem) touches two faces:
+//! each substep pushes on the nearer one, and the overlap that remains with the other is then removed
+//! by pushes along *its* normal, nearest face first, until no face overlaps. Over many small substeps
+//! the two faces take turns, so the object follows a disc jammed in the corner without being
+//! penetrated; this sequence of single-contact pushes approximates, but is not, the two-contact
+//! quasi-static solution (whose friction at both faces at once would decide whether the object only
+//! translates with the pusher). Frame truths report the face pushed last.
 
 use nalgebra::{Point2, Vector2};
 
@@ -163,8 +173,16 @@ impl PushWorld {
         if start_gap > CONTACT_TOLERANCE {
             // Both ends of the step may be clear while its middle grazes a corner, so when the disc
             // could touch at all, look for the minimum of the gap (convex along a line: the distance
-            // to a convex set) and find the first touch before it.
-            let touch_before = if self.gap_at(target) < 0.0 {
+            // to a convex set) and find the first touch before it. The gap to a non-convex outline
+            // can have several minima along the step; there the disc is swept exactly.
+            let touch_before = if !self.object.outline.is_convex() {
+                let object = self.world_from_object();
+                self.object.outline.disc_first_touch(
+                    object.point_in_object(start),
+                    object.vector_in_object(motion),
+                    self.object.pusher_radius,
+                )
+            } else if self.gap_at(target) < 0.0 {
                 Some(1.0)
             } else if start_gap < motion.norm() {
                 let (mut a, mut b) = (0.0, 1.0);

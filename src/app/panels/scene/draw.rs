@@ -83,12 +83,34 @@ pub fn footprint(
             } else {
                 Color32::TRANSPARENT
             };
-            painter.add(Shape::convex_polygon(points, fill, Stroke::new(2.0, color)));
+            if outline.is_convex() {
+                painter.add(Shape::convex_polygon(points, fill, Stroke::new(2.0, color)));
+            } else {
+                // egui fills convex polygons only (a T would be filled across its notches): the
+                // outline's own triangles fill it, and the line goes round on top.
+                if fill != Color32::TRANSPARENT {
+                    painter.add(filled_triangles(&points, outline.triangles(), fill));
+                }
+                painter.add(Shape::closed_line(points, Stroke::new(2.0, color)));
+            }
         }
     }
     let centre = projection.to_screen(pose.position);
     let axis = projection.to_screen(pose.point_in_world(Point2::new(outline.size() * 0.15, 0.0)));
     painter.line_segment([centre, axis], Stroke::new(1.0, color.gamma_multiply(0.7)));
+}
+
+/// A mesh of `triangles` (indices into `points`) in one colour: a non-convex footprint's fill.
+fn filled_triangles(points: &[Pos2], triangles: &[[usize; 3]], fill: Color32) -> Shape {
+    let mut mesh = egui::Mesh::default();
+    for &p in points {
+        mesh.colored_vertex(p, fill);
+    }
+    for &[a, b, c] in triangles {
+        // Indices of an outline's vertices: far below u32::MAX.
+        mesh.add_triangle(a as u32, b as u32, c as u32);
+    }
+    Shape::mesh(mesh)
 }
 
 /// A what-if rollout: each predicted pose as a ghost footprint fading with the steps ahead, and the

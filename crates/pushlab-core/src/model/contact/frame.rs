@@ -7,6 +7,14 @@
 //! identical to the network, so the model is mirror-symmetric by construction (the frame is a
 //! reflection of the object frame for half of the pushes; Lynch's model and the motion cone are
 //! reflection-equivariant, see `prior.rs`).
+//!
+//! On a non-convex outline the nearest point is found the same way, and the inside test is the
+//! crossing rule. In a concave notch where two faces are equally near the pusher (on the bisector of
+//! the corner between them), the lower-numbered edge is taken, as [`Outline::closest_boundary_point`]
+//! does: the frame jumps from one face to the other as the pusher crosses that bisector, so a pusher
+//! touching both faces at once is seen by the network as pushing on one of them (the same face the
+//! simulator pushes on). Inside the footprint, nearest to a concave corner, the normal points from the
+//! pusher to the corner.
 
 use nalgebra::{Point2, Vector2};
 
@@ -26,11 +34,15 @@ pub struct ContactGeometry {
     uniform_h: f64,
     /// The largest extent of the bounding box.
     size: f64,
+    /// Whether the outline is convex (the half-plane inside test and edge normals inside suffice).
+    convex: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Edge {
     start: Point2<f64>,
+    /// The next vertex, for the crossing rule of a non-convex outline.
+    end: Point2<f64>,
     /// Unit direction, counter-clockwise.
     direction: Vector2<f64>,
     length: f64,
@@ -62,6 +74,7 @@ impl ContactGeometry {
                 let direction = ab / length;
                 Edge {
                     start: a,
+                    end: b,
                     direction,
                     length,
                     normal: Vector2::new(direction.y, -direction.x),
@@ -75,6 +88,7 @@ impl ContactGeometry {
             pusher_radius,
             uniform_h: outline.uniform_pressure_h(centroid, 200),
             size: outline.size(),
+            convex: outline.is_convex(),
         }
     }
 
@@ -96,15 +110,23 @@ impl ContactGeometry {
     /// The contact frame for a pusher at `pusher` moving by `motion` (both object frame).
     ///
     /// The nearest point and its outward normal follow [`Outline::closest_boundary_point`]: on an
-    /// edge's interior (or with the pusher inside) the edge's normal, at a corner the direction from
-    /// the corner to the pusher.
+    /// edge's interior the edge's normal, at a corner the direction from the corner to the pusher
+    /// (from the pusher to the corner when it is inside a concave one); ties go to the lower-numbered
+    /// edge.
     pub(crate) fn frame(&self, pusher: Point2<f64>, motion: Vector2<f64>) -> ContactFrame {
         let mut inside = true;
+        let mut crossings_odd = false;
         let mut best = (f64::INFINITY, pusher, Vector2::x(), false);
         for e in &self.edges {
             let from_start = pusher - e.start;
-            if from_start.dot(&e.normal) > 1e-12 {
-                inside = false;
+            if self.convex {
+                if from_start.dot(&e.normal) > 1e-12 {
+                    inside = false;
+                }
+            } else if (e.start.y > pusher.y) != (e.end.y > pusher.y) {
+                let x = e.start.x
+                    + (pusher.y - e.start.y) * (e.end.x - e.start.x) / (e.end.y - e.start.y);
+                crossings_odd ^= pusher.x < x;
             }
             let along = from_start.dot(&e.direction);
             let t = along.clamp(0.0, e.length);
@@ -114,10 +136,15 @@ impl ContactGeometry {
                 best = (distance_sq, q, e.normal, t > 0.0 && t < e.length);
             }
         }
+        if !self.convex {
+            inside = crossings_odd;
+        }
         let (distance_sq, point, edge_normal, on_interior) = best;
         let distance = distance_sq.sqrt();
-        let normal = if on_interior || inside || distance < 1e-12 {
+        let normal = if on_interior || distance < 1e-12 || (inside && self.convex) {
             edge_normal
+        } else if inside {
+            (point - pusher) / distance
         } else {
             (pusher - point) / distance
         };
@@ -180,6 +207,35 @@ mod tests {
             assert!(frame.normal_in.dot(&frame.tangent).abs() < 1e-15);
             assert!((frame.tangent.norm() - 1.0).abs() < 1e-15);
         }
+    }
+
+    #[test]
+    fn on_the_t_the_frame_matches_the_outline_query_also_in_its_notches() {
+        use crate::geometry::PushT;
+        let outline = PushT::outline(0.001).expect("the T");
+        let geometry = ContactGeometry::new(&outline, 0.015);
+        let local = |x: f64, y: f64| PushT::object_from_local(Point2::new(x, y), 0.001);
+        for p in [
+            local(40.0, 60.0),  // In the right notch, nearer the stem.
+            local(40.0, 35.0),  // In the right notch, nearer the bar.
+            local(35.0, 50.0),  // On the notch's bisector: both faces equally near.
+            local(12.0, 27.0),  // Inside, nearest the concave corner (15, 30).
+            local(-70.0, 10.0), // Outside the bar's end.
+            local(0.0, 100.0),  // Inside the stem.
+        ] {
+            let expected = outline.closest_boundary_point(p);
+            let frame = geometry.frame(p, Vector2::new(0.0, -0.01));
+            assert!((frame.point - expected.point).norm() < 1e-12, "{p}");
+            assert!((frame.normal_in + expected.normal).norm() < 1e-12, "{p}");
+            assert!((frame.gap - (expected.signed_distance - 0.015)).abs() < 1e-12);
+        }
+        // Inside near the concave corner the inward normal points away from it, into the T.
+        let frame = geometry.frame(local(12.0, 27.0), Vector2::zeros());
+        let away = (local(12.0, 27.0) - local(15.0, 30.0)).normalize();
+        assert!((frame.normal_in - away).norm() < 1e-12);
+        // On the bisector the lower-numbered face, the bar's inner edge (edge 2, y = 30 px), wins.
+        let tie = outline.closest_boundary_point(local(35.0, 50.0));
+        assert_eq!(tie.edge, 2);
     }
 
     #[test]

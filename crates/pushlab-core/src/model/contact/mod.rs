@@ -4,7 +4,7 @@
 //!
 //! Why: the paper's network sees the pusher's absolute position in the object frame, so another face or
 //! another object is a region of input space it never saw, and `θ_online` cannot rotate or rescale
-//! that input. Here a push on any face of any convex outline looks the same:
+//! that input. Here a push on any face of any outline (convex or not) looks the same:
 //! - the **frame** ([`frame`]): first axis the inward normal at the nearest outline point `q`, second
 //!   the tangent, handedness chosen so that a push and its mirror image coincide;
 //! - the network's **inputs**, all dimensionless and clamped to the range seen offline (a network

@@ -196,9 +196,13 @@ pub fn parse_setting(bytes: &[u8], path: &Path) -> Result<Setting, LoadError> {
 pub(crate) fn check_setting(setting: &Setting) -> Result<(), (String, String)> {
     let field = |name: &str, problem: String| Err((name.to_string(), problem));
     if let Err(e) = setting.object.outline() {
+        let name = match setting.object.field_of(&e) {
+            Some(below) => format!("object.{below}"),
+            None => "object".to_owned(),
+        };
         return field(
-            "object",
-            format!("{e}, expected a convex counter-clockwise outline"),
+            &name,
+            format!("{e}, expected a simple counter-clockwise outline"),
         );
     }
     if !(setting.pusher_radius.is_finite() && setting.pusher_radius >= 0.0) {
