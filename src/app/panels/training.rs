@@ -8,7 +8,7 @@ use pushlab_core::model::ModelKind;
 use crate::app::colors;
 use crate::app::dialogs::{DialogRequest, Dialogs};
 use crate::app::state::TrainingCommand;
-use crate::app::state::training::TrainingChoice;
+use crate::app::state::background_training::TrainingChoice;
 use crate::app::state::{AppState, Command};
 
 /// Draws the training panel.

@@ -3,7 +3,7 @@
 //! The presets are the experiments of `experiments/sample-data.json` (read by the core's
 //! [`SuiteSpec`], so there is one list): a demo opens the experiment's recordings, shows its first
 //! online recording, and uses a model for its offline recordings — the one remembered for their
-//! folders if there is one (the model store, see `fit`), else one trained in the background with the
+//! folders if there is one (the model store, see `model_in_use`), else one trained in the background with the
 //! suite's settings, on the recordings the suite's split rule puts offline. Fixed against Online is
 //! what the loss plots show; [`narration`] says in plain words what the online run has done.
 

@@ -3,6 +3,7 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
+pub mod background_training;
 pub mod bag_import;
 pub mod browser;
 pub mod cameras;
@@ -11,12 +12,12 @@ pub mod demo;
 pub mod effect;
 pub mod envelope;
 mod files;
-pub mod fit;
 mod frame_cache;
 pub mod label_losses;
 pub mod labels;
 pub mod landscape;
 pub mod layers;
+mod model_in_use;
 pub mod models;
 pub mod online;
 mod opening;
@@ -27,7 +28,6 @@ pub mod run_plots;
 pub mod session;
 mod start_demo;
 pub mod timeline;
-pub mod training;
 mod training_choice;
 mod views;
 
@@ -41,6 +41,7 @@ use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
 use serde::{Deserialize, Serialize};
 
+use self::background_training::{Training, TrainingChoice};
 use self::bag_import::{BagChooser, BagCommand};
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::cameras::{CameraCommand, Cameras};
@@ -56,7 +57,6 @@ use self::overview::PathOverview;
 use self::proposals::{ProposalAction, ProposalState, ProposalTarget};
 use self::session::{RecordingId, Session};
 use self::timeline::{Timeline, TimelineCommand};
-use self::training::{Training, TrainingChoice};
 
 /// Everything a panel can ask the app to do: one enum per concern.
 #[derive(Clone, Debug, PartialEq)]
@@ -158,7 +158,7 @@ pub enum TrainingCommand {
     Choose(TrainingChoice),
     /// Epochs, learning rate, horizon and seed of the Train tab.
     SetConfig(TrainConfig),
-    /// Train a model for the open recordings and remember it for their folders (see `fit`).
+    /// Train a model for the open recordings and remember it for their folders (see `model_in_use`).
     TrainForOpenRecordings,
     /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
     ChooseOfflineLabelled,
@@ -242,7 +242,7 @@ pub struct AppState {
     proposals: ProposalState,
     /// A short message for the status bar (what just happened, or what went wrong).
     status: Option<String>,
-    /// Whether the open recordings lie outside the model's domain (see `fit`).
+    /// Whether the open recordings lie outside the model's domain (see `model_in_use`).
     fit: Option<DomainMismatch>,
     /// Where models trained for folders are kept (the app's data folder); `None`: not kept.
     model_store: Option<PathBuf>,

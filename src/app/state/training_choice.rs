@@ -6,9 +6,9 @@ use pushlab_core::experiment::{UsedRecording, split_of};
 use pushlab_core::labels::Split;
 
 use super::AppState;
+use super::background_training::TrainingChoice;
 use super::labels::LabelTarget;
 use super::session::RecordingId;
-use super::training::TrainingChoice;
 
 impl AppState {
     /// The recordings chosen for training that have a sample at the training horizon, with the

@@ -12,6 +12,7 @@ use pushlab_core::recording::Recording;
 
 use pushlab_core::model::PhysicsOnlyModel;
 
+use super::background_training::Training;
 use super::bag_import::BagChooser;
 use super::browser::{Column, Row};
 use super::cameras::Cameras;
@@ -28,7 +29,6 @@ use super::proposals::Pending;
 use super::proposals::ProposalState;
 use super::session::Session;
 use super::timeline::Timeline;
-use super::training::Training;
 use super::{AppState, Persisted};
 
 impl AppState {

@@ -1,7 +1,7 @@
 //! Whether the model in use fits the recordings that are open, and making one that does.
 //!
 //! A model file records the domain it was trained on (object sizes, pusher radii, frame rates,
-//! speeds: `pushlab_core::experiment::Domain`); the core's check says when the open recordings lie
+//! speeds: `pushlab_core::domain::Domain`); the core's check says when the open recordings lie
 //! outside it, and the app says so in the status line and the Steer tab. **Train for these
 //! recordings** trains the kind chosen in the Train tab in the background — on the recordings the
 //! labels put in the offline split, else on every open recording but the one shown — and the model is
@@ -17,8 +17,8 @@ use pushlab_core::domain::DomainMismatch;
 use pushlab_core::model_file::ModelFile;
 
 use super::AppState;
+use super::background_training::Finished;
 use super::session::RecordingId;
-use super::training::Finished;
 
 impl AppState {
     /// Whether the open recordings lie outside the domain of the model in use (computed when
