@@ -263,10 +263,11 @@ impl OnlineRun {
         self.learn_through(0, self.sample_count(), skip_frames);
     }
 
-    /// Sets θ at `frame` (a user's steering), forgetting everything learned after it.
+    /// Sets θ at `frame` (a user's steering, kept physical like every learned step), forgetting
+    /// everything learned after it.
     pub fn set_theta_at(&mut self, frame: usize, theta: OnlineParams) {
         self.truncate_to(frame);
-        self.checkpoints[frame] = theta.clamped();
+        self.checkpoints[frame] = self.model.keep_physical(theta);
         self.posterior = self.posterior.at(&self.checkpoints[frame]);
         self.spreads[frame] = Spread::of(&self.posterior);
         self.mark_cut(frame);

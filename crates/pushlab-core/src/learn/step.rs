@@ -47,15 +47,16 @@ pub fn learn_step<M: OnlineModel + ?Sized>(
     state: &OnlineState,
     config: &OnlineConfig,
 ) -> (OnlineStep, OnlineState) {
-    let theta = state.theta.clamped();
+    let theta = model.keep_physical(state.theta);
     let linearization = model.linearize(sample, &theta);
     let posterior = state.posterior.with(&linearization, &theta);
-    let step = match config.optimizer {
+    let mut step = match config.optimizer {
         Optimizer::Gd => model.online_step(sample, &theta, &config.descent()),
         Optimizer::GaussNewton => {
             gauss_newton_step(model, sample, &theta, &linearization, &posterior, config)
         }
     };
+    step.theta_after = model.keep_physical(step.theta_after);
     let next = OnlineState {
         theta: step.theta_after,
         posterior: posterior.at(&step.theta_after),

@@ -9,6 +9,7 @@
 //! - [`PureNnModel`]: the MLP alone (the paper's "Offline NN").
 //! - [`PhysicsOnlyModel`]: geometry and Lynch, no network.
 
+mod bounds;
 mod combined;
 pub mod contact;
 pub(crate) mod kernel;
@@ -24,6 +25,7 @@ mod pure_nn;
 mod sample;
 pub(crate) mod tail;
 
+pub use bounds::PhysicalBounds;
 pub use combined::{CombinedModel, ModelKind, NoOutline};
 pub use contact::{ContactGeometry, ContactModel};
 pub use kernel::Linearization;

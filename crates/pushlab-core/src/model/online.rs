@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 use super::loss::{Loss, LossScale};
 use super::{
-    ContactGeometry, ContactModel, Linearization, OnlineParams, PaperModel, PhysicsOnlyModel,
-    Prediction, RealSample, Sample, SampleInput,
+    ContactGeometry, ContactModel, Linearization, OnlineParams, PaperModel, PhysicalBounds,
+    PhysicsOnlyModel, Prediction, RealSample, Sample, SampleInput,
 };
 use crate::real::Real;
 
@@ -87,6 +87,19 @@ pub trait OnlineModel {
     /// The sample's residual normalised by the loss's σ and its Jacobian with respect to
     /// `θ_online` at `theta`: what Gauss–Newton and the posterior of `θ_online` are built from.
     fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization;
+    /// Where `θ_online` can physically be on the object, when the model knows its outline: online
+    /// learning keeps every step inside (`learn::step`).
+    fn bounds(&self) -> Option<&PhysicalBounds> {
+        None
+    }
+    /// `theta` kept inside [`OnlineModel::bounds`] (only [`OnlineParams::clamped`] for a model
+    /// without an outline): what every update and every steering of `θ_online` goes through.
+    fn keep_physical(&self, theta: OnlineParams) -> OnlineParams {
+        match self.bounds() {
+            Some(bounds) => bounds.keep(theta),
+            None => theta.clamped(),
+        }
+    }
     /// The prediction for a sample, its loss, and the gradient of the loss with respect to
     /// `θ_online` (`[com_x, com_y, h]`, per metre).
     fn loss_and_gradient(
@@ -191,6 +204,10 @@ impl OnlineModel for ContactModelOnObject {
         self.model
             .linearize(&self.geometry, sample, &theta.clamped())
     }
+
+    fn bounds(&self) -> Option<&PhysicalBounds> {
+        Some(self.geometry.bounds())
+    }
 }
 
 /// The physics-only model learns `θ_online` too; each component is scaled by half the object's size.
@@ -220,6 +237,10 @@ impl OnlineModel for PhysicsOnlyModel {
     fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
         PhysicsOnlyModel::linearize(self, sample, &theta.clamped())
     }
+
+    fn bounds(&self) -> Option<&PhysicalBounds> {
+        Some(PhysicsOnlyModel::bounds(self))
+    }
 }
 
 macro_rules! forward_online_model {
@@ -244,6 +265,7 @@ macro_rules! forward_online_model {
             fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
                 (**self).linearize(sample, theta)
             }
+            fn bounds(&self) -> Option<&PhysicalBounds> { (**self).bounds() }
         }
     )*};
 }

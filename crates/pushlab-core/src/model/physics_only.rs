@@ -2,6 +2,7 @@
 //! pusher disc, the contact moves with the pusher (`u_c = u_r`, a sticking contact), and Lynch's model
 //! with the COM correction does the rest.
 
+use super::bounds::PhysicalBounds;
 use super::kernel::{Linearization, ThetaPass, descend, linearize, loss_weights};
 use super::params::OnlineParams;
 use super::tail::TailPass;
@@ -20,6 +21,7 @@ pub const DEFAULT_CONTACT_TOLERANCE: f64 = 0.01;
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicsOnlyModel {
     outline: Outline,
+    bounds: PhysicalBounds,
     pusher_radius: f64,
     contact_tolerance: f64,
     loss_scale: LossScale,
@@ -36,6 +38,7 @@ impl PhysicsOnlyModel {
         loss_scale: LossScale,
     ) -> Self {
         Self {
+            bounds: PhysicalBounds::of(&outline),
             outline,
             pusher_radius,
             contact_tolerance,
@@ -46,6 +49,11 @@ impl PhysicsOnlyModel {
     /// The object's outline.
     pub fn outline(&self) -> &Outline {
         &self.outline
+    }
+
+    /// Where `θ_online` can physically be on the object.
+    pub fn bounds(&self) -> &PhysicalBounds {
+        &self.bounds
     }
 
     /// The σ that normalise the losses.

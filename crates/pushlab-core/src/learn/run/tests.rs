@@ -266,3 +266,72 @@ fn frames_flagged_to_skip_hold_theta_and_the_rest_learn() {
     run.learn_through(0, 40, &skip);
     assert!(run.learned()[..40].iter().all(Option::is_some));
 }
+
+/// The 10 cm box pushed at the middle of a face and turning faster than any COM on it can explain: learning wants the COM far
+/// outside the box, and every optimiser is kept inside it (and `h` below the farthest corner).
+#[test]
+fn every_optimiser_keeps_theta_physical_where_the_data_ask_for_the_impossible() {
+    let frames = (0..200)
+        .map(|i| {
+            let t = i as f64 * 0.01;
+            let object = Pose2::new(0.05 * t, 0.0, 1.0 * t);
+            let robot = object.point_in_world(nalgebra::Point2::new(-0.06, 0.0));
+            Frame {
+                time: t,
+                robot,
+                object,
+            }
+        })
+        .collect();
+    let trajectory = Arc::new(Trajectory::new(frames));
+    for config in [
+        OnlineConfig {
+            lr: 500.0,
+            ..OnlineConfig::default()
+        },
+        OnlineConfig {
+            optimizer: Optimizer::GaussNewton,
+            ..OnlineConfig::default()
+        },
+    ] {
+        let model = model(&trajectory);
+        let mut run = OnlineRun::new(model.clone(), trajectory.clone(), 1, config);
+        run.learn_all(&[]);
+        let mut wanted_outside = false;
+        for (k, theta) in run.checkpoints().iter().enumerate() {
+            let [x, y] = theta.com_offset;
+            assert!(
+                x.abs() <= 0.05 + 1e-12 && y.abs() <= 0.05 + 1e-12,
+                "{config:?}: COM ({x}, {y}) outside the box at frame {k}"
+            );
+            let farthest = (0.05 + x.abs()).hypot(0.05 + y.abs());
+            assert!(
+                theta.h <= farthest + 1e-12,
+                "{config:?}: h {} at frame {k}",
+                theta.h
+            );
+            // What the optimiser's own step asked for, before the bounds.
+            if config.optimizer == Optimizer::Gd
+                && let Some(sample) = run.sample(k)
+            {
+                let raw = model
+                    .online_step(&sample, theta, &config.descent())
+                    .theta_after;
+                wanted_outside |= raw.com_offset.iter().any(|c| c.abs() > 0.05 + 1e-9);
+            }
+        }
+        assert!(
+            config.optimizer != Optimizer::Gd || wanted_outside,
+            "the test push never asked for a COM outside the box"
+        );
+        // A user's steering outside the box lands on its edge.
+        run.set_theta_at(
+            10,
+            OnlineParams {
+                com_offset: [0.2, 0.0],
+                h: 0.03,
+            },
+        );
+        assert_eq!(run.theta_at(10).com_offset, [0.05, 0.0]);
+    }
+}

@@ -19,6 +19,7 @@
 use nalgebra::{Point2, Vector2};
 
 use crate::geometry::Outline;
+use crate::model::PhysicalBounds;
 
 /// An object's outline and the pusher's radius as the contact-frame model uses them: each edge with
 /// its direction, length and outward normal precomputed, so that the nearest point costs no square root
@@ -36,6 +37,8 @@ pub struct ContactGeometry {
     size: f64,
     /// Whether the outline is convex (the half-plane inside test and edge normals inside suffice).
     convex: bool,
+    /// Where `θ_online` can physically be on this object.
+    bounds: PhysicalBounds,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -89,7 +92,13 @@ impl ContactGeometry {
             uniform_h: outline.uniform_pressure_h(centroid, 200),
             size: outline.size(),
             convex: outline.is_convex(),
+            bounds: PhysicalBounds::of(outline),
         }
+    }
+
+    /// Where `θ_online` can physically be on this object.
+    pub fn bounds(&self) -> &PhysicalBounds {
+        &self.bounds
     }
 
     /// Radius of the pusher disc, metres.
