@@ -39,9 +39,14 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     let posterior = learner.posterior();
     let estimate = theta_vector(&learner.theta());
 
-    // The closed form, from the stacked system A θ = y: the noise variance of the fit at the
-    // estimate and the covariance (AᵀA / s² + Λ₀)⁻¹ with the prior N(θ₀, (2 h₀)² I).
+    // The closed form, from the stacked system A θ = y with frame i of n weighed by
+    // (1 − 1/MEMORY_FRAMES)^(n − 1 − i) (the posterior's forgetting): the noise variance of the
+    // weighted fit at the estimate and the covariance (AᵀWA / s² + Λ₀)⁻¹ with the prior
+    // N(θ₀, (2 h₀)² I).
     let n = samples.len();
+    let keep = 1.0 - 1.0 / pushlab_core::learn::uncertainty::MEMORY_FRAMES;
+    let weights = DVector::from_fn(3 * n, |row, _| keep.powi((n - 1 - row / 3) as i32));
+    let w = DMatrix::from_diagonal(&weights);
     let a = DMatrix::from_fn(3 * n, 3, |row, col| {
         LinearToy::matrix(&samples[row / 3].input)[(row % 3, col)]
     });
@@ -50,7 +55,9 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
         [t.translation[0], t.translation[1], t.rotation][row % 3]
     });
     let residual = &a * DVector::from_column_slice(estimate.as_slice()) - &y;
-    let s2 = (residual.norm_squared() + 3.0) / (3.0 * n as f64 - 3.0 + 3.0);
+    let weight_sum = weights.sum() / 3.0;
+    let s2 =
+        (residual.component_mul(&residual).dot(&weights) + 3.0) / (3.0 * weight_sum - 3.0 + 3.0);
     assert!((posterior.noise_variance() - s2).abs() < 1e-9 * s2);
     // The correlation factor: 40 frames make 10 batches of 4 (16 of 1 merged to 8 of 2, 16 of 2 to
     // 8 of 4); each batch's score Σ Aₜᵀ(Aₜ θ̂ − yₜ) at the estimate, their scatter about the mean,
@@ -72,7 +79,8 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     let c = (per_frame / s2).clamp(1.0, 100.0);
     assert!((posterior.correlation_factor() - c).abs() < 1e-9 * c);
     let prior_precision = 1.0 / (2.0 * 0.5_f64).powi(2);
-    let information = a.transpose() * &a / (s2 * c) + DMatrix::identity(3, 3) * prior_precision;
+    let information =
+        a.transpose() * &w * &a / (s2 * c) + DMatrix::identity(3, 3) * prior_precision;
     let closed = information.try_inverse().expect("positive definite");
     let covariance = posterior.mode_covariance();
     for i in 0..3 {
@@ -90,7 +98,7 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     // tenth of a standard deviation: each frame was weighed with the noise variance known when it
     // came); the estimate's error covariance adds its offset from the mode.
     let map = &closed
-        * (a.transpose() * &y / (s2 * c)
+        * (a.transpose() * &w * &y / (s2 * c)
             + DVector::from_column_slice(&[0.0, 0.0, 0.5]) * prior_precision);
     let mode = posterior.mode();
     for i in 0..3 {
@@ -464,5 +472,37 @@ fn a_rollout_of_one_step_is_the_one_step_prediction_and_the_true_model_tracks_th
     assert_eq!(
         rollout(&model, trajectory, end, 1, 20, &theta).poses.len(),
         2
+    );
+}
+
+/// A long recording whose object changes late: 10,000 frames of the linear toy with one `θ`, then
+/// 5,000 with another. Gauss–Newton's posterior forgets (`MEMORY_FRAMES`, 2000): the first θ's
+/// frames keep `e^(−5000/2000)` ≈ 8 % of their weight, and it ends 7 % of the way back towards the
+/// first θ. Without forgetting it ended 66 % of the way back (its gain falls as one over the frames
+/// seen), which gradient descent's constant steps do not suffer from.
+#[test]
+fn gauss_newton_forgets_and_follows_a_change_late_in_a_long_recording() {
+    use pushlab_core::learn::uncertainty::MEMORY_FRAMES;
+    let first = OnlineParams {
+        com_offset: [0.03, -0.02],
+        h: 0.42,
+    };
+    let second = OnlineParams {
+        com_offset: [-0.01, 0.02],
+        h: 0.30,
+    };
+    let mut rng = SplitMix64::new(5);
+    let mut samples = toy_samples(&mut rng, &first, 10_000, 0.05);
+    samples.extend(toy_samples(&mut rng, &second, 5_000, 0.05));
+    let mut learner = Chain::new(LinearToy, GAUSS_NEWTON);
+    learner.run(&samples);
+    let end = theta_vector(&learner.theta());
+    let (first, second) = (theta_vector(&first), theta_vector(&second));
+    assert!(
+        (end - second).norm() < 0.15 * (first - second).norm(),
+        "after {} frames of the second θ ({} frames remembered) Gauss–Newton ended at {end:?}, \
+         the second θ is {second:?}",
+        5_000,
+        MEMORY_FRAMES
     );
 }
