@@ -64,10 +64,16 @@ impl PhysicalBounds {
         if com.norm() > self.inner_radius && !self.contains(com) {
             com = self.nearest_boundary_point(com);
         }
-        let h_max = self.h_max(com).max(H_MIN);
+        // Every vertex is at least `outer_radius − |com|` from the COM: below that, no need to
+        // look for the farthest (the common case, and the step's hot path).
+        let h = if theta.h <= self.outer_radius - com.norm() {
+            theta.h
+        } else {
+            theta.h.min(self.h_max(com)).max(H_MIN)
+        };
         OnlineParams {
             com_offset: [com.x, com.y],
-            h: theta.h.clamp(H_MIN, h_max),
+            h,
         }
     }
 
