@@ -4,7 +4,7 @@
 Nothing here comes from pushlab's own simulator: a flat object (an extruded polygon) rests on a
 plane on a grid of small spheres with Coulomb friction, so MuJoCo's soft contacts carry more of its
 weight near its COM; a vertical cylinder moved kinematically (its slide joints' position and
-velocity set every step) pushes it along straight or slightly curved paths at 2.5-4 cm/s. The COM is
+velocity set every step) pushes it along straight or slightly curved paths at 2.5-4 cm/s (0.4 s speed ramps). The COM is
 moved by the body's inertial frame only: outline and support stay the same.
 
 The true h is what pushlab's simulator calls h (docs/src/simulator.md, sim/pressure.rs `h_about`):
@@ -194,7 +194,9 @@ def simulate(spec, model, plan, com):
     h_true = float((forces * np.linalg.norm(points - com, axis=1)).sum() / forces.sum())
     pressure_centre = (forces[:, None] * points).sum(axis=0) / forces.sum()
 
-    ramp = 0.1
+    # Speed ramps of 0.4 s: the pusher meets the object (5 mm away) while still speeding up, so the
+    # first touch is gentle.
+    ramp = 0.4
     v = plan["speed"]
     t_move = plan["length"] / v + ramp
     total = t_move + spec["hold_s"]
@@ -207,7 +209,7 @@ def simulate(spec, model, plan, com):
         touching = bool((data.contact.geom[:data.ncon] == pusher_geom).any())
         rec[k] = [k * dt, *data.qpos[jp:jp + 2], *data.xpos[obj_body][:2], yaw_of(q), tilt, touching]
 
-    def arc(t):  # trapezoidal speed: ramps of 0.1 s at both ends
+    def arc(t):  # trapezoidal speed
         if t <= 0:
             return 0.0, 0.0
         if t < ramp:
@@ -236,6 +238,11 @@ def simulate(spec, model, plan, com):
     obj_v = np.linalg.norm(np.diff(rec[:, 3:5], axis=0), axis=1) / dt
     window = 10  # 10 ms mean speed: the soft contact's first touch rings for a few steps
     obj_v = np.convolve(obj_v, np.ones(window) / window, mode="valid")
+    # Inertia against friction: the object's acceleration (20 ms differences) over mu g. Quasi-static
+    # means far below 1.
+    pos = rec[::20, 3:5]
+    accel = np.linalg.norm(np.diff(pos, 2, axis=0), axis=1) / (20 * dt) ** 2
+    accel_ratio = accel / (spec["floor_friction"] * 9.81)
     settle = int(round((t_move + 0.1) / dt))
     sanity = {
         "moved_m": float(np.linalg.norm(rec[int(t_move / dt), 3:5] - rec[0, 3:5])),
@@ -244,6 +251,8 @@ def simulate(spec, model, plan, com):
         "creep_after_stop_mm": float(np.linalg.norm(rec[-1, 3:5] - rec[settle, 3:5]) * 1000),
         "yaw_after_stop_deg": float(abs(math.degrees(rec[-1, 5] - rec[settle, 5]))),
         "max_tilt_deg": float(rec[:, 6].max()),
+        "max_inertia_ratio": float(accel_ratio.max()),
+        "p95_inertia_ratio": float(np.percentile(accel_ratio, 95)),
         "h_true": h_true,
         "pressure_centre_error_mm": float(np.linalg.norm(pressure_centre - com) * 1000),
     }
@@ -344,6 +353,8 @@ def summarise(pushes):
           f"pusher touching the object: min {worst('contact_share', min):.0%} of the motion")
     print(f"  object speed / pusher speed (10 ms means): max {worst('max_speed_ratio'):.2f}, "
           f"median {np.median([p['max_speed_ratio'] for p in pushes]):.2f}")
+    print(f"  inertia / friction (m|a| / mu m g, 20 ms): max {worst('max_inertia_ratio'):.3f}, "
+          f"95th percentile max {worst('p95_inertia_ratio'):.3f}")
     print(f"  after the pusher stops: creep max {worst('creep_after_stop_mm'):.3f} mm, "
           f"turn max {worst('yaw_after_stop_deg'):.3f} deg; tilt max {worst('max_tilt_deg'):.2f} deg")
     print(f"  pressure centre from the COM at rest: max {worst('pressure_centre_error_mm'):.2f} mm")

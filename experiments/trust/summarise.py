@@ -236,7 +236,8 @@ def print_sanity(path):
     print(f"\nMuJoCo pushes' physical sanity ({len(pushes)} pushes): moved >= {worst('moved_m', min) * 1000:.0f} mm, "
           f"pusher touching >= {worst('contact_share', min):.0%} of the motion, object speed / pusher "
           f"speed <= {worst('max_speed_ratio'):.2f}, after the stop creep <= {worst('creep_after_stop_mm'):.3f} mm "
-          f"and {worst('yaw_after_stop_deg'):.3f}°, tilt <= {worst('max_tilt_deg'):.2f}°")
+          f"and {worst('yaw_after_stop_deg'):.3f}°, tilt <= {worst('max_tilt_deg'):.2f}°, inertia / friction "
+          f"<= {worst('max_inertia_ratio'):.2f} (95th percentile <= {worst('p95_inertia_ratio'):.2f})")
 
 
 def main():
