@@ -1,0 +1,302 @@
+#!/usr/bin/env python3
+"""The tables of experiments/trust/run from `pushlab eval --json --per-frame` reports.
+
+Arguments: SOURCE:OPTIMIZER:REPORT.json ... where SOURCE is `mujoco` or `mit-SHAPE`.
+Per push it takes from the report: the final θ and its posterior (`com_offset_learned`,
+`com_offset_cov`), θ at every frame (`frames[].theta`, from --per-frame) and the source file; the
+truth is `com_offset_true` for MuJoCo (from its setting.json) and the geometric centre (0, 0) for MIT
+(the dataset gives no COM for hex; its other shapes' COM is their centre). It computes itself, so
+that nothing depends on what a pushlab version puts in `com_found`:
+  - holds: the truth inside the final 95 % ellipse, d' C^-1 d <= 5.991 (chi-square, 2 dof), the
+    rule of learn/uncertainty.rs; checked against `com_found.within_95` where the report has it;
+  - sigma: sqrt((Cxx + Cyy) / 2), the RMS of the two principal standard deviations, mm;
+  - COM out: pushes whose learned COM left the outline at any frame (and at the last);
+  - h/R: h over R, the largest distance from the learned COM to the outline (the most h can be for
+    any pressure under the object), at every frame; h > R counts the pushes where it exceeded 1;
+  - NMSE: the reports' online / fixed / physics-only online, means weighted by online samples.
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import statistics
+import sys
+
+CHI2_2DOF_95 = 5.991464547107979
+TARGET_COVERAGE, TARGET_MEDIAN_MM = 0.80, 3.0
+
+
+def centroid(vertices):
+    a = cx = cy = 0.0
+    for (x0, y0), (x1, y1) in zip(vertices, vertices[1:] + vertices[:1]):
+        c = x0 * y1 - x1 * y0
+        a, cx, cy = a + c, cx + (x0 + x1) * c, cy + (y0 + y1) * c
+    return cx / (3 * a), cy / (3 * a)
+
+
+def inside(vertices, p):
+    """Crossing rule: any simple polygon."""
+    x, y = p
+    hit = False
+    for (x0, y0), (x1, y1) in zip(vertices, vertices[1:] + vertices[:1]):
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            hit = not hit
+    return hit
+
+
+def reach(vertices, p):
+    return max(math.hypot(vx - p[0], vy - p[1]) for vx, vy in vertices)
+
+
+def holds(estimate, cov, truth):
+    (a, b), (_, d) = cov
+    det = a * d - b * b
+    if not (det > 0 and math.isfinite(det)):
+        return False
+    dx, dy = truth[0] - estimate[0], truth[1] - estimate[1]
+    return (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / det <= CHI2_2DOF_95
+
+
+class Outlines:
+    def __init__(self, shapes_path):
+        shapes = json.load(open(shapes_path))["shapes"]
+        self.mit = {}
+        for name, shape in shapes.items():
+            v = [tuple(p) for p in shape["vertices"]]
+            c = centroid(v)
+            self.mit[name] = [(x - c[0], y - c[1]) for x, y in v]
+        self.settings = {}
+
+    def setting(self, source):
+        folder = os.path.dirname(source)
+        if folder not in self.settings:
+            self.settings[folder] = json.load(open(os.path.join(folder, "setting.json")))
+        return self.settings[folder]
+
+
+def push_of(source_kind, traj, outlines):
+    src = traj["source"]
+    if source_kind == "mujoco":
+        setting = outlines.setting(src)
+        vertices = [tuple(v) for v in setting["object"]["vertices"]]
+        truth = traj["com_offset_true"]
+        g = setting["generator"]
+        group = {"object": g["object"], "rate": f"{setting['sample_rate_hz']:g} Hz",
+                 "noise": g["noise"]["name"], "com": "centred" if g["com_index"] == 0 else "moved"}
+    else:
+        shape = re.search(r"shape=([a-z0-9]+)_", src).group(1)
+        vertices, truth, group = outlines.mit[shape], [0.0, 0.0], {"object": shape}
+    est, cov = traj["com_offset_learned"], traj["com_offset_cov"]
+    frames = traj.get("frames") or []
+    thetas = [f["theta"] for f in frames] or [{"com_offset": est, "h": traj["h_learned"]}]
+    ratios = [t["h"] / reach(vertices, t["com_offset"]) for t in thetas]
+    within = holds(est, cov, truth)
+    reported = (traj.get("com_found") or {}).get("within_95")
+    if reported is not None and reported != within:
+        print(f"warning: {src}: within_95 {reported} in the report, {within} here", file=sys.stderr)
+    return {
+        "source": src, "group": group,
+        "error_mm": math.hypot(est[0] - truth[0], est[1] - truth[1]) * 1000,
+        "holds": within,
+        "sigma_mm": math.sqrt(max(0.0, (cov[0][0] + cov[1][1]) / 2)) * 1000,
+        "outside_any": any(not inside(vertices, t["com_offset"]) for t in thetas),
+        "outside_final": not inside(vertices, est),
+        "h_ratio_min": min(ratios), "h_ratio_max": max(ratios),
+        "h_over_reach": any(r > 1 for r in ratios),
+        "h_mm": traj["h_learned"] * 1000,
+        "h_true_mm": traj["h_true"] * 1000 if traj.get("h_true") is not None else None,
+        "frames_per_theta": bool(frames),
+    }
+
+
+def weighted(reports, key, sub=None):
+    total = pos = rot = 0.0
+    for r in reports:
+        value = r[key] if sub is None else (r.get(key) or {}).get(sub)
+        if value is None:
+            return None
+        n = r["config"]["online_samples"]
+        total, pos, rot = total + n, pos + n * value["pos"], rot + n * value["rot"]
+    return {"pos": pos / total, "rot": rot / total} if total else None
+
+
+def summary(pushes, reports):
+    errors = [p["error_mm"] for p in pushes]
+    out = {
+        "pushes": len(pushes),
+        "holds": sum(p["holds"] for p in pushes),
+        "coverage": sum(p["holds"] for p in pushes) / max(1, len(pushes)),
+        "median_error_mm": statistics.median(errors) if errors else None,
+        "max_error_mm": max(errors) if errors else None,
+        "median_sigma_mm": statistics.median(p["sigma_mm"] for p in pushes) if pushes else None,
+        "outside_any": sum(p["outside_any"] for p in pushes),
+        "outside_final": sum(p["outside_final"] for p in pushes),
+        "h_ratio_range": [min(p["h_ratio_min"] for p in pushes), max(p["h_ratio_max"] for p in pushes)]
+        if pushes else None,
+        "h_over_reach": sum(p["h_over_reach"] for p in pushes),
+        "per_frame": all(p["frames_per_theta"] for p in pushes),
+    }
+    if reports is not None:
+        out["online"] = weighted(reports, "online")
+        out["fixed"] = weighted(reports, "fixed")
+        out["physics_online"] = weighted(reports, "physics", "online")
+        out["physics_fixed"] = weighted(reports, "physics", "fixed")
+    h_err = [abs(p["h_mm"] - p["h_true_mm"]) for p in pushes if p["h_true_mm"] is not None]
+    out["median_h_error_mm"] = statistics.median(h_err) if h_err else None
+    return out
+
+
+def nmse(v):
+    return f"{v['pos']:.3f}/{v['rot']:.3f}" if v else "-"
+
+
+def print_main(rows):
+    head = (f"{'source':<19} {'optimiser':<12} {'95 % holds':>12} {'COM err med/max':>16} "
+            f"{'σ med':>6} {'COM out':>7} {'h/R range':>11} {'h>R':>4} "
+            f"{'online':>12} {'fixed':>12} {'phys online':>12}")
+    print(head)
+    print("-" * len(head))
+    for r in rows:
+        s = r["summary"]
+        print(f"{r['source']:<19} {r['optimizer']:<12} "
+              f"{s['holds']:>4}/{s['pushes']:<3} {s['coverage']:4.0%} "
+              f"{s['median_error_mm']:6.1f}/{s['max_error_mm']:<6.1f} mm"
+              f" {s['median_sigma_mm']:5.1f} {s['outside_any']:>3}/{s['outside_final']:<3} "
+              f"{s['h_ratio_range'][0]:5.2f}-{s['h_ratio_range'][1]:<5.2f} {s['h_over_reach']:>4} "
+              f"{nmse(s.get('online')):>12} {nmse(s.get('fixed')):>12} {nmse(s.get('physics_online')):>12}")
+
+
+def print_breakdown(mujoco):
+    print("\nMuJoCo pushes by group (95 % holds, median final COM error mm, median h error mm):")
+    keys = ["object", "rate", "noise", "com"]
+    opts = [o for o in ("gd", "gauss-newton") if (o, "mujoco") in mujoco]
+    print(f"{'group':<22}" + "".join(f" {o:>30}" for o in opts))
+    for key in keys:
+        values = sorted({p["group"][key] for ps in mujoco.values() for p in ps[0]},
+                        key=lambda v: (len(v), v))
+        for value in values:
+            line = f"{key + ' ' + value:<22}"
+            for o in opts:
+                ps = [p for p in mujoco[(o, "mujoco")][0] if p["group"][key] == value]
+                s = summary(ps, None)
+                line += (f"  {s['holds']:>3}/{s['pushes']:<3} {s['coverage']:4.0%} "
+                         f"{s['median_error_mm']:6.1f} mm h {s['median_h_error_mm']:5.1f}")
+            print(line)
+
+
+def targets(rows):
+    """The issue's claims, met or missed, from the rows."""
+    lines = []
+    by = {(r["source"], r["optimizer"]): r["summary"] for r in rows}
+    for (source, opt), s in by.items():
+        if source == "MIT held out, all":
+            continue
+        ok = s["coverage"] >= TARGET_COVERAGE
+        lines.append((ok, f"95 % ellipse holds the truth in >= 80 % of pushes: {source}, {opt}: "
+                          f"{s['coverage']:.0%}"))
+    for (source, opt), s in by.items():
+        ok = s["outside_any"] == 0 and s["h_over_reach"] == 0
+        lines.append((ok, f"θ physical (COM inside the outline at every frame, h <= R): {source}, "
+                          f"{opt}: COM left it in {s['outside_any']}, h > R in {s['h_over_reach']}"
+                          f" of {s['pushes']}"))
+    for (source, opt), s in by.items():
+        if not source.startswith("MIT") or s.get("physics_online") is None or source == "MIT held out, all":
+            continue
+        on, ph = s["online"], s["physics_online"]
+        ok = on["pos"] < ph["pos"] and on["rot"] < ph["rot"]
+        lines.append((ok, f"online below physics-only online (pos and rot): {source}, {opt}: "
+                          f"{nmse(on)} against {nmse(ph)}"))
+    for source in ("MuJoCo", "MuJoCo, COM moved"):
+        for opt in ("gd", "gauss-newton"):
+            s = by.get((source, opt))
+            if s:
+                ok = s["median_error_mm"] <= TARGET_MEDIAN_MM
+                lines.append((ok, f"median final COM error <= 3 mm: {source}, {opt}: "
+                                  f"{s['median_error_mm']:.1f} mm"))
+        gd, gn = by.get((source, "gd")), by.get((source, "gauss-newton"))
+        if gd and gn:
+            ok = gn["median_error_mm"] <= gd["median_error_mm"]
+            lines.append((ok, f"Gauss–Newton's median COM error no worse than gradient descent's: {source}: "
+                              f"{gn['median_error_mm']:.1f} against {gd['median_error_mm']:.1f} mm"))
+    print("\nTargets of issue #25:")
+    for ok, text in lines:
+        print(f"  {'met   ' if ok else 'MISSED'} {text}")
+    met = sum(ok for ok, _ in lines)
+    print(f"  {met} of {len(lines)} met")
+    return [{"met": ok, "claim": text} for ok, text in lines]
+
+
+def print_sanity(path):
+    if not path or not os.path.exists(path):
+        return
+    pushes = json.load(open(path))["pushes"]
+    worst = lambda k, f=max: f(p[k] for p in pushes)  # noqa: E731
+    print(f"\nMuJoCo pushes' physical sanity ({len(pushes)} pushes): moved >= {worst('moved_m', min) * 1000:.0f} mm, "
+          f"pusher touching >= {worst('contact_share', min):.0%} of the motion, object speed / pusher "
+          f"speed <= {worst('max_speed_ratio'):.2f}, after the stop creep <= {worst('creep_after_stop_mm'):.3f} mm "
+          f"and {worst('yaw_after_stop_deg'):.3f}°, tilt <= {worst('max_tilt_deg'):.2f}°, inertia / friction "
+          f"<= {worst('max_inertia_ratio'):.2f} (95th percentile <= {worst('p95_inertia_ratio'):.2f})")
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--shapes", required=True)
+    parser.add_argument("--sanity")
+    parser.add_argument("--out")
+    parser.add_argument("reports", nargs="+")
+    args = parser.parse_args()
+    outlines = Outlines(args.shapes)
+    groups = {}  # (optimizer, source kind) -> (pushes, reports)
+    for item in args.reports:
+        kind, opt, path = item.split(":", 2)
+        report = json.load(open(path))
+        source_kind = "mujoco" if kind == "mujoco" else "mit"
+        pushes = [push_of(source_kind, t, outlines) for t in report["trajectories"]]
+        del report["trajectories"]
+        entry = groups.setdefault((opt, kind), ([], []))
+        entry[0].extend(pushes)
+        entry[1].append(report)
+    rows = []
+    opts = [o for o in ("gd", "gauss-newton") if any(k[0] == o for k in groups)]
+    kinds = list(dict.fromkeys(k for _, k in groups))  # in the order of the arguments
+    for kind in kinds:
+        for opt in opts:
+            if (opt, kind) not in groups:
+                continue
+            pushes, reports = groups[(opt, kind)]
+            if kind == "mujoco":
+                rows.append({"source": "MuJoCo", "optimizer": opt, "summary": summary(pushes, reports)})
+                moved = [p for p in pushes if p["group"]["com"] == "moved"]
+                rows.append({"source": "MuJoCo, COM moved", "optimizer": opt,
+                             "summary": summary(moved, None)})
+            else:
+                rows.append({"source": f"MIT {kind[4:]} held out", "optimizer": opt,
+                             "summary": summary(pushes, reports)})
+    for opt in opts:
+        pushes, reports = [], []
+        for (o, k), (ps, rs) in groups.items():
+            if o == opt and k.startswith("mit-"):
+                pushes += ps
+                reports += rs
+        if pushes:
+            rows.append({"source": "MIT held out, all", "optimizer": opt,
+                         "summary": summary(pushes, reports)})
+    print_main(rows)
+    print("(95 % holds: final ellipse holds the true COM; COM err: final, mm; σ: RMS of the final COM "
+          "posterior's principal σ, mm; COM out: pushes whose learned COM left the outline at any frame / "
+          "at the last; h/R: learned h over the largest distance from the learned COM to the outline, "
+          "every frame; NMSE pos/rot weighted by online samples)")
+    mujoco = {(o, k): v for (o, k), v in groups.items() if k == "mujoco"}
+    if mujoco:
+        print_breakdown(mujoco)
+    claims = targets(rows)
+    print_sanity(args.sanity)
+    if args.out:
+        every = [dict(p, optimizer=o, kind=k) for (o, k), (ps, _) in groups.items() for p in ps]
+        json.dump({"rows": rows, "targets": claims, "pushes": every}, open(args.out, "w"), indent=1)
+
+
+if __name__ == "__main__":
+    main()
