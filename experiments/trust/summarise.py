@@ -46,6 +46,22 @@ def inside(vertices, p):
     return hit
 
 
+def on_boundary(vertices, p, tolerance=1e-9):
+    """Within `tolerance` metres of an edge: where a COM kept physical lands when learning pushes it
+    out (pushlab projects it onto the boundary), which the crossing rule leaves undecided."""
+    x, y = p
+    for (x0, y0), (x1, y1) in zip(vertices, vertices[1:] + vertices[:1]):
+        ex, ey = x1 - x0, y1 - y0
+        t = max(0.0, min(1.0, ((x - x0) * ex + (y - y0) * ey) / (ex * ex + ey * ey)))
+        if math.hypot(x - x0 - t * ex, y - y0 - t * ey) <= tolerance:
+            return True
+    return False
+
+
+def physical(vertices, p):
+    return inside(vertices, p) or on_boundary(vertices, p)
+
+
 def reach(vertices, p):
     return max(math.hypot(vx - p[0], vy - p[1]) for vx, vy in vertices)
 
@@ -101,10 +117,10 @@ def push_of(source_kind, traj, outlines):
         "error_mm": math.hypot(est[0] - truth[0], est[1] - truth[1]) * 1000,
         "holds": within,
         "sigma_mm": math.sqrt(max(0.0, (cov[0][0] + cov[1][1]) / 2)) * 1000,
-        "outside_any": any(not inside(vertices, t["com_offset"]) for t in thetas),
-        "outside_final": not inside(vertices, est),
+        "outside_any": any(not physical(vertices, t["com_offset"]) for t in thetas),
+        "outside_final": not physical(vertices, est),
         "h_ratio_min": min(ratios), "h_ratio_max": max(ratios),
-        "h_over_reach": any(r > 1 for r in ratios),
+        "h_over_reach": any(r > 1 + 1e-9 for r in ratios),
         "h_mm": traj["h_learned"] * 1000,
         "h_true_mm": traj["h_true"] * 1000 if traj.get("h_true") is not None else None,
         "frames_per_theta": bool(frames),
