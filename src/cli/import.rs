@@ -30,6 +30,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, TopicSpec};
 use pushlab_core::recording::camera::{CameraStream, FrameProblem, to_stored};
+use pushlab_core::recording::dataset::{self, Columns, ObjectSource};
 use pushlab_core::recording::native::SETTING_FILE;
 use pushlab_core::recording::native::images::{images_dir, write_camera};
 use pushlab_core::recording::write_set;
@@ -39,7 +40,8 @@ use super::load_bar::with_load_bar;
 /// Arguments of `pushlab import`.
 #[derive(Debug, Args)]
 pub struct ImportArgs {
-    /// The bag: an .mcap file or a rosbag2 folder (with metadata.yaml).
+    /// The bag: an .mcap file or a rosbag2 folder (with metadata.yaml); or a Push-T dataset: a
+    /// zarr replay buffer (Diffusion Policy's) or a LeRobot dataset folder.
     pub bag: PathBuf,
     /// The pusher's topic; for a tf2_msgs/msg/TFMessage topic such as /tf add the frame:
     /// /tf:pusher_tip (its pose in the root of its transform tree, with /tf_static). Without
@@ -69,6 +71,20 @@ pub struct ImportArgs {
     /// Replace a set already in --out.
     #[arg(long)]
     pub overwrite: bool,
+    /// Datasets: metres per pixel of the 512 × 512 Push-T arena (default 0.001: a 120 mm T, a 15 mm
+    /// pusher; or the scale remembered with the dataset's choice).
+    #[arg(long, value_name = "METRES_PER_PX", value_parser = positive_real)]
+    pub scale: Option<f64>,
+    /// Datasets: import only the episodes A, A+1, …, B−1 (counted from 0).
+    #[arg(long, value_name = "A..B", value_parser = super::import_dataset::episode_range)]
+    pub episodes: Option<std::ops::Range<usize>>,
+    /// Datasets: the pusher's x, y as FEATURE[:COLUMN] (default: remembered, or Push-T's layout).
+    #[arg(long, value_name = "FEATURE[:COLUMN]", requires = "object_feature")]
+    pub pusher_feature: Option<Columns>,
+    /// Datasets: the T as pose:FEATURE[:COLUMN] (x, y, angle of its local origin) or
+    /// keypoints:FEATURE (its 8 corners, gym-pusht's order).
+    #[arg(long, value_name = "SOURCE", requires = "pusher_feature")]
+    pub object_feature: Option<ObjectSource>,
 }
 
 fn rate(text: &str) -> Result<f64, String> {
@@ -125,6 +141,17 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
             "{} already holds a recording set; pass --overwrite to replace it",
             args.out.display()
         );
+    }
+    if dataset::is_dataset(&args.bag) {
+        return super::import_dataset::run(&super::import_dataset::DatasetImport {
+            bag: &args.bag,
+            out: &args.out,
+            overwrite: args.overwrite,
+            scale: args.scale,
+            episodes: args.episodes.clone(),
+            pusher_feature: args.pusher_feature.clone(),
+            object_feature: args.object_feature.clone(),
+        });
     }
     let choice = choice_of(args)?;
     let (pusher, object) = (&choice.pusher, &choice.object);

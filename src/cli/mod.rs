@@ -10,6 +10,7 @@ use self::exit::EXIT_USAGE;
 mod exit;
 mod experiment;
 mod import;
+mod import_dataset;
 mod labels;
 mod load_bar;
 mod simulate;
@@ -40,7 +41,8 @@ enum Command {
     },
     /// Generate recording sets with the quasi-static push simulator (true COM offset and h known).
     Simulate(Box<simulate::SimulateArgs>),
-    /// Import a ROS 2 bag (.mcap file or rosbag2 folder) into a native recording set.
+    /// Import a ROS 2 bag (.mcap file or rosbag2 folder), or a Push-T dataset (a zarr replay buffer
+    /// or a LeRobot dataset folder, one push per episode), into a native recording set.
     Import(Box<import::ImportArgs>),
     /// Load recordings and report, one line per recording, ok / warnings / error (exit 1 on any error);
     /// for a ROS 2 bag, list its topics with their types, counts and rates.

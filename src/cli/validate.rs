@@ -12,6 +12,10 @@
 //! whose choice is remembered
 //! beside it is then validated like any recording.
 //!
+//! A Push-T dataset (a zarr replay buffer or a LeRobot dataset folder) is listed first — its
+//! format, episodes, features and the pusher and object features it will be read with
+//! (`dataset: PATH: …`, `episode: PATH: N: F frames, D s`) — and then validated like any recording.
+//!
 //! Exit code 0 when every recording loaded (warnings allowed), 1 when any did not, 2 for wrong
 //! arguments (handled by clap before this runs).
 
@@ -20,6 +24,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use pushlab_core::recording::bag;
+use pushlab_core::recording::dataset::{self, choice};
 use pushlab_core::recording::load_paths_with;
 
 use super::load_bar::with_load_bar;
@@ -38,6 +43,9 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     let (bags, mut paths): (Vec<PathBuf>, Vec<PathBuf>) =
         args.paths.iter().cloned().partition(|p| bag::is_bag(p));
     let mut failed = false;
+    for path in paths.iter().filter(|p| dataset::is_dataset(p)) {
+        failed |= !list_dataset(path);
+    }
     for path in &bags {
         failed |= !list_topics(path);
         if bag::choice::choice_path(path).is_file() {
@@ -130,5 +138,65 @@ fn list_topics(path: &std::path::Path) -> bool {
         topics.len(),
         path.display()
     );
+    true
+}
+
+/// Prints a dataset's format, episodes and features, and the features it will be read with;
+/// whether it could be read.
+fn list_dataset(path: &std::path::Path) -> bool {
+    let table = match dataset::read_table(path, &pushlab_core::recording::NoProgress) {
+        Ok(table) => table,
+        Err(err) => {
+            println!("error: {err}");
+            return false;
+        }
+    };
+    let frames: usize = table.episodes.iter().map(ExactSizeIterator::len).sum();
+    let cameras: Vec<String> = (table.cameras.iter())
+        .map(|(name, what)| format!("{name} ({what})"))
+        .collect();
+    println!(
+        "dataset: {}: {}, {} episode(s), {frames} frames at {} Hz; features: {}{}",
+        path.display(),
+        table.format,
+        table.episodes.len(),
+        table.fps,
+        table.feature_list(),
+        if cameras.is_empty() {
+            String::new()
+        } else {
+            format!("; not read: {}", cameras.join(", "))
+        }
+    );
+    for (i, rows) in table.episodes.iter().enumerate() {
+        let last = rows.end.saturating_sub(1).max(rows.start);
+        println!(
+            "episode: {}: {i}: {} frames, {:.2} s",
+            path.display(),
+            rows.len(),
+            table.time(last, rows.start)
+        );
+    }
+    let remembered = choice::remembered(path).ok().flatten();
+    let how = if remembered.is_some() {
+        "remembered"
+    } else {
+        "Push-T's layout"
+    };
+    match remembered.or_else(|| choice::suggest(&table)) {
+        Some(c) => println!(
+            "{}: pusher {}, object {} ({how}), {} m/px",
+            path.display(),
+            c.pusher,
+            c.object,
+            c.metres_per_px
+        ),
+        None => println!(
+            "{}: no pusher or object chosen; import with pushlab import {} --pusher-feature \
+             FEATURE[:COLUMN] --object-feature pose:FEATURE[:COLUMN]|keypoints:FEATURE --out SET",
+            path.display(),
+            path.display()
+        ),
+    }
     true
 }

@@ -7,10 +7,12 @@
 mod outline;
 mod polygon;
 mod preset;
+mod rigid_fit;
 
 pub use outline::{BoundaryPoint, Outline, OutlineError};
 pub use polygon::cross;
 pub use preset::{PRESET_NAMES, PUSH_T, PushT};
+pub use rigid_fit::{RigidFit, fit_rigid};
 
 use std::f64::consts::PI;
 

@@ -45,6 +45,20 @@ impl PushT {
         [-15.0, 30.0],
         [-60.0, 30.0],
     ];
+    /// The T's eight corners in the order gym-pusht's `PushTEnv.get_keypoints` lists them (the bar's
+    /// box, then the stem's, each as pymunk keeps its vertices): what a LeRobot Push-T dataset's
+    /// `observation.environment_state` holds, x0, y0, x1, y1 …, in the arena's pixels. Read from the
+    /// environment by `tests/pusht/make_fixtures.py` (`truth.json`, `local_keypoints_px`).
+    pub const KEYPOINTS_PX: [[f64; 2]; 8] = [
+        [-60.0, 0.0],
+        [60.0, 0.0],
+        [60.0, 30.0],
+        [-60.0, 30.0],
+        [-15.0, 30.0],
+        [15.0, 30.0],
+        [15.0, 120.0],
+        [-15.0, 120.0],
+    ];
     /// The area centroid in the local frame, pixels: `(0, 285/7)`.
     pub const CENTROID_PX: [f64; 2] = [0.0, 285.0 / 7.0];
     /// The centre of gravity gym-pusht gives the body, local frame, pixels.

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::bag::BagProblem;
+use super::dataset::DatasetProblem;
 use super::mit_push::MitProblem;
 use super::native::CsvProblem;
 use crate::json_problem::JsonProblem;
@@ -57,6 +58,13 @@ pub enum LoadError {
     /// file the problem is in, or the folder.
     #[error("{}: {problem}", path.display())]
     Bag { path: PathBuf, problem: BagProblem },
+    /// A Push-T dataset (a zarr replay buffer or a LeRobot dataset) that cannot be used; `path` is the
+    /// file the problem is in (an array's `.zarray` or chunk, a parquet file), or the dataset.
+    #[error("{}: {problem}", path.display())]
+    Dataset {
+        path: PathBuf,
+        problem: DatasetProblem,
+    },
     /// A path that is none of the things pushlab can open.
     #[error(
         "{}: not a recording: expected a native set folder (with setting.json), a folder of sets, a CSV inside a set, or an MIT Push Dataset .json/.h5 file",
@@ -101,6 +109,7 @@ impl LoadError {
             | LoadError::NoSetting { path }
             | LoadError::Mit { path, .. }
             | LoadError::Bag { path, .. }
+            | LoadError::Dataset { path, .. }
             | LoadError::NotRecognised { path }
             | LoadError::TooLarge { path, .. }
             | LoadError::NothingFound { path }

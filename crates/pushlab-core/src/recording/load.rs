@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use super::RecordingSet;
 use super::bag::BagProblem;
 use super::bag::{self, BagChoice};
+use super::dataset;
 use super::error::LoadError;
 use super::mit_push::{self, MitPush};
 use super::native::{self, SETTING_FILE};
@@ -42,6 +43,8 @@ enum Item {
     },
     Mit(PathBuf),
     Bag(PathBuf),
+    /// A Push-T dataset: a zarr replay buffer or a LeRobot dataset folder.
+    Dataset(PathBuf),
 }
 
 /// Loads recordings from the given paths.
@@ -104,7 +107,7 @@ impl Item {
     fn path(&self) -> &Path {
         match self {
             Item::Set { dir, only } => only.as_deref().unwrap_or(dir),
-            Item::Mit(path) | Item::Bag(path) => path,
+            Item::Mit(path) | Item::Bag(path) | Item::Dataset(path) => path,
         }
     }
 
@@ -127,6 +130,7 @@ impl Item {
             Item::Bag(path) => {
                 bag::bag_files(path).map_or(0, |files| files.iter().map(|f| size(f)).sum())
             }
+            Item::Dataset(path) => dataset::bytes(path),
         }
     }
 }
@@ -185,6 +189,8 @@ impl Loader {
             if path.join(SETTING_FILE).is_file() {
                 self.add_set(path, None);
                 self.add_bags_in(path);
+            } else if dataset::is_dataset(path) {
+                self.add_dataset(path);
             } else if bag::is_bag(path) {
                 self.add_bag(path);
             } else if !self.scan(path, 0) {
@@ -239,6 +245,9 @@ impl Loader {
                     self.add_set(&path, None);
                     self.add_bags_in(&path);
                     found = true;
+                } else if dataset::is_dataset(&path) {
+                    self.add_dataset(&path);
+                    found = true;
                 } else if bag::is_bag(&path) {
                     self.add_bag(&path);
                     found = true;
@@ -265,12 +274,23 @@ impl Loader {
         }
     }
 
+    /// Plans a dataset (once).
+    fn add_dataset(&mut self, path: &Path) {
+        if self.seen.insert(canonical(path)) {
+            self.items.push(Item::Dataset(path.to_path_buf()));
+        }
+    }
+
     /// Loads what planning found.
     fn load(&mut self, item: Item, progress: &dyn Progress) {
         match item {
             Item::Set { dir, only } => self.load_set(&dir, only.as_deref()),
             Item::Mit(path) => self.load_mit(&path),
             Item::Bag(path) => self.load_bag(&path, progress),
+            Item::Dataset(path) => match dataset::open_with(&path, None, None, progress) {
+                Ok(set) => self.report.sets.push(set),
+                Err(e) => self.report.errors.push(e),
+            },
         }
     }
 

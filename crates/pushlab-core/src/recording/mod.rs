@@ -7,6 +7,7 @@
 
 pub mod bag;
 pub mod camera;
+pub mod dataset;
 mod describe;
 mod error;
 mod load;
@@ -21,6 +22,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 pub use bag::BagProblem;
+pub use dataset::DatasetProblem;
 pub use describe::PushParameters;
 pub use error::{LoadError, WriteError};
 pub use load::{LoadReport, load_paths, load_paths_choosing, load_paths_with};

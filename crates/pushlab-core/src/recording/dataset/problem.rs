@@ -1,0 +1,62 @@
+//! What can be wrong with a Push-T dataset (a zarr replay buffer or a LeRobot dataset), beside the
+//! readers that find it. The error that carries it ([`crate::recording::LoadError::Dataset`]) names
+//! the file: the array's `.zarray` or chunk, the parquet file, `meta/info.json`.
+
+use crate::json_problem::JsonProblem;
+
+/// What is wrong with a dataset, or with the features asked of it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DatasetProblem {
+    /// A metadata file (`.zarray`, `meta/info.json`, a remembered choice) is not the JSON expected.
+    #[error("{0}")]
+    Json(JsonProblem),
+    /// A metadata field with a value pushlab cannot use.
+    #[error("field `{field}`: {why}")]
+    Field { field: String, why: String },
+    /// A compressed chunk or page that cannot be decoded.
+    #[error("{0}")]
+    Codec(String),
+    /// A parquet file that cannot be read.
+    #[error("not a readable parquet file: {0}")]
+    Parquet(String),
+    /// A chunk whose decoded size is not the chunk's.
+    #[error("chunk `{chunk}` holds {bytes} bytes, expected {expected}")]
+    ChunkSize {
+        chunk: String,
+        bytes: usize,
+        expected: usize,
+    },
+    /// A feature asked for (or one every such dataset has) that is not there.
+    #[error("no feature `{name}`; the dataset's features: {available}")]
+    MissingFeature { name: String, available: String },
+    /// A feature with too few values per frame for what it was asked to be.
+    #[error("feature `{name}` has {width} value(s) per frame, {expected}")]
+    FeatureWidth {
+        name: String,
+        width: usize,
+        expected: String,
+    },
+    /// A value that is not a finite number where a position or angle is read.
+    #[error("feature `{name}` row {row} (counting from 0) is {value}, expected a finite number")]
+    NotFinite {
+        name: String,
+        row: usize,
+        value: f64,
+    },
+    /// `meta/episode_ends` (or the episode index column) that does not cut the frames into episodes.
+    #[error("{0}")]
+    Episodes(String),
+    /// No episode is left to import (an `--episodes` range past the end, or an empty dataset).
+    #[error("no episodes in {asked}; the dataset has {count} (0..{count})")]
+    NoEpisodes { asked: String, count: usize },
+    /// A dataset whose pusher and object features are not chosen, nor pre-selected.
+    #[error(
+        "which features are the pusher and the object is not chosen and cannot be guessed; the \
+         dataset's features: {features}; import with pushlab import DATASET --pusher FEATURE \
+         --object pose:FEATURE or keypoints:FEATURE --out SET"
+    )]
+    NeedsChoice { features: String },
+    /// The load it was read for was cancelled.
+    #[error("opening cancelled")]
+    Cancelled,
+}

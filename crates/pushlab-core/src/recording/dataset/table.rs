@@ -1,0 +1,79 @@
+//! A dataset's numbers as pushlab reads them, whatever the format: named features with a fixed
+//! number of values per frame, the frames of every episode one after the other, and each episode's
+//! rows. The zarr and LeRobot readers fill it; choosing the pusher and the object and turning them
+//! into recordings works on it alone.
+
+use std::ops::Range;
+
+/// Which layout a dataset was read from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DatasetFormat {
+    /// A zarr v2 replay buffer as Diffusion Policy writes it.
+    ReplayBuffer,
+    /// A LeRobot dataset; its `codebase_version` (`v2.1`, `v3.0`).
+    LeRobot(String),
+}
+
+impl std::fmt::Display for DatasetFormat {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DatasetFormat::ReplayBuffer => write!(f, "zarr replay buffer"),
+            DatasetFormat::LeRobot(version) => write!(f, "LeRobot dataset {version}"),
+        }
+    }
+}
+
+/// One numeric feature: `width` values per frame, frame after frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Feature {
+    pub name: String,
+    pub width: usize,
+    pub values: Vec<f64>,
+}
+
+impl Feature {
+    /// The values of frame `row`.
+    pub fn row(&self, row: usize) -> &[f64] {
+        &self.values[row * self.width..(row + 1) * self.width]
+    }
+}
+
+/// Everything read from a dataset.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DatasetTable {
+    pub format: DatasetFormat,
+    /// The numeric features, in the dataset's order.
+    pub features: Vec<Feature>,
+    /// Each episode's rows, in order, covering every frame.
+    pub episodes: Vec<Range<usize>>,
+    /// Frames per second.
+    pub fps: f64,
+    /// Each frame's time within its episode, seconds, where the dataset records it (LeRobot's
+    /// `timestamp`); else frame number / fps.
+    pub times: Option<Vec<f64>>,
+    /// Image and video features, not read: (name, what they are).
+    pub cameras: Vec<(String, String)>,
+}
+
+impl DatasetTable {
+    /// The feature called `name`.
+    pub fn feature(&self, name: &str) -> Option<&Feature> {
+        self.features.iter().find(|f| f.name == name)
+    }
+
+    /// The features' names and widths, for messages: `state (5), action (2)`.
+    pub fn feature_list(&self) -> String {
+        let list: Vec<String> = (self.features.iter())
+            .map(|f| format!("{} ({})", f.name, f.width))
+            .collect();
+        list.join(", ")
+    }
+
+    /// The time of frame `row` of an episode starting at row `first`.
+    pub fn time(&self, row: usize, first: usize) -> f64 {
+        match &self.times {
+            Some(times) => times[row] - times[first],
+            None => (row - first) as f64 / self.fps,
+        }
+    }
+}

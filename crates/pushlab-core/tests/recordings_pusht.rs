@@ -1,0 +1,168 @@
+//! Push-T datasets written by the real gym-pusht environment (`tests/pusht/make_fixtures.py`):
+//! the imported poses against the environment's own state (`truth.json`, float64 from pymunk).
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::{Point2, Vector2};
+use pushlab_core::geometry::PushT;
+use pushlab_core::recording::dataset::{self, DatasetChoice, ObjectSource};
+use pushlab_core::recording::{LoadError, NoProgress, RecordingSet, load_paths};
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/pusht")
+}
+
+fn truth() -> serde_json::Value {
+    let text = std::fs::read_to_string(fixtures().join("truth.json")).expect("truth.json");
+    serde_json::from_str(&text).expect("valid JSON")
+}
+
+/// The largest distance (metres) between each imported frame and pymunk's state of that frame, the
+/// block's local origin moved to the T's area centroid, and the largest yaw difference.
+fn worst_errors(set: &RecordingSet, scale: f64) -> (f64, f64, f64) {
+    let truth = truth();
+    let episodes = truth["episodes"].as_array().expect("episodes");
+    assert_eq!(set.recordings.len(), episodes.len());
+    let (mut pusher, mut object, mut yaw) = (0.0f64, 0.0f64, 0.0f64);
+    for (recording, episode) in set.recordings.iter().zip(episodes) {
+        let frames = &recording.trajectory.frames;
+        let agent = episode["agent"].as_array().expect("agent");
+        assert_eq!(frames.len(), agent.len(), "{}", recording.name);
+        for (k, frame) in frames.iter().enumerate() {
+            let at = |key: &str, i: usize| episode[key][k][i].as_f64().expect("number");
+            let angle = episode["angle"][k].as_f64().expect("angle");
+            let origin = Vector2::new(at("block", 0), at("block", 1));
+            let centroid =
+                origin + nalgebra::Rotation2::new(angle) * Vector2::from(PushT::CENTROID_PX);
+            let agent = Point2::new(at("agent", 0), at("agent", 1)) * scale;
+            pusher = pusher.max((frame.robot - agent).norm());
+            object = object.max((frame.object.position.coords - centroid * scale).norm());
+            let turn = frame.object.yaw - angle;
+            yaw = yaw
+                .max((turn - (turn / std::f64::consts::TAU).round() * std::f64::consts::TAU).abs());
+            assert!((frame.time - k as f64 / 10.0).abs() < 1e-6);
+        }
+    }
+    (pusher, object, yaw)
+}
+
+#[test]
+fn a_replay_buffer_imports_to_the_environments_state_within_0_1_mm() {
+    let zarr = fixtures().join("replay.zarr");
+    let report = load_paths(std::slice::from_ref(&zarr));
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let set = &report.sets[0];
+    let (pusher, object, yaw) = worst_errors(set, 0.001);
+    assert!(
+        pusher < 1e-4 && object < 1e-4 && yaw < 1e-5,
+        "{pusher} {object} {yaw}"
+    );
+    // The setting: the T at 1 mm/px, its 15 mm pusher, gym-pusht's COM (0, 30/7) px off the centroid.
+    let setting = &set.setting;
+    assert!((setting.pusher_radius - 0.015).abs() < 1e-12);
+    let com = setting.com_offset.expect("known");
+    assert!(com[0] == 0.0 && (com[1] - 0.030 / 7.0).abs() < 1e-12);
+    assert_eq!(setting.sample_rate_hz, Some(10.0));
+    assert_eq!(set.recordings[2].name, "episode_002");
+    // Every episode moved the T: the pushes touched it.
+    for recording in &set.recordings {
+        let frames = &recording.trajectory.frames;
+        let moved = frames[frames.len() - 1].object.position - frames[0].object.position;
+        assert!(moved.norm() > 0.02, "{}: {moved}", recording.name);
+    }
+}
+
+#[test]
+fn a_scale_and_a_range_of_episodes_are_applied() {
+    let zarr = fixtures().join("replay.zarr");
+    let table = dataset::read_table(&zarr, &NoProgress).expect("reads");
+    assert_eq!(table.episodes.len(), 8);
+    assert_eq!(table.feature_list(), "action (2), keypoint (16), state (5)");
+    assert_eq!(
+        table.cameras,
+        vec![("img".to_owned(), "images 96×96×3".to_owned())]
+    );
+    let mut choice = dataset::choice::suggest(&table).expect("Push-T's layout");
+    assert_eq!(
+        choice.object,
+        ObjectSource::Pose(dataset::Columns::new("state", 2))
+    );
+    choice.metres_per_px = 0.002;
+    let set = dataset::to_set(&zarr, &table, &choice, Some(6..20)).expect("imports");
+    assert_eq!(set.recordings.len(), 2);
+    assert!((set.setting.pusher_radius - 0.030).abs() < 1e-12);
+    let first = &set.recordings[0].trajectory.frames[0];
+    let agent = &truth()["episodes"][6]["agent"][0];
+    let x = agent[0].as_f64().expect("x") * 0.002;
+    assert!((first.robot.x - x).abs() < 2e-4, "{} {x}", first.robot.x);
+    let error = dataset::to_set(&zarr, &table, &choice, Some(8..9)).expect_err("past the end");
+    assert!(
+        error
+            .to_string()
+            .ends_with("no episodes in 8..9; the dataset has 8 (0..8)"),
+        "{error}"
+    );
+}
+
+/// A copy of the fixture buffer in a fresh folder, for breaking.
+fn copy_of_buffer(name: &str) -> PathBuf {
+    let out = std::env::temp_dir().join(format!("pushlab-pusht-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    copy_dir(&fixtures().join("replay.zarr"), &out.join("replay.zarr"));
+    out.join("replay.zarr")
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).expect("mkdir");
+    for entry in std::fs::read_dir(from).expect("read_dir").flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            copy_dir(&path, &to.join(entry.file_name()));
+        } else {
+            std::fs::copy(&path, to.join(entry.file_name())).expect("copy");
+        }
+    }
+}
+
+#[test]
+fn broken_buffers_are_errors_naming_the_file_and_the_problem() {
+    let zarr = copy_of_buffer("broken");
+    let chunk = zarr.join("data/state/1.0");
+    let mut bytes = std::fs::read(&chunk).expect("chunk");
+    bytes.truncate(40);
+    std::fs::write(&chunk, bytes).expect("write");
+    let message = dataset::read_table(&zarr, &NoProgress)
+        .expect_err("cut")
+        .to_string();
+    assert!(message.contains("data/state/1.0: blosc:"), "{message}");
+
+    let meta = zarr.join("data/action/.zarray");
+    let text = std::fs::read_to_string(&meta).expect("meta");
+    std::fs::write(&meta, text.replace("<f4", "<c8")).expect("write");
+    std::fs::copy(fixtures().join("replay.zarr/data/state/1.0"), &chunk).expect("restore");
+    let error = dataset::read_table(&zarr, &NoProgress).expect_err("dtype");
+    assert!(matches!(error, LoadError::Dataset { .. }));
+    let message = error.to_string();
+    assert!(
+        message.contains("data/action/.zarray: field `dtype`: \"<c8\""),
+        "{message}"
+    );
+
+    std::fs::write(&meta, text).expect("restore");
+    let table = dataset::read_table(&zarr, &NoProgress).expect("restored");
+    let choice = DatasetChoice {
+        pusher: "action:1".parse().expect("columns"),
+        object: "keypoints:state".parse().expect("source"),
+        metres_per_px: 0.001,
+    };
+    let message = dataset::to_set(&zarr, &table, &choice, None)
+        .expect_err("narrow")
+        .to_string();
+    assert!(
+        message.ends_with(
+            "feature `action` has 2 value(s) per frame, expected 2 (x, y) from column 1"
+        ),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(zarr.parent().expect("parent"));
+}
