@@ -354,21 +354,7 @@ fn a_noisy_set_at_a_higher_rate_is_not_read_as_faster_pushes() {
         .display()
         .to_string();
     for model in [&trained, &default] {
-        let run = pushlab(&[
-            "eval",
-            "--model",
-            model,
-            "--offline",
-            &slow,
-            "--online",
-            &fast,
-        ]);
-        assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
-        let warning = run
-            .stderr
-            .lines()
-            .find(|l| l.starts_with("warning: the model was trained on"))
-            .unwrap_or_else(|| panic!("no warning in:\n{}", run.stderr));
+        let warning = domain_warning(model, &slow, &fast);
         assert!(
             warning.contains("frames at 10 Hz")
                 && warning.contains("here have frames at 50 Hz:")
@@ -377,6 +363,26 @@ fn a_noisy_set_at_a_higher_rate_is_not_read_as_faster_pushes() {
         );
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `pushlab eval --model MODEL --offline OFFLINE --online ONLINE` (which must succeed) and its
+/// "the model was trained on …" warning line.
+fn domain_warning(model: &str, offline: &str, online: &str) -> String {
+    let run = pushlab(&[
+        "eval",
+        "--model",
+        model,
+        "--offline",
+        offline,
+        "--online",
+        online,
+    ]);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    run.stderr
+        .lines()
+        .find(|l| l.starts_with("warning: the model was trained on"))
+        .unwrap_or_else(|| panic!("no warning in:\n{}", run.stderr))
+        .to_string()
 }
 
 #[test]
@@ -410,21 +416,7 @@ fn eval_warns_when_the_online_recordings_lie_outside_the_model_s_domain() {
         .display()
         .to_string();
     let offline = format!("{}/offline_000.csv", sample_set("box1-paper-center-front"));
-    let run = pushlab(&[
-        "eval",
-        "--model",
-        &model,
-        "--offline",
-        &offline,
-        "--online",
-        &small_s,
-    ]);
-    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
-    let warning = run
-        .stderr
-        .lines()
-        .find(|l| l.starts_with("warning: the model was trained on"))
-        .unwrap_or_else(|| panic!("no warning in:\n{}", run.stderr));
+    let warning = domain_warning(&model, &offline, &small_s);
     assert!(
         warning.contains("objects of 0.40–0.55 m")
             && warning.contains("a pusher radius of 175.0 mm")
