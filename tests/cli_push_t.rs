@@ -4,28 +4,18 @@
 
 #![allow(clippy::unwrap_used)]
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod cli_common;
+
+use std::path::Path;
+
+use cli_common::{Run, pushlab, temp_dir};
 
 /// The T at 1 mm per pixel in the object frame (origin at its area centroid, 285/7 px up the axis
 /// from gym-pusht's local origin), rounded to a micrometre.
 const T_POLYGON: &str = "-0.06,-0.040714;0.06,-0.040714;0.06,-0.010714;0.015,-0.010714;\
                          0.015,0.079286;-0.015,0.079286;-0.015,-0.010714;-0.06,-0.010714";
 
-fn pushlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args(args)
-        .output()
-        .expect("the pushlab binary runs")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pushlab-cli-t-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    dir
-}
-
-fn simulate(out: &Path, object: &[&str], side: &str, seed: &str) -> Output {
+fn simulate(out: &Path, object: &[&str], side: &str, seed: &str) -> Run {
     let mut args = vec!["simulate", "--out", out.to_str().unwrap()];
     args.extend_from_slice(object);
     args.extend_from_slice(&[
@@ -46,24 +36,20 @@ fn simulate(out: &Path, object: &[&str], side: &str, seed: &str) -> Output {
         seed,
     ]);
     let output = pushlab(&args);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    assert_eq!(output.code, 0, "{}", output.stderr);
     output
 }
 
 #[test]
 fn a_simulated_t_loads_and_is_learned_from() {
-    let dir = temp_dir("learn");
+    let dir = temp_dir("pushlab-cli-t", "learn");
     let preset = ["--preset", "push-t"];
     let polygon = ["--polygon", T_POLYGON, "--pusher-radius", "0.015"];
     simulate(&dir.join("front"), &preset, "front", "1");
     let left = simulate(&dir.join("left"), &polygon, "left", "2");
     // Pushed from +y, some offsets lead the 15 mm disc into the notches beside the stem, too close
     // to it: those are left out, and said so.
-    let note = String::from_utf8_lossy(&left.stderr);
+    let note = &left.stderr;
     assert!(
         note.contains("pushes where another part of the object is in the pusher's way"),
         "{note}"
@@ -96,11 +82,7 @@ fn a_simulated_t_loads_and_is_learned_from() {
         "--json",
         json.to_str().unwrap(),
     ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     // Noise-free pushes of one object: the contact model predicts them closely on a face it never
@@ -118,14 +100,14 @@ fn a_simulated_t_loads_and_is_learned_from() {
 
 #[test]
 fn an_unknown_preset_a_crossing_polygon_and_a_blocked_push_are_refused() {
-    let dir = temp_dir("refused");
+    let dir = temp_dir("pushlab-cli-t", "refused").join("set");
     let out = dir.to_str().unwrap();
     let run = |extra: &[&str]| {
         let mut args = vec!["simulate", "--out", out];
         args.extend_from_slice(extra);
         let output = pushlab(&args);
-        assert_eq!(output.status.code(), Some(1));
-        String::from_utf8_lossy(&output.stderr).into_owned()
+        assert_eq!(output.code, 1, "{}", output.stderr);
+        output.stderr
     };
     let unknown = run(&["--preset", "push-x"]);
     assert!(

@@ -4,28 +4,23 @@
 
 #![allow(clippy::unwrap_used)]
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod cli_common;
 
-fn pushlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args(args)
-        .output()
-        .expect("the pushlab binary runs")
-}
+use std::path::{Path, PathBuf};
+
+use cli_common::{Run, pushlab, temp_dir};
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/pushlab-core/tests/pusht")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pushlab-cli-pusht-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    dir
+/// A folder that does not exist yet, in a fresh temporary folder: where `import --out` writes.
+fn new_set_dir(name: &str) -> PathBuf {
+    temp_dir("pushlab-cli-pusht", name).join("set")
 }
 
-fn text(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr)
+fn text(output: &Run) -> String {
+    format!("{}{}", output.stdout, output.stderr)
 }
 
 #[test]
@@ -33,7 +28,7 @@ fn validate_lists_a_replay_buffers_episodes_and_features() {
     let zarr = fixtures().join("replay.zarr");
     let output = pushlab(&["validate", zarr.to_str().unwrap()]);
     let out = text(&output);
-    assert!(output.status.success(), "{out}");
+    assert!(output.code == 0, "{out}");
     assert!(
         out.contains("zarr replay buffer, 8 episode(s), 192 frames at 10 Hz; features: action (2), keypoint (16), state (5); not read: img (images 96×96×3)"),
         "{out}"
@@ -53,7 +48,7 @@ fn validate_lists_a_replay_buffers_episodes_and_features() {
 fn import_writes_one_push_per_episode_at_the_scale_asked() {
     let zarr = fixtures().join("replay.zarr");
     let before = std::fs::read(zarr.join("data/state/0.0")).unwrap();
-    let out_dir = temp_dir("import");
+    let out_dir = new_set_dir("import");
     let output = pushlab(&[
         "import",
         zarr.to_str().unwrap(),
@@ -65,7 +60,7 @@ fn import_writes_one_push_per_episode_at_the_scale_asked() {
         "2..5",
     ]);
     let out = text(&output);
-    assert!(output.status.success(), "{out}");
+    assert!(output.code == 0, "{out}");
     assert!(out.contains("episode_002.csv: 24 frames, 2.30 s"), "{out}");
     assert!(out.contains("3 episode(s) of"), "{out}");
     let setting: serde_json::Value =
@@ -83,7 +78,7 @@ fn import_writes_one_push_per_episode_at_the_scale_asked() {
     );
     // The written set loads back.
     let output = pushlab(&["validate", out_dir.to_str().unwrap()]);
-    assert!(output.status.success(), "{}", text(&output));
+    assert!(output.code == 0, "{}", text(&output));
     // Again without --overwrite: refused; a range past the end: refused, naming the count.
     let again = pushlab(&[
         "import",
@@ -96,7 +91,7 @@ fn import_writes_one_push_per_episode_at_the_scale_asked() {
         "{}",
         text(&again)
     );
-    let past = temp_dir("past");
+    let past = new_set_dir("past");
     let output = pushlab(&[
         "import",
         zarr.to_str().unwrap(),
@@ -105,7 +100,7 @@ fn import_writes_one_push_per_episode_at_the_scale_asked() {
         "--episodes",
         "8..12",
     ]);
-    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(output.code, 1);
     assert!(
         text(&output).contains("no episodes in 8..12; the dataset has 8 (0..8)"),
         "{}",
@@ -119,7 +114,7 @@ fn import_writes_one_push_per_episode_at_the_scale_asked() {
         "--episodes",
         "5..2",
     ]);
-    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(output.code, 2);
     assert!(
         text(&output).contains("holds no episode"),
         "{}",

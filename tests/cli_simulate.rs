@@ -2,26 +2,20 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod cli_common;
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn pushlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args(args)
-        .output()
-        .expect("the pushlab binary runs")
-}
+use cli_common::{pushlab, temp_dir};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir =
-        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("pushlab-cli-sim-{name}"));
-    std::fs::remove_dir_all(&dir).ok();
-    dir
+/// A folder that does not exist yet, in a fresh temporary folder: where `simulate --out` writes.
+fn new_set_dir(name: &str) -> PathBuf {
+    temp_dir("pushlab-cli-sim", name).join("set")
 }
 
 #[test]
 fn simulate_writes_a_set_with_the_true_com_and_h_and_refuses_to_overwrite_it() {
-    let dir = temp_dir("set");
+    let dir = new_set_dir("set");
     let out = dir.to_str().unwrap();
     let args = [
         "simulate",
@@ -45,11 +39,7 @@ fn simulate_writes_a_set_with_the_true_com_and_h_and_refuses_to_overwrite_it() {
         "3",
     ];
     let first = pushlab(&args);
-    assert!(
-        first.status.success(),
-        "{}",
-        String::from_utf8_lossy(&first.stderr)
-    );
+    assert_eq!(first.code, 0, "{}", first.stderr);
     let (set, errors) = pushlab_core::recording::read_set(&dir).unwrap();
     assert!(errors.is_empty(), "{errors:?}");
     assert_eq!(set.setting.com_offset, Some([0.02, -0.03]));
@@ -68,8 +58,8 @@ fn simulate_writes_a_set_with_the_true_com_and_h_and_refuses_to_overwrite_it() {
     assert_eq!(csv.lines().count(), 1 + 21);
 
     let again = pushlab(&args);
-    assert_eq!(again.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert_eq!(again.code, 1);
+    let stderr = &again.stderr;
     assert!(
         stderr.contains("already holds a recording set; pass --overwrite"),
         "{stderr}"
@@ -79,7 +69,7 @@ fn simulate_writes_a_set_with_the_true_com_and_h_and_refuses_to_overwrite_it() {
 
 #[test]
 fn simulate_names_the_bad_parameter() {
-    let dir = temp_dir("bad");
+    let dir = new_set_dir("bad");
     let out = dir.to_str().unwrap();
     // Exit 2 for a value clap refuses (the documented code of wrong arguments), 1 for a set that
     // cannot be simulated.
@@ -87,9 +77,8 @@ fn simulate_names_the_bad_parameter() {
         let mut args = vec!["simulate", "--out", out];
         args.extend_from_slice(extra);
         let output = pushlab(&args);
-        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-        assert_eq!(output.status.code(), Some(code), "{stderr}");
-        stderr
+        assert_eq!(output.code, code, "{}", output.stderr);
+        output.stderr
     };
     let wood = run(&["--pressure", "wood"], 2);
     assert!(

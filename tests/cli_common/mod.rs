@@ -25,9 +25,11 @@ pub fn pushlab(args: &[&str]) -> Run {
     }
 }
 
-/// An empty folder under the system's temporary folder, unique to this test process and `name`.
+/// An empty folder under cargo's temporary folder for integration tests (inside `target/`, so a
+/// test run leaves nothing in the system's), unique to this test process and `name`.
 pub fn temp_dir(prefix: &str, name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("{prefix}-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create a temporary folder");
     dir
