@@ -6,13 +6,22 @@
 //! recording larger than memory was read until the system killed the program.
 
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::error::LoadError;
 
 /// Bytes of memory opening a recording needs per byte of its file: the file's bytes while it is
 /// parsed, its frames (48 bytes for a ~55-byte CSV line) and what the app keeps per frame.
 pub const MEMORY_PER_FILE_BYTE: u64 = 3;
+
+/// A file kept beside `source` (a bag, a dataset folder) and named after it, `NAME{suffix}`, such as
+/// a remembered import choice; `fallback` names it when `source` has no file name (a root).
+pub(crate) fn file_beside(source: &Path, suffix: &str, fallback: &str) -> PathBuf {
+    let name = source
+        .file_name()
+        .map_or_else(|| fallback.into(), |n| n.to_string_lossy().into_owned());
+    source.with_file_name(format!("{name}{suffix}"))
+}
 
 /// The whole file at `path`, or an error naming it: unreadable, or too large for the free memory.
 pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {

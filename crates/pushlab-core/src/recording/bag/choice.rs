@@ -24,7 +24,7 @@ use crate::atomic_file::write_atomically;
 use crate::json_problem::JsonProblem;
 use crate::recording::error::LoadError;
 use crate::recording::native::{SETTING_FILE, check_setting, parse_setting};
-use crate::recording::read::read_file;
+use crate::recording::read::{file_beside, read_file};
 use crate::recording::setting::Setting;
 
 /// Appended to a bag's file or folder name to name its remembered choice.
@@ -76,10 +76,7 @@ struct ChoiceFile {
 /// The remembered-choice file of a bag (an `.mcap` file or a rosbag2 folder): beside it, named
 /// after it.
 pub fn choice_path(bag: &Path) -> PathBuf {
-    let name = bag
-        .file_name()
-        .map_or_else(|| "bag".into(), |n| n.to_string_lossy().into_owned());
-    bag.with_file_name(format!("{name}{CHOICE_SUFFIX}"))
+    file_beside(bag, CHOICE_SUFFIX, "bag")
 }
 
 /// The choice remembered beside `bag`, if any. A file that exists but cannot be used is an error

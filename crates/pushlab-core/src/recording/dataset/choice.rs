@@ -21,6 +21,7 @@ use crate::atomic_file::write_atomically;
 use crate::geometry::PushT;
 use crate::json_problem::JsonProblem;
 use crate::recording::error::LoadError;
+use crate::recording::read::{file_beside, read_file};
 
 /// Appended to a dataset's folder name to name its remembered choice.
 pub const CHOICE_SUFFIX: &str = ".pushlab-dataset.json";
@@ -132,10 +133,7 @@ struct ChoiceFile {
 
 /// The remembered-choice file of a dataset: beside its folder, named after it.
 pub fn choice_path(dataset: &Path) -> PathBuf {
-    let name = dataset
-        .file_name()
-        .map_or_else(|| "dataset".into(), |n| n.to_string_lossy().into_owned());
-    dataset.with_file_name(format!("{name}{CHOICE_SUFFIX}"))
+    file_beside(dataset, CHOICE_SUFFIX, "dataset")
 }
 
 /// The choice remembered beside `dataset`, if any; a file that cannot be used is an error naming
@@ -145,7 +143,7 @@ pub fn remembered(dataset: &Path) -> Result<Option<DatasetChoice>, LoadError> {
     if !path.is_file() {
         return Ok(None);
     }
-    let bytes = std::fs::read(&path).map_err(|e| LoadError::io(&path, e))?;
+    let bytes = read_file(&path)?;
     let bad = |problem| LoadError::Dataset {
         path: path.clone(),
         problem,
