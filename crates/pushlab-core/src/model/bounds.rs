@@ -22,9 +22,10 @@ use crate::geometry::Outline;
 /// The physical range of `θ_online` on one object (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicalBounds {
-    /// The outline's vertices relative to its geometric centre: the coordinates of a COM offset.
-    vertices: Vec<Point2<f64>>,
-    convex: bool,
+    /// The footprint, object frame: its inside test and nearest boundary point are the outline's own.
+    outline: Outline,
+    /// Its geometric centre, where a COM offset of zero lies.
+    centre: Point2<f64>,
     /// A COM offset shorter than this is inside for sure: the distance from the centre to the
     /// nearest edge (0 when the centre is outside a non-convex footprint).
     inner_radius: f64,
@@ -36,20 +37,19 @@ impl PhysicalBounds {
     /// The bounds of an object with this footprint.
     pub fn of(outline: &Outline) -> Self {
         let centre = outline.centroid();
-        let vertices: Vec<Point2<f64>> = outline
-            .vertices()
-            .iter()
-            .map(|v| Point2::from(v - centre))
-            .collect();
         let inner_radius = if outline.contains(centre) {
             outline.closest_boundary_point(centre).signed_distance.abs()
         } else {
             0.0
         };
-        let outer_radius = vertices.iter().map(|v| v.coords.norm()).fold(0.0, f64::max);
+        let outer_radius = outline
+            .vertices()
+            .iter()
+            .map(|v| (v - centre).norm())
+            .fold(0.0, f64::max);
         Self {
-            vertices,
-            convex: outline.is_convex(),
+            outline: outline.clone(),
+            centre,
             inner_radius,
             outer_radius,
         }
@@ -61,8 +61,8 @@ impl PhysicalBounds {
     pub fn keep(&self, theta: OnlineParams) -> OnlineParams {
         let theta = theta.clamped();
         let mut com = Vector2::from(theta.com_offset);
-        if com.norm() > self.inner_radius && !self.contains(com) {
-            com = self.nearest_boundary_point(com);
+        if com.norm() > self.inner_radius && !self.outline.contains(self.centre + com) {
+            com = self.outline.closest_boundary_point(self.centre + com).point - self.centre;
         }
         // Every vertex is at least `outer_radius − |com|` from the COM: below that, no need to
         // look for the farthest (the common case, and the step's hot path).
@@ -77,58 +77,28 @@ impl PhysicalBounds {
         }
     }
 
-    /// Whether a COM offset lies inside the footprint or on its boundary.
+    /// Whether a COM offset lies inside the footprint or on its boundary (within 1e-12 m, where a
+    /// projection lands and the crossing rule of a non-convex outline is undecided).
     pub fn com_inside(&self, com_offset: [f64; 2]) -> bool {
-        self.contains(Vector2::from(com_offset))
+        let p = self.centre + Vector2::from(com_offset);
+        self.outline.contains(p)
+            || self.outline.closest_boundary_point(p).signed_distance.abs() <= 1e-12
     }
 
     /// The largest `h` a pressure over the footprint can have about a COM at `com_offset`: the
     /// distance to the farthest vertex.
     pub fn h_max(&self, com_offset: Vector2<f64>) -> f64 {
-        self.vertices
+        let com = self.centre + com_offset;
+        self.outline
+            .vertices()
             .iter()
-            .map(|v| (v.coords - com_offset).norm())
+            .map(|v| (v - com).norm())
             .fold(0.0, f64::max)
     }
 
     /// The distance from the geometric centre to the farthest vertex, metres.
     pub fn outer_radius(&self) -> f64 {
         self.outer_radius
-    }
-
-    fn edges(&self) -> impl Iterator<Item = (Vector2<f64>, Vector2<f64>)> + '_ {
-        let n = self.vertices.len();
-        (0..n).map(move |i| (self.vertices[i].coords, self.vertices[(i + 1) % n].coords))
-    }
-
-    fn contains(&self, p: Vector2<f64>) -> bool {
-        if self.convex {
-            self.edges().all(|(a, b)| (b - a).perp(&(p - a)) >= -1e-12)
-        } else {
-            let mut odd = false;
-            for (a, b) in self.edges() {
-                if (a.y > p.y) != (b.y > p.y) {
-                    let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-                    odd ^= p.x < x;
-                }
-            }
-            // The crossing rule is undecided on the boundary itself, where a projection lands.
-            odd || (p - self.nearest_boundary_point(p)).norm() <= 1e-12
-        }
-    }
-
-    fn nearest_boundary_point(&self, p: Vector2<f64>) -> Vector2<f64> {
-        let mut best = (f64::INFINITY, p);
-        for (a, b) in self.edges() {
-            let ab = b - a;
-            let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
-            let q = a + ab * t;
-            let d = (p - q).norm_squared();
-            if d < best.0 {
-                best = (d, q);
-            }
-        }
-        best.1
     }
 }
 
