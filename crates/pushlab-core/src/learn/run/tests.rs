@@ -7,12 +7,17 @@ use crate::trajectory::Frame;
 /// A 10 cm box pushed along +x at its face, turning slowly (as an off-centre COM would make it):
 /// enough signal for learning to move θ.
 fn push(frames: usize) -> Arc<Trajectory> {
+    turning_push(frames, 0.3, [-0.05 - 0.01, 0.01])
+}
+
+/// The box pushed along +x at 5 cm/s for `frames` frames at 100 Hz, turning at `yaw_rate` rad/s,
+/// the pusher held at `robot_in_object`.
+fn turning_push(frames: usize, yaw_rate: f64, robot_in_object: [f64; 2]) -> Arc<Trajectory> {
     let frames = (0..frames)
         .map(|i| {
             let t = i as f64 * 0.01;
-            let yaw = 0.3 * t;
-            let object = Pose2::new(0.05 * t, 0.0, yaw);
-            let robot = object.point_in_world(nalgebra::Point2::new(-0.05 - 0.01, 0.01));
+            let object = Pose2::new(0.05 * t, 0.0, yaw_rate * t);
+            let robot = object.point_in_world(nalgebra::Point2::from(robot_in_object));
             Frame {
                 time: t,
                 robot,
@@ -267,23 +272,12 @@ fn frames_flagged_to_skip_hold_theta_and_the_rest_learn() {
     assert!(run.learned()[..40].iter().all(Option::is_some));
 }
 
-/// The 10 cm box pushed at the middle of a face and turning faster than any COM on it can explain: learning wants the COM far
-/// outside the box, and every optimiser is kept inside it (and `h` below the farthest corner).
+/// The 10 cm box pushed at the middle of a face and turning faster than any COM on it can
+/// explain: learning wants the COM far outside the box, and every optimiser is kept inside it (and
+/// `h` below the farthest corner).
 #[test]
 fn every_optimiser_keeps_theta_physical_where_the_data_ask_for_the_impossible() {
-    let frames = (0..200)
-        .map(|i| {
-            let t = i as f64 * 0.01;
-            let object = Pose2::new(0.05 * t, 0.0, 1.0 * t);
-            let robot = object.point_in_world(nalgebra::Point2::new(-0.06, 0.0));
-            Frame {
-                time: t,
-                robot,
-                object,
-            }
-        })
-        .collect();
-    let trajectory = Arc::new(Trajectory::new(frames));
+    let trajectory = turning_push(200, 1.0, [-0.06, 0.0]);
     for config in [
         OnlineConfig {
             lr: 500.0,
