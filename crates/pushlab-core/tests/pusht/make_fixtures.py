@@ -24,6 +24,7 @@ unwrapped), the T's eight corner keypoints (`PushTEnv.get_keypoints`) and the ac
     python3 -m venv /tmp/pusht-venv && /tmp/pusht-venv/bin/pip install -r requirements.txt
     /tmp/pusht-venv/bin/python make_fixtures.py                       # the committed fixtures
     /tmp/pusht-venv/bin/python make_fixtures.py --out DIR --episodes 80 --steps 40 --seed 1 --no-img
+    /tmp/pusht-venv/bin/python make_fixtures.py --out DIR ... --com-px 30,15   # the COM moved
 
 Same arguments, same files (the pushes are drawn from a seeded generator; pymunk is deterministic).
 """
@@ -82,8 +83,12 @@ def push_plan(rng, edge, steps):
     return block_pos, block_angle, start, targets
 
 
-def run_episode(env, rng, edge, steps, with_img):
+def run_episode(env, rng, edge, steps, with_img, com_px=None):
     env.reset(seed=0)
+    if com_px is not None:
+        # A block whose mass sits elsewhere in the same outline (its moment about the COM kept):
+        # what online learning of the COM offset is for.
+        env.block.center_of_gravity = com_px
     block_pos, block_angle, start, targets = push_plan(rng, edge, steps)
     # Angle before position: pymunk turns a body about its COM, so this order puts the local
     # origin exactly where asked.
@@ -250,12 +255,19 @@ def main():
     parser.add_argument("--steps", type=int, default=24, help="frames per episode (10 per s)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--no-img", action="store_true", help="leave data/img out of the zarr")
+    parser.add_argument(
+        "--com-px",
+        type=lambda s: tuple(float(v) for v in s.split(",")),
+        help="move the block's centre of gravity to local X,Y px (gym-pusht's: 0,45)",
+    )
     args = parser.parse_args()
 
     rng = np.random.default_rng(args.seed)
     env = PushTEnv(obs_type="state", render_mode="rgb_array")
     with_img = not args.no_img
-    episodes = [run_episode(env, rng, i % 8, args.steps, with_img) for i in range(args.episodes)]
+    episodes = [
+        run_episode(env, rng, i % 8, args.steps, with_img, args.com_px) for i in range(args.episodes)
+    ]
 
     for name in ["replay.zarr", "lerobot-v2.1", "lerobot-v3.0"]:
         shutil.rmtree(os.path.join(args.out, name), ignore_errors=True)
@@ -264,6 +276,8 @@ def main():
     write_lerobot_v30(os.path.join(args.out, "lerobot-v3.0"), episodes)
 
     env.reset(seed=0)
+    if args.com_px is not None:
+        env.block.center_of_gravity = args.com_px
     env.block.angle, env.block.position = 0.0, (0.0, 0.0)
     truth = {
         "fps": FPS,
