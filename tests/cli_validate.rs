@@ -108,3 +108,28 @@ fn wrong_arguments_exit_2() {
         .unwrap();
     assert_eq!(status.code(), Some(2));
 }
+
+#[test]
+fn output_into_a_closed_pipe_ends_quietly_without_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .arg("validate")
+        .arg(&sample)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run pushlab");
+    // Close the reading end before pushlab writes its first line, as `| head -0` does.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("wait for pushlab");
+    let stderr = String::from_utf8(out.stderr).expect("utf-8 stderr");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(
+        out.status.signal(),
+        Some(13),
+        "ended by SIGPIPE: {:?}",
+        out.status
+    );
+}

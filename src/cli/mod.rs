@@ -13,6 +13,7 @@ mod import;
 mod import_dataset;
 mod labels;
 mod load_bar;
+mod pipe;
 mod simulate;
 mod validate;
 
@@ -67,6 +68,13 @@ pub fn run() -> ExitCode {
             return ExitCode::from(code);
         }
     };
+    if cli
+        .command
+        .as_ref()
+        .is_some_and(|c| !matches!(c, Command::Open { .. }))
+    {
+        pipe::end_quietly_on_closed_pipe();
+    }
     match cli.command {
         Some(Command::Labels { command }) => match labels::run(command) {
             Ok(()) => ExitCode::SUCCESS,
