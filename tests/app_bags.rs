@@ -10,8 +10,7 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::{harness, run_until, scratch_dir};
-use eframe::egui;
+use common::{drop_on_window, harness, run_until, scratch_dir};
 use egui_kittest::kittest::Queryable;
 use pushlab::app::state::Persisted;
 use pushlab::app::{PushlabApp, initial_state};
@@ -36,29 +35,12 @@ fn tf_bag(test: &str) -> PathBuf {
     bag
 }
 
-/// A path dropped on the window, as the windowing integration hands it to egui.
-#[derive(Debug)]
-struct Dropped(PathBuf);
-
-impl egui::DroppedFile for Dropped {
-    fn path(&self) -> &std::path::Path {
-        &self.0
-    }
-
-    fn bytes(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.0).map_err(|e| e.to_string())
-    }
-}
-
 /// The app with nothing open, the bag dropped on its window, run until the form shows.
 fn app_with_dropped(bag: &std::path::Path) -> egui_kittest::Harness<'static, PushlabApp> {
     let state = initial_state(&[], Persisted::default());
     let mut harness = harness(PushlabApp::new(state), 0.05);
     harness.run_steps(1);
-    harness
-        .input_mut()
-        .dropped_files
-        .push(std::sync::Arc::new(Dropped(bag.to_path_buf())));
+    drop_on_window(&mut harness, bag);
     run_until(&mut harness, "the bag's form", |app| {
         app.state.bags().form().is_some()
     });

@@ -7,7 +7,9 @@
 use std::path::{Path, PathBuf};
 
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, choice};
-use pushlab_core::recording::{BagProblem, LoadError, load_paths, load_paths_choosing};
+use pushlab_core::recording::{
+    BagProblem, LoadError, SourceChoice, load_paths, load_paths_choosing,
+};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -98,7 +100,10 @@ fn split_pushes_of_one_bag_are_told_apart() {
         split_gap_s: Some(0.5),
     };
     let choice = choice_of(&dir, "/pusher/pose", "/object/pose", options);
-    let report = load_paths_choosing(std::slice::from_ref(&bag), &[(bag.clone(), choice)]);
+    let report = load_paths_choosing(
+        std::slice::from_ref(&bag),
+        &[(bag.clone(), SourceChoice::Bag(Box::new(choice)))],
+    );
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let names: Vec<_> = report.sets[0]
         .recordings
@@ -124,7 +129,10 @@ fn a_given_choice_wins_over_the_remembered_one() {
     let wrong = choice_of(&dir, "/tf:box", "/tf:nothing", ImportOptions::default());
     bag::choice::remember(&bag, &wrong).unwrap();
     let right = choice_of(&dir, "/tf:pusher_tip", "/tf:box", ImportOptions::default());
-    let report = load_paths_choosing(std::slice::from_ref(&bag), &[(bag.clone(), right)]);
+    let report = load_paths_choosing(
+        std::slice::from_ref(&bag),
+        &[(bag.clone(), SourceChoice::Bag(Box::new(right)))],
+    );
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.sets[0].recordings[0].name, "tf");
     std::fs::remove_dir_all(dir).unwrap();
@@ -209,7 +217,10 @@ fn a_frame_behind_tf_static_is_offered_and_opens() {
         "{offered:?}"
     );
     let choice = choice_of(&dir, "/tf:tip", "/tf:object", ImportOptions::default());
-    let report = load_paths_choosing(std::slice::from_ref(&bag), &[(bag.clone(), choice)]);
+    let report = load_paths_choosing(
+        std::slice::from_ref(&bag),
+        &[(bag.clone(), SourceChoice::Bag(Box::new(choice)))],
+    );
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.sets[0].recordings[0].name, "tf_tree");
     std::fs::remove_dir_all(dir).unwrap();

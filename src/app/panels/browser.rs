@@ -10,6 +10,7 @@ use egui_extras::{Column as TableColumn, TableBuilder};
 use crate::app::state::SessionCommand;
 use crate::app::state::bag_import::BagCommand;
 use crate::app::state::browser::{BrowserCommand, Column, Row};
+use crate::app::state::dataset_import::DatasetCommand;
 use crate::app::state::{AppState, Command};
 
 /// Height of a table row, points.
@@ -222,6 +223,17 @@ fn problems(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                         .clicked()
                 {
                     commands.push(Command::Bag(BagCommand::ChooseAgain(problem.path.clone())));
+                }
+                if problem.dataset_to_choose
+                    && ui
+                        .small_button("Choose features…")
+                        .on_hover_text(
+                            "choose which features are the pusher and the T, and the scale",
+                        )
+                        .clicked()
+                {
+                    let path = problem.path.clone();
+                    commands.push(Command::Dataset(DatasetCommand::Choose(path)));
                 }
             }
         });

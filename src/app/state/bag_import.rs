@@ -305,6 +305,7 @@ impl BagChooser {
                     ),
                     path: bag,
                     bag_to_choose: true,
+                    dataset_to_choose: false,
                 })];
             }
             BagCommand::ChooseAgain(_) => {}

@@ -1,6 +1,8 @@
 //! The session's, the online run's and training's commands, each applied by its own method, so
 //! that [`AppState::apply`](super::AppState::apply) only routes.
 
+use pushlab_core::recording::SourceChoice;
+
 use super::effect::Effect;
 use super::timeline::TimelineCommand;
 use super::{AppState, Command, MAX_WHAT_IF_STEPS, OnlineCommand, SessionCommand, TrainingCommand};
@@ -15,7 +17,14 @@ impl AppState {
                 Effect::OpenBag { bag, choice } => {
                     // Earlier problems of this bag are retried now; one after this load is new.
                     self.session.problems.retain(|p| !p.path.starts_with(&bag));
-                    (self.session).start_loading_choosing(vec![bag.clone()], vec![(bag, *choice)]);
+                    let choice = SourceChoice::Bag(choice);
+                    (self.session).start_loading_choosing(vec![bag.clone()], vec![(bag, choice)]);
+                }
+                Effect::OpenDataset { dataset, choice } => {
+                    self.session.problems.retain(|p| p.path != dataset);
+                    let choice = SourceChoice::Dataset(*choice);
+                    (self.session)
+                        .start_loading_choosing(vec![dataset.clone()], vec![(dataset, choice)]);
                 }
                 Effect::Problem(problem) => self.session.problems.push(problem),
                 Effect::Label(action) => {
@@ -46,6 +55,7 @@ impl AppState {
             SessionCommand::CancelLoading => {
                 if self.session.cancel_loading() {
                     self.bags.loading_cancelled();
+                    self.datasets.loading_cancelled();
                     self.status = Some("opening cancelled".to_owned());
                 }
             }

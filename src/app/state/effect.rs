@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use pushlab_core::recording::bag::BagChoice;
+use pushlab_core::recording::dataset::DatasetChoice;
 
 use super::labels::LabelAction;
 use super::session::{LoadProblem, RecordingId};
@@ -21,6 +22,11 @@ pub enum Effect {
     OpenBag {
         bag: PathBuf,
         choice: Box<BagChoice>,
+    },
+    /// Open a dataset with a choice of features; its earlier problems are tried again.
+    OpenDataset {
+        dataset: PathBuf,
+        choice: Box<DatasetChoice>,
     },
     /// A problem for the browser's list of files that did not open.
     Problem(LoadProblem),

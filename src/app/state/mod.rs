@@ -8,6 +8,7 @@ pub mod bag_import;
 pub mod browser;
 pub mod cameras;
 mod commands;
+pub mod dataset_import;
 pub mod demo;
 pub mod effect;
 pub mod envelope;
@@ -45,6 +46,7 @@ use self::background_training::{Training, TrainingChoice};
 use self::bag_import::{BagChooser, BagCommand};
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::cameras::{CameraCommand, Cameras};
+use self::dataset_import::{DatasetChooser, DatasetCommand};
 use self::demo::{DemoCommand, Demos};
 use self::effect::Effect;
 use self::frame_cache::FrameCache;
@@ -86,6 +88,7 @@ pub enum Command {
     Demo(DemoCommand),
     /// The form that chooses a bag's topics and object (see `bag_import`).
     Bag(BagCommand),
+    Dataset(DatasetCommand),
     /// Which camera streams the camera panel shows.
     Camera(CameraCommand),
     /// A file asked for from a menu: losses, labels, a model.
@@ -254,6 +257,8 @@ pub struct AppState {
     demos: Demos,
     /// ROS 2 bags waiting for their topics to be chosen, and those being opened with a choice.
     bags: BagChooser,
+    /// Datasets waiting for their features to be chosen, and those being opened with a choice.
+    datasets: DatasetChooser,
     /// The selected recording's cameras and their frames.
     cameras: Cameras,
     /// What several panels read each frame, computed once per change.
@@ -289,6 +294,7 @@ impl AppState {
             landscape: LandscapeState::default(),
             demos: Demos::default(),
             bags: BagChooser::default(),
+            datasets: DatasetChooser::default(),
             cameras,
             frame_cache: FrameCache::default(),
             run_generation: 0,
@@ -409,6 +415,10 @@ impl AppState {
                 let effects = self.bags.apply(c);
                 self.apply_effects(effects);
             }
+            Command::Dataset(c) => {
+                let effects = self.datasets.apply(c);
+                self.apply_effects(effects);
+            }
             Command::Camera(c) => self.cameras.apply(c),
             Command::File(c) => self.apply_file(c),
             Command::Report(message) => self.status = Some(message),
@@ -449,6 +459,7 @@ impl AppState {
             || self.training.is_running()
             || self.proposals.is_running()
             || self.bags.listing().is_some()
+            || self.datasets.listing().is_some()
             || landscape
     }
 

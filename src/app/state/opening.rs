@@ -37,6 +37,8 @@ impl AppState {
         self.after_opening();
         let effects = self.bags.poll(&mut self.session);
         self.apply_effects(effects);
+        let effects = self.datasets.poll(&mut self.session);
+        self.apply_effects(effects);
         self.proposals.wait();
     }
 
@@ -56,6 +58,8 @@ impl AppState {
             self.after_opening();
         }
         let effects = self.bags.poll(&mut self.session);
+        self.apply_effects(effects);
+        let effects = self.datasets.poll(&mut self.session);
         self.apply_effects(effects);
         if selected {
             self.start_run();

@@ -10,9 +10,11 @@ use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
 
-use pushlab_core::recording::bag::{BagChoice, TopicInfo};
+use pushlab_core::recording::bag::TopicInfo;
+use pushlab_core::recording::dataset;
 use pushlab_core::recording::{
-    BagProblem, LoadError, LoadReport, Recording, RecordingSet, load_paths, load_paths_with,
+    BagProblem, DatasetProblem, LoadError, LoadReport, Recording, RecordingSet, SourceChoice,
+    load_paths, load_paths_with,
 };
 use pushlab_core::recording::{LoadProgress, ProgressSnapshot};
 
@@ -32,6 +34,8 @@ pub struct LoadProblem {
     pub message: String,
     /// A bag that opens once its topics are chosen (again): the browser offers to.
     pub bag_to_choose: bool,
+    /// A dataset that may open with its features chosen (again): the browser offers to.
+    pub dataset_to_choose: bool,
 }
 
 impl LoadProblem {
@@ -46,6 +50,7 @@ impl LoadProblem {
                     ..
                 }
             ),
+            dataset_to_choose: matches!(error, LoadError::Dataset { path, .. } if dataset::is_dataset(path)),
         }
     }
 }
@@ -84,6 +89,9 @@ pub struct Session {
     pub last_load_time: Option<Duration>,
     /// Bags opened without a choice of topics, with their topics: the app asks (see `bag_import`).
     pub bags_to_choose: Vec<(PathBuf, Vec<TopicInfo>)>,
+    /// Datasets whose pusher and object features are not chosen and cannot be guessed: the app
+    /// asks (see `dataset_import`).
+    pub datasets_to_choose: Vec<PathBuf>,
     jobs: Vec<LoadJob>,
 }
 
@@ -101,11 +109,12 @@ impl Session {
         self.start_loading_choosing(paths, Vec::new());
     }
 
-    /// [`Self::start_loading`], opening the bags in `choices` with the choice given for each.
+    /// [`Self::start_loading`], opening the bags and datasets in `choices` with the choice given
+    /// for each.
     pub fn start_loading_choosing(
         &mut self,
         paths: Vec<PathBuf>,
-        choices: Vec<(PathBuf, BagChoice)>,
+        choices: Vec<(PathBuf, SourceChoice)>,
     ) {
         if paths.is_empty() {
             return;
@@ -168,6 +177,7 @@ impl Session {
                             message: format!("{}: loading stopped unexpectedly", path.display()),
                             path,
                             bag_to_choose: false,
+                            dataset_to_choose: false,
                         });
                     }
                 }
@@ -185,6 +195,10 @@ impl Session {
                     path,
                     problem: BagProblem::NeedsImport { topics },
                 } => self.bags_to_choose.push((path, topics)),
+                LoadError::Dataset {
+                    path,
+                    problem: DatasetProblem::NeedsChoice { .. },
+                } => self.datasets_to_choose.push(path),
                 error => self.problems.push(LoadProblem::of(&error)),
             }
         }

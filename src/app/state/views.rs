@@ -16,6 +16,7 @@ use super::background_training::Training;
 use super::bag_import::BagChooser;
 use super::browser::{Column, Row};
 use super::cameras::Cameras;
+use super::dataset_import::DatasetChooser;
 use super::demo::Demos;
 use super::label_losses;
 use super::labels::LabelTarget;
@@ -105,6 +106,11 @@ impl AppState {
     /// Bags waiting for their topics to be chosen, and those being opened with a choice.
     pub fn bags(&self) -> &BagChooser {
         &self.bags
+    }
+
+    /// The datasets waiting for a choice of features, and the form shown.
+    pub fn datasets(&self) -> &DatasetChooser {
+        &self.datasets
     }
 
     /// The range each component of `θ_online` is steered and plotted in, metres (the core's

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::RecordingSet;
 use super::bag::BagProblem;
 use super::bag::{self, BagChoice};
-use super::dataset;
+use super::dataset::{self, DatasetChoice};
 use super::error::LoadError;
 use super::mit_push::{self, MitPush};
 use super::native::{self, SETTING_FILE};
@@ -67,9 +67,18 @@ pub fn load_paths(paths: &[PathBuf]) -> LoadReport {
     load_paths_choosing(paths, &[])
 }
 
-/// [`load_paths`], opening the bags listed in `choices` as their choice says (whether or not one is
-/// remembered beside them): how the app tries a choice before remembering it.
-pub fn load_paths_choosing(paths: &[PathBuf], choices: &[(PathBuf, BagChoice)]) -> LoadReport {
+/// What the user chose for a source that needs a choice to open: a bag's topics and object, a
+/// dataset's pusher and object features and scale.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SourceChoice {
+    /// Boxed: a bag's choice may carry a whole setting.
+    Bag(Box<BagChoice>),
+    Dataset(DatasetChoice),
+}
+
+/// [`load_paths`], opening the bags and datasets listed in `choices` as their choice says (whether
+/// or not one is remembered beside them): how the app tries a choice before remembering it.
+pub fn load_paths_choosing(paths: &[PathBuf], choices: &[(PathBuf, SourceChoice)]) -> LoadReport {
     load_paths_with(paths, choices, &LoadProgress::default())
 }
 
@@ -77,7 +86,7 @@ pub fn load_paths_choosing(paths: &[PathBuf], choices: &[(PathBuf, BagChoice)]) 
 /// stopping (with a [`LoadError::Cancelled`]) at the next file or bag chunk once it is cancelled.
 pub fn load_paths_with(
     paths: &[PathBuf],
-    choices: &[(PathBuf, BagChoice)],
+    choices: &[(PathBuf, SourceChoice)],
     progress: &LoadProgress,
 ) -> LoadReport {
     let mut loader = Loader {
@@ -175,8 +184,8 @@ struct Loader {
     seen: HashSet<PathBuf>,
     /// MIT pushes by (folder, surface, shape), in file-name order.
     mit: BTreeMap<(PathBuf, String, String), Vec<(PathBuf, MitPush)>>,
-    /// Bags to open with a choice given by the caller.
-    choices: Vec<(PathBuf, BagChoice)>,
+    /// Bags and datasets to open with a choice given by the caller.
+    choices: Vec<(PathBuf, SourceChoice)>,
 }
 
 impl Loader {
@@ -287,10 +296,17 @@ impl Loader {
             Item::Set { dir, only } => self.load_set(&dir, only.as_deref()),
             Item::Mit(path) => self.load_mit(&path),
             Item::Bag(path) => self.load_bag(&path, progress),
-            Item::Dataset(path) => match dataset::open_with(&path, None, None, progress) {
-                Ok(set) => self.report.sets.push(set),
-                Err(e) => self.report.errors.push(e),
-            },
+            Item::Dataset(path) => {
+                let key = canonical(&path);
+                let given = self.choices.iter().find_map(|(p, c)| match c {
+                    SourceChoice::Dataset(c) if canonical(p) == key => Some(c),
+                    _ => None,
+                });
+                match dataset::open_with(&path, given, None, progress) {
+                    Ok(set) => self.report.sets.push(set),
+                    Err(e) => self.report.errors.push(e),
+                }
+            }
         }
     }
 
@@ -299,9 +315,12 @@ impl Loader {
     /// the object, and what the object is, are the user's to say.
     fn load_bag(&mut self, path: &Path, progress: &dyn Progress) {
         let key = canonical(path);
-        let given = self.choices.iter().find(|(bag, _)| canonical(bag) == key);
+        let given = self.choices.iter().find_map(|(p, c)| match c {
+            SourceChoice::Bag(c) if canonical(p) == key => Some(c),
+            _ => None,
+        });
         let outcome = match given {
-            Some((_, choice)) => bag::open_with(path, choice, progress),
+            Some(choice) => bag::open_with(path, choice, progress),
             None => match bag::choice::remembered(path) {
                 Ok(Some(choice)) => bag::open_with(path, &choice, progress).map_err(|e| match e {
                     LoadError::Cancelled { .. } => e,

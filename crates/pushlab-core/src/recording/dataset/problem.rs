@@ -52,8 +52,9 @@ pub enum DatasetProblem {
     /// A dataset whose pusher and object features are not chosen, nor pre-selected.
     #[error(
         "which features are the pusher and the object is not chosen and cannot be guessed; the \
-         dataset's features: {features}; import with pushlab import DATASET --pusher FEATURE \
-         --object pose:FEATURE or keypoints:FEATURE --out SET"
+         dataset's features: {features}; choose them in the app's dataset form, or import with \
+         pushlab import DATASET --pusher-feature FEATURE[:COLUMN] --object-feature \
+         pose:FEATURE[:COLUMN] or keypoints:FEATURE --out SET"
     )]
     NeedsChoice { features: String },
     /// The load it was read for was cancelled.
