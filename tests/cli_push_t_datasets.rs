@@ -76,7 +76,18 @@ fn import_writes_one_push_per_episode_at_the_scale_asked() {
         before,
         "input untouched"
     );
-    // The written set loads back.
+    // The buffer's images: each push's camera, 24 PNG frames and their times beside its CSV.
+    assert!(out.contains("camera img: 24 frame(s) -> "), "{out}");
+    let images = out_dir.join("episode_003.images");
+    let frames = std::fs::read_to_string(images.join("frames.csv")).unwrap();
+    assert_eq!(frames.lines().count(), 25, "{frames}");
+    assert!(
+        frames.lines().nth(2).unwrap().starts_with("0.1,"),
+        "{frames}"
+    );
+    let png = std::fs::read(images.join("000023.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // The written set loads back, its cameras with it.
     let output = pushlab(&["validate", out_dir.to_str().unwrap()]);
     assert!(output.code == 0, "{}", text(&output));
     // Again without --overwrite: refused; a range past the end: refused, naming the count.

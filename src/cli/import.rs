@@ -203,7 +203,7 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
 }
 
 /// Writes each camera's frames beside the push's CSV, as the native set's image sequence.
-fn write_cameras(csv: &Path, cameras: &[Arc<CameraStream>]) -> anyhow::Result<()> {
+pub(super) fn write_cameras(csv: &Path, cameras: &[Arc<CameraStream>]) -> anyhow::Result<()> {
     let folder = images_dir(csv);
     for camera in cameras {
         let dir = if cameras.len() == 1 {

@@ -4,7 +4,8 @@
 //! The pusher and object features are those given (`--pusher-feature`, `--object-feature`), else
 //! those remembered beside the dataset (chosen in the app), else Push-T's own layout; the scale
 //! likewise (`--scale`, else remembered, else 1 mm per pixel). Every rule is the core's
-//! `recording::dataset`; the dataset is only read, and the set is written atomically.
+//! `recording::dataset`; the dataset is only read, and the set is written atomically. A replay
+//! buffer's images (`data/img`) are written beside each push as its camera's image sequence (PNG).
 
 use std::ops::Range;
 
@@ -91,6 +92,10 @@ pub fn run(args: &DatasetImport) -> anyhow::Result<()> {
         .collect();
     write_set(args.out, &set.setting, &trajectories)
         .with_context(|| format!("writing {}", args.out.display()))?;
+    // A replay buffer's images become each push's image sequence, as a bag's cameras do.
+    for (entry, recording) in set.setting.trajectories.iter().zip(&set.recordings) {
+        super::import::write_cameras(&args.out.join(&entry.file), &recording.cameras)?;
+    }
     for recording in &set.recordings {
         let t = &recording.trajectory;
         println!(

@@ -166,3 +166,66 @@ fn broken_buffers_are_errors_naming_the_file_and_the_problem() {
     );
     let _ = std::fs::remove_dir_all(zarr.parent().expect("parent"));
 }
+
+#[test]
+fn a_replay_buffers_images_are_each_episodes_camera_read_when_shown() {
+    use pushlab_core::recording::camera::{ImageFormat, decode};
+    let zarr = fixtures().join("replay.zarr");
+    let set = dataset::open_with(&zarr, None, None, &NoProgress).expect("opens");
+    // The whole image array read the other way, value by value, as the numeric features are.
+    let array = dataset::zarr::ZarrArray::open(&zarr.join("data/img")).expect("img");
+    let all = array.read_f64(&NoProgress).expect("every value");
+    let frame_len = 96 * 96 * 3;
+    let mut first_row = 0;
+    for recording in &set.recordings {
+        assert_eq!(recording.cameras.len(), 1, "{}", recording.name);
+        let camera = &recording.cameras[0];
+        assert_eq!(camera.name, "img");
+        assert_eq!(camera.len(), recording.trajectory.len());
+        assert_eq!(camera.times()[1], 0.1);
+        let mut reader = camera.reader();
+        // The last frame (in the episode's last chunk) and the first (another chunk for most).
+        for index in [camera.len() - 1, 0] {
+            let image = reader.read(index).expect("a frame");
+            assert!(matches!(
+                image.format,
+                ImageFormat::Raw {
+                    width: 96,
+                    height: 96,
+                    ..
+                }
+            ));
+            let row = first_row + index;
+            let expected: Vec<u8> = (all[row * frame_len..(row + 1) * frame_len].iter())
+                .map(|&v| v as u8)
+                .collect();
+            assert!(image.bytes == expected, "{} frame {index}", recording.name);
+            // gym-pusht's render: a light arena with the grey T and the blue agent on it.
+            let rgba = decode(&image).expect("decodes");
+            let distinct: std::collections::HashSet<_> = rgba.pixels.chunks(4).collect();
+            assert!(distinct.len() > 3, "a blank frame");
+        }
+        first_row += camera.len();
+    }
+    assert_eq!(first_row, 192);
+}
+
+#[test]
+fn an_image_array_split_within_a_frame_is_an_error_naming_its_zarray() {
+    let zarr = copy_of_buffer("split-images");
+    let meta = zarr.join("data/img/.zarray");
+    let text = std::fs::read_to_string(&meta).expect("meta");
+    let split = text.replacen("96,", "48,", 1);
+    assert_ne!(split, text);
+    std::fs::write(&meta, split).expect("write");
+    let message = dataset::open_with(&zarr, None, None, &NoProgress)
+        .expect_err("split")
+        .to_string();
+    assert!(
+        message.contains("data/img/.zarray: field `shape`:")
+            && message
+                .contains("split a frame; pushlab reads image arrays chunked along time only"),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(zarr.parent().expect("parent"));
+}

@@ -14,6 +14,7 @@ mod problem;
 pub mod replay;
 mod table;
 pub mod zarr;
+mod zarr_frames;
 
 use std::ops::Range;
 use std::path::Path;

@@ -198,6 +198,35 @@ impl ZarrArray {
         self.shape[1..].iter().product()
     }
 
+    /// Elements of a chunk along each dimension.
+    pub fn chunk_shape(&self) -> &[usize] {
+        &self.chunks
+    }
+
+    /// The array's folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The decoded bytes of chunk `index` along the first dimension of an array chunked along it
+    /// only (an image array: whole frames per chunk); a chunk that was never written is the fill.
+    pub fn read_time_chunk(&self, index: usize) -> Result<Vec<u8>, LoadError> {
+        let chunk_len: usize = self.chunks.iter().product::<usize>() * self.dtype.size;
+        let mut key = index.to_string();
+        for _ in 1..self.shape.len() {
+            key.push(self.separator);
+            key.push('0');
+        }
+        let path = self.dir.join(&key);
+        if !path.is_file() {
+            // Bytes arrays only: the fill value as a byte.
+            return Ok(vec![self.fill as u8; chunk_len]);
+        }
+        let raw = std::fs::read(&path).map_err(|e| LoadError::io(&path, e))?;
+        self.decode(&raw, chunk_len)
+            .map_err(|problem| LoadError::Dataset { path, problem })
+    }
+
     /// Every value, row-major, as `f64`; `progress` is told each chunk's bytes and stops the read
     /// when cancelled.
     pub fn read_f64(&self, progress: &dyn Progress) -> Result<Vec<f64>, LoadError> {
