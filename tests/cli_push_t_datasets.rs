@@ -30,7 +30,7 @@ fn validate_lists_a_replay_buffers_episodes_and_features() {
     let out = text(&output);
     assert!(output.code == 0, "{out}");
     assert!(
-        out.contains("zarr replay buffer, 8 episode(s), 192 frames at 10 Hz; features: action (2), keypoint (16), state (5); not read: img (images 96×96×3)"),
+        out.contains("zarr replay buffer, 8 episode(s), 192 frames at 10 Hz; features: action (2), keypoint (16), state (5); cameras: img (images 96×96×3)"),
         "{out}"
     );
     assert!(out.contains(": 7: 24 frames, 2.30 s"), "{out}");
