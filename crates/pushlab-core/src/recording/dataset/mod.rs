@@ -10,6 +10,7 @@
 mod as_set;
 pub mod blosc;
 pub mod choice;
+pub mod lerobot;
 mod problem;
 pub mod replay;
 mod table;
@@ -22,25 +23,34 @@ use std::path::Path;
 pub use self::as_set::{episode_indexes, setting_for, to_set};
 pub use self::choice::{Columns, DatasetChoice, ObjectSource};
 pub use self::problem::DatasetProblem;
-pub use self::table::{DatasetFormat, DatasetTable, Feature};
+pub use self::table::{DatasetFormat, DatasetTable, Feature, VideoFeature};
 use crate::recording::RecordingSet;
 use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
-/// Whether `path` is a dataset pushlab reads: a zarr replay buffer.
+/// Whether `path` is a dataset pushlab reads: a zarr replay buffer or a LeRobot dataset (a
+/// LeRobot version it does not read is recognised, and refused by [`read_table`] naming it).
 pub fn is_dataset(path: &Path) -> bool {
-    path.is_dir() && replay::is_replay_buffer(path)
+    path.is_dir() && (replay::is_replay_buffer(path) || lerobot::is_lerobot(path))
 }
 
-/// Bytes the reader will read, for the progress bar.
+/// Bytes the reader will read, for the progress bar: a buffer's numeric arrays, a LeRobot
+/// dataset's parquet files.
 pub fn bytes(path: &Path) -> u64 {
-    replay::bytes(path)
+    if replay::is_replay_buffer(path) {
+        replay::bytes(path)
+    } else {
+        lerobot::bytes(path)
+    }
 }
 
 /// Reads a dataset's features and episodes.
 pub fn read_table(path: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadError> {
     if replay::is_replay_buffer(path) {
         return replay::read(path, progress);
+    }
+    if lerobot::is_lerobot(path) {
+        return lerobot::read(path, progress);
     }
     Err(LoadError::NotRecognised {
         path: path.to_path_buf(),
