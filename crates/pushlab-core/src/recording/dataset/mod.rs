@@ -1,7 +1,8 @@
 //! Push-T datasets: Diffusion Policy's zarr replay buffers and LeRobot datasets, read as recording
 //! sets of the Push-T T, one recording per episode.
 //!
-//! The readers ([`replay`] over [`zarr`] and [`blosc`]; `lerobot` over parquet) fill one
+//! The readers ([`replay`] over [`zarr`] and [`blosc`]; [`lerobot`], v2.x and v3.0, over parquet
+//! through the parquet crate's record API) fill one
 //! [`DatasetTable`] — named features over every frame, the episodes' rows, the frame rate; the
 //! user's [`DatasetChoice`] (or Push-T's pre-selection, [`choice::suggest`]) says which features are
 //! the pusher and the object; [`to_set`] turns the chosen episodes into recordings in pushlab's

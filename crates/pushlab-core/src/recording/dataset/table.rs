@@ -42,7 +42,7 @@ impl Feature {
 #[derive(Clone, Debug, PartialEq)]
 pub struct DatasetTable {
     pub format: DatasetFormat,
-    /// The numeric features, in the dataset's order.
+    /// The numeric features, by name.
     pub features: Vec<Feature>,
     /// Each episode's rows, in order, covering every frame.
     pub episodes: Vec<Range<usize>>,

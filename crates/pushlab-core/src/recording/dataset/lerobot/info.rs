@@ -78,7 +78,8 @@ pub struct Info {
     pub data_path: String,
     /// Episodes per chunk folder (v2.x: which chunk an episode's file is in).
     pub chunks_size: usize,
-    /// The numeric features, in the file's order.
+    /// The numeric features, by name (as a replay buffer's arrays are, and whatever order the JSON
+    /// map keeps).
     pub features: Vec<NumericFeature>,
     /// Image and video features: (name, what they are).
     pub cameras: Vec<(String, String)>,
@@ -212,6 +213,9 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
             }),
         }
     }
+    info.features.sort_by(|a, b| a.name.cmp(&b.name));
+    info.cameras.sort();
+    info.videos.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(info)
 }
 
