@@ -33,7 +33,31 @@ pub struct Wanted {
 /// Appends the cells of `path`'s columns `wanted` to `into` (one vector per column, `width` values
 /// a row); returns the rows read. `progress` is told each row group's bytes and stops the read
 /// between row groups and every few thousand rows.
+///
+/// The parquet crate asserts some of what it decodes (a corrupt run-length header panics in its bit
+/// reader: found by garbling the fixture byte by byte); such a panic is caught and becomes this
+/// file's error, so that a corrupt file never takes the app down.
 pub fn append_file(
+    path: &Path,
+    wanted: &[Wanted],
+    into: &mut [Vec<f64>],
+    progress: &dyn Progress,
+) -> Result<usize, LoadError> {
+    let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        read_columns(path, wanted, into, progress)
+    }));
+    read.unwrap_or_else(|panic| {
+        let why = (panic.downcast_ref::<String>().map(String::as_str))
+            .or_else(|| panic.downcast_ref::<&str>().copied())
+            .unwrap_or("corrupt data");
+        Err(LoadError::Dataset {
+            path: path.to_path_buf(),
+            problem: DatasetProblem::Parquet(format!("the reader stopped: {why}")),
+        })
+    })
+}
+
+fn read_columns(
     path: &Path,
     wanted: &[Wanted],
     into: &mut [Vec<f64>],
