@@ -562,7 +562,9 @@ fn a_parquet_file_garbled_anywhere_is_an_error_never_a_panic() {
     let data = dir.join("data/chunk-000/file-000.parquet");
     let bytes = std::fs::read(&data).expect("data");
     let (mut errors, mut read) = (0, 0);
-    for at in (0..bytes.len()).step_by(97) {
+    // Every 97th byte, and two where the parquet crate panics (its bit reader, its dictionary
+    // decoder; found by garbling every byte of the fixture, 3438 of 24697 refused, none aborted).
+    for at in (0..bytes.len()).step_by(97).chain([1619, 23261]) {
         let mut garbled = bytes.clone();
         garbled[at] ^= 0x5a;
         std::fs::write(&data, &garbled).expect("write");
