@@ -145,7 +145,10 @@ fn a_lerobot_dataset_dropped_on_the_window_opens_with_push_ts_layout() {
             || !app.state.session().problems.is_empty()
     });
     let app = harness.state();
-    assert!(app.state.datasets().form().is_none(), "no form: Push-T's layout is guessed");
+    assert!(
+        app.state.datasets().form().is_none(),
+        "no form: Push-T's layout is guessed"
+    );
     let set = (app.state.session().sets.iter())
         .find(|s| s.dir == dataset)
         .unwrap_or_else(|| panic!("not opened: {:?}", app.state.session().problems));

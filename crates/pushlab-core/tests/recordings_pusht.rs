@@ -259,7 +259,10 @@ fn lerobot_datasets_import_to_the_environments_state_as_the_replay_buffer_does()
         let parquet = dataset::bytes(&dir);
         assert!(parquet > 20_000 && parquet < 60_000, "{version}: {parquet}");
         let table = dataset::read_table(&dir, &NoProgress).expect("reads");
-        assert_eq!(table.format, dataset::DatasetFormat::LeRobot(version.into()));
+        assert_eq!(
+            table.format,
+            dataset::DatasetFormat::LeRobot(version.into())
+        );
         assert_eq!(table.fps, 10.0);
         assert_eq!(table.episodes.len(), 8, "{version}");
         assert!(table.episodes.iter().all(|rows| rows.len() == 24));
@@ -283,7 +286,9 @@ fn lerobot_datasets_import_to_the_environments_state_as_the_replay_buffer_does()
         assert!(report.errors.is_empty(), "{:?}", report.errors);
         let set = &report.sets[0];
         let (pusher, object, yaw) = worst_errors(set, 0.001);
-        eprintln!("{version} against truth.json: pusher {pusher:.1e} m, T {object:.1e} m, yaw {yaw:.1e} rad");
+        eprintln!(
+            "{version} against truth.json: pusher {pusher:.1e} m, T {object:.1e} m, yaw {yaw:.1e} rad"
+        );
         assert!(
             pusher < 1e-4 && object < 1e-4 && yaw < 1e-5,
             "{version}: {pusher} {object} {yaw}"

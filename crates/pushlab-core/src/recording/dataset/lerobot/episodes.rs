@@ -271,14 +271,19 @@ mod tests {
             data_file: (0, 0),
         });
         let mut runs = Runs::default();
-        runs.add(Path::new("a.parquet"), 0, &[0.0, 0.0, 1.0]).expect("ok");
-        runs.add(Path::new("b.parquet"), 3, &[1.0]).expect("continues");
+        runs.add(Path::new("a.parquet"), 0, &[0.0, 0.0, 1.0])
+            .expect("ok");
+        runs.add(Path::new("b.parquet"), 3, &[1.0])
+            .expect("continues");
         let rows = runs.check(&listed, Path::new("meta")).expect("agrees");
         assert_eq!(rows, vec![0..2, 2..4]);
 
         let mut runs = Runs::default();
-        runs.add(Path::new("a.parquet"), 0, &[0.0, 1.0]).expect("ok");
-        let error = runs.add(Path::new("b.parquet"), 2, &[1.0, 0.0]).expect_err("0 again");
+        runs.add(Path::new("a.parquet"), 0, &[0.0, 1.0])
+            .expect("ok");
+        let error = runs
+            .add(Path::new("b.parquet"), 2, &[1.0, 0.0])
+            .expect_err("0 again");
         assert_eq!(
             error.to_string(),
             "b.parquet: episode_index 0 at row 1 (counting from 0), but episode 0's rows ended \

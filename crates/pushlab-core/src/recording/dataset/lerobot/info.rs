@@ -38,8 +38,8 @@ pub const SUPPORTED: [(&str, Layout); 3] = [
 /// The dtypes read as numbers; `bool` and `string` features are left out, images and videos are
 /// listed as cameras.
 const NUMERIC: [&str; 11] = [
-    "float16", "float32", "float64", "int8", "int16", "int32", "int64", "uint8", "uint16", "uint32",
-    "uint64",
+    "float16", "float32", "float64", "int8", "int16", "int32", "int64", "uint8", "uint16",
+    "uint32", "uint64",
 ];
 
 /// A numeric feature as `meta/info.json` declares it.
@@ -135,7 +135,12 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
         .ok_or_else(|| field(".", "not an object, expected LeRobot's dataset info"))?;
     let versions: Vec<&str> = SUPPORTED.iter().map(|(v, _)| *v).collect();
     let expected_version = format!("one of {}", versions.join(", "));
-    let version = required(object, "codebase_version", "codebase_version", &expected_version)?;
+    let version = required(
+        object,
+        "codebase_version",
+        "codebase_version",
+        &expected_version,
+    )?;
     let version = version.as_str().unwrap_or_default();
     let layout = (SUPPORTED.iter())
         .find(|(v, _)| *v == version)
@@ -150,7 +155,12 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
     let fps = fps
         .as_f64()
         .filter(|f| f.is_finite() && *f > 0.0)
-        .ok_or_else(|| field("fps", format!("{fps}, expected a positive number of frames per second")))?;
+        .ok_or_else(|| {
+            field(
+                "fps",
+                format!("{fps}, expected a positive number of frames per second"),
+            )
+        })?;
     let data_path = text(object, "data_path", "the parquet files' path template")?;
     let chunks_size = match layout {
         Layout::FilePerEpisode => {
@@ -158,7 +168,12 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
             size.as_u64()
                 .filter(|&n| n > 0)
                 .and_then(|n| usize::try_from(n).ok())
-                .ok_or_else(|| field("chunks_size", format!("{size}, expected a positive whole number")))?
+                .ok_or_else(|| {
+                    field(
+                        "chunks_size",
+                        format!("{size}, expected a positive whole number"),
+                    )
+                })?
         }
         Layout::ConcatenatedEpisodes => 0,
     };
@@ -177,9 +192,12 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
     };
     for (name, feature) in features {
         let at = |key: &str| format!("features.{name}.{key}");
-        let feature = feature
-            .as_object()
-            .ok_or_else(|| field(&format!("features.{name}"), "not an object, expected dtype and shape"))?;
+        let feature = feature.as_object().ok_or_else(|| {
+            field(
+                &format!("features.{name}"),
+                "not an object, expected dtype and shape",
+            )
+        })?;
         let dtype = required(feature, "dtype", &at("dtype"), "the feature's type")?;
         let dtype = dtype
             .as_str()
@@ -188,23 +206,32 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
         if !(numeric || matches!(dtype, "video" | "image")) {
             continue;
         }
-        let shape = shape(required(feature, "shape", &at("shape"), "the feature's shape")?)
-            .map_err(|why| field(&at("shape"), why))?;
+        let shape = shape(required(
+            feature,
+            "shape",
+            &at("shape"),
+            "the feature's shape",
+        )?)
+        .map_err(|why| field(&at("shape"), why))?;
         let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
         match dtype {
             "video" => {
-                let template = text(object, "video_path", &format!(
-                    "the videos' path template, since feature `{name}` is a video"
-                ))?;
-                info.cameras.push((name.clone(), format!("video {}", dims.join("×"))));
+                let template = text(
+                    object,
+                    "video_path",
+                    &format!("the videos' path template, since feature `{name}` is a video"),
+                )?;
+                info.cameras
+                    .push((name.clone(), format!("video {}", dims.join("×"))));
                 info.videos.push(VideoFeature {
                     name: name.clone(),
                     path_template: template,
                 });
             }
-            "image" => info
-                .cameras
-                .push((name.clone(), format!("images {} in parquet", dims.join("×")))),
+            "image" => info.cameras.push((
+                name.clone(),
+                format!("images {} in parquet", dims.join("×")),
+            )),
             _ => info.features.push(NumericFeature {
                 name: name.clone(),
                 dtype: dtype.to_owned(),
@@ -232,7 +259,11 @@ fn shape(value: &Value) -> Result<Vec<usize>, String> {
     let bad = || format!("{value}, expected a list of positive whole numbers such as [2]");
     let dims = value.as_array().ok_or_else(bad)?;
     let shape: Vec<usize> = (dims.iter())
-        .map(|d| d.as_u64().filter(|&n| n > 0).and_then(|n| usize::try_from(n).ok()))
+        .map(|d| {
+            d.as_u64()
+                .filter(|&n| n > 0)
+                .and_then(|n| usize::try_from(n).ok())
+        })
         .collect::<Option<_>>()
         .ok_or_else(bad)?;
     let width = shape.iter().try_fold(1usize, |w, &d| w.checked_mul(d));
@@ -257,7 +288,9 @@ pub fn fill_template(
         let close = after
             .find('}')
             .ok_or_else(|| field(name, format!("\"{template}\": a `{{` without its `}}`")))?;
-        let (key, spec) = after[..close].split_once(':').unwrap_or((&after[..close], ""));
+        let (key, spec) = after[..close]
+            .split_once(':')
+            .unwrap_or((&after[..close], ""));
         let value = (values.iter())
             .find(|(k, _)| *k == key)
             .map(|(_, v)| *v)
@@ -265,14 +298,21 @@ pub fn fill_template(
                 let keys: Vec<String> = values.iter().map(|(k, _)| format!("{{{k}}}")).collect();
                 field(
                     name,
-                    format!("\"{template}\": unknown field {{{key}}}, expected {}", keys.join(", ")),
+                    format!(
+                        "\"{template}\": unknown field {{{key}}}, expected {}",
+                        keys.join(", ")
+                    ),
                 )
             })?;
         let digits = spec.strip_suffix('d').unwrap_or(spec);
         let width = if digits.is_empty() {
             Some(0)
         } else {
-            digits.strip_prefix('0').unwrap_or(digits).parse::<usize>().ok()
+            digits
+                .strip_prefix('0')
+                .unwrap_or(digits)
+                .parse::<usize>()
+                .ok()
         };
         match width {
             Some(width) if spec.is_empty() || spec.ends_with('d') => {
@@ -298,12 +338,21 @@ mod tests {
     #[test]
     fn path_templates_fill_as_python_formats_them() {
         let template = "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet";
-        let path = fill_template(template, "data_path", &[("episode_chunk", 1), ("episode_index", 1042)]);
+        let path = fill_template(
+            template,
+            "data_path",
+            &[("episode_chunk", 1), ("episode_index", 1042)],
+        );
         assert_eq!(path, Ok("data/chunk-001/episode_001042.parquet".into()));
-        assert_eq!(fill_template("a/{x}.b", "p", &[("x", 7)]), Ok("a/7.b".into()));
+        assert_eq!(
+            fill_template("a/{x}.b", "p", &[("x", 7)]),
+            Ok("a/7.b".into())
+        );
         let error = fill_template(template, "data_path", &[("chunk_index", 0)]).expect_err("keys");
         assert!(
-            error.to_string().contains("unknown field {episode_chunk}, expected {chunk_index}"),
+            error
+                .to_string()
+                .contains("unknown field {episode_chunk}, expected {chunk_index}"),
             "{error}"
         );
         assert!(fill_template("{x:3f}", "p", &[("x", 1)]).is_err());

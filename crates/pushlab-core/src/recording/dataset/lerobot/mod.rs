@@ -143,8 +143,8 @@ impl Reading<'_> {
                 problem,
             };
             let indexes = &columns[self.episode_column][first..];
-            if let Some((row, &value)) = (indexes.iter().enumerate())
-                .find(|&(_, &value)| whole_number(value) != Some(index))
+            if let Some((row, &value)) =
+                (indexes.iter().enumerate()).find(|&(_, &value)| whole_number(value) != Some(index))
             {
                 return Err(fail(DatasetProblem::Column {
                     column: EPISODE_INDEX.into(),

@@ -168,7 +168,12 @@ fn push_values(field: &Field, out: &mut Vec<f64>) -> Result<(), String> {
             return Ok(());
         }
         Field::Bool(v) => return Err(format!("a boolean ({v})")),
-        Field::Str(v) => return Err(format!("text \"{}\"", v.chars().take(40).collect::<String>())),
+        Field::Str(v) => {
+            return Err(format!(
+                "text \"{}\"",
+                v.chars().take(40).collect::<String>()
+            ));
+        }
         Field::Bytes(v) => return Err(format!("{} bytes", v.len())),
         Field::Group(_) => return Err("a struct".into()),
         Field::MapInternal(_) => return Err("a map".into()),
