@@ -105,10 +105,13 @@ pub fn read_parquet(dir: &Path, progress: &dyn Progress) -> Result<Vec<Listed>, 
     let mut listed = Vec::new();
     for file in &files {
         let mut columns = vec![Vec::new(); names.len()];
-        let rows = append_file(file, &wanted, &mut columns, progress)?;
-        for row in 0..rows {
+        append_file(file, &wanted, &mut columns, progress)?;
+        // Every column holds one value a row: each row's cells, column by column.
+        let cells = |row: usize| columns.iter().map(move |column| column[row]);
+        for row in 0..columns[0].len() {
+            let row_cells: Vec<f64> = cells(row).collect();
             let whole = |column: usize| {
-                let value = columns[column][row];
+                let value = row_cells[column];
                 whole_number(value).ok_or_else(|| LoadError::Dataset {
                     path: file.clone(),
                     problem: DatasetProblem::Column {

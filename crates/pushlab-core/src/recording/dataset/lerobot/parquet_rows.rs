@@ -134,7 +134,7 @@ fn read_columns(
                 }
             }
             rows += 1;
-            if rows % ROWS_PER_CANCEL_CHECK == 0 && progress.is_cancelled() {
+            if rows.is_multiple_of(ROWS_PER_CANCEL_CHECK) && progress.is_cancelled() {
                 return Err(cancelled());
             }
         }
