@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 use common::{drop_on_window, harness, run_until, scratch_dir};
 use egui_kittest::kittest::Queryable;
 use pushlab::app::state::dataset_import::DatasetCommand;
-use pushlab::app::state::{Command, Persisted};
+use pushlab::app::state::session::RecordingId;
+use pushlab::app::state::{Command, Persisted, SessionCommand};
 use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::recording::dataset::{Columns, ObjectSource, choice};
 
@@ -128,6 +129,76 @@ fn a_dataset_not_chosen_now_comes_back_with_choose_features() {
     });
     harness.get_by_label("pushes.zarr (zarr replay buffer)");
     assert!(harness.query_by_label("Choose features…").is_none());
+}
+
+#[test]
+fn an_opened_dataset_can_be_chosen_again_and_its_set_is_replaced() {
+    // The fixture in Push-T's own layout opens at once, at 1 mm per pixel.
+    let fixture = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("crates/pushlab-core/tests/pusht/replay.zarr");
+    let replay = scratch_dir("dataset-again").join("pusht.zarr");
+    copy_dir(&fixture, &replay);
+    let state = initial_state(&[], Persisted::default());
+    let mut harness = harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(1);
+    drop_on_window(&mut harness, &replay);
+    run_until(&mut harness, "the dataset to open", |app| {
+        app.state.session().sets.iter().any(|s| s.dir == replay)
+    });
+    assert!(harness.state().state.datasets().form().is_none(), "no form");
+    // Its first episode shown (the sample data was).
+    let set = (harness.state().state.session().sets.iter())
+        .position(|s| s.dir == replay)
+        .unwrap();
+    let first = RecordingId { set, recording: 0 };
+    let select = Command::Session(SessionCommand::Select(first));
+    harness.state_mut().state.apply(select);
+    harness.run_steps(2);
+    let before = harness
+        .state()
+        .state
+        .recording()
+        .unwrap()
+        .trajectory
+        .clone();
+    // File → Choose the dataset's features again… shows its form, Push-T's layout pre-selected.
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness
+        .get_by_label("Choose the dataset's features again…")
+        .click();
+    run_until(&mut harness, "the form", |app| {
+        app.state.datasets().form().is_some()
+    });
+    let form = harness.state().state.datasets().form().unwrap();
+    assert_eq!(form.pusher, Some(Columns::new("state", 0)));
+    assert_eq!(
+        form.object,
+        Some(ObjectSource::Pose(Columns::new("state", 2)))
+    );
+    // Twice the scale: the set opened again replaces the first, every length doubled.
+    send(&mut harness, DatasetCommand::SetScale(0.002));
+    harness.get_by_label("Open").click();
+    harness.run_steps(1);
+    run_until(&mut harness, "the dataset to open again", |app| {
+        app.state.datasets().form().is_none() && app.state.session().loading().is_none()
+    });
+    harness.run_steps(2);
+    let app = harness.state();
+    let sets: Vec<_> = (app.state.session().sets.iter())
+        .filter(|s| s.dir == replay)
+        .collect();
+    assert_eq!(sets.len(), 1, "replaced, not added");
+    assert_eq!(sets[0].recordings.len(), 8);
+    let after = &sets[0].recordings[0].trajectory;
+    let (a, b) = (&before.frames[5], &after.frames[5]);
+    assert!(
+        (b.object.position - 2.0 * a.object.position).norm() < 1e-9
+            && (b.robot - 2.0 * a.robot.coords).coords.norm() < 1e-9,
+        "{a:?} then {b:?}"
+    );
+    let remembered = choice::remembered(&replay).unwrap().expect("remembered");
+    assert_eq!(remembered.metres_per_px, 0.002);
 }
 
 #[test]

@@ -30,7 +30,7 @@ fn validate_lists_a_replay_buffers_episodes_and_features() {
     let out = text(&output);
     assert!(output.code == 0, "{out}");
     assert!(
-        out.contains("zarr replay buffer, 8 episode(s), 192 frames at 10 Hz; features: action (2), keypoint (16), state (5); not read: img (images 96×96×3)"),
+        out.contains("zarr replay buffer, 8 episode(s), 192 frames at 10 Hz; features: action (2), keypoint (16), state (5); cameras: img (images 96×96×3)"),
         "{out}"
     );
     assert!(out.contains(": 7: 24 frames, 2.30 s"), "{out}");
@@ -145,7 +145,7 @@ fn validate_lists_a_lerobot_datasets_episodes_and_features() {
             "LeRobot dataset v3.0, 8 episode(s), 192 frames at 10 Hz; features: action (2), \
              episode_index (1), frame_index (1), index (1), next.reward (1), \
              observation.environment_state (16), observation.state (2), task_index (1), \
-             timestamp (1)\n"
+             timestamp (1); cameras: observation.image (video 96×96×3)\n"
         ),
         "{out}"
     );

@@ -1,4 +1,8 @@
-"""Prints experiments/push-t/run's table from its `pushlab eval --json` reports (RESULTS/NAME-OPT.json)."""
+"""Prints experiments/push-t/run's tables from its `pushlab eval --json` reports (RESULTS/NAME-OPT.json).
+
+    summarise.py RESULTS RATE...            the validation table and the test table
+    summarise.py --choose RESULTS RATE...   the rate with the lowest mean online NMSE on val-*
+"""
 
 import glob
 import json
@@ -11,12 +15,37 @@ def pair(d):
     return f"{d['pos']:.3f} / {d['rot']:.3f}"
 
 
-def main(results):
+VALIDATION = ["val-bar", "val-stem"]
+
+
+def validation_score(results, rate):
+    """Mean over the validation sets of the online NMSE's mean of position and rotation."""
+    scores = []
+    for name in VALIDATION:
+        online = json.load(open(os.path.join(results, f"{name}-lr{rate}.json")))["online"]
+        scores.append((online["pos"] + online["rot"]) / 2)
+    return statistics.fmean(scores)
+
+
+def choose(results, rates):
+    return min(rates, key=lambda rate: validation_score(results, rate))
+
+
+def main(results, rates):
+    chosen = choose(results, rates)
+    print("| rate | " + " | ".join(f"{name} online" for name in VALIDATION) + " | score |")
+    print("|---|" + "---|" * (len(VALIDATION) + 1))
+    for rate in rates:
+        cells = [pair(json.load(open(os.path.join(results, f"{n}-lr{rate}.json")))["online"])
+                 for n in VALIDATION]
+        mark = " (chosen)" if rate == chosen else ""
+        print(f"| {rate}{mark} | " + " | ".join(cells) + f" | {validation_score(results, rate):.3f} |")
+    print()
     print("| test set | optimiser | offline | fixed | online | physics-only online "
           "| COM true (mm) | COM learned, mean (mm) | mean error (mm) | 95 % ellipse holds it | h learned, median (mm) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name in ["same", "com-bar", "com-stem"]:
-        for optimizer in ["gd", "gd-lr0.05", "gauss-newton"]:
+        for optimizer in ["gd", "gd-chosen", "gauss-newton"]:
             path = os.path.join(results, f"{name}-{optimizer}.json")
             if not os.path.exists(path):
                 continue
@@ -27,7 +56,8 @@ def main(results):
             mean = [statistics.fmean(c[i] for c in learned) * 1000 for i in range(2)]
             h = statistics.median(p["h_learned"] for p in pushes) * 1000
             found = r["com_found"]
-            print(f"| {name} | {optimizer} | {pair(r['offline'])} | {pair(r['fixed'])} "
+            label = f"gd at {chosen}" if optimizer == "gd-chosen" else optimizer
+            print(f"| {name} | {label} | {pair(r['offline'])} | {pair(r['fixed'])} "
                   f"| {pair(r['online'])} | {pair(r['physics']['online'])} "
                   f"| ({true[0]*1000:.1f}, {true[1]*1000:.1f}) | ({mean[0]:.1f}, {mean[1]:.1f}) "
                   f"| {found['mean_error_m']*1000:.1f} | {found['within_95']} of {found['pushes']} "
@@ -37,4 +67,7 @@ def main(results):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    if sys.argv[1] == "--choose":
+        print(choose(sys.argv[2], sys.argv[3:]))
+    else:
+        main(sys.argv[1], sys.argv[2:])

@@ -20,21 +20,18 @@
 //! setting cannot be used (a missing or unreadable topic lists the bag's topics), 2 for wrong
 //! arguments.
 
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 
 use super::experiment::args::positive_real;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, TopicSpec};
-use pushlab_core::recording::camera::{CameraStream, FrameProblem, to_stored};
 use pushlab_core::recording::dataset::{self, Columns, ObjectSource};
 use pushlab_core::recording::native::SETTING_FILE;
-use pushlab_core::recording::native::images::{images_dir, write_camera};
 use pushlab_core::recording::write_set;
 
+use super::cameras_out;
 use super::load_bar::with_load_bar;
 
 /// Arguments of `pushlab import`.
@@ -176,7 +173,7 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     write_set(&args.out, &setting, &trajectories)
         .with_context(|| format!("writing {}", args.out.display()))?;
     for (entry, push) in setting.trajectories.iter().zip(&import.pushes) {
-        write_cameras(&args.out.join(&entry.file), &push.cameras)?;
+        cameras_out::write_cameras(&args.out.join(&entry.file), &push.cameras)?;
     }
     for (entry, push) in setting.trajectories.iter().zip(&import.pushes) {
         let t = &push.trajectory;
@@ -200,74 +197,4 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
         args.out.display()
     );
     Ok(())
-}
-
-/// Writes each camera's frames beside the push's CSV, as the native set's image sequence.
-pub(super) fn write_cameras(csv: &Path, cameras: &[Arc<CameraStream>]) -> anyhow::Result<()> {
-    let folder = images_dir(csv);
-    for camera in cameras {
-        let dir = if cameras.len() == 1 {
-            folder.clone()
-        } else {
-            folder.join(folder_name(&camera.name))
-        };
-        let bar = progress_bar(camera.len() as u64, &camera.name);
-        let mut reader = camera.reader();
-        let mut left_out: Vec<String> = Vec::new();
-        let frames = (0..camera.len()).filter_map(|i| {
-            bar.inc(1);
-            let stored = reader
-                .read(i)
-                .and_then(|image| to_stored(image).map_err(FrameProblem::from));
-            match stored {
-                Ok(image) => Some((camera.times()[i], image)),
-                Err(problem) => {
-                    left_out.push(format!("frame {i} ({:.3} s): {problem}", camera.times()[i]));
-                    None
-                }
-            }
-        });
-        let written =
-            write_camera(&dir, frames).with_context(|| format!("writing {}", dir.display()))?;
-        bar.finish_and_clear();
-        println!(
-            "camera {}: {written} frame(s) -> {}",
-            camera.name,
-            dir.display()
-        );
-        if let Some(first) = left_out.first() {
-            println!(
-                "warning: camera {}: {} frame(s) could not be read and were left out; the first: {first}",
-                camera.name,
-                left_out.len()
-            );
-        }
-    }
-    Ok(())
-}
-
-/// A folder name for a camera topic: its words joined by `_` (`/camera/color/image_raw` →
-/// `camera_color_image_raw`).
-fn folder_name(topic: &str) -> String {
-    let name: Vec<&str> = topic
-        .split(|c: char| !c.is_ascii_alphanumeric() && c != '-')
-        .filter(|p| !p.is_empty())
-        .collect();
-    if name.is_empty() {
-        "camera".to_owned()
-    } else {
-        name.join("_")
-    }
-}
-
-/// A progress bar of frames written, on stderr, hidden when it is not a terminal.
-fn progress_bar(frames: u64, camera: &str) -> ProgressBar {
-    let bar = ProgressBar::with_draw_target(Some(frames), ProgressDrawTarget::stderr());
-    bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames ({eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    bar.set_message(format!("camera {camera}"));
-    bar
 }

@@ -94,7 +94,7 @@ pub fn run(args: &DatasetImport) -> anyhow::Result<()> {
         .with_context(|| format!("writing {}", args.out.display()))?;
     // A replay buffer's images become each push's image sequence, as a bag's cameras do.
     for (entry, recording) in set.setting.trajectories.iter().zip(&set.recordings) {
-        super::import::write_cameras(&args.out.join(&entry.file), &recording.cameras)?;
+        super::cameras_out::write_cameras(&args.out.join(&entry.file), &recording.cameras)?;
     }
     for recording in &set.recordings {
         let t = &recording.trajectory;

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 use self::exit::EXIT_USAGE;
 
+mod cameras_out;
 mod exit;
 mod experiment;
 mod import;

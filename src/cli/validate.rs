@@ -165,7 +165,7 @@ fn list_dataset(path: &std::path::Path) -> bool {
         if cameras.is_empty() {
             String::new()
         } else {
-            format!("; not read: {}", cameras.join(", "))
+            format!("; cameras: {}", cameras.join(", "))
         }
     );
     for (i, rows) in table.episodes.iter().enumerate() {

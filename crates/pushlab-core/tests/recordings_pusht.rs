@@ -273,7 +273,23 @@ fn lerobot_datasets_import_to_the_environments_state_as_the_replay_buffer_does()
              observation.environment_state (16), observation.state (2), task_index (1), \
              timestamp (1)"
         );
-        assert!(table.cameras.is_empty() && table.videos.is_empty());
+        // The renders as a video feature, listed with where its files are; not read here.
+        assert_eq!(
+            table.cameras,
+            vec![("observation.image".to_owned(), "video 96×96×3".to_owned())]
+        );
+        let template = if version == "v2.1" {
+            "videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4"
+        } else {
+            "videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4"
+        };
+        assert_eq!(
+            table.videos,
+            vec![dataset::VideoFeature {
+                name: "observation.image".into(),
+                path_template: template.into(),
+            }]
+        );
         let times = table.times.as_ref().expect("the timestamp column");
         assert!((times[30] - 0.6).abs() < 1e-6, "{}", times[30]);
         // Push-T's pre-selection: the agent, and the T's 8 corners registered to a pose.

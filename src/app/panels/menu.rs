@@ -6,12 +6,41 @@ use eframe::egui;
 use crate::app::dialogs::DialogRequest;
 use crate::app::layout::Pane;
 use crate::app::state::SessionCommand;
+use crate::app::state::bag_import::BagCommand;
 use crate::app::state::cameras::CameraCommand;
+use crate::app::state::dataset_import::DatasetCommand;
 use crate::app::state::demo::DemoCommand;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::landscape::LandscapeCommand;
-use crate::app::state::{AppState, Command};
+use crate::app::state::{AppState, ChooseAgain, Command};
 use crate::app::view::View;
+
+/// The File menu's way back to the form of the bag or dataset shown: its topics or features
+/// chosen again replace the set.
+fn choose_again(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let (label, hover, command) = match state.source_to_choose_again() {
+        Some(ChooseAgain::Dataset(dataset)) => (
+            "Choose the dataset's features again…",
+            format!(
+                "which features of {} are the pusher and the T, and the scale",
+                dataset.display()
+            ),
+            Command::Dataset(DatasetCommand::Choose(dataset)),
+        ),
+        Some(ChooseAgain::Bag(bag)) => (
+            "Choose the bag's topics again…",
+            format!(
+                "which topics of {} are the pusher and the object, and the object",
+                bag.display()
+            ),
+            Command::Bag(BagCommand::ChooseAgain(bag)),
+        ),
+        None => return,
+    };
+    if ui.button(label).on_hover_text(hover).clicked() {
+        commands.push(command);
+    }
+}
 
 /// Draws the menu bar and the status line.
 pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
@@ -35,6 +64,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                         }
                     }
                 });
+                choose_again(ui, state, commands);
                 ui.separator();
                 if ui.button("Load model…").clicked() {
                     view.dialogs.open(DialogRequest::LoadModel);

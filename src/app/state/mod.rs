@@ -59,6 +59,7 @@ use self::overview::PathOverview;
 use self::proposals::{ProposalAction, ProposalState, ProposalTarget};
 use self::session::{RecordingId, Session};
 use self::timeline::{Timeline, TimelineCommand};
+pub use self::views::ChooseAgain;
 
 /// Everything a panel can ask the app to do: one enum per concern.
 #[derive(Clone, Debug, PartialEq)]

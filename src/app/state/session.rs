@@ -5,7 +5,7 @@
 //! each load reports its bytes (the status bar's progress bar) and stops at its next file or chunk
 //! when cancelled. Tests and the command line can load synchronously with `open_blocking`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
@@ -245,6 +245,11 @@ impl Session {
     /// The selected recording.
     pub fn selected_recording(&self) -> Option<&Recording> {
         self.get(self.selected?)
+    }
+
+    /// The folder or file the selected recording's set was read from.
+    pub fn selected_set_dir(&self) -> Option<&Path> {
+        Some(&self.sets.get(self.selected?.set)?.dir)
     }
 
     /// Every recording with its id, in browser order.

@@ -3,12 +3,13 @@
 //! losses by label. Each is the state's method over its sub-states' own rules; the state imports
 //! nothing from here.
 
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use pushlab_core::inspect::Rollout;
 use pushlab_core::learn::MeanLosses;
 use pushlab_core::model::OnlineParams;
-use pushlab_core::recording::Recording;
+use pushlab_core::recording::{Recording, bag, dataset};
 
 use pushlab_core::model::PhysicsOnlyModel;
 
@@ -216,4 +217,24 @@ impl AppState {
         });
         self.landscape.update(source)
     }
+
+    /// The selected recording's bag or dataset, whose choice (topics, features) can be made again:
+    /// opening it with the new choice replaces the set.
+    pub fn source_to_choose_again(&self) -> Option<ChooseAgain> {
+        let dir = self.session.selected_set_dir()?;
+        if dataset::is_dataset(dir) {
+            Some(ChooseAgain::Dataset(dir.to_path_buf()))
+        } else if bag::is_bag(dir) {
+            Some(ChooseAgain::Bag(dir.to_path_buf()))
+        } else {
+            None
+        }
+    }
+}
+
+/// A source opened with a choice the user can make again.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ChooseAgain {
+    Bag(PathBuf),
+    Dataset(PathBuf),
 }

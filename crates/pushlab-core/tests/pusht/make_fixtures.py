@@ -17,7 +17,12 @@ unwrapped), the T's eight corner keypoints (`PushTEnv.get_keypoints`) and the ac
 - `lerobot-v2.1/` and `lerobot-v3.0/`: the same episodes as LeRobot datasets in the layout of
   `lerobot/pusht_keypoints` (`observation.state` = agent position, `observation.environment_state`
   = the 8 corners, x0, y0, x1, y1 …; `action`, timestamps, indexes), parquet written by pyarrow
-  (snappy, as LeRobot's writers leave it). No videos: the fixtures carry no camera.
+  (snappy, as LeRobot's writers leave it), and the same 96 × 96 renders as `data/img` as the
+  `observation.image` video feature: v3.0 as LeRobot writes it (AV1 by SVT-AV1, key frame every 2
+  frames, crf 30, yuv420p; one file holding every episode, each episode's `from_timestamp` in the
+  episodes table), v2.1 in H.264 (libx264, crf 23), one file per episode — two codecs a reader
+  meets. Encoded by the ffmpeg binary pinned in `imageio-ffmpeg`, single-threaded and bit-exact
+  so that the files regenerate identically.
 - `truth.json`: per episode and frame, the state in float64 straight from pymunk, the local
   keypoints in `get_keypoints`' order, and the body's COM, mass and moment.
 
@@ -35,6 +40,9 @@ import math
 import os
 import shutil
 
+import subprocess
+
+import imageio_ffmpeg
 import numcodecs
 import numpy as np
 import pyarrow as pa
@@ -147,6 +155,42 @@ FEATURES = {
     "task_index": {"dtype": "int64", "shape": [1], "names": None},
 }
 TASK = "Push the T-shaped block onto the T-shaped target."
+VIDEO = "observation.image"
+# How each layout's videos are encoded: LeRobot's own settings for v3.0, H.264 for v2.1.
+CODECS = {
+    "v2.1": ("h264", ["-c:v", "libx264", "-g", "2", "-crf", "23", "-threads", "1"]),
+    "v3.0": ("av1", ["-c:v", "libsvtav1", "-g", "2", "-crf", "30", "-svtav1-params", "lp=1"]),
+}
+
+
+def video_feature(version):
+    return {
+        "dtype": "video",
+        "shape": [96, 96, 3],
+        "names": ["height", "width", "channel"],
+        "info": {
+            "video.fps": float(FPS),
+            "video.height": 96,
+            "video.width": 96,
+            "video.channels": 3,
+            "video.codec": CODECS[version][0],
+            "video.pix_fmt": "yuv420p",
+            "video.is_depth_map": False,
+            "has_audio": False,
+        },
+    }
+
+
+def write_video(path, frames, version):
+    """The frames' renders as one MP4 at FPS, encoded as the layout's CODECS say."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    command = [imageio_ffmpeg.get_ffmpeg_exe(), "-y", "-loglevel", "error", "-f", "rawvideo"]
+    command += ["-pix_fmt", "rgb24", "-s", "96x96", "-r", str(FPS), "-i", "-"]
+    command += CODECS[version][1] + ["-pix_fmt", "yuv420p", "-fflags", "+bitexact"]
+    command += ["-map_metadata", "-1", "-flags:v", "+bitexact", path]
+    pixels = np.stack([f["img"] for f in frames]).astype(np.uint8).tobytes()
+    quiet = dict(os.environ, SVT_LOG="1")  # SVT-AV1 prints its settings otherwise
+    subprocess.run(command, input=pixels, check=True, env=quiet)
 
 
 def episode_table(episode, episode_index, first_index):
@@ -176,26 +220,29 @@ def episode_table(episode, episode_index, first_index):
     )
 
 
-def info(version, episodes, data_path):
+def info(version, episodes, data_path, video_path):
     total = sum(len(e["frames"]) for e in episodes)
+    features = dict(FEATURES)
+    if video_path is not None:
+        features[VIDEO] = video_feature(version)
     return {
         "codebase_version": version,
         "robot_type": "2d pointer",
         "total_episodes": len(episodes),
         "total_frames": total,
         "total_tasks": 1,
-        "total_videos": 0,
+        "total_videos": len(episodes) if video_path is not None else 0,
         "total_chunks": 1,
         "chunks_size": 1000,
         "fps": FPS,
         "splits": {"train": f"0:{len(episodes)}"},
         "data_path": data_path,
-        "video_path": None,
-        "features": FEATURES,
+        "video_path": video_path,
+        "features": features,
     }
 
 
-def write_lerobot_v21(path, episodes):
+def write_lerobot_v21(path, episodes, with_img):
     os.makedirs(f"{path}/meta")
     os.makedirs(f"{path}/data/chunk-000")
     first = 0
@@ -203,17 +250,21 @@ def write_lerobot_v21(path, episodes):
         for i, episode in enumerate(episodes):
             table = episode_table(episode, i, first)
             pq.write_table(table, f"{path}/data/chunk-000/episode_{i:06d}.parquet")
+            if with_img:
+                video = f"{path}/videos/chunk-000/{VIDEO}/episode_{i:06d}.mp4"
+                write_video(video, episode["frames"], "v2.1")
             first += table.num_rows
             out.write(json.dumps({"episode_index": i, "tasks": [TASK], "length": table.num_rows}))
             out.write("\n")
     with open(f"{path}/meta/tasks.jsonl", "w") as out:
         out.write(json.dumps({"task_index": 0, "task": TASK}) + "\n")
     data_path = "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"
+    video_path = "videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4"
     with open(f"{path}/meta/info.json", "w") as out:
-        json.dump(info("v2.1", episodes, data_path), out, indent=4)
+        json.dump(info("v2.1", episodes, data_path, video_path if with_img else None), out, indent=4)
 
 
-def write_lerobot_v30(path, episodes):
+def write_lerobot_v30(path, episodes, with_img):
     os.makedirs(f"{path}/meta/episodes/chunk-000")
     os.makedirs(f"{path}/data/chunk-000")
     tables, rows, first = [], [], 0
@@ -233,15 +284,28 @@ def write_lerobot_v30(path, episodes):
                 "meta/episodes/file_index": 0,
             }
         )
+        if with_img:
+            rows[-1].update(
+                {
+                    f"videos/{VIDEO}/chunk_index": 0,
+                    f"videos/{VIDEO}/file_index": 0,
+                    f"videos/{VIDEO}/from_timestamp": first / FPS,
+                    f"videos/{VIDEO}/to_timestamp": (first + table.num_rows) / FPS,
+                }
+            )
         first += table.num_rows
     pq.write_table(pa.concat_tables(tables), f"{path}/data/chunk-000/file-000.parquet")
+    if with_img:
+        frames = [f for e in episodes for f in e["frames"]]
+        write_video(f"{path}/videos/{VIDEO}/chunk-000/file-000.mp4", frames, "v3.0")
     pq.write_table(pa.Table.from_pylist(rows), f"{path}/meta/episodes/chunk-000/file-000.parquet")
     pq.write_table(
         pa.table({"task_index": pa.array([0], pa.int64()), "__index_level_0__": [TASK]}),
         f"{path}/meta/tasks.parquet",
     )
     data_path = "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"
-    meta = info("v3.0", episodes, data_path)
+    video_path = "videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4"
+    meta = info("v3.0", episodes, data_path, video_path if with_img else None)
     meta.update({"data_files_size_in_mb": 100, "video_files_size_in_mb": 500})
     del meta["total_chunks"], meta["total_videos"]
     with open(f"{path}/meta/info.json", "w") as out:
@@ -272,8 +336,8 @@ def main():
     for name in ["replay.zarr", "lerobot-v2.1", "lerobot-v3.0"]:
         shutil.rmtree(os.path.join(args.out, name), ignore_errors=True)
     write_zarr(os.path.join(args.out, "replay.zarr"), episodes, with_img)
-    write_lerobot_v21(os.path.join(args.out, "lerobot-v2.1"), episodes)
-    write_lerobot_v30(os.path.join(args.out, "lerobot-v3.0"), episodes)
+    write_lerobot_v21(os.path.join(args.out, "lerobot-v2.1"), episodes, with_img)
+    write_lerobot_v30(os.path.join(args.out, "lerobot-v3.0"), episodes, with_img)
 
     env.reset(seed=0)
     if args.com_px is not None:

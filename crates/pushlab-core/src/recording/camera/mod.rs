@@ -1,14 +1,15 @@
 //! What a recording's cameras saw: one stream of frames per camera, each frame at a time on the
 //! recording's clock, read one at a time when shown.
 //!
-//! A stream knows only its frames' times and where each lies — in a bag's chunks, or a file of a
-//! set's image folder — behind [`FrameSource`], so that opening a recording never reads its images
-//! and memory stays bounded by the frames shown. Reading a frame gives it as stored
+//! A stream knows only its frames' times and where each lies — in a bag's chunks, a file of a
+//! set's image folder, a replay buffer's image array or a video file — behind [`FrameSource`], so
+//! that opening a recording never reads its images and memory stays bounded by the frames shown. Reading a frame gives it as stored
 //! ([`EncodedImage`]); [`decode`] makes it RGBA. A frame that cannot be read or decoded is an error
 //! for that frame only: the rest play on.
 
 mod decoder;
 mod image;
+mod video;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -18,6 +19,7 @@ pub use self::image::{
     EncodedImage, ImageFormat, ImageProblem, MAX_PIXELS, MAX_SIDE, RawEncoding, RgbaImage, decode,
     dimensions, sniff, to_stored,
 };
+pub use self::video::{FFMPEG_VARIABLE, VideoFrames, find_ffmpeg};
 
 /// Where a stream's frames lie, and how to read them.
 pub trait FrameSource: Send + Sync {

@@ -20,7 +20,7 @@ pub fn is_replay_buffer(dir: &Path) -> bool {
     dir.join(".zgroup").is_file() && is_array(&dir.join("meta").join("episode_ends"))
 }
 
-/// Bytes of the arrays that will be read, for the progress bar (images are not read).
+/// Bytes of the arrays read on opening, for the progress bar (images are read when shown).
 pub fn bytes(dir: &Path) -> u64 {
     let mut total = 0;
     for array in array_dirs(dir)
@@ -60,7 +60,7 @@ fn is_image(array: &ZarrArray) -> bool {
     array.dtype.is_byte() && array.shape.len() >= 3
 }
 
-/// Reads the buffer's numeric arrays and its episodes; images are listed, not read.
+/// Reads the buffer's numeric arrays and its episodes; images are listed, read when shown.
 pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadError> {
     let ends_dir = dir.join("meta").join("episode_ends");
     let ends_array = ZarrArray::open(&ends_dir)?;

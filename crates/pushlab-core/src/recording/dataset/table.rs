@@ -51,7 +51,7 @@ pub struct DatasetTable {
     /// Each frame's time within its episode, seconds, where the dataset records it (LeRobot's
     /// `timestamp`); else frame number / fps.
     pub times: Option<Vec<f64>>,
-    /// Image and video features, not read: (name, what they are).
+    /// Image and video features, each episode's cameras (read when shown): (name, what they are).
     pub cameras: Vec<(String, String)>,
     /// A LeRobot dataset's video features (dtype `video`), each one of `cameras` too: where their
     /// MP4 files are, so that a camera can be attached to each episode. Empty for a replay buffer.
