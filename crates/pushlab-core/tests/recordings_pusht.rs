@@ -582,25 +582,23 @@ fn a_parquet_file_garbled_anywhere_is_an_error_never_a_panic() {
     let dir = copy_of_lerobot("v3.0", "garbled");
     let data = dir.join("data/chunk-000/file-000.parquet");
     let bytes = std::fs::read(&data).expect("data");
-    let (mut errors, mut read) = (0, 0);
+    let mut errors = 0;
     // Every 97th byte, and two where the parquet crate panics (its bit reader, its dictionary
     // decoder; found by garbling every byte of the fixture, 3438 of 24697 refused, none aborted).
     for at in (0..bytes.len()).step_by(97).chain([1619, 23261]) {
         let mut garbled = bytes.clone();
         garbled[at] ^= 0x5a;
         std::fs::write(&data, &garbled).expect("write");
-        match dataset::read_table(&dir, &NoProgress) {
-            Ok(_) => read += 1,
-            Err(error) => {
-                assert!(
-                    error.to_string().contains("file-000.parquet: "),
-                    "byte {at}: {error}"
-                );
-                errors += 1;
-            }
+        // Most garbled bytes are values: read, changed. The others: this file's error.
+        if let Err(error) = dataset::read_table(&dir, &NoProgress) {
+            let message = error.to_string();
+            assert!(
+                message.contains("file-000.parquet: "),
+                "byte {at}: {message}"
+            );
+            errors += 1;
         }
     }
-    eprintln!("{errors} garbled files refused, {read} read (a changed value)");
     assert!(errors > 0);
     let _ = std::fs::remove_dir_all(dir.parent().expect("parent"));
 }
