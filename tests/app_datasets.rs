@@ -200,3 +200,29 @@ fn an_opened_dataset_can_be_chosen_again_and_its_set_is_replaced() {
     let remembered = choice::remembered(&replay).unwrap().expect("remembered");
     assert_eq!(remembered.metres_per_px, 0.002);
 }
+
+#[test]
+fn a_lerobot_dataset_dropped_on_the_window_opens_with_push_ts_layout() {
+    let fixture = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("crates/pushlab-core/tests/pusht/lerobot-v3.0");
+    let dataset = scratch_dir("dataset-lerobot").join("lerobot-v3.0");
+    copy_dir(&fixture, &dataset);
+    let state = initial_state(&[], Persisted::default());
+    let mut harness = harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(1);
+    drop_on_window(&mut harness, &dataset);
+    run_until(&mut harness, "the dataset to open", |app| {
+        app.state.session().sets.iter().any(|s| s.dir == dataset)
+            || !app.state.session().problems.is_empty()
+    });
+    let app = harness.state();
+    assert!(
+        app.state.datasets().form().is_none(),
+        "no form: Push-T's layout is guessed"
+    );
+    let set = (app.state.session().sets.iter())
+        .find(|s| s.dir == dataset)
+        .unwrap_or_else(|| panic!("not opened: {:?}", app.state.session().problems));
+    assert_eq!(set.recordings.len(), 8);
+    assert_eq!(set.setting.extra["dataset_format"], "LeRobot dataset v3.0");
+}

@@ -133,3 +133,69 @@ fn import_writes_one_push_per_episode_at_the_scale_asked() {
     );
     std::fs::remove_dir_all(&out_dir).ok();
 }
+
+#[test]
+fn validate_lists_a_lerobot_datasets_episodes_and_features() {
+    let dir = fixtures().join("lerobot-v3.0");
+    let output = pushlab(&["validate", dir.to_str().unwrap()]);
+    let out = text(&output);
+    assert!(output.code == 0, "{out}");
+    assert!(
+        out.contains(
+            "LeRobot dataset v3.0, 8 episode(s), 192 frames at 10 Hz; features: action (2), \
+             episode_index (1), frame_index (1), index (1), next.reward (1), \
+             observation.environment_state (16), observation.state (2), task_index (1), \
+             timestamp (1); cameras: observation.image (video 96×96×3)\n"
+        ),
+        "{out}"
+    );
+    assert!(out.contains(": 7: 24 frames, 2.30 s"), "{out}");
+    assert!(
+        out.contains(
+            "pusher observation.state, object keypoints:observation.environment_state (Push-T's \
+             layout), 0.001 m/px"
+        ),
+        "{out}"
+    );
+    assert!(
+        out.contains("8 recording(s) loaded (0 with warnings), 0 error(s)"),
+        "{out}"
+    );
+}
+
+#[test]
+fn import_writes_a_lerobot_datasets_episodes_as_pushes() {
+    let dir = fixtures().join("lerobot-v2.1");
+    let data = dir.join("data/chunk-000/episode_000005.parquet");
+    let before = std::fs::read(&data).unwrap();
+    let out_dir = new_set_dir("import-lerobot");
+    let output = pushlab(&[
+        "import",
+        dir.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--episodes",
+        "5..8",
+    ]);
+    let out = text(&output);
+    assert!(output.code == 0, "{out}");
+    assert!(out.contains("episode_005.csv: 24 frames, 2.30 s"), "{out}");
+    assert!(out.contains("3 episode(s) of"), "{out}");
+    let setting: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("setting.json")).unwrap())
+            .unwrap();
+    assert_eq!(setting["object"]["preset"], "push-t");
+    assert_eq!(setting["dataset_format"], "LeRobot dataset v2.1");
+    assert_eq!(
+        setting["dataset_object"],
+        "keypoints:observation.environment_state"
+    );
+    assert_eq!(setting["trajectories"][2]["episode"], 7);
+    // Named after the folder, its version whole.
+    assert_eq!(setting["name"], "lerobot-v2.1");
+    assert!(out_dir.join("episode_007.csv").is_file() && !out_dir.join("episode_004.csv").exists());
+    assert_eq!(std::fs::read(&data).unwrap(), before, "input untouched");
+    let output = pushlab(&["validate", out_dir.to_str().unwrap()]);
+    assert!(output.code == 0, "{}", text(&output));
+    std::fs::remove_dir_all(&out_dir).ok();
+}

@@ -38,9 +38,14 @@ pub fn setting_for(
     episodes: &[usize],
 ) -> Setting {
     let scale = choice.metres_per_px;
-    let name = dataset
-        .file_stem()
-        .map_or_else(|| "push-t".into(), |s| s.to_string_lossy().into_owned());
+    // The folder's name, less a replay buffer's `.zarr`: `lerobot-v2.1` keeps its `.1`.
+    let name = dataset.file_name().map_or_else(
+        || "push-t".into(),
+        |s| {
+            let s = s.to_string_lossy();
+            s.strip_suffix(".zarr").unwrap_or(&s).to_owned()
+        },
+    );
     let mut setting = Setting::of_object(
         name,
         ShapePreset::shape(PUSH_T, scale),

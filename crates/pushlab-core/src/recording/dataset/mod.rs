@@ -1,7 +1,8 @@
 //! Push-T datasets: Diffusion Policy's zarr replay buffers and LeRobot datasets, read as recording
 //! sets of the Push-T T, one recording per episode.
 //!
-//! The readers ([`replay`] over [`zarr`] and [`blosc`]; `lerobot` over parquet) fill one
+//! The readers ([`replay`] over [`zarr`] and [`blosc`]; [`lerobot`], v2.x and v3.0, over parquet
+//! through the parquet crate's record API) fill one
 //! [`DatasetTable`] — named features over every frame, the episodes' rows, the frame rate; the
 //! user's [`DatasetChoice`] (or Push-T's pre-selection, [`choice::suggest`]) says which features are
 //! the pusher and the object; [`to_set`] turns the chosen episodes into recordings in pushlab's
@@ -10,6 +11,7 @@
 mod as_set;
 pub mod blosc;
 pub mod choice;
+pub mod lerobot;
 mod problem;
 pub mod replay;
 mod table;
@@ -22,25 +24,34 @@ use std::path::Path;
 pub use self::as_set::{episode_indexes, setting_for, to_set};
 pub use self::choice::{Columns, DatasetChoice, ObjectSource};
 pub use self::problem::DatasetProblem;
-pub use self::table::{DatasetFormat, DatasetTable, Feature};
+pub use self::table::{DatasetFormat, DatasetTable, Feature, VideoFeature};
 use crate::recording::RecordingSet;
 use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
-/// Whether `path` is a dataset pushlab reads: a zarr replay buffer.
+/// Whether `path` is a dataset pushlab reads: a zarr replay buffer or a LeRobot dataset (a
+/// LeRobot version it does not read is recognised, and refused by [`read_table`] naming it).
 pub fn is_dataset(path: &Path) -> bool {
-    path.is_dir() && replay::is_replay_buffer(path)
+    path.is_dir() && (replay::is_replay_buffer(path) || lerobot::is_lerobot(path))
 }
 
-/// Bytes the reader will read, for the progress bar.
+/// Bytes the reader will read, for the progress bar: a buffer's numeric arrays, a LeRobot
+/// dataset's parquet files.
 pub fn bytes(path: &Path) -> u64 {
-    replay::bytes(path)
+    if replay::is_replay_buffer(path) {
+        replay::bytes(path)
+    } else {
+        lerobot::bytes(path)
+    }
 }
 
 /// Reads a dataset's features and episodes.
 pub fn read_table(path: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadError> {
     if replay::is_replay_buffer(path) {
         return replay::read(path, progress);
+    }
+    if lerobot::is_lerobot(path) {
+        return lerobot::read(path, progress);
     }
     Err(LoadError::NotRecognised {
         path: path.to_path_buf(),

@@ -26,6 +26,22 @@ pub enum DatasetProblem {
         bytes: usize,
         expected: usize,
     },
+    /// A column of a LeRobot parquet file that is not what `meta/info.json` says its feature is.
+    #[error("column `{column}` row {row} (counting from 0): {found}, expected {expected}")]
+    Column {
+        column: String,
+        row: usize,
+        found: String,
+        expected: String,
+    },
+    /// A column a parquet file should have and does not: a feature `meta/info.json` lists, or
+    /// one every LeRobot file of its kind has; `wanted_by` says which.
+    #[error("no column `{name}`, which {wanted_by}; the file's columns: {columns}")]
+    MissingColumn {
+        name: String,
+        wanted_by: String,
+        columns: String,
+    },
     /// A feature asked for (or one every such dataset has) that is not there.
     #[error("no feature `{name}`; the dataset's features: {available}")]
     MissingFeature { name: String, available: String },

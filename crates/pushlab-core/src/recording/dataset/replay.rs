@@ -121,5 +121,6 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
         fps: PUSHT_FPS,
         times: None,
         cameras,
+        videos: Vec::new(),
     })
 }

@@ -42,7 +42,7 @@ impl Feature {
 #[derive(Clone, Debug, PartialEq)]
 pub struct DatasetTable {
     pub format: DatasetFormat,
-    /// The numeric features, in the dataset's order.
+    /// The numeric features, by name.
     pub features: Vec<Feature>,
     /// Each episode's rows, in order, covering every frame.
     pub episodes: Vec<Range<usize>>,
@@ -53,6 +53,21 @@ pub struct DatasetTable {
     pub times: Option<Vec<f64>>,
     /// Image and video features, each episode's cameras (read when shown): (name, what they are).
     pub cameras: Vec<(String, String)>,
+    /// A LeRobot dataset's video features (dtype `video`), each one of `cameras` too: where their
+    /// MP4 files are, so that a camera can be attached to each episode. Empty for a replay buffer.
+    pub videos: Vec<VideoFeature>,
+}
+
+/// A LeRobot video feature: its frames are in MP4 files beside the parquet, one per episode (v2) or
+/// several episodes per file (v3.0, each episode's span in `meta/episodes`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct VideoFeature {
+    /// The feature's name, `observation.image`; `{video_key}` in the template.
+    pub name: String,
+    /// `meta/info.json`'s `video_path` as written, relative to the dataset's folder: v2
+    /// `videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4`, v3.0
+    /// `videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4`.
+    pub path_template: String,
 }
 
 impl DatasetTable {

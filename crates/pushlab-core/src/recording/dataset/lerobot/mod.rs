@@ -1,0 +1,191 @@
+//! LeRobot datasets (`lerobot/pusht`, `lerobot/pusht_keypoints` and the like): a folder whose
+//! `meta/info.json` names the codebase version, the frame rate and the features, with the frames in
+//! parquet files. v2.0 and v2.1 keep one file per episode (`data/chunk-000/episode_000000.parquet`,
+//! the episodes listed in `meta/episodes.jsonl`); v3.0 concatenates episodes in larger files
+//! (`data/chunk-000/file-000.parquet`, which file each episode is in listed in
+//! `meta/episodes/chunk-000/file-000.parquet`). Either way every row carries its `episode_index`,
+//! which gives the episodes' rows ([`episodes::Runs`]: each episode's rows together, agreeing with
+//! the metadata), and its `timestamp`, which gives the frames' times.
+//!
+//! Every numeric feature of `info.json` with its shape is read ([`parquet_rows`], through the
+//! parquet crate's record API: no arrow); image and video features are listed as cameras, and the
+//! video features' path template is kept for attaching them later ([`super::VideoFeature`]).
+
+mod episodes;
+mod info;
+mod parquet_rows;
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use self::episodes::{EPISODES_DIR, EPISODES_JSONL, Listed, Runs, parquet_files, whole_number};
+use self::info::{INFO_FILE, Info, Layout};
+use self::parquet_rows::{Wanted, append_file};
+use super::problem::DatasetProblem;
+use super::table::{DatasetFormat, DatasetTable, Feature};
+use crate::recording::error::LoadError;
+use crate::recording::progress::Progress;
+
+pub use self::info::SUPPORTED;
+
+/// The column that says which episode a row is of.
+const EPISODE_INDEX: &str = "episode_index";
+/// The column of each frame's time in its episode, seconds.
+const TIMESTAMP: &str = "timestamp";
+
+/// Whether `dir` holds a LeRobot dataset: a `meta/info.json` with a `codebase_version`, whichever
+/// (a version pushlab does not read is refused by [`read`], naming it).
+pub fn is_lerobot(dir: &Path) -> bool {
+    info::version_of(dir).is_some()
+}
+
+/// Bytes of the parquet files that will be read, for the progress bar.
+pub fn bytes(dir: &Path) -> u64 {
+    [dir.join("data"), dir.join(EPISODES_DIR)]
+        .iter()
+        .flat_map(|folder| parquet_files(folder))
+        .filter_map(|file| std::fs::metadata(file).ok())
+        .map(|m| m.len())
+        .sum()
+}
+
+/// Reads the dataset's numeric features and its episodes.
+pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadError> {
+    let info = info::read(dir)?;
+    let wanted: Vec<Wanted> = (info.features.iter())
+        .map(|f| Wanted {
+            name: f.name.clone(),
+            width: f.width,
+            expected: f.expected(),
+            wanted_by: format!("{INFO_FILE} lists as a feature"),
+        })
+        .collect();
+    let episode_column = (info.features.iter())
+        .position(|f| f.name == EPISODE_INDEX && f.width == 1)
+        .ok_or_else(|| LoadError::Dataset {
+            path: dir.join(INFO_FILE),
+            problem: DatasetProblem::Field {
+                field: format!("features.{EPISODE_INDEX}"),
+                why: "missing, expected LeRobot's episode index of every frame (int64, shape [1])"
+                    .into(),
+            },
+        })?;
+    let mut columns = vec![Vec::new(); wanted.len()];
+    let reading = Reading {
+        dir,
+        info: &info,
+        wanted: &wanted,
+        episode_column,
+        progress,
+    };
+    let episodes = match info.layout {
+        Layout::FilePerEpisode => reading.file_per_episode(&mut columns)?,
+        Layout::ConcatenatedEpisodes => reading.concatenated(&mut columns)?,
+    };
+    let features: Vec<Feature> = (info.features.iter().zip(columns))
+        .map(|(feature, values)| Feature {
+            name: feature.name.clone(),
+            width: feature.width,
+            values,
+        })
+        .collect();
+    let times = (features.iter())
+        .find(|f| f.name == TIMESTAMP && f.width == 1)
+        .map(|f| f.values.clone());
+    Ok(DatasetTable {
+        format: DatasetFormat::LeRobot(info.version),
+        features,
+        episodes,
+        fps: info.fps,
+        times,
+        cameras: info.cameras,
+        videos: info.videos,
+    })
+}
+
+/// One read of a dataset's parquet files into the columns of `wanted`.
+struct Reading<'a> {
+    dir: &'a Path,
+    info: &'a Info,
+    wanted: &'a [Wanted],
+    /// Which of `wanted` is `episode_index`.
+    episode_column: usize,
+    progress: &'a dyn Progress,
+}
+
+impl Reading<'_> {
+    /// The data file of `data_path` with these template fields.
+    fn data_file(&self, fields: &[(&str, usize)]) -> Result<std::path::PathBuf, LoadError> {
+        info::fill_template(&self.info.data_path, "data_path", fields)
+            .map(|relative| self.dir.join(relative))
+            .map_err(|problem| LoadError::Dataset {
+                path: self.dir.join(INFO_FILE),
+                problem,
+            })
+    }
+
+    /// v2.x: each listed episode's own file, holding its rows only, as many as listed.
+    fn file_per_episode(
+        &self,
+        columns: &mut [Vec<f64>],
+    ) -> Result<Vec<std::ops::Range<usize>>, LoadError> {
+        let listed = episodes::read_jsonl(self.dir)?;
+        let mut episodes = Vec::with_capacity(listed.len());
+        let mut first = 0;
+        for Listed { index, length, .. } in listed {
+            let file = self.data_file(&[
+                ("episode_chunk", index / self.info.chunks_size),
+                ("episode_index", index),
+            ])?;
+            let rows = append_file(&file, self.wanted, columns, self.progress)?;
+            let fail = |problem| LoadError::Dataset {
+                path: file.clone(),
+                problem,
+            };
+            let indexes = &columns[self.episode_column][first..];
+            if let Some((row, &value)) =
+                (indexes.iter().enumerate()).find(|&(_, &value)| whole_number(value) != Some(index))
+            {
+                return Err(fail(DatasetProblem::Column {
+                    column: EPISODE_INDEX.into(),
+                    row,
+                    found: value.to_string(),
+                    expected: format!("{index}, the episode whose file this is"),
+                }));
+            }
+            if rows != length {
+                return Err(fail(DatasetProblem::Episodes(format!(
+                    "episode {index} has {rows} rows, but {EPISODES_JSONL} says its length is \
+                     {length}"
+                ))));
+            }
+            if rows == 0 {
+                return Err(fail(DatasetProblem::Episodes(format!(
+                    "episode {index} has no rows, expected at least one frame"
+                ))));
+            }
+            episodes.push(first..first + rows);
+            first += rows;
+        }
+        Ok(episodes)
+    }
+
+    /// v3.0: the data files the episode metadata names, in order, their rows cut into episodes by
+    /// `episode_index`.
+    fn concatenated(
+        &self,
+        columns: &mut [Vec<f64>],
+    ) -> Result<Vec<std::ops::Range<usize>>, LoadError> {
+        let listed = episodes::read_parquet(self.dir, self.progress)?;
+        let files: BTreeSet<(usize, usize)> = listed.iter().map(|l| l.data_file).collect();
+        let mut runs = Runs::default();
+        let mut first = 0;
+        for (chunk, file) in files {
+            let file = self.data_file(&[("chunk_index", chunk), ("file_index", file)])?;
+            let rows = append_file(&file, self.wanted, columns, self.progress)?;
+            runs.add(&file, first, &columns[self.episode_column][first..])?;
+            first += rows;
+        }
+        runs.check(&listed, &self.dir.join(EPISODES_DIR))
+    }
+}
