@@ -15,12 +15,11 @@ use std::sync::Arc;
 
 use nalgebra::Point2;
 
+use super::cameras::DatasetCameras;
 use super::choice::{Columns, DatasetChoice, ObjectSource};
 use super::problem::DatasetProblem;
-use super::table::{DatasetFormat, DatasetTable, Feature};
-use super::zarr_frames::ImageArray;
+use super::table::{DatasetTable, Feature};
 use crate::geometry::{PUSH_T, Pose2, PushT, fit_rigid, unwrap_angles};
-use crate::recording::camera::CameraStream;
 use crate::recording::error::LoadError;
 use crate::recording::setting::{Setting, ShapePreset, TrajectoryEntry};
 use crate::recording::{Recording, RecordingSet};
@@ -126,7 +125,7 @@ pub fn to_set(
         }
     };
     let setting = Arc::new(setting_for(dataset, table, choice, &indexes));
-    let cameras = image_arrays(dataset, table)?;
+    let cameras = DatasetCameras::open(dataset, table)?;
     let mut recordings = Vec::with_capacity(indexes.len());
     for (&index, entry) in indexes.iter().zip(&setting.trajectories) {
         let (trajectory, worst_residual_px) = episode(
@@ -158,7 +157,7 @@ pub fn to_set(
             entry: Some(entry),
             trajectory: Arc::new(trajectory),
             warnings,
-            cameras: episode_cameras(table, &cameras, &table.episodes[index]),
+            cameras: cameras.of_episode(table, index),
         });
     }
     Ok(RecordingSet {
@@ -166,31 +165,6 @@ pub fn to_set(
         setting,
         recordings,
     })
-}
-
-/// A replay buffer's image arrays (`data/img`), opened once for every episode's camera.
-fn image_arrays(dataset: &Path, table: &DatasetTable) -> Result<Vec<Arc<ImageArray>>, LoadError> {
-    if table.format != DatasetFormat::ReplayBuffer {
-        return Ok(Vec::new());
-    }
-    (table.cameras.iter())
-        .map(|(name, _)| ImageArray::open(&dataset.join("data").join(name), name).map(Arc::new))
-        .collect()
-}
-
-/// The cameras of the episode at `rows`: its rows of each image array, at its frames' times.
-fn episode_cameras(
-    table: &DatasetTable,
-    arrays: &[Arc<ImageArray>],
-    rows: &Range<usize>,
-) -> Vec<Arc<CameraStream>> {
-    let times: Vec<f64> = rows
-        .clone()
-        .map(|row| table.time(row, rows.start))
-        .collect();
-    (arrays.iter())
-        .map(|images| Arc::new(images.episode_camera(rows.start, times.clone())))
-        .collect()
 }
 
 enum Object<'a> {

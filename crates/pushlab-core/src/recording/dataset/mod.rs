@@ -10,6 +10,7 @@
 
 mod as_set;
 pub mod blosc;
+mod cameras;
 pub mod choice;
 pub mod lerobot;
 mod problem;
@@ -24,7 +25,7 @@ use std::path::Path;
 pub use self::as_set::{episode_indexes, setting_for, to_set};
 pub use self::choice::{Columns, DatasetChoice, ObjectSource};
 pub use self::problem::DatasetProblem;
-pub use self::table::{DatasetFormat, DatasetTable, Feature, VideoFeature};
+pub use self::table::{DatasetFormat, DatasetTable, Feature, VideoFeature, VideoSpan};
 use crate::recording::RecordingSet;
 use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;

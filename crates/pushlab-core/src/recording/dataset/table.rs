@@ -4,6 +4,7 @@
 //! into recordings works on it alone.
 
 use std::ops::Range;
+use std::path::PathBuf;
 
 /// Which layout a dataset was read from.
 #[derive(Clone, Debug, PartialEq)]
@@ -68,6 +69,18 @@ pub struct VideoFeature {
     /// `videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4`, v3.0
     /// `videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4`.
     pub path_template: String,
+    /// Width and height of its frames, pixels (`info.json`'s shape).
+    pub size_px: (u32, u32),
+    /// Where each episode's frames are, in the order of the table's episodes.
+    pub episodes: Vec<VideoSpan>,
+}
+
+/// Where one episode's frames of a video feature are: its file, and the time in the file of the
+/// episode's time 0 (`from_timestamp`; 0 where each episode has its own file).
+#[derive(Clone, Debug, PartialEq)]
+pub struct VideoSpan {
+    pub file: PathBuf,
+    pub from_s: f64,
 }
 
 impl DatasetTable {

@@ -21,7 +21,7 @@ pub const EPISODES_JSONL: &str = "meta/episodes.jsonl";
 pub const EPISODES_DIR: &str = "meta/episodes";
 
 /// An episode as the metadata lists it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Listed {
     /// `episode_index`.
     pub index: usize,
@@ -29,6 +29,17 @@ pub struct Listed {
     pub length: usize,
     /// v3.0: the data file it is in, (`data/chunk_index`, `data/file_index`).
     pub data_file: (usize, usize),
+    /// v3.0: where its frames of each video feature are, in the order asked for.
+    pub videos: Vec<VideoLocation>,
+}
+
+/// v3.0: where an episode's frames of one video feature are: the file
+/// (`videos/KEY/chunk_index`, `videos/KEY/file_index`) and the time in it of the episode's first
+/// frame (`videos/KEY/from_timestamp`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VideoLocation {
+    pub file: (usize, usize),
+    pub from_s: f64,
 }
 
 /// `meta/episodes.jsonl`: one JSON object a line, with `episode_index` and `length`; sorted by
@@ -69,14 +80,19 @@ pub fn read_jsonl(dir: &Path) -> Result<Vec<Listed>, LoadError> {
             index: whole("episode_index")?,
             length: whole("length")?,
             data_file: (0, 0),
+            videos: Vec::new(),
         });
     }
     sorted(listed).map_err(fail)
 }
 
 /// v3.0's episode metadata: every parquet file under `meta/episodes/`, in name order; sorted by
-/// index.
-pub fn read_parquet(dir: &Path, progress: &dyn Progress) -> Result<Vec<Listed>, LoadError> {
+/// index. With the location of each episode's frames in each of `videos` (video feature names).
+pub fn read_parquet(
+    dir: &Path,
+    videos: &[String],
+    progress: &dyn Progress,
+) -> Result<Vec<Listed>, LoadError> {
     let files = parquet_files(&dir.join(EPISODES_DIR));
     if files.is_empty() {
         return Err(LoadError::Dataset {
@@ -88,17 +104,28 @@ pub fn read_parquet(dir: &Path, progress: &dyn Progress) -> Result<Vec<Listed>, 
             ),
         });
     }
-    let names = [
+    let mut names: Vec<String> = [
         "episode_index",
         "length",
         "data/chunk_index",
         "data/file_index",
-    ];
+    ]
+    .map(String::from)
+    .to_vec();
+    for video in videos {
+        for column in ["chunk_index", "file_index", "from_timestamp"] {
+            names.push(format!("videos/{video}/{column}"));
+        }
+    }
     let wanted: Vec<Wanted> = (names.iter())
-        .map(|&name| Wanted {
-            name: name.into(),
+        .map(|name| Wanted {
+            name: name.clone(),
             width: 1,
-            expected: "a whole number".into(),
+            expected: if name.ends_with("timestamp") {
+                "seconds".into()
+            } else {
+                "a whole number".into()
+            },
             wanted_by: "every LeRobot v3.0 episode metadata file has".into(),
         })
         .collect();
@@ -106,26 +133,42 @@ pub fn read_parquet(dir: &Path, progress: &dyn Progress) -> Result<Vec<Listed>, 
     for file in &files {
         let mut columns = vec![Vec::new(); names.len()];
         append_file(file, &wanted, &mut columns, progress)?;
-        // Every column holds one value a row: each row's cells, column by column.
-        let cells = |row: usize| columns.iter().map(move |column| column[row]);
-        for row in 0..columns[0].len() {
-            let row_cells: Vec<f64> = cells(row).collect();
-            let whole = |column: usize| {
-                let value = row_cells[column];
-                whole_number(value).ok_or_else(|| LoadError::Dataset {
-                    path: file.clone(),
-                    problem: DatasetProblem::Column {
-                        column: names[column].into(),
-                        row,
-                        found: value.to_string(),
-                        expected: "a whole number".into(),
-                    },
-                })
+        let rows = columns.first().map_or(0, Vec::len);
+        for row in 0..rows {
+            // Every column holds one value a row: this row's cells, column by column.
+            let cells: Vec<f64> = columns.iter().map(|column| column[row]).collect();
+            let bad = |column: usize, expected: &str| LoadError::Dataset {
+                path: file.clone(),
+                problem: DatasetProblem::Column {
+                    column: names[column].clone(),
+                    row,
+                    found: cells[column].to_string(),
+                    expected: expected.into(),
+                },
             };
+            let whole = |column: usize| {
+                whole_number(cells[column]).ok_or_else(|| bad(column, "a whole number"))
+            };
+            let seconds = |column: usize| {
+                let value = cells[column];
+                (value.is_finite() && value >= 0.0)
+                    .then_some(value)
+                    .ok_or_else(|| bad(column, "seconds, at least 0"))
+            };
+            let videos = (0..videos.len())
+                .map(|k| {
+                    let at = 4 + 3 * k;
+                    Ok(VideoLocation {
+                        file: (whole(at)?, whole(at + 1)?),
+                        from_s: seconds(at + 2)?,
+                    })
+                })
+                .collect::<Result<_, LoadError>>()?;
             listed.push(Listed {
                 index: whole(0)?,
                 length: whole(1)?,
                 data_file: (whole(2)?, whole(3)?),
+                videos,
             });
         }
     }
@@ -216,9 +259,13 @@ impl Runs {
         Ok(())
     }
 
-    /// The episodes' rows in the order read, each checked against the metadata's length; every
-    /// episode listed must have rows. `meta` names the metadata, for errors.
-    pub fn check(self, listed: &[Listed], meta: &Path) -> Result<Vec<Range<usize>>, LoadError> {
+    /// The episodes' indexes and rows in the order read, each checked against the metadata's
+    /// length; every episode listed must have rows. `meta` names the metadata, for errors.
+    pub fn check(
+        self,
+        listed: &[Listed],
+        meta: &Path,
+    ) -> Result<Vec<(usize, Range<usize>)>, LoadError> {
         let fail = |path: &Path, problem| LoadError::Dataset {
             path: path.to_path_buf(),
             problem,
@@ -258,7 +305,7 @@ impl Runs {
                 )),
             ));
         }
-        Ok(self.runs.into_iter().map(|(_, rows)| rows).collect())
+        Ok(self.runs)
     }
 }
 
@@ -272,6 +319,7 @@ mod tests {
             index,
             length: 2,
             data_file: (0, 0),
+            videos: Vec::new(),
         });
         let mut runs = Runs::default();
         runs.add(Path::new("a.parquet"), 0, &[0.0, 0.0, 1.0])
@@ -279,7 +327,7 @@ mod tests {
         runs.add(Path::new("b.parquet"), 3, &[1.0])
             .expect("continues");
         let rows = runs.check(&listed, Path::new("meta")).expect("agrees");
-        assert_eq!(rows, vec![0..2, 2..4]);
+        assert_eq!(rows, vec![(0, 0..2), (1, 2..4)]);
 
         let mut runs = Runs::default();
         runs.add(Path::new("a.parquet"), 0, &[0.0, 1.0])

@@ -223,9 +223,13 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
                 )?;
                 info.cameras
                     .push((name.clone(), format!("video {}", dims.join("×"))));
+                let size_px = frame_size(&shape, feature.get("names"))
+                    .map_err(|why| field(&at("shape"), why))?;
                 info.videos.push(VideoFeature {
                     name: name.clone(),
                     path_template: template,
+                    size_px,
+                    episodes: Vec::new(),
                 });
             }
             "image" => info.cameras.push((
@@ -244,6 +248,28 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
     info.cameras.sort();
     info.videos.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(info)
+}
+
+/// A video's frame size, (width, height) pixels, from its shape: the dimensions its `names` call
+/// `height` and `width`, else LeRobot's usual order, height × width × channels.
+fn frame_size(shape: &[usize], names: Option<&Value>) -> Result<(u32, u32), String> {
+    let named = |wanted: &str| {
+        let names = names?.as_array()?;
+        let at = names.iter().position(|n| n.as_str() == Some(wanted))?;
+        shape.get(at).copied()
+    };
+    let (width, height) = match (named("width"), named("height"), shape) {
+        (Some(width), Some(height), _) => (width, height),
+        (_, _, [height, width, 1 | 3 | 4]) => (*width, *height),
+        _ => {
+            return Err(format!(
+                "{shape:?}, expected a video's height × width × channels (or `names` saying \
+                 which is the height and the width)"
+            ));
+        }
+    };
+    let side = |n: usize| u32::try_from(n).map_err(|_| format!("a side of {n} pixels"));
+    Ok((side(width)?, side(height)?))
 }
 
 fn text(object: &Map<String, Value>, name: &str, expected: &str) -> Result<String, DatasetProblem> {

@@ -8,21 +8,24 @@
 //! the metadata), and its `timestamp`, which gives the frames' times.
 //!
 //! Every numeric feature of `info.json` with its shape is read ([`parquet_rows`], through the
-//! parquet crate's record API: no arrow); image and video features are listed as cameras, and the
-//! video features' path template is kept for attaching them later ([`super::VideoFeature`]).
+//! parquet crate's record API: no arrow); image and video features are listed as cameras, and each
+//! video feature's file and start time for every episode is found ([`super::VideoFeature`]: v2
+//! one file per episode, v3.0 the file and `from_timestamp` its episode metadata gives), so that
+//! the episodes' cameras play its frames (decoded by ffmpeg when shown, `camera::VideoFrames`).
 
 mod episodes;
 mod info;
 mod parquet_rows;
 
-use std::collections::BTreeSet;
-use std::path::Path;
+use std::collections::{BTreeSet, HashMap};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
 
 use self::episodes::{EPISODES_DIR, EPISODES_JSONL, Listed, Runs, parquet_files, whole_number};
 use self::info::{INFO_FILE, Info, Layout};
 use self::parquet_rows::{Wanted, append_file};
 use super::problem::DatasetProblem;
-use super::table::{DatasetFormat, DatasetTable, Feature};
+use super::table::{DatasetFormat, DatasetTable, Feature, VideoSpan};
 use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
@@ -82,6 +85,13 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
         Layout::FilePerEpisode => reading.file_per_episode(&mut columns)?,
         Layout::ConcatenatedEpisodes => reading.concatenated(&mut columns)?,
     };
+    let mut videos = info.videos.clone();
+    for (k, video) in videos.iter_mut().enumerate() {
+        video.episodes = (episodes.iter())
+            .filter_map(|episode| episode.videos.get(k).cloned())
+            .collect();
+    }
+    let episodes = episodes.into_iter().map(|episode| episode.rows).collect();
     let features: Vec<Feature> = (info.features.iter().zip(columns))
         .map(|(feature, values)| Feature {
             name: feature.name.clone(),
@@ -99,8 +109,14 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
         fps: info.fps,
         times,
         cameras: info.cameras,
-        videos: info.videos,
+        videos,
     })
+}
+
+/// An episode's rows in the table, and where its frames of each video feature are.
+struct EpisodeRows {
+    rows: Range<usize>,
+    videos: Vec<VideoSpan>,
 }
 
 /// One read of a dataset's parquet files into the columns of `wanted`.
@@ -114,6 +130,20 @@ struct Reading<'a> {
 }
 
 impl Reading<'_> {
+    /// The video file of feature `video` (one of the info's videos) with these template fields.
+    fn video_file(&self, video: &str, fields: &[(&str, usize)]) -> Result<PathBuf, LoadError> {
+        let template = (self.info.videos.iter())
+            .find(|v| v.name == video)
+            .map(|v| v.path_template.replace("{video_key}", video))
+            .unwrap_or_default();
+        info::fill_template(&template, "video_path", fields)
+            .map(|relative| self.dir.join(relative))
+            .map_err(|problem| LoadError::Dataset {
+                path: self.dir.join(INFO_FILE),
+                problem,
+            })
+    }
+
     /// The data file of `data_path` with these template fields.
     fn data_file(&self, fields: &[(&str, usize)]) -> Result<std::path::PathBuf, LoadError> {
         info::fill_template(&self.info.data_path, "data_path", fields)
@@ -125,10 +155,7 @@ impl Reading<'_> {
     }
 
     /// v2.x: each listed episode's own file, holding its rows only, as many as listed.
-    fn file_per_episode(
-        &self,
-        columns: &mut [Vec<f64>],
-    ) -> Result<Vec<std::ops::Range<usize>>, LoadError> {
+    fn file_per_episode(&self, columns: &mut [Vec<f64>]) -> Result<Vec<EpisodeRows>, LoadError> {
         let listed = episodes::read_jsonl(self.dir)?;
         let mut episodes = Vec::with_capacity(listed.len());
         let mut first = 0;
@@ -164,7 +191,17 @@ impl Reading<'_> {
                     "episode {index} has no rows, expected at least one frame"
                 ))));
             }
-            episodes.push(first..first + rows);
+            let chunk = ("episode_chunk", index / self.info.chunks_size);
+            let videos = (self.info.videos.iter())
+                .map(|video| {
+                    let file = self.video_file(&video.name, &[chunk, ("episode_index", index)])?;
+                    Ok(VideoSpan { file, from_s: 0.0 })
+                })
+                .collect::<Result<_, LoadError>>()?;
+            episodes.push(EpisodeRows {
+                rows: first..first + rows,
+                videos,
+            });
             first += rows;
         }
         Ok(episodes)
@@ -172,11 +209,9 @@ impl Reading<'_> {
 
     /// v3.0: the data files the episode metadata names, in order, their rows cut into episodes by
     /// `episode_index`.
-    fn concatenated(
-        &self,
-        columns: &mut [Vec<f64>],
-    ) -> Result<Vec<std::ops::Range<usize>>, LoadError> {
-        let listed = episodes::read_parquet(self.dir, self.progress)?;
+    fn concatenated(&self, columns: &mut [Vec<f64>]) -> Result<Vec<EpisodeRows>, LoadError> {
+        let names: Vec<String> = self.info.videos.iter().map(|v| v.name.clone()).collect();
+        let listed = episodes::read_parquet(self.dir, &names, self.progress)?;
         let files: BTreeSet<(usize, usize)> = listed.iter().map(|l| l.data_file).collect();
         let mut runs = Runs::default();
         let mut first = 0;
@@ -186,6 +221,24 @@ impl Reading<'_> {
             runs.add(&file, first, &columns[self.episode_column][first..])?;
             first += rows;
         }
-        runs.check(&listed, &self.dir.join(EPISODES_DIR))
+        let by_index: HashMap<usize, &Listed> = listed.iter().map(|l| (l.index, l)).collect();
+        let runs = runs.check(&listed, &self.dir.join(EPISODES_DIR))?;
+        (runs.into_iter())
+            .map(|(index, rows)| {
+                // Every run's episode is listed: `check` makes sure.
+                let located = by_index.get(&index).map_or(&[][..], |l| &l.videos[..]);
+                let videos = (names.iter().zip(located))
+                    .map(|(name, at)| {
+                        let fields = [("chunk_index", at.file.0), ("file_index", at.file.1)];
+                        let file = self.video_file(name, &fields)?;
+                        Ok(VideoSpan {
+                            file,
+                            from_s: at.from_s,
+                        })
+                    })
+                    .collect::<Result<_, LoadError>>()?;
+                Ok(EpisodeRows { rows, videos })
+            })
+            .collect()
     }
 }
