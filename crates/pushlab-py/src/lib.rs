@@ -38,6 +38,7 @@ mod native {
     use super::simulate::simulate;
 
     /// The version of pushlab (and of its core) this module was built from.
+    #[allow(non_upper_case_globals)]
     #[pymodule_export]
     const __version__: &str = env!("CARGO_PKG_VERSION");
 }

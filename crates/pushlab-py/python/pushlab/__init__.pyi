@@ -1,6 +1,7 @@
 """Type stubs of the pushlab package (the native module pushlab._native)."""
 
 import os
+from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -23,7 +24,7 @@ class Recording:
     @property
     def name(self) -> str: ...
     @property
-    def source(self) -> str: ...
+    def source(self) -> Path: ...
     @property
     def times(self) -> F64:
         """Seconds of each frame, shape (N,)."""
@@ -61,7 +62,7 @@ class Labels:
     def __init__(self, path: _Path) -> None:
         """Opens the labels file of a set folder (or the file itself)."""
     @property
-    def path(self) -> str: ...
+    def path(self) -> Path: ...
     @property
     def schema(self) -> List[Dict[str, Any]]: ...
     @property
