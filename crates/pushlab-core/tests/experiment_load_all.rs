@@ -9,7 +9,8 @@ use pushlab_core::labels::{Command, LabelDocument};
 
 /// A copy of one sample set in a fresh folder.
 fn sample_set_copy(test: &str) -> PathBuf {
-    let from = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../sample-data/box1-paper-center-front");
+    let from =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../sample-data/box1-paper-center-front");
     let dir = std::env::temp_dir()
         .join(format!("pushlab-load-all-{test}-{}", std::process::id()))
         .join("set");

@@ -31,7 +31,9 @@ fn recording_key(recording: &Bound<'_, PyAny>) -> PyResult<String> {
         return Ok(r.get().key());
     }
     recording.extract::<String>().map_err(|_| {
-        PyValueError::new_err("expected a Recording or a recording's file name (e.g. \"push_003.csv\")")
+        PyValueError::new_err(
+            "expected a Recording or a recording's file name (e.g. \"push_003.csv\")",
+        )
     })
 }
 
@@ -87,17 +89,29 @@ impl Labels {
     /// The range segments of a recording as `(label, start, end)` (end exclusive), sorted by start.
     fn segments(&self, recording: &Bound<'_, PyAny>) -> PyResult<Vec<(String, usize, usize)>> {
         let labels = self.labels_of(&recording_key(recording)?);
-        Ok(labels.segments.iter().map(|s| (s.label.clone(), s.start, s.end)).collect())
+        Ok(labels
+            .segments
+            .iter()
+            .map(|s| (s.label.clone(), s.start, s.end))
+            .collect())
     }
 
     /// The point events of a recording as `(label, frame)`, in frame order.
     fn events(&self, recording: &Bound<'_, PyAny>) -> PyResult<Vec<(String, usize)>> {
         let labels = self.labels_of(&recording_key(recording)?);
-        Ok(labels.events.iter().map(|e| (e.label.clone(), e.frame)).collect())
+        Ok(labels
+            .events
+            .iter()
+            .map(|e| (e.label.clone(), e.frame))
+            .collect())
     }
 
     /// A recording's metadata as a dict (only the fields set).
-    fn meta<'py>(&self, py: Python<'py>, recording: &Bound<'_, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    fn meta<'py>(
+        &self,
+        py: Python<'py>,
+        recording: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         to_python(py, &self.labels_of(&recording_key(recording)?).meta)
     }
 
@@ -112,10 +126,21 @@ impl Labels {
         frames: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let frames = frame_count(recording, frames)?;
-        if self.document.schema().get(label).is_none_or(|l| l.kind != LabelKind::Range) {
-            return Err(error(format!("{label:?} is not a range label of the schema")));
+        if self
+            .document
+            .schema()
+            .get(label)
+            .is_none_or(|l| l.kind != LabelKind::Range)
+        {
+            return Err(error(format!(
+                "{label:?} is not a range label of the schema"
+            )));
         }
-        Ok(column(py, self.labels_of(&recording_key(recording)?).mask(label, frames)))
+        Ok(column(
+            py,
+            self.labels_of(&recording_key(recording)?)
+                .mask(label, frames),
+        ))
     }
 
     /// Per-frame masks of every range label of the schema, `{label: bool array (frames,)}`.
@@ -129,7 +154,13 @@ impl Labels {
         let frames = frame_count(recording, frames)?;
         let labels = self.labels_of(&recording_key(recording)?);
         let masks = PyDict::new(py);
-        for def in self.document.schema().labels.iter().filter(|l| l.kind == LabelKind::Range) {
+        for def in self
+            .document
+            .schema()
+            .labels
+            .iter()
+            .filter(|l| l.kind == LabelKind::Range)
+        {
             masks.set_item(&def.name, column(py, labels.mask(&def.name, frames)))?;
         }
         Ok(masks)
@@ -137,34 +168,77 @@ impl Labels {
 
     /// Paints a range label over frames `start..end` (end exclusive), cutting the labels of its
     /// exclusive group there. Returns whether anything changed.
-    fn paint(&mut self, recording: &Bound<'_, PyAny>, label: String, start: usize, end: usize) -> PyResult<bool> {
+    fn paint(
+        &mut self,
+        recording: &Bound<'_, PyAny>,
+        label: String,
+        start: usize,
+        end: usize,
+    ) -> PyResult<bool> {
         let recording = recording_key(recording)?;
-        self.apply(Command::Paint { recording, label, frames: start..end })
+        self.apply(Command::Paint {
+            recording,
+            label,
+            frames: start..end,
+        })
     }
 
     /// Removes one range label (every label with `label=None`) from frames `start..end`.
     #[pyo3(signature = (recording, start, end, label=None))]
-    fn erase(&mut self, recording: &Bound<'_, PyAny>, start: usize, end: usize, label: Option<String>) -> PyResult<bool> {
+    fn erase(
+        &mut self,
+        recording: &Bound<'_, PyAny>,
+        start: usize,
+        end: usize,
+        label: Option<String>,
+    ) -> PyResult<bool> {
         let recording = recording_key(recording)?;
-        self.apply(Command::Erase { recording, label, frames: start..end })
+        self.apply(Command::Erase {
+            recording,
+            label,
+            frames: start..end,
+        })
     }
 
     /// Places a point event at a frame.
-    fn add_event(&mut self, recording: &Bound<'_, PyAny>, label: String, frame: usize) -> PyResult<bool> {
+    fn add_event(
+        &mut self,
+        recording: &Bound<'_, PyAny>,
+        label: String,
+        frame: usize,
+    ) -> PyResult<bool> {
         let recording = recording_key(recording)?;
-        self.apply(Command::AddEvent { recording, label, frame })
+        self.apply(Command::AddEvent {
+            recording,
+            label,
+            frame,
+        })
     }
 
     /// Removes a point event.
-    fn remove_event(&mut self, recording: &Bound<'_, PyAny>, label: String, frame: usize) -> PyResult<bool> {
+    fn remove_event(
+        &mut self,
+        recording: &Bound<'_, PyAny>,
+        label: String,
+        frame: usize,
+    ) -> PyResult<bool> {
         let recording = recording_key(recording)?;
-        self.apply(Command::RemoveEvent { recording, label, frame })
+        self.apply(Command::RemoveEvent {
+            recording,
+            label,
+            frame,
+        })
     }
 
     /// Sets one metadata field: `object`, `material`, `notes` (text), `com_offset` ((x, y) metres,
     /// object frame, or None), `push_side` ("front", "left", "back", "right" or None), `split`
     /// ("offline", "online", "held-out" or None).
-    fn set_meta(&mut self, recording: &Bound<'_, PyAny>, field: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
+    fn set_meta(
+        &mut self,
+        recording: &Bound<'_, PyAny>,
+        field: &str,
+        value: &Bound<'_, PyAny>,
+    ) -> PyResult<bool> {
         let recording = recording_key(recording)?;
         let text = || value.extract::<String>();
         let field = match field {
@@ -178,7 +252,9 @@ impl Labels {
             }),
             "split" => MetaField::Split(match value.extract::<Option<String>>()? {
                 Some(name) => Some(Split::from_name(&name).ok_or_else(|| {
-                    error(format!("split: {name:?} is not a split, expected offline, online or held-out"))
+                    error(format!(
+                        "split: {name:?} is not a split, expected offline, online or held-out"
+                    ))
                 })?),
                 None => None,
             }),
@@ -236,7 +312,11 @@ impl Labels {
     /// file since it was opened or last saved; `overwrite=True` writes anyway.
     #[pyo3(signature = (*, overwrite=false))]
     fn save(&mut self, overwrite: bool) -> PyResult<()> {
-        let saved = if overwrite { self.document.overwrite() } else { self.document.save() };
+        let saved = if overwrite {
+            self.document.overwrite()
+        } else {
+            self.document.save()
+        };
         saved.map_err(error)
     }
 
@@ -250,7 +330,11 @@ impl Labels {
             "<pushlab.Labels {} ({} recordings labelled{})>",
             self.document.path().display(),
             self.document.set().recordings.len(),
-            if self.document.is_dirty() { ", unsaved edits" } else { "" }
+            if self.document.is_dirty() {
+                ", unsaved edits"
+            } else {
+                ""
+            }
         )
     }
 }
@@ -267,4 +351,3 @@ fn frame_count(recording: &Bound<'_, PyAny>, frames: Option<usize>) -> PyResult<
         )),
     }
 }
-

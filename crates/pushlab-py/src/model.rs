@@ -161,7 +161,11 @@ impl Model {
     }
 
     /// θ_online(0) for a recording's object, `[com_x, com_y, h]` in metres.
-    fn theta0<'py>(&self, py: Python<'py>, recording: &Recording) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn theta0<'py>(
+        &self,
+        py: Python<'py>,
+        recording: &Recording,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let learner = model_on(&self.file.combined, &recording.used).map_err(error)?;
         Ok(column(py, theta_row(&learner.theta0()).to_vec()))
     }
@@ -170,7 +174,12 @@ impl Model {
     /// (`[com_x, com_y, h]`; default θ_online(0) for the recording's object), next to what was
     /// observed and the loss.
     #[pyo3(signature = (recording, frame, theta=None))]
-    fn predict(&self, recording: &Recording, frame: usize, theta: Option<[f64; 3]>) -> PyResult<Prediction> {
+    fn predict(
+        &self,
+        recording: &Recording,
+        frame: usize,
+        theta: Option<[f64; 3]>,
+    ) -> PyResult<Prediction> {
         let learner = model_on(&self.file.combined, &recording.used).map_err(error)?;
         let horizon = self.file.combined.horizon();
         let trajectory = &recording.used.recording.trajectory;
@@ -182,7 +191,10 @@ impl Model {
             ))
         })?;
         let theta = match theta {
-            Some([x, y, h]) => OnlineParams { com_offset: [x, y], h },
+            Some([x, y, h]) => OnlineParams {
+                com_offset: [x, y],
+                h,
+            },
             None => learner.theta0(),
         };
         let step = learner.evaluate(&sample, &theta);
@@ -206,18 +218,42 @@ impl Model {
     /// `steps` gradient-descent steps at learning rate `lr` per frame) or "gauss-newton"; θ is held
     /// over samples touching frames labelled bad tracking.
     #[pyo3(signature = (recording, optimizer="gd", *, steps=5, lr=0.005))]
-    fn online(&self, py: Python<'_>, recording: &Recording, optimizer: &str, steps: usize, lr: f64) -> PyResult<OnlineRun> {
+    fn online(
+        &self,
+        py: Python<'_>,
+        recording: &Recording,
+        optimizer: &str,
+        steps: usize,
+        lr: f64,
+    ) -> PyResult<OnlineRun> {
         let optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
-            PyValueError::new_err(format!("optimizer: expected \"gd\" or \"gauss-newton\", got {optimizer:?}"))
+            PyValueError::new_err(format!(
+                "optimizer: expected \"gd\" or \"gauss-newton\", got {optimizer:?}"
+            ))
         })?;
         if !(lr.is_finite() && lr > 0.0) {
-            return Err(PyValueError::new_err(format!("lr: must be a finite number above 0, got {lr}")));
+            return Err(PyValueError::new_err(format!(
+                "lr: must be a finite number above 0, got {lr}"
+            )));
         }
-        let config = OnlineConfig { steps, lr, optimizer };
+        let config = OnlineConfig {
+            steps,
+            lr,
+            optimizer,
+        };
         let run = py
             .detach(|| TrajectoryRun::learn(&self.file.combined, &recording.used, 0, &config))
-            .map_err(|e| error(format!("{}: {} model: {e}", recording.used.source(), self.kind())))?;
-        Ok(OnlineRun::new(run, recording.used.recording.trajectory.len()))
+            .map_err(|e| {
+                error(format!(
+                    "{}: {} model: {e}",
+                    recording.used.source(),
+                    self.kind()
+                ))
+            })?;
+        Ok(OnlineRun::new(
+            run,
+            recording.used.recording.trajectory.len(),
+        ))
     }
 
     fn __repr__(&self) -> String {
@@ -225,7 +261,11 @@ impl Model {
             "<pushlab.Model {} (horizon {}{})>",
             self.kind(),
             self.horizon(),
-            if self.has_baseline() { ", with the pure-network baseline" } else { "" }
+            if self.has_baseline() {
+                ", with the pure-network baseline"
+            } else {
+                ""
+            }
         )
     }
 }
@@ -286,4 +326,3 @@ impl Prediction {
         )
     }
 }
-

@@ -38,7 +38,9 @@ impl OnlineRun {
     /// the prediction from frame k was made with (the last learned θ past the last sample).
     #[getter]
     fn theta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let theta: Vec<[f64; 3]> = (0..self.frames).map(|k| theta_row(&self.run.run.theta_at(k))).collect();
+        let theta: Vec<[f64; 3]> = (0..self.frames)
+            .map(|k| theta_row(&self.run.run.theta_at(k)))
+            .collect();
         rows(py, &theta)
     }
 
@@ -46,7 +48,9 @@ impl OnlineRun {
     /// (what the app draws as the ±2σ bands).
     #[getter]
     fn std<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let std: Vec<[f64; 3]> = (0..self.frames).map(|k| self.run.run.spread_at(k).std()).collect();
+        let std: Vec<[f64; 3]> = (0..self.frames)
+            .map(|k| self.run.run.spread_at(k).std())
+            .collect();
         rows(py, &std)
     }
 
@@ -67,7 +71,13 @@ impl OnlineRun {
     /// The fixed model's loss (θ = θ_online(0) throughout) at each sample, shape (N − horizon, 2).
     #[getter]
     fn fixed_losses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let losses: Vec<[f64; 2]> = self.run.run.fixed().iter().map(|l| [l.pos, l.rot]).collect();
+        let losses: Vec<[f64; 2]> = self
+            .run
+            .run
+            .fixed()
+            .iter()
+            .map(|l| [l.pos, l.rot])
+            .collect();
         rows(py, &losses)
     }
 
@@ -118,7 +128,11 @@ impl OnlineRun {
     /// frames it took to settle, as a dict; else None.
     #[getter]
     fn com_found<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        self.run.com_truth.as_ref().map(|c| to_python(py, c)).transpose()
+        self.run
+            .com_truth
+            .as_ref()
+            .map(|c| to_python(py, c))
+            .transpose()
     }
 
     /// Samples learned from.

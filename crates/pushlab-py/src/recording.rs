@@ -102,14 +102,24 @@ impl Recording {
     /// Point events as `(label, frame)` pairs, in frame order.
     #[getter]
     fn events(&self) -> Vec<(String, usize)> {
-        self.used.labels.iter().flat_map(|l| &l.events).map(|e| (e.label.clone(), e.frame)).collect()
+        self.used
+            .labels
+            .iter()
+            .flat_map(|l| &l.events)
+            .map(|e| (e.label.clone(), e.frame))
+            .collect()
     }
 
     /// The labelled metadata (object, material, com_offset, push_side, split, notes) as a dict; empty
     /// when none is labelled.
     #[getter]
     fn meta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let meta = self.used.labels.as_ref().map(|l| l.meta.clone()).unwrap_or_default();
+        let meta = self
+            .used
+            .labels
+            .as_ref()
+            .map(|l| l.meta.clone())
+            .unwrap_or_default();
         to_python(py, &meta)
     }
 

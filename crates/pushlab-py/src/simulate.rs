@@ -7,7 +7,9 @@ use std::sync::Arc;
 use pushlab_core::experiment::{self, UsedRecording, geometry_of};
 use pushlab_core::labels::file as labels_file;
 use pushlab_core::recording::{Recording as CoreRecording, write_set};
-use pushlab_core::sim::{GeneratedSet, SetSpec, TRUTH_LABELS_FILE, generate_set, read_sample_spec, truth_labels};
+use pushlab_core::sim::{
+    GeneratedSet, SetSpec, TRUTH_LABELS_FILE, generate_set, read_sample_spec, truth_labels,
+};
 use pyo3::prelude::*;
 
 use crate::convert::from_python;
@@ -44,7 +46,11 @@ pub fn simulate(
             .map_err(|e| error(format!("simulating set '{}': {e}", spec.name)))?;
         match &out {
             Some(out) => {
-                let dir = if single { out.clone() } else { out.join(&spec.name) };
+                let dir = if single {
+                    out.clone()
+                } else {
+                    out.join(&spec.name)
+                };
                 recordings.extend(write_and_load(py, &dir, &set, truth_labels)?);
             }
             None => recordings.extend(in_memory(&spec.name, set)),
@@ -54,7 +60,12 @@ pub fn simulate(
 }
 
 /// Writes a generated set into `dir` and loads it back.
-fn write_and_load(py: Python<'_>, dir: &Path, set: &GeneratedSet, truth: bool) -> PyResult<Vec<Recording>> {
+fn write_and_load(
+    py: Python<'_>,
+    dir: &Path,
+    set: &GeneratedSet,
+    truth: bool,
+) -> PyResult<Vec<Recording>> {
     if dir.join("setting.json").exists() {
         return Err(error(format!(
             "{} already holds a recording set; simulate into another folder",
@@ -84,7 +95,10 @@ fn in_memory(name: &str, set: GeneratedSet) -> Vec<Recording> {
         .map(|(entry, trajectory)| {
             let source = Path::new(name).join(&entry.file);
             let recording = CoreRecording {
-                name: source.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+                name: source
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
                 source,
                 setting: Arc::clone(&setting),
                 entry: Some(entry.clone()),
@@ -92,7 +106,11 @@ fn in_memory(name: &str, set: GeneratedSet) -> Vec<Recording> {
                 warnings: Vec::new(),
                 cameras: Vec::new(),
             };
-            Recording::new(UsedRecording::labelled_with(recording, None, geometry.clone()))
+            Recording::new(UsedRecording::labelled_with(
+                recording,
+                None,
+                geometry.clone(),
+            ))
         })
         .collect()
 }
