@@ -276,6 +276,7 @@ impl Labels {
     /// Adds a label to the schema: `kind` "range" or "event", `colour` "#rrggbb", an exclusive
     /// `group`, a `hotkey` for the app, and whether its frames are left out of training.
     #[pyo3(signature = (name, *, kind="range", colour="#808080", group=None, hotkey=None, skip_in_training=false))]
+    #[allow(clippy::too_many_arguments)] // Python's keyword arguments, one per field of a label
     fn add_label(
         &mut self,
         py: Python<'_>,

@@ -11,6 +11,10 @@
 //! - [`model`]: `pushlab.Model` (load, train, save, predict) and [`online`]: its online runs;
 //! - [`simulate`]: `pushlab.simulate`, recording sets with a known COM and `h`.
 
+// PyO3 hands each argument over as an owned value it extracted from Python (a `PathBuf` from a str
+// or path-like, a `Vec` from a list), so Python-facing functions take them by value.
+#![allow(clippy::needless_pass_by_value)]
+
 mod convert;
 mod error;
 mod labels;
