@@ -4,6 +4,7 @@
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pushlab_core::model::OnlineParams;
 use pyo3::prelude::*;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -39,4 +40,10 @@ pub fn rows<'py, const W: usize>(
     let flat: Vec<f64> = rows.iter().flatten().copied().collect();
     let array = Array2::from_shape_vec((rows.len(), W), flat).map_err(error)?;
     Ok(array.into_pyarray(py))
+}
+
+/// θ_online as `[com_x, com_y, h]` (COM − geometric centre in the object frame, and Lynch's h;
+/// metres).
+pub fn theta_row(theta: &OnlineParams) -> [f64; 3] {
+    [theta.com_offset[0], theta.com_offset[1], theta.h]
 }

@@ -16,7 +16,7 @@ use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{column, to_python};
+use crate::convert::{column, theta_row, to_python};
 use crate::error::error;
 use crate::online::OnlineRun;
 use crate::recording::Recording;
@@ -26,12 +26,6 @@ use crate::recording::Recording;
 #[pyclass(module = "pushlab", name = "Model", frozen)]
 pub struct Model {
     file: ModelFile,
-}
-
-/// θ_online as `[com_x, com_y, h]` (COM − geometric centre in the object frame, and Lynch's h;
-/// metres).
-pub(crate) fn theta_row(theta: &OnlineParams) -> [f64; 3] {
-    [theta.com_offset[0], theta.com_offset[1], theta.h]
 }
 
 #[pymethods]

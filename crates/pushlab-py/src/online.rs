@@ -7,8 +7,7 @@ use pushlab_core::learn::Nmse;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{column, rows, to_python};
-use crate::model::theta_row;
+use crate::convert::{column, rows, theta_row, to_python};
 
 /// Online learning of θ_online along one recording, from θ_online(0). Frames are the recording's;
 /// samples are the frames with a frame `horizon` later (the first N − horizon).
