@@ -55,10 +55,22 @@ def test_edits_saved_from_python_reopen_unchanged(set_copy, cli):
     out = set_copy.parent / "export.json"
     run_cli(cli, "labels", "export", str(set_copy), "--json", str(out))
     exported = json.loads(out.read_text())
-    text = json.dumps(exported)
-    for label, start, end in again.segments(rec):
-        assert f'"{label}"' in text
-    assert "online_004.csv" in text
+    ranges = [
+        (s["label"], s["first_frame"], s["last_frame"] + 1)
+        for s in exported["segments"]
+        if s["recording"] == "online_004.csv" and s["kind"] == "range"
+    ]
+    events = [
+        (s["label"], s["first_frame"])
+        for s in exported["segments"]
+        if s["recording"] == "online_004.csv" and s["kind"] == "event"
+    ]
+    assert sorted(ranges) == sorted(again.segments(rec))
+    assert events == again.events(rec)
+    assert exported["recordings"]["online_004.csv"] == again.meta(rec)
+    # Frame times come from the recording the CLI loaded: the same as Python's.
+    sticking = next(s for s in exported["segments"] if s["label"] == "sticking")
+    assert sticking["first_time"] == loaded.times[12] and sticking["last_time"] == loaded.times[39]
 
 
 def test_painting_cuts_the_exclusive_group(set_copy):
