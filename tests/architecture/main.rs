@@ -27,6 +27,7 @@ fn crates() -> Vec<(&'static str, Crate)> {
         ("crates/pushlab-core/src", "crates/pushlab-core/src/lib.rs"),
         ("src (the app, lib.rs)", "src/lib.rs"),
         ("src (the CLI, main.rs)", "src/main.rs"),
+        ("crates/pushlab-py/src", "crates/pushlab-py/src/lib.rs"),
     ]
     .into_iter()
     .map(|(name, file)| (name, Crate::read(&root().join(file))))
@@ -129,6 +130,7 @@ fn each_layer_imports_only_from_the_layers_below() {
         "src/app/state",
         &mut problems,
     );
+    check_layers(&crates[3].1, &[], "crates/pushlab-py/src", &mut problems);
     problems.sort();
     problems.dedup();
     assert!(problems.is_empty(), "{}", problems.join("\n"));

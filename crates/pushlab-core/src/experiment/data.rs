@@ -41,6 +41,30 @@ impl UsedRecording {
         }
     }
 
+    /// A recording with what its folder's labels file (`labels`, when there is one) says of it: its
+    /// labels and the frames labelled bad tracking. The one rule by which `pushlab train`, `eval`, the
+    /// suite and the Python package attach labels to a loaded recording.
+    pub fn labelled_with(
+        recording: Recording,
+        labels: Option<&LabelSet>,
+        geometry: Result<Arc<ContactGeometry>, OutlineError>,
+    ) -> Self {
+        let key = key_of(&recording.source).unwrap_or_default();
+        let (labels, skip) = match labels {
+            Some(set) => (
+                set.recording(&key).cloned(),
+                frames_to_skip(set, &key, recording.trajectory.len()),
+            ),
+            None => (None, Vec::new()),
+        };
+        Self {
+            recording,
+            labels,
+            skip,
+            geometry,
+        }
+    }
+
     /// The samples for `horizon`, without those whose start or end frame is skipped (a sample is made
     /// from exactly those two frames).
     pub fn samples(&self, horizon: usize) -> Vec<Sample> {
@@ -48,6 +72,12 @@ impl UsedRecording {
             .into_iter()
             .filter(|s| !sample_is_skipped(&self.skip, s.frame, horizon))
             .collect()
+    }
+
+    /// Whether it gives a sample at `horizon`: recordings that do not are left out of training and
+    /// evaluation (too short, or every sample on frames labelled bad tracking).
+    pub fn has_samples(&self, horizon: usize) -> bool {
+        !self.samples(horizon).is_empty()
     }
 
     /// Number of frames labelled bad tracking.
@@ -120,7 +150,7 @@ impl Loaded {
         let (kept, short): (Vec<UsedRecording>, Vec<UsedRecording>) =
             std::mem::take(&mut self.used)
                 .into_iter()
-                .partition(|u| !u.samples(horizon).is_empty());
+                .partition(|u| u.has_samples(horizon));
         self.used = kept;
         self.too_short = short.len();
         for u in short {
@@ -215,26 +245,16 @@ pub fn load(paths: &[PathBuf], split: Option<Split>, horizon: usize) -> Loaded {
                     }
                 }
             }
-            let key = key_of(&recording.source).unwrap_or_default();
-            let frame_count = recording.trajectory.len();
-            let (recording_labels, skip) = match &label_set {
-                Some(set) => (
-                    set.recording(&key).cloned(),
-                    frames_to_skip(set, &key, frame_count),
-                ),
-                None => (None, Vec::new()),
-            };
             // One geometry per setting: the recordings of a set share it.
             let geometry = geometries
                 .entry(Arc::as_ptr(&recording.setting))
                 .or_insert_with(|| geometry_of(&recording.setting))
                 .clone();
-            loaded.used.push(UsedRecording {
+            loaded.used.push(UsedRecording::labelled_with(
                 recording,
-                labels: recording_labels,
-                skip,
+                label_set.as_deref(),
                 geometry,
-            });
+            ));
         }
     }
     for (path, reason) in labels.broken {
@@ -245,6 +265,47 @@ pub fn load(paths: &[PathBuf], split: Option<Split>, horizon: usize) -> Loaded {
     }
     loaded.drop_short(horizon);
     loaded
+}
+
+/// Every recording `paths` hold, each with its folder's labels, or every file that could not be read:
+/// what a script asks for (the Python package's `pushlab.load`), where a broken file is an error to
+/// raise rather than a line in a summary. Short recordings are kept (a script may only look at them).
+pub fn load_all(paths: &[PathBuf]) -> Result<Vec<UsedRecording>, Vec<Skipped>> {
+    let report = load_paths(paths);
+    let mut problems: Vec<Skipped> = report
+        .errors
+        .iter()
+        .map(|error| Skipped {
+            path: error_path(error),
+            reason: error.to_string(),
+        })
+        .collect();
+    let mut labels = LabelCache::default();
+    let mut geometries: HashMap<*const Setting, Result<Arc<ContactGeometry>, OutlineError>> =
+        HashMap::new();
+    let mut used = Vec::new();
+    for recording in report.sets.into_iter().flat_map(|set| set.recordings) {
+        // A broken labels file is reported once, below.
+        let label_set = labels.get(&recording.source).ok().flatten();
+        let geometry = geometries
+            .entry(Arc::as_ptr(&recording.setting))
+            .or_insert_with(|| geometry_of(&recording.setting))
+            .clone();
+        used.push(UsedRecording::labelled_with(
+            recording,
+            label_set.as_deref(),
+            geometry,
+        ));
+    }
+    problems.extend(labels.broken.into_iter().map(|(path, reason)| Skipped {
+        path: path.display().to_string(),
+        reason,
+    }));
+    if problems.is_empty() {
+        Ok(used)
+    } else {
+        Err(problems)
+    }
 }
 
 /// Labels files read so far, by path; a missing file is `None`.

@@ -109,6 +109,43 @@ pub struct TrajectoryRun {
 }
 
 impl TrajectoryRun {
+    /// The "Online" run of a trained model on one recording (the `index`-th online recording):
+    /// online learning from the model's `θ_online(0)` for the recording's object, at the model's
+    /// horizon, holding θ over frames labelled bad tracking; with the COM found against the truth
+    /// when the setting knows it. `pushlab eval`, the suite and the Python package's `model.online`
+    /// all run this, so their numbers agree to the bit.
+    pub fn learn(
+        model: &CombinedModel,
+        used: &UsedRecording,
+        index: usize,
+        config: &OnlineConfig,
+    ) -> Result<Self, NoOutline> {
+        let learner = model_on(model, used)?;
+        let run = online_run(learner, used, model.horizon(), config);
+        let com_truth = used.recording.setting.com_offset.and_then(|truth| {
+            let after: Vec<[f64; 2]> = run
+                .learned_steps()
+                .map(|(_, _, theta)| theta.com_offset)
+                .collect();
+            ComTruth::of(&after, run.posterior(), truth)
+        });
+        Ok(Self {
+            recording: index,
+            run,
+            com_truth,
+        })
+    }
+
+    /// NMSE of the online losses over the frames learned from: a trajectory's "Online" figure.
+    pub fn online_nmse(&self) -> Nmse {
+        Nmse::of_frames(self.online())
+    }
+
+    /// NMSE of the fixed model over the same frames: a trajectory's "Fixed" figure.
+    pub fn fixed_nmse(&self) -> Nmse {
+        Nmse::of_frames(self.fixed())
+    }
+
     /// The frames learned from, in order: every sample's but those on frames labelled bad tracking.
     pub fn frames(&self) -> impl Iterator<Item = usize> + '_ {
         self.run.learned_steps().map(|(frame, _, _)| frame)
@@ -233,22 +270,13 @@ pub fn evaluate(
 
     let mut trajectories = Vec::new();
     for (index, u) in online.iter().enumerate() {
-        let Some(learner) = learner(u) else {
-            continue;
-        };
-        let run = online_run(learner, u, horizon, &options.online);
-        let com_truth = u.recording.setting.com_offset.and_then(|truth| {
-            let after: Vec<[f64; 2]> = run
-                .learned_steps()
-                .map(|(_, _, theta)| theta.com_offset)
-                .collect();
-            ComTruth::of(&after, run.posterior(), truth)
-        });
-        trajectories.push(TrajectoryRun {
-            recording: index,
-            run,
-            com_truth,
-        });
+        match TrajectoryRun::learn(model, u, index, &options.online) {
+            Ok(run) => trajectories.push(run),
+            Err(e) => left_out.push(Skipped {
+                path: u.source(),
+                reason: format!("{} model: {e}", model.kind()),
+            }),
+        }
     }
 
     let physics = options

@@ -21,7 +21,7 @@ pub mod variant;
 pub const DEFAULT_HORIZON: usize = 1;
 
 pub use com_truth::{ComSummary, ComTruth};
-pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, split_of};
+pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, load_all, split_of};
 pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, TrajectoryRun, evaluate,
     fixed_pass, loss_scale_for, model_on, online_run, physics_model,

@@ -201,8 +201,8 @@ impl TrajectoryReport {
         Self {
             source: used.source(),
             steps: r.steps(),
-            fixed: Nmse::of_frames(r.fixed()),
-            online: Nmse::of_frames(r.online()),
+            fixed: r.fixed_nmse(),
+            online: r.online_nmse(),
             theta0: r.theta0(),
             com_offset_learned: theta_end.com_offset,
             h_learned: theta_end.h,

@@ -70,6 +70,29 @@ impl RecordingLabels {
         self.segments_at(frame).any(|s| s.label == label)
     }
 
+    /// One flag per frame of a recording `frame_count` frames long: `true` where the range label
+    /// `label` covers the frame (segments past the end are cut). What scripts take as a label's
+    /// per-frame mask.
+    pub fn mask(&self, label: &str, frame_count: usize) -> Vec<bool> {
+        let mut mask = vec![false; frame_count];
+        for s in self.segments.iter().filter(|s| s.label == label) {
+            let end = s.end.min(frame_count);
+            mask[s.start.min(end)..end].fill(true);
+        }
+        mask
+    }
+
+    /// The range labels used, each once, in the order their first segment starts.
+    pub fn range_labels(&self) -> Vec<&str> {
+        let mut names: Vec<&str> = Vec::new();
+        for s in &self.segments {
+            if !names.contains(&s.label.as_str()) {
+                names.push(&s.label);
+            }
+        }
+        names
+    }
+
     /// The segments and events touching `frames`, for drawing the visible part of a timeline.
     pub fn segments_in(&self, frames: Range<usize>) -> impl Iterator<Item = &Segment> {
         self.segments

@@ -1,0 +1,322 @@
+//! `pushlab.Model`: a trained combined model as the core's model file — loaded, trained on
+//! recordings through the core's one training pipeline (`experiment::train_combined`, as `pushlab
+//! train` and the app), saved atomically — and its predictions and online runs.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use numpy::PyArray1;
+use pushlab_core::experiment::{
+    self, DEFAULT_HORIZON, TrajectoryRun, model_on, train_baseline, train_combined,
+};
+use pushlab_core::learn::{OnlineConfig, Optimizer, TrainConfig, TrainProgress};
+use pushlab_core::model::{ModelKind, OnlineParams, sample_at};
+use pushlab_core::model_file::{ModelFile, TrainingMetadata};
+use pyo3::exceptions::{PyIndexError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert::{column, theta_row, to_python};
+use crate::error::error;
+use crate::online::OnlineRun;
+use crate::recording::Recording;
+
+/// A trained combined model (and, when trained with it, the pure-network baseline), as a pushlab
+/// model file holds it.
+#[pyclass(module = "pushlab", name = "Model", frozen)]
+pub struct Model {
+    file: ModelFile,
+}
+
+#[pymethods]
+impl Model {
+    /// Reads a model file (`pushlab train --out`, the app's Save model); every rule a model file
+    /// keeps is checked, and a refusal names the file and the JSON field.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let file = py.detach(|| ModelFile::load(&path)).map_err(error)?;
+        Ok(Self { file })
+    }
+
+    /// Trains a combined model on recordings, as `pushlab train` does: Adam at 0.005, batches of 32,
+    /// stopping early when the validation loss stops improving for `patience` epochs; samples on
+    /// frames labelled bad tracking left out, recordings without a sample at `horizon` skipped.
+    /// `kind` is "contact" (default) or "paper"; with `baseline=True` the pure network is trained
+    /// too and kept in the file. Unset options take pushlab's defaults (`pushlab train --help`).
+    /// Ctrl-C stops training at the end of an epoch and raises KeyboardInterrupt.
+    #[staticmethod]
+    #[pyo3(signature = (recordings, *, kind=None, horizon=None, epochs=None, seed=None, patience=None, baseline=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn train(
+        py: Python<'_>,
+        recordings: Vec<PyRef<'_, Recording>>,
+        kind: Option<&str>,
+        horizon: Option<usize>,
+        epochs: Option<usize>,
+        seed: Option<u64>,
+        patience: Option<usize>,
+        baseline: bool,
+    ) -> PyResult<Self> {
+        let kind = match kind {
+            Some(name) => ModelKind::from_name(name).ok_or_else(|| {
+                let names: Vec<&str> = ModelKind::ALL.iter().map(|k| k.name()).collect();
+                PyValueError::new_err(format!(
+                    "unknown model kind {name:?}; expected one of {}",
+                    names.join(", ")
+                ))
+            })?,
+            None => ModelKind::default(),
+        };
+        let horizon = horizon.unwrap_or(DEFAULT_HORIZON);
+        if horizon == 0 {
+            return Err(PyValueError::new_err("horizon: must be at least 1"));
+        }
+        let defaults = TrainConfig::default();
+        let config = TrainConfig {
+            epochs: epochs.unwrap_or(defaults.epochs),
+            seed: seed.unwrap_or(defaults.seed),
+            patience: patience.unwrap_or(defaults.patience),
+            horizon,
+            ..defaults
+        };
+        let used: Vec<_> = recordings
+            .iter()
+            .map(|r| r.used.clone())
+            .filter(|u| u.has_samples(horizon))
+            .collect();
+        if used.is_empty() {
+            return Err(error(format!(
+                "nothing to train on: none of the {} recording(s) has a sample at horizon {horizon}",
+                recordings.len()
+            )));
+        }
+        let cancel = AtomicBool::new(false);
+        let mut interrupted: Option<PyErr> = None;
+        let trained = py.detach(|| {
+            // Between epochs: a pending Ctrl-C stops training cleanly.
+            let mut progress = |_: &TrainProgress| {
+                if let Err(e) = Python::attach(|py| py.check_signals()) {
+                    interrupted = Some(e);
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            };
+            let combined = train_combined(kind, &used, &config, &mut progress, &cancel)?;
+            let pure_nn = if baseline && !cancel.load(Ordering::Relaxed) {
+                Some(train_baseline(&used, &config, &mut progress, &cancel)?)
+            } else {
+                None
+            };
+            Ok::<_, pushlab_core::learn::TrainError>((combined, pure_nn))
+        });
+        if let Some(e) = interrupted {
+            return Err(e);
+        }
+        let (combined, pure_nn) = trained.map_err(error)?;
+        let file = ModelFile {
+            combined: combined.model,
+            pure_nn: pure_nn.as_ref().map(|t| t.model.clone()),
+            training: TrainingMetadata {
+                report: Some(combined.report),
+                pure_nn_report: pure_nn.map(|t| t.report),
+                ..experiment::training_metadata(&used, horizon)
+            },
+        };
+        Ok(Self { file })
+    }
+
+    /// Writes the model file atomically (a model that breaks a rule of the format is refused before
+    /// anything is written).
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        py.detach(|| self.file.save(&path)).map_err(error)
+    }
+
+    /// "contact" or "paper".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.file.combined.kind().name()
+    }
+
+    /// Frames each prediction looks ahead.
+    #[getter]
+    fn horizon(&self) -> usize {
+        self.file.combined.horizon()
+    }
+
+    /// Whether the file holds the pure-network baseline.
+    #[getter]
+    fn has_baseline(&self) -> bool {
+        self.file.pure_nn.is_some()
+    }
+
+    /// How it was trained: reports, sources, pushlab version and the domain (a dict).
+    #[getter]
+    fn training<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.file.training)
+    }
+
+    /// θ_online(0) for a recording's object, `[com_x, com_y, h]` in metres.
+    fn theta0<'py>(
+        &self,
+        py: Python<'py>,
+        recording: &Recording,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let learner = model_on(&self.file.combined, &recording.used).map_err(error)?;
+        Ok(column(py, theta_row(&learner.theta0()).to_vec()))
+    }
+
+    /// Predicts how the object moves from `frame` to `frame + horizon` with θ_online = `theta`
+    /// (`[com_x, com_y, h]`; default θ_online(0) for the recording's object), next to what was
+    /// observed and the loss.
+    #[pyo3(signature = (recording, frame, theta=None))]
+    fn predict(
+        &self,
+        recording: &Recording,
+        frame: usize,
+        theta: Option<[f64; 3]>,
+    ) -> PyResult<Prediction> {
+        let learner = model_on(&self.file.combined, &recording.used).map_err(error)?;
+        let horizon = self.file.combined.horizon();
+        let trajectory = &recording.used.recording.trajectory;
+        let sample = sample_at(trajectory, frame, horizon).ok_or_else(|| {
+            PyIndexError::new_err(format!(
+                "frame {frame} has no sample: {} has {} frames and the model predicts {horizon} frame(s) ahead",
+                recording.used.recording.name,
+                trajectory.len()
+            ))
+        })?;
+        let theta = match theta {
+            Some([x, y, h]) => OnlineParams {
+                com_offset: [x, y],
+                h,
+            },
+            None => learner.theta0(),
+        };
+        let step = learner.evaluate(&sample, &theta);
+        let p = step.prediction;
+        Ok(Prediction {
+            frame,
+            theta: theta_row(&theta),
+            translation: p.motion.translation,
+            rotation: p.motion.rotation,
+            contact: p.contact,
+            contact_motion: p.contact_motion,
+            observed_translation: sample.target.translation,
+            observed_rotation: sample.target.rotation,
+            loss_pos: step.loss.pos(),
+            loss_rot: step.loss.rot,
+        })
+    }
+
+    /// Online learning of θ_online along a recording from θ_online(0) — the core's one online run,
+    /// the "Online" pass of `pushlab eval` and what the app plays: `optimizer` "gd" (the paper's
+    /// `steps` gradient-descent steps at learning rate `lr` per frame) or "gauss-newton"; θ is held
+    /// over samples touching frames labelled bad tracking.
+    #[pyo3(signature = (recording, optimizer="gd", *, steps=5, lr=0.005))]
+    fn online(
+        &self,
+        py: Python<'_>,
+        recording: &Recording,
+        optimizer: &str,
+        steps: usize,
+        lr: f64,
+    ) -> PyResult<OnlineRun> {
+        let optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "optimizer: expected \"gd\" or \"gauss-newton\", got {optimizer:?}"
+            ))
+        })?;
+        if !(lr.is_finite() && lr > 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "lr: must be a finite number above 0, got {lr}"
+            )));
+        }
+        let config = OnlineConfig {
+            steps,
+            lr,
+            optimizer,
+        };
+        let run = py
+            .detach(|| TrajectoryRun::learn(&self.file.combined, &recording.used, 0, &config))
+            .map_err(|e| {
+                error(format!(
+                    "{}: {} model: {e}",
+                    recording.used.source(),
+                    self.kind()
+                ))
+            })?;
+        Ok(OnlineRun::new(
+            run,
+            recording.used.recording.trajectory.len(),
+        ))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<pushlab.Model {} (horizon {}{})>",
+            self.kind(),
+            self.horizon(),
+            if self.has_baseline() {
+                ", with the pure-network baseline"
+            } else {
+                ""
+            }
+        )
+    }
+}
+
+/// One prediction: how the object moves from `frame` to `frame + horizon`, in the object frame of
+/// `frame` (translation of the geometric centre in metres, rotation in radians), with what was
+/// observed and the normalised losses (eq. 6).
+#[pyclass(module = "pushlab", name = "Prediction", frozen, get_all)]
+pub struct Prediction {
+    /// The frame predicted from.
+    frame: usize,
+    /// θ_online used, `[com_x, com_y, h]`.
+    theta: [f64; 3],
+    /// Predicted translation of the geometric centre, object frame, metres.
+    translation: [f64; 2],
+    /// Predicted rotation, radians.
+    rotation: f64,
+    /// The contact point (object frame, from the geometric centre), when the model has one.
+    contact: Option<[f64; 2]>,
+    /// The contact's motion, object frame, when the model has one.
+    contact_motion: Option<[f64; 2]>,
+    /// What the recording shows over the same frames.
+    observed_translation: [f64; 2],
+    observed_rotation: f64,
+    /// The positional and rotational loss of this prediction (the terms NMSE averages).
+    loss_pos: f64,
+    loss_rot: f64,
+}
+
+#[pymethods]
+impl Prediction {
+    /// The prediction as a dict.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("frame", self.frame)?;
+        d.set_item("theta", self.theta)?;
+        d.set_item("translation", self.translation)?;
+        d.set_item("rotation", self.rotation)?;
+        d.set_item("contact", self.contact)?;
+        d.set_item("contact_motion", self.contact_motion)?;
+        d.set_item("observed_translation", self.observed_translation)?;
+        d.set_item("observed_rotation", self.observed_rotation)?;
+        d.set_item("loss_pos", self.loss_pos)?;
+        d.set_item("loss_rot", self.loss_rot)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<pushlab.Prediction frame {}: translation ({:.5}, {:.5}) m, rotation {:.5} rad; observed ({:.5}, {:.5}) m, {:.5} rad>",
+            self.frame,
+            self.translation[0],
+            self.translation[1],
+            self.rotation,
+            self.observed_translation[0],
+            self.observed_translation[1],
+            self.observed_rotation
+        )
+    }
+}

@@ -1,0 +1,103 @@
+"""pushlab.Model: trained, saved and run online from Python, with pushlab eval's numbers to 1e-12."""
+
+import json
+
+import numpy as np
+import pytest
+
+import pushlab
+from conftest import SET, run_cli
+
+OFFLINE = sorted(SET.glob("offline_*.csv"))
+ONLINE = sorted(SET.glob("online_*.csv"))
+# Few epochs: the test compares Python with the CLI on one model, it does not judge the model.
+EPOCHS = 4
+
+
+@pytest.fixture(scope="module")
+def model_file(tmp_path_factory):
+    model = pushlab.Model.train(pushlab.load(OFFLINE), epochs=EPOCHS, seed=3, baseline=True)
+    assert model.kind == "contact" and model.horizon == 1 and model.has_baseline
+    path = tmp_path_factory.mktemp("model") / "model.json"
+    model.save(path)
+    return path
+
+
+@pytest.mark.parametrize("optimizer", ["gd", "gauss-newton"])
+def test_online_nmse_is_pushlab_evals_per_trajectory(model_file, cli, tmp_path, optimizer):
+    report_path = tmp_path / "eval.json"
+    run_cli(
+        cli, "eval", "--model", str(model_file), "--optimizer", optimizer,
+        "--offline", *map(str, OFFLINE[:3]), "--online", *map(str, ONLINE), "--json", str(report_path),
+    )
+    report = json.loads(report_path.read_text())
+    by_file = {t["source"].rsplit("/", 1)[-1]: t for t in report["trajectories"]}
+    assert len(by_file) == len(ONLINE)
+
+    model = pushlab.Model.load(model_file)
+    for recording in pushlab.load(ONLINE):
+        run = model.online(recording, optimizer=optimizer)
+        expected = by_file[f"{recording.name}.csv"]
+        assert run.steps == expected["steps"] == len(recording) - 1
+        for key in ("pos", "rot"):
+            assert run.nmse[key] == pytest.approx(expected["online"][key], rel=0, abs=1e-12)
+            assert run.fixed_nmse[key] == pytest.approx(expected["fixed"][key], rel=0, abs=1e-12)
+        np.testing.assert_allclose(run.theta_end, [*expected["com_offset_learned"], expected["h_learned"]], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(run.com_offset_cov, expected["com_offset_cov"], rtol=0, atol=1e-12)
+        # The arrays of the run: θ per frame, losses per sample, and their mean is the NMSE.
+        n = len(recording)
+        assert run.theta.shape == (n, 3) and run.std.shape == (n, 3)
+        assert run.losses.shape == (n - 1, 2) and run.fixed_losses.shape == (n - 1, 2)
+        np.testing.assert_allclose(run.losses.mean(axis=0), [run.nmse["pos"], run.nmse["rot"]], rtol=1e-12)
+        np.testing.assert_array_equal(run.theta[0], run.theta0)
+        np.testing.assert_array_equal(run.theta[-1], run.theta_end)
+
+
+def test_bad_tracking_frames_hold_theta(model_file, set_copy):
+    labels = pushlab.Labels(set_copy)
+    labels.paint("online_001.csv", "bad tracking", 20, 30)
+    labels.save()
+    recording = pushlab.load(set_copy / "online_001.csv")[0]
+    run = pushlab.Model.load(model_file).online(recording)
+    held = np.isnan(run.losses[:, 0])
+    # A sample from frame k to k + 1 is held when either frame is labelled: frames 19..29.
+    np.testing.assert_array_equal(np.flatnonzero(held), np.arange(19, 30))
+    np.testing.assert_array_equal(run.theta[20:31], np.repeat(run.theta[19:20], 11, axis=0))
+    assert run.steps == len(recording) - 1 - 11
+
+
+def test_predict_uses_theta0_or_the_theta_given(model_file):
+    model = pushlab.Model.load(model_file)
+    recording = pushlab.load(ONLINE[0])[0]
+    p = model.predict(recording, 30)
+    assert p.frame == 30
+    np.testing.assert_array_equal(p.theta, model.theta0(recording))
+    assert np.isfinite(p.translation).all() and np.isfinite(p.rotation)
+    assert p.loss_pos >= 0 and p.loss_rot >= 0
+    moved = model.predict(recording, 30, theta=[0.05, 0.0, p.theta[2]])
+    assert moved.theta == [0.05, 0.0, p.theta[2]]
+    assert moved.to_dict()["observed_translation"] == p.observed_translation
+    with pytest.raises(IndexError, match="has no sample"):
+        model.predict(recording, len(recording) - 1)
+
+
+def test_bad_options_raise(model_file):
+    model = pushlab.Model.load(model_file)
+    recording = pushlab.load(ONLINE[0])[0]
+    with pytest.raises(ValueError, match="gauss-newton"):
+        model.online(recording, optimizer="adam")
+    with pytest.raises(ValueError, match="unknown model kind"):
+        pushlab.Model.train([recording], kind="big")
+
+
+def test_a_bad_model_file_raises_naming_the_file_and_field(model_file, tmp_path):
+    data = json.loads(model_file.read_text())
+    data["combined"]["horizon"] = 0
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(data))
+    with pytest.raises(pushlab.PushlabError) as raised:
+        pushlab.Model.load(bad)
+    assert str(bad) in str(raised.value) and "horizon" in str(raised.value)
+    with pytest.raises(pushlab.PushlabError, match="not a pushlab model file"):
+        (tmp_path / "other.json").write_text('{"format": "something else"}')
+        pushlab.Model.load(tmp_path / "other.json")
