@@ -115,6 +115,7 @@ def push_of(source_kind, traj, outlines):
     return {
         "source": src, "group": group,
         "error_mm": math.hypot(est[0] - truth[0], est[1] - truth[1]) * 1000,
+        "estimate": est, "truth": truth, "cov": cov,
         "holds": within,
         "sigma_mm": math.sqrt(max(0.0, (cov[0][0] + cov[1][1]) / 2)) * 1000,
         "outside_any": any(not physical(vertices, t["com_offset"]) for t in thetas),

@@ -203,7 +203,7 @@ fn bench_learn_step(c: &mut Criterion, name: &str, optimizer: Optimizer) {
     c.bench_function(name, |b| {
         let t = trained();
         let model = t.contact_box.as_ref();
-        let state = carried.get_or_insert_with(|| OnlineState::start(model));
+        let state = carried.get_or_insert_with(|| OnlineState::start(model, config.optimizer));
         b.iter(|| {
             i = (i + 1) % t.samples.len();
             let (step, next) = learn_step(model, black_box(&t.samples[i]), state, &config);

@@ -155,6 +155,11 @@ const CONTACT_CASES: &[(&str, f64, &str)] = &[
 
 const PAPER_CASES: &[(&str, f64, &str)] = &[
     (
+        "/combined/com_misfit/gd_per_h",
+        -0.1,
+        "combined.com_misfit.gd_per_h: must be ≥ 0, found -0.1",
+    ),
+    (
         "/combined/normalization/position/std/0",
         0.0,
         "combined.normalization.position.std[0]: must be > 0, found 0",

@@ -1,5 +1,5 @@
 //! `pushlab.Model`: a trained combined model as the core's model file — loaded, trained on
-//! recordings through the core's one training pipeline (`experiment::train_combined`, as `pushlab
+//! recordings through the core's one training pipeline (`experiment::train_calibrated`, as `pushlab
 //! train` and the app), saved atomically — and its predictions and online runs.
 
 use std::path::PathBuf;
@@ -7,11 +7,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use numpy::PyArray1;
 use pushlab_core::experiment::{
-    self, DEFAULT_HORIZON, TrajectoryRun, model_on, train_baseline, train_combined,
+    self, DEFAULT_HORIZON, TrajectoryRun, model_on, train_baseline, train_calibrated,
 };
 use pushlab_core::learn::{OnlineConfig, Optimizer, TrainConfig, TrainProgress};
 use pushlab_core::model::{ModelKind, OnlineParams, sample_at};
-use pushlab_core::model_file::{ModelFile, TrainingMetadata};
+use pushlab_core::model_file::ModelFile;
 use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -42,10 +42,13 @@ impl Model {
     /// stopping early when the validation loss stops improving for `patience` epochs; samples on
     /// frames labelled bad tracking left out, recordings without a sample at `horizon` skipped.
     /// `kind` is "contact" (default) or "paper"; with `baseline=True` the pure network is trained
-    /// too and kept in the file. Unset options take pushlab's defaults (`pushlab train --help`).
+    /// too and kept in the file. With `com_calibration=True` (default) and recordings of two or more
+    /// objects with a known COM, the COM misfit is measured by leaving each object out of training
+    /// in turn (one extra training each) and widens the COM ellipse. Unset options take pushlab's
+    /// defaults (`pushlab train --help`).
     /// Ctrl-C stops training at the end of an epoch and raises KeyboardInterrupt.
     #[staticmethod]
-    #[pyo3(signature = (recordings, *, kind=None, horizon=None, epochs=None, seed=None, patience=None, baseline=false))]
+    #[pyo3(signature = (recordings, *, kind=None, horizon=None, epochs=None, seed=None, patience=None, baseline=false, com_calibration=true))]
     #[allow(clippy::too_many_arguments)]
     fn train(
         py: Python<'_>,
@@ -56,7 +59,9 @@ impl Model {
         seed: Option<u64>,
         patience: Option<usize>,
         baseline: bool,
+        com_calibration: bool,
     ) -> PyResult<Self> {
+        let calibrate = com_calibration;
         let kind = match kind {
             Some(name) => ModelKind::from_name(name).ok_or_else(|| {
                 let names: Vec<&str> = ModelKind::ALL.iter().map(|k| k.name()).collect();
@@ -100,7 +105,8 @@ impl Model {
                     cancel.store(true, Ordering::Relaxed);
                 }
             };
-            let combined = train_combined(kind, &used, &config, &mut progress, &cancel)?;
+            let combined =
+                train_calibrated(kind, &used, &config, calibrate, &mut progress, &cancel)?;
             let pure_nn = if baseline && !cancel.load(Ordering::Relaxed) {
                 Some(train_baseline(&used, &config, &mut progress, &cancel)?)
             } else {
@@ -112,15 +118,11 @@ impl Model {
             return Err(e);
         }
         let (combined, pure_nn) = trained.map_err(error)?;
-        let file = ModelFile {
-            combined: combined.model,
-            pure_nn: pure_nn.as_ref().map(|t| t.model.clone()),
-            training: TrainingMetadata {
-                report: Some(combined.report),
-                pure_nn_report: pure_nn.map(|t| t.report),
-                ..experiment::training_metadata(&used, horizon)
-            },
-        };
+        let file = ModelFile::from_training(
+            combined,
+            pure_nn,
+            experiment::training_metadata(&used, horizon),
+        );
         Ok(Self { file })
     }
 

@@ -93,7 +93,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             ui.label(egui::RichText::new(format!("± {:.1}", std * 1e3)).weak())
                 .on_hover_text(
                     "One standard deviation of the posterior of θ_online given the frames learned \
-                     so far (Gauss–Newton/Laplace); the scene's ellipse holds the COM with 95 %",
+                     so far (Gauss–Newton/Laplace), the COM's widened by the model's COM misfit \
+                     when its training measured one; the scene's ellipse holds the COM with 95 %",
                 );
         });
     }

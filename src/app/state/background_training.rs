@@ -8,10 +8,12 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
-use pushlab_core::experiment::{UsedRecording, train_baseline, train_combined, training_metadata};
+use pushlab_core::experiment::{
+    UsedRecording, train_baseline, train_calibrated, training_metadata,
+};
 use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, Trained};
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
-use pushlab_core::model_file::TrainingMetadata;
+use pushlab_core::model_file::{ModelFile, TrainingMetadata};
 
 use super::session::RecordingId;
 
@@ -50,11 +52,9 @@ pub enum TrainingChoice {
 
 /// A run that finished with a model.
 pub struct Finished {
-    pub trained: Trained<CombinedModel>,
-    /// The pure-network baseline trained with it (runs for folders, unless cancelled first).
-    pub pure_nn: Option<PureNnModel>,
-    /// Its sources and domain, with the training report filled in: for its model file.
-    pub metadata: TrainingMetadata,
+    /// The combined model, its pure-network baseline (runs for folders, unless cancelled first) and
+    /// its sources and domain with the training reports filled in.
+    pub file: ModelFile,
     /// The folders it was trained for ("Train for these recordings"): the model is remembered for
     /// them. Empty for a run started from the Train tab.
     pub for_folders: Vec<PathBuf>,
@@ -106,21 +106,28 @@ impl Training {
             let mut progress = |p: &TrainProgress| {
                 let _ = progress_sender.send(Message::Progress(*p));
             };
-            let result = train_combined(kind, &recordings, &config, &mut progress, &worker_cancel)
-                .and_then(|combined| {
-                    let pure_nn = if with_baseline && !combined.report.cancelled {
-                        let _ = progress_sender.send(Message::Baseline);
-                        Some(train_baseline(
-                            &recordings,
-                            &config,
-                            &mut progress,
-                            &worker_cancel,
-                        )?)
-                    } else {
-                        None
-                    };
-                    Ok(TrainedPair { combined, pure_nn })
-                });
+            let result = train_calibrated(
+                kind,
+                &recordings,
+                &config,
+                true,
+                &mut progress,
+                &worker_cancel,
+            )
+            .and_then(|combined| {
+                let pure_nn = if with_baseline && !combined.report.cancelled {
+                    let _ = progress_sender.send(Message::Baseline);
+                    Some(train_baseline(
+                        &recordings,
+                        &config,
+                        &mut progress,
+                        &worker_cancel,
+                    )?)
+                } else {
+                    None
+                };
+                Ok(TrainedPair { combined, pure_nn })
+            });
             // The receiver is gone only when the app closed.
             let _ = sender.send(Message::Done(Box::new(result)));
         });
@@ -173,15 +180,8 @@ impl Training {
                                 ),
                                 None => message,
                             };
-                            let metadata = TrainingMetadata {
-                                report: Some(trained.report.clone()),
-                                pure_nn_report: pure_nn.as_ref().map(|b| b.report.clone()),
-                                ..job.metadata
-                            };
                             self.finished = Some(Finished {
-                                trained,
-                                pure_nn: pure_nn.map(|b| b.model),
-                                metadata,
+                                file: ModelFile::from_training(trained, pure_nn, job.metadata),
                                 for_folders: job.for_folders,
                             });
                             message

@@ -92,17 +92,7 @@ impl AppState {
     /// Takes a finished training run's model into use; one trained for folders is saved in the
     /// model store and remembered for them.
     pub(super) fn take_trained(&mut self, finished: Finished) {
-        let Finished {
-            trained,
-            pure_nn,
-            metadata,
-            for_folders,
-        } = finished;
-        let file = ModelFile {
-            combined: trained.model,
-            pure_nn,
-            training: metadata,
-        };
+        let Finished { file, for_folders } = finished;
         let mut source = "trained in the app (unsaved)".to_owned();
         if !for_folders.is_empty() {
             match self.store_for(&for_folders, &file) {

@@ -28,6 +28,12 @@ pub struct TrainingArgs {
     /// paper's Fig. 4 exactly) [default: contact, or the kind of --model].
     #[arg(long, value_name = "KIND", value_parser = model_kind)]
     pub model_kind: Option<ModelKind>,
+    /// Skip measuring the COM misfit. By default, when the recordings span two or more objects and
+    /// know their COM, a model is also trained without each object in turn and learns online on
+    /// it: how far its COM lands from the truth widens the COM ellipse of the model saved (one
+    /// extra training per object).
+    #[arg(long)]
+    pub no_com_calibration: bool,
 }
 
 /// A model kind by name.

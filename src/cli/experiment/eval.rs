@@ -137,7 +137,9 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
 
     let config = train_config(&args.training, horizon, kind, &offline.used);
     let training_started = Instant::now();
-    let (combined, pure_nn, trained_with) = models(model_file, kind, &offline.used, &config)?;
+    let calibrate = !args.training.no_com_calibration;
+    let (combined, pure_nn, trained_with) =
+        models(model_file, kind, &offline.used, &config, calibrate)?;
     let training_time = training_started.elapsed();
     if train_progress::cancelled() {
         println!("training stopped by Ctrl-C: evaluating the best models so far");
@@ -235,10 +237,11 @@ fn models(
     kind: ModelKind,
     offline: &[UsedRecording],
     config: &TrainConfig,
+    calibrate: bool,
 ) -> anyhow::Result<(CombinedModel, PureNnModel, TrainedWith)> {
     let Some(file) = file else {
         let TrainedModels { combined, pure_nn } =
-            train_progress::train_models(kind, offline, config, true)?;
+            train_progress::train_models(kind, offline, config, calibrate, true)?;
         let pure_nn = match pure_nn {
             Some(trained) => trained.model,
             // Ctrl-C during the combined model's training: the baseline still needs a model.

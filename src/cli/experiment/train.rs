@@ -10,7 +10,7 @@ use pushlab_core::experiment::{self, DEFAULT_HORIZON, UsedRecording, paper_theta
 use pushlab_core::labels::Split;
 use pushlab_core::learn::TrainConfig;
 use pushlab_core::model::ModelKind;
-use pushlab_core::model_file::{ModelFile, TrainingMetadata};
+use pushlab_core::model_file::ModelFile;
 
 use super::args::TrainingArgs;
 use super::data;
@@ -50,17 +50,18 @@ pub fn run(args: &TrainArgs) -> Result<(), Failure> {
         )));
     }
     let config = train_config(&args.training, horizon, kind, &loaded.used);
-    let TrainedModels { combined, pure_nn } =
-        train_progress::train_models(kind, &loaded.used, &config, args.baseline)?;
-    let file = ModelFile {
-        combined: combined.model,
-        pure_nn: pure_nn.as_ref().map(|t| t.model.clone()),
-        training: TrainingMetadata {
-            report: Some(combined.report),
-            pure_nn_report: pure_nn.map(|t| t.report),
-            ..experiment::training_metadata(&loaded.used, horizon)
-        },
-    };
+    let TrainedModels { combined, pure_nn } = train_progress::train_models(
+        kind,
+        &loaded.used,
+        &config,
+        !args.training.no_com_calibration,
+        args.baseline,
+    )?;
+    let file = ModelFile::from_training(
+        combined,
+        pure_nn,
+        experiment::training_metadata(&loaded.used, horizon),
+    );
     file.save(&args.out)
         .with_context(|| format!("cannot save the model to {}", args.out.display()))?;
     if args.baseline && file.pure_nn.is_none() {

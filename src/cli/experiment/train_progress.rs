@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pushlab_core::experiment::{UsedRecording, train_baseline, train_combined};
+use pushlab_core::experiment::{UsedRecording, train_baseline, train_calibrated};
 use pushlab_core::learn::{TrainConfig, TrainProgress, Trained, TrainingReport};
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 
@@ -42,21 +42,31 @@ pub struct TrainedModels {
     pub pure_nn: Option<Trained<PureNnModel>>,
 }
 
-/// Trains the combined model of `kind` and, when `baseline`, the pure network, one progress bar
-/// each. When Ctrl-C stops the combined model's training, the pure network is not started.
+/// Trains the combined model of `kind` (calibrating its COM misfit when `calibrate`) and, when
+/// `baseline`, the pure network, one progress bar each. When Ctrl-C stops the combined model's
+/// training, the pure network is not started.
 pub fn train_models(
     kind: ModelKind,
     used: &[UsedRecording],
     config: &TrainConfig,
+    calibrate: bool,
     baseline: bool,
 ) -> anyhow::Result<TrainedModels> {
     let cancel = cancel_flag();
     let name = format!("{kind} model");
     let combined = with_progress(&name, config, |progress| {
-        train_combined(kind, used, config, progress, cancel)
+        train_calibrated(kind, used, config, calibrate, progress, cancel)
     })
     .with_context(|| format!("cannot train the {name}"))?;
     println!("{}", summary(&name, &combined.report));
+    let misfit = combined.model.com_misfit();
+    if misfit.is_calibrated() {
+        println!(
+            "COM misfit, from {} pushes on {} objects each left out of training: {:.3} h with \
+             gradient descent, {:.3} h with Gauss–Newton (added to the COM ellipse)",
+            misfit.pushes, misfit.objects, misfit.gd_per_h, misfit.gauss_newton_per_h
+        );
+    }
     let pure_nn = if baseline && !combined.report.cancelled {
         Some(train_pure_nn(used, config)?)
     } else {

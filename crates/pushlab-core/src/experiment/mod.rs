@@ -10,6 +10,7 @@
 pub mod com_truth;
 pub mod data;
 pub mod evaluate;
+pub mod misfit;
 pub mod report;
 pub mod suite;
 pub mod train;
@@ -26,5 +27,6 @@ pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, TrajectoryRun, evaluate,
     fixed_pass, loss_scale_for, model_on, online_run, physics_model,
 };
+pub use misfit::{calibrate_com_misfit, train_calibrated};
 pub use train::{paper_theta0_for, train_baseline, train_combined, training_metadata};
 pub use variant::ModelVariant;

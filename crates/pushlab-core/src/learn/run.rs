@@ -22,7 +22,7 @@
 use std::sync::Arc;
 
 use super::config::OnlineConfig;
-use super::step::{OnlineState, learn_step};
+use super::step::{OnlineState, com_misfit_m, learn_step};
 use super::uncertainty::{Posterior, Spread};
 use crate::model::{
     FrameLoss, OnlineParams, OnlineStep, Sample, SharedOnlineModel, sample_at, sample_count,
@@ -97,7 +97,7 @@ impl OnlineRun {
             .filter_map(|k| sample_at(&trajectory, k, horizon))
             .map(|s| FrameLoss::of(&model.evaluate(&s, &theta0).loss))
             .collect();
-        let start = OnlineState::start(model.as_ref());
+        let start = OnlineState::start(model.as_ref(), config.optimizer);
         Self {
             checkpoints: vec![start.theta],
             spreads: vec![Spread::of(&start.posterior)],
@@ -277,6 +277,8 @@ impl OnlineRun {
     /// learned again.
     pub fn set_config_at(&mut self, frame: usize, config: OnlineConfig) {
         self.config = config;
+        let misfit = com_misfit_m(self.model.as_ref(), config.optimizer);
+        self.posterior = self.posterior.with_com_misfit(misfit);
         let theta = self.theta_at(frame);
         self.set_theta_at(frame, theta);
     }
@@ -303,7 +305,7 @@ impl OnlineRun {
     /// Back to `θ_online(0)` and the prior at frame 0, forgetting all learning.
     pub fn reset(&mut self) {
         self.truncate_to(0);
-        let start = OnlineState::start(self.model.as_ref());
+        let start = OnlineState::start(self.model.as_ref(), self.config.optimizer);
         self.checkpoints[0] = start.theta;
         self.posterior = start.posterior;
         self.keyframes = vec![start.posterior];

@@ -19,12 +19,14 @@ pub struct OnlineState {
 }
 
 impl OnlineState {
-    /// The start of a trajectory: `θ_online(0)` and the prior.
-    pub fn start<M: OnlineModel + ?Sized>(model: &M) -> Self {
+    /// The start of a trajectory learned with `optimizer`: `θ_online(0)` and the prior, with the
+    /// model's COM misfit for that optimiser (`model::ComMisfit`, per `θ_online(0)`'s `h`).
+    pub fn start<M: OnlineModel + ?Sized>(model: &M, optimizer: Optimizer) -> Self {
         let theta = model.theta0();
         Self {
             theta,
-            posterior: Posterior::prior(&theta, model.horizon()),
+            posterior: Posterior::prior(&theta, model.horizon())
+                .with_com_misfit(com_misfit_m(model, optimizer)),
         }
     }
 
@@ -36,6 +38,17 @@ impl OnlineState {
             posterior: posterior.at(&theta),
         }
     }
+}
+
+/// The model's COM misfit for `optimizer` in metres: its `per_h` figure times `θ_online(0)`'s `h` on
+/// this object. What the posterior adds to the COM's spread (see `model::ComMisfit`).
+pub fn com_misfit_m<M: OnlineModel + ?Sized>(model: &M, optimizer: Optimizer) -> f64 {
+    let misfit = model.com_misfit();
+    let per_h = match optimizer {
+        Optimizer::Gd => misfit.gd_per_h,
+        Optimizer::GaussNewton => misfit.gauss_newton_per_h,
+    };
+    per_h * model.theta0().h
 }
 
 /// One online step from `state` with the configured optimiser: the prediction with `state.theta`

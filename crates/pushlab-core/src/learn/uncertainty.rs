@@ -83,6 +83,9 @@ pub struct Posterior {
     overlap: f64,
     /// The frames' linearisation sums in batches, for the correlation factor.
     batches: ScoreBatches,
+    /// The model's COM misfit (`model::ComMisfit`) as a variance added to each COM component of the
+    /// estimate's error, square metres: the bias no frame can reveal.
+    com_misfit_var: f64,
 }
 
 impl Posterior {
@@ -101,7 +104,20 @@ impl Posterior {
             prior_mean: vector(theta0),
             overlap: horizon.max(1) as f64,
             batches: ScoreBatches::new(horizon),
+            com_misfit_var: 0.0,
         }
+    }
+
+    /// The same posterior with the model's COM misfit, a standard deviation in metres, added to
+    /// each COM component's spread ([`Posterior::covariance`]). It widens the ellipse; it does not
+    /// change the mode or Gauss–Newton's gain, which weigh what the frames say.
+    pub fn with_com_misfit(mut self, std_m: f64) -> Self {
+        self.com_misfit_var = if std_m.is_finite() {
+            std_m * std_m
+        } else {
+            0.0
+        };
+        self
     }
 
     /// Takes in one frame's linearisation at `theta` (a frame whose numbers are not finite is left
@@ -223,18 +239,20 @@ impl Posterior {
     }
 
     /// The covariance of the estimate's error, `[com_x, com_y, h]`, square metres: the spread about
-    /// the mode plus the estimate's own offset from it, `Σ + δδᵀ`. Gradient descent's estimate lags
-    /// behind the mode (five small steps per frame); Gauss–Newton's sits on it, and `δ ≈ 0`.
+    /// the mode plus the estimate's own offset from it, `Σ + δδᵀ`, plus the model's COM misfit `m²`
+    /// on each COM component. Gradient descent's estimate lags behind the mode (five small steps
+    /// per frame); Gauss–Newton's sits on it, and `δ ≈ 0`.
     pub fn covariance(&self) -> Matrix3<f64> {
         // The weight (with its correlation factor) and the inverse once, for the mode and the spread.
         let weight = self.frame_weight();
-        let covariance = self.mode_covariance_at(weight);
+        let mut covariance = self.mode_covariance_at(weight);
         let offset = self.estimate - self.mode_at(weight, &covariance);
         if offset.iter().all(|d| d.is_finite()) {
-            covariance + offset * offset.transpose()
-        } else {
-            covariance
+            covariance += offset * offset.transpose();
         }
+        covariance[(0, 0)] += self.com_misfit_var;
+        covariance[(1, 1)] += self.com_misfit_var;
+        covariance
     }
 
     /// The covariance of the COM offset, object frame, square metres.

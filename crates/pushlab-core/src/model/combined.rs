@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::contact::{ContactGeometry, ContactModel};
 use super::loss::LossScale;
+use super::misfit::ComMisfit;
 use super::online::{ContactModelOnObject, SharedOnlineModel};
 use super::paper::PaperModel;
 
@@ -83,6 +84,23 @@ impl CombinedModel {
             CombinedModel::Paper(m) => m.horizon(),
             CombinedModel::Contact(m) => m.horizon(),
         }
+    }
+
+    /// How far its learned COM lands from the truth on objects it did not train on.
+    pub fn com_misfit(&self) -> ComMisfit {
+        match self {
+            CombinedModel::Paper(m) => m.com_misfit(),
+            CombinedModel::Contact(m) => m.com_misfit(),
+        }
+    }
+
+    /// The same model calibrated with `misfit` (`experiment::calibrate_com_misfit`).
+    pub fn with_com_misfit(mut self, misfit: ComMisfit) -> Self {
+        match &mut self {
+            CombinedModel::Paper(m) => Arc::make_mut(m).com_misfit = misfit,
+            CombinedModel::Contact(m) => Arc::make_mut(m).com_misfit = misfit,
+        }
+        self
     }
 
     /// The σ of its offline data, which normalise every loss reported next to it.

@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 use super::loss::{Loss, LossScale};
 use super::{
-    ContactGeometry, ContactModel, Linearization, OnlineParams, PaperModel, PhysicalBounds,
-    PhysicsOnlyModel, Prediction, RealSample, Sample, SampleInput,
+    ComMisfit, ContactGeometry, ContactModel, Linearization, OnlineParams, PaperModel,
+    PhysicalBounds, PhysicsOnlyModel, Prediction, RealSample, Sample, SampleInput,
 };
 use crate::real::Real;
 
@@ -92,6 +92,11 @@ pub trait OnlineModel {
     fn bounds(&self) -> Option<&PhysicalBounds> {
         None
     }
+    /// How far its learned COM lands from the truth on objects it did not train on, measured at
+    /// training: the posterior adds it to the COM's spread (none for a model not calibrated).
+    fn com_misfit(&self) -> ComMisfit {
+        ComMisfit::default()
+    }
     /// `theta` kept inside [`OnlineModel::bounds`] (only [`OnlineParams::clamped`] for a model
     /// without an outline): what every update and every steering of `θ_online` goes through.
     fn keep_physical(&self, theta: OnlineParams) -> OnlineParams {
@@ -120,6 +125,10 @@ pub trait OnlineModel {
 impl<T: Real> OnlineModel for PaperModel<T> {
     fn theta0(&self) -> OnlineParams {
         PaperModel::theta0(self)
+    }
+
+    fn com_misfit(&self) -> ComMisfit {
+        PaperModel::com_misfit(self)
     }
 
     fn horizon(&self) -> usize {
@@ -208,6 +217,10 @@ impl OnlineModel for ContactModelOnObject {
     fn bounds(&self) -> Option<&PhysicalBounds> {
         Some(self.geometry.bounds())
     }
+
+    fn com_misfit(&self) -> ComMisfit {
+        self.model.com_misfit()
+    }
 }
 
 /// The physics-only model learns `θ_online` too; each component is scaled by half the object's size.
@@ -266,6 +279,7 @@ macro_rules! forward_online_model {
                 (**self).linearize(sample, theta)
             }
             fn bounds(&self) -> Option<&PhysicalBounds> { (**self).bounds() }
+            fn com_misfit(&self) -> ComMisfit { (**self).com_misfit() }
         }
     )*};
 }

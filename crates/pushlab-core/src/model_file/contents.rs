@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::domain::Domain;
-use crate::learn::TrainingReport;
+use crate::learn::{Trained, TrainingReport};
 use crate::model::{CombinedModel, PureNnModel};
 
 /// Where a model came from.
@@ -35,4 +35,30 @@ pub struct ModelFile {
     pub combined: CombinedModel,
     pub pure_nn: Option<PureNnModel>,
     pub training: TrainingMetadata,
+}
+
+impl ModelFile {
+    /// The file of a training run: the combined model, its pure-network baseline if one was trained,
+    /// and `metadata` (sources, version, domain: [`crate::experiment::training_metadata`]) with both
+    /// runs' reports filled in. `pushlab train`, the app's Train tab and Python's `Model.train` all
+    /// save what this makes, so their files say the same things about where a model came from.
+    pub fn from_training(
+        combined: Trained<CombinedModel>,
+        pure_nn: Option<Trained<PureNnModel>>,
+        metadata: TrainingMetadata,
+    ) -> Self {
+        let (pure_nn, pure_nn_report) = match pure_nn {
+            Some(t) => (Some(t.model), Some(t.report)),
+            None => (None, None),
+        };
+        Self {
+            combined: combined.model,
+            pure_nn,
+            training: TrainingMetadata {
+                report: Some(combined.report),
+                pure_nn_report,
+                ..metadata
+            },
+        }
+    }
 }

@@ -16,8 +16,8 @@ use crate::domain::Domain;
 use crate::model::contact::ContactInputs;
 use crate::model::normalization::{InputNormalization, Stats1, Stats2};
 use crate::model::{
-    COM_OFFSET_MAX, CombinedModel, ContactModel, H_MAX, H_MIN, LossScale, Network, OnlineParams,
-    PaperModel, PureNnModel,
+    COM_OFFSET_MAX, ComMisfit, CombinedModel, ContactModel, H_MAX, H_MIN, LossScale, Network,
+    OnlineParams, PaperModel, PureNnModel,
 };
 use crate::real::Real;
 
@@ -185,7 +185,15 @@ fn paper(field: &str, m: &PaperModel) -> Result<(), Problem> {
     theta0(&at("theta0"), &m.theta0)?;
     loss_scale(&at("loss_scale"), &m.loss_scale)?;
     horizon(&at("horizon"), m.horizon)?;
-    each(&at("theta_scales"), &m.theta_scales, positive)
+    each(&at("theta_scales"), &m.theta_scales, positive)?;
+    com_misfit(&at("com_misfit"), &m.com_misfit)
+}
+
+/// Spreads added to the COM's posterior: a negative one would narrow the ellipse below what the
+/// frames say.
+fn com_misfit(field: &str, m: &ComMisfit) -> Result<(), Problem> {
+    non_negative(&format!("{field}.gd_per_h"), m.gd_per_h)?;
+    non_negative(&format!("{field}.gauss_newton_per_h"), m.gauss_newton_per_h)
 }
 
 fn contact_inputs(field: &str, inputs: &ContactInputs) -> Result<(), Problem> {
@@ -218,7 +226,8 @@ fn contact(field: &str, m: &ContactModel) -> Result<(), Problem> {
         &at("relative_theta_scales"),
         &m.relative_theta_scales,
         positive,
-    )
+    )?;
+    com_misfit(&at("com_misfit"), &m.com_misfit)
 }
 
 /// The pure network predicts at the combined model's horizon: a file pairing two horizons would

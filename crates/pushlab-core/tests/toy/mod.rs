@@ -125,7 +125,7 @@ pub struct Chain<M> {
 
 impl<M: OnlineModel> Chain<M> {
     pub fn new(model: M, config: OnlineConfig) -> Self {
-        let state = OnlineState::start(&model);
+        let state = OnlineState::start(&model, config.optimizer);
         Self {
             model,
             config,

@@ -159,6 +159,7 @@ class Model:
         seed: Optional[int] = None,
         patience: Optional[int] = None,
         baseline: bool = False,
+        com_calibration: bool = True,
     ) -> "Model": ...
     def save(self, path: _Path) -> None: ...
     @property

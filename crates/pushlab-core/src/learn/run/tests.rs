@@ -77,7 +77,7 @@ fn learning_moves_theta_and_keeps_a_checkpoint_per_frame() {
 /// skipped, as Algorithm 1 states it.
 fn chained(run: &OnlineRun, skip: &[bool]) -> (Vec<OnlineParams>, Vec<FrameLoss>, Posterior) {
     let model = run.model().clone();
-    let mut state = OnlineState::start(model.as_ref());
+    let mut state = OnlineState::start(model.as_ref(), run.config().optimizer);
     let (mut thetas, mut losses) = (Vec::new(), Vec::new());
     for sample in samples_from_trajectory(run.trajectory(), run.horizon()) {
         if sample_is_skipped(skip, sample.frame, run.horizon()) {

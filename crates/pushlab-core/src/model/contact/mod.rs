@@ -33,7 +33,7 @@ use super::kernel::theta_real;
 use super::mlp::Network;
 use super::params::OnlineParams;
 use super::{Prediction, SampleInput};
-use crate::model::LossScale;
+use crate::model::{ComMisfit, LossScale};
 use crate::real::Real;
 
 /// Inputs of the contact-frame network: `g_n / h`, `g_t / h`, gap and tangential offset per motion
@@ -93,6 +93,9 @@ pub struct ContactModel<T: Real = f32> {
     /// Which parts are used (every part, unless an ablation).
     #[serde(default)]
     pub(crate) options: ContactOptions,
+    /// How far its learned COM lands from the truth on objects it did not train on.
+    #[serde(default)]
+    pub(crate) com_misfit: ComMisfit,
     #[serde(skip)]
     constants: Constants<T>,
 }
@@ -109,6 +112,8 @@ struct ContactModelData<T: Real> {
     relative_theta_scales: [f64; 3],
     #[serde(default)]
     options: ContactOptions,
+    #[serde(default)]
+    com_misfit: ComMisfit,
 }
 
 impl<T: Real> From<ContactModelData<T>> for ContactModel<T> {
@@ -123,6 +128,7 @@ impl<T: Real> From<ContactModelData<T>> for ContactModel<T> {
             horizon: d.horizon,
             relative_theta_scales: d.relative_theta_scales,
             options: d.options,
+            com_misfit: d.com_misfit,
         }
     }
 }
@@ -166,6 +172,7 @@ impl<T: Real> ContactModel<T> {
             loss_scale,
             horizon,
             relative_theta_scales: [1.0; 3],
+            com_misfit: ComMisfit::default(),
         }
     }
 
@@ -219,6 +226,11 @@ impl<T: Real> ContactModel<T> {
         self.constants = Constants::of(&self.inputs, friction);
     }
 
+    /// How far its learned COM lands from the truth on objects it did not train on.
+    pub fn com_misfit(&self) -> ComMisfit {
+        self.com_misfit
+    }
+
     /// The same model in another float type (`f64` for gradient checks).
     pub fn cast<U: Real>(&self) -> ContactModel<U> {
         ContactModel {
@@ -230,6 +242,7 @@ impl<T: Real> ContactModel<T> {
             horizon: self.horizon,
             relative_theta_scales: self.relative_theta_scales,
             options: self.options,
+            com_misfit: self.com_misfit,
             constants: Constants::of(&self.inputs, self.friction),
         }
     }

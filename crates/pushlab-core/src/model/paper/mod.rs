@@ -24,7 +24,7 @@ use super::mlp::{HIDDEN, Network, OUTPUTS};
 use super::normalization::InputNormalization;
 use super::params::OnlineParams;
 use super::{ObjectMotion, Prediction, SampleInput};
-use crate::model::LossScale;
+use crate::model::{ComMisfit, LossScale};
 use crate::real::Real;
 use crate::simd::MulAdd;
 
@@ -46,6 +46,9 @@ pub struct PaperModel<T: Real = f32> {
     /// Per-component scales of `θ_online` for online gradient descent, metres (see
     /// [`PaperModel::theta_scales`]).
     pub(crate) theta_scales: [f64; 3],
+    /// How far its learned COM lands from the truth on objects it did not train on.
+    #[serde(default)]
+    pub(crate) com_misfit: ComMisfit,
     /// `normalization` as the constants the hot loops use, derived once.
     #[serde(skip)]
     constants: Constants<T>,
@@ -61,6 +64,8 @@ struct PaperModelData<T: Real> {
     loss_scale: LossScale,
     horizon: usize,
     theta_scales: [f64; 3],
+    #[serde(default)]
+    com_misfit: ComMisfit,
 }
 
 impl<T: Real> From<PaperModelData<T>> for PaperModel<T> {
@@ -73,6 +78,7 @@ impl<T: Real> From<PaperModelData<T>> for PaperModel<T> {
             loss_scale: d.loss_scale,
             horizon: d.horizon,
             theta_scales: d.theta_scales,
+            com_misfit: d.com_misfit,
         }
     }
 }
@@ -133,6 +139,7 @@ impl<T: Real> PaperModel<T> {
             loss_scale,
             horizon,
             theta_scales: [length; 3],
+            com_misfit: ComMisfit::default(),
             constants: Constants::of(&normalization),
         }
     }
@@ -170,6 +177,11 @@ impl<T: Real> PaperModel<T> {
         self.theta_scales
     }
 
+    /// How far its learned COM lands from the truth on objects it did not train on.
+    pub fn com_misfit(&self) -> ComMisfit {
+        self.com_misfit
+    }
+
     /// The same model in another float type (`f64` for gradient checks).
     pub fn cast<U: Real>(&self) -> PaperModel<U> {
         PaperModel {
@@ -179,6 +191,7 @@ impl<T: Real> PaperModel<T> {
             loss_scale: self.loss_scale,
             horizon: self.horizon,
             theta_scales: self.theta_scales,
+            com_misfit: self.com_misfit,
             constants: Constants::of(&self.normalization),
         }
     }

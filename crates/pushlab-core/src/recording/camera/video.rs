@@ -14,6 +14,7 @@ use std::ffi::OsString;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command, Stdio};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 
 use super::{EncodedImage, FrameProblem, FrameReader, FrameSource, ImageFormat, RawEncoding};
@@ -69,6 +70,13 @@ fn locate_ffmpeg(variable: Option<OsString>, paths: Option<OsString>) -> Result<
 /// seconds into the file, each `width` × `height` pixels.
 #[derive(Debug)]
 pub struct VideoFrames {
+    /// Shared with every reader, which adds only its stream.
+    video: Arc<Video>,
+}
+
+/// What a reader needs of its file to start a stream.
+#[derive(Debug)]
+struct Video {
     path: PathBuf,
     width: u32,
     height: u32,
@@ -91,15 +99,19 @@ impl VideoFrames {
         ffmpeg: Result<PathBuf, String>,
     ) -> Self {
         Self {
-            path,
-            width,
-            height,
-            file_times_s,
-            half_period_s: 0.5 / fps,
-            ffmpeg,
+            video: Arc::new(Video {
+                path,
+                width,
+                height,
+                file_times_s,
+                half_period_s: 0.5 / fps,
+                ffmpeg,
+            }),
         }
     }
+}
 
+impl Video {
     fn frame_bytes(&self) -> usize {
         self.width as usize * self.height as usize * 3
     }
@@ -108,50 +120,29 @@ impl VideoFrames {
 impl FrameSource for VideoFrames {
     fn reader(&self) -> Box<dyn FrameReader> {
         Box::new(VideoReader {
-            video: VideoSpec {
-                path: self.path.clone(),
-                width: self.width,
-                height: self.height,
-                half_period_s: self.half_period_s,
-                frame_bytes: self.frame_bytes(),
-            },
-            file_times_s: self.file_times_s.clone(),
-            ffmpeg: self.ffmpeg.clone(),
+            video: Arc::clone(&self.video),
             stream: None,
         })
     }
 
     fn location(&self) -> PathBuf {
-        self.path.clone()
+        self.video.path.clone()
     }
 }
 
-/// What a reader needs of its file to start a stream.
-struct VideoSpec {
-    path: PathBuf,
-    width: u32,
-    height: u32,
-    half_period_s: f64,
-    frame_bytes: usize,
-}
-
 struct VideoReader {
-    video: VideoSpec,
-    file_times_s: Vec<f64>,
-    ffmpeg: Result<PathBuf, String>,
+    video: Arc<Video>,
     stream: Option<Decoding>,
 }
 
 impl FrameReader for VideoReader {
     fn read(&mut self, index: usize) -> Result<EncodedImage, FrameProblem> {
-        let program = self
-            .ffmpeg
-            .as_ref()
-            .map_err(|why| FrameProblem::Unreadable(why.clone()))?;
-        let Some(&time_s) = self.file_times_s.get(index) else {
+        let program =
+            (self.video.ffmpeg.as_ref()).map_err(|why| FrameProblem::Unreadable(why.clone()))?;
+        let Some(&time_s) = self.video.file_times_s.get(index) else {
             return Err(FrameProblem::Unreadable(format!(
                 "frame {index} is past the video's {} frames",
-                self.file_times_s.len()
+                self.video.file_times_s.len()
             )));
         };
         let ahead = (self.stream.as_ref())
@@ -161,7 +152,7 @@ impl FrameReader for VideoReader {
             (Some(stream), Some(ahead)) => (stream, ahead),
             _ => (Decoding::start(program, &self.video, time_s, index)?, 0),
         };
-        let mut bytes = vec![0; self.video.frame_bytes];
+        let mut bytes = vec![0; self.video.frame_bytes()];
         for _ in 0..=skip {
             stream.next_frame(&mut bytes, time_s)?;
         }
@@ -194,7 +185,7 @@ struct Decoding {
 impl Decoding {
     fn start(
         program: &Path,
-        video: &VideoSpec,
+        video: &Video,
         time_s: f64,
         index: usize,
     ) -> Result<Self, FrameProblem> {

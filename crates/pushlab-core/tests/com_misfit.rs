@@ -1,0 +1,127 @@
+//! The COM misfit (`model::ComMisfit`): training on two objects with a known COM measures it by
+//! leaving each out, the model file keeps it, and every online run's COM ellipse widens by exactly
+//! that spread while θ learns the same path; one object alone cannot measure it.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+use pushlab_core::experiment::{self, TrajectoryRun, UsedRecording};
+use pushlab_core::labels::Split;
+use pushlab_core::learn::{OnlineConfig, Optimizer, TrainConfig};
+use pushlab_core::model::{CombinedModel, ModelKind, OnlineModel};
+use pushlab_core::model_file::ModelFile;
+
+fn sample_set(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../sample-data")
+        .join(name)
+}
+
+fn offline(names: &[&str]) -> Vec<UsedRecording> {
+    let paths: Vec<PathBuf> = names.iter().map(|n| sample_set(n)).collect();
+    let loaded = experiment::load(&paths, Some(Split::Offline), 1);
+    assert!(!loaded.used.is_empty(), "{names:?} load");
+    loaded.used
+}
+
+fn config() -> TrainConfig {
+    TrainConfig {
+        epochs: 3,
+        horizon: 1,
+        ..TrainConfig::default()
+    }
+}
+
+fn trained(used: &[UsedRecording], calibrate: bool) -> CombinedModel {
+    let no = AtomicBool::new(false);
+    experiment::train_calibrated(
+        ModelKind::Contact,
+        used,
+        &config(),
+        calibrate,
+        &mut |_| {},
+        &no,
+    )
+    .expect("trains")
+    .model
+}
+
+#[test]
+fn two_objects_measure_the_misfit_and_every_run_adds_it_to_the_com_ellipse() {
+    let used = offline(&["box1-paper-center-front", "box2-paper-center-front"]);
+    let calibrated = trained(&used, true);
+    let misfit = calibrated.com_misfit();
+    assert_eq!(misfit.objects, 2, "{misfit:?}");
+    assert_eq!(misfit.pushes, used.len(), "every recording knows its COM");
+    assert!(
+        misfit.gd_per_h > 0.0 && misfit.gauss_newton_per_h > 0.0,
+        "a model trained on one box misses the other's COM: {misfit:?}"
+    );
+
+    // The same training without calibration is the same model but for the misfit.
+    let plain = trained(&used, false);
+    assert_eq!(plain.com_misfit(), Default::default());
+    assert_eq!(plain.clone().with_com_misfit(misfit), calibrated);
+
+    for optimizer in [Optimizer::Gd, Optimizer::GaussNewton] {
+        let config = OnlineConfig {
+            optimizer,
+            ..OnlineConfig::default()
+        };
+        let run = |model: &CombinedModel| {
+            TrajectoryRun::learn(model, &used[0], 0, &config)
+                .expect("an outline")
+                .run
+        };
+        let (wide, narrow) = (run(&calibrated), run(&plain));
+        let last = wide.frontier();
+        assert_eq!(
+            wide.theta_at(last),
+            narrow.theta_at(last),
+            "θ learns the same"
+        );
+        let h0 = experiment::model_on(&calibrated, &used[0])
+            .expect("an outline")
+            .theta0()
+            .h;
+        let per_h = match optimizer {
+            Optimizer::Gd => misfit.gd_per_h,
+            Optimizer::GaussNewton => misfit.gauss_newton_per_h,
+        };
+        let added = (per_h * h0).powi(2);
+        let (w, n) = (
+            wide.posterior().com_covariance(),
+            narrow.posterior().com_covariance(),
+        );
+        for (i, j) in [(0, 0), (1, 1), (0, 1)] {
+            let expected = n[i][j] + if i == j { added } else { 0.0 };
+            assert!(
+                (w[i][j] - expected).abs() <= 1e-12 * expected.abs().max(1e-9),
+                "{optimizer:?} C[{i}][{j}] {} against {expected}",
+                w[i][j]
+            );
+        }
+    }
+
+    // The model file keeps it.
+    let dir = std::env::temp_dir().join(format!("pushlab-com-misfit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("model.json");
+    let file = ModelFile {
+        combined: calibrated,
+        pure_nn: None,
+        training: experiment::training_metadata(&used, 1),
+    };
+    file.save(&path).expect("saves");
+    let read = ModelFile::load(&path).expect("loads");
+    assert_eq!(read.combined.com_misfit(), misfit);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn one_object_cannot_measure_it() {
+    let used = offline(&["box1-paper-center-front", "box1-plastic-center-front"]);
+    let model = trained(&used, true);
+    assert!(!model.com_misfit().is_calibrated());
+    assert_eq!(model.com_misfit().gd_per_h, 0.0);
+}
