@@ -48,13 +48,19 @@ pub fn learn_step<M: OnlineModel + ?Sized>(
     config: &OnlineConfig,
 ) -> (OnlineStep, OnlineState) {
     let theta = model.keep_physical(state.theta);
-    let linearization = model.linearize(sample, &theta);
-    let posterior = state.posterior.with(&linearization, &theta);
-    let mut step = match config.optimizer {
-        Optimizer::Gd => model.online_step(sample, &theta, &config.descent()),
-        Optimizer::GaussNewton => {
-            gauss_newton_step(model, sample, &theta, &linearization, &posterior, config)
+    // Gradient descent's step does not depend on the posterior: it is taken together with the
+    // linearisation, which shares its first forward pass.
+    let (linearization, descent_step) = match config.optimizer {
+        Optimizer::Gd => {
+            let (linearization, step) = model.linearize_and_step(sample, &theta, &config.descent());
+            (linearization, Some(step))
         }
+        Optimizer::GaussNewton => (model.linearize(sample, &theta), None),
+    };
+    let posterior = state.posterior.with(&linearization, &theta);
+    let mut step = match descent_step {
+        Some(step) => step,
+        None => gauss_newton_step(model, sample, &theta, &linearization, &posterior, config),
     };
     step.theta_after = model.keep_physical(step.theta_after);
     let next = OnlineState {

@@ -10,7 +10,8 @@ use super::frame::ContactGeometry;
 use super::prior::{ConePass, cone_backward, cone_forward, swept_motion};
 use super::{CONTACT_INPUTS, ContactModel};
 use crate::model::kernel::{
-    Linearization, RealSample, ThetaPass, descend, linearize, loss_weights,
+    DescentRule, Linearization, RealSample, ThetaPass, descend, linearize, linearize_and_descend,
+    loss_weights,
 };
 use crate::model::mlp::{Activations, HIDDEN, Mlp, OUTPUTS};
 use crate::model::params::OnlineParams;
@@ -485,6 +486,54 @@ impl<T: Real> ContactModel<T> {
             multiply_add: std::marker::PhantomData,
         };
         linearize(&mut pass, target, &self.loss_scale, theta)
+    }
+}
+
+impl<T: Real> ContactModel<T> {
+    /// [`ContactModel::linearize`] and [`ContactModel::online_update`] from the same `theta`, with the
+    /// sample prepared once and one forward pass at `theta` between them (see
+    /// [`linearize_and_descend`]): the same numbers, bit for bit.
+    pub(crate) fn linearize_and_update(
+        &self,
+        geometry: &ContactGeometry,
+        sample: &Sample,
+        theta: &OnlineParams,
+        steps: usize,
+        lr: f64,
+    ) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
+        let prepared = self.prepare(geometry, &sample.input);
+        let target = RealSample::<T>::of(sample).target;
+        let rule = DescentRule {
+            scales: self.theta_scales(geometry),
+            steps,
+            lr,
+        };
+        self.linearize_and_update_prepared(&prepared, &target, theta, rule)
+    }
+
+    crate::simd::dispatch_simd! {
+        /// [`ContactModel::linearize_and_update`] of a prepared sample, in the widest SIMD available.
+        fn linearize_and_update_prepared(&self, prepared: &Prepared<T>, target: &[T; 3],
+            theta: &OnlineParams, rule: DescentRule)
+            -> (Linearization, (Prediction, [f64; 3], OnlineParams))
+            => linearize_and_update_portable, linearize_and_update_avx2
+    }
+
+    #[inline(always)]
+    fn linearize_and_update_portable<A: MulAdd>(
+        &self,
+        prepared: &Prepared<T>,
+        target: &[T; 3],
+        theta: &OnlineParams,
+        rule: DescentRule,
+    ) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
+        let mut pass = OnlinePass::<T, A> {
+            model: self,
+            prepared,
+            pass: Pass::default(),
+            multiply_add: std::marker::PhantomData,
+        };
+        linearize_and_descend::<T, A>(&mut pass, target, &self.loss_scale, theta, rule)
     }
 }
 
