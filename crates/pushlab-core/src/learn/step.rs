@@ -57,16 +57,26 @@ pub fn learn_step<M: OnlineModel + ?Sized>(
         }
         Optimizer::GaussNewton => (model.linearize(sample, &theta), None),
     };
-    let posterior = state.posterior.with(&linearization, &theta);
+    // Built in place: the posterior is large enough that copies show (see `Posterior::take_in`).
+    let mut next = OnlineState {
+        theta,
+        posterior: state.posterior,
+    };
+    next.posterior.take_in(&linearization, &theta);
     let mut step = match descent_step {
         Some(step) => step,
-        None => gauss_newton_step(model, sample, &theta, &linearization, &posterior, config),
+        None => gauss_newton_step(
+            model,
+            sample,
+            &theta,
+            &linearization,
+            &next.posterior,
+            config,
+        ),
     };
     step.theta_after = model.keep_physical(step.theta_after);
-    let next = OnlineState {
-        theta: step.theta_after,
-        posterior: posterior.at(&step.theta_after),
-    };
+    next.theta = step.theta_after;
+    next.posterior.move_to(&step.theta_after);
     (step, next)
 }
 
