@@ -61,19 +61,35 @@ pub fn learn_step<M: OnlineModel + ?Sized>(
     config: &OnlineConfig,
 ) -> (OnlineStep, OnlineState) {
     let theta = model.keep_physical(state.theta);
-    let linearization = model.linearize(sample, &theta);
-    let posterior = state.posterior.with(&linearization, &theta);
-    let mut step = match config.optimizer {
-        Optimizer::Gd => model.online_step(sample, &theta, &config.descent()),
-        Optimizer::GaussNewton => {
-            gauss_newton_step(model, sample, &theta, &linearization, &posterior, config)
+    // Gradient descent's step does not depend on the posterior: it is taken together with the
+    // linearisation, which shares its first forward pass.
+    let (linearization, descent_step) = match config.optimizer {
+        Optimizer::Gd => {
+            let (linearization, step) = model.linearize_and_step(sample, &theta, &config.descent());
+            (linearization, Some(step))
         }
+        Optimizer::GaussNewton => (model.linearize(sample, &theta), None),
+    };
+    // Built in place: the posterior is large enough that copies show (see `Posterior::take_in`).
+    let mut next = OnlineState {
+        theta,
+        posterior: state.posterior,
+    };
+    next.posterior.take_in(&linearization, &theta);
+    let mut step = match descent_step {
+        Some(step) => step,
+        None => gauss_newton_step(
+            model,
+            sample,
+            &theta,
+            &linearization,
+            &next.posterior,
+            config,
+        ),
     };
     step.theta_after = model.keep_physical(step.theta_after);
-    let next = OnlineState {
-        theta: step.theta_after,
-        posterior: posterior.at(&step.theta_after),
-    };
+    next.theta = step.theta_after;
+    next.posterior.move_to(&step.theta_after);
     (step, next)
 }
 

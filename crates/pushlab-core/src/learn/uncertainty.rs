@@ -43,7 +43,7 @@ pub const PRIOR_STD_PER_H: f64 = 2.0;
 const NOISE_PRIOR_FRAMES: f64 = 1.0;
 
 /// Frames the posterior remembers: before each frame is taken in, the frames before are weighed
-/// down by `1 − 1/2000` ([`Posterior::forgetting`]). Gauss–Newton's gain is this posterior's
+/// down by `1 − 1/2000` ([`Posterior::forget`]). Gauss–Newton's gain is this posterior's
 /// information: without forgetting it falls as `1/frames`, and after 100,000 frames of a long
 /// recording one frame barely moves `θ` — a COM that shifts half-way would take another 100,000
 /// frames to follow. 2000 frames is 8 s of the MIT dataset at 250 Hz and 200 s at 10 Hz; a push of
@@ -70,7 +70,7 @@ pub struct Posterior {
     /// `Σ |b|²`.
     btb: f64,
     frames: usize,
-    /// The frames' total weight: `frames`, less what forgetting took away (`Posterior::forgetting`).
+    /// The frames' total weight: `frames`, less what forgetting took away (`Posterior::forget`).
     weight: f64,
     /// `Λ₀`: the prior's precision of each component, per square metre.
     prior_precision: [f64; 3],
@@ -123,12 +123,20 @@ impl Posterior {
     /// Takes in one frame's linearisation at `theta` (a frame whose numbers are not finite is left
     /// out).
     pub fn with(mut self, linearization: &Linearization, theta: &OnlineParams) -> Self {
+        self.take_in(linearization, theta);
+        self
+    }
+
+    /// [`Posterior::with`] in place. The posterior is about 1.4 kB (mostly its score batches): an
+    /// online step that moved it by value copied it several times per frame, a tenth of the step's
+    /// time.
+    pub(super) fn take_in(&mut self, linearization: &Linearization, theta: &OnlineParams) {
         let j = Matrix3::from_fn(|i, k| linearization.jacobian[i][k]);
         let b = j * vector(theta) - Vector3::from(linearization.residual);
         let jtj = j.transpose() * j;
         let jtb = j.transpose() * b;
         if jtj.iter().chain(jtb.iter()).all(|x| x.is_finite()) && b.norm_squared().is_finite() {
-            self = self.forgetting(KEEP);
+            self.forget(KEEP);
             self.jtj += jtj;
             self.jtb += jtb;
             self.btb += b.norm_squared();
@@ -136,7 +144,6 @@ impl Posterior {
             self.weight += 1.0;
             self.batches.push(&jtj, &jtb);
         }
-        self
     }
 
     /// The frames so far weighed down by `keep` (in (0, 1]), as [`Posterior::with`] does before it
@@ -144,12 +151,11 @@ impl Posterior {
     /// (`1/e`) and a long recording's estimate follows a COM or `h` that changes (a load shifting, a
     /// different floor). The prior is not forgotten; the batches of the correlation factor compare
     /// scatter with information over the whole run, a ratio forgetting leaves alone.
-    fn forgetting(mut self, keep: f64) -> Self {
+    fn forget(&mut self, keep: f64) {
         self.jtj *= keep;
         self.jtb *= keep;
         self.btb *= keep;
         self.weight *= keep;
-        self
     }
 
     /// The complete batches of frames the correlation factor compares, and their length in frames.
@@ -170,8 +176,13 @@ impl Posterior {
 
     /// The same frames, with the noise variance evaluated at `theta` (the estimate after a step).
     pub fn at(mut self, theta: &OnlineParams) -> Self {
-        self.estimate = vector(theta);
+        self.move_to(theta);
         self
+    }
+
+    /// [`Posterior::at`] in place (see [`Posterior::take_in`]).
+    pub(super) fn move_to(&mut self, theta: &OnlineParams) {
+        self.estimate = vector(theta);
     }
 
     /// Frames taken in.

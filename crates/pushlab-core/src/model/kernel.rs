@@ -119,7 +119,19 @@ pub(crate) fn linearize<T: Real>(
 ) -> Linearization {
     let th = theta_real(theta);
     let output = pass.forward(&th);
-    let prediction = pass.prediction(&th);
+    linearization_of(pass, output, target, scale, &th)
+}
+
+/// [`linearize`] after its forward pass at `th`, which returned `output` and is still in `pass`.
+#[inline(always)]
+fn linearization_of<T: Real>(
+    pass: &mut impl ThetaPass<T>,
+    output: [T; 3],
+    target: &[T; 3],
+    scale: &LossScale,
+    th: &[T; 3],
+) -> Linearization {
+    let prediction = pass.prediction(th);
     let sigma = [scale.sigma_pos[0], scale.sigma_pos[1], scale.sigma_rot];
     let mut residual = [0.0; 3];
     let mut jacobian = [[0.0; 3]; 3];
@@ -127,13 +139,50 @@ pub(crate) fn linearize<T: Real>(
         residual[i] = (output[i] - target[i]).as_f64() / sigma[i];
         let mut seed = [T::zero(); 3];
         seed[i] = T::one();
-        jacobian[i] = pass.backward(&th, seed).map(|d| d.as_f64() / sigma[i]);
+        jacobian[i] = pass.backward(th, seed).map(|d| d.as_f64() / sigma[i]);
     }
     Linearization {
         prediction,
         residual,
         jacobian,
     }
+}
+
+/// The rule of [`descend`]'s steps: how far each component moves per unit of gradient, and for how
+/// many steps.
+#[derive(Clone, Copy)]
+pub(crate) struct DescentRule {
+    pub scales: [f64; 3],
+    pub steps: usize,
+    pub lr: f64,
+}
+
+/// [`linearize`] and [`descend`] from the same `theta` with one forward pass between them: what an
+/// online step that keeps the posterior beside gradient descent needs (`learn::learn_step`). The
+/// forward pass at `theta` is deterministic and the backward passes only read it, so both results
+/// are bit for bit those of the two functions called one after the other.
+#[inline(always)]
+pub(crate) fn linearize_and_descend<T: Real, A: MulAdd>(
+    pass: &mut impl ThetaPass<T>,
+    target: &[T; 3],
+    scale: &LossScale,
+    theta: &OnlineParams,
+    rule: DescentRule,
+) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
+    let th = theta_real(theta);
+    let output = pass.forward(&th);
+    let linearization = linearization_of(pass, output, target, scale, &th);
+    let weights = loss_weights(scale);
+    let gradient = pass.backward(&th, loss_gradient(output, target, &weights).1);
+    let after = descend_from::<T, A>(pass, target, &weights, th, gradient, rule);
+    (
+        linearization,
+        (
+            linearization.prediction,
+            gradient.map(|x| x.as_f64()),
+            after,
+        ),
+    )
 }
 
 /// The online step of Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps, for any model
@@ -154,17 +203,31 @@ pub(crate) fn descend<T: Real, A: MulAdd>(
     steps: usize,
     lr: f64,
 ) -> (Prediction, [f64; 3], OnlineParams) {
-    let step = scales.map(|s| T::of(lr * s * s));
-    let (h_min, h_max) = (T::of(H_MIN), T::of(H_MAX));
-    let com_max = T::of(COM_OFFSET_MAX);
-    let mut th = theta_real(theta);
+    let th = theta_real(theta);
     let output = pass.forward(&th);
     let prediction = pass.prediction(&th);
     let (_, d_output) = loss_gradient(output, target, weights);
     let gradient = pass.backward(&th, d_output);
-    let first_gradient = gradient.map(|x| x.as_f64());
+    let rule = DescentRule { scales, steps, lr };
+    let after = descend_from::<T, A>(pass, target, weights, th, gradient, rule);
+    (prediction, gradient.map(|x| x.as_f64()), after)
+}
+
+/// [`descend`]'s steps from `th`, where the loss's gradient is `gradient`: `θ_online` after them.
+#[inline(always)]
+fn descend_from<T: Real, A: MulAdd>(
+    pass: &mut impl ThetaPass<T>,
+    target: &[T; 3],
+    weights: &[T; 3],
+    mut th: [T; 3],
+    gradient: [T; 3],
+    rule: DescentRule,
+) -> OnlineParams {
+    let step = rule.scales.map(|s| T::of(rule.lr * s * s));
+    let (h_min, h_max) = (T::of(H_MIN), T::of(H_MAX));
+    let com_max = T::of(COM_OFFSET_MAX);
     let mut g = gradient;
-    for k in 0..steps {
+    for k in 0..rule.steps {
         if k > 0 {
             let output = pass.forward(&th);
             g = pass.backward(&th, loss_gradient(output, target, weights).1);
@@ -182,5 +245,5 @@ pub(crate) fn descend<T: Real, A: MulAdd>(
         next[2] = next[2].max(h_min).min(h_max);
         th = next;
     }
-    (prediction, first_gradient, theta_params(&th))
+    theta_params(&th)
 }

@@ -87,6 +87,21 @@ pub trait OnlineModel {
     /// The sample's residual normalised by the loss's σ and its Jacobian with respect to
     /// `θ_online` at `theta`: what Gauss–Newton and the posterior of `θ_online` are built from.
     fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization;
+    /// [`OnlineModel::linearize`] and [`OnlineModel::online_step`] from the same `theta`: what
+    /// gradient descent with the posterior kept beside it needs each frame (`learn::learn_step`). The
+    /// same numbers as the two calls; a model may share their common work (the contact model
+    /// prepares the sample and runs the forward pass at `theta` once).
+    fn linearize_and_step(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+        descent: &Descent,
+    ) -> (Linearization, OnlineStep) {
+        (
+            self.linearize(sample, theta),
+            self.online_step(sample, theta, descent),
+        )
+    }
     /// Where `θ_online` can physically be on the object, when the model knows its outline: online
     /// learning keeps every step inside (`learn::step`).
     fn bounds(&self) -> Option<&PhysicalBounds> {
@@ -214,6 +229,24 @@ impl OnlineModel for ContactModelOnObject {
             .linearize(&self.geometry, sample, &theta.clamped())
     }
 
+    fn linearize_and_step(
+        &self,
+        sample: &Sample,
+        theta: &OnlineParams,
+        descent: &Descent,
+    ) -> (Linearization, OnlineStep) {
+        let theta_before = theta.clamped();
+        let (linearization, result) = self.model.linearize_and_update(
+            &self.geometry,
+            sample,
+            &theta_before,
+            descent.steps,
+            descent.lr,
+        );
+        let step = OnlineStep::of(sample, theta_before, result, &self.model.loss_scale());
+        (linearization, step)
+    }
+
     fn bounds(&self) -> Option<&PhysicalBounds> {
         Some(self.geometry.bounds())
     }
@@ -277,6 +310,9 @@ macro_rules! forward_online_model {
             }
             fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
                 (**self).linearize(sample, theta)
+            }
+            fn linearize_and_step(&self, sample: &Sample, theta: &OnlineParams, descent: &Descent) -> (Linearization, OnlineStep) {
+                (**self).linearize_and_step(sample, theta, descent)
             }
             fn bounds(&self) -> Option<&PhysicalBounds> { (**self).bounds() }
             fn com_misfit(&self) -> ComMisfit { (**self).com_misfit() }

@@ -122,6 +122,7 @@ impl ContactGeometry {
     /// edge's interior the edge's normal, at a corner the direction from the corner to the pusher
     /// (from the pusher to the corner when it is inside a concave one); ties go to the lower-numbered
     /// edge.
+    #[inline(always)]
     pub(crate) fn frame(&self, pusher: Point2<f64>, motion: Vector2<f64>) -> ContactFrame {
         let mut inside = true;
         let mut crossings_odd = false;
@@ -181,6 +182,7 @@ impl ContactGeometry {
 
 impl ContactFrame {
     /// A vector in the contact frame's coordinates `(normal, tangent)`.
+    #[inline(always)]
     pub fn in_frame(&self, v: Vector2<f64>) -> [f64; 2] {
         [v.dot(&self.normal_in), v.dot(&self.tangent)]
     }

@@ -254,7 +254,6 @@ impl<T: Real> ContactModel<T> {
         input: &SampleInput,
         theta: &OnlineParams,
     ) -> Prediction {
-        let prepared = self.prepare(geometry, input);
-        self.predict_prepared(&prepared, &theta_real(theta))
+        self.predict_on(geometry, input, &theta_real(theta))
     }
 }

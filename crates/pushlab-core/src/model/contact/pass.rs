@@ -10,7 +10,8 @@ use super::frame::ContactGeometry;
 use super::prior::{ConePass, cone_backward, cone_forward, swept_motion};
 use super::{CONTACT_INPUTS, ContactModel};
 use crate::model::kernel::{
-    Linearization, RealSample, ThetaPass, descend, linearize, loss_weights,
+    DescentRule, Linearization, RealSample, ThetaPass, descend, linearize, linearize_and_descend,
+    loss_weights,
 };
 use crate::model::mlp::{Activations, HIDDEN, Mlp, OUTPUTS};
 use crate::model::params::OnlineParams;
@@ -64,6 +65,7 @@ pub(crate) struct Features {
 }
 
 impl Features {
+    #[inline(always)]
     pub(crate) fn of(geometry: &ContactGeometry, input: &SampleInput) -> Self {
         let pusher = Point2::from(input.robot_in_object);
         let motion = Vector2::from(input.robot_motion_in_object);
@@ -84,6 +86,7 @@ impl Features {
     }
 
     /// Inputs 2…5: the gap and the tangential offset per motion length, the motion's direction.
+    #[inline(always)]
     fn context(&self, motion_floor: f64) -> [f64; 4] {
         let per_motion = 1.0 / (self.length + motion_floor);
         [
@@ -171,11 +174,13 @@ impl<T: Real> ContactModel<T> {
     }
 
     /// The part of a pass that does not depend on `θ_online`.
+    #[inline(always)]
     pub(crate) fn prepare(&self, geometry: &ContactGeometry, input: &SampleInput) -> Prepared<T> {
         self.prepare_features(&Features::of(geometry, input))
     }
 
     /// [`ContactModel::prepare`] from the sample's [`Features`].
+    #[inline(always)]
     pub(crate) fn prepare_features(&self, f: &Features) -> Prepared<T> {
         let mut x = [T::zero(); CONTACT_INPUTS];
         for (j, value) in f.context(self.inputs.motion_floor).into_iter().enumerate() {
@@ -393,15 +398,24 @@ impl<T: Real> ContactModel<T> {
     }
 
     crate::simd::dispatch_simd! {
-        /// The forward pass of a prepared sample to a [`Prediction`].
-        pub(crate) fn predict_prepared(&self, prepared: &Prepared<T>, theta: &[T; 3]) -> Prediction
+        /// A sample prepared and passed forward to a [`Prediction`]. The preparation runs inside the
+        /// AVX2 copy too (its arithmetic is unfused, so its bits do not change): it is a third of a
+        /// prediction.
+        pub(crate) fn predict_on(&self, geometry: &ContactGeometry, input: &SampleInput,
+            theta: &[T; 3]) -> Prediction
             => predict_portable, predict_avx2
     }
 
     #[inline(always)]
-    fn predict_portable<A: MulAdd>(&self, prepared: &Prepared<T>, theta: &[T; 3]) -> Prediction {
+    fn predict_portable<A: MulAdd>(
+        &self,
+        geometry: &ContactGeometry,
+        input: &SampleInput,
+        theta: &[T; 3],
+    ) -> Prediction {
+        let prepared = self.prepare(geometry, input);
         let mut pass = Pass::default();
-        self.forward::<A>(prepared, theta, &mut pass);
+        self.forward::<A>(&prepared, theta, &mut pass);
         pass.outer.tail.prediction(theta)
     }
 
@@ -414,16 +428,15 @@ impl<T: Real> ContactModel<T> {
         steps: usize,
         lr: f64,
     ) -> (Prediction, [f64; 3], OnlineParams) {
-        let prepared = self.prepare(geometry, &sample.input);
-        let target = RealSample::<T>::of(sample).target;
         let scales = self.theta_scales(geometry);
-        self.online_update_prepared(&prepared, &target, theta, scales, steps, lr)
+        self.online_update_on(geometry, sample, theta, scales, steps, lr)
     }
 
     crate::simd::dispatch_simd! {
-        /// [`ContactModel::online_update`] of a prepared sample, in the widest SIMD available.
+        /// [`ContactModel::online_update`], preparation included (see [`ContactModel::predict_on`]),
+        /// in the widest SIMD available.
         #[allow(clippy::too_many_arguments)]
-        fn online_update_prepared(&self, prepared: &Prepared<T>, target: &[T; 3], theta: &OnlineParams,
+        fn online_update_on(&self, geometry: &ContactGeometry, sample: &Sample, theta: &OnlineParams,
             scales: [f64; 3], steps: usize, lr: f64) -> (Prediction, [f64; 3], OnlineParams)
             => online_update_portable, online_update_avx2
     }
@@ -432,13 +445,15 @@ impl<T: Real> ContactModel<T> {
     #[allow(clippy::too_many_arguments)]
     fn online_update_portable<A: MulAdd>(
         &self,
-        prepared: &Prepared<T>,
-        target: &[T; 3],
+        geometry: &ContactGeometry,
+        sample: &Sample,
         theta: &OnlineParams,
         scales: [f64; 3],
         steps: usize,
         lr: f64,
     ) -> (Prediction, [f64; 3], OnlineParams) {
+        let prepared = &self.prepare(geometry, &sample.input);
+        let target = &RealSample::<T>::of(sample).target;
         let weights = loss_weights(&self.loss_scale);
         let mut pass = OnlinePass::<T, A> {
             model: self,
@@ -459,14 +474,13 @@ impl<T: Real> ContactModel<T> {
         sample: &Sample,
         theta: &OnlineParams,
     ) -> Linearization {
-        let prepared = self.prepare(geometry, &sample.input);
-        let target = RealSample::<T>::of(sample).target;
-        self.linearize_prepared(&prepared, &target, theta)
+        self.linearize_on(geometry, sample, theta)
     }
 
     crate::simd::dispatch_simd! {
-        /// [`ContactModel::linearize`] of a prepared sample, in the widest SIMD available.
-        fn linearize_prepared(&self, prepared: &Prepared<T>, target: &[T; 3], theta: &OnlineParams)
+        /// [`ContactModel::linearize`], preparation included (see [`ContactModel::predict_on`]), in
+        /// the widest SIMD available.
+        fn linearize_on(&self, geometry: &ContactGeometry, sample: &Sample, theta: &OnlineParams)
             -> Linearization
             => linearize_portable, linearize_avx2
     }
@@ -474,10 +488,12 @@ impl<T: Real> ContactModel<T> {
     #[inline(always)]
     fn linearize_portable<A: MulAdd>(
         &self,
-        prepared: &Prepared<T>,
-        target: &[T; 3],
+        geometry: &ContactGeometry,
+        sample: &Sample,
         theta: &OnlineParams,
     ) -> Linearization {
+        let prepared = &self.prepare(geometry, &sample.input);
+        let target = &RealSample::<T>::of(sample).target;
         let mut pass = OnlinePass::<T, A> {
             model: self,
             prepared,
@@ -485,6 +501,55 @@ impl<T: Real> ContactModel<T> {
             multiply_add: std::marker::PhantomData,
         };
         linearize(&mut pass, target, &self.loss_scale, theta)
+    }
+}
+
+impl<T: Real> ContactModel<T> {
+    /// [`ContactModel::linearize`] and [`ContactModel::online_update`] from the same `theta`, with the
+    /// sample prepared once and one forward pass at `theta` between them (see
+    /// [`linearize_and_descend`]): the same numbers, bit for bit.
+    pub(crate) fn linearize_and_update(
+        &self,
+        geometry: &ContactGeometry,
+        sample: &Sample,
+        theta: &OnlineParams,
+        steps: usize,
+        lr: f64,
+    ) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
+        let rule = DescentRule {
+            scales: self.theta_scales(geometry),
+            steps,
+            lr,
+        };
+        self.linearize_and_update_on(geometry, sample, theta, rule)
+    }
+
+    crate::simd::dispatch_simd! {
+        /// [`ContactModel::linearize_and_update`], preparation included (see
+        /// [`ContactModel::predict_on`]), in the widest SIMD available.
+        fn linearize_and_update_on(&self, geometry: &ContactGeometry, sample: &Sample,
+            theta: &OnlineParams, rule: DescentRule)
+            -> (Linearization, (Prediction, [f64; 3], OnlineParams))
+            => linearize_and_update_portable, linearize_and_update_avx2
+    }
+
+    #[inline(always)]
+    fn linearize_and_update_portable<A: MulAdd>(
+        &self,
+        geometry: &ContactGeometry,
+        sample: &Sample,
+        theta: &OnlineParams,
+        rule: DescentRule,
+    ) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
+        let prepared = &self.prepare(geometry, &sample.input);
+        let target = &RealSample::<T>::of(sample).target;
+        let mut pass = OnlinePass::<T, A> {
+            model: self,
+            prepared,
+            pass: Pass::default(),
+            multiply_add: std::marker::PhantomData,
+        };
+        linearize_and_descend::<T, A>(&mut pass, target, &self.loss_scale, theta, rule)
     }
 }
 

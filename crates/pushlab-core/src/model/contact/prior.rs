@@ -26,6 +26,7 @@ use crate::real::Real;
 const MIN_SLIDING_NORMAL: f64 = 1e-3;
 
 /// The swept pushing motion in the contact frame: see the module documentation.
+#[inline(always)]
 pub fn swept_motion(motion: [f64; 2], gap: f64, tolerance: f64) -> [f64; 2] {
     let normal = motion[0];
     if normal <= 1e-12 {

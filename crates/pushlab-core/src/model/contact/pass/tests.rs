@@ -293,3 +293,28 @@ fn the_linearization_s_jacobian_matches_central_differences_of_its_residual() {
         }
     }
 }
+
+#[test]
+fn linearizing_and_updating_together_gives_the_bits_of_the_two_calls() {
+    let geometry = square();
+    let s = sample();
+    for seed in [1, 2, 3] {
+        let model = model_f64(seed).cast::<f32>();
+        for theta in [
+            OnlineParams {
+                com_offset: [0.012, -0.018],
+                h: 0.07,
+            },
+            model.theta0(&geometry),
+        ] {
+            let (lin, update) = model.linearize_and_update(&geometry, &s, &theta, 5, 0.005);
+            assert_eq!(lin, model.linearize(&geometry, &s, &theta), "seed {seed}");
+            assert_eq!(
+                update,
+                model.online_update(&geometry, &s, &theta, 5, 0.005),
+                "seed {seed}"
+            );
+            assert_ne!(update.2, theta, "the step must learn something");
+        }
+    }
+}
