@@ -61,7 +61,6 @@ impl Model {
         baseline: bool,
         com_calibration: bool,
     ) -> PyResult<Self> {
-        let calibrate = com_calibration;
         let kind = match kind {
             Some(name) => ModelKind::from_name(name).ok_or_else(|| {
                 let names: Vec<&str> = ModelKind::ALL.iter().map(|k| k.name()).collect();
@@ -105,8 +104,14 @@ impl Model {
                     cancel.store(true, Ordering::Relaxed);
                 }
             };
-            let combined =
-                train_calibrated(kind, &used, &config, calibrate, &mut progress, &cancel)?;
+            let combined = train_calibrated(
+                kind,
+                &used,
+                &config,
+                com_calibration,
+                &mut progress,
+                &cancel,
+            )?;
             let pure_nn = if baseline && !cancel.load(Ordering::Relaxed) {
                 Some(train_baseline(&used, &config, &mut progress, &cancel)?)
             } else {

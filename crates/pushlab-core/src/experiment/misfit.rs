@@ -23,7 +23,7 @@ use super::evaluate::TrajectoryRun;
 use super::train::train_combined;
 use crate::learn::uncertainty::CHI2_2DOF_95;
 use crate::learn::{OnlineConfig, Optimizer, TrainConfig, TrainError, TrainProgress, Trained};
-use crate::model::{ComMisfit, CombinedModel, ModelKind, OnlineModel};
+use crate::model::{ComMisfit, CombinedModel, ModelKind};
 
 /// The share of left-out pushes whose 95 % ellipse must hold the truth: the ellipse's own level.
 pub const MISFIT_COVERAGE: f64 = 0.95;
@@ -153,7 +153,8 @@ fn left_out_push(
     };
     let run = TrajectoryRun::learn(model, used, 0, &config).ok()?.run;
     run.learned_steps().next()?;
-    let h0 = super::model_on(model, used).ok()?.theta0().h;
+    // θ at frame 0 is the model's θ_online(0) on this object.
+    let h0 = run.theta_at(0).h;
     let estimate = run.theta_at(run.frontier()).com_offset;
     let c = run.posterior().com_covariance();
     let h2 = h0 * h0;

@@ -455,12 +455,7 @@ impl<T: Real> ContactModel<T> {
         let prepared = &self.prepare(geometry, &sample.input);
         let target = &RealSample::<T>::of(sample).target;
         let weights = loss_weights(&self.loss_scale);
-        let mut pass = OnlinePass::<T, A> {
-            model: self,
-            prepared,
-            pass: Pass::default(),
-            multiply_add: std::marker::PhantomData,
-        };
+        let mut pass = OnlinePass::<T, A>::new(self, prepared);
         descend::<T, A>(&mut pass, target, &weights, theta, scales, steps, lr)
     }
 }
@@ -494,12 +489,7 @@ impl<T: Real> ContactModel<T> {
     ) -> Linearization {
         let prepared = &self.prepare(geometry, &sample.input);
         let target = &RealSample::<T>::of(sample).target;
-        let mut pass = OnlinePass::<T, A> {
-            model: self,
-            prepared,
-            pass: Pass::default(),
-            multiply_add: std::marker::PhantomData,
-        };
+        let mut pass = OnlinePass::<T, A>::new(self, prepared);
         linearize(&mut pass, target, &self.loss_scale, theta)
     }
 }
@@ -543,12 +533,7 @@ impl<T: Real> ContactModel<T> {
     ) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
         let prepared = &self.prepare(geometry, &sample.input);
         let target = &RealSample::<T>::of(sample).target;
-        let mut pass = OnlinePass::<T, A> {
-            model: self,
-            prepared,
-            pass: Pass::default(),
-            multiply_add: std::marker::PhantomData,
-        };
+        let mut pass = OnlinePass::<T, A>::new(self, prepared);
         linearize_and_descend::<T, A>(&mut pass, target, &self.loss_scale, theta, rule)
     }
 }
@@ -559,6 +544,19 @@ struct OnlinePass<'a, T: Real, A> {
     prepared: &'a Prepared<T>,
     pass: Pass<T>,
     multiply_add: std::marker::PhantomData<A>,
+}
+
+impl<'a, T: Real, A> OnlinePass<'a, T, A> {
+    /// A pass over one prepared sample, nothing computed yet.
+    #[inline(always)]
+    fn new(model: &'a ContactModel<T>, prepared: &'a Prepared<T>) -> Self {
+        Self {
+            model,
+            prepared,
+            pass: Pass::default(),
+            multiply_add: std::marker::PhantomData,
+        }
+    }
 }
 
 impl<T: Real, A: MulAdd> ThetaPass<T> for OnlinePass<'_, T, A> {
