@@ -9,7 +9,7 @@ use std::process::Command as Process;
 
 use pushlab::app::initial_state;
 use pushlab::app::state::timeline::TimelineCommand;
-use pushlab::app::state::{Command, Persisted};
+use pushlab::app::state::{Command, OnlineCommand, Persisted, SessionCommand};
 use pushlab_core::model::FrameLoss;
 use serde_json::Value;
 
@@ -106,5 +106,99 @@ fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
     // Horizon 10: a sample from frame k ends at k + 10, so those starting in the labelled stretch and
     // those ending in it are held — two stretches of six frames.
     assert_eq!(held, 2 * (BAD_TRACKING.1 - BAD_TRACKING.0));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Plays the recording shown to its end, learning as it goes.
+fn play_to_end(state: &mut pushlab::app::state::AppState) {
+    let frames = state.recording().expect("a recording").trajectory.len();
+    for _ in 0..frames {
+        state.apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+}
+
+#[test]
+fn carrying_theta_to_the_next_push_is_pushlab_eval_carry_theta_to_the_bit() {
+    let dir = common::copy_of_sample_set(SET, "app-carry-theta");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/default-model.json");
+    let settings = Persisted {
+        carry_theta: true,
+        ..Persisted::default()
+    };
+    let mut state = initial_state(std::slice::from_ref(&dir), settings);
+    let id_of = |state: &pushlab::app::state::AppState, name: &str| {
+        state
+            .session()
+            .recordings()
+            .find(|(_, r)| r.name == name)
+            .map(|(id, _)| id)
+            .unwrap_or_else(|| panic!("{name} is open"))
+    };
+    let (first, second) = (id_of(&state, "online_001"), id_of(&state, "online_002"));
+    state.apply(Command::Session(SessionCommand::Select(first)));
+    play_to_end(&mut state);
+    let first_end = state.run().expect("a run").end_state();
+    state.apply(Command::Session(SessionCommand::Select(second)));
+    let run = state.run().expect("a run");
+    assert_eq!(run.continued_from(), Some("online_001"));
+    assert_eq!(
+        run.theta_at(0),
+        first_end.theta,
+        "goes on from the first push's θ"
+    );
+    play_to_end(&mut state);
+
+    let json = dir.join("eval.json");
+    let output = Process::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["eval", "--carry-theta", "--per-frame", "--model"])
+        .arg(&model)
+        .arg("--offline")
+        .arg(&dir)
+        .arg("--online")
+        .arg(dir.join("online_001.csv"))
+        .arg(dir.join("online_002.csv"))
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .expect("runs pushlab");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("--carry-theta: 1 of 2 trajectories went on from the one before them"),
+        "{stdout}"
+    );
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&json).expect("report")).expect("JSON");
+    assert_eq!(report["config"]["carry_theta"], Value::Bool(true));
+    let second_report = &report["trajectories"][1];
+    assert_eq!(second_report["continued"], Value::Bool(true));
+    let reported = second_report["frames"]
+        .as_array()
+        .expect("per-frame output");
+    let run = state.run().expect("a run");
+    assert_eq!(reported.len(), run.sample_count());
+    let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
+    for (k, frame) in reported.iter().enumerate() {
+        let theta = run.theta_at(k);
+        assert_eq!(bits(&frame["theta"]["h"]), theta.h.to_bits(), "h at {k}");
+        for (c, value) in theta.com_offset.iter().enumerate() {
+            assert_eq!(
+                bits(&frame["theta"]["com_offset"][c]),
+                value.to_bits(),
+                "COM offset {c} at {k}"
+            );
+        }
+    }
+
+    // Switched off, the next push starts from θ_online(0) again.
+    state.apply(Command::Online(OnlineCommand::SetCarryTheta(false)));
+    state.apply(Command::Session(SessionCommand::Select(first)));
+    let run = state.run().expect("a run");
+    assert_eq!(run.continued_from(), None);
+    assert_eq!(run.theta_at(0), run.theta0());
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """The tables of experiments/trust/run from `pushlab eval --json --per-frame` reports.
 
-Arguments: SOURCE:OPTIMIZER:REPORT.json ... where SOURCE is `mujoco` or `mit-SHAPE`.
+Arguments: SOURCE:OPTIMIZER:REPORT.json ... where SOURCE is `mujoco` or `mit-SHAPE`, with `-carry`
+appended for a report made with `--carry-theta` (each push going on from the one before it of the
+same object): those make the tables of learning across pushes, not the rows and targets above them,
+which are the issue's claims for one push learned from θ_online(0).
 Per push it takes from the report: the final θ and its posterior (`com_offset_learned`,
 `com_offset_cov`), θ at every frame (`frames[].theta`, from --per-frame) and the source file; the
 truth is `com_offset_true` for MuJoCo (from its setting.json) and the geometric centre (0, 0) for MIT
@@ -13,7 +16,11 @@ that nothing depends on what a pushlab version puts in `com_found`:
   - COM out: pushes whose learned COM left the outline at any frame (and at the last);
   - h/R: h over R, the largest distance from the learned COM to the outline (the most h can be for
     any pressure under the object), at every frame; h > R counts the pushes where it exceeded 1;
-  - NMSE: the reports' online / fixed / physics-only online, means weighted by online samples.
+  - NMSE: the reports' online / fixed / physics-only online, means weighted by online samples;
+  - along the final posterior's axes: the error's component along the axis it knows best and the one
+    it knows least (the eigenvectors of C), medians in mm: how much of the error is where one push
+    cannot see;
+  - with -carry: the final error after the n-th push of an object (n counted from `continued`).
 """
 
 import argparse
@@ -125,7 +132,22 @@ def push_of(source_kind, traj, outlines):
         "h_mm": traj["h_learned"] * 1000,
         "h_true_mm": traj["h_true"] * 1000 if traj.get("h_true") is not None else None,
         "frames_per_theta": bool(frames),
+        "along_axes_mm": along_axes(est, cov, truth),
+        "continued": bool(traj.get("continued")),
     }
+
+
+def along_axes(estimate, cov, truth):
+    """|error| along the best- and least-known axes of the 2 x 2 covariance `cov`, mm."""
+    a, b, c = cov[0][0], cov[0][1], cov[1][1]
+    mean, half = (a + c) / 2, math.hypot((a - c) / 2, b)
+    # The eigenvector of the larger eigenvalue mean + half.
+    angle = 0.5 * math.atan2(2 * b, a - c)
+    worst = (math.cos(angle), math.sin(angle))
+    d = (estimate[0] - truth[0], estimate[1] - truth[1])
+    along_worst = abs(d[0] * worst[0] + d[1] * worst[1]) * 1000
+    along_best = abs(-d[0] * worst[1] + d[1] * worst[0]) * 1000
+    return [along_best, along_worst] if half >= 0 and mean >= 0 else [None, None]
 
 
 def weighted(reports, key, sub=None):
@@ -162,7 +184,70 @@ def summary(pushes, reports):
         out["physics_fixed"] = weighted(reports, "physics", "fixed")
     h_err = [abs(p["h_mm"] - p["h_true_mm"]) for p in pushes if p["h_true_mm"] is not None]
     out["median_h_error_mm"] = statistics.median(h_err) if h_err else None
+    axes = [p["along_axes_mm"] for p in pushes if p["along_axes_mm"][0] is not None]
+    out["median_along_best_mm"] = statistics.median(a[0] for a in axes) if axes else None
+    out["median_along_worst_mm"] = statistics.median(a[1] for a in axes) if axes else None
     return out
+
+
+def print_axes(rows):
+    print("\nWhere one push's error lies: median |error| along the final posterior's best-known and "
+          "least-known axes, mm:")
+    for r in rows:
+        s = r["summary"]
+        if s["median_along_best_mm"] is not None:
+            print(f"  {r['source']:<19} {r['optimizer']:<12} best {s['median_along_best_mm']:5.1f}  "
+                  f"least {s['median_along_worst_mm']:5.1f}  (total {s['median_error_mm']:5.1f})")
+
+
+def with_push_index(pushes):
+    """Numbers each push within its object's chain: 1 for a push from θ_online(0), n + 1 after n."""
+    n = 0
+    for p in pushes:
+        n = n + 1 if p["continued"] else 1
+        p["push_index"] = n
+    return pushes
+
+
+def chain_ends(pushes):
+    """The last push of each chain (the push before a push that starts afresh, and the very last)."""
+    return [p for i, p in enumerate(pushes) if i + 1 == len(pushes) or pushes[i + 1]["push_index"] == 1]
+
+
+def print_carried(carried):
+    """Learning across pushes (--carry-theta): the final COM after the n-th push of an object."""
+    if not carried:
+        return []
+    print("\nθ carried from push to push of one object (--carry-theta): the final COM after the n-th "
+          "push and after each object's last push (95 % holds, median error mm), and the NMSE:")
+    subsets = []
+    for (opt, kind), (pushes, reports) in carried.items():
+        if kind == "mujoco":
+            subsets.append(("MuJoCo", opt, pushes, reports))
+            moved = [p for p in pushes if p["group"]["com"] == "moved"]
+            subsets.append(("MuJoCo, COM moved", opt, moved, None))
+        else:
+            subsets.append((f"MIT {kind[4:]} held out", opt, pushes, reports))
+    for opt in ("gd", "gauss-newton"):
+        mit = [(ps, rs) for (o, k), (ps, rs) in carried.items() if o == opt and k.startswith("mit-")]
+        if mit:
+            subsets.append(("MIT held out, all", opt, [p for ps, _ in mit for p in ps],
+                            [r for _, rs in mit for r in rs]))
+    rows = []
+    for label, opt, ps, reports in subsets:
+        by_n = {n: summary([p for p in ps if p["push_index"] == n], None)
+                for n in sorted({p["push_index"] for p in ps})}
+        last = summary(chain_ends(ps), None)  # a subset keeps whole chains: the COM is per set
+        cells = [f"n={n}: {by_n[n]['holds']:>3}/{by_n[n]['pushes']:<3} {by_n[n]['median_error_mm']:5.1f}"
+                 for n in (1, 3, 5, 9) if n in by_n]
+        cells.append(f"last: {last['holds']:>3}/{last['pushes']:<3} {last['median_error_mm']:5.1f}")
+        whole = summary(ps, reports)
+        online = f"  online {nmse(whole.get('online'))} phys {nmse(whole.get('physics_online'))}" \
+            if reports is not None else ""
+        print(f"  {label:<19} {opt:<12} " + "  ".join(cells) + online)
+        rows.append({"source": label, "optimizer": opt, "summary": whole, "last": last,
+                     "by_push": by_n})
+    return rows
 
 
 def nmse(v):
@@ -266,13 +351,17 @@ def main():
     args = parser.parse_args()
     outlines = Outlines(args.shapes)
     groups = {}  # (optimizer, source kind) -> (pushes, reports)
+    carried = {}  # the same for --carry-theta reports
     for item in args.reports:
         kind, opt, path = item.split(":", 2)
         report = json.load(open(path))
+        target = groups
+        if kind.endswith("-carry"):
+            kind, target = kind[: -len("-carry")], carried
         source_kind = "mujoco" if kind == "mujoco" else "mit"
-        pushes = [push_of(source_kind, t, outlines) for t in report["trajectories"]]
+        pushes = with_push_index([push_of(source_kind, t, outlines) for t in report["trajectories"]])
         del report["trajectories"]
-        entry = groups.setdefault((opt, kind), ([], []))
+        entry = target.setdefault((opt, kind), ([], []))
         entry[0].extend(pushes)
         entry[1].append(report)
     rows = []
@@ -308,11 +397,15 @@ def main():
     mujoco = {(o, k): v for (o, k), v in groups.items() if k == "mujoco"}
     if mujoco:
         print_breakdown(mujoco)
+    print_axes(rows)
+    carried_rows = print_carried(carried)
     claims = targets(rows)
     print_sanity(args.sanity)
     if args.out:
         every = [dict(p, optimizer=o, kind=k) for (o, k), (ps, _) in groups.items() for p in ps]
-        json.dump({"rows": rows, "targets": claims, "pushes": every}, open(args.out, "w"), indent=1)
+        every += [dict(p, optimizer=o, kind=k + "-carry") for (o, k), (ps, _) in carried.items() for p in ps]
+        json.dump({"rows": rows, "carried": carried_rows, "targets": claims, "pushes": every},
+                  open(args.out, "w"), indent=1)
 
 
 if __name__ == "__main__":

@@ -64,7 +64,7 @@ fn check_rates(
                 lr,
                 ..OnlineConfig::default()
             };
-            let run = online_run(model(u), u, HORIZON, &config);
+            let run = online_run(model(u), u, HORIZON, &config, None);
             assert_eq!(run.frontier(), run.sample_count(), "learned to the end");
             for k in 0..run.sample_count() {
                 let at = format!("{name} at lr {lr} on {} frame {k}", u.source());

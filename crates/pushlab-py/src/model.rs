@@ -217,8 +217,10 @@ impl Model {
     /// Online learning of θ_online along a recording from θ_online(0) — the core's one online run,
     /// the "Online" pass of `pushlab eval` and what the app plays: `optimizer` "gd" (the paper's
     /// `steps` gradient-descent steps at learning rate `lr` per frame) or "gauss-newton"; θ is held
-    /// over samples touching frames labelled bad tracking.
-    #[pyo3(signature = (recording, optimizer="gd", *, steps=5, lr=0.005))]
+    /// over samples touching frames labelled bad tracking. With `after`, a run on another push of
+    /// the same object, learning goes on from where that run ended (θ and its posterior), as
+    /// `pushlab eval --carry-theta` does.
+    #[pyo3(signature = (recording, optimizer="gd", *, steps=5, lr=0.005, after=None))]
     fn online(
         &self,
         py: Python<'_>,
@@ -226,6 +228,7 @@ impl Model {
         optimizer: &str,
         steps: usize,
         lr: f64,
+        after: Option<&OnlineRun>,
     ) -> PyResult<OnlineRun> {
         let optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
             PyValueError::new_err(format!(
@@ -242,8 +245,28 @@ impl Model {
             lr,
             optimizer,
         };
+        let from = match after {
+            Some(after) if !after.recording().same_object_as(&recording.used.recording) => {
+                return Err(PyValueError::new_err(format!(
+                    "after: the run on {} pushes another object than {} (same folder, footprint, \
+                     material and pusher needed to go on from it)",
+                    after.recording().source.display(),
+                    recording.used.source()
+                )));
+            }
+            Some(after) => Some(after.end_state()),
+            None => None,
+        };
         let run = py
-            .detach(|| TrajectoryRun::learn(&self.file.combined, &recording.used, 0, &config))
+            .detach(|| {
+                TrajectoryRun::learn_from(
+                    &self.file.combined,
+                    &recording.used,
+                    0,
+                    &config,
+                    from.as_ref(),
+                )
+            })
             .map_err(|e| {
                 error(format!(
                     "{}: {} model: {e}",
@@ -251,10 +274,7 @@ impl Model {
                     self.kind()
                 ))
             })?;
-        Ok(OnlineRun::new(
-            run,
-            recording.used.recording.trajectory.len(),
-        ))
+        Ok(OnlineRun::new(run, recording.used.recording.clone()))
     }
 
     fn __repr__(&self) -> String {

@@ -3,7 +3,8 @@
 
 use numpy::{PyArray1, PyArray2};
 use pushlab_core::experiment::TrajectoryRun;
-use pushlab_core::learn::Nmse;
+use pushlab_core::learn::{Nmse, OnlineState};
+use pushlab_core::recording::Recording;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -15,11 +16,27 @@ use crate::convert::{column, rows, theta_row, to_python};
 pub struct OnlineRun {
     run: TrajectoryRun,
     frames: usize,
+    /// The recording learned along (shared data), to check that a run going on from this one
+    /// pushes the same object.
+    recording: Recording,
 }
 
 impl OnlineRun {
-    pub(crate) fn new(run: TrajectoryRun, frames: usize) -> Self {
-        Self { run, frames }
+    pub(crate) fn new(run: TrajectoryRun, recording: Recording) -> Self {
+        Self {
+            run,
+            frames: recording.trajectory.len(),
+            recording,
+        }
+    }
+
+    pub(crate) fn recording(&self) -> &Recording {
+        &self.recording
+    }
+
+    /// θ and the posterior where the run ended: what a run on the next push goes on from.
+    pub(crate) fn end_state(&self) -> OnlineState {
+        self.run.run.end_state()
     }
 }
 
@@ -135,6 +152,13 @@ impl OnlineRun {
     }
 
     /// Samples learned from.
+    /// Whether learning went on from another run (`model.online(…, after=run)`) rather than from
+    /// θ_online(0); `theta[0]` is then where that run ended.
+    #[getter]
+    fn continued(&self) -> bool {
+        self.run.continued
+    }
+
     #[getter]
     fn steps(&self) -> usize {
         self.run.steps()

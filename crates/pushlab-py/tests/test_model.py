@@ -53,6 +53,31 @@ def test_online_nmse_is_pushlab_evals_per_trajectory(model_file, cli, tmp_path, 
         np.testing.assert_array_equal(run.theta[-1], run.theta_end)
 
 
+def test_after_goes_on_from_the_push_before_as_eval_carry_theta(model_file, cli, tmp_path):
+    report_path = tmp_path / "eval.json"
+    run_cli(
+        cli, "eval", "--model", str(model_file), "--optimizer", "gauss-newton", "--carry-theta",
+        "--offline", *map(str, OFFLINE[:3]), "--online", *map(str, ONLINE[:3]), "--json", str(report_path),
+    )
+    report = json.loads(report_path.read_text())["trajectories"]
+    model = pushlab.Model.load(model_file)
+    run = None
+    for recording, expected in zip(pushlab.load(ONLINE[:3]), report):
+        previous, run = run, model.online(recording, optimizer="gauss-newton", after=run)
+        assert run.continued == expected["continued"] == (previous is not None)
+        if previous is not None:
+            np.testing.assert_array_equal(run.theta[0], previous.theta_end)
+        for key in ("pos", "rot"):
+            assert run.nmse[key] == pytest.approx(expected["online"][key], rel=0, abs=1e-12)
+        np.testing.assert_allclose(run.theta_end, [*expected["com_offset_learned"], expected["h_learned"]], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(run.com_offset_cov, expected["com_offset_cov"], rtol=0, atol=1e-12)
+
+    # A push of another object (another folder) is refused, naming both.
+    other = pushlab.load(SET.parent / "box2-paper-center-front" / "online_000.csv")[0]
+    with pytest.raises(ValueError, match="pushes another object than .*box2-paper-center-front"):
+        model.online(other, after=run)
+
+
 def test_bad_tracking_frames_hold_theta(model_file, set_copy):
     labels = pushlab.Labels(set_copy)
     labels.paint("online_001.csv", "bad tracking", 20, 30)

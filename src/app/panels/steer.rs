@@ -128,10 +128,19 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         {
             commands.push(Command::Online(OnlineCommand::LearnThisFrame));
         }
-        if ui.button("Reset to θ_online(0)").clicked() {
+        let reset = match run.continued_from() {
+            Some(_) => "Reset to this push's start",
+            None => "Reset to θ_online(0)",
+        };
+        if ui.button(reset).clicked() {
             commands.push(Command::Online(OnlineCommand::ResetTheta));
         }
     });
+    if let Some(previous) = run.continued_from() {
+        ui.weak(format!(
+            "Went on from what {previous} learned (same object): θ and its certainty carried."
+        ));
+    }
     let mut learn = state.settings().learn_while_playing;
     if ui
         .checkbox(&mut learn, "Learn while playing")
@@ -139,6 +148,19 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         .changed()
     {
         commands.push(Command::Online(OnlineCommand::SetLearnWhilePlaying(learn)));
+    }
+    let mut carry = state.settings().carry_theta;
+    if ui
+        .checkbox(&mut carry, "Carry θ to the next push of this object")
+        .on_hover_text(
+            "Selecting another recording of the same object (same folder, footprint, material and \
+             pusher) goes on from what this one learned, θ and its certainty, as `pushlab eval \
+             --carry-theta` does: several pushes on different faces pin the COM down better than \
+             one, but a confident θ adapts less to each push",
+        )
+        .changed()
+    {
+        commands.push(Command::Online(OnlineCommand::SetCarryTheta(carry)));
     }
     let mut config = run.config();
     let mut config_changed = false;

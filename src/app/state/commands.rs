@@ -98,6 +98,7 @@ impl AppState {
                     run.set_config_at(frame, config);
                 }
             }
+            OnlineCommand::SetCarryTheta(on) => self.settings.carry_theta = on,
             OnlineCommand::SetWhatIfSteps(steps) => {
                 self.settings.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
             }

@@ -34,7 +34,6 @@ mod views;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use pushlab_core::domain::DomainMismatch;
 use pushlab_core::learn::{OnlineConfig, TrainConfig};
@@ -145,6 +144,8 @@ pub enum OnlineCommand {
     ResetTheta,
     /// Change online steps / learning rate / optimiser (from the current frame on).
     SetConfig(OnlineConfig),
+    /// Whether the next push of the same object goes on from what this one learned.
+    SetCarryTheta(bool),
     /// How many steps what-if rollouts run ahead.
     SetWhatIfSteps(usize),
 }
@@ -190,6 +191,9 @@ pub struct Persisted {
     pub looping: bool,
     pub learn_while_playing: bool,
     pub online: OnlineConfig,
+    /// Whether selecting another push of the same object goes on from what the one shown learned
+    /// (θ and its posterior) instead of from `θ_online(0)`.
+    pub carry_theta: bool,
     /// The model trained for each folder of recordings ("Train for these recordings").
     pub folder_models: BTreeMap<PathBuf, PathBuf>,
     /// The browser's filter and sort.
@@ -209,6 +213,7 @@ impl Default for Persisted {
             looping: false,
             learn_while_playing: true,
             online: OnlineConfig::default(),
+            carry_theta: false,
             folder_models: BTreeMap::new(),
             browser: BrowserView::default(),
             what_if_steps: DEFAULT_WHAT_IF_STEPS,
@@ -513,12 +518,18 @@ impl AppState {
         self.timeline.apply(TimelineCommand::SetLoop(looping));
         self.physics = self.models.physics_for(recording).ok();
         self.overview = PathOverview::of(&recording.trajectory);
+        // Another push of the same object goes on from what the run shown learned, when asked to.
+        let previous = self.run.take();
+        let from = previous
+            .as_ref()
+            .filter(|p| self.settings.carry_theta && p.carries_to(recording));
         self.run = match self.models.learner_for(recording) {
             Ok((model, horizon)) => Some(OnlineRun::new(
                 model,
-                Arc::clone(&recording.trajectory),
+                recording,
                 horizon,
                 self.settings.online,
+                from,
             )),
             Err(message) => {
                 self.status = Some(message);

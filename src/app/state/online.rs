@@ -9,9 +9,9 @@
 use std::ops::Deref;
 use std::sync::Arc;
 
-use pushlab_core::learn::{self, OnlineConfig};
+use pushlab_core::learn::{self, OnlineConfig, OnlineState};
 use pushlab_core::model::{OnlineParams, OnlineStep, SharedOnlineModel};
-use pushlab_core::trajectory::Trajectory;
+use pushlab_core::recording::Recording;
 
 use super::run_plots::{RunPlots, Series};
 
@@ -19,19 +19,52 @@ use super::run_plots::{RunPlots, Series};
 pub struct OnlineRun {
     run: learn::OnlineRun,
     plots: RunPlots,
+    /// The recording learned along (shared data; kept to tell whether the next one pushes the same
+    /// object).
+    recording: Recording,
+    /// The recording whose run this one went on from ("Carry θ to the next push"), by name.
+    continued_from: Option<String>,
 }
 
 impl OnlineRun {
-    /// A run at frame 0 with θ = `θ_online(0)` of the model.
+    /// A run on `recording` at frame 0 with θ = `θ_online(0)` of the model, or going on from where
+    /// the run on `from`'s recording ended (the same object, see [`learn::OnlineRun::continuing`]).
     pub fn new(
         model: SharedOnlineModel,
-        trajectory: Arc<Trajectory>,
+        recording: &Recording,
         horizon: usize,
         config: OnlineConfig,
+        from: Option<&OnlineRun>,
     ) -> Self {
-        let mut run = learn::OnlineRun::new(model, trajectory, horizon, config);
+        let trajectory = Arc::clone(&recording.trajectory);
+        let mut run = match from {
+            Some(from) => {
+                learn::OnlineRun::continuing(model, trajectory, horizon, config, &from.end_state())
+            }
+            None => learn::OnlineRun::new(model, trajectory, horizon, config),
+        };
         let plots = RunPlots::new(&mut run);
-        Self { run, plots }
+        Self {
+            run,
+            plots,
+            recording: recording.clone(),
+            continued_from: from.map(|f| f.recording.name.clone()),
+        }
+    }
+
+    /// Whether a run on `next` may go on from this one: another recording of the same object.
+    pub fn carries_to(&self, next: &Recording) -> bool {
+        self.recording.source != next.source && self.recording.same_object_as(next)
+    }
+
+    /// The recording this run went on from, by name, when it did.
+    pub fn continued_from(&self) -> Option<&str> {
+        self.continued_from.as_deref()
+    }
+
+    /// θ and the posterior where this run has learned to: what the next push goes on from.
+    pub fn end_state(&self) -> OnlineState {
+        self.run.end_state()
     }
 
     /// The plots' derived series.
@@ -75,7 +108,8 @@ impl OnlineRun {
         step
     }
 
-    /// Back to `θ_online(0)` at frame 0, forgetting all learning.
+    /// Back to the run's start at frame 0 (`θ_online(0)`, or where the push it went on from
+    /// ended), forgetting all learning along this recording.
     pub fn reset(&mut self) {
         self.run.reset();
         self.plots.follow(&mut self.run);

@@ -303,6 +303,7 @@ mod tests {
     use pushlab_core::geometry::{Outline, Pose2};
     use pushlab_core::learn::OnlineConfig;
     use pushlab_core::model::{LossScale, PhysicsOnlyModel, samples_from_trajectory};
+    use pushlab_core::recording::{ObjectShape, Recording, Setting};
     use pushlab_core::trajectory::{Frame, Trajectory};
 
     /// A 10 cm box pushed off-centre along +x for `n` frames at 100 Hz.
@@ -325,7 +326,29 @@ mod tests {
         scale.sigma_rot = scale.sigma_rot.max(1e-3);
         let outline = Outline::rectangle(0.1, 0.1).expect("valid box");
         let model = PhysicsOnlyModel::new(outline, 0.01, 0.002, scale);
-        OnlineRun::new(Arc::new(model), trajectory, 1, OnlineConfig::default())
+        let recording = Recording {
+            source: "push.csv".into(),
+            name: "push".into(),
+            setting: Arc::new(Setting::of_object(
+                "test",
+                ObjectShape::Box {
+                    width: 0.1,
+                    length: 0.1,
+                },
+                0.01,
+            )),
+            entry: None,
+            trajectory,
+            warnings: Vec::new(),
+            cameras: Vec::new(),
+        };
+        OnlineRun::new(
+            Arc::new(model),
+            &recording,
+            1,
+            OnlineConfig::default(),
+            None,
+        )
     }
 
     /// Every point `series` would give if the whole run were drawn point by point.

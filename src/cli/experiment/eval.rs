@@ -5,7 +5,8 @@
 //! - **Offline NN** and **Offline**: the pure network and the combined model on the offline data;
 //! - **Fixed**: the combined model on the online data with `θ_online` kept at `θ_online(0)`;
 //! - **Online**: the combined model learning `θ_online` online (eq. 13), reset to `θ_online(0)` at the
-//!   start of each online trajectory;
+//!   start of each online trajectory, or with `--carry-theta` going on from the push before it when
+//!   both push the same object;
 //! - with `--physics`, the physics-only model (outline + Lynch, no network) fixed and online, which
 //!   shows what the network buys.
 //!
@@ -78,6 +79,12 @@ pub struct EvalArgs {
     /// without contact the physics-only model predicts no motion.
     #[arg(long, value_name = "METRES", default_value_t = DEFAULT_CONTACT_TOLERANCE, value_parser = positive_real)]
     pub contact_tolerance: f64,
+    /// Carry θ_online and its posterior from each online recording to the next when both push the
+    /// same object (same folder, footprint, material and pusher), in the order given, instead of
+    /// starting every push from θ_online(0): a push on one face barely sees the COM's depth along
+    /// its normal, the next push on another face does.
+    #[arg(long)]
+    pub carry_theta: bool,
 }
 
 /// Runs `pushlab eval`.
@@ -153,6 +160,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
             optimizer: args.optimizer,
         },
         physics: args.physics.then_some(args.contact_tolerance),
+        carry: args.carry_theta,
     };
     let evaluation = experiment::evaluate(
         &combined,
@@ -173,6 +181,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
             epochs: trained_with.epochs,
             seed: trained_with.seed,
             config: options.online,
+            carry: options.carry,
             model: args.model.as_ref().map(|p| p.display().to_string()),
             split_from_labels: args.training.split_from_labels,
             per_frame: args.per_frame,
@@ -353,6 +362,14 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
             com_true,
             t.h_learned,
             format!("({h_true})"),
+        );
+    }
+    if report.config.carry_theta {
+        let continued = report.trajectories.iter().filter(|t| t.continued).count();
+        println!(
+            "--carry-theta: {continued} of {} trajectories went on from the one before them (same \
+             object); the others started from θ_online(0)",
+            report.trajectories.len()
         );
     }
     if let Some(p) = &report.per_label {

@@ -89,6 +89,11 @@ impl UsedRecording {
     pub fn source(&self) -> String {
         self.recording.source.display().to_string()
     }
+
+    /// Whether `other` pushes the same physical object ([`Recording::same_object_as`]).
+    pub fn same_object_as(&self, other: &UsedRecording) -> bool {
+        self.recording.same_object_as(&other.recording)
+    }
 }
 
 /// The contact-frame geometry of a setting's object and pusher.

@@ -10,7 +10,7 @@ use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Skipped, UsedRecording};
 use crate::geometry::OutlineError;
 use crate::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
-use crate::learn::{Nmse, OnlineConfig, OnlineRun, Posterior};
+use crate::learn::{Nmse, OnlineConfig, OnlineRun, OnlineState, Posterior};
 use crate::model::{
     CombinedModel, FrameLoss, Loss, LossScale, NoOutline, OnlineModel, OnlineParams, OnlineStep,
     PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel, samples_from_trajectory,
@@ -24,6 +24,11 @@ pub struct EvalOptions {
     pub online: OnlineConfig,
     /// With `Some(tolerance)`, also the physics-only model with this contact tolerance, metres.
     pub physics: Option<f64>,
+    /// Each online recording goes on from where the one before it ended when both push the same
+    /// object ([`UsedRecording::same_object_as`]): θ and the posterior carried from push to push, as
+    /// a robot pushing one object again would. Without it, every push starts from `θ_online(0)` (the
+    /// paper's protocol).
+    pub carry: bool,
 }
 
 /// A trained model bound to one recording's object: `θ_online(0)`, step sizes and predictions for
@@ -78,21 +83,21 @@ pub fn fixed_pass(learner: &dyn OnlineModel, samples: &[Sample]) -> Vec<OnlineSt
         .collect()
 }
 
-/// Online learning along a recording from `θ_online(0)` (Algorithm 1, with the configured optimiser)
-/// on samples `horizon` frames long, holding θ over samples on frames labelled bad tracking: the
-/// "Online" run.
+/// Online learning along a recording from `θ_online(0)`, or from where an earlier push of the same
+/// object ended (`from`), with the configured optimiser (Algorithm 1) on samples `horizon` frames
+/// long, holding θ over samples on frames labelled bad tracking: the "Online" run.
 pub fn online_run(
     model: SharedOnlineModel,
     used: &UsedRecording,
     horizon: usize,
     config: &OnlineConfig,
+    from: Option<&OnlineState>,
 ) -> OnlineRun {
-    let mut run = OnlineRun::new(
-        model,
-        Arc::clone(&used.recording.trajectory),
-        horizon,
-        *config,
-    );
+    let trajectory = Arc::clone(&used.recording.trajectory);
+    let mut run = match from {
+        Some(from) => OnlineRun::continuing(model, trajectory, horizon, *config, from),
+        None => OnlineRun::new(model, trajectory, horizon, *config),
+    };
     run.learn_all(&used.skip);
     run
 }
@@ -106,6 +111,9 @@ pub struct TrajectoryRun {
     pub run: OnlineRun,
     /// The COM estimate against the recording's true COM, when it has one (simulated sets).
     pub com_truth: Option<ComTruth>,
+    /// Whether the run went on from the push before it (`EvalOptions::carry`) rather than from
+    /// `θ_online(0)`.
+    pub continued: bool,
 }
 
 impl TrajectoryRun {
@@ -120,8 +128,20 @@ impl TrajectoryRun {
         index: usize,
         config: &OnlineConfig,
     ) -> Result<Self, NoOutline> {
+        Self::learn_from(model, used, index, config, None)
+    }
+
+    /// [`TrajectoryRun::learn`] going on from where an earlier push of the same object ended
+    /// (`from`, see [`OnlineRun::continuing`]), or from `θ_online(0)`.
+    pub fn learn_from(
+        model: &CombinedModel,
+        used: &UsedRecording,
+        index: usize,
+        config: &OnlineConfig,
+        from: Option<&OnlineState>,
+    ) -> Result<Self, NoOutline> {
         let learner = model_on(model, used)?;
-        let run = online_run(learner, used, model.horizon(), config);
+        let run = online_run(learner, used, model.horizon(), config, from);
         let com_truth = used.recording.setting.com_offset.and_then(|truth| {
             let after: Vec<[f64; 2]> = run
                 .learned_steps()
@@ -133,6 +153,7 @@ impl TrajectoryRun {
             recording: index,
             run,
             com_truth,
+            continued: from.is_some(),
         })
     }
 
@@ -268,9 +289,10 @@ pub fn evaluate(
         }
     }
 
-    let mut trajectories = Vec::new();
+    let mut trajectories: Vec<TrajectoryRun> = Vec::new();
     for (index, u) in online.iter().enumerate() {
-        match TrajectoryRun::learn(model, u, index, &options.online) {
+        let carried = carried_from(options.carry, online, index, trajectories.last());
+        match TrajectoryRun::learn_from(model, u, index, &options.online, carried.as_ref()) {
             Ok(run) => trajectories.push(run),
             Err(e) => left_out.push(Skipped {
                 path: u.source(),
@@ -281,7 +303,7 @@ pub fn evaluate(
 
     let physics = options
         .physics
-        .map(|tolerance| physics_nmse(offline, online, horizon, scale, tolerance, &options.online));
+        .map(|tolerance| physics_nmse(offline, online, horizon, scale, tolerance, options));
     let mean = |f: fn(&Loss) -> f64| {
         offline_losses.iter().map(f).sum::<f64>() / offline_losses.len().max(1) as f64
     };
@@ -312,7 +334,7 @@ fn physics_nmse(
     horizon: usize,
     scale: LossScale,
     tolerance: f64,
-    config: &OnlineConfig,
+    options: &EvalOptions,
 ) -> PhysicsNmse {
     let model = |u: &UsedRecording| physics_model(&u.recording, scale, tolerance).ok();
     let mut offline_losses = Vec::new();
@@ -322,15 +344,19 @@ fn physics_nmse(
         }
     }
     let (mut fixed, mut learned) = (Vec::new(), Vec::new());
-    for u in online {
+    let mut previous: Option<TrajectoryRun> = None;
+    for (index, u) in online.iter().enumerate() {
         if let Some(m) = model(u) {
+            let carried = carried_from(options.carry, online, index, previous.as_ref());
             let run = TrajectoryRun {
-                recording: 0,
-                run: online_run(Arc::new(m), u, horizon, config),
+                recording: index,
+                run: online_run(Arc::new(m), u, horizon, &options.online, carried.as_ref()),
                 com_truth: None,
+                continued: carried.is_some(),
             };
             fixed.extend(run.fixed());
             learned.extend(run.online());
+            previous = Some(run);
         }
     }
     PhysicsNmse {
@@ -338,6 +364,22 @@ fn physics_nmse(
         fixed: Nmse::of_frames(fixed),
         online: Nmse::of_frames(learned),
     }
+}
+
+/// Where the online recording `index` starts when pushes are carried: the end of the run just before
+/// it, when that run is of the recording just before it and both push the same object. A recording
+/// left out (no outline) breaks the chain.
+fn carried_from(
+    carry: bool,
+    online: &[UsedRecording],
+    index: usize,
+    previous: Option<&TrajectoryRun>,
+) -> Option<OnlineState> {
+    let previous = previous.filter(|_| carry)?;
+    (index > 0
+        && previous.recording == index - 1
+        && online[index].same_object_as(&online[index - 1]))
+    .then(|| previous.run.end_state())
 }
 
 /// Mean total loss per range label, when any online recording has labels.

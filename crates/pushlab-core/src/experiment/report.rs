@@ -26,6 +26,8 @@ pub struct ReportContext<'a> {
     pub epochs: usize,
     pub seed: u64,
     pub config: OnlineConfig,
+    /// Whether θ was carried from push to push of one object (`EvalOptions::carry`).
+    pub carry: bool,
     /// The model file evaluated, or `None` when trained for the evaluation.
     pub model: Option<String>,
     pub split_from_labels: bool,
@@ -66,6 +68,10 @@ pub struct TrajectoryReport {
     pub online: Nmse,
     /// `θ_online(0)` of this trajectory (per object for the contact-frame model).
     pub theta0: OnlineParams,
+    /// θ at its first frame: `theta0`, or with `--carry-theta` where the push before it ended.
+    pub theta_start: OnlineParams,
+    /// Whether it went on from the push before it (`--carry-theta`, same object).
+    pub continued: bool,
     /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
     pub com_offset_learned: [f64; 2],
     pub h_learned: f64,
@@ -109,6 +115,9 @@ pub struct ConfigReport {
     pub steps: usize,
     pub lr: f64,
     pub optimizer: Optimizer,
+    /// Whether θ_online and its posterior went on from each push to the next of the same object
+    /// (`--carry-theta`) instead of starting from θ_online(0).
+    pub carry_theta: bool,
     /// The model file given, or `null` when trained for the evaluation.
     pub model: Option<String>,
     pub split_from_labels: bool,
@@ -173,6 +182,7 @@ impl EvalReport {
                 steps: context.config.steps,
                 lr: context.config.lr,
                 optimizer: context.config.optimizer,
+                carry_theta: context.carry,
                 model: context.model.clone(),
                 split_from_labels: context.split_from_labels,
                 theta0: evaluation.trajectories.first().map(TrajectoryRun::theta0),
@@ -204,6 +214,8 @@ impl TrajectoryReport {
             fixed: r.fixed_nmse(),
             online: r.online_nmse(),
             theta0: r.theta0(),
+            theta_start: r.run.theta_at(0),
+            continued: r.continued,
             com_offset_learned: theta_end.com_offset,
             h_learned: theta_end.h,
             com_offset_cov: posterior.com_covariance(),

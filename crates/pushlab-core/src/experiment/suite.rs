@@ -301,6 +301,7 @@ pub fn run_experiment(
                 optimizer: spec.optimizer,
             },
             physics: (spec.physics && i == 0).then_some(spec.contact_tolerance),
+            carry: false,
         };
         let evaluation = evaluate(&trained.model, None, &offline.used, &online.used, &options);
         if let Some(physics) = evaluation.physics {

@@ -64,6 +64,9 @@ pub struct OnlineRun {
     keyframes: Vec<Posterior>,
     /// The posterior at the frontier.
     posterior: Posterior,
+    /// Where the run starts and [`OnlineRun::reset`] returns: `θ_online(0)` and the prior, or what an
+    /// earlier push of the same object ended with ([`OnlineRun::continuing`]).
+    start: OnlineState,
     /// Sums over the learned frames, for [`OnlineRun::mean_losses`].
     totals: MeanLosses,
     /// The earliest frame whose results were dropped since [`OnlineRun::take_cut`] was last called.
@@ -91,18 +94,47 @@ impl OnlineRun {
         horizon: usize,
         config: OnlineConfig,
     ) -> Self {
+        let start = OnlineState::start(model.as_ref(), config.optimizer);
+        Self::starting_at(model, trajectory, horizon, config, start)
+    }
+
+    /// A run that goes on from where a run on an earlier push of the same object ended
+    /// ([`OnlineRun::end_state`]): its θ (kept physical on this object) and its posterior, with
+    /// every frame it took in. A push on one face leaves the COM's depth along that face's normal
+    /// barely seen; the next push, on another face, sees it. The fixed run still predicts with
+    /// `θ_online(0)`, so "Online" against "Fixed" measures everything learned so far.
+    pub fn continuing(
+        model: SharedOnlineModel,
+        trajectory: Arc<Trajectory>,
+        horizon: usize,
+        config: OnlineConfig,
+        from: &OnlineState,
+    ) -> Self {
+        let theta = model.keep_physical(from.theta);
+        let misfit = com_misfit_m(model.as_ref(), config.optimizer);
+        let start = OnlineState::at(theta, from.posterior.with_com_misfit(misfit));
+        Self::starting_at(model, trajectory, horizon, config, start)
+    }
+
+    fn starting_at(
+        model: SharedOnlineModel,
+        trajectory: Arc<Trajectory>,
+        horizon: usize,
+        config: OnlineConfig,
+        start: OnlineState,
+    ) -> Self {
         let horizon = horizon.max(1);
         let theta0 = model.theta0();
         let fixed = (0..sample_count(&trajectory, horizon))
             .filter_map(|k| sample_at(&trajectory, k, horizon))
             .map(|s| FrameLoss::of(&model.evaluate(&s, &theta0).loss))
             .collect();
-        let start = OnlineState::start(model.as_ref(), config.optimizer);
         Self {
             checkpoints: vec![start.theta],
             spreads: vec![Spread::of(&start.posterior)],
             keyframes: vec![start.posterior],
             posterior: start.posterior,
+            start,
             model,
             trajectory,
             horizon,
@@ -127,6 +159,11 @@ impl OnlineRun {
     /// `θ_online(0)`.
     pub fn theta0(&self) -> OnlineParams {
         self.model.theta0()
+    }
+
+    /// θ and the posterior at the frontier: what [`OnlineRun::continuing`] goes on from.
+    pub fn end_state(&self) -> OnlineState {
+        self.state(self.frontier())
     }
 
     /// Frames between a sample's start and its target.
@@ -302,10 +339,15 @@ impl OnlineRun {
         Some(step)
     }
 
-    /// Back to `θ_online(0)` and the prior at frame 0, forgetting all learning.
+    /// Back to the run's start at frame 0 (`θ_online(0)` and the prior, or what the push it goes on
+    /// from ended with), forgetting all learning along this recording.
     pub fn reset(&mut self) {
         self.truncate_to(0);
-        let start = OnlineState::start(self.model.as_ref(), self.config.optimizer);
+        let misfit = com_misfit_m(self.model.as_ref(), self.config.optimizer);
+        let start = OnlineState {
+            theta: self.start.theta,
+            posterior: self.start.posterior.with_com_misfit(misfit),
+        };
         self.checkpoints[0] = start.theta;
         self.posterior = start.posterior;
         self.keyframes = vec![start.posterior];

@@ -60,6 +60,19 @@ pub struct Recording {
     pub cameras: Vec<Arc<CameraStream>>,
 }
 
+impl Recording {
+    /// Whether `other` pushes the same physical object: read from the same folder, with the same
+    /// footprint, material and pusher. What lets online learning go on from one push to the next
+    /// (`learn::OnlineRun::continuing`): a folder of pushes of one object (the MIT files of one
+    /// shape on one surface, a simulated set) is one object, however the pushes differ.
+    pub fn same_object_as(&self, other: &Recording) -> bool {
+        self.source.parent() == other.source.parent()
+            && self.setting.object == other.setting.object
+            && self.setting.material == other.setting.material
+            && self.setting.pusher_radius == other.setting.pusher_radius
+    }
+}
+
 /// Pushes that share one setting: a native set folder, or the MIT files of one surface and shape in
 /// one folder.
 #[derive(Clone, Debug)]

@@ -142,6 +142,9 @@ class OnlineRun:
     @property
     def com_found(self) -> Optional[Dict[str, Any]]: ...
     @property
+    def continued(self) -> bool:
+        """Whether it went on from another run (`after=`) rather than from θ_online(0)."""
+    @property
     def steps(self) -> int: ...
 
 class Model:
@@ -173,8 +176,17 @@ class Model:
     def theta0(self, recording: Recording) -> F64: ...
     def predict(self, recording: Recording, frame: int, theta: Optional[Sequence[float]] = None) -> Prediction: ...
     def online(
-        self, recording: Recording, optimizer: str = "gd", *, steps: int = 5, lr: float = 0.005
-    ) -> OnlineRun: ...
+        self,
+        recording: Recording,
+        optimizer: str = "gd",
+        *,
+        steps: int = 5,
+        lr: float = 0.005,
+        after: Optional[OnlineRun] = None,
+    ) -> OnlineRun:
+        """Online learning along `recording` from θ_online(0), or with `after` (a run on another
+        push of the same object) from where that run ended, θ and its posterior, as
+        `pushlab eval --carry-theta` does; a run on another object is refused (ValueError)."""
 
 def simulate(
     spec: Union[Dict[str, Any], _Path], *, out: Optional[_Path] = None, truth_labels: bool = False

@@ -329,3 +329,69 @@ fn every_optimiser_keeps_theta_physical_where_the_data_ask_for_the_impossible() 
         assert_eq!(run.theta_at(10).com_offset, [0.05, 0.0]);
     }
 }
+
+#[test]
+fn a_run_continuing_from_the_start_state_learns_as_a_new_run() {
+    for optimizer in [Optimizer::Gd, Optimizer::GaussNewton] {
+        let config = OnlineConfig {
+            optimizer,
+            ..OnlineConfig::default()
+        };
+        let trajectory = push(120);
+        let learner = model(&trajectory);
+        let start = OnlineState::start(learner.as_ref(), optimizer);
+        let mut fresh = OnlineRun::new(learner.clone(), trajectory.clone(), 1, config);
+        let mut from_start = OnlineRun::continuing(learner, trajectory, 1, config, &start);
+        fresh.learn_all(&[]);
+        from_start.learn_all(&[]);
+        assert_eq!(
+            fresh.checkpoints(),
+            from_start.checkpoints(),
+            "{optimizer:?}"
+        );
+        assert_eq!(fresh.spreads(), from_start.spreads(), "{optimizer:?}");
+    }
+}
+
+#[test]
+fn a_continuing_run_starts_where_the_earlier_push_ended_and_resets_there() {
+    let config = OnlineConfig {
+        optimizer: Optimizer::GaussNewton,
+        ..OnlineConfig::default()
+    };
+    let first_push = push(120);
+    let learner = model(&first_push);
+    let mut first = OnlineRun::new(learner.clone(), first_push, 1, config);
+    first.learn_all(&[]);
+    let ended = first.end_state();
+    assert_ne!(ended.theta, first.theta0(), "the first push learned");
+
+    // The second push of the same box, on the side face and turning the other way.
+    let second_push = turning_push(120, -0.2, [0.01, -0.05 - 0.01]);
+    let mut second = OnlineRun::continuing(learner.clone(), second_push.clone(), 1, config, &ended);
+    assert_eq!(
+        second.theta_at(0),
+        ended.theta,
+        "starts at the first push's end"
+    );
+    let fresh = OnlineRun::new(learner, second_push, 1, config);
+    let (carried, prior) = (second.spread_at(0), fresh.spread_at(0));
+    let trace = |s: Spread| s.com_cov[0] + s.com_cov[2];
+    assert!(
+        trace(carried) < trace(prior),
+        "the posterior carries what the first push saw: {carried:?} against the prior {prior:?}"
+    );
+    // The fixed run is still θ_online(0)'s.
+    assert_eq!(second.fixed(), fresh.fixed());
+
+    second.learn_through(0, 60, &[]);
+    assert_ne!(second.theta_at(60), ended.theta);
+    second.reset();
+    assert_eq!(second.frontier(), 0);
+    assert_eq!(
+        second.theta_at(0),
+        ended.theta,
+        "reset returns to the carried start"
+    );
+    assert_eq!(second.spread_at(0), carried);
+}
