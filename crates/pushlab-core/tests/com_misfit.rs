@@ -125,3 +125,32 @@ fn one_object_cannot_measure_it() {
     assert!(!model.com_misfit().is_calibrated());
     assert_eq!(model.com_misfit().gd_per_h, 0.0);
 }
+
+#[test]
+fn progress_says_which_object_each_misfit_training_leaves_out() {
+    use pushlab_core::learn::TrainStage;
+    let used = offline(&["box1-paper-center-front", "box2-paper-center-front"]);
+    let no = AtomicBool::new(false);
+    let mut stages = Vec::new();
+    experiment::train_calibrated(
+        ModelKind::Contact,
+        &used,
+        &config(),
+        true,
+        &mut |p| {
+            if stages.last() != Some(&p.stage) {
+                stages.push(p.stage);
+            }
+        },
+        &no,
+    )
+    .expect("trains");
+    assert_eq!(
+        stages,
+        [
+            TrainStage::Model,
+            TrainStage::MisfitFold { fold: 1, folds: 2 },
+            TrainStage::MisfitFold { fold: 2, folds: 2 },
+        ]
+    );
+}

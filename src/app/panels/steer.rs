@@ -79,6 +79,14 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ];
     ui.spacing_mut().slider_width = 150.0;
     let std = run.spread_at(state.frame()).std();
+    let misfit = match run.com_misfit_m() {
+        m if m > 0.0 => format!(
+            "; here ± {:.1} mm, measured on {} objects left out of training",
+            m * 1e3,
+            run.model().com_misfit().objects
+        ),
+        _ => "; this model's training measured none".to_owned(),
+    };
     for (((label, range), value), std) in ranges.into_iter().zip(mm.iter_mut()).zip(std) {
         ui.horizontal(|ui| {
             changed |= ui
@@ -91,11 +99,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                 )
                 .changed();
             ui.label(egui::RichText::new(format!("± {:.1}", std * 1e3)).weak())
-                .on_hover_text(
+                .on_hover_text(format!(
                     "One standard deviation of the posterior of θ_online given the frames learned \
-                     so far (Gauss–Newton/Laplace), the COM's widened by the model's COM misfit \
-                     when its training measured one; the scene's ellipse holds the COM with 95 %",
-                );
+                     so far (Gauss–Newton/Laplace), the COM's widened by the model's COM misfit{misfit}; \
+                     the scene's ellipse holds the COM with 95 %",
+                ));
         });
     }
     if changed {

@@ -11,7 +11,7 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use pushlab_core::experiment::{
     UsedRecording, train_baseline, train_calibrated, training_metadata,
 };
-use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, Trained};
+use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, TrainStage, Trained};
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 use pushlab_core::model_file::{ModelFile, TrainingMetadata};
 
@@ -75,6 +75,9 @@ pub struct Training {
     pub baseline_history: Vec<TrainProgress>,
     /// Whether the running job is training the baseline now.
     training_baseline: bool,
+    /// The last epoch of a model trained to measure the COM misfit, while the job trains those
+    /// (kept apart from `history`: they are not the model's loss curve).
+    calibrating: Option<TrainProgress>,
     /// A model that finished training and has not been taken into use yet.
     finished: Option<Finished>,
     job: Option<Job>,
@@ -96,6 +99,7 @@ impl Training {
         self.history.clear();
         self.baseline_history.clear();
         self.training_baseline = false;
+        self.calibrating = None;
         let with_baseline = !for_folders.is_empty();
         let (sender, receiver) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
@@ -152,11 +156,18 @@ impl Training {
             let message = self.job.as_ref()?.receiver.try_recv();
             match message {
                 Ok(Message::Progress(p)) if self.training_baseline => self.baseline_history.push(p),
+                Ok(Message::Progress(p)) if p.stage != TrainStage::Model => {
+                    self.calibrating = Some(p);
+                }
                 Ok(Message::Progress(p)) => self.history.push(p),
-                Ok(Message::Baseline) => self.training_baseline = true,
+                Ok(Message::Baseline) => {
+                    self.training_baseline = true;
+                    self.calibrating = None;
+                }
                 Ok(Message::Done(result)) => {
                     let job = self.job.take()?;
                     self.training_baseline = false;
+                    self.calibrating = None;
                     return Some(match *result {
                         Ok(TrainedPair {
                             combined: trained,
@@ -212,17 +223,81 @@ impl Training {
         };
         if self.training_baseline {
             0.5 + 0.5 * fraction(&self.baseline_history)
+        } else if let Some(TrainProgress {
+            stage: TrainStage::MisfitFold { fold, folds },
+            epoch,
+            epochs,
+            ..
+        }) = self.calibrating
+        {
+            // The misfit's folds, one after the other, each from 0 to 1 of its epochs.
+            let within = epoch as f32 / epochs.max(1) as f32;
+            ((fold - 1) as f32 + within) / folds.max(1) as f32
         } else {
             fraction(&self.history)
         }
     }
 
     /// What the job is training now, for its progress bar.
-    pub fn phase(&self) -> &'static str {
-        if self.training_baseline {
-            "the pure-NN baseline"
-        } else {
-            "the combined model"
+    pub fn phase(&self) -> String {
+        match self.calibrating {
+            _ if self.training_baseline => "the pure-NN baseline".to_owned(),
+            Some(TrainProgress {
+                stage: TrainStage::MisfitFold { fold, folds },
+                ..
+            }) => format!("the COM misfit (without object {fold} of {folds})"),
+            _ => "the combined model".to_owned(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::mpsc::Sender;
+
+    /// A job whose worker is the test: it sends the messages.
+    fn training_fed_by_hand() -> (Training, Sender<Message>) {
+        let (sender, receiver) = channel();
+        let training = Training {
+            job: Some(Job {
+                receiver,
+                cancel: Arc::new(AtomicBool::new(false)),
+                metadata: training_metadata(&[], 1),
+                for_folders: Vec::new(),
+            }),
+            ..Training::default()
+        };
+        (training, sender)
+    }
+
+    fn epoch(stage: TrainStage, epoch: usize) -> Message {
+        Message::Progress(TrainProgress {
+            stage,
+            epoch,
+            epochs: 10,
+            train_loss: 1.0,
+            validation_loss: None,
+            best_validation_loss: None,
+        })
+    }
+
+    #[test]
+    fn the_misfit_trainings_show_as_their_own_phase_and_stay_out_of_the_loss_curve() {
+        let (mut training, sender) = training_fed_by_hand();
+        for k in 1..=10 {
+            sender.send(epoch(TrainStage::Model, k)).expect("sends");
+        }
+        training.poll();
+        assert_eq!(training.phase(), "the combined model");
+        assert_eq!(training.progress(), 1.0);
+
+        let second = TrainStage::MisfitFold { fold: 2, folds: 4 };
+        sender.send(epoch(second, 5)).expect("sends");
+        training.poll();
+        assert_eq!(training.phase(), "the COM misfit (without object 2 of 4)");
+        // One fold done and half of the second, of four.
+        assert_eq!(training.progress(), 1.5 / 4.0);
+        assert_eq!(training.history.len(), 10, "the model's curve only");
     }
 }

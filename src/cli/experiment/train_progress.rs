@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::experiment::{UsedRecording, train_baseline, train_calibrated};
-use pushlab_core::learn::{TrainConfig, TrainProgress, Trained, TrainingReport};
+use pushlab_core::learn::{TrainConfig, TrainProgress, TrainStage, Trained, TrainingReport};
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 
 /// Set by Ctrl-C; training checks it between batches and keeps the best model so far.
@@ -104,6 +104,11 @@ fn with_progress<T, E>(
     }
     bar.set_prefix(name.to_owned());
     let result = train(&mut |p: &TrainProgress| {
+        // The models trained to measure the COM misfit say which object they leave out.
+        bar.set_prefix(match p.stage {
+            TrainStage::Model => name.to_owned(),
+            TrainStage::MisfitFold { fold, folds } => format!("misfit {fold}/{folds}"),
+        });
         bar.set_position(p.epoch as u64);
         bar.set_message(match p.validation_loss {
             Some(v) => format!("loss {:.4}, validation {v:.4}", p.train_loss),

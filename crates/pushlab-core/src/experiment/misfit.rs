@@ -22,7 +22,9 @@ use super::data::UsedRecording;
 use super::evaluate::TrajectoryRun;
 use super::train::train_combined;
 use crate::learn::uncertainty::CHI2_2DOF_95;
-use crate::learn::{OnlineConfig, Optimizer, TrainConfig, TrainError, TrainProgress, Trained};
+use crate::learn::{
+    OnlineConfig, Optimizer, TrainConfig, TrainError, TrainProgress, TrainStage, Trained,
+};
 use crate::model::{ComMisfit, CombinedModel, ModelKind};
 
 /// The share of left-out pushes whose 95 % ellipse must hold the truth: the ellipse's own level.
@@ -98,7 +100,8 @@ fn objects(used: &[UsedRecording]) -> Vec<Vec<usize>> {
 /// documentation): per object whose recordings know their COM, a model trained on every other
 /// object, online on that object's recordings with each optimiser (the default online rule
 /// otherwise). Uncalibrated (all zero) with fewer than two objects or no known COM; stops early,
-/// uncalibrated, when `cancel` is set. `progress` sees each fold's training.
+/// uncalibrated, when `cancel` is set. `progress` sees each fold's training, its stage saying which
+/// fold.
 pub fn calibrate_com_misfit(
     kind: ModelKind,
     used: &[UsedRecording],
@@ -113,12 +116,18 @@ pub fn calibrate_com_misfit(
         return Ok(ComMisfit::default());
     }
     let mut left_out = [Vec::new(), Vec::new()];
-    for fold in &folds {
+    for (k, fold) in folds.iter().enumerate() {
         let rest: Vec<UsedRecording> = (used.iter().enumerate())
             .filter(|(i, _)| !fold.contains(i))
             .map(|(_, u)| u.clone())
             .collect();
-        let Trained { model, report } = train_combined(kind, &rest, config, progress, cancel)?;
+        let stage = TrainStage::MisfitFold {
+            fold: k + 1,
+            folds: folds.len(),
+        };
+        let mut fold_progress = |p: &TrainProgress| progress(&TrainProgress { stage, ..*p });
+        let Trained { model, report } =
+            train_combined(kind, &rest, config, &mut fold_progress, cancel)?;
         if report.cancelled || cancel.load(Ordering::Relaxed) {
             return Ok(ComMisfit::default());
         }

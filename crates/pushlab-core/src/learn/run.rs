@@ -161,6 +161,12 @@ impl OnlineRun {
         self.model.theta0()
     }
 
+    /// The model's COM misfit on this object for the run's optimiser, metres: what every COM spread
+    /// of the run includes (see `model::ComMisfit`); 0 for a model whose training measured none.
+    pub fn com_misfit_m(&self) -> f64 {
+        com_misfit_m(self.model.as_ref(), self.config.optimizer)
+    }
+
     /// θ and the posterior at the frontier: what [`OnlineRun::continuing`] goes on from.
     pub fn end_state(&self) -> OnlineState {
         self.state(self.frontier())

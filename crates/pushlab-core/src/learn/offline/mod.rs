@@ -84,9 +84,23 @@ impl Default for TrainConfig {
     }
 }
 
+/// Which training an epoch belongs to: the model asked for, or one of the models trained to
+/// measure its COM misfit (`experiment::calibrate_com_misfit`), which a progress bar or a loss
+/// curve of the model must not take for its own.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrainStage {
+    /// The model asked for.
+    #[default]
+    Model,
+    /// The model trained without the `fold`-th object (from 1) of `folds`.
+    MisfitFold { fold: usize, folds: usize },
+}
+
 /// Reported after every epoch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrainProgress {
+    /// Which training this epoch belongs to.
+    pub stage: TrainStage,
     /// The epoch just finished, from 1.
     pub epoch: usize,
     /// The most epochs this run will take.
@@ -319,6 +333,7 @@ fn run<const I: usize, M: Trainee<I>>(
             best_snapshot = trainee.snapshot();
         }
         progress(&TrainProgress {
+            stage: TrainStage::Model,
             epoch,
             epochs: config.epochs,
             train_loss: last_train_loss,
