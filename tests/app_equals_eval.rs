@@ -33,6 +33,19 @@ fn loss(value: &Value) -> Option<FrameLoss> {
     serde_json::from_value(value.clone()).ok()
 }
 
+/// Asserts that θ at frame `k` of the report's `frame` is the app's θ at `k`, bit for bit.
+fn assert_theta_is_reported(frame: &Value, theta: pushlab_core::model::OnlineParams, k: usize) {
+    let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
+    assert_eq!(bits(&frame["theta"]["h"]), theta.h.to_bits(), "h at {k}");
+    for (c, value) in theta.com_offset.iter().enumerate() {
+        assert_eq!(
+            bits(&frame["theta"]["com_offset"][c]),
+            value.to_bits(),
+            "COM offset {c} at {k}"
+        );
+    }
+}
+
 #[test]
 fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
     let dir = common::copy_of_sample_set(SET, "app-equals-eval");
@@ -84,16 +97,7 @@ fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
 
     let mut held = 0;
     for (k, frame) in reported.iter().enumerate() {
-        let theta = run.theta_at(k);
-        let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
-        assert_eq!(bits(&frame["theta"]["h"]), theta.h.to_bits(), "h at {k}");
-        for (c, value) in theta.com_offset.iter().enumerate() {
-            assert_eq!(
-                bits(&frame["theta"]["com_offset"][c]),
-                value.to_bits(),
-                "COM offset {c} at {k}"
-            );
-        }
+        assert_theta_is_reported(frame, run.theta_at(k), k);
         let online = run.learned()[k];
         assert_eq!(loss(&frame["online"]), online, "online loss at {k}");
         assert_eq!(
@@ -181,17 +185,8 @@ fn carrying_theta_to_the_next_push_is_pushlab_eval_carry_theta_to_the_bit() {
         .expect("per-frame output");
     let run = state.run().expect("a run");
     assert_eq!(reported.len(), run.sample_count());
-    let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
     for (k, frame) in reported.iter().enumerate() {
-        let theta = run.theta_at(k);
-        assert_eq!(bits(&frame["theta"]["h"]), theta.h.to_bits(), "h at {k}");
-        for (c, value) in theta.com_offset.iter().enumerate() {
-            assert_eq!(
-                bits(&frame["theta"]["com_offset"][c]),
-                value.to_bits(),
-                "COM offset {c} at {k}"
-            );
-        }
+        assert_theta_is_reported(frame, run.theta_at(k), k);
     }
 
     // Switched off, the next push starts from θ_online(0) again.
