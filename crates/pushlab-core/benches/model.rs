@@ -8,7 +8,8 @@
 //!   `online_step_gd_posterior`: the paper's step with the posterior kept beside it, as `pushlab eval`
 //!   and the app run it;
 //! - `landscape_64`: the loss over a 64 × 64 grid of COM offsets on the last 25 frames (contact, box);
-//! - `train/train_epoch` (the paper's model) and `train/train_epoch_contact`.
+//! - `train/train_epoch` (the paper's model) and `train/train_epoch_contact`: one epoch's training,
+//!   with the training's one-off work; `train/train_5_epochs_contact` gives an epoch's cost beyond it.
 
 use std::hint::black_box;
 use std::sync::atomic::AtomicBool;
@@ -261,6 +262,17 @@ fn train_epoch(c: &mut Criterion) {
     });
     group.bench_function("train_epoch_contact", |b| {
         b.iter(|| black_box(train_contact(&trajectories, &config, &mut |_| {}, &cancel)))
+    });
+    // One training of five epochs: against `train_epoch_contact` (one), what an epoch costs once the
+    // training's one-off work (normalisation, μ, the θ scales' curvature) is done. Its throughput
+    // counts the samples of all five epochs.
+    let five = TrainConfig {
+        epochs: 5,
+        ..config
+    };
+    group.throughput(Throughput::Elements(5 * samples as u64));
+    group.bench_function("train_5_epochs_contact", |b| {
+        b.iter(|| black_box(train_contact(&trajectories, &five, &mut |_| {}, &cancel)))
     });
     group.finish();
 }
