@@ -185,8 +185,8 @@ pub(crate) fn linearize_and_descend<T: Real, A: MulAdd>(
     )
 }
 
-/// The online step of Algorithm 1 with eq. 13 solved by `steps` gradient-descent steps, for any model
-/// kind: predicts with `theta`, then descends the loss in `θ_online / scales` (`θ_i ← θ_i − lr · s_i² ·
+/// The online step of Algorithm 1 with eq. 13 solved by `rule.steps` gradient-descent steps, for any
+/// model kind: predicts with `theta`, then descends the loss in `θ_online / scales` (`θ_i ← θ_i − lr · s_i² ·
 /// ∂ℓ/∂θ_i`), keeping `h` in [`H_MIN`, `H_MAX`] and the COM offset in ±[`COM_OFFSET_MAX`] (projected
 /// gradient descent on the box of physical values). Returns the prediction and gradient at `theta` and the
 /// updated parameters.
@@ -199,16 +199,13 @@ pub(crate) fn descend<T: Real, A: MulAdd>(
     target: &[T; 3],
     weights: &[T; 3],
     theta: &OnlineParams,
-    scales: [f64; 3],
-    steps: usize,
-    lr: f64,
+    rule: DescentRule,
 ) -> (Prediction, [f64; 3], OnlineParams) {
     let th = theta_real(theta);
     let output = pass.forward(&th);
     let prediction = pass.prediction(&th);
     let (_, d_output) = loss_gradient(output, target, weights);
     let gradient = pass.backward(&th, d_output);
-    let rule = DescentRule { scales, steps, lr };
     let after = descend_from::<T, A>(pass, target, weights, th, gradient, rule);
     (prediction, gradient.map(|x| x.as_f64()), after)
 }

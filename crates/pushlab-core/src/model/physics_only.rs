@@ -3,7 +3,7 @@
 //! with the COM correction does the rest.
 
 use super::bounds::PhysicalBounds;
-use super::kernel::{Linearization, ThetaPass, descend, linearize, loss_weights};
+use super::kernel::{DescentRule, Linearization, ThetaPass, descend, linearize, loss_weights};
 use super::params::OnlineParams;
 use super::tail::TailPass;
 use super::{ObjectMotion, Prediction, RealSample, Sample, SampleInput};
@@ -124,9 +124,11 @@ impl PhysicsOnlyModel {
             &real.target,
             &weights,
             theta,
-            self.theta_scales(),
-            steps,
-            lr,
+            DescentRule {
+                scales: self.theta_scales(),
+                steps,
+                lr,
+            },
         )
     }
 

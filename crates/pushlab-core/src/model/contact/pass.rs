@@ -428,35 +428,41 @@ impl<T: Real> ContactModel<T> {
         steps: usize,
         lr: f64,
     ) -> (Prediction, [f64; 3], OnlineParams) {
-        let scales = self.theta_scales(geometry);
-        self.online_update_on(geometry, sample, theta, scales, steps, lr)
+        let rule = self.descent_rule(geometry, steps, lr);
+        self.online_update_on(geometry, sample, theta, rule)
+    }
+
+    /// `steps` gradient-descent steps at `lr` with this model's step scales on an object of this
+    /// geometry: the rule of every online update.
+    fn descent_rule(&self, geometry: &ContactGeometry, steps: usize, lr: f64) -> DescentRule {
+        DescentRule {
+            scales: self.theta_scales(geometry),
+            steps,
+            lr,
+        }
     }
 
     crate::simd::dispatch_simd! {
         /// [`ContactModel::online_update`], preparation included (see [`ContactModel::predict_on`]),
         /// in the widest SIMD available.
-        #[allow(clippy::too_many_arguments)]
         fn online_update_on(&self, geometry: &ContactGeometry, sample: &Sample, theta: &OnlineParams,
-            scales: [f64; 3], steps: usize, lr: f64) -> (Prediction, [f64; 3], OnlineParams)
+            rule: DescentRule) -> (Prediction, [f64; 3], OnlineParams)
             => online_update_portable, online_update_avx2
     }
 
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     fn online_update_portable<A: MulAdd>(
         &self,
         geometry: &ContactGeometry,
         sample: &Sample,
         theta: &OnlineParams,
-        scales: [f64; 3],
-        steps: usize,
-        lr: f64,
+        rule: DescentRule,
     ) -> (Prediction, [f64; 3], OnlineParams) {
         let prepared = &self.prepare(geometry, &sample.input);
         let target = &RealSample::<T>::of(sample).target;
         let weights = loss_weights(&self.loss_scale);
         let mut pass = OnlinePass::<T, A>::new(self, prepared);
-        descend::<T, A>(&mut pass, target, &weights, theta, scales, steps, lr)
+        descend::<T, A>(&mut pass, target, &weights, theta, rule)
     }
 }
 
@@ -506,11 +512,7 @@ impl<T: Real> ContactModel<T> {
         steps: usize,
         lr: f64,
     ) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
-        let rule = DescentRule {
-            scales: self.theta_scales(geometry),
-            steps,
-            lr,
-        };
+        let rule = self.descent_rule(geometry, steps, lr);
         self.linearize_and_update_on(geometry, sample, theta, rule)
     }
 

@@ -3,7 +3,7 @@
 use super::{PaperModel, Prepared};
 use crate::model::Prediction;
 use crate::model::kernel::{
-    Linearization, RealSample, ThetaPass, descend, linearize, loss_weights,
+    DescentRule, Linearization, RealSample, ThetaPass, descend, linearize, loss_weights,
 };
 use crate::model::mlp::{Activations, Mlp};
 use crate::model::params::OnlineParams;
@@ -112,9 +112,11 @@ impl<T: Real> PaperModel<T> {
             &sample.target,
             &weights,
             theta,
-            self.theta_scales,
-            steps,
-            lr,
+            DescentRule {
+                scales: self.theta_scales,
+                steps,
+                lr,
+            },
         )
     }
 }
