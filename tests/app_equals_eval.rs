@@ -33,6 +33,44 @@ fn loss(value: &Value) -> Option<FrameLoss> {
     serde_json::from_value(value.clone()).ok()
 }
 
+/// Plays the recording shown to its end, learning as it goes.
+fn play_to_end(state: &mut pushlab::app::state::AppState) {
+    let frames = state.recording().expect("a recording").trajectory.len();
+    for _ in 0..frames {
+        state.apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+}
+
+/// Runs `pushlab eval --per-frame` with `model` on the offline folder and the online files, plus
+/// `extra` arguments, writing `json`: its standard output and the report.
+fn eval_per_frame(
+    model: &Path,
+    offline: &Path,
+    online: &[std::path::PathBuf],
+    json: &Path,
+    extra: &[&str],
+) -> (String, Value) {
+    let output = Process::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["eval", "--per-frame", "--model"])
+        .arg(model)
+        .arg("--offline")
+        .arg(offline)
+        .arg("--online")
+        .args(online)
+        .arg("--json")
+        .arg(json)
+        .args(extra)
+        .output()
+        .expect("runs pushlab");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let report = serde_json::from_slice(&std::fs::read(json).expect("report")).expect("JSON");
+    (String::from_utf8_lossy(&output.stdout).into_owned(), report)
+}
+
 /// Asserts that θ at frame `k` of the report's `frame` is the app's θ at `k`, bit for bit.
 fn assert_theta_is_reported(frame: &Value, theta: pushlab_core::model::OnlineParams, k: usize) {
     let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
@@ -56,38 +94,13 @@ fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
     // The app, opened on the recording with the bundled default model and default settings, plays
     // it to the end learning as it goes.
     let mut state = initial_state(std::slice::from_ref(&csv), Persisted::default());
-    let frames = state
-        .recording()
-        .expect("the recording is shown")
-        .trajectory
-        .len();
-    for _ in 0..frames {
-        state.apply(Command::Timeline(TimelineCommand::Step(1)));
-    }
+    play_to_end(&mut state);
     let run = state.run().expect("an online run");
     assert_eq!(run.frontier(), run.sample_count(), "played to the end");
 
     // `pushlab eval` on the same recording and model, default settings.
     let json = dir.join("eval.json");
-    let output = Process::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args(["eval", "--model"])
-        .arg(&model)
-        .arg("--offline")
-        .arg(&dir)
-        .arg("--online")
-        .arg(&csv)
-        .arg("--json")
-        .arg(&json)
-        .arg("--per-frame")
-        .output()
-        .expect("runs pushlab");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&json).expect("report")).expect("JSON");
+    let (_, report) = eval_per_frame(&model, &dir, std::slice::from_ref(&csv), &json, &[]);
     let trajectories = report["trajectories"].as_array().expect("trajectories");
     assert_eq!(trajectories.len(), 1);
     let reported = trajectories[0]["frames"]
@@ -111,14 +124,6 @@ fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
     // those ending in it are held — two stretches of six frames.
     assert_eq!(held, 2 * (BAD_TRACKING.1 - BAD_TRACKING.0));
     std::fs::remove_dir_all(&dir).ok();
-}
-
-/// Plays the recording shown to its end, learning as it goes.
-fn play_to_end(state: &mut pushlab::app::state::AppState) {
-    let frames = state.recording().expect("a recording").trajectory.len();
-    for _ in 0..frames {
-        state.apply(Command::Timeline(TimelineCommand::Step(1)));
-    }
 }
 
 #[test]
@@ -153,30 +158,12 @@ fn carrying_theta_to_the_next_push_is_pushlab_eval_carry_theta_to_the_bit() {
     play_to_end(&mut state);
 
     let json = dir.join("eval.json");
-    let output = Process::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args(["eval", "--carry-theta", "--per-frame", "--model"])
-        .arg(&model)
-        .arg("--offline")
-        .arg(&dir)
-        .arg("--online")
-        .arg(dir.join("online_001.csv"))
-        .arg(dir.join("online_002.csv"))
-        .arg("--json")
-        .arg(&json)
-        .output()
-        .expect("runs pushlab");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let online = [dir.join("online_001.csv"), dir.join("online_002.csv")];
+    let (stdout, report) = eval_per_frame(&model, &dir, &online, &json, &["--carry-theta"]);
     assert!(
         stdout.contains("--carry-theta: 1 of 2 trajectories went on from the one before them"),
         "{stdout}"
     );
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&json).expect("report")).expect("JSON");
     assert_eq!(report["config"]["carry_theta"], Value::Bool(true));
     let second_report = &report["trajectories"][1];
     assert_eq!(second_report["continued"], Value::Bool(true));
