@@ -7,7 +7,7 @@ use std::sync::atomic::AtomicBool;
 
 use pushlab_core::experiment::{self, TrajectoryRun, UsedRecording};
 use pushlab_core::labels::Split;
-use pushlab_core::learn::{OnlineConfig, Optimizer, TrainConfig};
+use pushlab_core::learn::{OnlineConfig, Optimizer, Spread, TrainConfig};
 use pushlab_core::model::{CombinedModel, ModelKind, OnlineModel};
 use pushlab_core::model_file::ModelFile;
 
@@ -152,5 +152,51 @@ fn progress_says_which_object_each_misfit_training_leaves_out() {
             TrainStage::MisfitFold { fold: 1, folds: 2 },
             TrainStage::MisfitFold { fold: 2, folds: 2 },
         ]
+    );
+}
+
+#[test]
+fn a_new_optimiser_at_an_earlier_frame_widens_the_ellipse_by_its_own_misfit() {
+    let used = offline(&["box1-paper-center-front", "box2-paper-center-front"]);
+    let calibrated = trained(&used, true);
+    let plain = calibrated.clone().with_com_misfit(Default::default());
+    let misfit = calibrated.com_misfit();
+    assert!(misfit.gd_per_h != misfit.gauss_newton_per_h, "{misfit:?}");
+    let gauss_newton = OnlineConfig {
+        optimizer: Optimizer::GaussNewton,
+        ..OnlineConfig::default()
+    };
+    // Learned to the end with gradient descent, then Gauss–Newton from frame 10 on (a user who
+    // scrubbed back and switched), learned to the end again.
+    let run = |model: &CombinedModel| {
+        let mut run = TrajectoryRun::learn(model, &used[0], 0, &OnlineConfig::default())
+            .expect("an outline")
+            .run;
+        assert!(run.frontier() > 10 + pushlab_core::learn::KEYFRAME);
+        run.set_config_at(10, gauss_newton);
+        run.learn_all(&used[0].skip);
+        run
+    };
+    let (wide, narrow) = (run(&calibrated), run(&plain));
+    let h0 = wide.theta_at(0).h;
+    let added = (misfit.gauss_newton_per_h * h0).powi(2);
+    let (w, n) = (
+        wide.posterior().com_covariance(),
+        narrow.posterior().com_covariance(),
+    );
+    for i in 0..2 {
+        let expected = n[i][i] + added;
+        assert!(
+            (w[i][i] - expected).abs() <= 1e-12 * expected,
+            "C[{i}][{i}] {} against {expected} (Gauss–Newton's misfit added)",
+            w[i][i]
+        );
+    }
+    let last = wide.frontier();
+    let spread = wide.spread_at(last);
+    let expected = Spread::of(wide.posterior());
+    assert_eq!(
+        spread, expected,
+        "the spread shown at the end is the posterior's"
     );
 }

@@ -317,13 +317,19 @@ impl OnlineRun {
     }
 
     /// A new update rule from `frame` on: the steps learned after it used the old rule and are
-    /// learned again.
+    /// learned again. The COM misfit is the new optimiser's from `frame` on, in the kept keyframes
+    /// too: going back to `frame` replays the posterior from a keyframe, and every frame learned
+    /// after it, with either rule, is replayed from one.
     pub fn set_config_at(&mut self, frame: usize, config: OnlineConfig) {
         self.config = config;
-        let misfit = com_misfit_m(self.model.as_ref(), config.optimizer);
-        self.posterior = self.posterior.with_com_misfit(misfit);
         let theta = self.theta_at(frame);
         self.set_theta_at(frame, theta);
+        let misfit = self.com_misfit_m();
+        for keyframe in &mut self.keyframes {
+            *keyframe = keyframe.with_com_misfit(misfit);
+        }
+        self.posterior = self.posterior.with_com_misfit(misfit);
+        self.spreads[frame] = Spread::of(&self.posterior);
     }
 
     /// One online update from the sample at `frame` ("Learn this frame"): θ at the frame becomes the
