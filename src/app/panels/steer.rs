@@ -101,8 +101,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             ui.label(egui::RichText::new(format!("± {:.1}", std * 1e3)).weak())
                 .on_hover_text(format!(
                     "One standard deviation of the posterior of θ_online given the frames learned \
-                     so far (Gauss–Newton/Laplace), the COM's widened by the model's COM misfit{misfit}; \
-                     the scene's ellipse holds the COM with 95 %",
+                     so far (Gauss–Newton/Laplace), the COM's widened by the model's COM misfit{misfit}, \
+                     and by how far the estimate was still sliding (its path's drift: an estimate \
+                     still moving one way may be that far again from where it stops); the scene's \
+                     ellipse holds the COM with 95 %",
                 ));
         });
     }
