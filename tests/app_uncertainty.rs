@@ -186,3 +186,40 @@ fn the_inspector_gives_the_what_if_final_pose_error() {
             .is_some()
     );
 }
+
+#[test]
+fn the_steer_tab_says_what_the_com_spread_is_made_of() {
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
+    harness.run_steps(2);
+    assert!(
+        harness.query_by_label_contains("COM σ at frame").is_none(),
+        "nothing learned yet: the spread is the prior's"
+    );
+    common::step_frames(&mut harness, 40);
+    let state = &harness.state().state;
+    let run = state.run().expect("a run");
+    let parts = run.posterior().com_spread_parts();
+    // The COM sits 71 mm from θ_online(0) on these pushes: the estimate is still sliding toward it.
+    assert!(
+        parts.drift_m > 1e-3,
+        "the estimate's drift after 40 frames: {parts:?}"
+    );
+    // The three parts are the ellipse's: their squares add up to its mean COM variance.
+    let [xx, _, yy] = run.spread_at(run.frontier()).com_cov.map(f64::from);
+    let sum = parts.frames_m.powi(2) + parts.misfit_m.powi(2) + parts.drift_m.powi(2);
+    assert!(
+        (sum - (xx + yy) / 2.0).abs() < 1e-6 * sum,
+        "{parts:?} against the spread shown"
+    );
+    let shown = format!(
+        "COM σ at frame {} (newest learned): frames {:.1} mm, misfit {:.1}, still sliding {:.1}",
+        run.frontier(),
+        parts.frames_m * 1e3,
+        parts.misfit_m * 1e3,
+        parts.drift_m * 1e3,
+    );
+    assert!(
+        harness.query_by_label(&shown).is_some(),
+        "Steer shows {shown}"
+    );
+}

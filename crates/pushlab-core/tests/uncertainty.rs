@@ -150,6 +150,13 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     expected[(0, 0)] += path_variance;
     expected[(1, 1)] += path_variance;
     assert!((posterior.covariance() - expected).norm() < 1e-12 * expected.norm());
+    // Its parts, as the app lists them, add up to the mean COM variance.
+    let parts = posterior.com_spread_parts();
+    let mean_variance = (expected[(0, 0)] + expected[(1, 1)]) / 2.0;
+    let sum = parts.frames_m.powi(2) + parts.misfit_m.powi(2) + parts.drift_m.powi(2);
+    assert!((sum - mean_variance).abs() < 1e-12 * mean_variance);
+    assert_eq!(parts.misfit_m, 0.0);
+    assert!((parts.drift_m.powi(2) - path_variance).abs() <= 1e-12 * mean_variance);
 
     // Over repeated noise the frames' 95 % ellipse of the COM holds the truth about 95 % of the
     // time. The noise is that of a model that predicts nothing (normalised variance 1), which the

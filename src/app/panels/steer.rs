@@ -2,7 +2,7 @@
 //! learning by hand ("Learn this frame") or while playing, reset, and the update rule.
 
 use eframe::egui;
-use pushlab_core::learn::{OnlineConfig, Optimizer};
+use pushlab_core::learn::{self, OnlineConfig, Optimizer};
 use pushlab_core::model::OnlineParams;
 
 use crate::app::colors;
@@ -46,6 +46,27 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             }
         }
     });
+}
+
+/// What the COM's spread at the newest learned frame is made of: why the ellipse is as wide as it is.
+fn spread_parts(ui: &mut egui::Ui, run: &learn::OnlineRun) {
+    let parts = run.posterior().com_spread_parts();
+    ui.label(
+        egui::RichText::new(format!(
+            "COM σ at frame {} (newest learned): frames {:.1} mm, misfit {:.1}, still sliding {:.1}",
+            run.frontier(),
+            parts.frames_m * 1e3,
+            parts.misfit_m * 1e3,
+            parts.drift_m * 1e3,
+        ))
+        .weak(),
+    )
+    .on_hover_text(
+        "The three add in squares to the COM's σ: what the frames learned say (with the prior), \
+         the model's COM misfit measured at training on objects left out, and how far the estimate \
+         was still sliding when it got here (its path's drift; an estimate still moving one way may \
+         be that far again from where it stops)",
+    );
 }
 
 /// Draws the steering controls.
@@ -113,6 +134,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             com_offset: [mm[0] * 1e-3, mm[1] * 1e-3],
             h: mm[2] * 1e-3,
         })));
+    }
+    if run.frontier() > 0 {
+        spread_parts(ui, run);
     }
     if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
         ui.colored_label(

@@ -390,6 +390,17 @@ impl Posterior {
         covariance
     }
 
+    /// What the COM's spread is made of (see [`ComSpreadParts`]).
+    pub fn com_spread_parts(&self) -> ComSpreadParts {
+        let c = self.covariance_from_frames();
+        let frames = ((c[(0, 0)] + c[(1, 1)]) / 2.0 - self.com_misfit_var).max(0.0);
+        ComSpreadParts {
+            frames_m: frames.sqrt(),
+            misfit_m: self.com_misfit_var.sqrt(),
+            drift_m: self.com_path_variance().sqrt(),
+        }
+    }
+
     /// The covariance of the COM offset, object frame, square metres.
     pub fn com_covariance(&self) -> [[f64; 2]; 2] {
         com_block(&self.covariance())
@@ -414,6 +425,17 @@ impl Posterior {
     pub fn com_ellipse_95(&self) -> ([f64; 2], f64) {
         ellipse_95(self.com_covariance())
     }
+}
+
+/// What the COM's spread is made of, each as one standard deviation of a COM component (metres,
+/// the mean over x and y): what the frames say (the posterior about its mode, the prior, and the
+/// estimate's offset from the mode), the model's COM misfit, and the estimate's path drift. Their
+/// squares add up to the mean of the two COM variances: why an ellipse is as wide as it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ComSpreadParts {
+    pub frames_m: f64,
+    pub misfit_m: f64,
+    pub drift_m: f64,
 }
 
 /// How sure a run is of `θ_online` at a frame, compactly enough to keep for every frame of a long
