@@ -191,9 +191,22 @@ fn the_inspector_gives_the_what_if_final_pose_error() {
 fn the_steer_tab_says_what_the_com_spread_is_made_of() {
     let mut harness = common::app_on_sample("box1-paper-ur-front");
     harness.run_steps(2);
+    // Nothing learned yet: the prior's spread, nothing from a misfit or a path.
+    let prior = harness
+        .state()
+        .state
+        .run()
+        .expect("a run")
+        .posterior()
+        .com_spread_parts();
+    assert_eq!(prior.drift_m, 0.0);
     assert!(
-        harness.query_by_label_contains("COM σ at frame").is_none(),
-        "nothing learned yet: the spread is the prior's"
+        harness
+            .query_by_label_contains(&format!(
+                "COM σ at frame 0 (newest learned):\nframes {:.1} mm",
+                prior.frames_m * 1e3
+            ))
+            .is_some()
     );
     common::step_frames(&mut harness, 40);
     let state = &harness.state().state;
@@ -212,7 +225,7 @@ fn the_steer_tab_says_what_the_com_spread_is_made_of() {
         "{parts:?} against the spread shown"
     );
     let shown = format!(
-        "COM σ at frame {} (newest learned): frames {:.1} mm, misfit {:.1}, still sliding {:.1}",
+        "COM σ at frame {} (newest learned):\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
         run.frontier(),
         parts.frames_m * 1e3,
         parts.misfit_m * 1e3,

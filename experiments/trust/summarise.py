@@ -20,7 +20,10 @@ that nothing depends on what a pushlab version puts in `com_found`:
   - along the final posterior's axes: the error's component along the axis it knows best and the one
     it knows least (the eigenvectors of C), medians in mm: how much of the error is where one push
     cannot see;
-  - with -carry: the final error after the n-th push of an object (n counted from `continued`).
+  - with -carry: the final error after the n-th push of an object (n counted from `continued`);
+  - what the final σ is made of: the report's `com_sigma_parts` (the frames, the model's COM
+    misfit, the estimate's path drift; they add in squares to sigma), medians in mm, where the
+    report has them.
 """
 
 import argparse
@@ -134,6 +137,8 @@ def push_of(source_kind, traj, outlines):
         "frames_per_theta": bool(frames),
         "along_axes_mm": along_axes(est, cov, truth),
         "continued": bool(traj.get("continued")),
+        "sigma_parts_mm": {k.removesuffix("_m"): v * 1000 for k, v in traj["com_sigma_parts"].items()}
+        if traj.get("com_sigma_parts") else None,
     }
 
 
@@ -187,7 +192,20 @@ def summary(pushes, reports):
     axes = [p["along_axes_mm"] for p in pushes if p["along_axes_mm"][0] is not None]
     out["median_along_best_mm"] = statistics.median(a[0] for a in axes) if axes else None
     out["median_along_worst_mm"] = statistics.median(a[1] for a in axes) if axes else None
+    parts = [p["sigma_parts_mm"] for p in pushes if p.get("sigma_parts_mm")]
+    out["median_sigma_parts_mm"] = {k: statistics.median(q[k] for q in parts) for k in parts[0]} \
+        if parts else None
     return out
+
+
+def print_sigma_parts(rows):
+    print("\nWhat the final COM σ is made of: medians of the frames', the COM misfit's and the path "
+          "drift's σ, mm (they add in squares per push):")
+    for r in rows:
+        m = r["summary"].get("median_sigma_parts_mm")
+        if m:
+            print(f"  {r['source']:<19} {r['optimizer']:<12} frames {m['frames']:5.1f}  "
+                  f"misfit {m['misfit']:5.1f}  drift {m['drift']:5.1f}  (σ {r['summary']['median_sigma_mm']:5.1f})")
 
 
 def print_axes(rows):
@@ -398,6 +416,7 @@ def main():
     if mujoco:
         print_breakdown(mujoco)
     print_axes(rows)
+    print_sigma_parts(rows)
     carried_rows = print_carried(carried)
     claims = targets(rows)
     print_sanity(args.sanity)

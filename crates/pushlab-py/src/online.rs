@@ -140,6 +140,13 @@ impl OnlineRun {
         self.run.posterior_end().std()[2]
     }
 
+    /// What the learned COM's σ at the end is made of, metres: {"frames_m", "misfit_m", "drift_m"}
+    /// (what the frames say, the model's COM misfit, the estimate's path drift; they add in squares).
+    #[getter]
+    fn com_sigma_parts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.run.posterior_end().com_spread_parts())
+    }
+
     /// With a known COM (simulated sets): the final error, whether the 95 % ellipse holds it, and the
     /// frames it took to settle, as a dict; else None.
     #[getter]

@@ -44,6 +44,12 @@ def test_online_nmse_is_pushlab_evals_per_trajectory(model_file, cli, tmp_path, 
             assert run.fixed_nmse[key] == pytest.approx(expected["fixed"][key], rel=0, abs=1e-12)
         np.testing.assert_allclose(run.theta_end, [*expected["com_offset_learned"], expected["h_learned"]], rtol=0, atol=1e-12)
         np.testing.assert_allclose(run.com_offset_cov, expected["com_offset_cov"], rtol=0, atol=1e-12)
+        parts = run.com_sigma_parts
+        assert set(parts) == {"frames_m", "misfit_m", "drift_m"}
+        for key, value in parts.items():
+            assert value == pytest.approx(expected["com_sigma_parts"][key], rel=0, abs=1e-12)
+        # They add in squares to the mean COM variance.
+        assert sum(v * v for v in parts.values()) == pytest.approx(np.trace(run.com_offset_cov) / 2, rel=1e-9)
         # The arrays of the run: θ per frame, losses per sample, and their mean is the NMSE.
         n = len(recording)
         assert run.theta.shape == (n, 3) and run.std.shape == (n, 3)

@@ -49,11 +49,13 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 }
 
 /// What the COM's spread at the newest learned frame is made of: why the ellipse is as wide as it is.
+/// Always two lines (the prior's spread before anything is learned), so that the controls below
+/// do not jump when learning starts or is reset.
 fn spread_parts(ui: &mut egui::Ui, run: &learn::OnlineRun) {
     let parts = run.posterior().com_spread_parts();
     ui.label(
         egui::RichText::new(format!(
-            "COM σ at frame {} (newest learned): frames {:.1} mm, misfit {:.1}, still sliding {:.1}",
+            "COM σ at frame {} (newest learned):\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
             run.frontier(),
             parts.frames_m * 1e3,
             parts.misfit_m * 1e3,
@@ -135,9 +137,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             h: mm[2] * 1e-3,
         })));
     }
-    if run.frontier() > 0 {
-        spread_parts(ui, run);
-    }
+    spread_parts(ui, run);
     if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
         ui.colored_label(
             colors::TRUE,

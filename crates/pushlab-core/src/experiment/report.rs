@@ -12,6 +12,7 @@ use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Loaded, Skipped, UsedRecording};
 use super::evaluate::{Evaluation, PhysicsNmse, TrajectoryRun};
 use crate::labels::pipeline::LabelMean;
+use crate::learn::uncertainty::ComSpreadParts;
 use crate::learn::{Nmse, OnlineConfig, Optimizer};
 use crate::model::{FrameLoss, ModelKind, OnlineParams};
 
@@ -80,6 +81,9 @@ pub struct TrajectoryReport {
     pub com_offset_cov: [[f64; 2]; 2],
     /// The posterior standard deviation of the learned `h`, metres.
     pub h_std: f64,
+    /// What the learned COM's σ is made of: the frames, the model's COM misfit, the estimate's path
+    /// drift (`learn::uncertainty::ComSpreadParts`).
+    pub com_sigma_parts: ComSpreadParts,
     /// From `setting.json`, when known (simulated sets).
     pub com_offset_true: Option<[f64; 2]>,
     pub h_true: Option<f64>,
@@ -220,6 +224,7 @@ impl TrajectoryReport {
             h_learned: theta_end.h,
             com_offset_cov: posterior.com_covariance(),
             h_std: posterior.std()[2],
+            com_sigma_parts: posterior.com_spread_parts(),
             com_offset_true: setting.com_offset,
             h_true: setting.h,
             com_found: r.com_truth,

@@ -46,6 +46,7 @@
 //! estimate.
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
+use serde::Serialize;
 
 use super::score_batches::{MAX_FACTOR, ScoreBatches};
 use crate::model::{H_MIN, Linearization, OnlineParams};
@@ -431,7 +432,7 @@ impl Posterior {
 /// the mean over x and y): what the frames say (the posterior about its mode, the prior, and the
 /// estimate's offset from the mode), the model's COM misfit, and the estimate's path drift. Their
 /// squares add up to the mean of the two COM variances: why an ellipse is as wide as it is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ComSpreadParts {
     pub frames_m: f64,
     pub misfit_m: f64,

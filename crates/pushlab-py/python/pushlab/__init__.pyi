@@ -140,6 +140,9 @@ class OnlineRun:
     @property
     def h_std(self) -> float: ...
     @property
+    def com_sigma_parts(self) -> Dict[str, float]:
+        """What the COM's σ at the end is made of, metres: frames_m, misfit_m, drift_m."""
+    @property
     def com_found(self) -> Optional[Dict[str, Any]]: ...
     @property
     def continued(self) -> bool:
