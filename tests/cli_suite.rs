@@ -441,3 +441,66 @@ fn eval_warns_when_the_online_recordings_lie_outside_the_model_s_domain() {
     assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
     assert!(!run.stderr.contains("warning:"), "{}", run.stderr);
 }
+
+#[test]
+fn carry_theta_in_a_suite_goes_on_from_push_to_push_as_eval_does() {
+    let dir = temp_dir("carry");
+    let set = sample_set("box1-paper-center-front");
+    let offline = format!("{set}/offline_00?.csv");
+    let online = [
+        format!("{set}/online_000.csv"),
+        format!("{set}/online_001.csv"),
+    ];
+    let suite = |carry: bool| -> Value {
+        let spec = serde_json::json!({
+            "horizon": 2, "epochs": 3, "seed": 1, "models": ["contact"], "physics": false,
+            "carry_theta": carry,
+            "experiments": [{"name": "two pushes", "offline": [offline], "online": online}]
+        });
+        let (spec_path, out) = (
+            dir.join(format!("suite-{carry}.json")),
+            dir.join(format!("out-{carry}.json")),
+        );
+        std::fs::write(&spec_path, serde_json::to_vec(&spec).unwrap()).unwrap();
+        let run = pushlab(&[
+            "suite",
+            &spec_path.display().to_string(),
+            "--json",
+            &out.display().to_string(),
+        ]);
+        assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap()
+    };
+    let online_nmse = |v: &Value| v["experiments"][0]["models"][0]["online"].clone();
+    let (alone, carried) = (suite(false), suite(true));
+    assert_eq!(carried["spec"]["carry_theta"], true);
+    assert_ne!(online_nmse(&alone), online_nmse(&carried));
+
+    // The same training and online pushes through eval --carry-theta give the same numbers.
+    let report = dir.join("eval.json");
+    let offline_files: Vec<String> = (0..10)
+        .map(|i| format!("{set}/offline_00{i}.csv"))
+        .collect();
+    let mut args = vec!["eval", "--offline"];
+    args.extend(offline_files.iter().map(String::as_str));
+    args.extend([
+        "--online",
+        &online[0],
+        &online[1],
+        "--horizon",
+        "2",
+        "--epochs",
+        "3",
+        "--seed",
+        "1",
+        "--carry-theta",
+        "--json",
+    ]);
+    let report_s = report.display().to_string();
+    args.push(&report_s);
+    let run = pushlab(&args);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let eval: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(eval["trajectories"][1]["continued"], true);
+    assert_eq!(eval["online"], online_nmse(&carried));
+}

@@ -64,6 +64,10 @@ pub struct SuiteSpec {
     /// `gd` (the paper's, default) or `gauss-newton`.
     #[serde(default)]
     pub optimizer: crate::learn::Optimizer,
+    /// Each online recording goes on from where the one before it ended when both push the same
+    /// object (`pushlab eval --carry-theta`; `EvalOptions::carry`).
+    #[serde(default)]
+    pub carry_theta: bool,
     pub experiments: Vec<ExperimentSpec>,
 }
 
@@ -301,7 +305,7 @@ pub fn run_experiment(
                 optimizer: spec.optimizer,
             },
             physics: (spec.physics && i == 0).then_some(spec.contact_tolerance),
-            carry: false,
+            carry: spec.carry_theta,
         };
         let evaluation = evaluate(&trained.model, None, &offline.used, &online.used, &options);
         if let Some(physics) = evaluation.physics {
