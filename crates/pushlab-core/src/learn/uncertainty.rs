@@ -37,7 +37,7 @@
 //! ([`Posterior::com_path_variance`]; the path weighed like the frames, forgetting included). Like
 //! the misfit it widens the ellipse and changes neither the estimate, nor the mode, nor
 //! Gauss–Newton's gain. Measured on MuJoCo pushes with a moved COM and held-out MIT shapes, where
-//! the frames' curvature and the COM misfit left the 95 % ellipse holding the truth in 69–78 % of
+//! the frames' curvature and the COM misfit left the 95 % ellipse holding the truth in 52–78 % of
 //! pushes, and checked on a second draw of MuJoCo pushes made after it was chosen (the trust
 //! experiment's README).
 //!
