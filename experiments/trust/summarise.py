@@ -232,27 +232,38 @@ def chain_ends(pushes):
     return [p for i, p in enumerate(pushes) if i + 1 == len(pushes) or pushes[i + 1]["push_index"] == 1]
 
 
+def sources(groups):
+    """The rows of a table, as (label, optimiser, pushes, reports): per source kind in the order of
+    the arguments and per optimiser, MuJoCo also with the COM moved (no reports: its NMSE is per
+    report), then all held-out MIT shapes together per optimiser."""
+    out = []
+    opts = [o for o in ("gd", "gauss-newton") if any(k[0] == o for k in groups)]
+    for kind in dict.fromkeys(k for _, k in groups):
+        for opt in opts:
+            if (opt, kind) not in groups:
+                continue
+            pushes, reports = groups[(opt, kind)]
+            if kind == "mujoco":
+                out.append(("MuJoCo", opt, pushes, reports))
+                out.append(("MuJoCo, COM moved", opt, [p for p in pushes if p["group"]["com"] == "moved"], None))
+            else:
+                out.append((f"MIT {kind[4:]} held out", opt, pushes, reports))
+    for opt in opts:
+        mit = [(ps, rs) for (o, k), (ps, rs) in groups.items() if o == opt and k.startswith("mit-")]
+        if mit:
+            out.append(("MIT held out, all", opt, [p for ps, _ in mit for p in ps],
+                        [r for _, rs in mit for r in rs]))
+    return out
+
+
 def print_carried(carried):
     """Learning across pushes (--carry-theta): the final COM after the n-th push of an object."""
     if not carried:
         return []
     print("\nθ carried from push to push of one object (--carry-theta): the final COM after the n-th "
           "push and after each object's last push (95 % holds, median error mm), and the NMSE:")
-    subsets = []
-    for (opt, kind), (pushes, reports) in carried.items():
-        if kind == "mujoco":
-            subsets.append(("MuJoCo", opt, pushes, reports))
-            moved = [p for p in pushes if p["group"]["com"] == "moved"]
-            subsets.append(("MuJoCo, COM moved", opt, moved, None))
-        else:
-            subsets.append((f"MIT {kind[4:]} held out", opt, pushes, reports))
-    for opt in ("gd", "gauss-newton"):
-        mit = [(ps, rs) for (o, k), (ps, rs) in carried.items() if o == opt and k.startswith("mit-")]
-        if mit:
-            subsets.append(("MIT held out, all", opt, [p for ps, _ in mit for p in ps],
-                            [r for _, rs in mit for r in rs]))
     rows = []
-    for label, opt, ps, reports in subsets:
+    for label, opt, ps, reports in sources(carried):
         by_n = {n: summary([p for p in ps if p["push_index"] == n], None)
                 for n in sorted({p["push_index"] for p in ps})}
         last = summary(chain_ends(ps), None)  # a subset keeps whole chains: the COM is per set
@@ -382,31 +393,8 @@ def main():
         entry = target.setdefault((opt, kind), ([], []))
         entry[0].extend(pushes)
         entry[1].append(report)
-    rows = []
-    opts = [o for o in ("gd", "gauss-newton") if any(k[0] == o for k in groups)]
-    kinds = list(dict.fromkeys(k for _, k in groups))  # in the order of the arguments
-    for kind in kinds:
-        for opt in opts:
-            if (opt, kind) not in groups:
-                continue
-            pushes, reports = groups[(opt, kind)]
-            if kind == "mujoco":
-                rows.append({"source": "MuJoCo", "optimizer": opt, "summary": summary(pushes, reports)})
-                moved = [p for p in pushes if p["group"]["com"] == "moved"]
-                rows.append({"source": "MuJoCo, COM moved", "optimizer": opt,
-                             "summary": summary(moved, None)})
-            else:
-                rows.append({"source": f"MIT {kind[4:]} held out", "optimizer": opt,
-                             "summary": summary(pushes, reports)})
-    for opt in opts:
-        pushes, reports = [], []
-        for (o, k), (ps, rs) in groups.items():
-            if o == opt and k.startswith("mit-"):
-                pushes += ps
-                reports += rs
-        if pushes:
-            rows.append({"source": "MIT held out, all", "optimizer": opt,
-                         "summary": summary(pushes, reports)})
+    rows = [{"source": label, "optimizer": opt, "summary": summary(pushes, reports)}
+            for label, opt, pushes, reports in sources(groups)]
     print_main(rows)
     print("(95 % holds: final ellipse holds the true COM; COM err: final, mm; σ: RMS of the final COM "
           "posterior's principal σ, mm; COM out: pushes whose learned COM left the outline at any frame / "

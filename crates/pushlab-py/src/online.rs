@@ -158,7 +158,6 @@ impl OnlineRun {
             .transpose()
     }
 
-    /// Samples learned from.
     /// Whether learning went on from another run (`model.online(…, after=run)`) rather than from
     /// θ_online(0); `theta[0]` is then where that run ended.
     #[getter]
@@ -166,6 +165,7 @@ impl OnlineRun {
         self.run.continued
     }
 
+    /// Samples learned from.
     #[getter]
     fn steps(&self) -> usize {
         self.run.steps()

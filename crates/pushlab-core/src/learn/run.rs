@@ -355,10 +355,9 @@ impl OnlineRun {
     /// from ended with), forgetting all learning along this recording.
     pub fn reset(&mut self) {
         self.truncate_to(0);
-        let misfit = com_misfit_m(self.model.as_ref(), self.config.optimizer);
         let start = OnlineState {
             theta: self.start.theta,
-            posterior: self.start.posterior.with_com_misfit(misfit),
+            posterior: self.start.posterior.with_com_misfit(self.com_misfit_m()),
         };
         self.checkpoints[0] = start.theta;
         self.posterior = start.posterior;
