@@ -11,6 +11,7 @@ use pushlab::app::state::Command;
 use pushlab::app::state::OnlineCommand;
 use pushlab::app::state::timeline::TimelineCommand;
 use pushlab_core::learn::Optimizer;
+use pushlab_core::learn::uncertainty::ComSpreadParts;
 use pushlab_core::model::OnlineParams;
 
 fn theta(harness: &Harness<'_, PushlabApp>) -> OnlineParams {
@@ -197,13 +198,13 @@ fn the_steer_tab_says_what_the_com_spread_is_made_of() {
         .state
         .run()
         .expect("a run")
-        .posterior()
-        .com_spread_parts();
+        .spread_at(0)
+        .com_parts();
     assert_eq!(prior.drift_m, 0.0);
     assert!(
         harness
             .query_by_label_contains(&format!(
-                "COM σ at frame 0 (newest learned):\nframes {:.1} mm",
+                "COM σ at frame 0:\nframes {:.1} mm",
                 prior.frames_m * 1e3
             ))
             .is_some()
@@ -211,7 +212,12 @@ fn the_steer_tab_says_what_the_com_spread_is_made_of() {
     common::step_frames(&mut harness, 40);
     let state = &harness.state().state;
     let run = state.run().expect("a run");
-    let parts = run.posterior().com_spread_parts();
+    let parts = run.spread_at(run.frontier()).com_parts();
+    let exact = run.posterior().com_spread_parts();
+    assert!(
+        (parts.drift_m - exact.drift_m).abs() < 1e-6,
+        "{parts:?} against {exact:?}"
+    );
     // The COM sits 71 mm from θ_online(0) on these pushes: the estimate is still sliding toward it.
     assert!(
         parts.drift_m > 1e-3,
@@ -224,15 +230,34 @@ fn the_steer_tab_says_what_the_com_spread_is_made_of() {
         (sum - (xx + yy) / 2.0).abs() < 1e-6 * sum,
         "{parts:?} against the spread shown"
     );
-    let shown = format!(
-        "COM σ at frame {} (newest learned):\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
-        run.frontier(),
-        parts.frames_m * 1e3,
-        parts.misfit_m * 1e3,
-        parts.drift_m * 1e3,
-    );
+    let shown = |at: &str, parts: ComSpreadParts| {
+        format!(
+            "COM σ at {at}:\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
+            parts.frames_m * 1e3,
+            parts.misfit_m * 1e3,
+            parts.drift_m * 1e3,
+        )
+    };
+    let newest = shown(&format!("frame {}", run.frontier()), parts);
     assert!(
-        harness.query_by_label(&shown).is_some(),
-        "Steer shows {shown}"
+        harness.query_by_label(&newest).is_some(),
+        "Steer shows {newest}"
     );
+    // Scrubbed back, the parts are those of the frame shown, the ellipse's there.
+    let frontier = run.frontier();
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Timeline(TimelineCommand::SeekTo(10)));
+    harness.run_steps(2);
+    let run = harness.state().state.run().expect("a run");
+    assert_eq!(run.frontier(), frontier, "seeking back unlearns nothing");
+    let back = run.spread_at(10).com_parts();
+    assert!(back.drift_m < parts.drift_m, "{back:?} against {parts:?}");
+    let then = shown("frame 10", back);
+    assert!(
+        harness.query_by_label(&then).is_some(),
+        "Steer shows {then}"
+    );
+    assert!(harness.query_by_label(&newest).is_none());
 }

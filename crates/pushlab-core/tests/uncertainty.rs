@@ -12,7 +12,7 @@ use std::sync::atomic::AtomicBool;
 use nalgebra::{DMatrix, DVector};
 use pushlab_core::experiment::ComTruth;
 use pushlab_core::inspect::{ComGrid, com_landscape, h_slice, rollout};
-use pushlab_core::learn::uncertainty::CHI2_2DOF_95;
+use pushlab_core::learn::uncertainty::{CHI2_2DOF_95, Spread};
 use pushlab_core::learn::{
     ContactTrajectory, OnlineConfig, Optimizer, TrainConfig, train_contact, train_paper,
 };
@@ -157,6 +157,24 @@ fn the_posterior_of_a_linear_gaussian_problem_is_its_closed_form_and_covers_the_
     assert!((sum - mean_variance).abs() < 1e-12 * mean_variance);
     assert_eq!(parts.misfit_m, 0.0);
     assert!((parts.drift_m.powi(2) - path_variance).abs() <= 1e-12 * mean_variance);
+    // The spread kept for every frame gives the same parts (in f32), a misfit included: what the
+    // app lists for the frame shown.
+    for misfit in [0.0, 0.004] {
+        let posterior = posterior.with_com_misfit(misfit);
+        let exact = posterior.com_spread_parts();
+        let kept = Spread::of(&posterior).com_parts();
+        assert!((kept.misfit_m - misfit).abs() < 1e-7, "{kept:?}");
+        for (a, b) in [
+            (kept.frames_m, exact.frames_m),
+            (kept.misfit_m, exact.misfit_m),
+            (kept.drift_m, exact.drift_m),
+        ] {
+            assert!(
+                (a - b).abs() < 1e-5 * mean_variance.sqrt(),
+                "{kept:?} against {exact:?}"
+            );
+        }
+    }
 
     // Over repeated noise the frames' 95 % ellipse of the COM holds the truth about 95 % of the
     // time. The noise is that of a model that predicts nothing (normalised variance 1), which the

@@ -48,15 +48,20 @@ fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     });
 }
 
-/// What the COM's spread at the newest learned frame is made of: why the ellipse is as wide as it is.
-/// Always two lines (the prior's spread before anything is learned), so that the controls below
-/// do not jump when learning starts or is reset.
-fn spread_parts(ui: &mut egui::Ui, run: &learn::OnlineRun) {
-    let parts = run.posterior().com_spread_parts();
+/// What the COM's spread at the frame shown is made of: why the ellipse is as wide as it is. Always
+/// two lines (the prior's spread before anything is learned), so that the controls below do not
+/// jump when learning starts or is reset.
+fn spread_parts(ui: &mut egui::Ui, run: &learn::OnlineRun, frame: usize) {
+    let parts = run.spread_at(frame).com_parts();
+    // Past the frontier the spread is the frontier's: nothing after it is learned yet.
+    let at = if frame > run.frontier() {
+        format!("frame {} (newest learned)", run.frontier())
+    } else {
+        format!("frame {frame}")
+    };
     ui.label(
         egui::RichText::new(format!(
-            "COM σ at frame {} (newest learned):\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
-            run.frontier(),
+            "COM σ at {at}:\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
             parts.frames_m * 1e3,
             parts.misfit_m * 1e3,
             parts.drift_m * 1e3,
@@ -137,7 +142,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             h: mm[2] * 1e-3,
         })));
     }
-    spread_parts(ui, run);
+    spread_parts(ui, run, state.frame());
     if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
         ui.colored_label(
             colors::TRUE,

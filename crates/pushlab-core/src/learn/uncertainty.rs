@@ -393,13 +393,12 @@ impl Posterior {
 
     /// What the COM's spread is made of (see [`ComSpreadParts`]).
     pub fn com_spread_parts(&self) -> ComSpreadParts {
-        let c = self.covariance_from_frames();
-        let frames = ((c[(0, 0)] + c[(1, 1)]) / 2.0 - self.com_misfit_var).max(0.0);
-        ComSpreadParts {
-            frames_m: frames.sqrt(),
-            misfit_m: self.com_misfit_var.sqrt(),
-            drift_m: self.com_path_variance().sqrt(),
-        }
+        let c = self.covariance();
+        ComSpreadParts::of(
+            (c[(0, 0)] + c[(1, 1)]) / 2.0,
+            self.com_misfit_var,
+            self.com_path_variance(),
+        )
     }
 
     /// The covariance of the COM offset, object frame, square metres.
@@ -439,13 +438,33 @@ pub struct ComSpreadParts {
     pub drift_m: f64,
 }
 
+impl ComSpreadParts {
+    /// The parts of a spread whose mean COM variance is `com_var`, of which `misfit_var` is the
+    /// model's COM misfit and `drift_var` the path's drift (square metres): the frames' part is the
+    /// rest. One rule for a posterior and for the [`Spread`] kept at every frame.
+    pub fn of(com_var: f64, misfit_var: f64, drift_var: f64) -> Self {
+        Self {
+            frames_m: (com_var - misfit_var - drift_var).max(0.0).sqrt(),
+            misfit_m: misfit_var.max(0.0).sqrt(),
+            drift_m: drift_var.max(0.0).sqrt(),
+        }
+    }
+}
+
 /// How sure a run is of `θ_online` at a frame, compactly enough to keep for every frame of a long
-/// recording (16 bytes): the COM offset's covariance (m², object frame: xx, xy, yy) and the
-/// standard deviation of `h` (m), in `f32` — what the app draws as the ellipse and the ±2σ bands.
+/// recording (24 bytes): the COM offset's covariance (m², object frame: xx, xy, yy), the standard
+/// deviation of `h` (m) and the parts of each COM variance that are the model's misfit and the
+/// path's drift (m²), in `f32` — what the app draws as the ellipse and the ±2σ bands, and what it
+/// says the ellipse is made of at the frame shown. (The misfit is kept per frame: an optimiser
+/// changed at a frame changes it from there on.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spread {
     pub com_cov: [f32; 3],
     pub h_std: f32,
+    /// The posterior's COM misfit, squared.
+    pub com_misfit_var: f32,
+    /// [`Posterior::com_path_variance`].
+    pub com_drift_var: f32,
 }
 
 impl Spread {
@@ -457,7 +476,19 @@ impl Spread {
         Self {
             com_cov: [c[0][0] as f32, c[0][1] as f32, c[1][1] as f32],
             h_std: std_of(&covariance)[2] as f32,
+            com_misfit_var: posterior.com_misfit_var as f32,
+            com_drift_var: posterior.com_path_variance() as f32,
         }
+    }
+
+    /// What the COM's spread is made of (see [`ComSpreadParts`]).
+    pub fn com_parts(&self) -> ComSpreadParts {
+        let [xx, _, yy] = self.com_cov.map(f64::from);
+        ComSpreadParts::of(
+            (xx + yy) / 2.0,
+            f64::from(self.com_misfit_var),
+            f64::from(self.com_drift_var),
+        )
     }
 
     /// Standard deviations of `[com_x, com_y, h]`, metres.
@@ -508,74 +539,4 @@ pub(super) fn vector(theta: &OnlineParams) -> Vector3<f64> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::PathMoments;
-    use crate::rng::SplitMix64;
-
-    /// The moments after `path` with `keep` applied before each point but the first, as
-    /// `Posterior::take_in` does.
-    fn moments(path: &[[f64; 2]], keep: f64) -> PathMoments {
-        let mut m = PathMoments::default();
-        for (i, x) in path.iter().enumerate() {
-            if i > 0 {
-                m.scale(keep);
-            }
-            m.add(*x);
-        }
-        m
-    }
-
-    #[test]
-    fn a_steady_slide_drifts_by_a_twelfth_of_its_length_squared() {
-        let d = 0.03;
-        let path: Vec<[f64; 2]> = (0..=300).map(|i| [d * i as f64 / 300.0, 0.0]).collect();
-        let m = moments(&path, 1.0);
-        assert!(
-            (m.drift() / (d * d / 12.0) - 1.0).abs() < 0.01,
-            "{}",
-            m.drift()
-        );
-        assert!(m.jitter() < 0.01 * m.scatter());
-    }
-
-    #[test]
-    fn steps_in_random_directions_drift_by_nothing_on_average() {
-        let mut rng = SplitMix64::new(5);
-        let (mut scatter, mut excess) = (0.0, 0.0);
-        for _ in 0..400 {
-            let mut x = [0.0, 0.0];
-            let path: Vec<[f64; 2]> = (0..100)
-                .map(|_| {
-                    x = [x[0] + rng.normal() * 1e-3, x[1] + rng.normal() * 1e-3];
-                    x
-                })
-                .collect();
-            let m = moments(&path, 1.0);
-            scatter += m.scatter();
-            excess += m.scatter() - m.jitter();
-        }
-        assert!(excess.abs() < 0.05 * scatter, "{excess} of {scatter}");
-    }
-
-    #[test]
-    fn forgetting_weighs_the_path_like_its_frames() {
-        let mut rng = SplitMix64::new(9);
-        let path: Vec<[f64; 2]> = (0..60).map(|_| [rng.normal(), rng.normal()]).collect();
-        let keep: f64 = 0.9;
-        let n = path.len();
-        let w = |i: usize| keep.powi((n - 1 - i) as i32);
-        let total: f64 = (0..n).map(w).sum();
-        let mean = [0, 1].map(|c| (0..n).map(|i| w(i) * path[i][c]).sum::<f64>() / total);
-        let sq = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
-        let scatter = (0..n).map(|i| w(i) * sq(path[i], mean)).sum::<f64>() / total;
-        let jitter: f64 = (1..n)
-            .map(|k| {
-                let after = (k..n).map(w).sum::<f64>() / total;
-                sq(path[k], path[k - 1]) * after * (1.0 - after)
-            })
-            .sum();
-        let m = moments(&path, keep);
-        assert!((m.scatter() - scatter).abs() < 1e-12 * scatter);
-        assert!((m.jitter() - jitter).abs() < 1e-12 * scatter);
-    }
-}
+mod tests;
