@@ -92,6 +92,20 @@ pub(crate) trait ThetaPass<T: Real> {
     /// The gradient with respect to `theta` of a scalar whose gradient with respect to the last
     /// forward pass's output is `d_output`.
     fn backward(&mut self, theta: &[T; 3], d_output: [T; 3]) -> [T; 3];
+    /// [`ThetaPass::backward`] of several `d_output` after the same forward pass, each the same
+    /// numbers; a kind may take them together (see `Network::position_gradients`).
+    #[inline(always)]
+    fn backward_many<const N: usize>(
+        &mut self,
+        theta: &[T; 3],
+        d_outputs: [[T; 3]; N],
+    ) -> [[T; 3]; N] {
+        let mut gradients = [[T::zero(); 3]; N];
+        for (g, d) in gradients.iter_mut().zip(d_outputs) {
+            *g = self.backward(theta, d);
+        }
+        gradients
+    }
     /// The public prediction of the last forward pass.
     fn prediction(&self, theta: &[T; 3]) -> Prediction;
 }
@@ -119,17 +133,27 @@ pub(crate) fn linearize<T: Real>(
 ) -> Linearization {
     let th = theta_real(theta);
     let output = pass.forward(&th);
-    linearization_of(pass, output, target, scale, &th)
+    let rows = pass.backward_many(&th, unit_seeds());
+    linearization_from(pass, output, target, scale, &th, &rows)
 }
 
-/// [`linearize`] after its forward pass at `th`, which returned `output` and is still in `pass`.
+/// The three unit output gradients, whose backward passes are the rows of the Jacobian.
 #[inline(always)]
-fn linearization_of<T: Real>(
-    pass: &mut impl ThetaPass<T>,
+fn unit_seeds<T: Real>() -> [[T; 3]; 3] {
+    let (o, l) = (T::zero(), T::one());
+    [[l, o, o], [o, l, o], [o, o, l]]
+}
+
+/// [`Linearization`] from a forward pass's `output` and the backward passes of the unit seeds,
+/// `rows[i] = ∂output_i/∂θ`.
+#[inline(always)]
+fn linearization_from<T: Real>(
+    pass: &impl ThetaPass<T>,
     output: [T; 3],
     target: &[T; 3],
     scale: &LossScale,
     th: &[T; 3],
+    rows: &[[T; 3]; 3],
 ) -> Linearization {
     let prediction = pass.prediction(th);
     let sigma = [scale.sigma_pos[0], scale.sigma_pos[1], scale.sigma_rot];
@@ -137,9 +161,7 @@ fn linearization_of<T: Real>(
     let mut jacobian = [[0.0; 3]; 3];
     for i in 0..3 {
         residual[i] = (output[i] - target[i]).as_f64() / sigma[i];
-        let mut seed = [T::zero(); 3];
-        seed[i] = T::one();
-        jacobian[i] = pass.backward(th, seed).map(|d| d.as_f64() / sigma[i]);
+        jacobian[i] = rows[i].map(|d| d.as_f64() / sigma[i]);
     }
     Linearization {
         prediction,
@@ -171,9 +193,12 @@ pub(crate) fn linearize_and_descend<T: Real, A: MulAdd>(
 ) -> (Linearization, (Prediction, [f64; 3], OnlineParams)) {
     let th = theta_real(theta);
     let output = pass.forward(&th);
-    let linearization = linearization_of(pass, output, target, scale, &th);
     let weights = loss_weights(scale);
-    let gradient = pass.backward(&th, loss_gradient(output, target, &weights).1);
+    // The Jacobian's three backward passes and the loss's, taken together.
+    let [e0, e1, e2] = unit_seeds();
+    let [r0, r1, r2, gradient] =
+        pass.backward_many(&th, [e0, e1, e2, loss_gradient(output, target, &weights).1]);
+    let linearization = linearization_from(pass, output, target, scale, &th, &[r0, r1, r2]);
     let after = descend_from::<T, A>(pass, target, &weights, th, gradient, rule);
     (
         linearization,

@@ -348,6 +348,47 @@ impl<T: Real, const I: usize> Network<T, I> {
         ]
     }
 
+    /// [`Network::position_gradient`] of several output gradients from the same forward pass, each
+    /// the same numbers to the bit. Taken layer by layer for all of them at once: their chains are
+    /// independent, and interleaved they wait on one another's multiply-adds less than one after
+    /// the other (a linearisation's three outputs and the loss's gradient).
+    #[inline(always)]
+    pub(crate) fn position_gradients<A: MulAdd, const N: usize>(
+        &self,
+        act: &Activations<T, I>,
+        d_outputs: &[[T; OUTPUTS]; N],
+    ) -> [[T; 2]; N] {
+        let mut d3 = [[T::zero(); HIDDEN]; N];
+        for (d, d_output) in d3.iter_mut().zip(d_outputs) {
+            *d = relu_backward(
+                &act.hidden3,
+                &back_through::<T, A, _, _>(&self.wt4, d_output),
+            );
+        }
+        let mut d2 = [[T::zero(); HIDDEN]; N];
+        for (d, d_above) in d2.iter_mut().zip(&d3) {
+            *d = relu_backward(
+                &act.hidden2,
+                &back_through::<T, A, _, _>(&self.wt3, d_above),
+            );
+        }
+        let mut d1 = [[T::zero(); HIDDEN]; N];
+        for (d, d_above) in d1.iter_mut().zip(&d2) {
+            *d = relu_backward(
+                &act.hidden1,
+                &back_through::<T, A, _, _>(&self.wt2, d_above),
+            );
+        }
+        let mut position = [[T::zero(); 2]; N];
+        for (p, d) in position.iter_mut().zip(&d1) {
+            *p = [
+                dot::<T, A>(&self.params.w1[0], d),
+                dot::<T, A>(&self.params.w1[1], d),
+            ];
+        }
+        position
+    }
+
     /// [`Network::position_gradient`], and with `weights` also every weight's and bias's gradient
     /// added to it: the one step every combined model takes back from its network's outputs to the
     /// inputs where `θ_online` enters.

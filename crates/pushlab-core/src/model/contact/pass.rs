@@ -324,6 +324,36 @@ impl<T: Real> ContactModel<T> {
         self.theta_gradient::<A>(prepared, &pass.outer, theta, d_x, &outer)
     }
 
+    /// [`ContactModel::backward`] without weights for several `d_output` after the same forward
+    /// pass, the network's part taken for all of them at once (`Network::position_gradients`):
+    /// each result is the same numbers as its own backward pass.
+    #[inline(always)]
+    pub(crate) fn backward_many<A: MulAdd, const N: usize>(
+        &self,
+        prepared: &Prepared<T>,
+        pass: &Pass<T>,
+        theta: &[T; 3],
+        d_outputs: [[T; 3]; N],
+    ) -> [[T; 3]; N] {
+        let mut outer = [OuterGradient::default(); N];
+        let mut d_z = [[T::zero(); OUTPUTS]; N];
+        for ((o, z), d) in outer.iter_mut().zip(&mut d_z).zip(d_outputs) {
+            *o = self.backward_outer::<A>(prepared, &pass.outer, theta, d);
+            *z = o.d_z;
+        }
+        let d_x = if self.options.network {
+            self.network
+                .position_gradients::<A, N>(&pass.activations, &d_z)
+        } else {
+            [[T::zero(); 2]; N]
+        };
+        let mut gradients = [[T::zero(); 3]; N];
+        for ((g, o), d) in gradients.iter_mut().zip(&outer).zip(d_x) {
+            *g = self.theta_gradient::<A>(prepared, &pass.outer, theta, d, o);
+        }
+        gradients
+    }
+
     /// The backward pass from the prediction to the network's outputs (see [`OuterGradient`]).
     #[inline(always)]
     pub(crate) fn backward_outer<A: MulAdd>(
@@ -572,6 +602,16 @@ impl<T: Real, A: MulAdd> ThetaPass<T> for OnlinePass<'_, T, A> {
     fn backward(&mut self, theta: &[T; 3], d_output: [T; 3]) -> [T; 3] {
         self.model
             .backward::<A>(self.prepared, &self.pass, theta, d_output, None)
+    }
+
+    #[inline(always)]
+    fn backward_many<const N: usize>(
+        &mut self,
+        theta: &[T; 3],
+        d_outputs: [[T; 3]; N],
+    ) -> [[T; 3]; N] {
+        self.model
+            .backward_many::<A, N>(self.prepared, &self.pass, theta, d_outputs)
     }
 
     #[inline(always)]
