@@ -8,7 +8,8 @@ use super::*;
 use crate::geometry::{Outline, rotate};
 use crate::model::LossScale;
 use crate::model::ObjectMotion;
-use crate::model::kernel::{loss_gradient, theta_real};
+use crate::model::Sample;
+use crate::model::kernel::{RealSample, loss_gradient, loss_weights, theta_real};
 use crate::model::mlp::Network;
 use crate::rng::SplitMix64;
 
