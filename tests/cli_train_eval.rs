@@ -364,6 +364,15 @@ fn nothing_usable_is_exit_1_and_wrong_arguments_exit_2() {
     let run = pushlab(&eval_args(&offline, &online, &["--horizon", "0"]));
     assert_eq!(run.code, 2);
     assert!(run.stderr.contains("must be at least 1"), "{}", run.stderr);
+    for shift in ["0.02", "0.02,north"] {
+        let run = pushlab(&eval_args(&offline, &online, &["--start-com-shift", shift]));
+        assert_eq!(run.code, 2, "{shift}");
+        assert!(
+            run.stderr.contains("expected X,Y in metres (e.g. 0.02,0)"),
+            "{}",
+            run.stderr
+        );
+    }
     let run = pushlab(&["train", "--data", &offline[0]]);
     assert_eq!(run.code, 2);
     assert!(run.stderr.contains("--out"), "{}", run.stderr);

@@ -65,6 +65,23 @@ pub fn optimizer(text: &str) -> Result<pushlab_core::learn::Optimizer, String> {
 }
 
 /// A finite number above 0.
+/// An offset in the plane, `X,Y` in metres (e.g. `0.02,-0.01`).
+pub fn offset_xy(text: &str) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [x, y] = parts.as_slice() else {
+        return Err(format!(
+            "expected X,Y in metres (e.g. 0.02,0), got {text:?}"
+        ));
+    };
+    let number = |t: &str| match t.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "expected X,Y in metres (e.g. 0.02,0), got {text:?}: {t:?} is not a number"
+        )),
+    };
+    Ok([number(x)?, number(y)?])
+}
+
 pub fn positive_real(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),

@@ -29,7 +29,7 @@ use pushlab_core::model::{
 };
 use pushlab_core::model_file::ModelFile;
 
-use super::args::{TrainingArgs, optimizer, positive_real};
+use super::args::{TrainingArgs, offset_xy, optimizer, positive_real};
 use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
@@ -85,6 +85,12 @@ pub struct EvalArgs {
     /// its normal, the next push on another face does.
     #[arg(long)]
     pub carry_theta: bool,
+    /// Start every push not carried on from another believing the COM this far from θ_online(0)'s
+    /// (object frame, metres, e.g. 0.02,0; kept inside the object), the prior centred there, for
+    /// the combined and the physics-only model: whether online learning finds a COM it was not
+    /// given. On real recordings, whose COM is where θ_online(0) puts it, the one way to see it.
+    #[arg(long, value_name = "X,Y", value_parser = offset_xy, allow_hyphen_values = true)]
+    pub start_com_shift: Option<[f64; 2]>,
 }
 
 /// Runs `pushlab eval`.
@@ -161,6 +167,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         },
         physics: args.physics.then_some(args.contact_tolerance),
         carry: args.carry_theta,
+        start_com_shift: args.start_com_shift,
     };
     let evaluation = experiment::evaluate(
         &combined,
@@ -182,6 +189,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
             seed: trained_with.seed,
             config: options.online,
             carry: options.carry,
+            start_com_shift: options.start_com_shift,
             model: args.model.as_ref().map(|p| p.display().to_string()),
             split_from_labels: args.training.split_from_labels,
             per_frame: args.per_frame,
@@ -370,6 +378,14 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
             "--carry-theta: {continued} of {} trajectories went on from the one before them (same \
              object); the others started from θ_online(0)",
             report.trajectories.len()
+        );
+    }
+    if let Some([x, y]) = report.config.start_com_shift {
+        println!(
+            "--start-com-shift: pushes not carried on started believing the COM ({:.1}, {:.1}) mm \
+             from θ_online(0)'s (kept inside the object), the prior centred there",
+            x * 1e3,
+            y * 1e3
         );
     }
     if let Some(p) = &report.per_label {

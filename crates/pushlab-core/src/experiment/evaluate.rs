@@ -29,6 +29,11 @@ pub struct EvalOptions {
     /// a robot pushing one object again would. Without it, every push starts from `θ_online(0)` (the
     /// paper's protocol).
     pub carry: bool,
+    /// Every push that does not go on from another starts believing the COM this far (object
+    /// frame, metres) from `θ_online(0)`'s, the prior centred there
+    /// ([`OnlineState::start_with_com_shift`]); `None`: from `θ_online(0)`. The fixed run still
+    /// predicts with `θ_online(0)`.
+    pub start_com_shift: Option<[f64; 2]>,
 }
 
 /// A trained model bound to one recording's object: `θ_online(0)`, step sizes and predictions for
@@ -140,8 +145,22 @@ impl TrajectoryRun {
         config: &OnlineConfig,
         from: Option<&OnlineState>,
     ) -> Result<Self, NoOutline> {
+        Self::learn_starting(model, used, index, config, from, None)
+    }
+
+    /// [`TrajectoryRun::learn_from`], a push not going on from another starting believing the COM
+    /// `start_com_shift` from `θ_online(0)`'s (see [`EvalOptions::start_com_shift`]).
+    pub fn learn_starting(
+        model: &CombinedModel,
+        used: &UsedRecording,
+        index: usize,
+        config: &OnlineConfig,
+        from: Option<&OnlineState>,
+        start_com_shift: Option<[f64; 2]>,
+    ) -> Result<Self, NoOutline> {
         let learner = model_on(model, used)?;
-        let run = online_run(learner, used, model.horizon(), config, from);
+        let start = shifted_start(learner.as_ref(), config, from, start_com_shift);
+        let run = online_run(learner, used, model.horizon(), config, start.as_ref());
         let com_truth = used.recording.setting.com_offset.and_then(|truth| {
             let after: Vec<[f64; 2]> = run
                 .learned_steps()
@@ -292,7 +311,15 @@ pub fn evaluate(
     let mut trajectories: Vec<TrajectoryRun> = Vec::new();
     for (index, u) in online.iter().enumerate() {
         let carried = carried_from(options.carry, online, index, trajectories.last());
-        match TrajectoryRun::learn_from(model, u, index, &options.online, carried.as_ref()) {
+        let run = TrajectoryRun::learn_starting(
+            model,
+            u,
+            index,
+            &options.online,
+            carried.as_ref(),
+            options.start_com_shift,
+        );
+        match run {
             Ok(run) => trajectories.push(run),
             Err(e) => left_out.push(Skipped {
                 path: u.source(),
@@ -348,9 +375,15 @@ fn physics_nmse(
     for (index, u) in online.iter().enumerate() {
         if let Some(m) = model(u) {
             let carried = carried_from(options.carry, online, index, previous.as_ref());
+            let start = shifted_start(
+                &m,
+                &options.online,
+                carried.as_ref(),
+                options.start_com_shift,
+            );
             let run = TrajectoryRun {
                 recording: index,
-                run: online_run(Arc::new(m), u, horizon, &options.online, carried.as_ref()),
+                run: online_run(Arc::new(m), u, horizon, &options.online, start.as_ref()),
                 com_truth: None,
                 continued: carried.is_some(),
             };
@@ -363,6 +396,25 @@ fn physics_nmse(
         offline: Nmse::of(&offline_losses),
         fixed: Nmse::of_frames(fixed),
         online: Nmse::of_frames(learned),
+    }
+}
+
+/// Where a run starts: from `from` (a push carried on), else believing the COM `shift` from
+/// `θ_online(0)`'s, else (`None`) from `θ_online(0)`.
+fn shifted_start(
+    learner: &dyn OnlineModel,
+    config: &OnlineConfig,
+    from: Option<&OnlineState>,
+    shift: Option<[f64; 2]>,
+) -> Option<OnlineState> {
+    match (from, shift) {
+        (Some(from), _) => Some(*from),
+        (None, Some(shift)) => Some(OnlineState::start_with_com_shift(
+            learner,
+            config.optimizer,
+            shift,
+        )),
+        (None, None) => None,
     }
 }
 

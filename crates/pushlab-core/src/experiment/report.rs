@@ -29,6 +29,8 @@ pub struct ReportContext<'a> {
     pub config: OnlineConfig,
     /// Whether θ was carried from push to push of one object (`EvalOptions::carry`).
     pub carry: bool,
+    /// Where pushes not carried on started (`EvalOptions::start_com_shift`).
+    pub start_com_shift: Option<[f64; 2]>,
     /// The model file evaluated, or `None` when trained for the evaluation.
     pub model: Option<String>,
     pub split_from_labels: bool,
@@ -122,6 +124,9 @@ pub struct ConfigReport {
     /// Whether θ_online and its posterior went on from each push to the next of the same object
     /// (`--carry-theta`) instead of starting from θ_online(0).
     pub carry_theta: bool,
+    /// With `--start-com-shift`: how far from θ_online(0)'s COM (object frame, metres) each push
+    /// not carried on started; `null` from θ_online(0).
+    pub start_com_shift: Option<[f64; 2]>,
     /// The model file given, or `null` when trained for the evaluation.
     pub model: Option<String>,
     pub split_from_labels: bool,
@@ -187,6 +192,7 @@ impl EvalReport {
                 lr: context.config.lr,
                 optimizer: context.config.optimizer,
                 carry_theta: context.carry,
+                start_com_shift: context.start_com_shift,
                 model: context.model.clone(),
                 split_from_labels: context.split_from_labels,
                 theta0: evaluation.trajectories.first().map(TrajectoryRun::theta0),

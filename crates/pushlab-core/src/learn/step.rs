@@ -22,7 +22,35 @@ impl OnlineState {
     /// The start of a trajectory learned with `optimizer`: `θ_online(0)` and the prior, with the
     /// model's COM misfit for that optimiser (`model::ComMisfit`, per `θ_online(0)`'s `h`).
     pub fn start<M: OnlineModel + ?Sized>(model: &M, optimizer: Optimizer) -> Self {
-        let theta = model.theta0();
+        Self::believing(model, optimizer, model.theta0())
+    }
+
+    /// [`OnlineState::start`] believing the COM `shift` (object frame, metres) from `θ_online(0)`'s,
+    /// kept physical on the object: θ and the prior's centre both there, the prior as wide. Whether
+    /// online learning finds a COM it was not given — on real pushes, whose true COM is where
+    /// `θ_online(0)` puts it, the one way to see it.
+    pub fn start_with_com_shift<M: OnlineModel + ?Sized>(
+        model: &M,
+        optimizer: Optimizer,
+        shift: [f64; 2],
+    ) -> Self {
+        let theta0 = model.theta0();
+        let theta = model.keep_physical(OnlineParams {
+            com_offset: [
+                theta0.com_offset[0] + shift[0],
+                theta0.com_offset[1] + shift[1],
+            ],
+            ..theta0
+        });
+        Self::believing(model, optimizer, theta)
+    }
+
+    /// θ and the prior centred at it.
+    fn believing<M: OnlineModel + ?Sized>(
+        model: &M,
+        optimizer: Optimizer,
+        theta: OnlineParams,
+    ) -> Self {
         Self {
             theta,
             posterior: Posterior::prior(&theta, model.horizon())
