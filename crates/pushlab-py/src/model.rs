@@ -219,8 +219,11 @@ impl Model {
     /// `steps` gradient-descent steps at learning rate `lr` per frame) or "gauss-newton"; θ is held
     /// over samples touching frames labelled bad tracking. With `after`, a run on another push of
     /// the same object, learning goes on from where that run ended (θ and its posterior), as
-    /// `pushlab eval --carry-theta` does.
-    #[pyo3(signature = (recording, optimizer="gd", *, steps=5, lr=0.005, after=None))]
+    /// `pushlab eval --carry-theta` does. With `start_com_shift` (x, y in metres, object frame), a
+    /// run not going on from another starts believing the COM that far from θ_online(0)'s, the prior
+    /// centred there, as `pushlab eval --start-com-shift` does.
+    #[pyo3(signature = (recording, optimizer="gd", *, steps=5, lr=0.005, after=None, start_com_shift=None))]
+    #[allow(clippy::too_many_arguments)]
     fn online(
         &self,
         py: Python<'_>,
@@ -229,6 +232,7 @@ impl Model {
         steps: usize,
         lr: f64,
         after: Option<&OnlineRun>,
+        start_com_shift: Option<[f64; 2]>,
     ) -> PyResult<OnlineRun> {
         let optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
             PyValueError::new_err(format!(
@@ -245,6 +249,18 @@ impl Model {
             lr,
             optimizer,
         };
+        if let Some(shift) = start_com_shift {
+            if after.is_some() {
+                return Err(PyValueError::new_err(
+                    "start_com_shift: a run going on from `after` starts where that run ended",
+                ));
+            }
+            if !shift.iter().all(|x| x.is_finite()) {
+                return Err(PyValueError::new_err(format!(
+                    "start_com_shift: expected two finite numbers (x, y in metres), got {shift:?}"
+                )));
+            }
+        }
         let from = match after {
             Some(after) if !after.recording().same_object_as(&recording.used.recording) => {
                 return Err(PyValueError::new_err(format!(
@@ -259,12 +275,13 @@ impl Model {
         };
         let run = py
             .detach(|| {
-                TrajectoryRun::learn_from(
+                TrajectoryRun::learn_starting(
                     &self.file.combined,
                     &recording.used,
                     0,
                     &config,
                     from.as_ref(),
+                    start_com_shift,
                 )
             })
             .map_err(|e| {

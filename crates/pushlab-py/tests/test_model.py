@@ -84,6 +84,28 @@ def test_after_goes_on_from_the_push_before_as_eval_carry_theta(model_file, cli,
         model.online(other, after=run)
 
 
+def test_start_com_shift_is_eval_start_com_shift(model_file, cli, tmp_path):
+    report_path = tmp_path / "eval.json"
+    run_cli(
+        cli, "eval", "--model", str(model_file), "--optimizer", "gauss-newton",
+        "--start-com-shift", "0.03,-0.02",
+        "--offline", *map(str, OFFLINE[:3]), "--online", *map(str, ONLINE[:2]), "--json", str(report_path),
+    )
+    report = json.loads(report_path.read_text())
+    assert report["config"]["start_com_shift"] == [0.03, -0.02]
+    model = pushlab.Model.load(model_file)
+    for recording, expected in zip(pushlab.load(ONLINE[:2]), report["trajectories"]):
+        run = model.online(recording, optimizer="gauss-newton", start_com_shift=(0.03, -0.02))
+        assert not run.continued
+        np.testing.assert_allclose(run.theta[0], [*expected["theta_start"]["com_offset"], expected["theta_start"]["h"]], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(run.theta[0][:2], run.theta0[:2] + [0.03, -0.02], rtol=0, atol=1e-12)
+        for key in ("pos", "rot"):
+            assert run.nmse[key] == pytest.approx(expected["online"][key], rel=0, abs=1e-12)
+        np.testing.assert_allclose(run.theta_end, [*expected["com_offset_learned"], expected["h_learned"]], rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="a run going on from `after` starts where that run ended"):
+        model.online(recording, after=run, start_com_shift=(0.01, 0.0))
+
+
 def test_bad_tracking_frames_hold_theta(model_file, set_copy):
     labels = pushlab.Labels(set_copy)
     labels.paint("online_001.csv", "bad tracking", 20, 30)

@@ -186,10 +186,13 @@ class Model:
         steps: int = 5,
         lr: float = 0.005,
         after: Optional[OnlineRun] = None,
+        start_com_shift: Optional[Tuple[float, float]] = None,
     ) -> OnlineRun:
         """Online learning along `recording` from θ_online(0), or with `after` (a run on another
         push of the same object) from where that run ended, θ and its posterior, as
-        `pushlab eval --carry-theta` does; a run on another object is refused (ValueError)."""
+        `pushlab eval --carry-theta` does; a run on another object is refused (ValueError). With
+        `start_com_shift` (x, y, metres), it starts believing the COM that far from θ_online(0)'s,
+        the prior centred there, as `pushlab eval --start-com-shift` does."""
 
 def simulate(
     spec: Union[Dict[str, Any], _Path], *, out: Optional[_Path] = None, truth_labels: bool = False
