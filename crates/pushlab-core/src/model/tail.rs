@@ -29,7 +29,7 @@ pub(crate) struct TailPass<T> {
 }
 
 /// The gradient of a scalar with respect to the tail's inputs.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct TailGradient<T> {
     /// With respect to the COM-relative contact point.
     pub contact: [T; 2],

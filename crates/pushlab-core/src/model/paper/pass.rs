@@ -5,9 +5,9 @@ use crate::model::Prediction;
 use crate::model::kernel::{
     DescentRule, Linearization, RealSample, ThetaPass, descend, linearize, loss_weights,
 };
-use crate::model::mlp::{Activations, Mlp};
+use crate::model::mlp::{Activations, Mlp, OUTPUTS};
 use crate::model::params::OnlineParams;
-use crate::model::tail::TailPass;
+use crate::model::tail::{TailGradient, TailPass};
 use crate::real::Real;
 use crate::simd::{MulAdd, Unfused};
 
@@ -80,6 +80,32 @@ impl<T: Real> PaperModel<T> {
             self.network
                 .position_and_weight_gradient::<A>(&pass.activations, &d_z, network_grad);
         self.theta_gradient::<A>(d_x, d_tail.com_offset, d_tail.h)
+    }
+
+    /// [`PaperModel::backward_with`] without weights for several `d_output` after the same forward
+    /// pass, the network's part taken for all of them at once (`Network::position_gradients`):
+    /// each result is the same numbers as its own backward pass.
+    #[inline(always)]
+    pub(crate) fn backward_many<A: MulAdd, const N: usize>(
+        &self,
+        pass: &Pass<T>,
+        theta: &[T; 3],
+        d_outputs: [[T; 3]; N],
+    ) -> [[T; 3]; N] {
+        let mut d_tails = [TailGradient::default(); N];
+        let mut d_z = [[T::zero(); OUTPUTS]; N];
+        for ((t, z), d) in d_tails.iter_mut().zip(&mut d_z).zip(d_outputs) {
+            *t = pass.tail.backward::<A>(theta, d);
+            *z = self.contact_gradient(t.contact, t.contact_motion);
+        }
+        let d_x = self
+            .network
+            .position_gradients::<A, N>(&pass.activations, &d_z);
+        let mut gradients = [[T::zero(); 3]; N];
+        for ((g, t), d) in gradients.iter_mut().zip(d_tails).zip(d_x) {
+            *g = self.theta_gradient::<A>(d, t.com_offset, t.h);
+        }
+        gradients
     }
 
     crate::simd::dispatch_simd! {
@@ -167,6 +193,16 @@ impl<T: Real, A: MulAdd> ThetaPass<T> for OnlinePass<'_, T, A> {
     }
 
     #[inline(always)]
+    fn backward_many<const N: usize>(
+        &mut self,
+        theta: &[T; 3],
+        d_outputs: [[T; 3]; N],
+    ) -> [[T; 3]; N] {
+        self.model
+            .backward_many::<A, N>(&self.pass, theta, d_outputs)
+    }
+
+    #[inline(always)]
     fn prediction(&self, theta: &[T; 3]) -> Prediction {
         self.pass.tail.prediction(theta)
     }
@@ -229,6 +265,28 @@ pub(super) mod tests {
         let mut pass = Pass::default();
         let output = model.forward(&s.input, theta, &mut pass);
         loss_gradient(output, &s.target, &loss_weights(&model.loss_scale)).0
+    }
+
+    #[test]
+    fn backward_passes_taken_together_give_the_bits_of_each_alone() {
+        use crate::simd::Fused;
+        for seed in [1, 2, 3] {
+            let model = model_f64(seed).cast::<f32>();
+            let s = RealSample::<f32>::of(&sample());
+            let theta = [0.012, -0.018, 0.07];
+            let mut pass = Pass::default();
+            model.forward_with::<Fused>(&s.input, &theta, &mut pass);
+            let seeds = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            let together = model.backward_many::<Fused, 3>(&pass, &theta, seeds);
+            for (d, g) in seeds.into_iter().zip(together) {
+                let alone = model.backward_with::<Fused>(&pass, &theta, d, None);
+                assert_eq!(g.map(f32::to_bits), alone.map(f32::to_bits), "seed {seed}");
+                assert!(
+                    g.iter().any(|x| *x != 0.0),
+                    "seed {seed}, {d:?}: a gradient"
+                );
+            }
+        }
     }
 
     pub fn relative_error(a: f64, b: f64) -> f64 {
