@@ -275,7 +275,7 @@ impl Model {
         };
         let run = py
             .detach(|| {
-                TrajectoryRun::learn_starting(
+                TrajectoryRun::learn_from(
                     &self.file.combined,
                     &recording.used,
                     0,

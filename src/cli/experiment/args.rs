@@ -64,7 +64,6 @@ pub fn optimizer(text: &str) -> Result<pushlab_core::learn::Optimizer, String> {
         .ok_or_else(|| format!("expected gd or gauss-newton, got {text:?}"))
 }
 
-/// A finite number above 0.
 /// An offset in the plane, `X,Y` in metres (e.g. `0.02,-0.01`).
 pub fn offset_xy(text: &str) -> Result<[f64; 2], String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
@@ -82,6 +81,7 @@ pub fn offset_xy(text: &str) -> Result<[f64; 2], String> {
     Ok([number(x)?, number(y)?])
 }
 
+/// A finite number above 0.
 pub fn positive_real(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),

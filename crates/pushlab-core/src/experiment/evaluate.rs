@@ -133,24 +133,13 @@ impl TrajectoryRun {
         index: usize,
         config: &OnlineConfig,
     ) -> Result<Self, NoOutline> {
-        Self::learn_from(model, used, index, config, None)
+        Self::learn_from(model, used, index, config, None, None)
     }
 
     /// [`TrajectoryRun::learn`] going on from where an earlier push of the same object ended
-    /// (`from`, see [`OnlineRun::continuing`]), or from `θ_online(0)`.
+    /// (`from`, see [`OnlineRun::continuing`]), or else from `θ_online(0)` with its COM moved by
+    /// `start_com_shift` (see [`EvalOptions::start_com_shift`]), or else from `θ_online(0)`.
     pub fn learn_from(
-        model: &CombinedModel,
-        used: &UsedRecording,
-        index: usize,
-        config: &OnlineConfig,
-        from: Option<&OnlineState>,
-    ) -> Result<Self, NoOutline> {
-        Self::learn_starting(model, used, index, config, from, None)
-    }
-
-    /// [`TrajectoryRun::learn_from`], a push not going on from another starting believing the COM
-    /// `start_com_shift` from `θ_online(0)`'s (see [`EvalOptions::start_com_shift`]).
-    pub fn learn_starting(
         model: &CombinedModel,
         used: &UsedRecording,
         index: usize,
@@ -311,7 +300,7 @@ pub fn evaluate(
     let mut trajectories: Vec<TrajectoryRun> = Vec::new();
     for (index, u) in online.iter().enumerate() {
         let carried = carried_from(options.carry, online, index, trajectories.last());
-        let run = TrajectoryRun::learn_starting(
+        let run = TrajectoryRun::learn_from(
             model,
             u,
             index,

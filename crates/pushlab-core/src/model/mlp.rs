@@ -341,11 +341,8 @@ impl<T: Real, const I: usize> Network<T, I> {
         act: &Activations<T, I>,
         d_output: &[T; OUTPUTS],
     ) -> [T; 2] {
-        let d1 = self.first_layer_gradient::<A>(act, d_output);
-        [
-            dot::<T, A>(&self.params.w1[0], &d1),
-            dot::<T, A>(&self.params.w1[1], &d1),
-        ]
+        let [position] = self.position_gradients::<A, 1>(act, &[*d_output]);
+        position
     }
 
     /// [`Network::position_gradient`] of several output gradients from the same forward pass, each
