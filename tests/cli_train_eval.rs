@@ -179,6 +179,35 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
     for key in ["offline", "fixed", "online"] {
         nmse(&report["physics"][key], key);
     }
+    // The physics-only model's COM on the same pushes, its error against the same truth, and the
+    // line that sets it beside the combined model's.
+    let physics = report["physics_trajectories"].as_array().unwrap();
+    assert_eq!(physics.len(), 2);
+    for (p, source) in physics.iter().zip(online_subset()) {
+        assert_eq!(p["source"].as_str().unwrap(), source);
+        let learned: Vec<f64> = (p["com_offset_learned"].as_array().unwrap().iter())
+            .map(|c| c.as_f64().unwrap())
+            .collect();
+        let error = p["com_found"]["error_m"].as_f64().unwrap();
+        let distance = (learned[0] - 0.05).hypot(learned[1] - 0.05);
+        assert!(
+            (error - distance).abs() < 1e-12,
+            "{error} against {distance}"
+        );
+        // Learning moved it from the geometric centre (θ_online(0)) toward the true COM.
+        assert!(
+            error < 0.05_f64.hypot(0.05),
+            "physics-only COM error {error} m"
+        );
+    }
+    assert_eq!(report["physics_com_found"]["pushes"], 2);
+    assert!(
+        run.stdout
+            .lines()
+            .any(|l| l.starts_with("Physics-only online: COM found on 2 pushes")),
+        "{}",
+        run.stdout
+    );
     let skipped = report["skipped"].as_array().unwrap();
     assert_eq!(skipped.len(), 1, "{skipped:?}");
     assert!(

@@ -20,6 +20,9 @@ that nothing depends on what a pushlab version puts in `com_found`:
   - along the final posterior's axes: the error's component along the axis it knows best and the one
     it knows least (the eigenvectors of C), medians in mm: how much of the error is where one push
     cannot see;
+  - the physics-only model's final COM on the same push (`physics_trajectories`, by source), its
+    error against the same truth and whether its 95 % ellipse holds it: how much of finding the COM
+    is Lynch's model's own and how much the network adds;
   - with -carry: the final error after the n-th push of an object (n counted from `continued`);
   - what the final σ is made of: the report's `com_sigma_parts` (the frames, the model's COM
     misfit, the estimate's path drift; they add in squares to sigma), medians in mm, where the
@@ -142,6 +145,20 @@ def push_of(source_kind, traj, outlines):
     }
 
 
+def with_physics(pushes, physics_trajectories):
+    """The physics-only model's final COM on the same push (the report's `physics_trajectories`, by
+    source), against the same truth: its error and whether its 95 % ellipse holds the truth."""
+    by_source = {t["source"]: t for t in physics_trajectories}
+    for p in pushes:
+        t = by_source.get(p["source"])
+        if t is None:
+            p["physics_error_mm"] = p["physics_holds"] = None
+            continue
+        est, truth = t["com_offset_learned"], p["truth"]
+        p["physics_error_mm"] = math.hypot(est[0] - truth[0], est[1] - truth[1]) * 1000
+        p["physics_holds"] = holds(est, t["com_offset_cov"], truth)
+
+
 def along_axes(estimate, cov, truth):
     """|error| along the best- and least-known axes of the 2 x 2 covariance `cov`, mm."""
     a, b, c = cov[0][0], cov[0][1], cov[1][1]
@@ -192,6 +209,11 @@ def summary(pushes, reports):
     axes = [p["along_axes_mm"] for p in pushes if p["along_axes_mm"][0] is not None]
     out["median_along_best_mm"] = statistics.median(a[0] for a in axes) if axes else None
     out["median_along_worst_mm"] = statistics.median(a[1] for a in axes) if axes else None
+    physics = [p for p in pushes if p.get("physics_error_mm") is not None]
+    out["physics_pushes"] = len(physics)
+    out["physics_holds"] = sum(p["physics_holds"] for p in physics)
+    out["median_physics_error_mm"] = statistics.median(p["physics_error_mm"] for p in physics) \
+        if physics else None
     parts = [p["sigma_parts_mm"] for p in pushes if p.get("sigma_parts_mm")]
     out["median_sigma_parts_mm"] = {k: statistics.median(q[k] for q in parts) for k in parts[0]} \
         if parts else None
@@ -216,6 +238,18 @@ def print_axes(rows):
         if s["median_along_best_mm"] is not None:
             print(f"  {r['source']:<19} {r['optimizer']:<12} best {s['median_along_best_mm']:5.1f}  "
                   f"least {s['median_along_worst_mm']:5.1f}  (total {s['median_error_mm']:5.1f})")
+
+
+def print_physics_com(rows):
+    print("\nThe COM after one push, the combined model against the physics-only model (the outline's "
+          "contact and Lynch, no network) learning online with the same optimiser on the same pushes: "
+          "95 % holds, median error mm:")
+    for r in rows:
+        s = r["summary"]
+        if s["physics_pushes"]:
+            print(f"  {r['source']:<19} {r['optimizer']:<12} combined {s['holds']:>3}/{s['pushes']:<3} "
+                  f"{s['median_error_mm']:5.1f}  physics-only {s['physics_holds']:>3}/{s['physics_pushes']:<3} "
+                  f"{s['median_physics_error_mm']:5.1f}")
 
 
 def with_push_index(pushes):
@@ -389,6 +423,7 @@ def main():
             kind, target = kind[: -len("-carry")], carried
         source_kind = "mujoco" if kind == "mujoco" else "mit"
         pushes = with_push_index([push_of(source_kind, t, outlines) for t in report["trajectories"]])
+        with_physics(pushes, report.pop("physics_trajectories", []))
         del report["trajectories"]
         entry = target.setdefault((opt, kind), ([], []))
         entry[0].extend(pushes)
@@ -404,6 +439,7 @@ def main():
     if mujoco:
         print_breakdown(mujoco)
     print_axes(rows)
+    print_physics_com(rows)
     print_sigma_parts(rows)
     carried_rows = print_carried(carried)
     claims = targets(rows)

@@ -405,6 +405,9 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
         println!();
         println!("{}", com_found_line(c));
     }
+    if let Some(c) = &report.physics_com_found {
+        println!("Physics-only online: {}", com_found_line(c));
+    }
     for s in &evaluation.left_out {
         println!("left out: {}", s.message());
     }

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::learn::Posterior;
+use crate::learn::{OnlineRun, Posterior};
 
 /// "Found": within 5 mm of the true COM offset, as the optimiser comparison counts it.
 pub const NEAR_M: f64 = 0.005;
@@ -23,6 +23,16 @@ pub struct ComTruth {
 }
 
 impl ComTruth {
+    /// The measures of an online run, over the frames it learned from, against `truth`: the rule of
+    /// the combined and the physics-only model alike.
+    pub fn of_run(run: &OnlineRun, truth: [f64; 2]) -> Option<Self> {
+        let after: Vec<[f64; 2]> = run
+            .learned_steps()
+            .map(|(_, _, theta)| theta.com_offset)
+            .collect();
+        Self::of(&after, run.posterior(), truth)
+    }
+
     /// The measures of one online pass (the COM offset after each frame learned from, and the final
     /// posterior) against `truth`.
     pub fn of(com_after: &[[f64; 2]], posterior: &Posterior, truth: [f64; 2]) -> Option<Self> {

@@ -150,13 +150,8 @@ impl TrajectoryRun {
         let learner = model_on(model, used)?;
         let start = shifted_start(learner.as_ref(), config, from, start_com_shift);
         let run = online_run(learner, used, model.horizon(), config, start.as_ref());
-        let com_truth = used.recording.setting.com_offset.and_then(|truth| {
-            let after: Vec<[f64; 2]> = run
-                .learned_steps()
-                .map(|(_, _, theta)| theta.com_offset)
-                .collect();
-            ComTruth::of(&after, run.posterior(), truth)
-        });
+        let com_truth =
+            (used.recording.setting.com_offset).and_then(|truth| ComTruth::of_run(&run, truth));
         Ok(Self {
             recording: index,
             run,
@@ -226,6 +221,21 @@ pub struct PerLabel {
     pub online: Vec<LabelMean>,
 }
 
+/// Where the physics-only model's online run on one recording left θ: its COM beside the combined
+/// model's on the same push, to tell what the network adds to finding the COM from what Lynch's
+/// model alone finds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhysicsPush {
+    /// Index of the recording among the online recordings.
+    pub recording: usize,
+    /// `θ_online` after the last frame.
+    pub theta_end: OnlineParams,
+    /// The final posterior's COM offset covariance (m², object frame).
+    pub com_covariance: [[f64; 2]; 2],
+    /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
+    pub com_truth: Option<ComTruth>,
+}
+
 /// Means of the offline per-sample losses, for figures.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct OfflineMeans {
@@ -246,6 +256,10 @@ pub struct Evaluation {
     pub online: Nmse,
     pub trajectories: Vec<TrajectoryRun>,
     pub physics: Option<PhysicsNmse>,
+    /// The physics-only model's online runs, when evaluated: one per online recording it could run.
+    pub physics_pushes: Vec<PhysicsPush>,
+    /// How well the physics-only model found the COM, over the same pushes with a known COM.
+    pub physics_com_summary: Option<ComSummary>,
     /// When the online recordings carry range labels.
     pub per_label: Option<PerLabel>,
     /// Recordings a model could not be evaluated on (the contact-frame model without an outline).
@@ -317,9 +331,13 @@ pub fn evaluate(
         }
     }
 
-    let physics = options
-        .physics
-        .map(|tolerance| physics_nmse(offline, online, horizon, scale, tolerance, options));
+    let (physics, physics_pushes) = match options.physics {
+        Some(tolerance) => {
+            let (nmse, pushes) = physics_nmse(offline, online, horizon, scale, tolerance, options);
+            (Some(nmse), pushes)
+        }
+        None => (None, Vec::new()),
+    };
     let mean = |f: fn(&Loss) -> f64| {
         offline_losses.iter().map(f).sum::<f64>() / offline_losses.len().max(1) as f64
     };
@@ -337,13 +355,17 @@ pub fn evaluate(
         com_summary: ComSummary::of(trajectories.iter().filter_map(|r| r.com_truth.as_ref())),
         trajectories,
         physics,
+        physics_com_summary: ComSummary::of(
+            physics_pushes.iter().filter_map(|p| p.com_truth.as_ref()),
+        ),
+        physics_pushes,
         left_out,
     }
 }
 
 /// The physics-only model on the offline data (fixed) and on each online recording, fixed and learning
-/// online, one model per recording's own outline and pusher. Recordings with an unusable outline are
-/// left out.
+/// online, one model per recording's own outline and pusher, with where each online push's θ ended.
+/// Recordings with an unusable outline are left out.
 fn physics_nmse(
     offline: &[UsedRecording],
     online: &[UsedRecording],
@@ -351,7 +373,7 @@ fn physics_nmse(
     scale: LossScale,
     tolerance: f64,
     options: &EvalOptions,
-) -> PhysicsNmse {
+) -> (PhysicsNmse, Vec<PhysicsPush>) {
     let model = |u: &UsedRecording| physics_model(&u.recording, scale, tolerance).ok();
     let mut offline_losses = Vec::new();
     for u in offline {
@@ -359,7 +381,7 @@ fn physics_nmse(
             offline_losses.extend(fixed_pass(&m, &u.samples(horizon)).iter().map(|s| s.loss));
         }
     }
-    let (mut fixed, mut learned) = (Vec::new(), Vec::new());
+    let (mut fixed, mut learned, mut pushes) = (Vec::new(), Vec::new(), Vec::new());
     let mut previous: Option<TrajectoryRun> = None;
     for (index, u) in online.iter().enumerate() {
         if let Some(m) = model(u) {
@@ -370,22 +392,31 @@ fn physics_nmse(
                 carried.as_ref(),
                 options.start_com_shift,
             );
+            let run = online_run(Arc::new(m), u, horizon, &options.online, start.as_ref());
             let run = TrajectoryRun {
                 recording: index,
-                run: online_run(Arc::new(m), u, horizon, &options.online, start.as_ref()),
-                com_truth: None,
+                com_truth: (u.recording.setting.com_offset)
+                    .and_then(|truth| ComTruth::of_run(&run, truth)),
+                run,
                 continued: carried.is_some(),
             };
             fixed.extend(run.fixed());
             learned.extend(run.online());
+            pushes.push(PhysicsPush {
+                recording: index,
+                theta_end: run.theta_end(),
+                com_covariance: run.posterior_end().com_covariance(),
+                com_truth: run.com_truth,
+            });
             previous = Some(run);
         }
     }
-    PhysicsNmse {
+    let nmse = PhysicsNmse {
         offline: Nmse::of(&offline_losses),
         fixed: Nmse::of_frames(fixed),
         online: Nmse::of_frames(learned),
-    }
+    };
+    (nmse, pushes)
 }
 
 /// Where a run starts: from `from` (a push carried on), else believing the COM `shift` from

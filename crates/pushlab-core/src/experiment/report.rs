@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Loaded, Skipped, UsedRecording};
-use super::evaluate::{Evaluation, PhysicsNmse, TrajectoryRun};
+use super::evaluate::{Evaluation, PhysicsNmse, PhysicsPush, TrajectoryRun};
 use crate::labels::pipeline::LabelMean;
 use crate::learn::uncertainty::ComSpreadParts;
 use crate::learn::{Nmse, OnlineConfig, Optimizer};
@@ -50,6 +50,13 @@ pub struct EvalReport {
     /// The physics-only model on the offline data, fixed and online, when evaluated.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub physics: Option<PhysicsNmse>,
+    /// With the physics-only model: where its online run on each push left θ, to set its COM
+    /// beside `trajectories`' on the same pushes.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub physics_trajectories: Vec<PhysicsTrajectoryReport>,
+    /// With the physics-only model, over the pushes with a known COM: as `com_found`, for its COM.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physics_com_found: Option<ComSummary>,
     /// When online recordings carry range labels: the mean total loss ℓ per label.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub per_label: Option<PerLabelReport>,
@@ -95,6 +102,32 @@ pub struct TrajectoryReport {
     /// With per-frame output: every frame that has a sample, in order.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub frames: Option<Vec<FrameReport>>,
+}
+
+/// The physics-only model's online run on one trajectory.
+#[derive(Debug, Serialize)]
+pub struct PhysicsTrajectoryReport {
+    pub source: String,
+    /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
+    pub com_offset_learned: [f64; 2],
+    pub h_learned: f64,
+    /// The posterior covariance of the learned COM offset (2 × 2, m², object frame).
+    pub com_offset_cov: [[f64; 2]; 2],
+    /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_found: Option<ComTruth>,
+}
+
+impl PhysicsTrajectoryReport {
+    fn of(p: &PhysicsPush, used: &UsedRecording) -> Self {
+        Self {
+            source: used.source(),
+            com_offset_learned: p.theta_end.com_offset,
+            h_learned: p.theta_end.h,
+            com_offset_cov: p.com_covariance,
+            com_found: p.com_truth,
+        }
+    }
 }
 
 /// One frame of an online trajectory.
@@ -203,6 +236,10 @@ impl EvalReport {
                 pushlab_version: env!("CARGO_PKG_VERSION").to_owned(),
             },
             physics: evaluation.physics,
+            physics_trajectories: (evaluation.physics_pushes.iter())
+                .map(|p| PhysicsTrajectoryReport::of(p, &online.used[p.recording]))
+                .collect(),
+            physics_com_found: evaluation.physics_com_summary,
             per_label: evaluation.per_label.as_ref().map(|p| PerLabelReport {
                 fixed: p.fixed.iter().map(LabelMeanReport::from).collect(),
                 online: p.online.iter().map(LabelMeanReport::from).collect(),
