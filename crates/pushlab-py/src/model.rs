@@ -7,10 +7,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use numpy::PyArray1;
 use pushlab_core::experiment::{
-    self, DEFAULT_HORIZON, TrajectoryRun, model_on, train_baseline, train_calibrated,
+    self, DEFAULT_HORIZON, TrajectoryRun, model_on, physics_model, train_baseline, train_calibrated,
 };
-use pushlab_core::learn::{OnlineConfig, Optimizer, TrainConfig, TrainProgress};
-use pushlab_core::model::{ModelKind, OnlineParams, sample_at};
+use pushlab_core::learn::{OnlineConfig, OnlineState, Optimizer, TrainConfig, TrainProgress};
+use pushlab_core::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineParams, sample_at};
 use pushlab_core::model_file::ModelFile;
 use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
@@ -234,45 +234,8 @@ impl Model {
         after: Option<&OnlineRun>,
         start_com_shift: Option<[f64; 2]>,
     ) -> PyResult<OnlineRun> {
-        let optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "optimizer: expected \"gd\" or \"gauss-newton\", got {optimizer:?}"
-            ))
-        })?;
-        if !(lr.is_finite() && lr > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "lr: must be a finite number above 0, got {lr}"
-            )));
-        }
-        let config = OnlineConfig {
-            steps,
-            lr,
-            optimizer,
-        };
-        if let Some(shift) = start_com_shift {
-            if after.is_some() {
-                return Err(PyValueError::new_err(
-                    "start_com_shift: a run going on from `after` starts where that run ended",
-                ));
-            }
-            if !shift.iter().all(|x| x.is_finite()) {
-                return Err(PyValueError::new_err(format!(
-                    "start_com_shift: expected two finite numbers (x, y in metres), got {shift:?}"
-                )));
-            }
-        }
-        let from = match after {
-            Some(after) if !after.recording().same_object_as(&recording.used.recording) => {
-                return Err(PyValueError::new_err(format!(
-                    "after: the run on {} pushes another object than {} (same folder, footprint, \
-                     material and pusher needed to go on from it)",
-                    after.recording().source.display(),
-                    recording.used.source()
-                )));
-            }
-            Some(after) => Some(after.end_state()),
-            None => None,
-        };
+        let config = online_config(optimizer, steps, lr)?;
+        let from = start_of(recording, after, start_com_shift, false)?;
         let run = py
             .detach(|| {
                 TrajectoryRun::learn_from(
@@ -291,7 +254,54 @@ impl Model {
                     self.kind()
                 ))
             })?;
-        Ok(OnlineRun::new(run, recording.used.recording.clone()))
+        Ok(OnlineRun::new(run, recording.used.recording.clone(), false))
+    }
+
+    /// The physics-only model — the recording's outline and pusher, Lynch's model on the geometric
+    /// contact, no network — learning θ_online online along `recording`, at this model's horizon
+    /// with losses normalised by this model's offline σ: the "Physics online" pass of `pushlab eval
+    /// --physics` (`contact_tolerance` in metres is its `--contact-tolerance`), to the bit. The
+    /// arguments are `online`'s; `after` must be a physics-only run too.
+    #[pyo3(signature = (recording, optimizer="gd", *, contact_tolerance=DEFAULT_CONTACT_TOLERANCE, steps=5, lr=0.005, after=None, start_com_shift=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn physics_online(
+        &self,
+        py: Python<'_>,
+        recording: &Recording,
+        optimizer: &str,
+        contact_tolerance: f64,
+        steps: usize,
+        lr: f64,
+        after: Option<&OnlineRun>,
+        start_com_shift: Option<[f64; 2]>,
+    ) -> PyResult<OnlineRun> {
+        let config = online_config(optimizer, steps, lr)?;
+        if !(contact_tolerance.is_finite() && contact_tolerance > 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "contact_tolerance: must be a finite number of metres above 0, got {contact_tolerance}"
+            )));
+        }
+        let from = start_of(recording, after, start_com_shift, true)?;
+        let used = &recording.used;
+        let physics = physics_model(
+            &used.recording,
+            self.file.combined.loss_scale(),
+            contact_tolerance,
+        )
+        .map_err(|e| error(format!("{}: physics-only model: {e}", used.source())))?;
+        let horizon = self.file.combined.horizon();
+        let run = py.detach(|| {
+            TrajectoryRun::learn_physics(
+                physics,
+                used,
+                0,
+                horizon,
+                &config,
+                from.as_ref(),
+                start_com_shift,
+            )
+        });
+        Ok(OnlineRun::new(run, used.recording.clone(), true))
     }
 
     fn __repr__(&self) -> String {
@@ -306,6 +316,74 @@ impl Model {
             }
         )
     }
+}
+
+/// The online update rule from Python's arguments, a bad one refused with the argument named.
+fn online_config(optimizer: &str, steps: usize, lr: f64) -> PyResult<OnlineConfig> {
+    let optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "optimizer: expected \"gd\" or \"gauss-newton\", got {optimizer:?}"
+        ))
+    })?;
+    if !(lr.is_finite() && lr > 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "lr: must be a finite number above 0, got {lr}"
+        )));
+    }
+    Ok(OnlineConfig {
+        steps,
+        lr,
+        optimizer,
+    })
+}
+
+/// Where a run on `recording` starts: from where `after` ended — a run of the same model
+/// (`physics_only` or combined) on the same object — or from θ_online(0), moved by
+/// `start_com_shift` when given (checked here, applied by the core).
+fn start_of(
+    recording: &Recording,
+    after: Option<&OnlineRun>,
+    start_com_shift: Option<[f64; 2]>,
+    physics_only: bool,
+) -> PyResult<Option<OnlineState>> {
+    if let Some(shift) = start_com_shift {
+        if after.is_some() {
+            return Err(PyValueError::new_err(
+                "start_com_shift: a run going on from `after` starts where that run ended",
+            ));
+        }
+        if !shift.iter().all(|x| x.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "start_com_shift: expected two finite numbers (x, y in metres), got {shift:?}"
+            )));
+        }
+    }
+    let Some(after) = after else {
+        return Ok(None);
+    };
+    let model = |physics_only| {
+        if physics_only {
+            "the physics-only model (model.physics_online)"
+        } else {
+            "the combined model (model.online)"
+        }
+    };
+    if after.is_physics_only() != physics_only {
+        return Err(PyValueError::new_err(format!(
+            "after: a run of {}; this one is of {}, which goes on only from its own runs",
+            model(after.is_physics_only()),
+            model(physics_only)
+        )));
+    }
+    if !after.recording().same_object_as(&recording.used.recording) {
+        return Err(PyValueError::new_err(format!(
+            "after: the run on {} pushes another object than {} (same folder, footprint, \
+             material and pusher needed to go on from it)",
+            after.recording().source.display(),
+            recording.used.source()
+        )));
+    }
+    Ok(Some(after.end_state()))
 }
 
 /// One prediction: how the object moves from `frame` to `frame + horizon`, in the object frame of

@@ -19,19 +19,27 @@ pub struct OnlineRun {
     /// The recording learned along (shared data), to check that a run going on from this one
     /// pushes the same object.
     recording: Recording,
+    /// Made by the physics-only model (`model.physics_online`) rather than the combined model: a
+    /// run goes on only from a run of the same model.
+    physics_only: bool,
 }
 
 impl OnlineRun {
-    pub(crate) fn new(run: TrajectoryRun, recording: Recording) -> Self {
+    pub(crate) fn new(run: TrajectoryRun, recording: Recording, physics_only: bool) -> Self {
         Self {
             run,
             frames: recording.trajectory.len(),
             recording,
+            physics_only,
         }
     }
 
     pub(crate) fn recording(&self) -> &Recording {
         &self.recording
+    }
+
+    pub(crate) fn is_physics_only(&self) -> bool {
+        self.physics_only
     }
 
     /// θ and the posterior where the run ended: what a run on the next push goes on from.
@@ -171,11 +179,23 @@ impl OnlineRun {
         self.run.steps()
     }
 
+    /// Whether the physics-only model made this run (`model.physics_online`), not the combined
+    /// model (`model.online`).
+    #[getter]
+    fn physics_only(&self) -> bool {
+        self.physics_only
+    }
+
     fn __repr__(&self) -> String {
         let n = self.run.online_nmse();
         let t = self.run.theta_end();
         format!(
-            "<pushlab.OnlineRun {} steps, NMSE pos {:.4} rot {:.4}; COM offset ({:.4}, {:.4}) m, h {:.4} m>",
+            "<pushlab.OnlineRun{} {} steps, NMSE pos {:.4} rot {:.4}; COM offset ({:.4}, {:.4}) m, h {:.4} m>",
+            if self.physics_only {
+                " (physics-only)"
+            } else {
+                ""
+            },
             self.run.steps(),
             n.pos,
             n.rot,

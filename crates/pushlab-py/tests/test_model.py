@@ -106,6 +106,44 @@ def test_start_com_shift_is_eval_start_com_shift(model_file, cli, tmp_path):
         model.online(recording, after=run, start_com_shift=(0.01, 0.0))
 
 
+@pytest.mark.parametrize("carry", [False, True])
+def test_physics_online_is_eval_physics(model_file, cli, tmp_path, carry):
+    report_path = tmp_path / "eval.json"
+    run_cli(
+        cli, "eval", "--model", str(model_file), "--optimizer", "gauss-newton", "--physics",
+        "--contact-tolerance", "0.02", *(["--carry-theta"] if carry else []),
+        "--offline", *map(str, OFFLINE[:3]), "--online", *map(str, ONLINE[:3]), "--json", str(report_path),
+    )
+    report = json.loads(report_path.read_text())
+    expected_runs = report["physics_trajectories"]
+    assert len(expected_runs) == 3
+    model = pushlab.Model.load(model_file)
+    run, losses = None, []
+    for recording, expected in zip(pushlab.load(ONLINE[:3]), expected_runs):
+        run = model.physics_online(
+            recording, optimizer="gauss-newton", contact_tolerance=0.02, after=run if carry else None
+        )
+        assert run.physics_only and run.continued == (carry and len(losses) > 0)
+        np.testing.assert_allclose(run.theta_end, [*expected["com_offset_learned"], expected["h_learned"]], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(run.com_offset_cov, expected["com_offset_cov"], rtol=0, atol=1e-12)
+        assert run.com_found["error_m"] == pytest.approx(expected["com_found"]["error_m"], rel=0, abs=1e-12)
+        losses.append(run.losses)
+    # The report's physics-only online NMSE is the mean over every push's samples.
+    mean = np.concatenate(losses).mean(axis=0)
+    assert mean == pytest.approx([report["physics"]["online"]["pos"], report["physics"]["online"]["rot"]], rel=1e-12)
+    # It learned: θ moved, and not as the combined model's run did.
+    combined = model.online(pushlab.load(ONLINE[0])[0], optimizer="gauss-newton")
+    first = model.physics_online(pushlab.load(ONLINE[0])[0], optimizer="gauss-newton", contact_tolerance=0.02)
+    assert not np.allclose(first.theta_end, first.theta0) and not np.allclose(first.theta_end, combined.theta_end)
+    # A run goes on only from a run of its own model.
+    with pytest.raises(ValueError, match="a run of the combined model .*physics-only model"):
+        model.physics_online(pushlab.load(ONLINE[1])[0], after=combined)
+    with pytest.raises(ValueError, match="a run of the physics-only model .*combined model"):
+        model.online(pushlab.load(ONLINE[1])[0], after=first)
+    with pytest.raises(ValueError, match="contact_tolerance: must be a finite number of metres above 0, got -0.01"):
+        model.physics_online(pushlab.load(ONLINE[1])[0], contact_tolerance=-0.01)
+
+
 def test_bad_tracking_frames_hold_theta(model_file, set_copy):
     labels = pushlab.Labels(set_copy)
     labels.paint("online_001.csv", "bad tracking", 20, 30)

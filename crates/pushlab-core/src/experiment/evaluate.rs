@@ -160,6 +160,31 @@ impl TrajectoryRun {
         })
     }
 
+    /// The physics-only model's online run on one recording (the `index`-th online recording),
+    /// `physics` being [`physics_model`] of its object, at `horizon`: the "Physics online" pass of
+    /// `pushlab eval --physics`, starting as [`TrajectoryRun::learn_from`] does, with the COM found
+    /// against the truth when the setting knows it. The Python package's `model.physics_online`
+    /// runs this too.
+    pub fn learn_physics(
+        physics: PhysicsOnlyModel,
+        used: &UsedRecording,
+        index: usize,
+        horizon: usize,
+        config: &OnlineConfig,
+        from: Option<&OnlineState>,
+        start_com_shift: Option<[f64; 2]>,
+    ) -> Self {
+        let start = shifted_start(&physics, config, from, start_com_shift);
+        let run = online_run(Arc::new(physics), used, horizon, config, start.as_ref());
+        Self {
+            recording: index,
+            com_truth: (used.recording.setting.com_offset)
+                .and_then(|truth| ComTruth::of_run(&run, truth)),
+            run,
+            continued: from.is_some(),
+        }
+    }
+
     /// NMSE of the online losses over the frames learned from: a trajectory's "Online" figure.
     pub fn online_nmse(&self) -> Nmse {
         Nmse::of_frames(self.online())
@@ -386,20 +411,15 @@ fn physics_nmse(
     for (index, u) in online.iter().enumerate() {
         if let Some(m) = model(u) {
             let carried = carried_from(options.carry, online, index, previous.as_ref());
-            let start = shifted_start(
-                &m,
+            let run = TrajectoryRun::learn_physics(
+                m,
+                u,
+                index,
+                horizon,
                 &options.online,
                 carried.as_ref(),
                 options.start_com_shift,
             );
-            let run = online_run(Arc::new(m), u, horizon, &options.online, start.as_ref());
-            let run = TrajectoryRun {
-                recording: index,
-                com_truth: (u.recording.setting.com_offset)
-                    .and_then(|truth| ComTruth::of_run(&run, truth)),
-                run,
-                continued: carried.is_some(),
-            };
             fixed.extend(run.fixed());
             learned.extend(run.online());
             pushes.push(PhysicsPush {

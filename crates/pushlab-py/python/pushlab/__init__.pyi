@@ -149,6 +149,9 @@ class OnlineRun:
         """Whether it went on from another run (`after=`) rather than from θ_online(0)."""
     @property
     def steps(self) -> int: ...
+    @property
+    def physics_only(self) -> bool:
+        """Made by `model.physics_online`, not `model.online`."""
 
 class Model:
     """A trained combined model (a pushlab model file)."""
@@ -193,6 +196,22 @@ class Model:
         `pushlab eval --carry-theta` does; a run on another object is refused (ValueError). With
         `start_com_shift` (x, y, metres), it starts believing the COM that far from θ_online(0)'s,
         the prior centred there, as `pushlab eval --start-com-shift` does."""
+    def physics_online(
+        self,
+        recording: Recording,
+        optimizer: str = "gd",
+        *,
+        contact_tolerance: float = 0.01,
+        steps: int = 5,
+        lr: float = 0.005,
+        after: Optional[OnlineRun] = None,
+        start_com_shift: Optional[Tuple[float, float]] = None,
+    ) -> OnlineRun:
+        """The physics-only model (the recording's outline and pusher, Lynch's model on the geometric
+        contact, no network) learning θ_online online along `recording`, at this model's horizon with
+        losses normalised by this model's offline σ: `pushlab eval --physics`'s "Physics online" pass
+        (`contact_tolerance` metres is its `--contact-tolerance`), to the bit. The other arguments are
+        `online`'s; `after` must be a physics-only run."""
 
 def simulate(
     spec: Union[Dict[str, Any], _Path], *, out: Optional[_Path] = None, truth_labels: bool = False
