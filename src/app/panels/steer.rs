@@ -105,7 +105,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         ("COM offset y", range(1)),
         ("h", range(2)),
     ];
-    ui.spacing_mut().slider_width = 150.0;
+    // The slider takes what its row leaves, so that the value, the name and the ± beside it stay in
+    // view in a narrow Tools panel (they take about 230 points).
+    ui.spacing_mut().slider_width = (ui.available_width() - 230.0).clamp(60.0, 150.0);
     let std = run.spread_at(state.frame()).std();
     let misfit = match run.com_misfit_m() {
         m if m > 0.0 => format!(

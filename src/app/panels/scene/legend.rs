@@ -86,7 +86,7 @@ fn entries(layers: &mut Layers) -> [Entry<'_>; 14] {
         ),
         (
             &mut layers.predicted_physics,
-            "Predicted: physics only",
+            "Predicted: physics only, online θ",
             colors::PHYSICS,
             Some(Physics),
         ),
