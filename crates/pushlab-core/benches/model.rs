@@ -20,7 +20,7 @@ use nalgebra::Point2;
 use pushlab_core::geometry::Outline;
 use pushlab_core::inspect::{ComGrid, com_landscape};
 use pushlab_core::learn::{
-    ContactTrajectory, OnlineConfig, OnlineState, Optimizer, TrainConfig, learn_step,
+    ContactTrajectory, OnlineConfig, OnlineState, Optimizer, TrainConfig, learn_step_in_place,
     train_contact, train_paper,
 };
 use pushlab_core::model::{
@@ -207,9 +207,12 @@ fn bench_learn_step(c: &mut Criterion, name: &str, optimizer: Optimizer) {
         let state = carried.get_or_insert_with(|| OnlineState::start(model, config.optimizer));
         b.iter(|| {
             i = (i + 1) % t.samples.len();
-            let (step, next) = learn_step(model, black_box(&t.samples[i]), state, &config);
-            *state = next;
-            black_box(step)
+            black_box(learn_step_in_place(
+                model,
+                black_box(&t.samples[i]),
+                state,
+                &config,
+            ))
         })
     });
 }

@@ -17,5 +17,5 @@ pub use offline::{
     paper_theta0, train_contact, train_paper, train_pure_nn, training_trajectories,
 };
 pub use run::{KEYFRAME, MeanLosses, OnlineRun};
-pub use step::{OnlineState, learn_step};
+pub use step::{OnlineState, learn_step, learn_step_in_place};
 pub use uncertainty::{Posterior, Spread};

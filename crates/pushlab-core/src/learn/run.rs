@@ -22,7 +22,7 @@
 use std::sync::Arc;
 
 use super::config::OnlineConfig;
-use super::step::{OnlineState, com_misfit_m, learn_step};
+use super::step::{OnlineState, com_misfit_m, learn_step, learn_step_on};
 use super::uncertainty::{Posterior, Spread};
 use crate::model::{
     FrameLoss, OnlineParams, OnlineStep, Sample, SharedOnlineModel, sample_at, sample_count,
@@ -428,17 +428,20 @@ impl OnlineRun {
             return;
         };
         self.truncate_to(frame);
-        let (step, next) = learn_step(
+        // In place: the run's posterior is the state's (`OnlineRun::state`), at θ of the frame.
+        let theta = self.checkpoints[frame].clamped();
+        self.posterior.move_to(&theta);
+        let step = learn_step_on(
             self.model.as_ref(),
             &sample,
-            &self.state(frame),
+            theta,
+            &mut self.posterior,
             &self.config,
         );
         let loss = FrameLoss::of(&step.loss);
         self.add_to_totals(frame, loss);
         self.learned.push(Some(loss));
-        self.checkpoints.push(next.theta);
-        self.posterior = next.posterior;
+        self.checkpoints.push(step.theta_after);
         self.spreads.push(Spread::of(&self.posterior));
         self.keep_keyframe();
     }

@@ -88,7 +88,34 @@ pub fn learn_step<M: OnlineModel + ?Sized>(
     state: &OnlineState,
     config: &OnlineConfig,
 ) -> (OnlineStep, OnlineState) {
-    let theta = model.keep_physical(state.theta);
+    let mut next = *state;
+    let step = learn_step_in_place(model, sample, &mut next, config);
+    (step, next)
+}
+
+/// [`learn_step`] with `state` updated in place: the same numbers, bit for bit, without the copies of
+/// the posterior (about 1.4 kB, mostly its score batches) that moving it by value costs every frame.
+pub fn learn_step_in_place<M: OnlineModel + ?Sized>(
+    model: &M,
+    sample: &Sample,
+    state: &mut OnlineState,
+    config: &OnlineConfig,
+) -> OnlineStep {
+    let step = learn_step_on(model, sample, state.theta, &mut state.posterior, config);
+    state.theta = step.theta_after;
+    step
+}
+
+/// The step from `theta` with `posterior` (the frames before this one) updated in place to take this
+/// frame in and to sit at `θ` after the step, which the returned step holds.
+pub(super) fn learn_step_on<M: OnlineModel + ?Sized>(
+    model: &M,
+    sample: &Sample,
+    theta: OnlineParams,
+    posterior: &mut Posterior,
+    config: &OnlineConfig,
+) -> OnlineStep {
+    let theta = model.keep_physical(theta);
     // Gradient descent's step does not depend on the posterior: it is taken together with the
     // linearisation, which shares its first forward pass.
     let (linearization, descent_step) = match config.optimizer {
@@ -98,27 +125,14 @@ pub fn learn_step<M: OnlineModel + ?Sized>(
         }
         Optimizer::GaussNewton => (model.linearize(sample, &theta), None),
     };
-    // Built in place: the posterior is large enough that copies show (see `Posterior::take_in`).
-    let mut next = OnlineState {
-        theta,
-        posterior: state.posterior,
-    };
-    next.posterior.take_in(&linearization, &theta);
+    posterior.take_in(&linearization, &theta);
     let mut step = match descent_step {
         Some(step) => step,
-        None => gauss_newton_step(
-            model,
-            sample,
-            &theta,
-            &linearization,
-            &next.posterior,
-            config,
-        ),
+        None => gauss_newton_step(model, sample, &theta, &linearization, posterior, config),
     };
     step.theta_after = model.keep_physical(step.theta_after);
-    next.theta = step.theta_after;
-    next.posterior.move_to(&step.theta_after);
-    (step, next)
+    posterior.move_to(&step.theta_after);
+    step
 }
 
 /// The Gauss–Newton (recursive least-squares) step: `θ − I⁻¹ Jᵀr / (s² k c)` with `I` the information
