@@ -205,8 +205,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     }
     let mut config = run.config();
     let mut config_changed = false;
-    ui.horizontal(|ui| {
-        ui.label("Optimiser");
+    // The choices on a line of their own, wrapped: beside the label they ran out of a narrow Tools
+    // panel.
+    ui.label("Optimiser");
+    ui.horizontal_wrapped(|ui| {
         for (optimizer, text, hover) in [
             (
                 Optimizer::Gd,
