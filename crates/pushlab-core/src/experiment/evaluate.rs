@@ -148,16 +148,16 @@ impl TrajectoryRun {
         start_com_shift: Option<[f64; 2]>,
     ) -> Result<Self, NoOutline> {
         let learner = model_on(model, used)?;
-        let start = shifted_start(learner.as_ref(), config, from, start_com_shift);
-        let run = online_run(learner, used, model.horizon(), config, start.as_ref());
-        let com_truth =
-            (used.recording.setting.com_offset).and_then(|truth| ComTruth::of_run(&run, truth));
-        Ok(Self {
-            recording: index,
-            run,
-            com_truth,
-            continued: from.is_some(),
-        })
+        let horizon = model.horizon();
+        Ok(Self::learn_with(
+            learner,
+            used,
+            index,
+            horizon,
+            config,
+            from,
+            start_com_shift,
+        ))
     }
 
     /// The physics-only model's online run on one recording (the `index`-th online recording),
@@ -174,8 +174,23 @@ impl TrajectoryRun {
         from: Option<&OnlineState>,
         start_com_shift: Option<[f64; 2]>,
     ) -> Self {
-        let start = shifted_start(&physics, config, from, start_com_shift);
-        let run = online_run(Arc::new(physics), used, horizon, config, start.as_ref());
+        let physics = Arc::new(physics);
+        Self::learn_with(physics, used, index, horizon, config, from, start_com_shift)
+    }
+
+    /// Either model's online run, starting as [`shifted_start`] says, with the COM found against the
+    /// truth when the setting knows it.
+    fn learn_with(
+        learner: SharedOnlineModel,
+        used: &UsedRecording,
+        index: usize,
+        horizon: usize,
+        config: &OnlineConfig,
+        from: Option<&OnlineState>,
+        start_com_shift: Option<[f64; 2]>,
+    ) -> Self {
+        let start = shifted_start(learner.as_ref(), config, from, start_com_shift);
+        let run = online_run(learner, used, horizon, config, start.as_ref());
         Self {
             recording: index,
             com_truth: (used.recording.setting.com_offset)

@@ -1,6 +1,6 @@
 use super::*;
 use crate::geometry::{Outline, Pose2};
-use crate::learn::Optimizer;
+use crate::learn::{Optimizer, learn_step};
 use crate::model::{LossScale, OnlineModel, PhysicsOnlyModel, samples_from_trajectory};
 use crate::trajectory::Frame;
 
