@@ -18,9 +18,11 @@ use crate::simd::{MulAdd, Unfused};
 
 mod batch;
 mod layers;
+mod piece;
 mod shape;
 pub(crate) use self::batch::{BATCH, BatchActivations};
 use self::layers::{accumulate_outer, axpy, back_through, dense, dot, relu, relu_backward};
+pub(crate) use self::piece::AffinePiece;
 pub use self::shape::{HIDDEN, INPUTS, OUTPUTS, PARAMETER_COUNT, parameter_count};
 
 /// Weights and biases of the MLP. Also used for same-shaped quantities: gradients, Adam's moments.

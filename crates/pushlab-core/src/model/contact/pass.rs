@@ -10,7 +10,7 @@ use nalgebra::{Point2, Vector2};
 use super::frame::ContactGeometry;
 use super::prior::{ConePass, cone_backward, cone_forward, swept_motion};
 use super::{CONTACT_INPUTS, ContactModel};
-use crate::model::mlp::{Activations, HIDDEN, Mlp, OUTPUTS};
+use crate::model::mlp::{Activations, HIDDEN, OUTPUTS};
 use crate::model::params::OnlineParams;
 use crate::model::tail::TailPass;
 use crate::model::{Prediction, SampleInput};
@@ -297,15 +297,17 @@ impl<T: Real> ContactModel<T> {
 
     /// The backward pass: the gradient with respect to `θ_online` of a scalar whose gradient with
     /// respect to the predicted `[Δp_x, Δp_y, Δω]` is `d_output`; with `weights`, also the gradient
-    /// with respect to the network's weights and to `μ`, added to them.
-    #[inline(always)]
+    /// with respect to the network's weights and to `μ`, added to them. The single-sample reference
+    /// of the tests: training takes its batch pass (`batch.rs`), online learning the network's affine
+    /// piece (`pass/online.rs`).
+    #[cfg(test)]
     pub(crate) fn backward<A: MulAdd>(
         &self,
         prepared: &Prepared<T>,
         pass: &Pass<T>,
         theta: &[T; 3],
         d_output: [T; 3],
-        weights: Option<(&mut Mlp<T, CONTACT_INPUTS>, &mut T)>,
+        weights: Option<(&mut crate::model::mlp::Mlp<T, CONTACT_INPUTS>, &mut T)>,
     ) -> [T; 3] {
         let outer = self.backward_outer::<A>(prepared, &pass.outer, theta, d_output);
         let grad = weights.map(|(grad, d_friction)| {
@@ -319,36 +321,6 @@ impl<T: Real> ContactModel<T> {
             [T::zero(); 2]
         };
         self.theta_gradient::<A>(prepared, &pass.outer, theta, d_x, &outer)
-    }
-
-    /// [`ContactModel::backward`] without weights for several `d_output` after the same forward
-    /// pass, the network's part taken for all of them at once (`Network::position_gradients`):
-    /// each result is the same numbers as its own backward pass.
-    #[inline(always)]
-    pub(crate) fn backward_many<A: MulAdd, const N: usize>(
-        &self,
-        prepared: &Prepared<T>,
-        pass: &Pass<T>,
-        theta: &[T; 3],
-        d_outputs: [[T; 3]; N],
-    ) -> [[T; 3]; N] {
-        let mut outer = [OuterGradient::default(); N];
-        let mut d_z = [[T::zero(); OUTPUTS]; N];
-        for ((o, z), d) in outer.iter_mut().zip(&mut d_z).zip(d_outputs) {
-            *o = self.backward_outer::<A>(prepared, &pass.outer, theta, d);
-            *z = o.d_z;
-        }
-        let d_x = if self.options.network {
-            self.network
-                .position_gradients::<A, N>(&pass.activations, &d_z)
-        } else {
-            [[T::zero(); 2]; N]
-        };
-        let mut gradients = [[T::zero(); 3]; N];
-        for ((g, o), d) in gradients.iter_mut().zip(&outer).zip(d_x) {
-            *g = self.theta_gradient::<A>(prepared, &pass.outer, theta, d, o);
-        }
-        gradients
     }
 
     /// The backward pass from the prediction to the network's outputs (see [`OuterGradient`]).

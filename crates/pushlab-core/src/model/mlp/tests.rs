@@ -1,6 +1,6 @@
 //! Tests of the MLP: the forward pass against a naive one, gradients of the input and of every weight
-//! against central differences, the batch pass and forward-mode Jacobian against single samples, and
-//! a wrong parameter count refused with the counts.
+//! against central differences, the batch pass, forward-mode Jacobian and affine piece against single
+//! samples, and a wrong parameter count refused with the counts.
 
 use super::*;
 
@@ -159,6 +159,63 @@ fn batch_forward_and_forward_mode_jacobian_match_the_single_sample_passes() {
         }
     }
     assert!(nonzero);
+}
+
+#[test]
+fn the_affine_piece_is_the_network_until_a_hidden_unit_changes_sign() {
+    let mlp = random_mlp(5);
+    let x = [0.3, -0.2, 0.5, -0.4];
+    let piece = mlp.piece_at::<Unfused>(&mlp.first_layer_context::<Unfused>(&x), &x);
+    assert_eq!(
+        piece.output(),
+        mlp.eval(&x),
+        "the anchor's outputs, to the bit"
+    );
+    let mut at_anchor = Activations::default();
+    mlp.forward(&x, &mut at_anchor);
+    let d = d_objective(&mlp, &x);
+    let backward = mlp.input_gradient(&at_anchor, &d);
+    let gradient = piece.position_gradient::<Unfused>(&d);
+    for j in 0..2 {
+        assert!(
+            relative_error(gradient[j], backward[j]) <= 1e-12,
+            "input {j}: piece {} backward {}",
+            gradient[j],
+            backward[j]
+        );
+    }
+    // Along a line through the anchor: the network's outputs while every unit keeps its sign, and
+    // `None` exactly where one does not.
+    let pattern = |act: &Activations<f64, INPUTS>| {
+        [act.hidden1, act.hidden2, act.hidden3].map(|layer| layer.map(|a| a > 0.0))
+    };
+    let (mut on, mut off) = (0, 0);
+    for k in 1..=200 {
+        let t = 1e-4 * 1.05_f64.powi(k);
+        let moved = [x[0] + t, x[1] - 0.5 * t, x[2], x[3]];
+        let mut act = Activations::default();
+        let truth = mlp.forward(&moved, &mut act);
+        let same = pattern(&act) == pattern(&at_anchor);
+        match piece.output_at::<Unfused>([moved[0], moved[1]]) {
+            Some(z) => {
+                assert!(same, "t = {t}: a unit changed sign but the piece answered");
+                for i in 0..OUTPUTS {
+                    assert!(
+                        (z[i] - truth[i]).abs() <= 1e-12 * truth[i].abs().max(1.0),
+                        "t = {t}, output {i}: piece {} network {}",
+                        z[i],
+                        truth[i]
+                    );
+                }
+                on += 1;
+            }
+            None => {
+                assert!(!same, "t = {t}: off the piece with the anchor's signs");
+                off += 1;
+            }
+        }
+    }
+    assert!(on > 5 && off > 5, "on the piece {on} times, off it {off}");
 }
 
 #[test]
