@@ -200,6 +200,42 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
             "physics-only COM error {error} m"
         );
     }
+    // Each push's physics-only NMSE: the report's row is their mean weighted by the push's samples
+    // (the same frames as the combined model's), and the table prints it beside the combined model's.
+    for key in ["fixed", "online"] {
+        let (mut sum_pos, mut sum_rot, mut samples) = (0.0, 0.0, 0.0);
+        for (p, t) in physics.iter().zip(trajectories) {
+            nmse(&p[key], key);
+            let steps = t["steps"].as_f64().unwrap();
+            sum_pos += steps * p[key]["pos"].as_f64().unwrap();
+            sum_rot += steps * p[key]["rot"].as_f64().unwrap();
+            samples += steps;
+        }
+        let row = &report["physics"][key];
+        for (mean, axis) in [(sum_pos / samples, "pos"), (sum_rot / samples, "rot")] {
+            let expected = row[axis].as_f64().unwrap();
+            assert!(
+                (mean - expected).abs() <= 1e-12 * expected.abs(),
+                "physics {key} {axis}: {mean} from the pushes, {expected} in the row"
+            );
+        }
+    }
+    let header = (run.stdout.lines())
+        .find(|l| l.starts_with("online trajectory"))
+        .unwrap();
+    assert!(
+        header.contains("online pos/rot     phys online"),
+        "{header}"
+    );
+    let first = physics[0]["online"]["pos"].as_f64().unwrap();
+    assert!(
+        (run.stdout.lines()).any(|l| l.contains(&format!(
+            "/{:<7.3} {first:>7.3}/",
+            trajectories[0]["online"]["rot"].as_f64().unwrap()
+        ))),
+        "{}",
+        run.stdout
+    );
     assert_eq!(report["physics_com_found"]["pushes"], 2);
     assert!(
         run.stdout

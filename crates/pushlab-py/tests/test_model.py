@@ -127,6 +127,9 @@ def test_physics_online_is_eval_physics(model_file, cli, tmp_path, carry):
         np.testing.assert_allclose(run.theta_end, [*expected["com_offset_learned"], expected["h_learned"]], rtol=0, atol=1e-12)
         np.testing.assert_allclose(run.com_offset_cov, expected["com_offset_cov"], rtol=0, atol=1e-12)
         assert run.com_found["error_m"] == pytest.approx(expected["com_found"]["error_m"], rel=0, abs=1e-12)
+        for key in ("pos", "rot"):
+            assert run.nmse[key] == pytest.approx(expected["online"][key], rel=0, abs=1e-12)
+            assert run.fixed_nmse[key] == pytest.approx(expected["fixed"][key], rel=0, abs=1e-12)
         losses.append(run.losses)
     # The report's physics-only online NMSE is the mean over every push's samples.
     mean = np.concatenate(losses).mean(axis=0)

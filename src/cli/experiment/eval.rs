@@ -336,12 +336,26 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
         );
     }
     println!();
+    // With --physics, each push's physics-only online NMSE beside the combined model's.
+    let physics_online = |recording: usize| {
+        let push = (evaluation.physics_pushes.iter()).find(|p| p.recording == recording);
+        match (report.physics.is_some(), push) {
+            (false, _) => String::new(),
+            (true, Some(p)) => format!(" {:>7.3}/{:<7.3}", p.online.pos, p.online.rot),
+            (true, None) => format!(" {:>15}", "-"),
+        }
+    };
     println!(
-        "{:<28} {:>5} {:>15} {:>15} {:>27} {:>15}",
+        "{:<28} {:>5} {:>15} {:>15}{} {:>27} {:>15}",
         "online trajectory",
         "steps",
         "fixed pos/rot",
         "online pos/rot",
+        if report.physics.is_some() {
+            format!(" {:>15}", "phys online")
+        } else {
+            String::new()
+        },
         "COM offset learned (true)",
         "h learned (true)"
     );
@@ -357,12 +371,13 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
             .map(|h| format!("{h:.3}"))
             .unwrap_or_else(|| "?".into());
         println!(
-            "{name:<28} {:>5} {:>7.3}/{:<7.3} {:>7.3}/{:<7.3} {:>13} {:<13} {:>6.3} {:<8}",
+            "{name:<28} {:>5} {:>7.3}/{:<7.3} {:>7.3}/{:<7.3}{} {:>13} {:<13} {:>6.3} {:<8}",
             t.steps,
             t.fixed.pos,
             t.fixed.rot,
             t.online.pos,
             t.online.rot,
+            physics_online(r.recording),
             format!(
                 "({:.3},{:.3})",
                 t.com_offset_learned[0], t.com_offset_learned[1]

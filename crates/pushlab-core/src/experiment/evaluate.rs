@@ -268,6 +268,10 @@ pub struct PerLabel {
 pub struct PhysicsPush {
     /// Index of the recording among the online recordings.
     pub recording: usize,
+    /// NMSE of this push, the physics-only model at `θ_online(0)` and learning online: where the
+    /// combined model loses to Lynch's model alone, push by push.
+    pub fixed: Nmse,
+    pub online: Nmse,
     /// `θ_online` after the last frame.
     pub theta_end: OnlineParams,
     /// The final posterior's COM offset covariance (m², object frame).
@@ -439,6 +443,8 @@ fn physics_nmse(
             learned.extend(run.online());
             pushes.push(PhysicsPush {
                 recording: index,
+                fixed: run.fixed_nmse(),
+                online: run.online_nmse(),
                 theta_end: run.theta_end(),
                 com_covariance: run.posterior_end().com_covariance(),
                 com_truth: run.com_truth,

@@ -108,6 +108,10 @@ pub struct TrajectoryReport {
 #[derive(Debug, Serialize)]
 pub struct PhysicsTrajectoryReport {
     pub source: String,
+    /// NMSE of this push at `θ_online(0)` and learning online, as the combined model's
+    /// `TrajectoryReport` gives them.
+    pub fixed: Nmse,
+    pub online: Nmse,
     /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
     pub com_offset_learned: [f64; 2],
     pub h_learned: f64,
@@ -122,6 +126,8 @@ impl PhysicsTrajectoryReport {
     fn of(p: &PhysicsPush, used: &UsedRecording) -> Self {
         Self {
             source: used.source(),
+            fixed: p.fixed,
+            online: p.online,
             com_offset_learned: p.theta_end.com_offset,
             h_learned: p.theta_end.h,
             com_offset_cov: p.com_covariance,
