@@ -4,11 +4,13 @@
 //! maps a point given in the object frame to the world, and `pose.point_in_object(p_in_world)` back.
 //! Angles in trajectories are kept unwrapped; differences of angles are wrapped to (−π, π].
 
+mod clip;
 mod outline;
 mod polygon;
 mod preset;
 mod rigid_fit;
 
+pub use clip::clip_to_convex;
 pub use outline::{BoundaryPoint, Outline, OutlineError};
 pub use polygon::cross;
 pub use preset::{PRESET_NAMES, PUSH_T, PushT};

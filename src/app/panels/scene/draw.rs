@@ -152,11 +152,15 @@ pub fn what_if(
 }
 
 /// The 95 % ellipse of the estimated COM: half-axes (metres) and the major axis's angle, both in the
-/// object frame at `pose`, around the COM offset `com`.
+/// object frame at `pose`, around the COM offset `com`. With the object's `outline`, filled only
+/// inside the footprint, where the COM can be (online learning keeps it there), and dashed outside:
+/// the first frames' ellipse is the prior's, wider than the object, and filled whole it covered the
+/// scene (`geometry::clip`).
 pub fn com_ellipse(
     painter: &egui::Painter,
     projection: &Projection,
     pose: &Pose2,
+    outline: Option<&Outline>,
     com: [f64; 2],
     axes: [f64; 2],
     angle: f64,
@@ -165,19 +169,65 @@ pub fn com_ellipse(
         return;
     }
     let (sin, cos) = angle.sin_cos();
-    let points: Vec<Pos2> = (0..64)
+    let in_object: Vec<Point2<f64>> = (0..128)
         .map(|i| {
-            let t = std::f64::consts::TAU * f64::from(i) / 64.0;
+            let t = std::f64::consts::TAU * f64::from(i) / 128.0;
             let (a, b) = (axes[0] * t.cos(), axes[1] * t.sin());
-            let in_object = Point2::new(com[0] + a * cos - b * sin, com[1] + a * sin + b * cos);
-            projection.to_screen(pose.point_in_world(in_object))
+            Point2::new(com[0] + a * cos - b * sin, com[1] + a * sin + b * cos)
         })
         .collect();
-    painter.add(Shape::convex_polygon(
-        points,
-        colors::ONLINE.gamma_multiply(0.10),
-        Stroke::new(1.5, colors::ONLINE.gamma_multiply(0.8)),
-    ));
+    let screen = |p: &Point2<f64>| projection.to_screen(pose.point_in_world(*p));
+    let fill = colors::ONLINE.gamma_multiply(0.10);
+    let stroke = Stroke::new(1.5, colors::ONLINE.gamma_multiply(0.8));
+    let Some(outline) = outline else {
+        let points = in_object.iter().map(screen).collect();
+        painter.add(Shape::convex_polygon(points, fill, stroke));
+        return;
+    };
+    // The fill: the footprint's convex pieces inside the ellipse, as one mesh (no seams between them).
+    let mut mesh = egui::Mesh::default();
+    for piece in outline.clipped_to_convex(&in_object) {
+        let first = mesh.vertices.len() as u32;
+        for p in &piece {
+            mesh.colored_vertex(screen(p), fill);
+        }
+        for k in 1..piece.len() as u32 - 1 {
+            mesh.add_triangle(first, first + k, first + k + 1);
+        }
+    }
+    painter.add(Shape::mesh(mesh));
+    // The line: solid inside the footprint, faint and dashed outside it, so that the ellipse's size
+    // and direction still read where it is wider than the object.
+    let inside: Vec<bool> = in_object.iter().map(|p| outline.contains(*p)).collect();
+    if inside.iter().all(|&i| i) {
+        painter.add(Shape::closed_line(
+            in_object.iter().map(screen).collect(),
+            stroke,
+        ));
+        return;
+    }
+    let outside_stroke = Stroke::new(1.0, colors::ONLINE.gamma_multiply(0.45));
+    let n = in_object.len();
+    // Start at a change from inside to outside, so that every run of one kind is whole.
+    let start = (0..n)
+        .find(|&k| inside[k] != inside[(k + n - 1) % n])
+        .unwrap_or(0);
+    let mut run: Vec<Pos2> = vec![screen(&in_object[start])];
+    for step in 1..=n {
+        let k = (start + step) % n;
+        run.push(screen(&in_object[k]));
+        let segment_inside = inside[(k + n - 1) % n] && inside[k];
+        let next_inside = inside[k] && inside[(k + 1) % n];
+        if step == n || segment_inside != next_inside {
+            if segment_inside {
+                painter.add(Shape::line(std::mem::take(&mut run), stroke));
+            } else {
+                painter.extend(Shape::dashed_line(&run, outside_stroke, 6.0, 4.0));
+                run.clear();
+            }
+            run.push(screen(&in_object[k]));
+        }
+    }
 }
 
 /// The object pose reached by `motion` from `pose`, with the motion multiplied by `gain`.

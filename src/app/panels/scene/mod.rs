@@ -302,6 +302,7 @@ fn draw_layers(
             painter,
             projection,
             &content.pose,
+            content.outline,
             theta.com_offset,
             axes,
             angle,
