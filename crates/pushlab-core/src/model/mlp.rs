@@ -309,15 +309,31 @@ impl<T: Real, const I: usize> Network<T, I> {
         input: &[T; I],
         act: &mut Activations<T, I>,
     ) -> [T; OUTPUTS] {
-        let p = &self.params;
+        let ([pre1, pre2, pre3], output) = self.pre_activations::<A>(context_part, input);
         act.input = *input;
-        let mut z1 = *context_part;
-        axpy::<T, A, HIDDEN>(&mut z1, &p.w1[0], input[0]);
-        axpy::<T, A, HIDDEN>(&mut z1, &p.w1[1], input[1]);
-        act.hidden1 = relu(z1);
-        act.hidden2 = relu(dense::<T, A, HIDDEN, HIDDEN>(&p.w2, &p.b2, &act.hidden1));
-        act.hidden3 = relu(dense::<T, A, HIDDEN, HIDDEN>(&p.w3, &p.b3, &act.hidden2));
-        dense::<T, A, HIDDEN, OUTPUTS>(&p.w4, &p.b4, &act.hidden3)
+        act.hidden1 = relu(pre1);
+        act.hidden2 = relu(pre2);
+        act.hidden3 = relu(pre3);
+        output
+    }
+
+    /// The forward pass from [`Network::first_layer_context`] of `input` and the whole input: the
+    /// hidden layers before ReLU and the outputs. What [`Network::forward_from`] keeps for the
+    /// backward pass and the affine piece (`piece.rs`) for its signs.
+    #[inline(always)]
+    pub(super) fn pre_activations<A: MulAdd>(
+        &self,
+        context_part: &[T; HIDDEN],
+        input: &[T; I],
+    ) -> ([[T; HIDDEN]; 3], [T; OUTPUTS]) {
+        let p = &self.params;
+        let mut pre1 = *context_part;
+        axpy::<T, A, HIDDEN>(&mut pre1, &p.w1[0], input[0]);
+        axpy::<T, A, HIDDEN>(&mut pre1, &p.w1[1], input[1]);
+        let pre2 = dense::<T, A, HIDDEN, HIDDEN>(&p.w2, &p.b2, &relu(pre1));
+        let pre3 = dense::<T, A, HIDDEN, HIDDEN>(&p.w3, &p.b3, &relu(pre2));
+        let output = dense::<T, A, HIDDEN, OUTPUTS>(&p.w4, &p.b4, &relu(pre3));
+        ([pre1, pre2, pre3], output)
     }
 
     /// Runs the network without keeping activations.

@@ -14,7 +14,7 @@
 //! the bit — and the gradient is the exact derivative of the piece (not the same rounding as a
 //! backward pass).
 
-use super::layers::{axpy, dense, relu, sum_of_columns};
+use super::layers::{relu_backward, sum_of_columns};
 use super::{HIDDEN, Network, OUTPUTS};
 use crate::real::Real;
 use crate::simd::MulAdd;
@@ -46,27 +46,23 @@ impl<T: Real, const I: usize> Network<T, I> {
         input: &[T; I],
     ) -> AffinePiece<T> {
         let p = &self.params;
-        let mut pre1 = *context_part;
-        axpy::<T, A, HIDDEN>(&mut pre1, &p.w1[0], input[0]);
-        axpy::<T, A, HIDDEN>(&mut pre1, &p.w1[1], input[1]);
-        let pre2 = dense::<T, A, HIDDEN, HIDDEN>(&p.w2, &p.b2, &relu(pre1));
-        let pre3 = dense::<T, A, HIDDEN, HIDDEN>(&p.w3, &p.b3, &relu(pre2));
-        let output = dense::<T, A, HIDDEN, OUTPUTS>(&p.w4, &p.b4, &relu(pre3));
-        // The slopes, forward through the active units: both columns of a layer before the next, so
+        let ([pre1, pre2, pre3], output) = self.pre_activations::<A>(context_part, input);
+        // The slopes, forward through the active units (ReLU's gradient rule: `pre > 0`): both columns of a layer before the next, so
         // that their chains of multiply-adds overlap. (Plain loops, not closures, which might not be
         // inlined into the caller's AVX2 + FMA copy.)
         let s1 = [p.w1[0], p.w1[1]];
         let mut s2 = [[T::zero(); HIDDEN]; 2];
         for k in 0..2 {
-            s2[k] = sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w2, &active(&pre1, &s1[k]));
+            s2[k] = sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w2, &relu_backward(&pre1, &s1[k]));
         }
         let mut s3 = [[T::zero(); HIDDEN]; 2];
         for k in 0..2 {
-            s3[k] = sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w3, &active(&pre2, &s2[k]));
+            s3[k] = sum_of_columns::<T, A, HIDDEN, HIDDEN>(&p.w3, &relu_backward(&pre2, &s2[k]));
         }
         let mut jacobian = [[T::zero(); OUTPUTS]; 2];
         for k in 0..2 {
-            jacobian[k] = sum_of_columns::<T, A, HIDDEN, OUTPUTS>(&p.w4, &active(&pre3, &s3[k]));
+            jacobian[k] =
+                sum_of_columns::<T, A, HIDDEN, OUTPUTS>(&p.w4, &relu_backward(&pre3, &s3[k]));
         }
         AffinePiece {
             anchor: [input[0], input[1]],
@@ -122,14 +118,4 @@ impl<T: Real> AffinePiece<T> {
         }
         gradient
     }
-}
-
-/// `v` where the unit is active (`pre > 0`, ReLU's rule), zero elsewhere.
-#[inline(always)]
-fn active<T: Real>(pre: &[T; HIDDEN], v: &[T; HIDDEN]) -> [T; HIDDEN] {
-    let mut out = *v;
-    for (o, &p) in out.iter_mut().zip(pre) {
-        *o = if p > T::zero() { *o } else { T::zero() };
-    }
-    out
 }
