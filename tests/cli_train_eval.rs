@@ -97,6 +97,7 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
             "--lr",
             "0.01",
             "--physics",
+            "--best-fit",
             "--json",
             &json_s,
             "--plot",
@@ -244,6 +245,42 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
         "{}",
         run.stdout
     );
+    // --best-fit: each push's best θ for both models fits the whole push at least as well as
+    // θ_online(0) (the fixed run), its COM error is against the setting's truth, and the summary
+    // lines are printed.
+    for (t, p) in trajectories.iter().zip(physics) {
+        for (kind, push) in [("combined", t), ("physics", p)] {
+            let fit = &push["best_fit"];
+            assert_eq!(fit["samples"], t["steps"], "{kind}: {fit}");
+            let fixed = 2.0 * push["fixed"]["pos"].as_f64().unwrap()
+                + push["fixed"]["rot"].as_f64().unwrap();
+            let best = fit["mean_loss"].as_f64().unwrap();
+            assert!(best <= fixed + 1e-12, "{kind}: best {best} > fixed {fixed}");
+            let total =
+                2.0 * fit["nmse"]["pos"].as_f64().unwrap() + fit["nmse"]["rot"].as_f64().unwrap();
+            assert!(
+                (total - best).abs() < 1e-9 * best.max(1.0),
+                "{kind}: {total} vs {best}"
+            );
+            let (com, truth) = (&fit["theta"]["com_offset"], &t["com_offset_true"]);
+            let error = (com[0].as_f64().unwrap() - truth[0].as_f64().unwrap())
+                .hypot(com[1].as_f64().unwrap() - truth[1].as_f64().unwrap());
+            let reported = fit["com_error_m"].as_f64().unwrap();
+            assert!((reported - error).abs() < 1e-12, "{kind}: {fit}");
+        }
+    }
+    assert_eq!(report["best_fit"]["pushes"], 2);
+    assert_eq!(report["physics_best_fit"]["pushes"], 2);
+    for line in [
+        "Best θ per push (the whole push",
+        "Physics-only best θ per push",
+    ] {
+        assert!(
+            run.stdout.lines().any(|l| l.starts_with(line)),
+            "{line}: {}",
+            run.stdout
+        );
+    }
     let skipped = report["skipped"].as_array().unwrap();
     assert_eq!(skipped.len(), 1, "{skipped:?}");
     assert!(

@@ -142,7 +142,17 @@ def push_of(source_kind, traj, outlines):
         "continued": bool(traj.get("continued")),
         "sigma_parts_mm": {k.removesuffix("_m"): v * 1000 for k, v in traj["com_sigma_parts"].items()}
         if traj.get("com_sigma_parts") else None,
+        **best_of(traj.get("best_fit"), truth, "best"),
     }
+
+
+def best_of(fit, truth, prefix):
+    """A push's best θ (`eval --best-fit`) against the truth: its COM error, NMSE and samples."""
+    if not fit:
+        return {}
+    com = fit["theta"]["com_offset"]
+    return {f"{prefix}_error_mm": math.hypot(com[0] - truth[0], com[1] - truth[1]) * 1000,
+            f"{prefix}_nmse": fit["nmse"], f"{prefix}_samples": fit["samples"]}
 
 
 def with_physics(pushes, physics_trajectories):
@@ -157,6 +167,7 @@ def with_physics(pushes, physics_trajectories):
         est, truth = t["com_offset_learned"], p["truth"]
         p["physics_error_mm"] = math.hypot(est[0] - truth[0], est[1] - truth[1]) * 1000
         p["physics_holds"] = holds(est, t["com_offset_cov"], truth)
+        p.update(best_of(t.get("best_fit"), truth, "physics_best"))
 
 
 def along_axes(estimate, cov, truth):
@@ -214,6 +225,14 @@ def summary(pushes, reports):
     out["physics_holds"] = sum(p["physics_holds"] for p in physics)
     out["median_physics_error_mm"] = statistics.median(p["physics_error_mm"] for p in physics) \
         if physics else None
+    for prefix in ("best", "physics_best"):
+        fitted = [p for p in pushes if f"{prefix}_error_mm" in p]
+        out[f"{prefix}_pushes"] = len(fitted)
+        out[f"median_{prefix}_error_mm"] = statistics.median(p[f"{prefix}_error_mm"] for p in fitted) \
+            if fitted else None
+        n = sum(p[f"{prefix}_samples"] for p in fitted)
+        out[f"{prefix}_nmse"] = {k: sum(p[f"{prefix}_nmse"][k] * p[f"{prefix}_samples"] for p in fitted) / n
+                                 for k in ("pos", "rot")} if n else None
     parts = [p["sigma_parts_mm"] for p in pushes if p.get("sigma_parts_mm")]
     out["median_sigma_parts_mm"] = {k: statistics.median(q[k] for q in parts) for k in parts[0]} \
         if parts else None
@@ -250,6 +269,24 @@ def print_physics_com(rows):
             print(f"  {r['source']:<19} {r['optimizer']:<12} combined {s['holds']:>3}/{s['pushes']:<3} "
                   f"{s['median_error_mm']:5.1f}  physics-only {s['physics_holds']:>3}/{s['physics_pushes']:<3} "
                   f"{s['median_physics_error_mm']:5.1f}")
+
+
+def print_best(rows):
+    rows = [r for r in rows if r["summary"]["best_pushes"]]
+    if not rows:
+        return
+    print("\nThe best θ for each whole push (eval --best-fit: the θ held fixed over the push that fits it "
+          "best, found by a grid over the object and Levenberg-Marquardt; no online learner with the model "
+          "beats it on that push), against where online learning ended: median COM error mm, NMSE pos/rot")
+    for r in rows:
+        s = r["summary"]
+        line = (f"  {r['source']:<19} {r['optimizer']:<12} combined best {s['median_best_error_mm']:5.1f} "
+                f"{nmse(s['best_nmse'])} online {s['median_error_mm']:5.1f} {nmse(s.get('online'))}")
+        if s["physics_best_pushes"]:
+            line += (f"   physics-only best {s['median_physics_best_error_mm']:5.1f} "
+                     f"{nmse(s['physics_best_nmse'])} online {s['median_physics_error_mm']:5.1f} "
+                     f"{nmse(s.get('physics_online'))}")
+        print(line)
 
 
 def with_push_index(pushes):
@@ -441,6 +478,7 @@ def main():
     print_axes(rows)
     print_physics_com(rows)
     print_sigma_parts(rows)
+    print_best(rows)
     carried_rows = print_carried(carried)
     claims = targets(rows)
     print_sanity(args.sanity)

@@ -17,11 +17,14 @@ use std::time::Instant;
 
 use anyhow::{Context, anyhow};
 use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::domain::Domain;
 use pushlab_core::experiment::DEFAULT_HORIZON;
 use pushlab_core::experiment::report::{EvalReport, ReportContext};
-use pushlab_core::experiment::{self, ComSummary, EvalOptions, Evaluation, UsedRecording};
+use pushlab_core::experiment::{
+    self, BestFitSummary, ComSummary, EvalOptions, Evaluation, UsedRecording,
+};
 use pushlab_core::labels::Split;
 use pushlab_core::learn::{Nmse, OnlineConfig, Optimizer, TrainConfig};
 use pushlab_core::model::{
@@ -91,6 +94,12 @@ pub struct EvalArgs {
     /// given. On real recordings, whose COM is where θ_online(0) puts it, the one way to see it.
     #[arg(long, value_name = "X,Y", value_parser = offset_xy, allow_hyphen_values = true)]
     pub start_com_shift: Option<[f64; 2]>,
+    /// Also find, for each online push, the θ_online that fits the whole push best (a grid over
+    /// the object, then Levenberg–Marquardt; with --physics for the physics-only model too): what
+    /// no online learner with the model can beat on that push. Where the best COM is as far from
+    /// the truth as the learned one, the limit is the model, not the learning.
+    #[arg(long)]
+    pub best_fit: bool,
 }
 
 /// Runs `pushlab eval`.
@@ -169,13 +178,16 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         carry: args.carry_theta,
         start_com_shift: args.start_com_shift,
     };
-    let evaluation = experiment::evaluate(
+    let mut evaluation = experiment::evaluate(
         &combined,
         Some(&pure_nn),
         &offline.used,
         &online.used,
         &options,
     );
+    if args.best_fit {
+        find_best_fits(&mut evaluation, &combined, &online.used, &options);
+    }
     let pass_time = pass_started.elapsed();
 
     let report = EvalReport::of(
@@ -240,6 +252,36 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         pass_time.as_secs_f64()
     );
     Ok(())
+}
+
+/// Each push's best θ, with a progress bar on stderr; Ctrl-C stops it, keeping the pushes done.
+fn find_best_fits(
+    evaluation: &mut Evaluation,
+    model: &CombinedModel,
+    online: &[UsedRecording],
+    options: &EvalOptions,
+) {
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    if let Ok(style) =
+        ProgressStyle::with_template("{prefix:>13} [{bar:30}] push {pos}/{len} ({eta})")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix("best θ");
+    let finished = evaluation.find_best_fits(
+        model,
+        online,
+        options,
+        &mut |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        },
+        &train_progress::cancelled,
+    );
+    bar.finish_and_clear();
+    if !finished {
+        println!("best θ stopped by Ctrl-C: the pushes done so far are reported");
+    }
 }
 
 /// The training configuration that made the combined model.
@@ -423,10 +465,56 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
     if let Some(c) = &report.physics_com_found {
         println!("Physics-only online: {}", com_found_line(c));
     }
+    if let Some(b) = &report.best_fit {
+        println!(
+            "{}",
+            best_fit_line(
+                "Best θ per push",
+                b,
+                &report.online,
+                report.com_found.as_ref()
+            )
+        );
+    }
+    if let (Some(b), Some(p)) = (&report.physics_best_fit, &report.physics) {
+        let found = report.physics_com_found.as_ref();
+        println!(
+            "{}",
+            best_fit_line("Physics-only best θ per push", b, &p.online, found)
+        );
+    }
     for s in &evaluation.left_out {
         println!("left out: {}", s.message());
     }
     println!();
+}
+
+/// One line on each push's best θ against what online learning reached (`online`, `found`).
+fn best_fit_line(
+    what: &str,
+    b: &BestFitSummary,
+    online: &Nmse,
+    found: Option<&ComSummary>,
+) -> String {
+    let com = match (b.mean_com_error_m, found) {
+        (Some(best), Some(c)) => format!(
+            "; mean COM error {:.1} mm over {} pushes with a known COM (online learning: {:.1} mm)",
+            best * 1e3,
+            b.with_truth,
+            c.mean_error_m * 1e3
+        ),
+        (Some(best), None) => format!(
+            "; mean COM error {:.1} mm over {} pushes with a known COM",
+            best * 1e3,
+            b.with_truth
+        ),
+        _ => String::new(),
+    };
+    format!(
+        "{what} (the whole push at once, held fixed): NMSE {:.3}/{:.3} pos/rot over {} pushes \
+         (online {:.3}/{:.3}){com}",
+        b.nmse.pos, b.nmse.rot, b.pushes, online.pos, online.rot
+    )
 }
 
 /// One line on how well online learning found a known COM.

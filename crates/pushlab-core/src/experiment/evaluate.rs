@@ -6,14 +6,16 @@
 
 use std::sync::Arc;
 
+use super::best_fit::{BestFit, best_fit};
 use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Skipped, UsedRecording};
 use crate::geometry::OutlineError;
 use crate::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
 use crate::learn::{Nmse, OnlineConfig, OnlineRun, OnlineState, Posterior};
 use crate::model::{
-    CombinedModel, FrameLoss, Loss, LossScale, NoOutline, OnlineModel, OnlineParams, OnlineStep,
-    PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel, samples_from_trajectory,
+    CombinedModel, DEFAULT_CONTACT_TOLERANCE, FrameLoss, Loss, LossScale, NoOutline, OnlineModel,
+    OnlineParams, OnlineStep, PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel,
+    samples_from_trajectory,
 };
 use crate::recording::Recording;
 
@@ -119,6 +121,8 @@ pub struct TrajectoryRun {
     /// Whether the run went on from the push before it (`EvalOptions::carry`) rather than from
     /// `θ_online(0)`.
     pub continued: bool,
+    /// The `θ_online` that fits the whole push best, once [`Evaluation::find_best_fits`] ran.
+    pub best_fit: Option<BestFit>,
 }
 
 impl TrajectoryRun {
@@ -197,6 +201,7 @@ impl TrajectoryRun {
                 .and_then(|truth| ComTruth::of_run(&run, truth)),
             run,
             continued: from.is_some(),
+            best_fit: None,
         }
     }
 
@@ -278,6 +283,8 @@ pub struct PhysicsPush {
     pub com_covariance: [[f64; 2]; 2],
     /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
     pub com_truth: Option<ComTruth>,
+    /// The `θ_online` that fits the whole push best, once [`Evaluation::find_best_fits`] ran.
+    pub best_fit: Option<BestFit>,
 }
 
 /// Means of the offline per-sample losses, for figures.
@@ -407,6 +414,48 @@ pub fn evaluate(
     }
 }
 
+impl Evaluation {
+    /// Finds, for every online push, the `θ_online` that fits the whole push best with the combined
+    /// model and, when the evaluation ran it, the physics-only model (`best_fit`; `online` and
+    /// `options` are the evaluation's own): what no online learner with each model can beat on that
+    /// push. `progress(done, total)` is told after each push; `false` when `cancelled` stopped it
+    /// (the pushes done keep their fits).
+    pub fn find_best_fits(
+        &mut self,
+        model: &CombinedModel,
+        online: &[UsedRecording],
+        options: &EvalOptions,
+        progress: &mut dyn FnMut(usize, usize),
+        cancelled: &dyn Fn() -> bool,
+    ) -> bool {
+        let (horizon, scale) = (model.horizon(), model.loss_scale());
+        let total = self.trajectories.len() + self.physics_pushes.len();
+        let mut done = 0;
+        for run in &mut self.trajectories {
+            let samples = online[run.recording].samples(horizon);
+            run.best_fit = best_fit(run.run.model().as_ref(), &samples, cancelled);
+            if cancelled() {
+                return false;
+            }
+            done += 1;
+            progress(done, total);
+        }
+        for push in &mut self.physics_pushes {
+            let used = &online[push.recording];
+            let tolerance = options.physics.unwrap_or(DEFAULT_CONTACT_TOLERANCE);
+            if let Ok(physics) = physics_model(&used.recording, scale, tolerance) {
+                push.best_fit = best_fit(&physics, &used.samples(horizon), cancelled);
+            }
+            if cancelled() {
+                return false;
+            }
+            done += 1;
+            progress(done, total);
+        }
+        true
+    }
+}
+
 /// The physics-only model on the offline data (fixed) and on each online recording, fixed and learning
 /// online, one model per recording's own outline and pusher, with where each online push's θ ended.
 /// Recordings with an unusable outline are left out.
@@ -448,6 +497,7 @@ fn physics_nmse(
                 theta_end: run.theta_end(),
                 com_covariance: run.posterior_end().com_covariance(),
                 com_truth: run.com_truth,
+                best_fit: None,
             });
             previous = Some(run);
         }

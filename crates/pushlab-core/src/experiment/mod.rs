@@ -7,6 +7,7 @@
 //! `θ_online(0)`, the physics-only model's tolerance and loss scale, the fixed and online passes — so
 //! that `pushlab train`, `pushlab eval`, the suite and the app cannot drift apart.
 
+pub mod best_fit;
 pub mod com_truth;
 pub mod data;
 pub mod evaluate;
@@ -21,6 +22,7 @@ pub mod variant;
 /// take a horizon from) predicts that far.
 pub const DEFAULT_HORIZON: usize = 1;
 
+pub use best_fit::{BestFit, BestFitSummary, best_fit};
 pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, load_all, split_of};
 pub use evaluate::{

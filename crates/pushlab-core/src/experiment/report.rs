@@ -8,6 +8,7 @@
 
 use serde::Serialize;
 
+use super::best_fit::{BestFit, BestFitSummary};
 use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Loaded, Skipped, UsedRecording};
 use super::evaluate::{Evaluation, PhysicsNmse, PhysicsPush, TrajectoryRun};
@@ -66,6 +67,12 @@ pub struct EvalReport {
     /// it, the mean final error, and how fast the estimate settled within 5 mm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub com_found: Option<ComSummary>,
+    /// With `--best-fit`: each push's best `θ_online` over the pushes, the combined model's and
+    /// (with `--physics`) the physics-only model's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub best_fit: Option<BestFitSummary>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physics_best_fit: Option<BestFitSummary>,
 }
 
 /// One online trajectory.
@@ -99,9 +106,32 @@ pub struct TrajectoryReport {
     /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub com_found: Option<ComTruth>,
+    /// With `--best-fit`: the `θ_online` that fits the whole push best.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub best_fit: Option<BestFitReport>,
     /// With per-frame output: every frame that has a sample, in order.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub frames: Option<Vec<FrameReport>>,
+}
+
+/// The `θ_online` that fits a whole push best (`pushlab eval --best-fit`, `experiment::best_fit`):
+/// `theta`, its `nmse` and `mean_loss` over the push's `samples`.
+#[derive(Debug, Serialize)]
+pub struct BestFitReport {
+    #[serde(flatten)]
+    pub fit: BestFit,
+    /// With a known COM: the distance of the best fit's COM from it, metres.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_error_m: Option<f64>,
+}
+
+impl BestFitReport {
+    fn of(fit: Option<BestFit>, used: &UsedRecording) -> Option<Self> {
+        fit.map(|fit| Self {
+            com_error_m: (used.recording.setting.com_offset).map(|truth| fit.com_error_m(truth)),
+            fit,
+        })
+    }
 }
 
 /// The physics-only model's online run on one trajectory.
@@ -120,6 +150,9 @@ pub struct PhysicsTrajectoryReport {
     /// With a known COM: the final error, whether the 95 % ellipse holds it, frames to settle.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub com_found: Option<ComTruth>,
+    /// With `--best-fit`: the `θ_online` that fits the whole push best with this model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub best_fit: Option<BestFitReport>,
 }
 
 impl PhysicsTrajectoryReport {
@@ -132,6 +165,7 @@ impl PhysicsTrajectoryReport {
             h_learned: p.theta_end.h,
             com_offset_cov: p.com_covariance,
             com_found: p.com_truth,
+            best_fit: BestFitReport::of(p.best_fit, used),
         }
     }
 }
@@ -252,6 +286,16 @@ impl EvalReport {
             }),
             skipped,
             com_found: evaluation.com_summary,
+            best_fit: BestFitSummary::of(evaluation.trajectories.iter().filter_map(|r| {
+                let truth = online.used[r.recording].recording.setting.com_offset;
+                r.best_fit.as_ref().map(|fit| (fit, truth))
+            })),
+            physics_best_fit: BestFitSummary::of(evaluation.physics_pushes.iter().filter_map(
+                |p| {
+                    let truth = online.used[p.recording].recording.setting.com_offset;
+                    p.best_fit.as_ref().map(|fit| (fit, truth))
+                },
+            )),
         }
     }
 }
@@ -277,6 +321,7 @@ impl TrajectoryReport {
             com_offset_true: setting.com_offset,
             h_true: setting.h,
             com_found: r.com_truth,
+            best_fit: BestFitReport::of(r.best_fit, used),
             frames: per_frame.then(|| {
                 let run = &r.run;
                 (0..run.sample_count())

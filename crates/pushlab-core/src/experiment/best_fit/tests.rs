@@ -1,0 +1,116 @@
+use super::*;
+use crate::geometry::Outline;
+use crate::model::{LossScale, ObjectMotion, PhysicsOnlyModel, SampleInput};
+use crate::rng::SplitMix64;
+
+/// Lynch's model alone on a 12 × 16 cm box pushed by a 1 cm disc.
+fn physics() -> PhysicsOnlyModel {
+    PhysicsOnlyModel::new(
+        Outline::rectangle(0.12, 0.16).expect("valid box"),
+        0.01,
+        0.005,
+        LossScale {
+            sigma_pos: [2e-4, 2e-4],
+            sigma_rot: 2e-3,
+        },
+    )
+}
+
+/// Pushes on the front face (x = −6 cm) and on the bottom face (y = −8 cm), at several contact
+/// offsets and angles, each moved as `model` predicts with `truth`, plus `noise` (Gaussian, metres
+/// and radians per unit) on the targets.
+fn pushes(model: &PhysicsOnlyModel, truth: &OnlineParams, noise: f64) -> Vec<Sample> {
+    let mut rng = SplitMix64::new(7);
+    let mut samples = Vec::new();
+    for k in 0..40 {
+        let along = -0.045 + 0.09 * (k as f64 / 39.0);
+        let angle = 0.3 * ((k * 7 % 11) as f64 / 10.0 - 0.5);
+        let (c, s) = (angle.cos(), angle.sin());
+        for (pusher, motion) in [
+            ([-0.07, along], [0.002 * c, 0.002 * s]),
+            ([along, -0.09], [-0.002 * s, 0.002 * c]),
+        ] {
+            let input = SampleInput {
+                robot_in_object: pusher,
+                robot_motion_in_object: motion,
+            };
+            let m = model.predict(&input, truth).motion;
+            samples.push(Sample {
+                input,
+                target: ObjectMotion {
+                    translation: [
+                        m.translation[0] + noise * rng.normal(),
+                        m.translation[1] + noise * rng.normal(),
+                    ],
+                    rotation: m.rotation + 10.0 * noise * rng.normal(),
+                },
+                frame: samples.len(),
+            });
+        }
+    }
+    samples
+}
+
+const TRUTH: OnlineParams = OnlineParams {
+    com_offset: [0.012, -0.018],
+    h: 0.045,
+};
+
+#[test]
+fn on_pushes_made_by_the_model_it_finds_the_theta_that_made_them() {
+    let model = physics();
+    let samples = pushes(&model, &TRUTH, 0.0);
+    // θ_online(0) (the centre, a uniform pressure's h) predicts them poorly: there is something to find.
+    let at_theta0 = mean_loss(&model, &samples, &model.theta0());
+    assert!(at_theta0 > 1.0, "{at_theta0}");
+    let fit = best_fit(&model, &samples, &|| false).expect("samples");
+    let t = fit.theta;
+    assert!(
+        (t.com_offset[0] - TRUTH.com_offset[0]).abs() < 1e-5,
+        "{t:?}"
+    );
+    assert!(
+        (t.com_offset[1] - TRUTH.com_offset[1]).abs() < 1e-5,
+        "{t:?}"
+    );
+    assert!((t.h - TRUTH.h).abs() < 1e-5, "{t:?}");
+    assert!(fit.mean_loss < 1e-8, "{}", fit.mean_loss);
+    assert!(fit.nmse.pos < 1e-8 && fit.nmse.rot < 1e-8, "{:?}", fit.nmse);
+}
+
+#[test]
+fn with_noise_it_fits_at_least_as_well_as_the_truth_and_reports_its_own_loss() {
+    let model = physics();
+    let samples = pushes(&model, &TRUTH, 2e-4);
+    let fit = best_fit(&model, &samples, &|| false).expect("samples");
+    let at_truth = mean_loss(&model, &samples, &TRUTH);
+    assert!(fit.mean_loss <= at_truth, "{} > {at_truth}", fit.mean_loss);
+    assert!((fit.mean_loss - mean_loss(&model, &samples, &fit.theta)).abs() < 1e-12);
+    // Noise of 0.2 mm moves the best COM by well under a millimetre with 80 frames.
+    let error = (fit.theta.com_offset[0] - TRUTH.com_offset[0])
+        .hypot(fit.theta.com_offset[1] - TRUTH.com_offset[1]);
+    assert!(error < 1e-3, "{error}");
+}
+
+#[test]
+fn the_best_theta_stays_inside_the_footprint() {
+    // Targets a COM far outside the box would explain best: the fit stops at the boundary.
+    let model = physics();
+    let outside = OnlineParams {
+        com_offset: [0.0, 0.2],
+        h: 0.05,
+    };
+    let samples = pushes(&model, &outside, 0.0);
+    let fit = best_fit(&model, &samples, &|| false).expect("samples");
+    let bounds = OnlineModel::bounds(&model).expect("an outline");
+    assert!(bounds.com_inside(fit.theta.com_offset), "{:?}", fit.theta);
+    assert!(fit.theta.h <= bounds.h_max(fit.theta.com_offset.into()) + 1e-12);
+}
+
+#[test]
+fn without_samples_or_when_cancelled_there_is_no_fit() {
+    let model = physics();
+    assert!(best_fit(&model, &[], &|| false).is_none());
+    let samples = pushes(&model, &TRUTH, 0.0);
+    assert!(best_fit(&model, &samples, &|| true).is_none());
+}
