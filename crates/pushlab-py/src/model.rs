@@ -6,11 +6,15 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use numpy::PyArray1;
+use pushlab_core::experiment::report::BestFitReport;
 use pushlab_core::experiment::{
-    self, DEFAULT_HORIZON, TrajectoryRun, model_on, physics_model, train_baseline, train_calibrated,
+    self, DEFAULT_HORIZON, TrajectoryRun, model_on, physics_model, push_best_fit, train_baseline,
+    train_calibrated,
 };
 use pushlab_core::learn::{OnlineConfig, OnlineState, Optimizer, TrainConfig, TrainProgress};
-use pushlab_core::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineParams, sample_at};
+use pushlab_core::model::{
+    DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineParams, PhysicsOnlyModel, sample_at,
+};
 use pushlab_core::model_file::ModelFile;
 use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
@@ -276,19 +280,9 @@ impl Model {
         start_com_shift: Option<[f64; 2]>,
     ) -> PyResult<OnlineRun> {
         let config = online_config(optimizer, steps, lr)?;
-        if !(contact_tolerance.is_finite() && contact_tolerance > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "contact_tolerance: must be a finite number of metres above 0, got {contact_tolerance}"
-            )));
-        }
         let from = start_of(recording, after, start_com_shift, true)?;
         let used = &recording.used;
-        let physics = physics_model(
-            &used.recording,
-            self.file.combined.loss_scale(),
-            contact_tolerance,
-        )
-        .map_err(|e| error(format!("{}: physics-only model: {e}", used.source())))?;
+        let physics = self.physics_of(recording, contact_tolerance)?;
         let horizon = self.file.combined.horizon();
         let run = py.detach(|| {
             TrajectoryRun::learn_physics(
@@ -304,6 +298,35 @@ impl Model {
         Ok(OnlineRun::new(run, used.recording.clone(), true))
     }
 
+    /// The θ_online that fits the whole recording best, held fixed over it (a grid over the object,
+    /// then Levenberg–Marquardt): what no online learner with this model beats on it, as `pushlab
+    /// eval --best-fit` reports it, to the bit — a dict of `theta` (`com_offset`, `h`), `nmse`,
+    /// `mean_loss`, `samples` and, when the setting knows the COM, `com_error_m`; None for a
+    /// recording without samples. With `physics=True`, the physics-only model's (`contact_tolerance`
+    /// as in `physics_online`).
+    #[pyo3(signature = (recording, *, physics=false, contact_tolerance=DEFAULT_CONTACT_TOLERANCE))]
+    fn best_fit<'py>(
+        &self,
+        py: Python<'py>,
+        recording: &Recording,
+        physics: bool,
+        contact_tolerance: f64,
+    ) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let used = &recording.used;
+        let horizon = self.file.combined.horizon();
+        let fit = if physics {
+            let physics = self.physics_of(recording, contact_tolerance)?;
+            py.detach(|| push_best_fit(&physics, used, horizon, &|| false))
+        } else {
+            let learner = model_on(&self.file.combined, used)
+                .map_err(|e| error(format!("{}: {} model: {e}", used.source(), self.kind())))?;
+            py.detach(|| push_best_fit(learner.as_ref(), used, horizon, &|| false))
+        };
+        BestFitReport::of(fit, used)
+            .map(|report| to_python(py, &report))
+            .transpose()
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "<pushlab.Model {} (horizon {}{})>",
@@ -315,6 +338,29 @@ impl Model {
                 ""
             }
         )
+    }
+}
+
+impl Model {
+    /// The physics-only model of `recording`'s object with this model's loss scale, a bad
+    /// `contact_tolerance` refused with the argument named.
+    fn physics_of(
+        &self,
+        recording: &Recording,
+        contact_tolerance: f64,
+    ) -> PyResult<PhysicsOnlyModel> {
+        if !(contact_tolerance.is_finite() && contact_tolerance > 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "contact_tolerance: must be a finite number of metres above 0, got {contact_tolerance}"
+            )));
+        }
+        let used = &recording.used;
+        physics_model(
+            &used.recording,
+            self.file.combined.loss_scale(),
+            contact_tolerance,
+        )
+        .map_err(|e| error(format!("{}: physics-only model: {e}", used.source())))
     }
 }
 

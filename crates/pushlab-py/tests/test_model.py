@@ -147,6 +147,31 @@ def test_physics_online_is_eval_physics(model_file, cli, tmp_path, carry):
         model.physics_online(pushlab.load(ONLINE[1])[0], contact_tolerance=-0.01)
 
 
+def test_best_fit_is_eval_best_fit(model_file, cli, tmp_path):
+    report_path = tmp_path / "eval.json"
+    run_cli(
+        cli, "eval", "--model", str(model_file), "--physics", "--best-fit",
+        "--offline", *map(str, OFFLINE[:3]), "--online", *map(str, ONLINE[:2]), "--json", str(report_path),
+    )
+    report = json.loads(report_path.read_text())
+    model = pushlab.Model.load(model_file)
+    for recording, combined, physics in zip(
+        pushlab.load(ONLINE[:2]), report["trajectories"], report["physics_trajectories"]
+    ):
+        for fit, push in [(model.best_fit(recording), combined), (model.best_fit(recording, physics=True), physics)]:
+            expected = push["best_fit"]
+            np.testing.assert_allclose(fit["theta"]["com_offset"], expected["theta"]["com_offset"], rtol=0, atol=1e-12)
+            assert fit["theta"]["h"] == pytest.approx(expected["theta"]["h"], rel=0, abs=1e-12)
+            assert fit["samples"] == expected["samples"] == combined["steps"]
+            for key in ("pos", "rot"):
+                assert fit["nmse"][key] == pytest.approx(expected["nmse"][key], rel=0, abs=1e-12)
+            assert fit["com_error_m"] == pytest.approx(expected["com_error_m"], rel=0, abs=1e-12)
+            # The best θ fits the push at least as well as θ_online(0), the fixed run's.
+            assert fit["mean_loss"] <= 2 * push["fixed"]["pos"] + push["fixed"]["rot"] + 1e-12
+    with pytest.raises(ValueError, match="contact_tolerance: must be a finite number of metres above 0"):
+        model.best_fit(pushlab.load(ONLINE[0])[0], physics=True, contact_tolerance=0.0)
+
+
 def test_bad_tracking_frames_hold_theta(model_file, set_copy):
     labels = pushlab.Labels(set_copy)
     labels.paint("online_001.csv", "bad tracking", 20, 30)

@@ -432,8 +432,8 @@ impl Evaluation {
         let total = self.trajectories.len() + self.physics_pushes.len();
         let mut done = 0;
         for run in &mut self.trajectories {
-            let samples = online[run.recording].samples(horizon);
-            run.best_fit = best_fit(run.run.model().as_ref(), &samples, cancelled);
+            let used = &online[run.recording];
+            run.best_fit = push_best_fit(run.run.model().as_ref(), used, horizon, cancelled);
             if cancelled() {
                 return false;
             }
@@ -444,7 +444,7 @@ impl Evaluation {
             let used = &online[push.recording];
             let tolerance = options.physics.unwrap_or(DEFAULT_CONTACT_TOLERANCE);
             if let Ok(physics) = physics_model(&used.recording, scale, tolerance) {
-                push.best_fit = best_fit(&physics, &used.samples(horizon), cancelled);
+                push.best_fit = push_best_fit(&physics, used, horizon, cancelled);
             }
             if cancelled() {
                 return false;
@@ -454,6 +454,18 @@ impl Evaluation {
         }
         true
     }
+}
+
+/// The best `θ_online` for one recording's push with `learner` (the combined model bound to its
+/// object, or its physics-only model) at `horizon`, over the samples its online runs learn from:
+/// what `eval --best-fit` and the Python package's `model.best_fit` report.
+pub fn push_best_fit(
+    learner: &dyn OnlineModel,
+    used: &UsedRecording,
+    horizon: usize,
+    cancelled: &dyn Fn() -> bool,
+) -> Option<BestFit> {
+    best_fit(learner, &used.samples(horizon), cancelled)
 }
 
 /// The physics-only model on the offline data (fixed) and on each online recording, fixed and learning

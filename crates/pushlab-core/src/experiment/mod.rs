@@ -27,7 +27,7 @@ pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, load_all, split_of};
 pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, PhysicsPush, TrajectoryRun,
-    evaluate, fixed_pass, loss_scale_for, model_on, online_run, physics_model,
+    evaluate, fixed_pass, loss_scale_for, model_on, online_run, physics_model, push_best_fit,
 };
 pub use misfit::{calibrate_com_misfit, train_calibrated};
 pub use train::{paper_theta0_for, train_baseline, train_combined, training_metadata};

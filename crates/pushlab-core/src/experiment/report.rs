@@ -126,7 +126,8 @@ pub struct BestFitReport {
 }
 
 impl BestFitReport {
-    fn of(fit: Option<BestFit>, used: &UsedRecording) -> Option<Self> {
+    /// The report of a push's best fit, its COM error against the setting's COM when it has one.
+    pub fn of(fit: Option<BestFit>, used: &UsedRecording) -> Option<Self> {
         fit.map(|fit| Self {
             com_error_m: (used.recording.setting.com_offset).map(|truth| fit.com_error_m(truth)),
             fit,

@@ -213,6 +213,15 @@ class Model:
         (`contact_tolerance` metres is its `--contact-tolerance`), to the bit. The other arguments are
         `online`'s; `after` must be a physics-only run."""
 
+    def best_fit(
+        self, recording: Recording, *, physics: bool = False, contact_tolerance: float = 0.01
+    ) -> Optional[Dict[str, Any]]:
+        """The θ_online that fits the whole recording best, held fixed over it (a grid over the
+        object, then Levenberg–Marquardt): what no online learner with this model beats on it, as
+        `pushlab eval --best-fit` reports it — `theta` (`com_offset`, `h`), `nmse`, `mean_loss`,
+        `samples` and, with a known COM, `com_error_m`; None without samples. With `physics=True`,
+        the physics-only model's."""
+
 def simulate(
     spec: Union[Dict[str, Any], _Path], *, out: Optional[_Path] = None, truth_labels: bool = False
 ) -> List[Recording]:
