@@ -184,3 +184,47 @@ fn carrying_theta_to_the_next_push_is_pushlab_eval_carry_theta_to_the_bit() {
     assert_eq!(run.theta_at(0), run.theta0());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_steer_tabs_best_theta_is_pushlab_eval_best_fit_to_the_bit_and_steers_there() {
+    use pushlab::app::state::best_fit::BestFitCommand;
+    let dir = common::copy_of_sample_set(SET, "app-best-fit");
+    label_bad_tracking(&dir);
+    let csv = dir.join(RECORDING);
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/default-model.json");
+    let mut state = initial_state(std::slice::from_ref(&csv), Persisted::default());
+    state.apply(Command::BestFit(BestFitCommand::Find));
+    let mut waited = 0;
+    while state.advance(0.0) && state.best_fit().progress().is_some() {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        waited += 1;
+        assert!(waited < 3000, "the best θ took over a minute");
+    }
+    let run = state.run().expect("a run");
+    let fit = (state.best_fit().result_for(run))
+        .and_then(|r| r.fit)
+        .expect("a best fit for the run shown");
+
+    let json = dir.join("eval.json");
+    let (stdout, report) = eval_per_frame(
+        &model,
+        &dir,
+        std::slice::from_ref(&csv),
+        &json,
+        &["--best-fit"],
+    );
+    assert!(
+        stdout.contains("Best θ per push (the whole push"),
+        "{stdout}"
+    );
+    let reported = &report["trajectories"][0]["best_fit"];
+    assert_theta_is_reported(reported, fit.theta, 0);
+    // Frames labelled bad tracking are left out of both: two stretches of six samples at horizon 10.
+    assert_eq!(reported["samples"], run.sample_count() - 12);
+    assert_eq!(fit.samples, run.sample_count() - 12);
+
+    // "Use it here" steers θ at the frame shown to it.
+    state.apply(Command::Online(OnlineCommand::SetTheta(fit.theta)));
+    assert_eq!(state.theta(), Some(fit.theta));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -261,3 +261,30 @@ fn the_steer_tab_says_what_the_com_spread_is_made_of() {
     );
     assert!(harness.query_by_label(&newest).is_none());
 }
+
+#[test]
+fn the_steer_tab_finds_the_best_theta_for_the_push_and_steers_there() {
+    let mut harness = common::app_on_sample("box1-paper-ur-front");
+    harness.run_steps(2);
+    harness.get_by_label("Find the best θ").click();
+    common::run_until(&mut harness, "the best θ is found", |app| {
+        let state = &app.state;
+        (state.run()).is_some_and(|run| state.best_fit().result_for(run).is_some())
+    });
+    let state = &harness.state().state;
+    let run = state.run().expect("a run");
+    let fit = (state.best_fit().result_for(run))
+        .and_then(|r| r.fit)
+        .expect("a best fit");
+    // The sample set knows its COM: the tab says how far the best one is from it.
+    let truth = state
+        .recording()
+        .and_then(|r| r.setting.com_offset)
+        .expect("a true COM");
+    let said = format!("{:.1} mm from the true COM", fit.com_error_m(truth) * 1e3);
+    assert!(harness.query_by_label_contains(&said).is_some(), "{said}");
+    assert_ne!(theta(&harness), fit.theta);
+    harness.get_by_label("Use it here").click();
+    harness.run_steps(2);
+    assert_eq!(theta(&harness), fit.theta);
+}

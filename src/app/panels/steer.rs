@@ -4,8 +4,10 @@
 use eframe::egui;
 use pushlab_core::learn::{self, OnlineConfig, Optimizer};
 use pushlab_core::model::OnlineParams;
+use pushlab_core::recording::Recording;
 
 use crate::app::colors;
+use crate::app::state::best_fit::BestFitCommand;
 use crate::app::state::{AppState, Command, MAX_WHAT_IF_STEPS};
 use crate::app::state::{OnlineCommand, TrainingCommand};
 
@@ -74,6 +76,95 @@ fn spread_parts(ui: &mut egui::Ui, run: &learn::OnlineRun, frame: usize) {
          was still sliding when it got here (its path's drift; an estimate still moving one way may \
          be that far again from where it stops)",
     );
+}
+
+/// The best θ for the whole push shown (`pushlab eval --best-fit`'s): found on request in the
+/// background, then shown beside the online run's with a button that steers θ to it here.
+fn best_theta(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    recording: &Recording,
+    commands: &mut Vec<Command>,
+) {
+    ui.add_space(8.0);
+    ui.heading("Best θ for this push");
+    let search = state.best_fit();
+    if let Some(progress) = search.progress() {
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::ProgressBar::new(progress)
+                    .desired_width(160.0)
+                    .text(format!("finding {:.0} %", progress * 100.0)),
+            );
+            if ui.button("Cancel").clicked() {
+                commands.push(Command::BestFit(BestFitCommand::Cancel));
+            }
+        });
+        return;
+    }
+    let Some(run) = state.run() else {
+        return;
+    };
+    match search.result_for(run).map(|r| r.fit) {
+        None => {
+            if ui
+                .button("Find the best θ")
+                .on_hover_text(
+                    "The θ that fits this whole push best, held fixed over it (a grid over the \
+                     object, then Levenberg–Marquardt; frames labelled bad tracking left out): no \
+                     online learner with this model does better on this push. A learned COM as \
+                     far from the truth as the best one is the model's limit, not the learner's",
+                )
+                .clicked()
+            {
+                commands.push(Command::BestFit(BestFitCommand::Find));
+            }
+        }
+        Some(None) => {
+            ui.weak("This push has no sample to fit.");
+        }
+        Some(Some(fit)) => {
+            let t = fit.theta;
+            let truth = recording
+                .setting
+                .com_offset
+                .map(|c| format!("; {:.1} mm from the true COM", fit.com_error_m(c) * 1e3));
+            ui.label(format!(
+                "COM ({:.2}, {:.2}) mm, h {:.2} mm{}",
+                t.com_offset[0] * 1e3,
+                t.com_offset[1] * 1e3,
+                t.h * 1e3,
+                truth.unwrap_or_default()
+            ));
+            let online = run.mean_losses();
+            ui.label(
+                egui::RichText::new(format!(
+                    "NMSE over the push {:.3} pos / {:.3} rot{}",
+                    fit.nmse.pos,
+                    fit.nmse.rot,
+                    online
+                        .map(|m| format!(
+                            " (online so far {:.3} / {:.3})",
+                            m.online_pos, m.online_rot
+                        ))
+                        .unwrap_or_default()
+                ))
+                .weak(),
+            );
+            ui.horizontal(|ui| {
+                if ui
+                    .button("Use it here")
+                    .on_hover_text("Steer θ at this frame to the best θ")
+                    .clicked()
+                {
+                    commands.push(Command::Online(OnlineCommand::SetTheta(t)));
+                }
+                if ui.small_button("Find again").clicked() {
+                    commands.push(Command::BestFit(BestFitCommand::Find));
+                }
+            });
+        }
+    }
 }
 
 /// Draws the steering controls.
@@ -266,6 +357,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         run.frontier(),
         run.sample_count()
     ));
+
+    best_theta(ui, state, recording, commands);
 
     ui.add_space(8.0);
     ui.heading("What if");

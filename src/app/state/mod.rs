@@ -5,6 +5,7 @@
 
 pub mod background_training;
 pub mod bag_import;
+pub mod best_fit;
 pub mod browser;
 pub mod cameras;
 mod commands;
@@ -43,6 +44,7 @@ use serde::{Deserialize, Serialize};
 
 use self::background_training::{Training, TrainingChoice};
 use self::bag_import::{BagChooser, BagCommand};
+use self::best_fit::{BestFitCommand, BestFitState};
 use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
 use self::cameras::{CameraCommand, Cameras};
 use self::dataset_import::{DatasetChooser, DatasetCommand};
@@ -82,6 +84,8 @@ pub enum Command {
     },
     /// The loss-landscape window.
     Landscape(LandscapeCommand),
+    /// The Steer tab's search for the best θ of the recording shown.
+    BestFit(BestFitCommand),
     /// Accept or reject label proposals on the selected recording.
     Proposal(ProposalAction),
     /// The Demos menu (see `demo`).
@@ -259,6 +263,8 @@ pub struct AppState {
     browsed: BrowserMemory,
     /// The loss-landscape window and its background work.
     landscape: LandscapeState,
+    /// The best θ for the recording shown, and its search in the background.
+    best_fit: BestFitState,
     /// The Demos menu's presets and the demo running.
     demos: Demos,
     /// ROS 2 bags waiting for their topics to be chosen, and those being opened with a choice.
@@ -298,6 +304,7 @@ impl AppState {
             model_store: None,
             browsed: BrowserMemory::default(),
             landscape: LandscapeState::default(),
+            best_fit: BestFitState::default(),
             demos: Demos::default(),
             bags: BagChooser::default(),
             datasets: DatasetChooser::default(),
@@ -401,6 +408,10 @@ impl AppState {
                 self.landscape.apply(c);
                 self.update_landscape();
             }
+            Command::BestFit(c) => {
+                let skip = self.frames_to_skip();
+                self.best_fit.apply(c, self.run.as_ref(), &skip);
+            }
             Command::Proposal(action) => {
                 let target = self.label_target();
                 let recording = self.session.selected_recording();
@@ -453,6 +464,7 @@ impl AppState {
         }
         self.remember_losses();
         let landscape = self.update_landscape();
+        let best_fit = self.best_fit.poll();
         (self.cameras).update(
             self.timeline.frame_time(),
             self.timeline.playing,
@@ -467,6 +479,7 @@ impl AppState {
             || self.bags.listing().is_some()
             || self.datasets.listing().is_some()
             || landscape
+            || best_fit
     }
 
     /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames

@@ -15,6 +15,7 @@ use pushlab_core::model::PhysicsOnlyModel;
 
 use super::background_training::Training;
 use super::bag_import::BagChooser;
+use super::best_fit::BestFitState;
 use super::browser::{Column, Row};
 use super::cameras::Cameras;
 use super::dataset_import::DatasetChooser;
@@ -97,6 +98,11 @@ impl AppState {
     /// The loss-landscape window and its background work.
     pub fn landscape(&self) -> &LandscapeState {
         &self.landscape
+    }
+
+    /// The Steer tab's best θ for the recording shown and its search.
+    pub fn best_fit(&self) -> &BestFitState {
+        &self.best_fit
     }
 
     /// The Demos menu's presets and the demo running.

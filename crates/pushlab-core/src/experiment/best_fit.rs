@@ -30,6 +30,9 @@ const H_FRACTIONS: [f64; 6] = [0.15, 0.25, 0.4, 0.55, 0.7, 0.9];
 const STARTS: usize = 3;
 /// Levenberg–Marquardt iterations at most per start.
 const ITERATIONS: usize = 60;
+/// How many times [`best_fit`] polls `cancelled` when it runs to the end: before each grid row and
+/// each refinement (a caller's progress is its polls over this).
+pub const POLLS: usize = GRID_CELLS + STARTS + 1;
 
 /// The best `θ_online` for a whole push and how well the model predicts the push with it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -92,8 +95,8 @@ impl BestFit {
 }
 
 /// The best `θ_online` for `samples` (one push's), kept inside the model's physical bounds (see the
-/// module documentation); `None` without samples or when `cancelled` returns true (polled between
-/// grid rows and refinements).
+/// module documentation); `None` without samples or when `cancelled` returns true (polled before
+/// each grid row and each refinement, [`POLLS`] times in all).
 pub fn best_fit<M: OnlineModel + ?Sized>(
     model: &M,
     samples: &[Sample],

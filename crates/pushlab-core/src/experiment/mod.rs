@@ -22,7 +22,7 @@ pub mod variant;
 /// take a horizon from) predicts that far.
 pub const DEFAULT_HORIZON: usize = 1;
 
-pub use best_fit::{BestFit, BestFitSummary, best_fit};
+pub use best_fit::{BestFit, BestFitSummary, POLLS as BEST_FIT_POLLS, best_fit};
 pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, load_all, split_of};
 pub use evaluate::{

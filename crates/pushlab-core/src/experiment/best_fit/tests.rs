@@ -114,3 +114,16 @@ fn without_samples_or_when_cancelled_there_is_no_fit() {
     let samples = pushes(&model, &TRUTH, 0.0);
     assert!(best_fit(&model, &samples, &|| true).is_none());
 }
+
+#[test]
+fn it_polls_as_often_as_it_says_so_that_a_caller_can_show_progress() {
+    let model = physics();
+    let samples = pushes(&model, &TRUTH, 0.0);
+    let polls = std::cell::Cell::new(0);
+    best_fit(&model, &samples, &|| {
+        polls.set(polls.get() + 1);
+        false
+    })
+    .expect("samples");
+    assert_eq!(polls.get(), POLLS);
+}

@@ -1,0 +1,142 @@
+//! The Steer tab's "best θ for this push": the `θ_online` that fits the whole recording shown best,
+//! held fixed over it — pushlab-core's `experiment::best_fit`, the one `pushlab eval --best-fit`
+//! reports — found on a worker thread with progress and cancel.
+//!
+//! Why in the app: an engineer watching online learning wants to know whether a COM far from the
+//! truth is the learner's fault (it would do better with other steps) or the model's (no `θ` fits
+//! the push better near the truth). The best fit answers that for the push shown, and "use it"
+//! steers `θ` there to see how the model predicts with it. It is found over the samples online
+//! learning takes (those on frames labelled bad tracking left out, as when it was asked for), and
+//! belongs to the run's model and recording: another model or recording makes it stale, and it is
+//! not shown. The UI thread only polls.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
+use pushlab_core::experiment::{BEST_FIT_POLLS, BestFit, best_fit};
+use pushlab_core::model::Sample;
+
+use super::online::OnlineRun;
+
+/// A change to the best-θ search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BestFitCommand {
+    /// Find the best θ for the recording shown (replacing any search under way).
+    Find,
+    /// Stop the search under way.
+    Cancel,
+}
+
+/// Which run a best fit was found for: its model and trajectory, by address, as the landscape keys
+/// its requests.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct RunKey {
+    model: usize,
+    trajectory: usize,
+}
+
+impl RunKey {
+    fn of(run: &OnlineRun) -> Self {
+        Self {
+            model: Arc::as_ptr(run.model()) as *const () as usize,
+            trajectory: run.trajectory() as *const _ as usize,
+        }
+    }
+}
+
+/// A finished search: the best fit, or `None` when the recording had no sample to fit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BestFitResult {
+    pub fit: Option<BestFit>,
+    key: RunKey,
+}
+
+struct Job {
+    key: RunKey,
+    cancel: Arc<AtomicBool>,
+    polls: Arc<AtomicUsize>,
+    receiver: Receiver<Option<BestFit>>,
+}
+
+/// The search's state: the last result and the search under way.
+#[derive(Default)]
+pub struct BestFitState {
+    result: Option<BestFitResult>,
+    job: Option<Job>,
+}
+
+impl BestFitState {
+    /// Applies a command; `Find` searches along `run` leaving out the samples `skip` marks.
+    pub fn apply(&mut self, command: BestFitCommand, run: Option<&OnlineRun>, skip: &[bool]) {
+        self.stop();
+        if let (BestFitCommand::Find, Some(run)) = (command, run) {
+            self.start(run, skip);
+        }
+    }
+
+    /// The last result, when it belongs to `run` (a result for another model or recording is
+    /// stale).
+    pub fn result_for(&self, run: &OnlineRun) -> Option<&BestFitResult> {
+        self.result.as_ref().filter(|r| r.key == RunKey::of(run))
+    }
+
+    /// The share of the search under way done, or `None` when none runs.
+    pub fn progress(&self) -> Option<f32> {
+        let job = self.job.as_ref()?;
+        let polls = job.polls.load(Ordering::Relaxed);
+        Some((polls as f32 / BEST_FIT_POLLS as f32).min(1.0))
+    }
+
+    /// Takes a finished search; returns whether one is still running.
+    pub fn poll(&mut self) -> bool {
+        let Some(job) = &self.job else {
+            return false;
+        };
+        match job.receiver.try_recv() {
+            Ok(fit) => {
+                self.result = Some(BestFitResult { fit, key: job.key });
+                self.job = None;
+            }
+            Err(TryRecvError::Empty) => {}
+            // Cancelled (nothing sent) or the worker is gone.
+            Err(TryRecvError::Disconnected) => self.job = None,
+        }
+        self.job.is_some()
+    }
+
+    fn stop(&mut self) {
+        if let Some(job) = self.job.take() {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+
+    fn start(&mut self, run: &OnlineRun, skip: &[bool]) {
+        let samples: Vec<Sample> = (0..run.sample_count())
+            .filter(|&k| !run.is_skipped(k, skip))
+            .filter_map(|k| run.sample(k))
+            .collect();
+        let model = Arc::clone(run.model());
+        let cancel = Arc::new(AtomicBool::new(false));
+        let polls = Arc::new(AtomicUsize::new(0));
+        let (sender, receiver) = channel();
+        let (worker_cancel, worker_polls) = (Arc::clone(&cancel), Arc::clone(&polls));
+        std::thread::spawn(move || {
+            let cancelled = || {
+                worker_polls.fetch_add(1, Ordering::Relaxed);
+                worker_cancel.load(Ordering::Relaxed)
+            };
+            let fit = best_fit(model.as_ref(), &samples, &cancelled);
+            if !worker_cancel.load(Ordering::Relaxed) {
+                // The receiver is gone only when the app closed or moved on.
+                let _ = sender.send(fit);
+            }
+        });
+        self.job = Some(Job {
+            key: RunKey::of(run),
+            cancel,
+            polls,
+            receiver,
+        });
+    }
+}
