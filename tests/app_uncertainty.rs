@@ -287,4 +287,11 @@ fn the_steer_tab_finds_the_best_theta_for_the_push_and_steers_there() {
     harness.get_by_label("Use it here").click();
     harness.run_steps(2);
     assert_eq!(theta(&harness), fit.theta);
+    // The scene marks the best COM with a ring, a layer the legend switches.
+    assert!(harness.state().state.settings().layers.com_best);
+    harness.get_by_label("Show layers").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Best θ's COM, ring").click();
+    harness.run_steps(2);
+    assert!(!harness.state().state.settings().layers.com_best);
 }

@@ -16,6 +16,8 @@ pub struct Layers {
     pub predicted_physics: bool,
     pub com_estimated: bool,
     pub com_true: bool,
+    /// The COM of the best θ for the whole push, once the Steer tab found it (a ring).
+    pub com_best: bool,
     /// The 95 % ellipse of the estimated COM (the posterior of `θ_online`).
     pub com_ellipse: bool,
     /// What-if rollouts: the model's own predictions fed back for k steps, as fading ghosts.
@@ -42,6 +44,7 @@ impl Default for Layers {
             predicted_physics: false,
             com_estimated: true,
             com_true: true,
+            com_best: true,
             com_ellipse: true,
             what_if: true,
             com_label: true,

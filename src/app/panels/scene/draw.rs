@@ -278,6 +278,13 @@ pub fn true_com(painter: &egui::Painter, at: Pos2) {
     painter.line_segment([at + Vec2::new(-s, s), at + Vec2::new(s, -s)], stroke);
 }
 
+/// The COM of the best θ for the whole push (the Steer tab's): an orange ring, the estimated COM's
+/// colour, hollow so that the estimate can sit inside it.
+pub fn best_com(painter: &egui::Painter, at: Pos2) {
+    painter.circle_stroke(at, 9.0, Stroke::new(3.5, Color32::BLACK));
+    painter.circle_stroke(at, 9.0, Stroke::new(2.0, colors::ONLINE));
+}
+
 /// The COM labelled in the recording's metadata: a diamond, larger while hovered or dragged.
 pub fn com_label(painter: &egui::Painter, at: Pos2, hot: bool) {
     let s = if hot { 8.0 } else { 6.5 };

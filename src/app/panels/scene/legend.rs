@@ -21,37 +21,45 @@ pub fn ui(ui: &mut egui::Ui, area: Rect, state: &AppState, commands: &mut Vec<Co
     egui::Frame::popup(child.style())
         .fill(Color32::from_black_alpha(200))
         .show(&mut child, |ui| {
-            ui.set_width(WIDTH - 30.0);
-            ui.spacing_mut().item_spacing.y = 1.0;
-            for (on, label, color, layer) in entries(&mut edited) {
-                ui.checkbox(on, egui::RichText::new(label).color(color).small());
-                if let Some(note) = layer.and_then(|l| state.layer_note(l)) {
-                    ui.indent(label, |ui| {
-                        ui.label(egui::RichText::new(note).small().weak());
-                    });
-                }
-            }
-            ui.checkbox(
-                &mut edited.grid,
-                egui::RichText::new("Grid (metres)").small(),
-            );
-            ui.add(
-                egui::Slider::new(&mut edited.motion_gain, 1.0..=50.0)
-                    .logarithmic(true)
-                    .text(egui::RichText::new("Motion ×").small()),
-            )
-            .on_hover_text("Target poses are drawn with their motion from now multiplied by this");
+            // A scene shorter than the legend scrolls it rather than cutting its last rows off.
+            egui::ScrollArea::vertical()
+                .max_height(area.height() - 24.0)
+                .show(ui, |ui| toggles(ui, state, &mut edited));
         });
     if edited != *layers {
         commands.push(Command::SetLayers(edited));
     }
 }
 
+/// The legend's rows: a toggle per layer, the grid's, and the motion gain.
+fn toggles(ui: &mut egui::Ui, state: &AppState, edited: &mut Layers) {
+    ui.set_width(WIDTH - 30.0);
+    ui.spacing_mut().item_spacing.y = 1.0;
+    for (on, label, color, layer) in entries(edited) {
+        ui.checkbox(on, egui::RichText::new(label).color(color).small());
+        if let Some(note) = layer.and_then(|l| state.layer_note(l)) {
+            ui.indent(label, |ui| {
+                ui.label(egui::RichText::new(note).small().weak());
+            });
+        }
+    }
+    ui.checkbox(
+        &mut edited.grid,
+        egui::RichText::new("Grid (metres)").small(),
+    );
+    ui.add(
+        egui::Slider::new(&mut edited.motion_gain, 1.0..=50.0)
+            .logarithmic(true)
+            .text(egui::RichText::new("Motion ×").small()),
+    )
+    .on_hover_text("Target poses are drawn with their motion from now multiplied by this");
+}
+
 /// A toggle: the layer's switch, label and colour, and the prediction it draws, if any.
 type Entry<'a> = (&'a mut bool, &'static str, Color32, Option<PredictionLayer>);
 
 /// The toggles in the order the legend lists them.
-fn entries(layers: &mut Layers) -> [Entry<'_>; 14] {
+fn entries(layers: &mut Layers) -> [Entry<'_>; 15] {
     use PredictionLayer::{Fixed, Online, Physics, PureNn};
     [
         (
@@ -109,6 +117,12 @@ fn entries(layers: &mut Layers) -> [Entry<'_>; 14] {
             None,
         ),
         (&mut layers.com_true, "True COM ×", colors::TRUE, None),
+        (
+            &mut layers.com_best,
+            "Best θ's COM, ring (Steer: Find the best θ)",
+            colors::ONLINE,
+            None,
+        ),
         (
             &mut layers.com_label,
             "Labelled COM, diamond (drag me)",

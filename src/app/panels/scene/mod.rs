@@ -294,6 +294,15 @@ fn draw_layers(
             projection.to_screen(content.pose.point_in_world(Point2::from(com))),
         );
     }
+    if layers.com_best
+        && let Some(run) = state.run()
+        && let Some(fit) = state.best_fit().result_for(run).and_then(|r| r.fit)
+    {
+        let at = content
+            .pose
+            .point_in_world(Point2::from(fit.theta.com_offset));
+        draw::best_com(painter, projection.to_screen(at));
+    }
     if layers.com_ellipse
         && let (Some(theta), Some(run)) = (state.theta(), &state.run())
     {
