@@ -8,6 +8,7 @@
 //!   `online_step_gd_posterior`: the paper's step with the posterior kept beside it, as `pushlab eval`
 //!   and the app run it;
 //! - `landscape_64`: the loss over a 64 × 64 grid of COM offsets on the last 25 frames (contact, box);
+//! - `best_fit/best_fit_100`: the best θ for a whole push of 100 samples (contact, box);
 //! - `train/train_epoch` (the paper's model) and `train/train_epoch_contact`: one epoch's training,
 //!   with the training's one-off work; `train/train_5_epochs_contact` gives an epoch's cost beyond it.
 
@@ -17,6 +18,7 @@ use std::sync::{Arc, OnceLock};
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::Point2;
+use pushlab_core::experiment::best_fit;
 use pushlab_core::geometry::Outline;
 use pushlab_core::inspect::{ComGrid, com_landscape};
 use pushlab_core::learn::{
@@ -240,6 +242,20 @@ fn landscape(c: &mut Criterion) {
     group.finish();
 }
 
+/// The best θ for a whole push (`pushlab eval --best-fit`, the app's Steer tab): one trajectory of
+/// 100 samples (contact, box).
+fn best_fit_100(c: &mut Criterion) {
+    let t = trained();
+    let push = &t.samples[..100];
+    let model = t.contact_box.as_ref();
+    let mut group = c.benchmark_group("best_fit");
+    group.sample_size(10);
+    group.bench_function("best_fit_100", |b| {
+        b.iter(|| black_box(best_fit(model, push, &|| false)))
+    });
+    group.finish();
+}
+
 fn train_epoch(c: &mut Criterion) {
     let data = synthetic_trajectories(250, 100, 2);
     let samples: usize = data.iter().map(Vec::len).sum();
@@ -286,6 +302,7 @@ criterion_group!(
     online_step,
     online_step_posterior,
     landscape,
+    best_fit_100,
     train_epoch
 );
 criterion_main!(benches);
