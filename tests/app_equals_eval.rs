@@ -195,7 +195,9 @@ fn the_steer_tabs_best_theta_is_pushlab_eval_best_fit_to_the_bit_and_steers_ther
     let mut state = initial_state(std::slice::from_ref(&csv), Persisted::default());
     state.apply(Command::BestFit(BestFitCommand::Find));
     let mut waited = 0;
-    while state.advance(0.0) && state.best_fit().progress().is_some() {
+    while state.advance(0.0)
+        && (state.run()).is_some_and(|run| state.best_fit().progress_for(run).is_some())
+    {
         std::thread::sleep(std::time::Duration::from_millis(20));
         waited += 1;
         assert!(waited < 3000, "the best θ took over a minute");

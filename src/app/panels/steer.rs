@@ -89,7 +89,10 @@ fn best_theta(
     ui.add_space(8.0);
     ui.heading("Best θ for this push");
     let search = state.best_fit();
-    if let Some(progress) = search.progress() {
+    let Some(run) = state.run() else {
+        return;
+    };
+    if let Some(progress) = search.progress_for(run) {
         ui.horizontal(|ui| {
             ui.add(
                 egui::ProgressBar::new(progress)
@@ -102,9 +105,6 @@ fn best_theta(
         });
         return;
     }
-    let Some(run) = state.run() else {
-        return;
-    };
     match search.result_for(run).map(|r| r.fit) {
         None => {
             if ui

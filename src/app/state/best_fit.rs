@@ -81,9 +81,11 @@ impl BestFitState {
         self.result.as_ref().filter(|r| r.key == RunKey::of(run))
     }
 
-    /// The share of the search under way done, or `None` when none runs.
-    pub fn progress(&self) -> Option<f32> {
-        let job = self.job.as_ref()?;
+    /// The share done of the search under way for `run`, or `None` when none runs for it (one for
+    /// another recording or model, selected since, goes on unseen until it ends or a new search
+    /// replaces it).
+    pub fn progress_for(&self, run: &OnlineRun) -> Option<f32> {
+        let job = self.job.as_ref().filter(|j| j.key == RunKey::of(run))?;
         let polls = job.polls.load(Ordering::Relaxed);
         Some((polls as f32 / BEST_FIT_POLLS as f32).min(1.0))
     }

@@ -130,7 +130,8 @@ pub fn best_fit<M: OnlineModel + ?Sized>(
             best = Some((loss, theta));
         }
     }
-    let (_, theta) = best?;
+    // Every θ predicting a non-finite loss (a model gone wrong): nothing to report.
+    let (_, theta) = best.filter(|b| b.0.is_finite())?;
     let losses: Vec<Loss> = samples
         .iter()
         .map(|s| model.evaluate(s, &theta).loss)
