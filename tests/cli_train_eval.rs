@@ -269,6 +269,24 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
             assert!((reported - error).abs() < 1e-12, "{kind}: {fit}");
         }
     }
+    // The trajectory table gives each push's best NMSE in a "best θ" column after "phys online".
+    let header = (run.stdout.lines())
+        .find(|l| l.starts_with("online trajectory"))
+        .unwrap();
+    assert!(header.contains("phys online          best θ"), "{header}");
+    let (first, phys) = (&trajectories[0], &physics[0]);
+    let cells = format!(
+        "{:>7.3}/{:<7.3} {:>7.3}/{:<7.3}",
+        phys["online"]["pos"].as_f64().unwrap(),
+        phys["online"]["rot"].as_f64().unwrap(),
+        first["best_fit"]["nmse"]["pos"].as_f64().unwrap(),
+        first["best_fit"]["nmse"]["rot"].as_f64().unwrap(),
+    );
+    assert!(
+        (run.stdout.lines()).any(|l| l.contains(&cells)),
+        "{cells}\n{}",
+        run.stdout
+    );
     assert_eq!(report["best_fit"]["pushes"], 2);
     assert_eq!(report["physics_best_fit"]["pushes"], 2);
     for line in [

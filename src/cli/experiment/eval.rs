@@ -387,14 +387,25 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
             (true, None) => format!(" {:>15}", "-"),
         }
     };
+    // With --best-fit, each push's best θ's NMSE beside them: what no online learner beats.
+    let best = |r: &experiment::TrajectoryRun| match (report.best_fit.is_some(), r.best_fit) {
+        (false, _) => String::new(),
+        (true, Some(b)) => format!(" {:>7.3}/{:<7.3}", b.nmse.pos, b.nmse.rot),
+        (true, None) => format!(" {:>15}", "-"),
+    };
     println!(
-        "{:<28} {:>5} {:>15} {:>15}{} {:>27} {:>15}",
+        "{:<28} {:>5} {:>15} {:>15}{}{} {:>27} {:>15}",
         "online trajectory",
         "steps",
         "fixed pos/rot",
         "online pos/rot",
         if report.physics.is_some() {
             format!(" {:>15}", "phys online")
+        } else {
+            String::new()
+        },
+        if report.best_fit.is_some() {
+            format!(" {:>15}", "best θ")
         } else {
             String::new()
         },
@@ -413,13 +424,14 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
             .map(|h| format!("{h:.3}"))
             .unwrap_or_else(|| "?".into());
         println!(
-            "{name:<28} {:>5} {:>7.3}/{:<7.3} {:>7.3}/{:<7.3}{} {:>13} {:<13} {:>6.3} {:<8}",
+            "{name:<28} {:>5} {:>7.3}/{:<7.3} {:>7.3}/{:<7.3}{}{} {:>13} {:<13} {:>6.3} {:<8}",
             t.steps,
             t.fixed.pos,
             t.fixed.rot,
             t.online.pos,
             t.online.rot,
             physics_online(r.recording),
+            best(r),
             format!(
                 "({:.3},{:.3})",
                 t.com_offset_learned[0], t.com_offset_learned[1]
