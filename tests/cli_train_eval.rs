@@ -322,6 +322,63 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
 }
 
 #[test]
+fn best_fit_with_carried_theta_fits_each_object_over_all_its_pushes() {
+    let dir = temp_dir("eval-object-best-fit");
+    let json = dir.join("out.json");
+    let json_s = json.display().to_string();
+    let (offline, online) = (offline_subset(), online_subset());
+    let eval = |carry: &[&str]| {
+        let mut extra = vec![
+            "--epochs",
+            "3",
+            "--horizon",
+            "5",
+            "--best-fit",
+            "--json",
+            &json_s,
+        ];
+        extra.extend_from_slice(carry);
+        let run = pushlab(&eval_args(&offline, &online, &extra));
+        assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+        let report: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        (run, report)
+    };
+    let (run, report) = eval(&["--carry-theta"]);
+    // The two pushes are of one box: one object, both its pushes, every sample of both.
+    let objects = report["object_best_fits"].as_array().unwrap();
+    assert_eq!(objects.len(), 1, "{objects:?}");
+    assert_eq!(objects[0]["sources"], serde_json::json!(online));
+    let trajectories = report["trajectories"].as_array().unwrap();
+    let steps: u64 = trajectories
+        .iter()
+        .map(|t| t["steps"].as_u64().unwrap())
+        .sum();
+    let fit = &objects[0]["best_fit"];
+    assert_eq!(fit["samples"].as_u64(), Some(steps));
+    // It fits both pushes at least as well as θ_online(0) does (the fixed runs, by samples).
+    let fixed: f64 = (trajectories.iter())
+        .map(|t| {
+            let n = t["steps"].as_f64().unwrap();
+            n * (2.0 * t["fixed"]["pos"].as_f64().unwrap() + t["fixed"]["rot"].as_f64().unwrap())
+        })
+        .sum::<f64>()
+        / steps as f64;
+    let best = fit["mean_loss"].as_f64().unwrap();
+    assert!(best <= fixed + 1e-12, "object best {best} > fixed {fixed}");
+    assert_eq!(report["object_best_fit"]["pushes"], 1);
+    assert!(
+        (run.stdout.lines())
+            .any(|l| l.starts_with("Best θ per object (all its carried pushes at once")),
+        "{}",
+        run.stdout
+    );
+    // Without --carry-theta there are no objects' fits.
+    let (_, report) = eval(&[]);
+    assert!(report.get("object_best_fits").is_none(), "{report}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn train_then_eval_with_the_model_gives_the_same_numbers() {
     let dir = temp_dir("roundtrip");
     let model = dir.join("model.json");

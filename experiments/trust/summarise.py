@@ -170,6 +170,17 @@ def with_physics(pushes, physics_trajectories):
         p.update(best_of(t.get("best_fit"), truth, "physics_best"))
 
 
+def with_object_fits(pushes, objects):
+    """The best θ over all the pushes of each object (`eval --best-fit --carry-theta`), its COM
+    error set on the object's last push, beside where carried learning ended there."""
+    last = {p["source"]: p for p in pushes}
+    for o in objects:
+        fit, p = o.get("best_fit"), last.get(o["sources"][-1])
+        if fit and p:
+            com, truth = fit["theta"]["com_offset"], p["truth"]
+            p["object_best_error_mm"] = math.hypot(com[0] - truth[0], com[1] - truth[1]) * 1000
+
+
 def along_axes(estimate, cov, truth):
     """|error| along the best- and least-known axes of the 2 x 2 covariance `cov`, mm."""
     a, b, c = cov[0][0], cov[0][1], cov[1][1]
@@ -341,6 +352,10 @@ def print_carried(carried):
         cells = [f"n={n}: {by_n[n]['holds']:>3}/{by_n[n]['pushes']:<3} {by_n[n]['median_error_mm']:5.1f}"
                  for n in (1, 3, 5, 9) if n in by_n]
         cells.append(f"last: {last['holds']:>3}/{last['pushes']:<3} {last['median_error_mm']:5.1f}")
+        fitted = [p["object_best_error_mm"] for p in chain_ends(ps) if "object_best_error_mm" in p]
+        if fitted:
+            last["median_object_best_error_mm"] = statistics.median(fitted)
+            cells.append(f"best θ over the object's pushes {statistics.median(fitted):5.1f}")
         whole = summary(ps, reports)
         online = f"  online {nmse(whole.get('online'))} phys {nmse(whole.get('physics_online'))}" \
             if reports is not None else ""
@@ -471,6 +486,7 @@ def main():
         source_kind = "mujoco" if kind == "mujoco" else "mit"
         pushes = with_push_index([push_of(source_kind, t, outlines) for t in report["trajectories"]])
         with_physics(pushes, report.pop("physics_trajectories", []))
+        with_object_fits(pushes, report.pop("object_best_fits", []))
         del report["trajectories"]
         entry = target.setdefault((opt, kind), ([], []))
         entry[0].extend(pushes)

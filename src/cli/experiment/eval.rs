@@ -488,6 +488,23 @@ fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedReco
             )
         );
     }
+    if let Some(b) = &report.object_best_fit {
+        let com = b.mean_com_error_m.map(|e| {
+            format!(
+                "; mean COM error {:.1} mm over {} objects with a known COM",
+                e * 1e3,
+                b.with_truth
+            )
+        });
+        println!(
+            "Best θ per object (all its carried pushes at once, held fixed): NMSE {:.3}/{:.3} pos/rot \
+             over {} objects{}",
+            b.nmse.pos,
+            b.nmse.rot,
+            b.pushes,
+            com.unwrap_or_default()
+        );
+    }
     if let (Some(b), Some(p)) = (&report.physics_best_fit, &report.physics) {
         let found = report.physics_com_found.as_ref();
         println!(

@@ -46,6 +46,17 @@ pub struct BestFit {
     pub samples: usize,
 }
 
+/// The best `θ_online` over every push of one object at once (`pushlab eval --best-fit
+/// --carry-theta`): what the pushes together allow the model, beside where carried online learning
+/// ended.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectBestFit {
+    /// The pushes, as indices of the online recordings, in order.
+    pub recordings: Vec<usize>,
+    /// `None` without samples.
+    pub fit: Option<BestFit>,
+}
+
 /// The best fits of several pushes together: their NMSE as the runs' rows weigh it (by samples),
 /// and over the pushes with a known COM the mean distance of the best COM from it (as
 /// [`ComSummary`](super::ComSummary) gives the online runs').

@@ -6,16 +6,15 @@
 
 use std::sync::Arc;
 
-use super::best_fit::{BestFit, best_fit};
+use super::best_fit::{BestFit, ObjectBestFit};
 use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Skipped, UsedRecording};
 use crate::geometry::OutlineError;
 use crate::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
 use crate::learn::{Nmse, OnlineConfig, OnlineRun, OnlineState, Posterior};
 use crate::model::{
-    CombinedModel, DEFAULT_CONTACT_TOLERANCE, FrameLoss, Loss, LossScale, NoOutline, OnlineModel,
-    OnlineParams, OnlineStep, PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel,
-    samples_from_trajectory,
+    CombinedModel, FrameLoss, Loss, LossScale, NoOutline, OnlineModel, OnlineParams, OnlineStep,
+    PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel, samples_from_trajectory,
 };
 use crate::recording::Recording;
 
@@ -317,6 +316,9 @@ pub struct Evaluation {
     pub left_out: Vec<Skipped>,
     /// How well online learning found the COM, over the online pushes with a known COM.
     pub com_summary: Option<ComSummary>,
+    /// With θ carried from push to push, the best θ over all the pushes of each object at once,
+    /// once [`Evaluation::find_best_fits`] ran.
+    pub object_best_fits: Vec<ObjectBestFit>,
 }
 
 /// Evaluates a trained model (and the pure network, when given) on offline and online recordings.
@@ -411,61 +413,8 @@ pub fn evaluate(
         ),
         physics_pushes,
         left_out,
+        object_best_fits: Vec::new(),
     }
-}
-
-impl Evaluation {
-    /// Finds, for every online push, the `θ_online` that fits the whole push best with the combined
-    /// model and, when the evaluation ran it, the physics-only model (`best_fit`; `online` and
-    /// `options` are the evaluation's own): what no online learner with each model can beat on that
-    /// push. `progress(done, total)` is told after each push; `false` when `cancelled` stopped it
-    /// (the pushes done keep their fits).
-    pub fn find_best_fits(
-        &mut self,
-        model: &CombinedModel,
-        online: &[UsedRecording],
-        options: &EvalOptions,
-        progress: &mut dyn FnMut(usize, usize),
-        cancelled: &dyn Fn() -> bool,
-    ) -> bool {
-        let (horizon, scale) = (model.horizon(), model.loss_scale());
-        let total = self.trajectories.len() + self.physics_pushes.len();
-        let mut done = 0;
-        for run in &mut self.trajectories {
-            let used = &online[run.recording];
-            run.best_fit = push_best_fit(run.run.model().as_ref(), used, horizon, cancelled);
-            if cancelled() {
-                return false;
-            }
-            done += 1;
-            progress(done, total);
-        }
-        for push in &mut self.physics_pushes {
-            let used = &online[push.recording];
-            let tolerance = options.physics.unwrap_or(DEFAULT_CONTACT_TOLERANCE);
-            if let Ok(physics) = physics_model(&used.recording, scale, tolerance) {
-                push.best_fit = push_best_fit(&physics, used, horizon, cancelled);
-            }
-            if cancelled() {
-                return false;
-            }
-            done += 1;
-            progress(done, total);
-        }
-        true
-    }
-}
-
-/// The best `θ_online` for one recording's push with `learner` (the combined model bound to its
-/// object, or its physics-only model) at `horizon`, over the samples its online runs learn from:
-/// what `eval --best-fit` and the Python package's `model.best_fit` report.
-pub fn push_best_fit(
-    learner: &dyn OnlineModel,
-    used: &UsedRecording,
-    horizon: usize,
-    cancelled: &dyn Fn() -> bool,
-) -> Option<BestFit> {
-    best_fit(learner, &used.samples(horizon), cancelled)
 }
 
 /// The physics-only model on the offline data (fixed) and on each online recording, fixed and learning

@@ -12,6 +12,7 @@ pub mod com_truth;
 pub mod data;
 pub mod evaluate;
 pub mod misfit;
+mod push_fits;
 pub mod report;
 pub mod suite;
 pub mod train;
@@ -22,13 +23,14 @@ pub mod variant;
 /// take a horizon from) predicts that far.
 pub const DEFAULT_HORIZON: usize = 1;
 
-pub use best_fit::{BestFit, BestFitSummary, POLLS as BEST_FIT_POLLS, best_fit};
+pub use best_fit::{BestFit, BestFitSummary, ObjectBestFit, POLLS as BEST_FIT_POLLS, best_fit};
 pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, load_all, split_of};
 pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, PhysicsPush, TrajectoryRun,
-    evaluate, fixed_pass, loss_scale_for, model_on, online_run, physics_model, push_best_fit,
+    evaluate, fixed_pass, loss_scale_for, model_on, online_run, physics_model,
 };
 pub use misfit::{calibrate_com_misfit, train_calibrated};
+pub use push_fits::push_best_fit;
 pub use train::{paper_theta0_for, train_baseline, train_combined, training_metadata};
 pub use variant::ModelVariant;

@@ -73,6 +73,21 @@ pub struct EvalReport {
     pub best_fit: Option<BestFitSummary>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub physics_best_fit: Option<BestFitSummary>,
+    /// With `--best-fit --carry-theta`: the best `θ_online` over all the pushes of each object at
+    /// once (each chain of carried pushes), and over the objects.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub object_best_fits: Vec<ObjectBestFitReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub object_best_fit: Option<BestFitSummary>,
+}
+
+/// The best `θ_online` over every push of one object (`--best-fit --carry-theta`).
+#[derive(Debug, Serialize)]
+pub struct ObjectBestFitReport {
+    /// The pushes, in order.
+    pub sources: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub best_fit: Option<BestFitReport>,
 }
 
 /// One online trajectory.
@@ -295,6 +310,22 @@ impl EvalReport {
                 |p| {
                     let truth = online.used[p.recording].recording.setting.com_offset;
                     p.best_fit.as_ref().map(|fit| (fit, truth))
+                },
+            )),
+            object_best_fits: (evaluation.object_best_fits.iter())
+                .map(|o| ObjectBestFitReport {
+                    sources: o
+                        .recordings
+                        .iter()
+                        .map(|&r| online.used[r].source())
+                        .collect(),
+                    best_fit: BestFitReport::of(o.fit, &online.used[o.recordings[0]]),
+                })
+                .collect(),
+            object_best_fit: BestFitSummary::of(evaluation.object_best_fits.iter().filter_map(
+                |o| {
+                    let truth = online.used[o.recordings[0]].recording.setting.com_offset;
+                    o.fit.as_ref().map(|fit| (fit, truth))
                 },
             )),
         }
