@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use numpy::PyArray1;
+use pushlab_core::experiment::UsedRecording;
 use pushlab_core::experiment::report::BestFitReport;
 use pushlab_core::experiment::{
     self, DEFAULT_HORIZON, TrajectoryRun, model_on, physics_model, push_best_fit, train_baseline,
@@ -13,7 +14,7 @@ use pushlab_core::experiment::{
 };
 use pushlab_core::learn::{OnlineConfig, OnlineState, Optimizer, TrainConfig, TrainProgress};
 use pushlab_core::model::{
-    DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineParams, PhysicsOnlyModel, sample_at,
+    DEFAULT_CONTACT_TOLERANCE, ModelKind, NoOutline, OnlineParams, PhysicsOnlyModel, sample_at,
 };
 use pushlab_core::model_file::ModelFile;
 use pyo3::exceptions::{PyIndexError, PyValueError};
@@ -251,13 +252,7 @@ impl Model {
                     start_com_shift,
                 )
             })
-            .map_err(|e| {
-                error(format!(
-                    "{}: {} model: {e}",
-                    recording.used.source(),
-                    self.kind()
-                ))
-            })?;
+            .map_err(|e| self.not_on(&recording.used, e))?;
         Ok(OnlineRun::new(run, recording.used.recording.clone(), false))
     }
 
@@ -318,8 +313,7 @@ impl Model {
             let physics = self.physics_of(recording, contact_tolerance)?;
             py.detach(|| push_best_fit(&physics, used, horizon, &|| false))
         } else {
-            let learner = model_on(&self.file.combined, used)
-                .map_err(|e| error(format!("{}: {} model: {e}", used.source(), self.kind())))?;
+            let learner = model_on(&self.file.combined, used).map_err(|e| self.not_on(used, e))?;
             py.detach(|| push_best_fit(learner.as_ref(), used, horizon, &|| false))
         };
         BestFitReport::of(fit, used)
@@ -342,6 +336,11 @@ impl Model {
 }
 
 impl Model {
+    /// Why this model cannot run on `used` (the contact kind without an outline), naming the file.
+    fn not_on(&self, used: &UsedRecording, why: NoOutline) -> PyErr {
+        error(format!("{}: {} model: {why}", used.source(), self.kind()))
+    }
+
     /// The physics-only model of `recording`'s object with this model's loss scale, a bad
     /// `contact_tolerance` refused with the argument named.
     fn physics_of(

@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use pushlab_core::experiment::{BEST_FIT_POLLS, BestFit, best_fit};
-use pushlab_core::model::Sample;
+use pushlab_core::model::samples_kept;
 
 use super::online::OnlineRun;
 
@@ -114,10 +114,7 @@ impl BestFitState {
     }
 
     fn start(&mut self, run: &OnlineRun, skip: &[bool]) {
-        let samples: Vec<Sample> = (0..run.sample_count())
-            .filter(|&k| !run.is_skipped(k, skip))
-            .filter_map(|k| run.sample(k))
-            .collect();
+        let samples = samples_kept(run.trajectory(), run.horizon(), skip);
         let model = Arc::clone(run.model());
         let cancel = Arc::new(AtomicBool::new(false));
         let polls = Arc::new(AtomicUsize::new(0));

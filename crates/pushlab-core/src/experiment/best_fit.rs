@@ -160,8 +160,9 @@ pub fn best_fit<M: OnlineModel + ?Sized>(
 /// left out), each with `h` at [`H_FRACTIONS`] of the largest the footprint allows there. Without an
 /// outline, around `θ_online(0)`: COM within ±2 h₀, `h` up to 2 h₀.
 fn grid<M: OnlineModel + ?Sized>(model: &M, theta0: &OnlineParams) -> Vec<Vec<OnlineParams>> {
+    let bounds = model.bounds();
     // With an outline, a COM offset of zero is its geometric centre.
-    let (centre, half) = match model.bounds() {
+    let (centre, half) = match bounds {
         Some(b) => ([0.0, 0.0], b.outer_radius()),
         None => (theta0.com_offset, 2.0 * theta0.h),
     };
@@ -171,7 +172,7 @@ fn grid<M: OnlineModel + ?Sized>(model: &M, theta0: &OnlineParams) -> Vec<Vec<On
             let mut row = Vec::new();
             for ix in 0..GRID_CELLS {
                 let com = [centre[0] + at(ix), centre[1] + at(iy)];
-                let h_max = match model.bounds() {
+                let h_max = match bounds {
                     Some(b) if !b.com_inside(com) => continue,
                     Some(b) => b.h_max(com.into()),
                     None => 2.0 * theta0.h,

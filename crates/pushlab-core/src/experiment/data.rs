@@ -13,7 +13,7 @@ use std::sync::Arc;
 use crate::geometry::OutlineError;
 use crate::labels::pipeline::{frames_to_skip, key_of, labels_file_beside};
 use crate::labels::{LabelSet, RecordingLabels, Split, file as labels_file};
-use crate::model::{ContactGeometry, Sample, sample_is_skipped, samples_from_trajectory};
+use crate::model::{ContactGeometry, Sample, samples_kept};
 use crate::recording::{LoadError, Recording, Setting, load_paths};
 
 /// One recording an experiment uses, with what the models need of it.
@@ -68,10 +68,7 @@ impl UsedRecording {
     /// The samples for `horizon`, without those whose start or end frame is skipped (a sample is made
     /// from exactly those two frames).
     pub fn samples(&self, horizon: usize) -> Vec<Sample> {
-        samples_from_trajectory(&self.recording.trajectory, horizon)
-            .into_iter()
-            .filter(|s| !sample_is_skipped(&self.skip, s.frame, horizon))
-            .collect()
+        samples_kept(&self.recording.trajectory, horizon, &self.skip)
     }
 
     /// Whether it gives a sample at `horizon`: recordings that do not are left out of training and

@@ -43,9 +43,9 @@ impl Evaluation {
                 return false;
             }
         }
+        let tolerance = options.physics.unwrap_or(DEFAULT_CONTACT_TOLERANCE);
         for push in &mut self.physics_pushes {
             let used = &online[push.recording];
-            let tolerance = options.physics.unwrap_or(DEFAULT_CONTACT_TOLERANCE);
             if let Ok(physics) = physics_model(&used.recording, scale, tolerance) {
                 push.best_fit = push_best_fit(&physics, used, horizon, cancelled);
             }

@@ -44,7 +44,7 @@ pub use physics_only::{DEFAULT_CONTACT_TOLERANCE, PhysicsOnlyModel};
 pub use pure_nn::{OutputNormalization, PureNnModel};
 pub use sample::{
     ObjectMotion, Sample, SampleInput, sample_at, sample_count, sample_is_skipped,
-    samples_from_trajectory,
+    samples_from_trajectory, samples_kept,
 };
 
 use serde::{Deserialize, Serialize};

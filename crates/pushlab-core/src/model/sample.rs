@@ -44,6 +44,15 @@ pub fn samples_from_trajectory(trajectory: &Trajectory, horizon: usize) -> Vec<S
         .collect()
 }
 
+/// The samples of a trajectory at `horizon` without those [`sample_is_skipped`] leaves out for
+/// `frame_mask`: what training, evaluation and online learning take from a recording.
+pub fn samples_kept(trajectory: &Trajectory, horizon: usize, frame_mask: &[bool]) -> Vec<Sample> {
+    (0..sample_count(trajectory, horizon))
+        .filter(|&i| !sample_is_skipped(frame_mask, i, horizon))
+        .filter_map(|i| sample_at(trajectory, i, horizon))
+        .collect()
+}
+
 /// How many samples a trajectory has at `horizon` frames: one per frame but the last `horizon`.
 pub fn sample_count(trajectory: &Trajectory, horizon: usize) -> usize {
     trajectory.frames.len().saturating_sub(horizon.max(1))
