@@ -9,13 +9,13 @@
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{Receiver, channel};
 
 use pushlab_core::recording::bag::{
     self, BagChoice, ImportOptions, SettingSource, TopicInfo, TopicSpec, choice,
 };
 
 use super::effect::Effect;
+use super::job::{Job, take_ended};
 use super::session::{LoadProblem, RecordingId, Session};
 
 /// A box entered by hand, in the units the form shows (millimetres).
@@ -201,7 +201,7 @@ pub struct BagChooser {
     /// Bags being opened with a choice not yet remembered, with the form that made it.
     trying: Vec<(BagForm, BagChoice)>,
     /// A bag's topics being read for [`BagCommand::ChooseAgain`].
-    listing: Option<(PathBuf, Receiver<Result<BagForm, String>>)>,
+    listing: Option<(PathBuf, Job<Result<BagForm, String>>)>,
     /// What was entered by hand before switching to a setting file, restored when switching back.
     entered_keep: Option<EnteredBox>,
 }
@@ -321,9 +321,8 @@ impl BagChooser {
                 "still reading another bag's topics".to_owned(),
             ));
         }
-        let (sender, receiver) = channel();
         let worker_bag = bag.clone();
-        std::thread::spawn(move || {
+        let job = Job::spawn(move |_| {
             let form = bag::topics(&worker_bag)
                 .map_err(|e| e.to_string())
                 .map(|topics| {
@@ -331,9 +330,9 @@ impl BagChooser {
                     let remembered = choice::remembered(&worker_bag).ok().flatten();
                     BagForm::new(worker_bag, topics, remembered)
                 });
-            let _ = sender.send(form);
+            Some(form)
         });
-        self.listing = Some((bag, receiver));
+        self.listing = Some((bag, job));
         None
     }
 
@@ -342,11 +341,14 @@ impl BagChooser {
     /// remembered (it opened: the bag is shown) or its form back with the session's error for it.
     pub fn poll(&mut self, session: &mut Session) -> Vec<Effect> {
         let mut effects = Vec::new();
-        if let Some((_, receiver)) = &self.listing
-            && let Ok(result) = receiver.try_recv()
-        {
-            self.listing = None;
-            match result {
+        if let Some((bag, listed)) = take_ended(&mut self.listing) {
+            let listed = listed.unwrap_or_else(|| {
+                Err(format!(
+                    "{}: reading its topics stopped unexpectedly",
+                    bag.display()
+                ))
+            });
+            match listed {
                 Ok(form) => {
                     (session.problems).retain(|p| !(p.bag_to_choose && p.path == form.bag));
                     self.queue.push_front(form);

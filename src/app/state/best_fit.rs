@@ -11,12 +11,11 @@
 //! not shown. The UI thread only polls.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use pushlab_core::experiment::{BEST_FIT_POLLS, BestFit, best_fit};
 use pushlab_core::model::samples_kept;
 
+use super::job::{Job, take_ended};
 use super::online::OnlineRun;
 
 /// A change to the best-θ search.
@@ -52,24 +51,18 @@ pub struct BestFitResult {
     key: RunKey,
 }
 
-struct Job {
-    key: RunKey,
-    cancel: Arc<AtomicBool>,
-    polls: Arc<AtomicUsize>,
-    receiver: Receiver<Option<BestFit>>,
-}
-
-/// The search's state: the last result and the search under way.
+/// The search's state: the last result and the search under way (with the run it is for).
 #[derive(Default)]
 pub struct BestFitState {
     result: Option<BestFitResult>,
-    job: Option<Job>,
+    job: Option<(RunKey, Job<Option<BestFit>>)>,
 }
 
 impl BestFitState {
     /// Applies a command; `Find` searches along `run` leaving out the samples `skip` marks.
     pub fn apply(&mut self, command: BestFitCommand, run: Option<&OnlineRun>, skip: &[bool]) {
-        self.stop();
+        // A search replaced or cancelled is dropped, which cancels it.
+        self.job = None;
         if let (BestFitCommand::Find, Some(run)) = (command, run) {
             self.start(run, skip);
         }
@@ -85,57 +78,33 @@ impl BestFitState {
     /// another recording or model, selected since, goes on unseen until it ends or a new search
     /// replaces it).
     pub fn progress_for(&self, run: &OnlineRun) -> Option<f32> {
-        let job = self.job.as_ref().filter(|j| j.key == RunKey::of(run))?;
-        let polls = job.polls.load(Ordering::Relaxed);
-        Some((polls as f32 / BEST_FIT_POLLS as f32).min(1.0))
+        let (_, job) = self
+            .job
+            .as_ref()
+            .filter(|(key, _)| *key == RunKey::of(run))?;
+        Some(job.progress())
     }
 
     /// Takes a finished search; returns whether one is still running.
     pub fn poll(&mut self) -> bool {
-        let Some(job) = &self.job else {
-            return false;
-        };
-        match job.receiver.try_recv() {
-            Ok(fit) => {
-                self.result = Some(BestFitResult { fit, key: job.key });
-                self.job = None;
+        match take_ended(&mut self.job) {
+            None => self.job.is_some(),
+            Some((key, fit)) => {
+                if let Some(fit) = fit {
+                    self.result = Some(BestFitResult { fit, key });
+                }
+                false
             }
-            Err(TryRecvError::Empty) => {}
-            // Cancelled (nothing sent) or the worker is gone.
-            Err(TryRecvError::Disconnected) => self.job = None,
-        }
-        self.job.is_some()
-    }
-
-    fn stop(&mut self) {
-        if let Some(job) = self.job.take() {
-            job.cancel.store(true, Ordering::Relaxed);
         }
     }
 
     fn start(&mut self, run: &OnlineRun, skip: &[bool]) {
         let samples = samples_kept(run.trajectory(), run.horizon(), skip);
         let model = Arc::clone(run.model());
-        let cancel = Arc::new(AtomicBool::new(false));
-        let polls = Arc::new(AtomicUsize::new(0));
-        let (sender, receiver) = channel();
-        let (worker_cancel, worker_polls) = (Arc::clone(&cancel), Arc::clone(&polls));
-        std::thread::spawn(move || {
-            let cancelled = || {
-                worker_polls.fetch_add(1, Ordering::Relaxed);
-                worker_cancel.load(Ordering::Relaxed)
-            };
-            let fit = best_fit(model.as_ref(), &samples, &cancelled);
-            if !worker_cancel.load(Ordering::Relaxed) {
-                // The receiver is gone only when the app closed or moved on.
-                let _ = sender.send(fit);
-            }
+        let job = Job::spawn(move |context| {
+            let checks = context.counting_checks(BEST_FIT_POLLS);
+            Some(best_fit(model.as_ref(), &samples, &checks))
         });
-        self.job = Some(Job {
-            key: RunKey::of(run),
-            cancel,
-            polls,
-            receiver,
-        });
+        self.job = Some((RunKey::of(run), job));
     }
 }

@@ -9,7 +9,6 @@
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{Receiver, channel};
 
 use pushlab_core::recording::NoProgress;
 use pushlab_core::recording::dataset::{
@@ -17,6 +16,7 @@ use pushlab_core::recording::dataset::{
 };
 
 use super::effect::Effect;
+use super::job::{Job, take_ended};
 use super::session::{LoadProblem, RecordingId, Session};
 
 /// What a dataset offers to choose from, read once when its form opens.
@@ -139,7 +139,7 @@ pub struct DatasetChooser {
     /// Datasets being opened with a choice not yet remembered, with the form that made it.
     trying: Vec<(DatasetForm, DatasetChoice)>,
     /// A dataset being read for its form, and those waiting to be.
-    listing: Option<(PathBuf, Receiver<Result<DatasetForm, String>>)>,
+    listing: Option<(PathBuf, Job<Result<DatasetForm, String>>)>,
     to_list: VecDeque<PathBuf>,
 }
 
@@ -219,9 +219,8 @@ impl DatasetChooser {
         let Some(dataset) = self.to_list.pop_front() else {
             return;
         };
-        let (sender, receiver) = channel();
         let worker_dataset = dataset.clone();
-        std::thread::spawn(move || {
+        let job = Job::spawn(move |_| {
             let form = dataset::read_table(&worker_dataset, &NoProgress)
                 .map_err(|e| e.to_string())
                 .map(|table| {
@@ -229,9 +228,9 @@ impl DatasetChooser {
                     let remembered = choice::remembered(&worker_dataset).ok().flatten();
                     DatasetForm::new(worker_dataset, &table, remembered)
                 });
-            let _ = sender.send(form);
+            Some(form)
         });
-        self.listing = Some((dataset, receiver));
+        self.listing = Some((dataset, job));
     }
 
     /// Merges what loading and reading finished: forms for datasets that need a choice (the
@@ -243,11 +242,14 @@ impl DatasetChooser {
             self.to_list.retain(|p| *p != dataset);
             self.to_list.push_back(dataset);
         }
-        if let Some((_, receiver)) = &self.listing
-            && let Ok(result) = receiver.try_recv()
-        {
-            self.listing = None;
-            match result {
+        if let Some((dataset, listed)) = take_ended(&mut self.listing) {
+            let listed = listed.unwrap_or_else(|| {
+                Err(format!(
+                    "{}: reading its features stopped unexpectedly",
+                    dataset.display()
+                ))
+            });
+            match listed {
                 Ok(form) => {
                     (session.problems).retain(|p| !(p.dataset_to_choose && p.path == form.dataset));
                     self.queue.retain(|f| f.dataset != form.dataset);

@@ -8,8 +8,6 @@
 //! θ or model), so that it is not restarted at once. The UI thread only polls.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use pushlab_core::inspect::{
     ComGrid, Contour, DEFAULT_QUANTILES, Landscape, LandscapeFrames, com_landscape, contour_levels,
@@ -17,6 +15,7 @@ use pushlab_core::inspect::{
 };
 use pushlab_core::model::OnlineParams;
 
+use super::job::{Job, take_ended};
 use super::online::OnlineRun;
 
 /// Cells along each side of the COM grid (the 64 × 64 of the `landscape_64` benchmark).
@@ -66,19 +65,13 @@ pub struct LandscapeResult {
     pub generation: u64,
 }
 
-struct Job {
-    request: LandscapeRequest,
-    cancel: Arc<AtomicBool>,
-    rows_begun: Arc<AtomicUsize>,
-    receiver: Receiver<LandscapeResult>,
-}
-
 /// The landscape window's state.
 pub struct LandscapeState {
     pub open: bool,
     pub frames: LandscapeFrames,
     result: Option<LandscapeResult>,
-    job: Option<Job>,
+    /// The landscape being computed, with its request.
+    job: Option<(LandscapeRequest, Job<LandscapeResult>)>,
     /// The request the user cancelled, not started again while it stays the newest.
     cancelled: Option<LandscapeRequest>,
     generation: u64,
@@ -105,9 +98,7 @@ impl LandscapeState {
 
     /// The fraction of the running landscape's rows begun, or `None` when none runs.
     pub fn progress(&self) -> Option<f32> {
-        let job = self.job.as_ref()?;
-        let rows = job.rows_begun.load(Ordering::Relaxed);
-        Some(rows as f32 / job.request.grid.cells.max(1) as f32)
+        self.job.as_ref().map(|(_, job)| job.progress())
     }
 
     /// Whether a landscape is being computed.
@@ -121,32 +112,24 @@ impl LandscapeState {
     }
 
     fn stop(&mut self) {
-        if let Some(job) = self.job.take() {
-            job.cancel.store(true, Ordering::Relaxed);
-            self.cancelled = Some(job.request);
+        // Dropping the job cancels it.
+        if let Some((request, _)) = self.job.take() {
+            self.cancelled = Some(request);
         }
     }
 
     /// Takes a finished landscape; returns whether one arrived or the worker ended.
     fn poll(&mut self) -> bool {
-        let Some(job) = &self.job else {
+        let Some((_, result)) = take_ended(&mut self.job) else {
             return false;
         };
-        match job.receiver.try_recv() {
-            Ok(mut result) => {
-                self.generation += 1;
-                result.generation = self.generation;
-                self.result = Some(result);
-                self.job = None;
-                true
-            }
-            Err(TryRecvError::Empty) => false,
-            // Cancelled (nothing sent) or the worker is gone.
-            Err(TryRecvError::Disconnected) => {
-                self.job = None;
-                true
-            }
+        // None: cancelled, or the worker is gone.
+        if let Some(mut result) = result {
+            self.generation += 1;
+            result.generation = self.generation;
+            self.result = Some(result);
         }
+        true
     }
 }
 
@@ -224,38 +207,28 @@ impl LandscapeState {
         let hs: Vec<f64> = (0..H_SLICE_POINTS)
             .map(|i| h_low + (h_high - h_low) * i as f64 / (H_SLICE_POINTS - 1) as f64)
             .collect();
-        let cancel = Arc::new(AtomicBool::new(false));
-        let rows_begun = Arc::new(AtomicUsize::new(0));
-        let (sender, receiver) = channel();
-        let (worker_cancel, worker_rows) = (Arc::clone(&cancel), Arc::clone(&rows_begun));
-        std::thread::spawn(move || {
-            let polled = || {
-                worker_rows.fetch_add(1, Ordering::Relaxed);
-                worker_cancel.load(Ordering::Relaxed)
-            };
+        let job = Job::spawn(move |context| {
+            // The landscape checks for a cancel once per row it begins.
+            let rows_begun = context.counting_checks(request.grid.cells);
             let theta = request.theta;
-            let Some(landscape) =
-                com_landscape(model.as_ref(), &samples, &request.grid, theta.h, &polled)
-            else {
-                return;
-            };
+            let landscape = com_landscape(
+                model.as_ref(),
+                &samples,
+                &request.grid,
+                theta.h,
+                &rows_begun,
+            )?;
             let levels = contour_levels(&landscape, &DEFAULT_QUANTILES);
             let slice = h_slice(model.as_ref(), &samples, theta.com_offset, &hs);
-            // The receiver is gone only when the app closed or moved on.
-            let _ = sender.send(LandscapeResult {
+            Some(LandscapeResult {
                 request,
                 contours: contours(&landscape, &levels),
                 landscape,
                 h_slice: hs.into_iter().zip(slice).collect(),
                 samples: samples.len(),
                 generation: 0,
-            });
+            })
         });
-        self.job = Some(Job {
-            request,
-            cancel,
-            rows_begun,
-            receiver,
-        });
+        self.job = Some((request, job));
     }
 }

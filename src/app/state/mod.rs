@@ -15,6 +15,7 @@ pub mod effect;
 pub mod envelope;
 mod files;
 mod frame_cache;
+mod job;
 pub mod label_losses;
 pub mod labels;
 pub mod landscape;

@@ -19,9 +19,6 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use pushlab_core::labels::propose::{Proposal, Proposals, ProposeOptions, Residuals, propose_for};
 use pushlab_core::labels::{self, LabelSchema, RecordingLabels};
@@ -29,6 +26,7 @@ use pushlab_core::model::LossScale;
 use pushlab_core::recording::Recording;
 
 use super::effect::Effect;
+use super::job::{Job, take_ended};
 use super::labels::{LabelAction, LabelTarget, Labeling};
 use super::online::OnlineRun;
 
@@ -77,6 +75,9 @@ pub enum Status<'a> {
 /// A proposal as rejected: its label and frames (indices change when proposals are recomputed).
 type RejectKey = (String, usize, usize);
 
+/// What a proposal job that ended without its result says (its thread panicked).
+const WORKER_STOPPED: &str = "no proposals: the worker stopped unexpectedly";
+
 fn key_of(proposal: &Proposal) -> RejectKey {
     (
         proposal.label.to_owned(),
@@ -85,20 +86,13 @@ fn key_of(proposal: &Proposal) -> RejectKey {
     )
 }
 
-struct Job {
-    source: PathBuf,
-    receiver: Receiver<Result<Proposals, String>>,
-    cancel: Arc<AtomicBool>,
-    /// The fraction done, as `f32` bits.
-    progress: Arc<AtomicU32>,
-}
-
 /// The selected recording's proposals and what the user rejected.
 #[derive(Default)]
 pub struct ProposalState {
     /// The recording proposed for (its source) and the outcome.
     current: Option<(PathBuf, Result<Proposals, String>)>,
-    job: Option<Job>,
+    /// The recording being proposed for (its source) and the job.
+    job: Option<(PathBuf, Job<Result<Proposals, String>>)>,
     /// Rejected proposals by recording source.
     rejected: BTreeMap<PathBuf, BTreeSet<RejectKey>>,
 }
@@ -127,12 +121,8 @@ impl ProposalState {
             return;
         }
         self.current = None;
-        let (sender, receiver) = channel();
-        let cancel = Arc::new(AtomicBool::new(false));
-        let progress = Arc::new(AtomicU32::new(0));
-        let (worker_cancel, worker_progress) = (Arc::clone(&cancel), Arc::clone(&progress));
         let recording = recording.clone();
-        std::thread::spawn(move || {
+        let job = Job::spawn(move |context| {
             let residuals = residuals.as_ref().map(|r| Residuals {
                 losses: &r.losses,
                 horizon: r.horizon,
@@ -143,60 +133,36 @@ impl ProposalState {
                 residuals,
                 &ProposeOptions::default(),
                 &mut |done| {
-                    worker_progress.store(done.to_bits(), Ordering::Relaxed);
-                    !worker_cancel.load(Ordering::Relaxed)
+                    context.set_progress(done);
+                    !context.is_cancelled()
                 },
             )
             .map_err(|e| format!("no proposals: {e}"));
-            // The receiver is gone only when another recording was chosen meanwhile.
-            let _ = sender.send(result);
+            Some(result)
         });
-        self.job = Some(Job {
-            source,
-            receiver,
-            cancel,
-            progress,
-        });
+        self.job = Some((source, job));
     }
 
     /// Stops the job in progress, if any; its result is dropped.
     pub fn stop(&mut self) {
-        if let Some(job) = self.job.take() {
-            job.cancel.store(true, Ordering::Relaxed);
-        }
+        // Dropping the job cancels it.
+        self.job = None;
     }
 
     /// Takes a finished job's result. Returns whether proposals arrived.
     pub fn poll(&mut self) -> bool {
-        let Some(job) = &self.job else {
+        let Some((source, result)) = take_ended(&mut self.job) else {
             return false;
         };
-        match job.receiver.try_recv() {
-            Ok(result) => {
-                self.finish(result);
-                true
-            }
-            Err(TryRecvError::Empty) => false,
-            Err(TryRecvError::Disconnected) => {
-                self.finish(Err("no proposals: the worker stopped unexpectedly".into()));
-                true
-            }
-        }
+        self.current = Some((source, result.unwrap_or(Err(WORKER_STOPPED.to_owned()))));
+        true
     }
 
     /// Waits for the job in progress (opening on the calling thread: the command line, tests).
     pub fn wait(&mut self) {
-        if let Some(job) = &self.job {
-            let result = job.receiver.recv().unwrap_or_else(|_| {
-                Err("no proposals: the worker stopped unexpectedly".to_owned())
-            });
-            self.finish(result);
-        }
-    }
-
-    fn finish(&mut self, result: Result<Proposals, String>) {
-        if let Some(job) = self.job.take() {
-            self.current = Some((job.source, result));
+        if let Some((source, job)) = self.job.take() {
+            let result = job.wait().unwrap_or(Err(WORKER_STOPPED.to_owned()));
+            self.current = Some((source, result));
         }
     }
 
@@ -207,8 +173,8 @@ impl ProposalState {
 
     /// What is known about the proposals of the recording at `source`.
     pub fn status(&self, source: &Path) -> Status<'_> {
-        if let Some(job) = self.job.as_ref().filter(|j| j.source == source) {
-            return Status::Running(f32::from_bits(job.progress.load(Ordering::Relaxed)));
+        if let Some((_, job)) = self.job.as_ref().filter(|(s, _)| s == source) {
+            return Status::Running(job.progress());
         }
         match &self.current {
             Some((s, Ok(proposals))) if s == source => Status::Ready(proposals),

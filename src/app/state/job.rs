@@ -1,0 +1,241 @@
+//! Work on a worker thread that the UI thread polls: one result, the share done, and cancel.
+//!
+//! Why one type: the app runs its searches and reads — the best θ, the loss landscape, label
+//! proposals, a bag's topics, a dataset's features — off the UI thread the same way: a cancel flag
+//! the worker checks, a share done that a progress bar reads, one result over a channel, a job
+//! replaced or dropped cancelled, a cancelled job's late result never delivered, and a worker that
+//! died told apart from one still running. Each sub-state had written that plumbing again, and
+//! copies drift (one forgot to cancel on drop, another to say the worker stopped); here it is once.
+//! Offline training (a stream of epochs) and loading (the core's own `LoadProgress`) report more
+//! than one result and keep their own channels.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
+/// A running job's owner side, polled by the UI thread. Dropping it cancels the work.
+pub struct Job<T> {
+    shared: Arc<Shared>,
+    receiver: Receiver<T>,
+}
+
+/// What the worker sees of its job: whether it was cancelled, and where to report the share done.
+pub struct JobContext {
+    shared: Arc<Shared>,
+}
+
+#[derive(Default)]
+struct Shared {
+    cancelled: AtomicBool,
+    /// The share done in [0, 1], as `f32` bits.
+    done: AtomicU32,
+}
+
+/// What a poll found.
+#[derive(Debug, PartialEq)]
+pub enum Polled<T> {
+    /// Still working.
+    Running,
+    /// Finished with this result.
+    Done(T),
+    /// Ended without a result: the work returned none, or its thread panicked.
+    Stopped,
+}
+
+impl<T: Send + 'static> Job<T> {
+    /// Starts `work` on a new thread. Its result is delivered unless it is `None` or the job was
+    /// cancelled meanwhile.
+    pub fn spawn(work: impl FnOnce(&JobContext) -> Option<T> + Send + 'static) -> Self {
+        let shared = Arc::new(Shared::default());
+        let context = JobContext {
+            shared: Arc::clone(&shared),
+        };
+        let (sender, receiver) = channel();
+        std::thread::spawn(move || {
+            if let Some(result) = work(&context)
+                && !context.is_cancelled()
+            {
+                // The receiver is gone only when the job was dropped meanwhile: nobody wants it.
+                let _ = sender.send(result);
+            }
+        });
+        Self { shared, receiver }
+    }
+}
+
+impl<T> Job<T> {
+    /// Asks the worker to stop at its next check; its result, if any, is not delivered.
+    pub fn cancel(&self) {
+        self.shared.cancelled.store(true, Ordering::Relaxed);
+    }
+
+    /// The share done the worker last reported, in [0, 1].
+    pub fn progress(&self) -> f32 {
+        f32::from_bits(self.shared.done.load(Ordering::Relaxed))
+    }
+
+    /// Takes the result if the work finished, without waiting.
+    pub fn poll(&self) -> Polled<T> {
+        match self.receiver.try_recv() {
+            Ok(result) => Polled::Done(result),
+            Err(TryRecvError::Empty) => Polled::Running,
+            Err(TryRecvError::Disconnected) => Polled::Stopped,
+        }
+    }
+
+    /// Waits for the result (work started from the command line, tests); `None` when the work
+    /// returned none or its thread panicked.
+    pub fn wait(&self) -> Option<T> {
+        self.receiver.recv().ok()
+    }
+}
+
+/// Takes the job kept in `slot` beside what it is for, once it has ended: `None` while it runs (it
+/// stays in `slot`); otherwise what it was for and its result (`None`: it stopped without one).
+pub fn take_ended<K, T>(slot: &mut Option<(K, Job<T>)>) -> Option<(K, Option<T>)> {
+    let result = match slot.as_ref()?.1.poll() {
+        Polled::Running => return None,
+        Polled::Done(result) => Some(result),
+        Polled::Stopped => None,
+    };
+    slot.take().map(|(key, _)| (key, result))
+}
+
+impl<T> Drop for Job<T> {
+    fn drop(&mut self) {
+        self.cancel();
+    }
+}
+
+impl JobContext {
+    /// Whether the job was cancelled or dropped: the work should stop and return.
+    pub fn is_cancelled(&self) -> bool {
+        self.shared.cancelled.load(Ordering::Relaxed)
+    }
+
+    /// Reports the share done (clamped to [0, 1]).
+    pub fn set_progress(&self, done: f32) {
+        let done = if done.is_nan() {
+            0.0
+        } else {
+            done.clamp(0.0, 1.0)
+        };
+        self.shared.done.store(done.to_bits(), Ordering::Relaxed);
+    }
+
+    /// A cancel check for core functions that take one and call it a known number of `times`
+    /// (the best-θ search's polls, the landscape's rows): each call counts as that share done.
+    /// The check may be called from several threads at once (the landscape's rows run on both
+    /// cores).
+    pub fn counting_checks(&self, times: usize) -> impl Fn() -> bool + Sync + '_ {
+        let calls = AtomicUsize::new(0);
+        move || {
+            let calls = calls.fetch_add(1, Ordering::Relaxed) + 1;
+            self.set_progress(calls as f32 / times.max(1) as f32);
+            self.is_cancelled()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::mpsc::sync_channel;
+    use std::time::{Duration, Instant};
+
+    use super::*;
+
+    /// Polls until the job is no longer running (a test's worker takes milliseconds).
+    fn settle<T>(job: &Job<T>) -> Polled<T> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            match job.poll() {
+                Polled::Running if Instant::now() < deadline => {
+                    std::thread::sleep(Duration::from_millis(1))
+                }
+                other => return other,
+            }
+        }
+    }
+
+    #[test]
+    fn a_finished_job_delivers_its_result_once() {
+        let job = Job::spawn(|_| Some(42));
+        assert_eq!(settle(&job), Polled::Done(42));
+        assert_eq!(job.poll(), Polled::Stopped);
+    }
+
+    #[test]
+    fn a_cancelled_job_delivers_nothing_even_if_the_work_finishes() {
+        let (go, wait) = sync_channel::<()>(0);
+        let job = Job::spawn(move |_| {
+            wait.recv().ok();
+            Some("late")
+        });
+        job.cancel();
+        go.send(()).expect("the worker waits for go");
+        assert_eq!(settle(&job), Polled::Stopped);
+    }
+
+    #[test]
+    fn dropping_a_job_cancels_its_work() {
+        let (seen, cancelled) = sync_channel(1);
+        let (go, wait) = sync_channel::<()>(0);
+        let job = Job::<()>::spawn(move |context| {
+            wait.recv().ok();
+            seen.send(context.is_cancelled()).ok();
+            None
+        });
+        drop(job);
+        go.send(()).expect("the worker waits for go");
+        assert_eq!(cancelled.recv_timeout(Duration::from_secs(10)), Ok(true));
+    }
+
+    #[test]
+    fn a_panicking_worker_is_told_apart_from_a_running_one() {
+        let job = Job::<u8>::spawn(|_| panic!("worker failed on purpose"));
+        assert_eq!(settle(&job), Polled::Stopped);
+    }
+
+    #[test]
+    fn take_ended_leaves_a_running_job_and_takes_an_ended_one() {
+        let (go, wait) = sync_channel::<()>(0);
+        let mut slot = Some((
+            "for this",
+            Job::spawn(move |_| {
+                wait.recv().ok();
+                Some(7)
+            }),
+        ));
+        assert_eq!(take_ended(&mut slot), None);
+        assert!(slot.is_some());
+        go.send(()).expect("the worker waits for go");
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let ended = loop {
+            match take_ended(&mut slot) {
+                None if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(1)),
+                ended => break ended,
+            }
+        };
+        assert_eq!(ended, Some(("for this", Some(7))));
+        assert!(slot.is_none());
+    }
+
+    #[test]
+    fn counting_checks_report_their_share_and_the_cancel() {
+        let (go, wait) = sync_channel::<()>(0);
+        let (polled, results) = sync_channel(2);
+        let job = Job::<()>::spawn(move |context| {
+            let check = context.counting_checks(4);
+            polled.send(check()).ok();
+            wait.recv().ok();
+            polled.send(check()).ok();
+            None
+        });
+        assert_eq!(results.recv_timeout(Duration::from_secs(10)), Ok(false));
+        assert_eq!(job.progress(), 0.25);
+        job.cancel();
+        go.send(()).expect("the worker waits for go");
+        assert_eq!(results.recv_timeout(Duration::from_secs(10)), Ok(true));
+        assert_eq!(job.progress(), 0.5);
+    }
+}
