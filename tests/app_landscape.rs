@@ -128,7 +128,7 @@ fn the_landscape_follows_the_frame_and_the_frames_chosen() {
     let result = landscape(&harness);
     assert_eq!(result.samples, 1);
     assert_eq!(
-        texts_starting(&harness, "1 samples from frames 15–15").len(),
+        texts_starting(&harness, "1 sample from frame 15 at").len(),
         1
     );
 }

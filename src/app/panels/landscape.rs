@@ -124,10 +124,17 @@ fn describe(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult) {
     let request = &result.request;
     let first = request.frames.first(request.frame);
     let theta = request.theta;
+    let samples = match result.samples {
+        1 => "1 sample".to_owned(),
+        n => format!("{n} samples"),
+    };
+    let frames = if first == request.frame {
+        format!("frame {first}")
+    } else {
+        format!("frames {first}–{}", request.frame)
+    };
     ui.label(format!(
-        "{} samples from frames {first}–{} at h = {:.1} mm",
-        result.samples,
-        request.frame,
+        "{samples} from {frames} at h = {:.1} mm",
         theta.h * 1e3
     ));
     if request.frame != state.frame() {
