@@ -27,7 +27,8 @@ pub struct JobContext {
 #[derive(Default)]
 struct Shared {
     cancelled: AtomicBool,
-    /// The share done in [0, 1], as `f32` bits.
+    /// The most of the job reported done, in [0, 1], as `f32` bits (which, for non-negative
+    /// floats, sort as the floats do: the highest report wins, whichever thread made it last).
     done: AtomicU32,
 }
 
@@ -38,7 +39,8 @@ pub enum Polled<T> {
     Running,
     /// Finished with this result.
     Done(T),
-    /// Ended without a result: the work returned none, or its thread panicked.
+    /// Ended without a result: the work returned none, the job was cancelled, its thread
+    /// panicked, or its result was taken by an earlier poll.
     Stopped,
 }
 
@@ -69,13 +71,17 @@ impl<T> Job<T> {
         self.shared.cancelled.store(true, Ordering::Relaxed);
     }
 
-    /// The share done the worker last reported, in [0, 1].
+    /// The most of the job the worker reported done, in [0, 1].
     pub fn progress(&self) -> f32 {
         f32::from_bits(self.shared.done.load(Ordering::Relaxed))
     }
 
-    /// Takes the result if the work finished, without waiting.
+    /// Takes the result if the work finished, without waiting. A cancelled job has none, even
+    /// when the work finished just before the cancel was seen.
     pub fn poll(&self) -> Polled<T> {
+        if self.is_cancelled() {
+            return Polled::Stopped;
+        }
         match self.receiver.try_recv() {
             Ok(result) => Polled::Done(result),
             Err(TryRecvError::Empty) => Polled::Running,
@@ -83,10 +89,15 @@ impl<T> Job<T> {
         }
     }
 
-    /// Waits for the result (work started from the command line, tests); `None` when the work
-    /// returned none or its thread panicked.
+    /// Waits for the result (work started from the command line, tests); `None` whenever
+    /// [`Self::poll`] would say [`Polled::Stopped`].
     pub fn wait(&self) -> Option<T> {
-        self.receiver.recv().ok()
+        let result = self.receiver.recv().ok();
+        result.filter(|_| !self.is_cancelled())
+    }
+
+    fn is_cancelled(&self) -> bool {
+        self.shared.cancelled.load(Ordering::Relaxed)
     }
 }
 
@@ -113,14 +124,17 @@ impl JobContext {
         self.shared.cancelled.load(Ordering::Relaxed)
     }
 
-    /// Reports the share done (clamped to [0, 1]).
+    /// Reports the share done (clamped to [0, 1]); a report below an earlier one is ignored, so
+    /// that a bar fed from several threads never steps back.
     pub fn set_progress(&self, done: f32) {
         let done = if done.is_nan() {
             0.0
         } else {
             done.clamp(0.0, 1.0)
         };
-        self.shared.done.store(done.to_bits(), Ordering::Relaxed);
+        self.shared
+            .done
+            .fetch_max(done.to_bits(), Ordering::Relaxed);
     }
 
     /// A cancel check for core functions that take one and call it a known number of `times`
@@ -161,7 +175,7 @@ mod tests {
     fn a_finished_job_delivers_its_result_once() {
         let job = Job::spawn(|_| Some(42));
         assert_eq!(settle(&job), Polled::Done(42));
-        assert_eq!(job.poll(), Polled::Stopped);
+        assert_eq!(settle(&job), Polled::Stopped);
     }
 
     #[test]
@@ -218,6 +232,21 @@ mod tests {
         };
         assert_eq!(ended, Some(("for this", Some(7))));
         assert!(slot.is_none());
+    }
+
+    #[test]
+    fn progress_never_steps_back() {
+        let (reported, results) = sync_channel(1);
+        let job = Job::<()>::spawn(move |context| {
+            context.set_progress(0.5);
+            context.set_progress(0.25);
+            reported.send(()).ok();
+            None
+        });
+        results
+            .recv_timeout(Duration::from_secs(10))
+            .expect("the worker reports");
+        assert_eq!(job.progress(), 0.5);
     }
 
     #[test]

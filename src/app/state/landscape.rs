@@ -120,14 +120,18 @@ impl LandscapeState {
 
     /// Takes a finished landscape; returns whether one arrived or the worker ended.
     fn poll(&mut self) -> bool {
-        let Some((_, result)) = take_ended(&mut self.job) else {
+        let Some((request, result)) = take_ended(&mut self.job) else {
             return false;
         };
-        // None: cancelled, or the worker is gone.
-        if let Some(mut result) = result {
-            self.generation += 1;
-            result.generation = self.generation;
-            self.result = Some(result);
+        match result {
+            Some(mut result) => {
+                self.generation += 1;
+                result.generation = self.generation;
+                self.result = Some(result);
+            }
+            // The worker died (a cancel drops the job before a poll can see it): held like a
+            // cancel, so that the same request is not started again on every frame.
+            None => self.cancelled = Some(request),
         }
         true
     }
