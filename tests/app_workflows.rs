@@ -126,6 +126,16 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
         .pos;
     harness.get_by_label("Train").click();
     harness.run_steps(2);
+    // The tab starts from the model in use: the bundled model's horizon (10 frames), not 1.
+    let horizon_in_use = harness.state().state.models().horizon();
+    assert_eq!(horizon_in_use, 10);
+    assert_eq!(
+        harness
+            .get_by_role_and_label(egui::accesskit::Role::SpinButton, "Horizon (frames)")
+            .value()
+            .as_deref(),
+        Some("10")
+    );
     harness.get_by_label("Labelled offline").click();
     harness.run_steps(2);
     assert_eq!(harness.state().state.training().chosen.len(), 27);
@@ -164,6 +174,11 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     assert_eq!(
         state.models().source.as_deref(),
         Some("trained in the app (unsaved)")
+    );
+    assert_eq!(
+        state.models().horizon(),
+        horizon_in_use,
+        "pressing Train with the tab's defaults keeps the horizon of the model it replaces"
     );
     let fixed_after = state.run().expect("an online run").fixed()[10].pos;
     assert_ne!(

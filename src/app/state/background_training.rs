@@ -143,6 +143,21 @@ impl Training {
         });
     }
 
+    /// Starts the Train tab from the model in use: its kind and its horizon, as `pushlab eval`
+    /// takes the horizon of `--model`. Why: the tab used to start at horizon 1 whatever the model,
+    /// so pressing Train with its defaults beside the bundled model (horizon 10) made a model that
+    /// predicts a tenth as far, from motions of a frame that are mostly tracking noise, and online
+    /// learning switched to it. A running job keeps the settings it started with.
+    pub fn follow_model(&mut self, kind: Option<ModelKind>, horizon: usize) {
+        if self.is_running() {
+            return;
+        }
+        if let Some(kind) = kind {
+            self.kind = kind;
+        }
+        self.config.horizon = horizon;
+    }
+
     /// Asks the running job to stop after the current batch; it still delivers its best model.
     pub fn cancel(&self) {
         if let Some(job) = &self.job {

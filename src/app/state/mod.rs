@@ -289,6 +289,8 @@ impl AppState {
         let cameras = Cameras::new(persisted.hidden_cameras.clone());
         let mut settings = persisted;
         settings.what_if_steps = settings.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS);
+        let mut training = Training::default();
+        training.follow_model(models.kind(), models.horizon());
         Self {
             settings,
             session: Session::default(),
@@ -297,7 +299,7 @@ impl AppState {
             run: None,
             physics: None,
             overview: PathOverview::default(),
-            training: Training::default(),
+            training,
             labels: Labeling::default(),
             proposals: ProposalState::default(),
             status: None,

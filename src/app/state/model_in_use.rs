@@ -40,6 +40,7 @@ impl AppState {
         self.models.pure_nn = file.pure_nn.map(Arc::new);
         self.models.training = file.training;
         self.models.source = Some(source);
+        (self.training).follow_model(self.models.kind(), self.models.horizon());
         self.refresh_fit();
         self.restart_run_keeping_frame();
     }
