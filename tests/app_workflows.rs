@@ -185,12 +185,20 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
         fixed_before, fixed_after,
         "predictions come from the new model"
     );
+    // The bar says which epoch's weights the model has, the one with the best validation loss.
+    let report = state.training().last_report().expect("the run's report");
+    let losses: Vec<f64> = (state.training().history.iter())
+        .filter_map(|p| p.validation_loss)
+        .collect();
+    let best = (losses.iter().enumerate())
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, _)| i + 1)
+        .expect("validation losses");
+    assert_eq!(report.best_epoch, best);
+    let said = format!("finished after 3 of 3 epochs; kept epoch {best}");
     assert!(
-        harness
-            .query_all_by_label_contains("epoch 3 / 3")
-            .next()
-            .is_some(),
-        "the progress bar shows the last epoch"
+        harness.query_all_by_label_contains(&said).next().is_some(),
+        "the progress bar says how the run ended: {said}"
     );
 
     // Save it from the app and load it back: same predictions.
@@ -291,10 +299,19 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
     let state = &harness.state().state;
     let status = state.status().unwrap_or_default().to_owned();
     assert!(status.contains("model cancelled"), "{status}");
-    assert!(state.training().history.len() < 10_000);
+    let epochs = state.training().history.len();
+    assert!(epochs < 10_000);
+    let report = state.training().last_report().expect("the run's report");
+    assert!(report.cancelled && report.best_epoch >= 1 && report.best_epoch <= epochs);
     assert_eq!(
         state.models().source.as_deref(),
         Some("trained in the app (unsaved)")
+    );
+    harness.run_steps(2);
+    let said = format!("cancelled after {epochs} of 10000 epochs; kept epoch");
+    assert!(
+        harness.query_all_by_label_contains(&said).next().is_some(),
+        "{said}"
     );
 }
 

@@ -2,7 +2,8 @@
 //! a loss curve, cancel, and save or load model files.
 
 use eframe::egui;
-use egui_plot::{Legend, Line, Plot, PlotPoints};
+use egui_plot::{Legend, Line, Plot, PlotPoints, VLine};
+use pushlab_core::learn::TrainingReport;
 use pushlab_core::model::ModelKind;
 
 use crate::app::colors;
@@ -129,13 +130,20 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     });
     if running || !state.training().history.is_empty() {
         let last = state.training().history.last();
-        let text = last.map_or("starting…".to_owned(), |p| {
-            format!(
-                "epoch {} / {}, train loss {:.4}",
-                p.epoch, p.epochs, p.train_loss
-            )
-        });
-        ui.add(egui::ProgressBar::new(state.training().progress()).text(text));
+        let ended = state.training().last_report().filter(|_| !running);
+        let (progress, text) = match ended {
+            Some(report) => (1.0, how_it_ended(report)),
+            None => (
+                state.training().progress(),
+                last.map_or("starting…".to_owned(), |p| {
+                    format!(
+                        "epoch {} / {}, train loss {:.4}",
+                        p.epoch, p.epochs, p.train_loss
+                    )
+                }),
+            ),
+        };
+        ui.add(egui::ProgressBar::new(progress).text(text));
         let train: PlotPoints = state
             .training()
             .history
@@ -155,6 +163,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             .show(ui, |plot_ui| {
                 plot_ui.line(Line::new("train", train).color(colors::ONLINE));
                 plot_ui.line(Line::new("validation", validation).color(colors::FIXED));
+                if let Some(report) = ended {
+                    plot_ui.vline(VLine::new("kept", report.best_epoch as f64).color(colors::TRUE));
+                }
             });
     }
     ui.separator();
@@ -172,4 +183,21 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             dialogs.open(DialogRequest::SaveModel);
         }
     });
+}
+
+/// The progress bar's words once a run ended: why it stopped and which epoch's weights the model
+/// has — the one with the best validation loss, often well before the last (early stopping waits
+/// `patience` epochs for a better one). Its losses are in the status line and the plot's line.
+fn how_it_ended(report: &TrainingReport) -> String {
+    let why = if report.cancelled {
+        "cancelled"
+    } else if report.stopped_early {
+        "stopped early"
+    } else {
+        "finished"
+    };
+    format!(
+        "{why} after {} of {} epochs; kept epoch {}",
+        report.epochs_run, report.config.epochs, report.best_epoch
+    )
 }

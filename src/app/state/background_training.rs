@@ -11,7 +11,9 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use pushlab_core::experiment::{
     UsedRecording, train_baseline, train_calibrated, training_metadata,
 };
-use pushlab_core::learn::{TrainConfig, TrainError, TrainProgress, TrainStage, Trained};
+use pushlab_core::learn::{
+    TrainConfig, TrainError, TrainProgress, TrainStage, Trained, TrainingReport,
+};
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 use pushlab_core::model_file::{ModelFile, TrainingMetadata};
 
@@ -80,6 +82,9 @@ pub struct Training {
     calibrating: Option<TrainProgress>,
     /// A model that finished training and has not been taken into use yet.
     finished: Option<Finished>,
+    /// How the last finished run of the combined model ended: which epoch it kept and why it
+    /// stopped, for the Train tab (its history alone shows where it stopped, not what it kept).
+    last_report: Option<TrainingReport>,
     job: Option<Job>,
 }
 
@@ -100,6 +105,7 @@ impl Training {
         self.baseline_history.clear();
         self.training_baseline = false;
         self.calibrating = None;
+        self.last_report = None;
         let with_baseline = !for_folders.is_empty();
         let (sender, receiver) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
@@ -189,6 +195,7 @@ impl Training {
                             pure_nn,
                         }) => {
                             let r = &trained.report;
+                            self.last_report = Some(r.clone());
                             let message = format!(
                                 "training the {} model {} after {} epochs: train loss {:.4}{}",
                                 trained.model.kind(),
@@ -222,6 +229,11 @@ impl Training {
                 }
             }
         }
+    }
+
+    /// How the last finished run of the combined model ended, until the next starts.
+    pub fn last_report(&self) -> Option<&TrainingReport> {
+        self.last_report.as_ref()
     }
 
     /// The model of a finished run, once.
