@@ -9,7 +9,7 @@ use pushlab_core::model::ModelKind;
 use crate::app::colors;
 use crate::app::dialogs::{DialogRequest, Dialogs};
 use crate::app::state::TrainingCommand;
-use crate::app::state::background_training::TrainingChoice;
+use crate::app::state::background_training::{TrainingChoice, why_it_ended};
 use crate::app::state::{AppState, Command};
 
 /// Draws the training panel.
@@ -189,15 +189,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
 /// has — the one with the best validation loss, often well before the last (early stopping waits
 /// `patience` epochs for a better one). Its losses are in the status line and the plot's line.
 fn how_it_ended(report: &TrainingReport) -> String {
-    let why = if report.cancelled {
-        "cancelled"
-    } else if report.stopped_early {
-        "stopped early"
-    } else {
-        "finished"
-    };
     format!(
-        "{why} after {} of {} epochs; kept epoch {}",
-        report.epochs_run, report.config.epochs, report.best_epoch
+        "{} after {} of {} epochs; kept epoch {}",
+        why_it_ended(report),
+        report.epochs_run,
+        report.config.epochs,
+        report.best_epoch
     )
 }

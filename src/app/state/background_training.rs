@@ -62,6 +62,18 @@ pub struct Finished {
     pub for_folders: Vec<PathBuf>,
 }
 
+/// Why a run ended, in the words of the status line and the Train tab's bar: cancelled (the best
+/// model so far kept), stopped early (no better validation loss for `patience` epochs) or finished.
+pub fn why_it_ended(report: &TrainingReport) -> &'static str {
+    if report.cancelled {
+        "cancelled"
+    } else if report.stopped_early {
+        "stopped early"
+    } else {
+        "finished"
+    }
+}
+
 /// Training state: what to train on, the running job, and its history.
 #[derive(Default)]
 pub struct Training {
@@ -197,10 +209,11 @@ impl Training {
                             let r = &trained.report;
                             self.last_report = Some(r.clone());
                             let message = format!(
-                                "training the {} model {} after {} epochs: train loss {:.4}{}",
+                                "training the {} model {} after {} epochs (kept epoch {}): train loss {:.4}{}",
                                 trained.model.kind(),
-                                if r.cancelled { "cancelled" } else { "finished" },
+                                why_it_ended(r),
                                 r.epochs_run,
+                                r.best_epoch,
                                 r.train_loss,
                                 r.validation_loss
                                     .map(|v| format!(", validation loss {v:.4}"))
