@@ -16,7 +16,7 @@ use pushlab_core::experiment::{BEST_FIT_POLLS, BestFit, best_fit};
 use pushlab_core::model::samples_kept;
 
 use super::job::{Job, take_ended};
-use super::online::OnlineRun;
+use super::online::{OnlineRun, RunIdentity};
 
 /// A change to the best-θ search.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,35 +27,18 @@ pub enum BestFitCommand {
     Cancel,
 }
 
-/// Which run a best fit was found for: its model and trajectory, by address, as the landscape keys
-/// its requests.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct RunKey {
-    model: usize,
-    trajectory: usize,
-}
-
-impl RunKey {
-    fn of(run: &OnlineRun) -> Self {
-        Self {
-            model: Arc::as_ptr(run.model()) as *const () as usize,
-            trajectory: run.trajectory() as *const _ as usize,
-        }
-    }
-}
-
 /// A finished search: the best fit, or `None` when the recording had no sample to fit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BestFitResult {
     pub fit: Option<BestFit>,
-    key: RunKey,
+    run: RunIdentity,
 }
 
 /// The search's state: the last result and the search under way (with the run it is for).
 #[derive(Default)]
 pub struct BestFitState {
     result: Option<BestFitResult>,
-    job: Option<(RunKey, Job<Option<BestFit>>)>,
+    job: Option<(RunIdentity, Job<Option<BestFit>>)>,
 }
 
 impl BestFitState {
@@ -71,7 +54,7 @@ impl BestFitState {
     /// The last result, when it belongs to `run` (a result for another model or recording is
     /// stale).
     pub fn result_for(&self, run: &OnlineRun) -> Option<&BestFitResult> {
-        self.result.as_ref().filter(|r| r.key == RunKey::of(run))
+        self.result.as_ref().filter(|r| r.run == run.identity())
     }
 
     /// The share done of the search under way for `run`, or `None` when none runs for it (one for
@@ -81,7 +64,7 @@ impl BestFitState {
         let (_, job) = self
             .job
             .as_ref()
-            .filter(|(key, _)| *key == RunKey::of(run))?;
+            .filter(|(for_run, _)| *for_run == run.identity())?;
         Some(job.progress())
     }
 
@@ -89,9 +72,9 @@ impl BestFitState {
     pub fn poll(&mut self) -> bool {
         match take_ended(&mut self.job) {
             None => self.job.is_some(),
-            Some((key, fit)) => {
+            Some((for_run, fit)) => {
                 if let Some(fit) = fit {
-                    self.result = Some(BestFitResult { fit, key });
+                    self.result = Some(BestFitResult { fit, run: for_run });
                 }
                 false
             }
@@ -105,6 +88,6 @@ impl BestFitState {
             let checks = context.counting_checks(BEST_FIT_POLLS);
             Some(best_fit(model.as_ref(), &samples, &checks))
         });
-        self.job = Some((RunKey::of(run), job));
+        self.job = Some((run.identity(), job));
     }
 }

@@ -16,7 +16,7 @@ use pushlab_core::inspect::{
 use pushlab_core::model::OnlineParams;
 
 use super::job::{Job, take_ended};
-use super::online::OnlineRun;
+use super::online::{OnlineRun, RunIdentity};
 
 /// Cells along each side of the COM grid (the 64 × 64 of the `landscape_64` benchmark).
 pub const LANDSCAPE_CELLS: usize = 64;
@@ -41,9 +41,8 @@ pub enum LandscapeCommand {
 /// What a landscape is computed for: when any of it changes, the landscape shown is out of date.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LandscapeRequest {
-    /// The run's model and trajectory, by address (a new model or recording is a new request).
-    model: usize,
-    trajectory: usize,
+    /// The run it is for (a new model or recording is a new request).
+    run: RunIdentity,
     pub frame: usize,
     pub frames: LandscapeFrames,
     /// θ at the frame: the grid is at its `h`, the slice through its COM offset.
@@ -150,8 +149,7 @@ impl LandscapeSource<'_> {
     /// What the landscape of this frame is computed for.
     fn request(&self, frames: LandscapeFrames) -> LandscapeRequest {
         LandscapeRequest {
-            model: Arc::as_ptr(self.run.model()) as *const () as usize,
-            trajectory: self.run.trajectory() as *const _ as usize,
+            run: self.run.identity(),
             frame: self.frame,
             frames,
             theta: self.run.theta_at(self.frame),

@@ -116,6 +116,25 @@ impl OnlineRun {
     }
 }
 
+/// Which run a piece of work was done for: its model and its recording's trajectory, by address.
+/// Work keyed to a run (the best θ, the loss landscape) is stale once either changes — another model
+/// loaded or trained, another recording selected — even at the same frame and `θ`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RunIdentity {
+    model: usize,
+    trajectory: usize,
+}
+
+impl OnlineRun {
+    /// This run's identity (see [`RunIdentity`]).
+    pub fn identity(&self) -> RunIdentity {
+        RunIdentity {
+            model: Arc::as_ptr(self.run.model()) as *const () as usize,
+            trajectory: self.run.trajectory() as *const _ as usize,
+        }
+    }
+}
+
 impl Deref for OnlineRun {
     type Target = learn::OnlineRun;
 
