@@ -352,10 +352,15 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             OnlineConfig::default(),
         )));
     }
+    // Learning ends `horizon` frames before the recording does (those frames are only targets), so
+    // "of N" is said as a frame, not as the timeline's last frame.
     ui.weak(format!(
-        "Learned up to frame {} of {}. Scrubbing back restores θ at that frame; playing on re-learns.",
+        "Learned up to frame {} of {} (the last {} frames are only targets at horizon {}). \
+         Scrubbing back restores θ at that frame; playing on re-learns.",
         run.frontier(),
-        run.sample_count()
+        run.sample_count(),
+        run.horizon(),
+        run.horizon()
     ));
 
     best_theta(ui, state, recording, commands);
