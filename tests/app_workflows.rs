@@ -11,6 +11,7 @@ use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::dialogs::{DialogResult, LabelExportFormat};
+use pushlab::app::state::background_training::RunEnd;
 use pushlab::app::state::{Command, Persisted, TrainingCommand};
 use pushlab::app::{PushlabApp, export, initial_state};
 use pushlab_core::learn::TrainConfig;
@@ -186,7 +187,9 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
         "predictions come from the new model"
     );
     // The bar says which epoch's weights the model has, the one with the best validation loss.
-    let report = state.training().last_report().expect("the run's report");
+    let Some(RunEnd::Trained { report, .. }) = state.training().last_end() else {
+        panic!("the run's report")
+    };
     let losses: Vec<f64> = (state.training().history.iter())
         .filter_map(|p| p.validation_loss)
         .collect();
@@ -301,7 +304,9 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
     assert!(status.contains("model cancelled"), "{status}");
     let epochs = state.training().history.len();
     assert!(epochs < 10_000);
-    let report = state.training().last_report().expect("the run's report");
+    let Some(RunEnd::Trained { report, .. }) = state.training().last_end() else {
+        panic!("the run's report")
+    };
     assert!(report.cancelled && report.best_epoch >= 1 && report.best_epoch <= epochs);
     assert_eq!(
         state.models().source.as_deref(),

@@ -352,16 +352,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             OnlineConfig::default(),
         )));
     }
-    // Learning ends `horizon` frames before the recording does (those frames are only targets), so
-    // "of N" is said as a frame, not as the timeline's last frame.
-    ui.weak(format!(
-        "Learned up to frame {} of {} (the last {} frames are only targets at horizon {}). \
-         Scrubbing back restores θ at that frame; playing on re-learns.",
-        run.frontier(),
-        run.sample_count(),
-        run.horizon(),
-        run.horizon()
-    ));
+    ui.weak(how_far_learned(run));
 
     best_theta(ui, state, recording, commands);
 
@@ -392,4 +383,23 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             yaw.to_degrees()
         ));
     }
+}
+
+/// How far online learning got. Learning ends `horizon` frames before the recording does (those
+/// frames are only targets), so "of N" is said as a frame, not as the timeline's last frame.
+fn how_far_learned(run: &learn::OnlineRun) -> String {
+    let horizon = run.horizon();
+    if run.sample_count() == 0 {
+        return format!("Nothing to learn: the recording is too short for horizon {horizon}.");
+    }
+    let targets = match horizon {
+        1 => "the last frame is only a target".to_owned(),
+        h => format!("the last {h} frames are only targets at horizon {h}"),
+    };
+    format!(
+        "Learned up to frame {} of {} ({targets}). Scrubbing back restores θ at that frame; \
+         playing on re-learns.",
+        run.frontier(),
+        run.sample_count()
+    )
 }

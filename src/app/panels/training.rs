@@ -3,13 +3,12 @@
 
 use eframe::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, VLine};
-use pushlab_core::learn::TrainingReport;
 use pushlab_core::model::ModelKind;
 
 use crate::app::colors;
 use crate::app::dialogs::{DialogRequest, Dialogs};
 use crate::app::state::TrainingCommand;
-use crate::app::state::background_training::{TrainingChoice, why_it_ended};
+use crate::app::state::background_training::{RunEnd, TrainingChoice, why_it_ended};
 use crate::app::state::{AppState, Command};
 
 /// Draws the training panel.
@@ -130,9 +129,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     });
     if running || !state.training().history.is_empty() {
         let last = state.training().history.last();
-        let ended = state.training().last_report().filter(|_| !running);
+        let ended = state.training().last_end().filter(|_| !running);
         let (progress, text) = match ended {
-            Some(report) => (1.0, how_it_ended(report)),
+            Some(end) => (1.0, how_it_ended(end)),
             None => (
                 state.training().progress(),
                 last.map_or("starting…".to_owned(), |p| {
@@ -163,7 +162,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             .show(ui, |plot_ui| {
                 plot_ui.line(Line::new("train", train).color(colors::ONLINE));
                 plot_ui.line(Line::new("validation", validation).color(colors::FIXED));
-                if let Some(report) = ended {
+                if let Some(RunEnd::Trained { report, .. }) = ended {
                     plot_ui.vline(VLine::new("kept", report.best_epoch as f64).color(colors::TRUE));
                 }
             });
@@ -188,12 +187,18 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
 /// The progress bar's words once a run ended: why it stopped and which epoch's weights the model
 /// has — the one with the best validation loss, often well before the last (early stopping waits
 /// `patience` epochs for a better one). Its losses are in the status line and the plot's line.
-fn how_it_ended(report: &TrainingReport) -> String {
-    format!(
-        "{} after {} of {} epochs; kept epoch {}",
-        why_it_ended(report),
-        report.epochs_run,
-        report.config.epochs,
-        report.best_epoch
-    )
+fn how_it_ended(end: &RunEnd) -> String {
+    match end {
+        RunEnd::Trained {
+            report,
+            cancelled_later,
+        } => format!(
+            "{} after {} of {} epochs; kept epoch {}",
+            why_it_ended(report, *cancelled_later),
+            report.epochs_run,
+            report.config.epochs,
+            report.best_epoch
+        ),
+        RunEnd::Failed(why) => why.clone(),
+    }
 }

@@ -62,12 +62,30 @@ pub struct Finished {
     pub for_folders: Vec<PathBuf>,
 }
 
+/// How the last run ended, for the Train tab's bar.
+#[derive(Clone, Debug)]
+pub enum RunEnd {
+    /// A model came out of it.
+    Trained {
+        /// How the combined model's training went: its epochs, the one kept and why it stopped.
+        report: TrainingReport,
+        /// Cancelled after the model's own epochs, while what follows them ran (the models that
+        /// measure its COM misfit, its pure-NN baseline): the model is kept without them.
+        cancelled_later: bool,
+    },
+    /// No model: why.
+    Failed(String),
+}
+
 /// Why a run ended, in the words of the status line and the Train tab's bar: cancelled (the best
-/// model so far kept), stopped early (no better validation loss for `patience` epochs) or finished.
-pub fn why_it_ended(report: &TrainingReport) -> &'static str {
+/// model so far kept), cancelled after its epochs, stopped early (no better validation loss for
+/// `patience` epochs, before the last epoch) or finished.
+pub fn why_it_ended(report: &TrainingReport, cancelled_later: bool) -> &'static str {
     if report.cancelled {
         "cancelled"
-    } else if report.stopped_early {
+    } else if cancelled_later {
+        "cancelled after its epochs"
+    } else if report.stopped_early && report.epochs_run < report.config.epochs {
         "stopped early"
     } else {
         "finished"
@@ -94,9 +112,12 @@ pub struct Training {
     calibrating: Option<TrainProgress>,
     /// A model that finished training and has not been taken into use yet.
     finished: Option<Finished>,
-    /// How the last finished run of the combined model ended: which epoch it kept and why it
-    /// stopped, for the Train tab (its history alone shows where it stopped, not what it kept).
-    last_report: Option<TrainingReport>,
+    /// How the last run ended: which epoch it kept and why it stopped, or why it failed, for the
+    /// Train tab (its history alone shows where it stopped, not what it kept).
+    last_end: Option<RunEnd>,
+    /// Whether the user set the kind or the horizon since a model was taken into use: then a model
+    /// taken into use no longer resets them (see [`Training::follow_model`]).
+    edited: bool,
     job: Option<Job>,
 }
 
@@ -117,7 +138,7 @@ impl Training {
         self.baseline_history.clear();
         self.training_baseline = false;
         self.calibrating = None;
-        self.last_report = None;
+        self.last_end = None;
         let with_baseline = !for_folders.is_empty();
         let (sender, receiver) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
@@ -165,9 +186,11 @@ impl Training {
     /// takes the horizon of `--model`. Why: the tab used to start at horizon 1 whatever the model,
     /// so pressing Train with its defaults beside the bundled model (horizon 10) made a model that
     /// predicts a tenth as far, from motions of a frame that are mostly tracking noise, and online
-    /// learning switched to it. A running job keeps the settings it started with.
+    /// learning switched to it. A running job keeps the settings it started with, and a kind or
+    /// horizon the user set stays until the user changes it (a folder's remembered model reopened
+    /// with the folder does not reset it).
     pub fn follow_model(&mut self, kind: Option<ModelKind>, horizon: usize) {
-        if self.is_running() {
+        if self.is_running() || self.edited {
             return;
         }
         if let Some(kind) = kind {
@@ -207,11 +230,16 @@ impl Training {
                             pure_nn,
                         }) => {
                             let r = &trained.report;
-                            self.last_report = Some(r.clone());
+                            let cancelled_later =
+                                job.cancel.load(Ordering::Relaxed) && !r.cancelled;
+                            self.last_end = Some(RunEnd::Trained {
+                                report: r.clone(),
+                                cancelled_later,
+                            });
                             let message = format!(
                                 "training the {} model {} after {} epochs (kept epoch {}): train loss {:.4}{}",
                                 trained.model.kind(),
-                                why_it_ended(r),
+                                why_it_ended(r, cancelled_later),
                                 r.epochs_run,
                                 r.best_epoch,
                                 r.train_loss,
@@ -221,8 +249,16 @@ impl Training {
                             );
                             let message = match &pure_nn {
                                 Some(baseline) => format!(
-                                    "{message}; its pure-NN baseline after {} epochs",
+                                    "{message}; its pure-NN baseline {}after {} epochs",
+                                    if baseline.report.cancelled {
+                                        "cancelled "
+                                    } else {
+                                        ""
+                                    },
                                     baseline.report.epochs_run
+                                ),
+                                None if cancelled_later => format!(
+                                    "{message}; its COM misfit or baseline was not finished"
                                 ),
                                 None => message,
                             };
@@ -232,21 +268,42 @@ impl Training {
                             });
                             message
                         }
-                        Err(e) => format!("training failed: {e}"),
+                        Err(e) => {
+                            let message = format!("training failed: {e}");
+                            self.last_end = Some(RunEnd::Failed(message.clone()));
+                            message
+                        }
                     });
                 }
                 Err(TryRecvError::Empty) => return None,
                 Err(TryRecvError::Disconnected) => {
                     self.job = None;
-                    return Some("training stopped unexpectedly".to_owned());
+                    let message = "training stopped unexpectedly".to_owned();
+                    self.last_end = Some(RunEnd::Failed(message.clone()));
+                    return Some(message);
                 }
             }
         }
     }
 
-    /// How the last finished run of the combined model ended, until the next starts.
-    pub fn last_report(&self) -> Option<&TrainingReport> {
-        self.last_report.as_ref()
+    /// How the last run ended, until the next starts.
+    pub fn last_end(&self) -> Option<&RunEnd> {
+        self.last_end.as_ref()
+    }
+
+    /// Sets the kind to train, as the user chose it.
+    pub fn set_kind(&mut self, kind: ModelKind) {
+        self.edited |= kind != self.kind;
+        self.kind = kind;
+    }
+
+    /// Sets the training settings, as the user chose them (not while a run uses them).
+    pub fn set_config(&mut self, config: TrainConfig) {
+        if self.is_running() {
+            return;
+        }
+        self.edited |= config.horizon != self.config.horizon;
+        self.config = config;
     }
 
     /// The model of a finished run, once.
@@ -339,5 +396,81 @@ mod tests {
         // One fold done and half of the second, of four.
         assert_eq!(training.progress(), 1.5 / 4.0);
         assert_eq!(training.history.len(), 10, "the model's curve only");
+    }
+
+    #[test]
+    fn a_failed_run_says_why_where_its_bar_was() {
+        let (mut training, sender) = training_fed_by_hand();
+        sender.send(epoch(TrainStage::Model, 3)).expect("sends");
+        let failure = Err(TrainError::NonFinite { frame: 7 });
+        sender
+            .send(Message::Done(Box::new(failure)))
+            .expect("sends");
+        let status = training.poll().expect("the run ended");
+        assert_eq!(
+            status,
+            "training failed: the training data contains a non-finite value (sample at frame 7)"
+        );
+        assert!(matches!(training.last_end(), Some(RunEnd::Failed(why)) if *why == status));
+    }
+
+    #[test]
+    fn the_words_for_how_a_run_ended() {
+        let report = |epochs_run, cancelled, stopped_early| TrainingReport {
+            config: TrainConfig {
+                epochs: 100,
+                ..TrainConfig::default()
+            },
+            epochs_run,
+            best_epoch: 1,
+            train_loss: 1.0,
+            validation_loss: None,
+            training_samples: 1,
+            validation_samples: 0,
+            cancelled,
+            stopped_early,
+            history: Vec::new(),
+        };
+        assert_eq!(
+            why_it_ended(&report(37, false, true), false),
+            "stopped early"
+        );
+        assert_eq!(why_it_ended(&report(100, false, false), false), "finished");
+        // Patience ran out on the last epoch: it ran them all.
+        assert_eq!(why_it_ended(&report(100, false, true), false), "finished");
+        assert_eq!(why_it_ended(&report(12, true, false), false), "cancelled");
+        assert_eq!(
+            why_it_ended(&report(100, false, false), true),
+            "cancelled after its epochs"
+        );
+    }
+
+    #[test]
+    fn the_tab_follows_the_model_in_use_until_the_user_sets_kind_or_horizon() {
+        let mut training = Training::default();
+        training.follow_model(Some(ModelKind::Paper), 10);
+        assert_eq!(
+            (training.kind, training.config.horizon),
+            (ModelKind::Paper, 10)
+        );
+        training.set_config(TrainConfig {
+            epochs: 3,
+            ..training.config
+        });
+        training.follow_model(Some(ModelKind::Contact), 5);
+        assert_eq!(
+            (training.kind, training.config.horizon),
+            (ModelKind::Contact, 5),
+            "changing the epochs is not choosing the horizon"
+        );
+        training.set_config(TrainConfig {
+            horizon: 2,
+            ..training.config
+        });
+        training.follow_model(Some(ModelKind::Paper), 10);
+        assert_eq!(
+            (training.kind, training.config.horizon),
+            (ModelKind::Contact, 2)
+        );
     }
 }

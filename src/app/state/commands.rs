@@ -109,13 +109,9 @@ impl AppState {
         match command {
             TrainingCommand::Start => self.start_training(),
             TrainingCommand::Cancel => self.training.cancel(),
-            TrainingCommand::SetKind(kind) => self.training.kind = kind,
+            TrainingCommand::SetKind(kind) => self.training.set_kind(kind),
             TrainingCommand::Choose(choice) => self.choose_for_training(choice),
-            TrainingCommand::SetConfig(config) => {
-                if !self.training.is_running() {
-                    self.training.config = config;
-                }
-            }
+            TrainingCommand::SetConfig(config) => self.training.set_config(config),
             TrainingCommand::TrainForOpenRecordings => self.train_for_open_recordings(),
             TrainingCommand::ChooseOfflineLabelled => self.choose_offline_labelled(),
         }
