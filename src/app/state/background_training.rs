@@ -225,6 +225,13 @@ impl Training {
                     self.training_baseline = false;
                     self.calibrating = None;
                     return Some(match *result {
+                        Ok(TrainedPair { combined, .. }) if !combined.report.kept_an_epoch() => {
+                            let message = "training cancelled before its first epoch ended: no \
+                                           model; the one in use is kept"
+                                .to_owned();
+                            self.last_end = Some(RunEnd::Failed(message.clone()));
+                            message
+                        }
                         Ok(TrainedPair {
                             combined: trained,
                             pure_nn,
@@ -472,5 +479,40 @@ mod tests {
             (training.kind, training.config.horizon),
             (ModelKind::Contact, 2)
         );
+    }
+
+    #[test]
+    fn a_run_cancelled_before_its_first_epoch_ended_gives_no_model() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sample-data/box1-paper-center-front/offline_000.csv");
+        let loaded = pushlab_core::experiment::load(&[dir], None, 1);
+        let cancelled = AtomicBool::new(true);
+        let combined = pushlab_core::experiment::train_combined(
+            ModelKind::Contact,
+            &loaded.used,
+            &TrainConfig::default(),
+            &mut |_| {},
+            &cancelled,
+        )
+        .expect("the run starts");
+        assert_eq!(combined.report.epochs_run, 0);
+        let (mut training, sender) = training_fed_by_hand();
+        let pair = TrainedPair {
+            combined,
+            pure_nn: None,
+        };
+        sender
+            .send(Message::Done(Box::new(Ok(pair))))
+            .expect("sends");
+        let status = training.poll().expect("the run ended");
+        assert_eq!(
+            status,
+            "training cancelled before its first epoch ended: no model; the one in use is kept"
+        );
+        assert!(
+            training.take_finished().is_none(),
+            "the random weights are not taken into use"
+        );
+        assert!(matches!(training.last_end(), Some(RunEnd::Failed(_))));
     }
 }

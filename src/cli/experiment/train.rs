@@ -57,6 +57,12 @@ pub fn run(args: &TrainArgs) -> Result<(), Failure> {
         !args.training.no_com_calibration,
         args.baseline,
     )?;
+    if !combined.report.kept_an_epoch() {
+        return Err(Failure::Failed(anyhow!(
+            "stopped by Ctrl-C before the first epoch ended: no model written to {}",
+            args.out.display()
+        )));
+    }
     let file = ModelFile::from_training(
         combined,
         pure_nn,

@@ -135,6 +135,15 @@ pub struct TrainingReport {
     pub history: Vec<(f64, Option<f64>)>,
 }
 
+impl TrainingReport {
+    /// Whether the model holds the weights of a finished epoch. A run cancelled before its first
+    /// epoch ended keeps the random initial weights (`best_epoch` 0): that is no trained model, and
+    /// the app and `pushlab train` refuse to use or write it.
+    pub fn kept_an_epoch(&self) -> bool {
+        self.best_epoch > 0
+    }
+}
+
 /// A trained model and how it was trained.
 #[derive(Clone, Debug)]
 pub struct Trained<M> {
