@@ -127,6 +127,38 @@ fn one_object_cannot_measure_it() {
 }
 
 #[test]
+fn a_cancel_during_the_misfit_trainings_is_the_run_s_cancel() {
+    use pushlab_core::learn::TrainStage;
+    use std::sync::atomic::Ordering;
+    let used = offline(&["box1-paper-center-front", "box2-paper-center-front"]);
+    let cancel = AtomicBool::new(false);
+    let trained = experiment::train_calibrated(
+        ModelKind::Contact,
+        &used,
+        &config(),
+        true,
+        &mut |p| {
+            // The user presses Cancel once the first object-left-out model has an epoch.
+            if p.stage != TrainStage::Model {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        },
+        &cancel,
+    )
+    .expect("trains");
+    assert_eq!(
+        trained.report.epochs_run, 3,
+        "the model itself trained to its end"
+    );
+    assert!(trained.report.kept_an_epoch());
+    assert!(
+        trained.report.cancelled,
+        "the report says the run was cancelled"
+    );
+    assert!(!trained.model.com_misfit().is_calibrated());
+}
+
+#[test]
 fn progress_says_which_object_each_misfit_training_leaves_out() {
     use pushlab_core::learn::TrainStage;
     let used = offline(&["box1-paper-center-front", "box2-paper-center-front"]);

@@ -127,7 +127,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             commands.push(Command::Training(TrainingCommand::Start));
         }
     });
-    if running || !state.training().history.is_empty() {
+    if running || !state.training().history.is_empty() || state.training().last_end().is_some() {
         let last = state.training().history.last();
         let ended = state.training().last_end().filter(|_| !running);
         let (progress, text) = match ended {
@@ -162,7 +162,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             .show(ui, |plot_ui| {
                 plot_ui.line(Line::new("train", train).color(colors::ONLINE));
                 plot_ui.line(Line::new("validation", validation).color(colors::FIXED));
-                if let Some(RunEnd::Trained { report, .. }) = ended {
+                if let Some(RunEnd::Trained { report }) = ended {
                     plot_ui.vline(VLine::new("kept", report.best_epoch as f64).color(colors::TRUE));
                 }
             });
@@ -189,12 +189,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
 /// `patience` epochs for a better one). Its losses are in the status line and the plot's line.
 fn how_it_ended(end: &RunEnd) -> String {
     match end {
-        RunEnd::Trained {
-            report,
-            cancelled_later,
-        } => format!(
+        RunEnd::Trained { report } => format!(
             "{} after {} of {} epochs; kept epoch {}",
-            why_it_ended(report, *cancelled_later),
+            why_it_ended(report),
             report.epochs_run,
             report.config.epochs,
             report.best_epoch

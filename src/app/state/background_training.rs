@@ -67,24 +67,20 @@ pub struct Finished {
 pub enum RunEnd {
     /// A model came out of it.
     Trained {
-        /// How the combined model's training went: its epochs, the one kept and why it stopped.
+        /// How the combined model's training went: its epochs, the one kept and why it stopped
+        /// (cancelled also while its COM misfit was being measured: see `train_calibrated`).
         report: TrainingReport,
-        /// Cancelled after the model's own epochs, while what follows them ran (the models that
-        /// measure its COM misfit, its pure-NN baseline): the model is kept without them.
-        cancelled_later: bool,
     },
     /// No model: why.
     Failed(String),
 }
 
 /// Why a run ended, in the words of the status line and the Train tab's bar: cancelled (the best
-/// model so far kept), cancelled after its epochs, stopped early (no better validation loss for
-/// `patience` epochs, before the last epoch) or finished.
-pub fn why_it_ended(report: &TrainingReport, cancelled_later: bool) -> &'static str {
+/// model so far kept), stopped early (no better validation loss for `patience` epochs, before the
+/// last epoch) or finished.
+pub fn why_it_ended(report: &TrainingReport) -> &'static str {
     if report.cancelled {
         "cancelled"
-    } else if cancelled_later {
-        "cancelled after its epochs"
     } else if report.stopped_early && report.epochs_run < report.config.epochs {
         "stopped early"
     } else {
@@ -115,8 +111,8 @@ pub struct Training {
     /// How the last run ended: which epoch it kept and why it stopped, or why it failed, for the
     /// Train tab (its history alone shows where it stopped, not what it kept).
     last_end: Option<RunEnd>,
-    /// Whether the user set the kind or the horizon since a model was taken into use: then a model
-    /// taken into use no longer resets them (see [`Training::follow_model`]).
+    /// Whether the user ever set the kind or the horizon: then a model taken into use no longer
+    /// resets them (see [`Training::follow_model`]).
     edited: bool,
     job: Option<Job>,
 }
@@ -158,7 +154,10 @@ impl Training {
                 &worker_cancel,
             )
             .and_then(|combined| {
-                let pure_nn = if with_baseline && !combined.report.cancelled {
+                // Not after a cancel; and a baseline cancelled before its first epoch ended is
+                // random weights, not a baseline.
+                let cancelled = worker_cancel.load(Ordering::Relaxed) || combined.report.cancelled;
+                let pure_nn = if with_baseline && !cancelled {
                     let _ = progress_sender.send(Message::Baseline);
                     Some(train_baseline(
                         &recordings,
@@ -166,6 +165,7 @@ impl Training {
                         &mut progress,
                         &worker_cancel,
                     )?)
+                    .filter(|baseline| baseline.report.kept_an_epoch())
                 } else {
                     None
                 };
@@ -199,7 +199,8 @@ impl Training {
         self.config.horizon = horizon;
     }
 
-    /// Asks the running job to stop after the current batch; it still delivers its best model.
+    /// Asks the running job to stop after the current batch; it still delivers its best model if
+    /// an epoch has ended (before that there is none, and the model in use stays).
     pub fn cancel(&self) {
         if let Some(job) = &self.job {
             job.cancel.store(true, Ordering::Relaxed);
@@ -237,16 +238,11 @@ impl Training {
                             pure_nn,
                         }) => {
                             let r = &trained.report;
-                            let cancelled_later =
-                                job.cancel.load(Ordering::Relaxed) && !r.cancelled;
-                            self.last_end = Some(RunEnd::Trained {
-                                report: r.clone(),
-                                cancelled_later,
-                            });
+                            self.last_end = Some(RunEnd::Trained { report: r.clone() });
                             let message = format!(
                                 "training the {} model {} after {} epochs (kept epoch {}): train loss {:.4}{}",
                                 trained.model.kind(),
-                                why_it_ended(r, cancelled_later),
+                                why_it_ended(r),
                                 r.epochs_run,
                                 r.best_epoch,
                                 r.train_loss,
@@ -263,9 +259,6 @@ impl Training {
                                         ""
                                     },
                                     baseline.report.epochs_run
-                                ),
-                                None if cancelled_later => format!(
-                                    "{message}; its COM misfit or baseline was not finished"
                                 ),
                                 None => message,
                             };
@@ -438,18 +431,11 @@ mod tests {
             stopped_early,
             history: Vec::new(),
         };
-        assert_eq!(
-            why_it_ended(&report(37, false, true), false),
-            "stopped early"
-        );
-        assert_eq!(why_it_ended(&report(100, false, false), false), "finished");
+        assert_eq!(why_it_ended(&report(37, false, true)), "stopped early");
+        assert_eq!(why_it_ended(&report(100, false, false)), "finished");
         // Patience ran out on the last epoch: it ran them all.
-        assert_eq!(why_it_ended(&report(100, false, true), false), "finished");
-        assert_eq!(why_it_ended(&report(12, true, false), false), "cancelled");
-        assert_eq!(
-            why_it_ended(&report(100, false, false), true),
-            "cancelled after its epochs"
-        );
+        assert_eq!(why_it_ended(&report(100, false, true)), "finished");
+        assert_eq!(why_it_ended(&report(12, true, false)), "cancelled");
     }
 
     #[test]

@@ -13,9 +13,10 @@
 //! Every number comes from `pushlab_core::experiment::evaluate`; this module prints and writes them.
 
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use anyhow::{Context, anyhow};
+use anyhow::{Context, anyhow, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::atomic_file::write_atomically;
@@ -301,10 +302,15 @@ fn models(
     let Some(file) = file else {
         let TrainedModels { combined, pure_nn } =
             train_progress::train_models(kind, offline, config, calibrate, true)?;
+        if !combined.report.kept_an_epoch() {
+            bail!("stopped by Ctrl-C before the first epoch ended: no model to evaluate");
+        }
         let pure_nn = match pure_nn {
             Some(trained) => trained.model,
-            // Ctrl-C during the combined model's training: the baseline still needs a model.
-            None => train_progress::train_pure_nn(offline, config)?.model,
+            // Ctrl-C before the baseline had an epoch: the table's "Offline NN" row still needs
+            // a trained network, not random weights, so it trains to its end (a second Ctrl-C
+            // quits at once).
+            None => train_progress::train_pure_nn(offline, config, &AtomicBool::new(false))?.model,
         };
         let with = TrainedWith {
             epochs: combined.report.config.epochs,
@@ -328,7 +334,8 @@ fn models(
             println!(
                 "the model file has no pure network for this horizon: training one on --offline"
             );
-            train_progress::train_pure_nn(offline, config)?.model
+            // The table needs it trained, as above.
+            train_progress::train_pure_nn(offline, config, &AtomicBool::new(false))?.model
         }
     };
     Ok((file.combined, pure_nn, with))

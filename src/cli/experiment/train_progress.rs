@@ -67,20 +67,23 @@ pub fn train_models(
             misfit.pushes, misfit.objects, misfit.gd_per_h, misfit.gauss_newton_per_h
         );
     }
-    let pure_nn = if baseline && !combined.report.cancelled {
-        Some(train_pure_nn(used, config)?)
+    // Not after a Ctrl-C; and a baseline stopped before its first epoch ended is random weights,
+    // not a baseline.
+    let pure_nn = if baseline && !combined.report.cancelled && !cancelled() {
+        Some(train_pure_nn(used, config, cancel_flag())?).filter(|t| t.report.kept_an_epoch())
     } else {
         None
     };
     Ok(TrainedModels { combined, pure_nn })
 }
 
-/// Trains the pure network alone (when a loaded model file has none).
+/// Trains the pure network alone (when a loaded model file has none), stopping when `cancel` is
+/// set.
 pub fn train_pure_nn(
     used: &[UsedRecording],
     config: &TrainConfig,
+    cancel: &AtomicBool,
 ) -> anyhow::Result<Trained<PureNnModel>> {
-    let cancel = cancel_flag();
     let trained = with_progress("pure NN", config, |progress| {
         train_baseline(used, config, progress, cancel)
     })

@@ -30,6 +30,7 @@ use super::train::train_combined;
 use crate::learn::uncertainty::{CHI2_2DOF_95, com_block};
 use crate::learn::{
     OnlineConfig, Optimizer, TrainConfig, TrainError, TrainProgress, TrainStage, Trained,
+    TrainingReport,
 };
 use crate::model::{ComMisfit, CombinedModel, ModelKind};
 
@@ -196,9 +197,15 @@ pub fn train_calibrated(
         return Ok(trained);
     }
     let misfit = calibrate_com_misfit(kind, used, config, progress, cancel)?;
+    // A cancel that cut the calibration short is the run's: its report says cancelled, so that
+    // nothing trains after it (a baseline) and the user is told the model has no misfit.
+    let cut_short = cancel.load(Ordering::Relaxed) && !misfit.is_calibrated();
     Ok(Trained {
         model: trained.model.with_com_misfit(misfit),
-        report: trained.report,
+        report: TrainingReport {
+            cancelled: cut_short,
+            ..trained.report
+        },
     })
 }
 

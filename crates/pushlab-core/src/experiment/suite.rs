@@ -296,6 +296,14 @@ pub fn run_experiment(
                     continue;
                 }
             };
+        if !trained.report.kept_an_epoch() {
+            // Cancelled before its first epoch ended: random weights are no model to report.
+            result.errors.push(format!(
+                "{}: cancelled before its first epoch ended",
+                variant.name()
+            ));
+            break;
+        }
         // The physics-only model's losses are normalised like the first model's (every model's σ
         // comes from the same offline samples).
         let options = EvalOptions {
@@ -403,4 +411,26 @@ pub fn expand(base: &Path, paths: &[String]) -> Vec<PathBuf> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_model_cancelled_before_its_first_epoch_ended_is_an_error_not_a_row() {
+        let suite =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/sample-data.json");
+        let spec = SuiteSpec::load(&suite).expect("the sample suite loads");
+        let base = suite.parent().expect("a folder");
+        let cancelled = AtomicBool::new(true);
+        let result = run_experiment(&spec, &spec.experiments[0], base, &cancelled);
+        assert!(result.models.is_empty(), "{:?}", result.models);
+        assert_eq!(result.errors.len(), 1, "{:?}", result.errors);
+        assert!(
+            result.errors[0].ends_with(": cancelled before its first epoch ended"),
+            "{:?}",
+            result.errors
+        );
+    }
 }
