@@ -12,7 +12,7 @@ use pushlab_core::experiment::{
     UsedRecording, train_baseline, train_calibrated, training_metadata,
 };
 use pushlab_core::learn::{
-    TrainConfig, TrainError, TrainProgress, TrainStage, Trained, TrainingReport,
+    TrainConfig, TrainError, TrainProgress, TrainStage, Trained, TrainingEnding, TrainingReport,
 };
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 use pushlab_core::model_file::{ModelFile, TrainingMetadata};
@@ -75,16 +75,13 @@ pub enum RunEnd {
     Failed(String),
 }
 
-/// Why a run ended, in the words of the status line and the Train tab's bar: cancelled (the best
-/// model so far kept), stopped early (no better validation loss for `patience` epochs, before the
-/// last epoch) or finished.
+/// Why a run ended, in the words of the status line and the Train tab's bar (the rule is the
+/// core's [`TrainingReport::ending`]).
 pub fn why_it_ended(report: &TrainingReport) -> &'static str {
-    if report.cancelled {
-        "cancelled"
-    } else if report.stopped_early && report.epochs_run < report.config.epochs {
-        "stopped early"
-    } else {
-        "finished"
+    match report.ending() {
+        TrainingEnding::Cancelled => "cancelled",
+        TrainingEnding::StoppedEarly => "stopped early",
+        TrainingEnding::Finished => "finished",
     }
 }
 
@@ -225,65 +222,70 @@ impl Training {
                     let job = self.job.take()?;
                     self.training_baseline = false;
                     self.calibrating = None;
-                    return Some(match *result {
-                        Ok(TrainedPair { combined, .. }) if !combined.report.kept_an_epoch() => {
-                            let message = "training cancelled before its first epoch ended: no \
-                                           model; the one in use is kept"
-                                .to_owned();
-                            self.last_end = Some(RunEnd::Failed(message.clone()));
-                            message
-                        }
-                        Ok(TrainedPair {
-                            combined: trained,
-                            pure_nn,
-                        }) => {
-                            let r = &trained.report;
-                            self.last_end = Some(RunEnd::Trained { report: r.clone() });
-                            let message = format!(
-                                "training the {} model {} after {} epochs (kept epoch {}): train loss {:.4}{}",
-                                trained.model.kind(),
-                                why_it_ended(r),
-                                r.epochs_run,
-                                r.best_epoch,
-                                r.train_loss,
-                                r.validation_loss
-                                    .map(|v| format!(", validation loss {v:.4}"))
-                                    .unwrap_or_default()
-                            );
-                            let message = match &pure_nn {
-                                Some(baseline) => format!(
-                                    "{message}; its pure-NN baseline {}after {} epochs",
-                                    if baseline.report.cancelled {
-                                        "cancelled "
-                                    } else {
-                                        ""
-                                    },
-                                    baseline.report.epochs_run
-                                ),
-                                None => message,
-                            };
-                            self.finished = Some(Finished {
-                                file: ModelFile::from_training(trained, pure_nn, job.metadata),
-                                for_folders: job.for_folders,
-                            });
-                            message
-                        }
-                        Err(e) => {
-                            let message = format!("training failed: {e}");
-                            self.last_end = Some(RunEnd::Failed(message.clone()));
-                            message
-                        }
-                    });
+                    return Some(self.take_result(job, *result));
                 }
                 Err(TryRecvError::Empty) => return None,
                 Err(TryRecvError::Disconnected) => {
                     self.job = None;
-                    let message = "training stopped unexpectedly".to_owned();
-                    self.last_end = Some(RunEnd::Failed(message.clone()));
-                    return Some(message);
+                    return Some(self.no_model("training stopped unexpectedly".to_owned()));
                 }
             }
         }
+    }
+
+    /// Keeps what an ended run delivered (a model waits in `finished` to be taken into use);
+    /// returns the status line.
+    fn take_result(&mut self, job: Job, result: Result<TrainedPair, TrainError>) -> String {
+        let TrainedPair {
+            combined: trained,
+            pure_nn,
+        } = match result {
+            Ok(pair) if pair.combined.report.kept_an_epoch() => pair,
+            Ok(_) => {
+                return self.no_model(
+                    "training cancelled before its first epoch ended: no model; the one in use \
+                     is kept"
+                        .to_owned(),
+                );
+            }
+            Err(e) => return self.no_model(format!("training failed: {e}")),
+        };
+        let r = &trained.report;
+        self.last_end = Some(RunEnd::Trained { report: r.clone() });
+        let message = format!(
+            "training the {} model {} after {} epochs (kept epoch {}): train loss {:.4}{}",
+            trained.model.kind(),
+            why_it_ended(r),
+            r.epochs_run,
+            r.best_epoch,
+            r.train_loss,
+            r.validation_loss
+                .map(|v| format!(", validation loss {v:.4}"))
+                .unwrap_or_default()
+        );
+        let message = match &pure_nn {
+            Some(baseline) => format!(
+                "{message}; its pure-NN baseline {}after {} epochs",
+                if baseline.report.cancelled {
+                    "cancelled "
+                } else {
+                    ""
+                },
+                baseline.report.epochs_run
+            ),
+            None => message,
+        };
+        self.finished = Some(Finished {
+            file: ModelFile::from_training(trained, pure_nn, job.metadata),
+            for_folders: job.for_folders,
+        });
+        message
+    }
+
+    /// Records a run that left no model (the one in use stays); returns the status line: why.
+    fn no_model(&mut self, why: String) -> String {
+        self.last_end = Some(RunEnd::Failed(why.clone()));
+        why
     }
 
     /// How the last run ended, until the next starts.

@@ -7,7 +7,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::experiment::{UsedRecording, train_baseline, train_calibrated};
-use pushlab_core::learn::{TrainConfig, TrainProgress, TrainStage, Trained, TrainingReport};
+use pushlab_core::learn::{
+    TrainConfig, TrainProgress, TrainStage, Trained, TrainingEnding, TrainingReport,
+};
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 
 /// Set by Ctrl-C; training checks it between batches and keeps the best model so far.
@@ -124,12 +126,10 @@ fn with_progress<T, E>(
 
 /// One line saying how training went.
 pub fn summary(name: &str, report: &TrainingReport) -> String {
-    let how = if report.cancelled {
-        " (stopped by Ctrl-C; best model so far kept)"
-    } else if report.stopped_early {
-        " (stopped early: validation loss no longer improving)"
-    } else {
-        ""
+    let how = match report.ending() {
+        TrainingEnding::Cancelled => " (stopped by Ctrl-C; best model so far kept)",
+        TrainingEnding::StoppedEarly => " (stopped early: validation loss no longer improving)",
+        TrainingEnding::Finished => "",
     };
     let validation = report
         .validation_loss
@@ -143,4 +143,43 @@ pub fn summary(name: &str, report: &TrainingReport) -> String {
         report.training_samples,
         report.validation_samples,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(epochs_run: usize, cancelled: bool, stopped_early: bool) -> TrainingReport {
+        TrainingReport {
+            config: TrainConfig {
+                epochs: 100,
+                ..TrainConfig::default()
+            },
+            epochs_run,
+            best_epoch: 22,
+            train_loss: 0.5,
+            validation_loss: Some(0.75),
+            training_samples: 900,
+            validation_samples: 100,
+            cancelled,
+            stopped_early,
+            history: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_summary_says_why_training_stopped() {
+        assert_eq!(
+            summary("combined", &report(37, false, true)),
+            "combined: 37 epoch(s) run, kept epoch 22: training loss 0.5000, validation loss \
+             0.7500; 900 training / 100 validation samples (stopped early: validation loss no \
+             longer improving)"
+        );
+        assert!(
+            summary("combined", &report(12, true, false))
+                .ends_with("(stopped by Ctrl-C; best model so far kept)")
+        );
+        // Patience that ran out on the last epoch ran every epoch: nothing stopped early.
+        assert!(summary("combined", &report(100, false, true)).ends_with("validation samples"));
+    }
 }

@@ -13,8 +13,8 @@ pub mod uncertainty;
 pub use config::{OnlineConfig, Optimizer};
 pub use metrics::{Nmse, mean_std_across, moving_average};
 pub use offline::{
-    ContactTrajectory, TrainConfig, TrainError, TrainProgress, TrainStage, Trained, TrainingReport,
-    paper_theta0, train_contact, train_paper, train_pure_nn, training_trajectories,
+    ContactTrajectory, TrainConfig, TrainError, TrainProgress, TrainStage, Trained, TrainingEnding,
+    TrainingReport, paper_theta0, train_contact, train_paper, train_pure_nn, training_trajectories,
 };
 pub use run::{KEYFRAME, MeanLosses, OnlineRun};
 pub use step::{OnlineState, learn_step, learn_step_in_place};

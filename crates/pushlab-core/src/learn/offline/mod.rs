@@ -142,6 +142,29 @@ impl TrainingReport {
     pub fn kept_an_epoch(&self) -> bool {
         self.best_epoch > 0
     }
+
+    /// How the run ended, one rule for the app's Train tab and `pushlab train`: a patience that
+    /// ran out on the last epoch ran every epoch, so that run finished.
+    pub fn ending(&self) -> TrainingEnding {
+        if self.cancelled {
+            TrainingEnding::Cancelled
+        } else if self.stopped_early && self.epochs_run < self.config.epochs {
+            TrainingEnding::StoppedEarly
+        } else {
+            TrainingEnding::Finished
+        }
+    }
+}
+
+/// How a training run ended (see [`TrainingReport::ending`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrainingEnding {
+    /// Stopped by the cancel flag; the best model so far is kept.
+    Cancelled,
+    /// No better validation loss for `patience` epochs, before the last epoch.
+    StoppedEarly,
+    /// Ran every epoch.
+    Finished,
 }
 
 /// A trained model and how it was trained.
