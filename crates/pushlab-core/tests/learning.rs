@@ -272,6 +272,21 @@ fn training_lowers_the_loss_reports_progress_and_stops_when_cancelled() {
 }
 
 #[test]
+fn training_for_no_epoch_is_refused_not_a_random_model() {
+    let data = samples(&simulated([0.0, 0.0], PressureModel::Uniform, 0.0002, 2));
+    let config = TrainConfig {
+        epochs: 0,
+        ..TrainConfig::default()
+    };
+    let error = train_paper(&data, &config, &mut |_| {}, &AtomicBool::new(false))
+        .expect_err("no epoch, no model");
+    assert_eq!(
+        error.to_string(),
+        "invalid training configuration: epochs must be at least 1"
+    );
+}
+
+#[test]
 fn model_files_round_trip_and_refuse_wrong_versions_and_shapes() {
     let data = samples(&simulated([0.0, 0.0], PressureModel::Uniform, 0.001, 8));
     let config = TrainConfig {

@@ -207,6 +207,9 @@ def test_bad_options_raise(model_file):
         model.online(recording, optimizer="adam")
     with pytest.raises(ValueError, match="unknown model kind"):
         pushlab.Model.train([recording], kind="big")
+    # No epoch would be the random initial network, not a model.
+    with pytest.raises(pushlab.PushlabError, match="epochs must be at least 1"):
+        pushlab.Model.train([recording], epochs=0)
 
 
 def test_a_bad_model_file_raises_naming_the_file_and_field(model_file, tmp_path):

@@ -28,7 +28,7 @@ pub enum BestFitCommand {
 }
 
 /// A finished search: the best fit, or `None` when the recording had no sample to fit.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BestFitResult {
     pub fit: Option<BestFit>,
     run: RunIdentity,

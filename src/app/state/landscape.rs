@@ -39,7 +39,7 @@ pub enum LandscapeCommand {
 }
 
 /// What a landscape is computed for: when any of it changes, the landscape shown is out of date.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct LandscapeRequest {
     /// The run it is for (a new model or recording is a new request).
     run: RunIdentity,
@@ -186,8 +186,8 @@ impl LandscapeState {
             return false;
         };
         let request = source.request(self.frames);
-        let done = self.result.as_ref().map(|r| r.request);
-        if done == Some(request) || self.cancelled == Some(request) {
+        let done = self.result.as_ref().map(|r| &r.request);
+        if done == Some(&request) || self.cancelled.as_ref() == Some(&request) {
             return false;
         }
         self.cancelled = None;
@@ -205,25 +205,26 @@ impl LandscapeState {
             &|k| run.is_skipped(k, &source.skip),
         );
         let model = Arc::clone(run.model());
+        let for_request = request.clone();
         let (h_low, h_high) = source.ranges[2];
         let hs: Vec<f64> = (0..H_SLICE_POINTS)
             .map(|i| h_low + (h_high - h_low) * i as f64 / (H_SLICE_POINTS - 1) as f64)
             .collect();
         let job = Job::spawn(move |context| {
             // The landscape checks for a cancel once per row it begins.
-            let rows_begun = context.counting_checks(request.grid.cells);
-            let theta = request.theta;
+            let rows_begun = context.counting_checks(for_request.grid.cells);
+            let theta = for_request.theta;
             let landscape = com_landscape(
                 model.as_ref(),
                 &samples,
-                &request.grid,
+                &for_request.grid,
                 theta.h,
                 &rows_begun,
             )?;
             let levels = contour_levels(&landscape, &DEFAULT_QUANTILES);
             let slice = h_slice(model.as_ref(), &samples, theta.com_offset, &hs);
             Some(LandscapeResult {
-                request,
+                request: for_request,
                 contours: contours(&landscape, &levels),
                 landscape,
                 h_slice: hs.into_iter().zip(slice).collect(),

@@ -7,11 +7,12 @@
 //! `DerefMut`, so the two cannot drift apart.
 
 use std::ops::Deref;
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 
 use pushlab_core::learn::{self, OnlineConfig, OnlineState};
-use pushlab_core::model::{OnlineParams, OnlineStep, SharedOnlineModel};
+use pushlab_core::model::{OnlineModel, OnlineParams, OnlineStep, SharedOnlineModel};
 use pushlab_core::recording::Recording;
+use pushlab_core::trajectory::Trajectory;
 
 use super::run_plots::{RunPlots, Series};
 
@@ -116,21 +117,33 @@ impl OnlineRun {
     }
 }
 
-/// Which run a piece of work was done for: its model and its recording's trajectory, by address.
-/// Work keyed to a run (the best θ, the loss landscape) is stale once either changes — another model
-/// loaded or trained, another recording selected — even at the same frame and `θ`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Which run a piece of work was done for: its model and its recording's trajectory. Work keyed to a
+/// run (the best θ, the loss landscape) is stale once either changes — another model loaded or
+/// trained, another recording selected — even at the same frame and `θ`.
+///
+/// Held as weak references, compared by address: a weak reference keeps its allocation, so a model
+/// or trajectory made after the old one was dropped cannot take its address and pass for it (raw
+/// addresses could, and a stale result would show for the new model).
+#[derive(Clone, Debug)]
 pub struct RunIdentity {
-    model: usize,
-    trajectory: usize,
+    model: Weak<dyn OnlineModel + Send + Sync>,
+    trajectory: Weak<Trajectory>,
 }
+
+impl PartialEq for RunIdentity {
+    fn eq(&self, other: &Self) -> bool {
+        Weak::ptr_eq(&self.model, &other.model) && Weak::ptr_eq(&self.trajectory, &other.trajectory)
+    }
+}
+
+impl Eq for RunIdentity {}
 
 impl OnlineRun {
     /// This run's identity (see [`RunIdentity`]).
     pub fn identity(&self) -> RunIdentity {
         RunIdentity {
-            model: Arc::as_ptr(self.run.model()) as *const () as usize,
-            trajectory: self.run.trajectory() as *const _ as usize,
+            model: Arc::downgrade(self.run.model()),
+            trajectory: Arc::downgrade(&self.recording.trajectory),
         }
     }
 }

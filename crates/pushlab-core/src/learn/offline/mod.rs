@@ -193,6 +193,10 @@ pub enum TrainError {
 
 /// Checks the training configuration and that every sample is finite.
 fn check(trajectories: &[&[Sample]], config: &TrainConfig) -> Result<(), TrainError> {
+    // No epoch keeps the random initial weights: that is no model (see `kept_an_epoch`).
+    if config.epochs == 0 {
+        return Err(TrainError::BadConfig("epochs must be at least 1".into()));
+    }
     if config.batch_size == 0 {
         return Err(TrainError::BadConfig(
             "batch size must be at least 1".into(),
