@@ -177,8 +177,8 @@ impl Model {
     }
 
     /// Predicts how the object moves from `frame` to `frame + horizon` with θ_online = `theta`
-    /// (`[com_x, com_y, h]`; default θ_online(0) for the recording's object), next to what was
-    /// observed and the loss.
+    /// (`[com_x, com_y, h]` in metres, the COM offset within ±2 and `h` in [0.001, 2]; default
+    /// θ_online(0) for the recording's object), next to what was observed and the loss.
     #[pyo3(signature = (recording, frame, theta=None))]
     fn predict(
         &self,
@@ -200,7 +200,9 @@ impl Model {
             Some([x, y, h]) => OnlineParams {
                 com_offset: [x, y],
                 h,
-            },
+            }
+            .checked()
+            .map_err(|why| PyValueError::new_err(format!("theta: {why}")))?,
             None => learner.theta0(),
         };
         let step = learner.evaluate(&sample, &theta);

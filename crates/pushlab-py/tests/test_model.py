@@ -198,6 +198,11 @@ def test_predict_uses_theta0_or_the_theta_given(model_file):
     assert moved.to_dict()["observed_translation"] == p.observed_translation
     with pytest.raises(IndexError, match="has no sample"):
         model.predict(recording, len(recording) - 1)
+    # A θ the model does not accept is refused, not predicted with (h = 0 divides by zero).
+    with pytest.raises(ValueError, match=r"theta: h must be a finite number of metres in \[0.001, 2\], got 0"):
+        model.predict(recording, 30, theta=[0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="theta: COM offset x must be a finite number"):
+        model.predict(recording, 30, theta=[float("nan"), 0.0, 0.05])
 
 
 def test_bad_options_raise(model_file):

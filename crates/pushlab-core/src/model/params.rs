@@ -52,6 +52,30 @@ impl OnlineParams {
         Self { com_offset, h }
     }
 
+    /// `θ` as a user gave it (the Python package's `predict(theta=…)`), checked against what the
+    /// model accepts — the ranges [`OnlineParams::clamped`] keeps learning in — with an error naming
+    /// the component: a θ outside them would be predicted with silently (`h` = 0 divides by zero),
+    /// or clamped to another θ than the one asked for.
+    pub fn checked(self) -> Result<Self, String> {
+        for (name, c) in ["COM offset x", "COM offset y"]
+            .into_iter()
+            .zip(self.com_offset)
+        {
+            if !(c.is_finite() && c.abs() <= COM_OFFSET_MAX) {
+                return Err(format!(
+                    "{name} must be a finite number of metres within ±{COM_OFFSET_MAX}, got {c}"
+                ));
+            }
+        }
+        if !(self.h.is_finite() && (H_MIN..=H_MAX).contains(&self.h)) {
+            return Err(format!(
+                "h must be a finite number of metres in [{H_MIN}, {H_MAX}], got {}",
+                self.h
+            ));
+        }
+        Ok(self)
+    }
+
     /// A physically motivated starting point for an object whose outline is known: the COM at the
     /// geometric centre and `h` of a uniform pressure over the footprint.
     pub fn for_outline(outline: &Outline) -> Self {
@@ -98,5 +122,39 @@ impl OnlineParams {
             h: a[2],
         }
         .clamped()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_theta_the_model_does_not_accept_is_refused_naming_its_component() {
+        let theta = |x, y, h| OnlineParams {
+            com_offset: [x, y],
+            h,
+        };
+        assert_eq!(
+            theta(0.01, -0.02, 0.05).checked(),
+            Ok(theta(0.01, -0.02, 0.05))
+        );
+        assert_eq!(
+            theta(-2.0, 2.0, H_MAX).checked(),
+            Ok(theta(-2.0, 2.0, H_MAX))
+        );
+        assert_eq!(
+            theta(0.0, 0.0, 0.0).checked(),
+            Err("h must be a finite number of metres in [0.001, 2], got 0".to_owned())
+        );
+        assert_eq!(
+            theta(f64::NAN, 0.0, 0.05).checked(),
+            Err("COM offset x must be a finite number of metres within ±2, got NaN".to_owned())
+        );
+        assert_eq!(
+            theta(0.0, -2.5, 0.05).checked(),
+            Err("COM offset y must be a finite number of metres within ±2, got -2.5".to_owned())
+        );
+        assert!(theta(0.0, 0.0, f64::INFINITY).checked().is_err());
     }
 }
