@@ -93,6 +93,9 @@ impl Model {
             .map(|r| r.used.clone())
             .filter(|u| u.has_samples(horizon))
             .collect();
+        if recordings.is_empty() {
+            return Err(error("nothing to train on: no recordings given"));
+        }
         if used.is_empty() {
             return Err(error(format!(
                 "nothing to train on: none of the {} recording(s) has a sample at horizon {horizon}",

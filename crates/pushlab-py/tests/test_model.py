@@ -212,6 +212,8 @@ def test_bad_options_raise(model_file):
         model.online(recording, optimizer="adam")
     with pytest.raises(ValueError, match="unknown model kind"):
         pushlab.Model.train([recording], kind="big")
+    with pytest.raises(pushlab.PushlabError, match="nothing to train on: no recordings given"):
+        pushlab.Model.train([])
     # No epoch would be the random initial network, not a model.
     with pytest.raises(pushlab.PushlabError, match="epochs must be at least 1"):
         pushlab.Model.train([recording], epochs=0)
