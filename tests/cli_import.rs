@@ -256,6 +256,26 @@ fn validate_lists_a_bags_topics() {
 }
 
 #[test]
+fn a_bag_that_is_not_there_is_said_to_be_missing() {
+    let (dir, setting) = setting("missing");
+    let missing = dir.join("typo.mcap");
+    let out = s(&dir.join("set"));
+    let expected = format!(
+        "pushlab: {}: cannot read: No such file or directory",
+        missing.display()
+    );
+    for run in [
+        pushlab(&["import", &s(&missing), "--out", &out]),
+        import(&s(&missing), "/pusher", "/object", &setting, &out, &[]),
+    ] {
+        assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+        assert!(run.stderr.starts_with(&expected), "{}", run.stderr);
+    }
+    assert!(!dir.join("set").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn corrupt_bags_are_refused_with_exit_1() {
     let dir = temp_dir("pushlab-import", "corrupt");
     let bytes = std::fs::read(bag("zstd.mcap")).unwrap();

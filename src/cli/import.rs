@@ -133,6 +133,10 @@ fn choice_of(args: &ImportArgs) -> anyhow::Result<BagChoice> {
 
 /// Runs the command.
 pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
+    // A mistyped path is said as such, not as a bag with no choice remembered beside it.
+    if let Err(e) = std::fs::metadata(&args.bag) {
+        bail!("{}: cannot read: {e}", args.bag.display());
+    }
     if args.out.join(SETTING_FILE).exists() && !args.overwrite {
         bail!(
             "{} already holds a recording set; pass --overwrite to replace it",
