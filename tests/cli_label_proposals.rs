@@ -203,4 +203,20 @@ fn compare_names_the_file_and_field_of_bad_input() {
         "{}",
         run.stderr
     );
+    // A file that is not there: said once, with why.
+    let missing = root.join("missing.json");
+    let run = pushlab(&[
+        "labels",
+        "compare",
+        missing.to_str().unwrap(),
+        good.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, 1);
+    assert_eq!(
+        run.stderr.trim_end(),
+        format!(
+            "pushlab: cannot read labels file {}: No such file or directory (os error 2)",
+            missing.display()
+        )
+    );
 }

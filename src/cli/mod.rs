@@ -77,31 +77,19 @@ pub fn run() -> ExitCode {
         pipe::end_quietly_on_closed_pipe();
     }
     match cli.command {
-        Some(Command::Labels { command }) => match labels::run(command) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(err) => {
-                eprintln!("pushlab: {err:#}");
-                ExitCode::from(1)
-            }
-        },
+        Some(Command::Labels { command }) => {
+            exit::exit_code(labels::run(command).map_err(exit::Failure::from))
+        }
         Some(Command::Validate(args)) => validate::run(&args),
-        Some(Command::Import(args)) => match import::run(&args) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(err) => {
-                eprintln!("pushlab: {err:#}");
-                ExitCode::from(1)
-            }
-        },
+        Some(Command::Import(args)) => {
+            exit::exit_code(import::run(&args).map_err(exit::Failure::from))
+        }
         Some(Command::Train(args)) => exit::exit_code(experiment::train::run(&args)),
         Some(Command::Eval(args)) => exit::exit_code(experiment::eval::run(&args)),
         Some(Command::Suite(args)) => exit::exit_code(experiment::suite::run(&args)),
-        Some(Command::Simulate(args)) => match simulate::run(&args) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(err) => {
-                eprintln!("pushlab: {err:#}");
-                ExitCode::from(1)
-            }
-        },
+        Some(Command::Simulate(args)) => {
+            exit::exit_code(simulate::run(&args).map_err(exit::Failure::from))
+        }
         None => run_app(Vec::new()),
         Some(Command::Open { paths }) => run_app(paths),
     }
