@@ -46,6 +46,21 @@ impl JsonProblem {
     }
 }
 
+/// Deserialises JSON that a program built rather than a person typed (the Python package turns its
+/// dicts into JSON): a value that does not fit is named by its field's path, without the line and
+/// column of a text nobody saw (`kind: unknown variant `blob`, expected `range` or `event``).
+pub fn from_built<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, JsonProblem> {
+    let mut deserializer = serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
+        let field = e.path().to_string();
+        JsonProblem {
+            line: 0,
+            column: 0,
+            ..JsonProblem::at_field(&field, e.inner())
+        }
+    })
+}
+
 impl fmt::Display for JsonProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match (&self.field, self.line) {
@@ -64,6 +79,23 @@ impl fmt::Display for JsonProblem {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn built_json_names_the_field_not_a_position() {
+        #[derive(Debug, serde::Deserialize)]
+        #[allow(dead_code)]
+        struct Spec {
+            name: String,
+            size: f64,
+        }
+        let wrong = from_built::<Spec>(r#"{"name": "a", "size": "big"}"#).expect_err("a string");
+        assert_eq!(
+            wrong.to_string(),
+            "size: invalid type: string \"big\", expected f64"
+        );
+        let missing = from_built::<Spec>(r#"{"size": 1.0}"#).expect_err("no name");
+        assert_eq!(missing.to_string(), "missing field `name`");
+    }
 
     #[test]
     fn the_position_is_named_once_before_the_message() {

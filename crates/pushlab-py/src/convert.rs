@@ -4,6 +4,7 @@
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pushlab_core::json_problem;
 use pushlab_core::model::OnlineParams;
 use pyo3::prelude::*;
 use serde::Serialize;
@@ -24,7 +25,7 @@ pub fn from_python<T: DeserializeOwned>(value: &Bound<'_, PyAny>, what: &str) ->
         .import("json")?
         .call_method1("dumps", (value,))?
         .extract()?;
-    serde_json::from_str(&text).map_err(|e| error(format!("{what}: {e}")))
+    json_problem::from_built(&text).map_err(|problem| error(format!("{what}: {problem}")))
 }
 
 /// A series as a 1-D array.

@@ -88,8 +88,11 @@ def test_refused_edits_raise_the_documents_message(set_copy):
         labels.paint("a.csv", "contact made", 0, 5)
     with pytest.raises(pushlab.PushlabError, match="not a split"):
         labels.set_meta("a.csv", "split", "training")
-    with pytest.raises(pushlab.PushlabError, match="colour"):
+    # The field that does not fit, not a position in JSON the user never wrote.
+    with pytest.raises(pushlab.PushlabError, match=r'^label "wobbling": colour: expected a colour like "#1f77b4", found "blue"$'):
         labels.add_label("wobbling", colour="blue")
+    with pytest.raises(pushlab.PushlabError, match=r'^label "wobbling": kind: unknown variant `blob`, expected `range` or `event`$'):
+        labels.add_label("wobbling", kind="blob")
     assert not labels.dirty
     assert labels.add_label("wobbling", colour="#112233", group="contact mode")
     assert labels.paint("a.csv", "wobbling", 0, 5)
