@@ -37,6 +37,17 @@ fn recording_key(recording: &Bound<'_, PyAny>) -> PyResult<String> {
     })
 }
 
+/// Frames `start..end` (end exclusive) of a paint or an erase; a reversed range is a mistake, not
+/// nothing to do.
+fn frame_range(start: usize, end: usize) -> PyResult<std::ops::Range<usize>> {
+    if start > end {
+        return Err(PyValueError::new_err(format!(
+            "frames {start}..{end}: start is after end (frames start..end, end exclusive)"
+        )));
+    }
+    Ok(start..end)
+}
+
 impl Labels {
     fn labels_of(&self, key: &str) -> RecordingLabels {
         self.document.recording(key).cloned().unwrap_or_default()
@@ -52,6 +63,18 @@ impl Labels {
     /// Opens the labels file of the set folder `path` (or the labels file itself).
     #[new]
     fn new(path: PathBuf) -> PyResult<Self> {
+        // A labels file not written yet is fine (a new one, saved into its folder); a folder that
+        // is not there is a mistyped path, which would only fail at `save()`.
+        let new_file_in_a_folder = path.extension().is_some_and(|e| e == "json")
+            && path
+                .parent()
+                .is_some_and(|p| p.as_os_str().is_empty() || p.is_dir());
+        if !path.exists() && !new_file_in_a_folder {
+            return Err(error(format!(
+                "{}: no such set folder (or labels file in an existing folder)",
+                path.display()
+            )));
+        }
         let document = if path.is_dir() {
             LabelDocument::open_set_folder(&path)
         } else {
@@ -179,7 +202,7 @@ impl Labels {
         self.apply(Command::Paint {
             recording,
             label,
-            frames: start..end,
+            frames: frame_range(start, end)?,
         })
     }
 
@@ -196,7 +219,7 @@ impl Labels {
         self.apply(Command::Erase {
             recording,
             label,
-            frames: start..end,
+            frames: frame_range(start, end)?,
         })
     }
 

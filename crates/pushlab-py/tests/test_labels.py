@@ -88,6 +88,12 @@ def test_refused_edits_raise_the_documents_message(set_copy):
         labels.paint("a.csv", "contact made", 0, 5)
     with pytest.raises(pushlab.PushlabError, match="not a split"):
         labels.set_meta("a.csv", "split", "training")
+    with pytest.raises(ValueError, match=r"frames 10\.\.0: start is after end"):
+        labels.paint("a.csv", "sticking", 10, 0)
+    with pytest.raises(ValueError, match=r"frames 10\.\.0: start is after end"):
+        labels.erase("a.csv", 10, 0)
+    with pytest.raises(pushlab.PushlabError, match="no such set folder"):
+        pushlab.Labels(set_copy / "typo")
     # The field that does not fit, not a position in JSON the user never wrote.
     with pytest.raises(pushlab.PushlabError, match=r'^label "wobbling": colour: expected a colour like "#1f77b4", found "blue"$'):
         labels.add_label("wobbling", colour="blue")
