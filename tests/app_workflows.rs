@@ -174,7 +174,7 @@ fn training_in_the_app_runs_in_the_background_and_replaces_the_model() {
     );
     assert_eq!(
         state.models().source.as_deref(),
-        Some("trained in the app (unsaved)")
+        Some("trained in the app, not saved")
     );
     assert_eq!(
         state.models().horizon(),
@@ -310,7 +310,7 @@ fn cancelling_training_stops_early_and_keeps_the_best_model_so_far() {
     assert!(report.cancelled && report.best_epoch >= 1 && report.best_epoch <= epochs);
     assert_eq!(
         state.models().source.as_deref(),
-        Some("trained in the app (unsaved)")
+        Some("trained in the app, not saved")
     );
     harness.run_steps(2);
     let said = format!("cancelled after {epochs} of 10000 epochs; kept epoch");

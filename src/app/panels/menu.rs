@@ -163,7 +163,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
             });
             ui.separator();
             let model = match &state.models().source {
-                Some(source) => format!("Model: {} ({source})", state.models().learner_name()),
+                Some(source) => format!("Model: {} · {source}", state.models().learner_name()),
                 None => format!("Model: {}", state.models().learner_name()),
             };
             ui.label(model);

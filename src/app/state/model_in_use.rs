@@ -94,7 +94,7 @@ impl AppState {
     /// model store and remembered for them.
     pub(super) fn take_trained(&mut self, finished: Finished) {
         let Finished { file, for_folders } = finished;
-        let mut source = "trained in the app (unsaved)".to_owned();
+        let mut source = "trained in the app, not saved".to_owned();
         if !for_folders.is_empty() {
             match self.store_for(&for_folders, &file) {
                 Ok(path) => {
