@@ -5,18 +5,18 @@
 //!
 //! The invariant: a choice is remembered beside a bag only after the bag opened with it, so what is
 //! remembered always worked once; a choice that fails comes back to its form with the error, and the
-//! bag's earlier file (if any) is left as it was.
+//! bag's earlier file (if any) is left as it was (kept once for bags and datasets in `choosing`).
 
-use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 
 use pushlab_core::recording::bag::{
     self, BagChoice, ImportOptions, SettingSource, TopicInfo, TopicSpec, choice,
 };
 
+use super::choosing::{ChoiceForm, Choosing};
 use super::effect::Effect;
 use super::job::{Job, take_ended};
-use super::session::{LoadProblem, RecordingId, Session};
+use super::session::{LoadProblem, Session};
 
 /// A box entered by hand, in the units the form shows (millimetres).
 #[derive(Clone, Debug, PartialEq)]
@@ -193,13 +193,33 @@ pub enum BagCommand {
     ChooseAgain(PathBuf),
 }
 
+impl ChoiceForm for BagForm {
+    type Choice = BagChoice;
+    const CHOSEN: &'static str = "topics";
+
+    fn source(&self) -> &Path {
+        &self.bag
+    }
+
+    fn set_error(&mut self, error: Option<String>) {
+        self.error = error;
+    }
+
+    fn is_problem_of(problem: &LoadProblem, bag: &Path) -> bool {
+        // A rosbag2 folder's problem may name a file inside it.
+        problem.path.starts_with(bag)
+    }
+
+    fn remember(bag: &Path, choice: &BagChoice) -> std::io::Result<PathBuf> {
+        choice::remember(bag, choice)
+    }
+}
+
 /// Bags waiting for a choice, the ones being opened with one, and topic listings under way.
 #[derive(Default)]
 pub struct BagChooser {
-    /// Forms to fill in, the shown one first.
-    queue: VecDeque<BagForm>,
-    /// Bags being opened with a choice not yet remembered, with the form that made it.
-    trying: Vec<(BagForm, BagChoice)>,
+    /// The forms and the bags being opened with their choice (see [`Choosing`]).
+    forms: Choosing<BagForm>,
     /// A bag's topics being read for [`BagCommand::ChooseAgain`].
     listing: Option<(PathBuf, Job<Result<BagForm, String>>)>,
     /// What was entered by hand before switching to a setting file, restored when switching back.
@@ -209,12 +229,12 @@ pub struct BagChooser {
 impl BagChooser {
     /// The form shown, if any.
     pub fn form(&self) -> Option<&BagForm> {
-        self.queue.front()
+        self.forms.form()
     }
 
     /// Bags waiting behind the form shown.
     pub fn waiting(&self) -> usize {
-        self.queue.len().saturating_sub(1)
+        self.forms.waiting()
     }
 
     /// The bag whose topics are being read, if any.
@@ -224,20 +244,12 @@ impl BagChooser {
 
     /// Bags being opened with a choice.
     pub fn opening(&self) -> impl Iterator<Item = &Path> {
-        self.trying.iter().map(|(f, _)| f.bag.as_path())
+        self.forms.opening()
     }
 
     /// The load was cancelled: the bags being opened go back to their forms, saying so.
     pub(super) fn loading_cancelled(&mut self) {
-        for (mut form, _) in std::mem::take(&mut self.trying) {
-            form.error = Some("opening was cancelled".to_owned());
-            self.queue.push_front(form);
-        }
-    }
-
-    fn ask(&mut self, form: BagForm) {
-        self.queue.retain(|f| f.bag != form.bag);
-        self.queue.push_back(form);
+        self.forms.loading_cancelled();
     }
 }
 
@@ -249,7 +261,7 @@ impl BagChooser {
         if let BagCommand::ChooseAgain(bag) = command {
             return self.list_topics_of(bag).into_iter().collect();
         }
-        let Some(form) = self.queue.front_mut() else {
+        let Some(form) = self.forms.form_mut() else {
             return Vec::new();
         };
         match command {
@@ -282,12 +294,9 @@ impl BagChooser {
             }
             BagCommand::Open => match form.choice() {
                 Ok(choice) => {
-                    let bag = form.bag.clone();
-                    if let Some(mut form) = self.queue.pop_front() {
-                        form.error = None;
-                        self.trying.retain(|(f, _)| f.bag != bag);
-                        self.trying.push((form, choice.clone()));
-                    }
+                    let Some(bag) = self.forms.open_shown(choice.clone()) else {
+                        return Vec::new();
+                    };
                     return vec![Effect::OpenBag {
                         bag,
                         choice: Box::new(choice),
@@ -296,8 +305,9 @@ impl BagChooser {
                 Err(why) => form.error = Some(why),
             },
             BagCommand::Skip => {
-                let bag = form.bag.clone();
-                self.queue.pop_front();
+                let Some(bag) = self.forms.skip_shown() else {
+                    return Vec::new();
+                };
                 return vec![Effect::Problem(LoadProblem {
                     message: format!(
                         "{}: not opened: its pusher and object topics were not chosen",
@@ -351,7 +361,7 @@ impl BagChooser {
             match listed {
                 Ok(form) => {
                     (session.problems).retain(|p| !(p.bag_to_choose && p.path == form.bag));
-                    self.queue.push_front(form);
+                    self.forms.show(form);
                 }
                 Err(why) => effects.push(Effect::Status(why)),
             }
@@ -364,39 +374,9 @@ impl BagChooser {
             )));
         }
         for (bag, topics) in asked {
-            self.ask(BagForm::new(bag, topics, None));
+            self.forms.ask(BagForm::new(bag, topics, None));
         }
-        if session.loading().is_some() {
-            return effects;
-        }
-        for (mut form, choice) in std::mem::take(&mut self.trying) {
-            let bag = form.bag.clone();
-            let failed = session.problems.iter().any(|p| p.path.starts_with(&bag));
-            let opened = session.sets.iter().position(|s| s.dir == bag);
-            if let (false, Some(set)) = (failed, opened) {
-                // The user just chose this bag: show it.
-                effects.push(Effect::Select(RecordingId { set, recording: 0 }));
-                effects.push(Effect::Status(match choice::remember(&bag, &choice) {
-                    Ok(file) => format!(
-                        "opened {}; its topics are remembered in {}",
-                        bag.display(),
-                        file.display()
-                    ),
-                    Err(e) => format!(
-                        "opened {}, but its topics could not be remembered beside it ({e}); \
-                         they will be asked again",
-                        bag.display()
-                    ),
-                }));
-                continue;
-            }
-            // Failed: its problem goes back into its form.
-            let error = (session.problems.iter())
-                .position(|p| p.path.starts_with(&bag))
-                .map(|i| session.problems.remove(i).message);
-            form.error = error.or(Some(format!("{} did not open", bag.display())));
-            self.queue.push_front(form);
-        }
+        effects.extend(self.forms.settle(session));
         effects
     }
 }

@@ -15,9 +15,10 @@ use pushlab_core::recording::dataset::{
     self, Columns, DatasetChoice, DatasetTable, ObjectSource, choice,
 };
 
+use super::choosing::{ChoiceForm, Choosing};
 use super::effect::Effect;
 use super::job::{Job, take_ended};
-use super::session::{LoadProblem, RecordingId, Session};
+use super::session::{LoadProblem, Session};
 
 /// What a dataset offers to choose from, read once when its form opens.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,13 +132,32 @@ pub enum DatasetCommand {
     Choose(PathBuf),
 }
 
+impl ChoiceForm for DatasetForm {
+    type Choice = DatasetChoice;
+    const CHOSEN: &'static str = "features";
+
+    fn source(&self) -> &Path {
+        &self.dataset
+    }
+
+    fn set_error(&mut self, error: Option<String>) {
+        self.error = error;
+    }
+
+    fn is_problem_of(problem: &LoadProblem, dataset: &Path) -> bool {
+        problem.path == dataset
+    }
+
+    fn remember(dataset: &Path, choice: &DatasetChoice) -> std::io::Result<PathBuf> {
+        choice::remember(dataset, choice)
+    }
+}
+
 /// Datasets waiting for a choice, the ones being opened with one, and a dataset being read.
 #[derive(Default)]
 pub struct DatasetChooser {
-    /// Forms to fill in, the shown one first.
-    queue: VecDeque<DatasetForm>,
-    /// Datasets being opened with a choice not yet remembered, with the form that made it.
-    trying: Vec<(DatasetForm, DatasetChoice)>,
+    /// The forms and the datasets being opened with their choice (see [`Choosing`]).
+    forms: Choosing<DatasetForm>,
     /// A dataset being read for its form, and those waiting to be.
     listing: Option<(PathBuf, Job<Result<DatasetForm, String>>)>,
     to_list: VecDeque<PathBuf>,
@@ -146,7 +166,7 @@ pub struct DatasetChooser {
 impl DatasetChooser {
     /// The form shown, if any.
     pub fn form(&self) -> Option<&DatasetForm> {
-        self.queue.front()
+        self.forms.form()
     }
 
     /// The dataset being read for its form, if any.
@@ -156,10 +176,7 @@ impl DatasetChooser {
 
     /// The load was cancelled: the datasets being opened go back to their forms, saying so.
     pub(super) fn loading_cancelled(&mut self) {
-        for (mut form, _) in std::mem::take(&mut self.trying) {
-            form.error = Some("opening was cancelled".to_owned());
-            self.queue.push_front(form);
-        }
+        self.forms.loading_cancelled();
     }
 
     /// Applies a command to the form shown. What it asks of the rest of the app — a dataset to
@@ -171,7 +188,7 @@ impl DatasetChooser {
             self.list_next();
             return Vec::new();
         }
-        let Some(form) = self.queue.front_mut() else {
+        let Some(form) = self.forms.form_mut() else {
             return Vec::new();
         };
         match command {
@@ -180,12 +197,9 @@ impl DatasetChooser {
             DatasetCommand::SetScale(metres_per_px) => form.metres_per_px = metres_per_px,
             DatasetCommand::Open => match form.choice() {
                 Ok(choice) => {
-                    let dataset = form.dataset.clone();
-                    if let Some(mut form) = self.queue.pop_front() {
-                        form.error = None;
-                        self.trying.retain(|(f, _)| f.dataset != dataset);
-                        self.trying.push((form, choice.clone()));
-                    }
+                    let Some(dataset) = self.forms.open_shown(choice.clone()) else {
+                        return Vec::new();
+                    };
                     return vec![Effect::OpenDataset {
                         dataset,
                         choice: Box::new(choice),
@@ -194,8 +208,9 @@ impl DatasetChooser {
                 Err(why) => form.error = Some(why),
             },
             DatasetCommand::Skip => {
-                let dataset = form.dataset.clone();
-                self.queue.pop_front();
+                let Some(dataset) = self.forms.skip_shown() else {
+                    return Vec::new();
+                };
                 return vec![Effect::Problem(LoadProblem {
                     message: format!(
                         "{}: not opened: its pusher and object features were not chosen",
@@ -252,42 +267,13 @@ impl DatasetChooser {
             match listed {
                 Ok(form) => {
                     (session.problems).retain(|p| !(p.dataset_to_choose && p.path == form.dataset));
-                    self.queue.retain(|f| f.dataset != form.dataset);
-                    self.queue.push_front(form);
+                    self.forms.show(form);
                 }
                 Err(why) => effects.push(Effect::Status(why)),
             }
         }
         self.list_next();
-        if session.loading().is_some() {
-            return effects;
-        }
-        for (mut form, choice) in std::mem::take(&mut self.trying) {
-            let dataset = form.dataset.clone();
-            let failed = session.problems.iter().any(|p| p.path == dataset);
-            let opened = session.sets.iter().position(|s| s.dir == dataset);
-            if let (false, Some(set)) = (failed, opened) {
-                effects.push(Effect::Select(RecordingId { set, recording: 0 }));
-                effects.push(Effect::Status(match choice::remember(&dataset, &choice) {
-                    Ok(file) => format!(
-                        "opened {}; its features are remembered in {}",
-                        dataset.display(),
-                        file.display()
-                    ),
-                    Err(e) => format!(
-                        "opened {}, but its features could not be remembered beside it ({e}); \
-                         they will be asked again",
-                        dataset.display()
-                    ),
-                }));
-                continue;
-            }
-            let error = (session.problems.iter())
-                .position(|p| p.path == dataset)
-                .map(|i| session.problems.remove(i).message);
-            form.error = error.or(Some(format!("{} did not open", dataset.display())));
-            self.queue.push_front(form);
-        }
+        effects.extend(self.forms.settle(session));
         effects
     }
 }

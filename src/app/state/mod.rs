@@ -8,6 +8,7 @@ pub mod bag_import;
 pub mod best_fit;
 pub mod browser;
 pub mod cameras;
+mod choosing;
 mod commands;
 pub mod dataset_import;
 pub mod demo;
