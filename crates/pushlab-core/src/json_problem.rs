@@ -46,6 +46,18 @@ impl JsonProblem {
     }
 }
 
+/// Deserialises a JSON file's bytes: a value that does not fit is named by its field's JSON path
+/// (`experiments[0]`, `combined.horizon`) as well as its line and column; trailing characters
+/// after the value are an error, as in `serde_json::from_slice`. Every reader of a file a person
+/// may edit by hand (model, setting, suite spec, simulator spec) reads through this.
+pub fn from_file_bytes<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Result<T, JsonProblem> {
+    let mut deserializer = serde_json::Deserializer::from_slice(bytes);
+    let value = serde_path_to_error::deserialize(&mut deserializer)
+        .map_err(|e| JsonProblem::at_field(&e.path().to_string(), e.inner()))?;
+    deserializer.end().map_err(|e| JsonProblem::of(&e))?;
+    Ok(value)
+}
+
 /// Deserialises JSON that a program built rather than a person typed (the Python package turns its
 /// dicts into JSON): a value that does not fit is named by its field's path, without the line and
 /// column of a text nobody saw (`kind: unknown variant `blob`, expected `range` or `event``).
@@ -79,6 +91,31 @@ impl fmt::Display for JsonProblem {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_names_the_field_and_the_position() {
+        #[derive(Debug, serde::Deserialize)]
+        #[allow(dead_code)]
+        struct Item {
+            name: String,
+        }
+        #[derive(Debug, serde::Deserialize)]
+        #[allow(dead_code)]
+        struct File {
+            items: Vec<Item>,
+        }
+        let missing = from_file_bytes::<File>(b"{\"items\": [{\"name\": \"a\"},\n {}]}")
+            .expect_err("no name");
+        assert_eq!(
+            missing.to_string(),
+            "items[1]: missing field `name` (line 2, column 3)"
+        );
+        let trailing = from_file_bytes::<File>(b"{\"items\": []} x").expect_err("trailing");
+        assert_eq!(
+            trailing.to_string(),
+            "line 1, column 15: trailing characters"
+        );
+    }
 
     #[test]
     fn built_json_names_the_field_not_a_position() {

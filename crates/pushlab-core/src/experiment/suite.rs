@@ -26,7 +26,7 @@ use super::data::{Skipped, load};
 use super::evaluate::{EvalOptions, PhysicsNmse, evaluate};
 use super::train::train_combined;
 use super::variant::ModelVariant;
-use crate::json_problem::JsonProblem;
+use crate::json_problem::{self, JsonProblem};
 use crate::labels::Split;
 use crate::learn::{Nmse, OnlineConfig, TrainConfig};
 use crate::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind};
@@ -129,9 +129,9 @@ impl SuiteSpec {
             source,
         })?;
         let spec: SuiteSpec =
-            serde_json::from_slice(&bytes).map_err(|e| SuiteError::Malformed {
+            json_problem::from_file_bytes(&bytes).map_err(|problem| SuiteError::Malformed {
                 path: path.to_owned(),
-                problem: JsonProblem::of(&e),
+                problem,
             })?;
         let invalid = |message: String| SuiteError::Invalid {
             path: path.to_owned(),

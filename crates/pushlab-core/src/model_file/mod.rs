@@ -237,16 +237,8 @@ impl ModelFile {
 
 /// Deserialises `bytes`, naming the JSON path of the field that did not fit.
 fn parse<T: serde::de::DeserializeOwned>(path: &Path, bytes: &[u8]) -> Result<T, ModelFileError> {
-    let malformed = |field: String, e: serde_json::Error| ModelFileError::Malformed {
+    crate::json_problem::from_file_bytes(bytes).map_err(|problem| ModelFileError::Malformed {
         path: path.to_owned(),
-        problem: JsonProblem::at_field(&field, &e),
-    };
-    let mut deserializer = serde_json::Deserializer::from_slice(bytes);
-    let value: T = serde_path_to_error::deserialize(&mut deserializer)
-        .map_err(|e| malformed(e.path().to_string(), e.into_inner()))?;
-    // Trailing characters after the JSON value are an error, as in `serde_json::from_slice`.
-    deserializer
-        .end()
-        .map_err(|e| malformed(".".to_owned(), e))?;
-    Ok(value)
+        problem,
+    })
 }

@@ -19,7 +19,7 @@ use super::error::{LoadError, WriteError};
 use super::read::read_file;
 use super::{Recording, RecordingSet, Setting};
 use crate::geometry::{Pose2, unwrap_angles};
-use crate::json_problem::JsonProblem;
+use crate::json_problem;
 use crate::trajectory::{Frame, Trajectory};
 
 /// The name of the file that makes a folder a recording set.
@@ -180,10 +180,11 @@ fn quote(text: &str) -> String {
 ///
 /// Unknown keys are kept (in `extra`) and never an error, so files written by newer tools still load.
 pub fn parse_setting(bytes: &[u8], path: &Path) -> Result<Setting, LoadError> {
-    let setting: Setting = serde_json::from_slice(bytes).map_err(|e| LoadError::SettingJson {
-        path: path.to_path_buf(),
-        problem: JsonProblem::of(&e),
-    })?;
+    let setting: Setting =
+        json_problem::from_file_bytes(bytes).map_err(|problem| LoadError::SettingJson {
+            path: path.to_path_buf(),
+            problem,
+        })?;
     check_setting(&setting).map_err(|(field, problem)| LoadError::SettingField {
         path: path.to_path_buf(),
         field,
