@@ -23,7 +23,7 @@
 //! goes to a temporary file in the same folder, is flushed to disk, then renamed over the old file,
 //! so a crash at any moment leaves either the old or the new file.
 
-use crate::json_problem::JsonProblem;
+use crate::json_problem::{self, JsonProblem};
 use std::collections::BTreeMap;
 use std::fs;
 use std::io;
@@ -170,7 +170,12 @@ pub fn parse(text: &str, path: &Path) -> Result<LabelSet, LabelFileError> {
     };
     // One arm per known version; an older version is migrated step by step to the current one here.
     let file: FileV1 = match version {
-        1 => serde_json::from_str(text).map_err(syntax)?,
+        1 => json_problem::from_file_bytes(text.as_bytes()).map_err(|problem| {
+            LabelFileError::Syntax {
+                path: path.to_owned(),
+                problem,
+            }
+        })?,
         v if v > VERSION => {
             return Err(LabelFileError::Version {
                 path: path.to_owned(),

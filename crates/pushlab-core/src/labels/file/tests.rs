@@ -182,12 +182,15 @@ fn malformed_json_names_file_line_and_column() {
     let msg = error_of(
         "{\"format\": \"pushlab-labels\", \"version\": 1,\n \"recordings\": {\"a.csv\": {\"meta\": {\"split\": \"train\"}}}}",
     );
+    // The field first, then where it is.
     assert!(
-        msg.starts_with("/data/set/pushlab-labels.json: line 2, column"),
+        msg.starts_with(
+            "/data/set/pushlab-labels.json: recordings.a.csv.meta.split: unknown variant `train`"
+        ),
         "{msg}"
     );
-    assert!(msg.contains("unknown variant `train`"), "{msg}");
     assert!(msg.contains("offline"), "{msg}");
+    assert!(msg.ends_with("(line 2, column 51)"), "{msg}");
     let msg = error_of(
         "{\"format\": \"pushlab-labels\", \"version\": 1, \"recordings\": {\"a.csv\": {\"segmnts\": []}}}",
     );
