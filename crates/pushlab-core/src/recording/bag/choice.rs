@@ -21,7 +21,7 @@ use super::spec::TopicSpec;
 use super::split::{ImportOptions, MAX_RATE_HZ};
 use super::topic_info::{TF_STATIC, TopicInfo};
 use crate::atomic_file::write_atomically;
-use crate::json_problem::JsonProblem;
+use crate::json_problem;
 use crate::recording::error::LoadError;
 use crate::recording::native::{SETTING_FILE, check_setting, parse_setting};
 use crate::recording::read::{file_beside, read_file};
@@ -101,7 +101,7 @@ fn bad(path: &Path, why: String) -> LoadError {
 /// `setting_file`.
 pub fn parse(bytes: &[u8], path: &Path) -> Result<BagChoice, LoadError> {
     let file: ChoiceFile =
-        serde_json::from_slice(bytes).map_err(|e| bad(path, JsonProblem::of(&e).to_string()))?;
+        json_problem::from_file_bytes(bytes).map_err(|problem| bad(path, problem.to_string()))?;
     if file.format != FORMAT {
         return Err(bad(
             path,

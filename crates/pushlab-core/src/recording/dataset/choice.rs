@@ -19,7 +19,7 @@ use super::problem::DatasetProblem;
 use super::table::DatasetTable;
 use crate::atomic_file::write_atomically;
 use crate::geometry::PushT;
-use crate::json_problem::JsonProblem;
+use crate::json_problem;
 use crate::recording::error::LoadError;
 use crate::recording::read::{file_beside, read_file};
 
@@ -154,8 +154,8 @@ pub fn remembered(dataset: &Path) -> Result<Option<DatasetChoice>, LoadError> {
             why,
         })
     };
-    let file: ChoiceFile = serde_json::from_slice(&bytes)
-        .map_err(|e| bad(DatasetProblem::Json(JsonProblem::of(&e))))?;
+    let file: ChoiceFile = json_problem::from_file_bytes(&bytes)
+        .map_err(|problem| bad(DatasetProblem::Json(problem)))?;
     if file.format != FORMAT || file.version != 1 {
         return Err(field(
             "format",

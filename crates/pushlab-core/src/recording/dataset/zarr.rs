@@ -10,7 +10,7 @@ use serde::Deserialize;
 
 use super::blosc;
 use super::problem::DatasetProblem;
-use crate::json_problem::JsonProblem;
+use crate::json_problem;
 use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
@@ -120,8 +120,8 @@ impl ZarrArray {
             })
         };
         let text = std::fs::read(&meta_path).map_err(|e| LoadError::io(&meta_path, e))?;
-        let meta: Meta = serde_json::from_slice(&text)
-            .map_err(|e| fail(DatasetProblem::Json(JsonProblem::of(&e))))?;
+        let meta: Meta = json_problem::from_file_bytes(&text)
+            .map_err(|problem| fail(DatasetProblem::Json(problem)))?;
         if meta.zarr_format != 2 {
             return Err(field(
                 "zarr_format",

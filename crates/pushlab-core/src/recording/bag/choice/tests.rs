@@ -234,6 +234,10 @@ fn a_broken_choice_file_says_which_file_and_field() {
             format!(r#"{{{head}, "pusher": "/a", "object": "/b", "setting_file": "s.json", "colour": 3}}"#),
             "unknown field `colour`",
         ),
+        (
+            format!(r#"{{{head}, "pusher": "/a", "object": "/b", "setting_file": "s.json", "cameras": ["/c", 7]}}"#),
+            "cameras[1]: invalid type: integer `7`, expected a string (line 1, column",
+        ),
     ];
     for (json, expected) in cases {
         let message = parse_error(&json);
