@@ -29,7 +29,7 @@ use clap::Args;
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, TopicSpec};
 use pushlab_core::recording::dataset::{self, Columns, ObjectSource};
 use pushlab_core::recording::native::SETTING_FILE;
-use pushlab_core::recording::write_set;
+use pushlab_core::recording::{LoadError, write_set};
 
 use super::cameras_out;
 use super::load_bar::with_load_bar;
@@ -134,8 +134,12 @@ fn choice_of(args: &ImportArgs) -> anyhow::Result<BagChoice> {
 /// Runs the command.
 pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     // A mistyped path is said as such, not as a bag with no choice remembered beside it.
-    if let Err(e) = std::fs::metadata(&args.bag) {
-        bail!("{}: cannot read: {e}", args.bag.display());
+    if let Err(source) = std::fs::metadata(&args.bag) {
+        return Err(LoadError::Io {
+            path: args.bag.clone(),
+            source,
+        }
+        .into());
     }
     if args.out.join(SETTING_FILE).exists() && !args.overwrite {
         bail!(

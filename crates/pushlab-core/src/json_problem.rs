@@ -62,14 +62,10 @@ pub fn from_file_bytes<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Result<T
 /// dicts into JSON): a value that does not fit is named by its field's path, without the line and
 /// column of a text nobody saw (`kind: unknown variant `blob`, expected `range` or `event``).
 pub fn from_built<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, JsonProblem> {
-    let mut deserializer = serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
-        let field = e.path().to_string();
-        JsonProblem {
-            line: 0,
-            column: 0,
-            ..JsonProblem::at_field(&field, e.inner())
-        }
+    from_file_bytes(text.as_bytes()).map_err(|problem| JsonProblem {
+        line: 0,
+        column: 0,
+        ..problem
     })
 }
 

@@ -142,11 +142,12 @@ pub fn read_or_default(path: &Path) -> Result<LabelSet, LabelFileError> {
 
 /// Parses the text of a labels file; `path` is only used in messages.
 pub fn parse(text: &str, path: &Path) -> Result<LabelSet, LabelFileError> {
-    let syntax = |e: serde_json::Error| LabelFileError::Syntax {
+    let syntax = |problem: JsonProblem| LabelFileError::Syntax {
         path: path.to_owned(),
-        problem: JsonProblem::of(&e),
+        problem,
     };
-    let value: serde_json::Value = serde_json::from_str(text).map_err(syntax)?;
+    let value: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| syntax(JsonProblem::of(&e)))?;
     let format = value.get("format");
     if format.and_then(|f| f.as_str()) != Some(FORMAT) {
         return Err(LabelFileError::Format {
@@ -170,12 +171,7 @@ pub fn parse(text: &str, path: &Path) -> Result<LabelSet, LabelFileError> {
     };
     // One arm per known version; an older version is migrated step by step to the current one here.
     let file: FileV1 = match version {
-        1 => json_problem::from_file_bytes(text.as_bytes()).map_err(|problem| {
-            LabelFileError::Syntax {
-                path: path.to_owned(),
-                problem,
-            }
-        })?,
+        1 => json_problem::from_file_bytes(text.as_bytes()).map_err(syntax)?,
         v if v > VERSION => {
             return Err(LabelFileError::Version {
                 path: path.to_owned(),
