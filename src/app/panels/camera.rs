@@ -122,9 +122,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut CameraView) {
 
 /// One stream: its caption, then its image (or why there is none).
 fn stream_ui(ui: &mut egui::Ui, frame: &CameraFrame<'_>, view: &mut StreamView) {
+    // The caption moves below the name as a whole when the panel is narrow: broken inside, it left
+    // "ms" alone on a line.
     ui.horizontal_wrapped(|ui| {
         ui.strong(&frame.stream.name);
-        ui.label(caption(frame));
+        ui.add(egui::Label::new(caption(frame)).wrap_mode(egui::TextWrapMode::Extend));
     });
     if let Some(Ok(image)) = &frame.decoded
         && let Some(index) = frame.frame

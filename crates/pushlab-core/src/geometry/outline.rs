@@ -34,7 +34,7 @@ pub enum OutlineError {
     Degenerate,
     #[error("the outline's vertices go clockwise; list them counter-clockwise (in reverse order)")]
     Clockwise,
-    #[error("a box needs a positive finite width and length, got {width} x {length}")]
+    #[error("a box needs a positive finite width and length, got {width} x {length} m")]
     BadBox { width: f64, length: f64 },
     #[error("unknown preset '{name}', expected one of: {}", known.join(", "))]
     UnknownPreset {

@@ -225,7 +225,11 @@ pub fn entered_box(
     if setting.name.is_empty() {
         return Err("name: empty, expected a name for the setting".to_owned());
     }
-    check_setting(&setting).map_err(|(field, problem)| format!("{field}: {problem}"))?;
+    // The form's box is the setting's whole object: its problem needs no field name.
+    check_setting(&setting).map_err(|(field, problem)| match field.as_str() {
+        "object" => problem,
+        _ => format!("{field}: {problem}"),
+    })?;
     Ok(setting)
 }
 

@@ -17,7 +17,7 @@ pub use self::problem::{CSV_HEADER, CsvProblem};
 use super::camera::CameraStream;
 use super::error::{LoadError, WriteError};
 use super::read::read_file;
-use super::{Recording, RecordingSet, Setting};
+use super::{ObjectShape, Recording, RecordingSet, Setting};
 use crate::geometry::{Pose2, unwrap_angles};
 use crate::json_problem;
 use crate::trajectory::{Frame, Trajectory};
@@ -201,10 +201,15 @@ pub(crate) fn check_setting(setting: &Setting) -> Result<(), (String, String)> {
             Some(below) => format!("object.{below}"),
             None => "object".to_owned(),
         };
-        return field(
-            &name,
-            format!("{e}, expected a simple counter-clockwise outline"),
-        );
+        // A box's and a preset's errors say what was expected themselves; a polygon's say what is
+        // wrong with its vertices.
+        let problem = match setting.object {
+            ObjectShape::Polygon { .. } => {
+                format!("{e}, expected a simple counter-clockwise outline")
+            }
+            _ => e.to_string(),
+        };
+        return field(&name, problem);
     }
     if !(setting.pusher_radius.is_finite() && setting.pusher_radius >= 0.0) {
         return field(
