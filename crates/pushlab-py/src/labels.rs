@@ -37,15 +37,49 @@ fn recording_key(recording: &Bound<'_, PyAny>) -> PyResult<String> {
     })
 }
 
+/// The recording's frame count when it is given as a `Recording`; a file name alone does not say.
+fn known_frames(recording: &Bound<'_, PyAny>) -> Option<usize> {
+    recording
+        .cast::<Recording>()
+        .ok()
+        .map(|r| r.get().frame_count())
+}
+
 /// Frames `start..end` (end exclusive) of a paint or an erase; a reversed range is a mistake, not
-/// nothing to do.
-fn frame_range(start: usize, end: usize) -> PyResult<std::ops::Range<usize>> {
+/// nothing to do, and so is a range past the end of a recording whose length is known.
+fn frame_range(
+    recording: &Bound<'_, PyAny>,
+    start: usize,
+    end: usize,
+) -> PyResult<std::ops::Range<usize>> {
     if start > end {
         return Err(PyValueError::new_err(format!(
             "frames {start}..{end}: start is after end (frames start..end, end exclusive)"
         )));
     }
+    if let Some(count) = known_frames(recording)
+        && end > count
+    {
+        return Err(PyValueError::new_err(format!(
+            "frames {start}..{end}: {} has {count} frames, 0..{count} (end exclusive)",
+            recording_key(recording)?
+        )));
+    }
     Ok(start..end)
+}
+
+/// An event's frame, refused past the end of a recording whose length is known.
+fn event_frame(recording: &Bound<'_, PyAny>, frame: usize) -> PyResult<usize> {
+    if let Some(count) = known_frames(recording)
+        && frame >= count
+    {
+        return Err(PyValueError::new_err(format!(
+            "frame {frame}: {} has {count} frames, 0 to {}",
+            recording_key(recording)?,
+            count.saturating_sub(1)
+        )));
+    }
+    Ok(frame)
 }
 
 impl Labels {
@@ -198,11 +232,12 @@ impl Labels {
         start: usize,
         end: usize,
     ) -> PyResult<bool> {
+        let frames = frame_range(recording, start, end)?;
         let recording = recording_key(recording)?;
         self.apply(Command::Paint {
             recording,
             label,
-            frames: frame_range(start, end)?,
+            frames,
         })
     }
 
@@ -215,11 +250,12 @@ impl Labels {
         end: usize,
         label: Option<String>,
     ) -> PyResult<bool> {
+        let frames = frame_range(recording, start, end)?;
         let recording = recording_key(recording)?;
         self.apply(Command::Erase {
             recording,
             label,
-            frames: frame_range(start, end)?,
+            frames,
         })
     }
 
@@ -230,6 +266,7 @@ impl Labels {
         label: String,
         frame: usize,
     ) -> PyResult<bool> {
+        let frame = event_frame(recording, frame)?;
         let recording = recording_key(recording)?;
         self.apply(Command::AddEvent {
             recording,
@@ -368,10 +405,9 @@ fn frame_count(recording: &Bound<'_, PyAny>, frames: Option<usize>) -> PyResult<
     if let Some(frames) = frames {
         return Ok(frames);
     }
-    match recording.cast::<Recording>() {
-        Ok(r) => Ok(r.get().used.recording.trajectory.len()),
-        Err(_) => Err(PyValueError::new_err(
+    known_frames(recording).ok_or_else(|| {
+        PyValueError::new_err(
             "frames: give the recording's frame count, or pass the Recording itself",
-        )),
-    }
+        )
+    })
 }

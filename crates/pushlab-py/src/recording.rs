@@ -29,7 +29,7 @@ impl Recording {
         key_of(&self.used.recording.source).unwrap_or_default()
     }
 
-    fn frame_count(&self) -> usize {
+    pub(crate) fn frame_count(&self) -> usize {
         self.used.recording.trajectory.len()
     }
 }

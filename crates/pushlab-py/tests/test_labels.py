@@ -128,3 +128,21 @@ def test_a_broken_labels_file_raises_naming_it(set_copy):
     with pytest.raises(pushlab.PushlabError) as raised:
         pushlab.Labels(set_copy)
     assert str(path) in str(raised.value)
+
+
+def test_edits_past_the_end_of_a_recording_are_refused(set_copy):
+    labels = pushlab.Labels(set_copy)
+    rec = pushlab.load(set_copy / "online_004.csv")[0]
+    n = len(rec)
+    past = rf"^frames 10\.\.{n + 1}: online_004\.csv has {n} frames, 0\.\.{n} \(end exclusive\)$"
+    with pytest.raises(ValueError, match=past):
+        labels.paint(rec, "contact", 10, n + 1)
+    with pytest.raises(ValueError, match=past):
+        labels.erase(rec, 10, n + 1)
+    with pytest.raises(ValueError, match=rf"^frame {n}: online_004\.csv has {n} frames, 0 to {n - 1}$"):
+        labels.add_event(rec, "contact made", n)
+    assert not labels.dirty
+    # Up to the last frame is inside.
+    assert labels.paint(rec, "contact", n - 5, n)
+    assert labels.add_event(rec, "contact made", n - 1)
+    assert labels.segments(rec) == [("contact", n - 5, n)]
