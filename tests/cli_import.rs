@@ -279,8 +279,9 @@ fn a_bag_that_is_not_there_is_said_to_be_missing() {
 fn corrupt_bags_are_refused_with_exit_1() {
     let dir = temp_dir("pushlab-import", "corrupt");
     let bytes = std::fs::read(bag("zstd.mcap")).unwrap();
+    // Cut inside its first chunk, before any channel: nothing to read.
     let cut = dir.join("cut.mcap");
-    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    std::fs::write(&cut, &bytes[..100]).unwrap();
     let mut wrong = bytes.clone();
     wrong[0] = b'X';
     let magic = dir.join("magic.mcap");
@@ -295,6 +296,36 @@ fn corrupt_bags_are_refused_with_exit_1() {
             run.stdout
         );
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_bag_cut_short_imports_up_to_the_cut_with_a_warning() {
+    let (dir, setting) = setting("cut-short");
+    let bytes = std::fs::read(bag("zstd.mcap")).unwrap();
+    let half = dir.join("half.mcap");
+    std::fs::write(&half, &bytes[..bytes.len() / 2]).unwrap();
+    let out = dir.join("set");
+    let run = import(
+        &s(&half),
+        "/pusher/pose",
+        "/object/pose",
+        &setting,
+        &s(&out),
+        &[],
+    );
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    let said = format!("{}{}", run.stdout, run.stderr);
+    assert!(
+        said.contains(
+            "warning: the file is cut short (a recording that did not finish, or a damaged file)"
+        ),
+        "{said}"
+    );
+    // The frames before the cut are written; the bag is left as it was.
+    let csv = std::fs::read_to_string(out.join("half.csv")).unwrap();
+    assert!(csv.lines().count() > 10, "{csv}");
+    assert_eq!(std::fs::read(&half).unwrap(), &bytes[..bytes.len() / 2]);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

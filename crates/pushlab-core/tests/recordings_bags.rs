@@ -426,25 +426,82 @@ fn data_end(bytes: &[u8]) -> usize {
     }
 }
 
+/// The byte a cut-short warning says the lost part starts at.
+fn said_from(warning: &str) -> usize {
+    let from = warning.split("from byte ").nth(1).expect("a byte");
+    from.split(' ').next().unwrap().parse().unwrap()
+}
+
 #[test]
-fn truncated_bags_are_refused_cleanly_unless_only_the_summary_is_cut() {
+fn a_bag_cut_short_imports_what_it_holds_before_the_cut_and_says_what_was_lost() {
     let bytes = std::fs::read(fixture("zstd.mcap")).unwrap();
     let end = data_end(&bytes);
     assert!(end < bytes.len() - 100, "the fixture has a summary");
-    for len in [0, 4, 8, 20, 100, 1000, bytes.len() / 2, end - 1] {
+    let whole = import_bytes("whole", &bytes).unwrap();
+    let frames = whole.pushes[0].trajectory.len();
+    // Cut before a whole record declares a channel: nothing to import, refused.
+    for len in [0, 4, 8, 20, 100, 1000] {
         let (_, p) = problem(import_bytes(&format!("cut{len}"), &bytes[..len]));
         assert!(
             matches!(p, BagProblem::Mcap(_) | BagProblem::Chunk { .. }),
             "{len}: {p}"
         );
     }
-    // Cut in its summary or footer, a file still holds every message: it is read from the start.
-    let whole = import_bytes("whole", &bytes).unwrap();
+    // Cut in the middle (a recorder killed): the frames before the cut, the same as the whole
+    // file's, and a warning saying where the file is cut and that the rest is lost.
+    let half = bytes.len() / 2;
+    let cut = import_bytes("half", &bytes[..half]).unwrap();
+    assert_eq!(cut.pushes.len(), 1);
+    let push = &cut.pushes[0];
+    let kept = push.trajectory.len();
+    assert!(
+        kept > 10 && kept < frames * 3 / 4,
+        "{kept} of {frames} frames"
+    );
+    assert_eq!(push.start_unix_s, whole.pushes[0].start_unix_s);
+    for (a, b) in push
+        .trajectory
+        .frames
+        .iter()
+        .zip(&whole.pushes[0].trajectory.frames)
+    {
+        assert_eq!(a, b);
+    }
+    let said: Vec<&String> = push
+        .warnings
+        .iter()
+        .filter(|w| w.contains("cut short"))
+        .collect();
+    assert_eq!(said.len(), 1, "{:?}", push.warnings);
+    assert!(said[0].starts_with("the file is cut short"), "{}", said[0]);
+    assert!(
+        said[0].contains(&format!(
+            "the file is cut short (a recording that did not finish, or a damaged file): its \
+             last {} bytes, from byte ",
+            half - said_from(said[0])
+        )) && said[0].ends_with("are not a whole record, and the messages in them are lost; the messages before were read"),
+        "{}",
+        said[0]
+    );
+    // Cut in its data-end record: every message read, none lost.
+    let cut = import_bytes("end", &bytes[..end - 1]).unwrap();
+    assert_eq!(cut.pushes[0].trajectory, whole.pushes[0].trajectory);
+    assert!(
+        cut.pushes[0]
+            .warnings
+            .iter()
+            .any(|w| w.ends_with("without its data-end record (a recording that did not finish?); every message in it was read")),
+        "{:?}",
+        cut.pushes[0].warnings
+    );
+    // Cut in its summary or footer, a file still holds every message: read from the start, with
+    // nothing to say.
     for len in [end, end + 10, bytes.len() - 9, bytes.len() - 1] {
         let cut = import_bytes(&format!("cut{len}"), &bytes[..len]).unwrap();
         assert_eq!(cut.pushes.len(), whole.pushes.len(), "{len}");
         for (a, b) in cut.pushes.iter().zip(&whole.pushes) {
             assert_eq!(a.trajectory, b.trajectory, "{len}");
+            assert_eq!(a.warnings, b.warnings, "{len}");
         }
     }
 }

@@ -124,6 +124,7 @@ fn read_streams_in(
     let wants_tree = pusher.child_frame.is_some() || object.child_frame.is_some();
     let mut base: Option<u64> = None;
     let mut found: Vec<Option<FoundCamera>> = vec![None; cameras.len()];
+    let mut warnings = Vec::new();
     for (file_number, file) in files.iter().enumerate() {
         for stream in &mut streams {
             stream.index = 0;
@@ -140,16 +141,24 @@ fn read_streams_in(
             cameras: &mut found,
             progress,
         };
-        let channels = read_file(file, bytes, |source| read_messages(source, &mut visitor))?;
-        for (channel, stats) in channels.values() {
+        let read = read_file(file, bytes, |source| read_messages(source, &mut visitor))?;
+        for (channel, stats) in read.channels.values() {
             table.add(channel, stats);
+        }
+        // A warning is said of the bag; of a rosbag2 folder's files, it names the one cut.
+        if let Some(cut) = read.cut_short {
+            warnings.push(match file.strip_prefix(path) {
+                Ok(inside) if !inside.as_os_str().is_empty() => {
+                    format!("{}: {cut}", inside.display())
+                }
+                _ => cut.to_string(),
+            });
         }
     }
     let bag_error = |problem| LoadError::Bag {
         path: path.to_path_buf(),
         problem,
     };
-    let mut warnings = Vec::new();
     let mut chains = [None, None];
     for (stream, chain) in streams.iter().zip(&mut chains) {
         let spec = stream.spec;

@@ -96,8 +96,9 @@ fn topics_in(files: &[PathBuf], bytes: Option<&[u8]>) -> Result<Vec<TopicInfo>, 
     let mut table = TopicTable::default();
     for file in files {
         let mut details = Details::default();
-        let channels = read_file(file, bytes, |source| read_messages(source, &mut details))?;
-        for (id, (channel, stats)) in &channels {
+        // A file cut short lists what it holds before the cut; importing it says what was lost.
+        let read = read_file(file, bytes, |source| read_messages(source, &mut details))?;
+        for (id, (channel, stats)) in &read.channels {
             let info = table.add(channel, stats);
             if let Some(found) = details.0.get(id) {
                 for frame in &found.child_frames {

@@ -9,19 +9,21 @@ use super::records::{
 };
 use super::source::Source;
 use super::{
-    ChannelInfo, ChannelStats, Channels, MessageAt, Visit, Visitor, Want, head, io_problem,
-    message_cut_short, undeclared,
+    ChannelInfo, ChannelStats, Channels, CutShort, FileRead, MessageAt, Visit, Visitor, Want, head,
+    io_problem, message_cut_short, undeclared,
 };
 use crate::recording::bag::problem::BagProblem;
 
 /// Largest schema or channel record accepted (a ROS 2 message definition is a few kB).
 const MAX_DEFINITION_BYTES: u64 = 16 << 20;
 
-/// A pass from the start of a file without a summary: record by record, each chunk read whole.
+/// A pass from the start of a file without a summary: record by record, each chunk read whole. A
+/// file cut short is read up to its last whole record, unless no channel was declared before the
+/// cut (nothing to read: the cut is the file's problem).
 pub(super) fn read<S: Source + ?Sized>(
     source: &S,
     visitor: &mut dyn Visitor,
-) -> Result<Channels, BagProblem> {
+) -> Result<FileRead, BagProblem> {
     let mut pass = Linear {
         schemas: BTreeMap::new(),
         channels: BTreeMap::new(),
@@ -30,9 +32,17 @@ pub(super) fn read<S: Source + ?Sized>(
     let mut buffer = Vec::new();
     let mut at = MAGIC.len() as u64;
     let mut chunk_index = 0;
-    loop {
+    let cut_short = loop {
+        let cut = |messages_lost| CutShort {
+            readable: at,
+            file_len: source.len(),
+            messages_lost,
+        };
         let mut header = [0u8; RECORD_HEADER as usize];
         if at + RECORD_HEADER > source.len() || source.read_at(at, &mut header).is_err() {
+            if !pass.channels.is_empty() {
+                break Some(cut(at < source.len()));
+            }
             return Err(BagProblem::Mcap(format!(
                 "the file ends at byte {} before its data-end record: it is cut short (a recording \
                  that did not finish?)",
@@ -48,12 +58,15 @@ pub(super) fn read<S: Source + ?Sized>(
             .checked_add(len)
             .is_none_or(|end| end > source.len())
         {
+            if !pass.channels.is_empty() {
+                break Some(cut(matches!(op, OP_CHUNK | OP_MESSAGE)));
+            }
             return Err(BagProblem::Mcap(format!(
                 "a record at byte {at} claims {len} bytes, past the end of the file"
             )));
         }
         match op {
-            OP_DATA_END | OP_FOOTER => break,
+            OP_DATA_END | OP_FOOTER => break None,
             OP_SCHEMA | OP_CHANNEL => {
                 if len > MAX_DEFINITION_BYTES {
                     return Err(BagProblem::Mcap(format!(
@@ -142,8 +155,11 @@ pub(super) fn read<S: Source + ?Sized>(
         }
         visitor.progress(RECORD_HEADER + len)?;
         at = body_start + len;
-    }
-    Ok(pass.channels)
+    };
+    Ok(FileRead {
+        channels: pass.channels,
+        cut_short,
+    })
 }
 
 /// What a pass from the start has learned of the file so far.

@@ -9,7 +9,10 @@
 //! few percent of it. A chunk read whole has its CRC checked; one read message by message cannot
 //! (its CRC covers the whole chunk), and relies on the messages decoding.
 //!
-//! Without a summary the file is read from the start, record by record and chunk by chunk.
+//! Without a summary the file is read from the start, record by record and chunk by chunk; a file
+//! cut short (its recorder stopped before writing the summary, or a disk filled) is read up to its
+//! last whole record and the loss said ([`CutShort`]), as Foxglove's `mcap recover` would keep it,
+//! unless not one whole record holds a channel.
 //!
 //! Either way the caller sees, in file order, every message of the channels it wants: their payload,
 //! or only its first bytes and where the message lies (`MessageAt`), to read it again later — a
@@ -122,6 +125,50 @@ mod tests;
 
 /// Every channel of a file, with its messages counted.
 pub type Channels = std::collections::BTreeMap<u16, (ChannelInfo, ChannelStats)>;
+
+/// What a pass through a file found: every channel with its messages counted, and whether the file
+/// was cut short.
+#[derive(Clone, Debug)]
+pub struct FileRead {
+    pub channels: Channels,
+    pub cut_short: Option<CutShort>,
+}
+
+/// A file that ends inside a record, or before its data-end record, after some whole records: a
+/// recording that did not finish (the recorder killed, the disk full) or a damaged file. Its
+/// records before the cut are read; the messages of the record cut through are lost, and said so.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CutShort {
+    /// Where the last whole record ends: everything before this byte was read.
+    pub readable: u64,
+    /// The file's length.
+    pub file_len: u64,
+    /// Whether the record cut through could hold messages (a chunk or a message, or one whose
+    /// header is cut too); a cut data-end or summary record loses none.
+    pub messages_lost: bool,
+}
+
+impl std::fmt::Display for CutShort {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let lost = self.file_len - self.readable;
+        if !self.messages_lost {
+            write!(
+                f,
+                "the file ends at byte {} without its data-end record (a recording that did not \
+                 finish?); every message in it was read",
+                self.file_len
+            )
+        } else {
+            write!(
+                f,
+                "the file is cut short (a recording that did not finish, or a damaged file): \
+                 its last {lost} bytes, from byte {} on, are not a whole record, and the messages \
+                 in them are lost; the messages before were read",
+                self.readable
+            )
+        }
+    }
+}
 
 /// What is kept of a payload for a want.
 fn head(payload: &[u8], want: Want) -> &[u8] {

@@ -12,8 +12,8 @@ use super::records::{
 use super::source::Source;
 use super::summary::{self, Summary};
 use super::{
-    ChannelStats, Channels, MessageAt, Visit, Visitor, Want, chunk_problem, head, io_problem,
-    message_cut_short, undeclared,
+    ChannelStats, Channels, FileRead, MessageAt, Visit, Visitor, Want, chunk_problem, head,
+    io_problem, message_cut_short, undeclared,
 };
 use crate::recording::bag::problem::BagProblem;
 
@@ -21,16 +21,18 @@ use crate::recording::bag::problem::BagProblem;
 const COALESCE_GAP: u64 = 4096;
 
 /// Reads the file, telling the visitor every message of the channels it wants, in file order, and
-/// the bytes passed. Returns every channel with its message count and log-time span.
+/// the bytes passed. Returns every channel with its message count and log-time span, and where a
+/// file without a summary was cut short.
 pub fn read_messages<S: Source + ?Sized>(
     source: &S,
     visitor: &mut dyn Visitor,
-) -> Result<Channels, BagProblem> {
+) -> Result<FileRead, BagProblem> {
     check_magic(source)?;
     match summary::read(source)? {
-        Some(summary) if indexes_every_message(&summary) => {
-            Indexed::new(source, summary, visitor).run(visitor)
-        }
+        Some(summary) if indexes_every_message(&summary) => Ok(FileRead {
+            channels: Indexed::new(source, summary, visitor).run(visitor)?,
+            cut_short: None,
+        }),
         _ => super::linear::read(source, visitor),
     }
 }

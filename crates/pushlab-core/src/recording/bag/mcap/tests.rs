@@ -131,7 +131,7 @@ fn the_poses_of_a_camera_bag_are_read_without_reading_its_images() {
         read: AtomicU64::new(0),
     };
     let mut poses = recorder(&[("/pose", Want::Payload)]);
-    let channels = read_messages(&source, &mut poses).unwrap();
+    let channels = read_messages(&source, &mut poses).unwrap().channels;
     assert_eq!(poses.seen.len(), 300);
     for (k, (topic, time, data, _)) in poses.seen.iter().enumerate() {
         assert_eq!(topic, "/pose");
@@ -169,7 +169,9 @@ fn without_a_summary_the_same_messages_are_read_from_the_start() {
     let with = camera_bag(true);
     let without = camera_bag(false);
     read_messages(&Bytes(&with), &mut indexed).unwrap();
-    let channels = read_messages(&Bytes(&without), &mut linear).unwrap();
+    let channels = read_messages(&Bytes(&without), &mut linear)
+        .unwrap()
+        .channels;
     assert_eq!(indexed.seen.len(), 400);
     let strip = |r: &Recorder| -> Vec<(String, u64, Vec<u8>)> {
         r.seen
@@ -180,6 +182,80 @@ fn without_a_summary_the_same_messages_are_read_from_the_start() {
     assert_eq!(strip(&indexed), strip(&linear));
     assert_eq!(channels.values().map(|(_, s)| s.count).sum::<u64>(), 400);
     assert!(linear.passed > without.len() as u64 * 9 / 10 && linear.passed < without.len() as u64);
+}
+
+/// Where each record of a file's data section starts, from the header record to the data-end.
+fn record_starts(bytes: &[u8]) -> Vec<usize> {
+    let mut starts = Vec::new();
+    let mut at = 8;
+    while at + 9 <= bytes.len() {
+        starts.push(at);
+        if bytes[at] == 0x0F {
+            break;
+        }
+        let len = u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap()) as usize;
+        at += 9 + len;
+    }
+    starts
+}
+
+#[test]
+fn a_file_cut_short_is_read_up_to_its_last_whole_record() {
+    let wants = [
+        ("/pose", Want::Payload),
+        ("/camera/image/compressed", Want::Head(12)),
+    ];
+    let whole = camera_bag(true);
+    let mut all = recorder(&wants);
+    read_messages(&Bytes(&whole), &mut all).unwrap();
+    let starts = record_starts(&whole);
+    let chunks: Vec<usize> = starts
+        .iter()
+        .copied()
+        .filter(|&at| whole[at] == 0x06)
+        .collect();
+    assert!(chunks.len() >= 4, "{} chunks", chunks.len());
+    // Cut inside the third chunk: the first two are read, the rest is lost and said so.
+    let third = chunks[2];
+    let cut_at = third + 5000;
+    let mut cut = recorder(&wants);
+    let read = read_messages(&Bytes(&whole[..cut_at]), &mut cut).unwrap();
+    let expected = CutShort {
+        readable: third as u64,
+        file_len: cut_at as u64,
+        messages_lost: true,
+    };
+    assert_eq!(read.cut_short, Some(expected));
+    assert_eq!(
+        expected.to_string(),
+        format!(
+            "the file is cut short (a recording that did not finish, or a damaged file): its last \
+             5000 bytes, from byte {third} on, are not a whole record, and the messages in them are \
+             lost; the messages before were read"
+        )
+    );
+    assert!(!cut.seen.is_empty() && cut.seen.len() < all.seen.len());
+    assert_eq!(cut.seen[..], all.seen[..cut.seen.len()]);
+    // Cut between two records: every record was read, none lost.
+    let mut at_boundary = recorder(&wants);
+    let read = read_messages(&Bytes(&whole[..third]), &mut at_boundary).unwrap();
+    let expected = CutShort {
+        readable: third as u64,
+        file_len: third as u64,
+        messages_lost: false,
+    };
+    assert_eq!(read.cut_short, Some(expected));
+    assert_eq!(
+        expected.to_string(),
+        format!(
+            "the file ends at byte {third} without its data-end record (a recording that did not \
+             finish?); every message in it was read"
+        )
+    );
+    assert_eq!(at_boundary.seen, cut.seen);
+    // Cut before any channel is declared: nothing to read, refused.
+    let first = chunks[0];
+    assert!(read_messages(&Bytes(&whole[..first + 100]), &mut recorder(&wants)).is_err());
 }
 
 #[test]
