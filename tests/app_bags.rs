@@ -98,3 +98,33 @@ fn a_skipped_bag_comes_back_with_choose_topics() {
     harness.get_by_label("tf (rosbag2 folder)");
     assert!(harness.query_by_label("Choose topics…").is_none());
 }
+
+#[test]
+fn a_bag_cut_short_opens_marked_as_loaded_with_warnings() {
+    let dir = scratch_dir("bag-cut-short");
+    let fixture =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("crates/pushlab-core/tests/bags/zstd.mcap");
+    let bytes = std::fs::read(fixture).unwrap();
+    let bag = dir.join("cut.mcap");
+    std::fs::write(&bag, &bytes[..bytes.len() / 2]).unwrap();
+    let entered = choice::entered_box("bag-box", 0.1, 0.12, 0.005, None).unwrap();
+    let chosen = choice::BagChoice {
+        pusher: "/pusher/pose".parse().unwrap(),
+        object: "/object/pose".parse().unwrap(),
+        setting: choice::SettingSource::Entered(entered),
+        options: Default::default(),
+        cameras: Vec::new(),
+    };
+    choice::remember(&bag, &chosen).unwrap();
+    let state = initial_state(std::slice::from_ref(&bag), Persisted::default());
+    let mut harness = harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(2);
+    let recording = harness.state().state.recording().unwrap();
+    assert!(
+        (recording.warnings.iter()).any(|w| w.starts_with("the file is cut short")),
+        "{:?}",
+        recording.warnings
+    );
+    // Marked in the browser, where the user picks it; hovering says the warning.
+    harness.get_by_label("! cut");
+}

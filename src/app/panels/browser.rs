@@ -4,7 +4,7 @@
 //! rows, the filter and the sort are the state's (`state::browser`); this panel draws them and sends
 //! commands. Load problems are listed below the table.
 
-use eframe::egui::{self, RichText};
+use eframe::egui::{self, Color32, RichText};
 use egui_extras::{Column as TableColumn, TableBuilder};
 
 use crate::app::state::SessionCommand;
@@ -129,11 +129,30 @@ fn cell(
         return;
     }
     let response = ui
-        .add(egui::Button::selectable(selected, text).truncate())
+        .add(egui::Button::selectable(selected, name_text(ui, &text, row)).truncate())
         .on_hover_ui(|ui| details(ui, state, row));
     if response.clicked() && !selected {
         commands.push(Command::Session(SessionCommand::Select(row.id)));
     }
+}
+
+/// A recording's name, after a "!" in the warning colour when it loaded with warnings (a bag cut
+/// short, streams resampled): marked where it is listed, said on hover. (The default fonts have
+/// no warning sign.)
+fn name_text(ui: &egui::Ui, name: &str, row: &Row<'_>) -> egui::text::LayoutJob {
+    let font = egui::TextStyle::Button.resolve(ui.style());
+    let mut job = egui::text::LayoutJob::default();
+    if !row.recording.warnings.is_empty() {
+        let warn = egui::TextFormat::simple(font.clone(), ui.visuals().warn_fg_color);
+        job.append("! ", 0.0, warn);
+    }
+    // The placeholder takes the button's own colour, selected or not.
+    job.append(
+        name,
+        0.0,
+        egui::TextFormat::simple(font, Color32::PLACEHOLDER),
+    );
+    job
 }
 
 /// What the name's tooltip says: the file, its rate, labels and load warnings, its losses.

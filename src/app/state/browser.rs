@@ -92,7 +92,10 @@ impl Column {
             Column::Set => {
                 "The set: a native set's folder, or the MIT files of one surface and shape"
             }
-            Column::Name => "The file's short name (hover for the whole path)",
+            Column::Name => {
+                "The file's short name (hover for the whole path); \"!\": loaded with warnings, \
+                 said on hover"
+            }
             Column::Shape => "The object (the MIT shape, or the box's size)",
             Column::Surface => "The surface (the setting's material)",
             Column::Side => "The pushed face of a native set's object",
