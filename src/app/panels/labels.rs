@@ -222,7 +222,7 @@ fn segment_list(
     commands: &mut Vec<Command>,
 ) {
     ui.label(format!(
-        "{} segments, {} events",
+        "{} segment(s), {} event(s)",
         labels.segments.len(),
         labels.events.len()
     ));
