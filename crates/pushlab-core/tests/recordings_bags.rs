@@ -390,16 +390,19 @@ fn an_undecodable_message_names_file_topic_and_index() {
 
 /// Imports `bytes` written to a temporary `.mcap` file.
 fn import_bytes(name: &str, bytes: &[u8]) -> Result<BagImport, LoadError> {
+    import_bytes_with(name, bytes, ImportOptions::default())
+}
+
+fn import_bytes_with(
+    name: &str,
+    bytes: &[u8],
+    options: ImportOptions,
+) -> Result<BagImport, LoadError> {
     let dir = std::env::temp_dir().join(format!("pushlab-bag-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.mcap"));
     std::fs::write(&path, bytes).unwrap();
-    let result = bag::import(
-        &path,
-        &spec("/pusher/pose"),
-        &spec("/object/pose"),
-        ImportOptions::default(),
-    );
+    let result = bag::import(&path, &spec("/pusher/pose"), &spec("/object/pose"), options);
     let _ = std::fs::remove_dir_all(&dir);
     result
 }
@@ -482,6 +485,26 @@ fn a_bag_cut_short_imports_what_it_holds_before_the_cut_and_says_what_was_lost()
         )) && said[0].ends_with("are not a whole record, and the messages in them are lost; the messages before were read"),
         "{}",
         said[0]
+    );
+    // Split at a pause, a bag cut in its second push: the first is whole and says nothing of it.
+    let gap = std::fs::read(fixture("gap.mcap")).unwrap();
+    let split = ImportOptions {
+        rate_hz: None,
+        split_gap_s: Some(0.5),
+    };
+    let gap_whole = import_bytes_with("gap", &gap, split).unwrap().pushes;
+    let gap_cut = import_bytes_with("gap-cut", &gap[..gap.len() * 4 / 5], split)
+        .unwrap()
+        .pushes;
+    assert_eq!((gap_whole.len(), gap_cut.len()), (2, 2));
+    assert_eq!(gap_cut[0].trajectory, gap_whole[0].trajectory);
+    assert_eq!(gap_cut[0].warnings, gap_whole[0].warnings);
+    assert!(gap_cut[1].trajectory.len() < gap_whole[1].trajectory.len());
+    assert!(
+        gap_cut[1]
+            .warnings
+            .iter()
+            .any(|w| w.starts_with("the file is cut short"))
     );
     // Cut in its data-end record: every message read, none lost.
     let cut = import_bytes("end", &bytes[..end - 1]).unwrap();

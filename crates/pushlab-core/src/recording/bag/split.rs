@@ -235,6 +235,10 @@ pub fn resample_streams(
             push.warnings.push(note.clone());
         }
     }
+    // The pushes before the last end before the cut: whole.
+    if let (Some(cut), Some(last)) = (&streams.cut_short, pushes.last_mut()) {
+        last.warnings.push(cut.clone());
+    }
     Ok((pushes, rate_hz))
 }
 

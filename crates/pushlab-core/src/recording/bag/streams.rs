@@ -30,8 +30,11 @@ pub struct BagStreams {
     /// Every topic of the bag.
     pub topics: Vec<TopicInfo>,
     /// Recoverable oddities found while reading (stamps replaced by log times, `/tf` poses dropped
-    /// outside a moving link's span).
+    /// outside a moving link's span), said of every push.
     pub warnings: Vec<String>,
+    /// The bag's last file cut short: said of the last push alone, the one the cut ends (a cut in
+    /// an earlier file of a rosbag2 folder is one of `warnings`).
+    pub cut_short: Option<String>,
     /// The frames of the camera topics asked for, in the order asked.
     pub cameras: Vec<FoundCamera>,
     /// Where the bag's bytes are, for reading the frames later.
@@ -125,6 +128,7 @@ fn read_streams_in(
     let mut base: Option<u64> = None;
     let mut found: Vec<Option<FoundCamera>> = vec![None; cameras.len()];
     let mut warnings = Vec::new();
+    let mut cut_short = None;
     for (file_number, file) in files.iter().enumerate() {
         for stream in &mut streams {
             stream.index = 0;
@@ -145,14 +149,19 @@ fn read_streams_in(
         for (channel, stats) in read.channels.values() {
             table.add(channel, stats);
         }
-        // A warning is said of the bag; of a rosbag2 folder's files, it names the one cut.
+        // Of a rosbag2 folder's files, the warning names the one cut.
         if let Some(cut) = read.cut_short {
-            warnings.push(match file.strip_prefix(path) {
+            let said = match file.strip_prefix(path) {
                 Ok(inside) if !inside.as_os_str().is_empty() => {
                     format!("{}: {cut}", inside.display())
                 }
                 _ => cut.to_string(),
-            });
+            };
+            if file_number + 1 == files.len() {
+                cut_short = Some(said);
+            } else {
+                warnings.push(said);
+            }
         }
     }
     let bag_error = |problem| LoadError::Bag {
@@ -245,6 +254,7 @@ fn read_streams_in(
         base_unix_ns: base.unwrap_or(0),
         topics: table.into_sorted(),
         warnings,
+        cut_short,
         cameras: found_cameras,
         bag,
     })
