@@ -115,6 +115,10 @@ fn a_bag_cut_short_opens_marked_as_loaded_with_warnings() {
         options: Default::default(),
         cameras: Vec::new(),
     };
+    // Dropped before its topics are chosen, the form says it is cut short.
+    let dropped = app_with_dropped(&bag);
+    dropped.get_by_label_contains("the file is cut short (a recording that did not finish");
+    drop(dropped);
     choice::remember(&bag, &chosen).unwrap();
     let state = initial_state(std::slice::from_ref(&bag), Persisted::default());
     let mut harness = harness(PushlabApp::new(state), 0.05);

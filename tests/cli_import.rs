@@ -305,6 +305,17 @@ fn a_bag_cut_short_imports_up_to_the_cut_with_a_warning() {
     let bytes = std::fs::read(bag("zstd.mcap")).unwrap();
     let half = dir.join("half.mcap");
     std::fs::write(&half, &bytes[..bytes.len() / 2]).unwrap();
+    // Listed before a choice: the counts are of what is before the cut, and it says so.
+    let listed = pushlab(&["validate", &s(&half)]);
+    assert_eq!(listed.code, 0, "{}{}", listed.stdout, listed.stderr);
+    assert!(
+        listed.stdout.contains(&format!(
+            "warning: {}: the file is cut short (a recording that did not finish",
+            half.display()
+        )),
+        "{}",
+        listed.stdout
+    );
     let out = dir.join("set");
     let run = import(
         &s(&half),

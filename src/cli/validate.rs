@@ -95,15 +95,16 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
 
 /// Prints the topics of the bag at `path`, one line each; whether the bag could be read.
 fn list_topics(path: &std::path::Path) -> bool {
-    let topics = match bag::topics(path) {
-        Ok(topics) => topics,
+    let listing = match bag::topics(path) {
+        Ok(listing) => listing,
         Err(err) => {
             println!("error: {err}");
             return false;
         }
     };
+    let topics = &listing.topics;
     let readable = topics.iter().filter(|t| t.pose_type().is_some()).count();
-    for topic in &topics {
+    for topic in topics {
         let frames = if topic.child_frames.is_empty() {
             String::new()
         } else {
@@ -138,6 +139,9 @@ fn list_topics(path: &std::path::Path) -> bool {
         topics.len(),
         path.display()
     );
+    for cut in &listing.cut_short {
+        println!("warning: {}: {cut}", path.display());
+    }
     true
 }
 

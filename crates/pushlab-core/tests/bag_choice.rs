@@ -178,12 +178,13 @@ fn a_bag_without_a_choice_lists_its_topics_and_tf_child_frames() {
     let (dir, bag) = bag_copy("none", "tf");
     let report = load_paths(std::slice::from_ref(&bag));
     let LoadError::Bag {
-        problem: BagProblem::NeedsImport { topics },
+        problem: BagProblem::NeedsImport { listing },
         ..
     } = &report.errors[0]
     else {
         panic!("{:?}", report.errors)
     };
+    let topics = &listing.topics;
     let tf = topics.iter().find(|t| t.topic == "/tf").unwrap();
     assert_eq!(tf.child_frames, ["base_link", "pusher_tip", "box"]);
     // What the app pre-selects for it.
@@ -208,7 +209,7 @@ fn a_bag_without_a_choice_lists_its_topics_and_tf_child_frames() {
 #[test]
 fn a_frame_behind_tf_static_is_offered_and_opens() {
     let (dir, bag) = bag_copy("tree", "tf_tree");
-    let topics = bag::topics(&bag).unwrap();
+    let topics = bag::topics(&bag).unwrap().topics;
     let offered = choice::candidates(&topics);
     let tip: bag::TopicSpec = "/tf:tip".parse().unwrap();
     assert!(offered.contains(&tip), "{offered:?}");

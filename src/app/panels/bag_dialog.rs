@@ -55,6 +55,9 @@ pub fn window(
             if let Some(error) = &form.error {
                 ui.colored_label(ui.visuals().error_fg_color, error);
             }
+            for cut in &form.cut_short {
+                ui.colored_label(ui.visuals().warn_fg_color, cut);
+            }
             topics_table(ui, form);
             ui.separator();
             streams(ui, form, &mut send);

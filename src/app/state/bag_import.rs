@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use pushlab_core::recording::bag::{
-    self, BagChoice, ImportOptions, SettingSource, TopicInfo, TopicSpec, choice,
+    self, BagChoice, BagListing, ImportOptions, SettingSource, TopicInfo, TopicSpec, choice,
 };
 
 use super::choosing::{ChoiceForm, Choosing};
@@ -69,12 +69,16 @@ pub struct BagForm {
     pub cameras: Vec<String>,
     /// Why the last attempt to open the bag with this form failed.
     pub error: Option<String>,
+    /// The bag's files cut short (a recording that did not finish): said before choosing, as the
+    /// counts above are of what they hold before the cut.
+    pub cut_short: Vec<String>,
 }
 
 impl BagForm {
     /// A form for `bag`: what was remembered for it, or else the core's pre-selection and the
     /// nearest `setting.json` beside it.
-    pub fn new(bag: PathBuf, topics: Vec<TopicInfo>, remembered: Option<BagChoice>) -> Self {
+    pub fn new(bag: PathBuf, listing: BagListing, remembered: Option<BagChoice>) -> Self {
+        let BagListing { topics, cut_short } = listing;
         let settings_found = choice::settings_beside(&bag);
         let streams = choice::candidates(&topics);
         let stem = bag
@@ -107,6 +111,7 @@ impl BagForm {
             options,
             cameras,
             error: None,
+            cut_short,
         }
     }
 
@@ -335,10 +340,10 @@ impl BagChooser {
         let job = Job::spawn(move |_| {
             let form = bag::topics(&worker_bag)
                 .map_err(|e| e.to_string())
-                .map(|topics| {
+                .map(|listing| {
                     // A remembered file that cannot be read is not offered; the form starts afresh.
                     let remembered = choice::remembered(&worker_bag).ok().flatten();
-                    BagForm::new(worker_bag, topics, remembered)
+                    BagForm::new(worker_bag, listing, remembered)
                 });
             Some(form)
         });
@@ -373,8 +378,8 @@ impl BagChooser {
                 asked.len()
             )));
         }
-        for (bag, topics) in asked {
-            self.forms.ask(BagForm::new(bag, topics, None));
+        for (bag, listing) in asked {
+            self.forms.ask(BagForm::new(bag, listing, None));
         }
         effects.extend(self.forms.settle(session));
         effects

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
 
-use pushlab_core::recording::bag::TopicInfo;
+use pushlab_core::recording::bag::BagListing;
 use pushlab_core::recording::dataset;
 use pushlab_core::recording::{
     BagProblem, DatasetProblem, LoadError, LoadReport, Recording, RecordingSet, SourceChoice,
@@ -88,7 +88,7 @@ pub struct Session {
     /// figure).
     pub last_load_time: Option<Duration>,
     /// Bags opened without a choice of topics, with their topics: the app asks (see `bag_import`).
-    pub bags_to_choose: Vec<(PathBuf, Vec<TopicInfo>)>,
+    pub bags_to_choose: Vec<(PathBuf, BagListing)>,
     /// Datasets whose pusher and object features are not chosen and cannot be guessed: the app
     /// asks (see `dataset_import`).
     pub datasets_to_choose: Vec<PathBuf>,
@@ -193,8 +193,8 @@ impl Session {
             match error {
                 LoadError::Bag {
                     path,
-                    problem: BagProblem::NeedsImport { topics },
-                } => self.bags_to_choose.push((path, topics)),
+                    problem: BagProblem::NeedsImport { listing },
+                } => self.bags_to_choose.push((path, listing)),
                 LoadError::Dataset {
                     path,
                     problem: DatasetProblem::NeedsChoice { .. },

@@ -333,9 +333,9 @@ impl Loader {
                     },
                 }),
                 Ok(None) => Err(match bag::topics(path) {
-                    Ok(topics) => LoadError::Bag {
+                    Ok(listing) => LoadError::Bag {
                         path: path.to_path_buf(),
-                        problem: BagProblem::NeedsImport { topics },
+                        problem: BagProblem::NeedsImport { listing },
                     },
                     Err(e) => e,
                 }),

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use super::topic_info::{TF_STATIC, TopicInfo};
+use super::topic_info::{BagListing, TF_STATIC, TopicInfo};
 use crate::recording::resample::SpanProblem;
 
 /// What is wrong with a ROS 2 bag, or with the topics asked of it.
@@ -112,9 +112,9 @@ pub enum BagProblem {
         "a ROS 2 bag whose pusher and object topics are not chosen yet: open it in the app to choose \
          them (remembered beside the bag), or import it into a recording set (`pushlab import BAG \
          --pusher TOPIC --object TOPIC --setting SETTING.json --out SET`); its topics: {}",
-        topic_listing(topics)
+        topic_listing(&listing.topics)
     )]
-    NeedsImport { topics: Vec<TopicInfo> },
+    NeedsImport { listing: BagListing },
     #[error("not a pushlab bag choice: {why}")]
     BadChoice { why: String },
     #[error(

@@ -14,7 +14,7 @@ use super::problem::BagProblem;
 use super::spec::TopicSpec;
 use super::tf_tree::{Chain, Transforms};
 use super::topic_info::{TF_STATIC, TopicInfo};
-use super::topics::TopicTable;
+use super::topics::{TopicTable, cut_of};
 use crate::recording::error::LoadError;
 use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::resample::MAX_POSITION_M;
@@ -149,14 +149,8 @@ fn read_streams_in(
         for (channel, stats) in read.channels.values() {
             table.add(channel, stats);
         }
-        // Of a rosbag2 folder's files, the warning names the one cut.
         if let Some(cut) = read.cut_short {
-            let said = match file.strip_prefix(path) {
-                Ok(inside) if !inside.as_os_str().is_empty() => {
-                    format!("{}: {cut}", inside.display())
-                }
-                _ => cut.to_string(),
-            };
+            let said = cut_of(path, file, cut);
             if file_number + 1 == files.len() {
                 cut_short = Some(said);
             } else {

@@ -83,3 +83,13 @@ impl TopicInfo {
             .flatten()
     }
 }
+
+/// What a bag holds, as listed before choosing its topics.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BagListing {
+    /// Its topics, sorted by name.
+    pub topics: Vec<TopicInfo>,
+    /// For each file cut short, where and what it lost: the counts are of what it holds before the
+    /// cut.
+    pub cut_short: Vec<String>,
+}

@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use super::cdr::PoseType;
 use super::files::{bag_files, read_file};
 use super::image_msg::{ImageKind, describe};
-use super::mcap::{ChannelInfo, ChannelStats, Visit, Visitor, Want, read_messages};
+use super::mcap::{ChannelInfo, ChannelStats, CutShort, Visit, Visitor, Want, read_messages};
 use super::problem::BagProblem;
-use super::topic_info::{CameraInfo, TopicInfo};
+use super::topic_info::{BagListing, CameraInfo, TopicInfo};
 use crate::recording::error::LoadError;
 
 /// Topics by name, accumulating over the files of a bag. Looked up by `&str` for every message of
@@ -83,21 +83,28 @@ impl TopicTable {
 /// Lists the topics of a bag with their types, message counts and log-time span. Only the messages
 /// of TF topics (for their child frames) and each camera's first frame (for its encoding and size)
 /// are read; the counts come from the files' indexes.
-pub fn topics(path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
-    topics_in(&bag_files(path)?, None)
+pub fn topics(path: &Path) -> Result<BagListing, LoadError> {
+    topics_in(path, &bag_files(path)?, None)
 }
 
 /// Lists the topics of one `.mcap` file held in memory; `path` is only used in messages.
-pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<Vec<TopicInfo>, LoadError> {
-    topics_in(&[path.to_path_buf()], Some(bytes))
+pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<BagListing, LoadError> {
+    topics_in(path, &[path.to_path_buf()], Some(bytes))
 }
 
-fn topics_in(files: &[PathBuf], bytes: Option<&[u8]>) -> Result<Vec<TopicInfo>, LoadError> {
+fn topics_in(
+    path: &Path,
+    files: &[PathBuf],
+    bytes: Option<&[u8]>,
+) -> Result<BagListing, LoadError> {
     let mut table = TopicTable::default();
+    let mut cut_short = Vec::new();
     for file in files {
         let mut details = Details::default();
-        // A file cut short lists what it holds before the cut; importing it says what was lost.
         let read = read_file(file, bytes, |source| read_messages(source, &mut details))?;
+        if let Some(cut) = read.cut_short {
+            cut_short.push(cut_of(path, file, cut));
+        }
         for (id, (channel, stats)) in &read.channels {
             let info = table.add(channel, stats);
             if let Some(found) = details.0.get(id) {
@@ -110,7 +117,18 @@ fn topics_in(files: &[PathBuf], bytes: Option<&[u8]>) -> Result<Vec<TopicInfo>, 
             }
         }
     }
-    Ok(table.into_sorted())
+    Ok(BagListing {
+        topics: table.into_sorted(),
+        cut_short,
+    })
+}
+
+/// A cut-short warning as said of the bag: of a rosbag2 folder's files, it names the one cut.
+pub(super) fn cut_of(bag: &Path, file: &Path, cut: CutShort) -> String {
+    match file.strip_prefix(bag) {
+        Ok(inside) if !inside.as_os_str().is_empty() => format!("{}: {cut}", inside.display()),
+        _ => cut.to_string(),
+    }
 }
 
 /// A channel's topic, with no messages yet.
