@@ -554,16 +554,20 @@ fn corrupt_compressed_chunks_are_refused() {
     for name in ["zstd.mcap", "lz4.mcap"] {
         let original = std::fs::read(fixture(name)).unwrap();
         let start = first_chunk_records(&original);
-        for offset in [0, 40, 300, 700] {
-            let mut bytes = original.clone();
-            bytes[start + offset] ^= 0xa5;
-            let result = import_bytes(&format!("{name}{offset}"), &bytes);
-            assert!(result.is_err(), "{name} +{offset} imported");
-            let (_, p) = problem(result);
-            assert!(
-                matches!(p, BagProblem::Chunk { .. }),
-                "{name} +{offset}: {p}"
-            );
+        // Whole (read by its indexes) and without its summary (read from the front, the chunks
+        // decompressed ahead on workers): the first chunk named either way.
+        for end in [original.len(), data_end(&original)] {
+            for offset in [0, 40, 300, 700] {
+                let mut bytes = original[..end].to_vec();
+                bytes[start + offset] ^= 0xa5;
+                let result = import_bytes(&format!("{name}{offset}-{end}"), &bytes);
+                assert!(result.is_err(), "{name} +{offset} imported");
+                let (_, p) = problem(result);
+                assert!(
+                    matches!(p, BagProblem::Chunk { index: 0, .. }),
+                    "{name} +{offset}: {p}"
+                );
+            }
         }
     }
 }

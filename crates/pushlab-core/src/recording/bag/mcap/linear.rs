@@ -1,11 +1,15 @@
 //! Reading a file without a summary from its start: record by record, each chunk read whole (and
-//! decompressed when compressed), up to the data-end record.
+//! decompressed when compressed), up to the data-end record. Without the summary's chunk indexes,
+//! the compressed chunks are found first by walking the record headers (a few bytes read per
+//! record), so that they are decompressed ahead on the workers as in an indexed file.
 
 use std::collections::BTreeMap;
+use std::sync::atomic::AtomicUsize;
 
+use super::prefetch::Prefetch;
 use super::records::{
-    self, MAGIC, MAX_CHUNK_BYTES, MESSAGE_HEADER, OP_CHANNEL, OP_CHUNK, OP_DATA_END, OP_FOOTER,
-    OP_MESSAGE, OP_SCHEMA, RECORD_HEADER,
+    self, ChunkIndex, MAGIC, MAX_CHUNK_BYTES, MESSAGE_HEADER, OP_CHANNEL, OP_CHUNK, OP_DATA_END,
+    OP_FOOTER, OP_MESSAGE, OP_SCHEMA, RECORD_HEADER,
 };
 use super::source::Source;
 use super::{
@@ -22,6 +26,71 @@ const MAX_DEFINITION_BYTES: u64 = 16 << 20;
 /// cut (nothing to read: the cut is the file's problem).
 pub(super) fn read<S: Source + ?Sized>(
     source: &S,
+    visitor: &mut dyn Visitor,
+) -> Result<FileRead, BagProblem> {
+    let chunks = chunks_of(source);
+    let ahead: Vec<usize> = (chunks.iter().enumerate())
+        .filter(|(_, c)| !c.compression.is_empty())
+        .map(|(index, _)| index)
+        .collect();
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        let mut prefetched = Prefetch::start(scope, source, &chunks, &ahead, &next);
+        read_records(source, &mut prefetched, visitor)
+    })
+}
+
+/// The chunks of a file without a summary, in order, as an index would list them (no message
+/// indexes): found by walking the record headers up to the data-end record or the first record
+/// that is not whole, reading the header of each chunk. What [`read_records`] then finds wrong
+/// with a chunk is its to say.
+fn chunks_of<S: Source + ?Sized>(source: &S) -> Vec<ChunkIndex> {
+    /// Enough of a chunk's body for its header with a compression name of up to 64 bytes.
+    const HEADER_READ: u64 = 8 + 8 + 8 + 4 + 4 + 64 + 8;
+    let mut chunks = Vec::new();
+    let mut at = MAGIC.len() as u64;
+    loop {
+        let mut header = [0u8; RECORD_HEADER as usize];
+        if at + RECORD_HEADER > source.len() || source.read_at(at, &mut header).is_err() {
+            break;
+        }
+        let len = u64::from_le_bytes([
+            header[1], header[2], header[3], header[4], header[5], header[6], header[7], header[8],
+        ]);
+        let Some(end) = (at + RECORD_HEADER)
+            .checked_add(len)
+            .filter(|&end| end <= source.len())
+        else {
+            break;
+        };
+        match header[0] {
+            OP_DATA_END | OP_FOOTER => break,
+            OP_CHUNK => {
+                let body = source.read_vec(at + RECORD_HEADER, len.min(HEADER_READ));
+                let Some(chunk) = body.ok().as_deref().and_then(records::chunk_header) else {
+                    break;
+                };
+                chunks.push(ChunkIndex {
+                    start: at,
+                    length: RECORD_HEADER + len,
+                    message_index_offsets: BTreeMap::new(),
+                    message_index_length: 0,
+                    compression: chunk.compression,
+                    compressed_size: chunk.records_len,
+                    uncompressed_size: chunk.uncompressed_size,
+                });
+            }
+            _ => {}
+        }
+        at = end;
+    }
+    chunks
+}
+
+/// The records in order, chunks taken decompressed from `prefetched` when it has them.
+fn read_records<S: Source + ?Sized>(
+    source: &S,
+    prefetched: &mut Prefetch,
     visitor: &mut dyn Visitor,
 ) -> Result<FileRead, BagProblem> {
     let mut pass = Linear {
@@ -99,29 +168,38 @@ pub(super) fn read<S: Source + ?Sized>(
                         why: format!("{len} bytes long, more than pushlab accepts"),
                     });
                 }
-                let body = source
-                    .read_vec(body_start, len)
-                    .map_err(|e| io_problem(&e))?;
                 let fail = |why: String| BagProblem::Chunk {
                     index: chunk_index,
                     why,
                 };
-                let header = records::chunk_header(&body)
-                    .ok_or_else(|| fail("its header is cut short".into()))?;
-                let records = usize::try_from(header.records_len)
-                    .ok()
-                    .and_then(|n| body.get(header.header_len as usize..)?.get(..n))
-                    .ok_or_else(|| {
-                        fail(format!(
-                            "claims {} bytes of records but holds {}",
-                            header.records_len,
-                            body.len() as u64 - header.header_len.min(body.len() as u64)
-                        ))
-                    })?;
+                let taken = prefetched.take(chunk_index).transpose();
+                let taken = taken.map_err(|e| e.in_chunk(chunk_index))?;
+                let body;
+                let (header, decompressed) = match &taken {
+                    Some((header, decompressed)) => (header.clone(), decompressed.as_slice()),
+                    None => {
+                        body = source
+                            .read_vec(body_start, len)
+                            .map_err(|e| io_problem(&e))?;
+                        let header = records::chunk_header(&body)
+                            .ok_or_else(|| fail("its header is cut short".into()))?;
+                        let records = usize::try_from(header.records_len)
+                            .ok()
+                            .and_then(|n| body.get(header.header_len as usize..)?.get(..n))
+                            .ok_or_else(|| {
+                                fail(format!(
+                                    "claims {} bytes of records but holds {}",
+                                    header.records_len,
+                                    body.len() as u64 - header.header_len.min(body.len() as u64)
+                                ))
+                            })?;
+                        let decompressed =
+                            records::decompress(&header, records, &mut buffer).map_err(fail)?;
+                        (header, decompressed)
+                    }
+                };
                 let records_start = body_start + header.header_len;
                 let compressed = !header.compression.is_empty();
-                let decompressed =
-                    records::decompress(&header, records, &mut buffer).map_err(fail)?;
                 for record in records::walk(decompressed) {
                     let (offset, op, body) = record.map_err(fail)?;
                     match op {
