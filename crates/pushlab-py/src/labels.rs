@@ -37,6 +37,13 @@ fn recording_key(recording: &Bound<'_, PyAny>) -> PyResult<String> {
     })
 }
 
+/// Whether `key` can name a recording of `folder`: a file there, or a push of a bag or dataset
+/// there (`run1.mcap#003`, `pusht#episode_000005`: the part before `#`).
+fn names_a_recording_in(folder: &std::path::Path, key: &str) -> bool {
+    let file = key.split_once('#').map_or(key, |(file, _)| file);
+    !file.is_empty() && (folder.join(key).exists() || folder.join(file).exists())
+}
+
 /// The recording's frame count when it is given as a `Recording`; a file name alone does not say.
 fn known_frames(recording: &Bound<'_, PyAny>) -> Option<usize> {
     recording
@@ -83,6 +90,26 @@ fn event_frame(recording: &Bound<'_, PyAny>, frame: usize) -> PyResult<usize> {
 }
 
 impl Labels {
+    /// The key of a recording given as a `Recording`, or by a name that is in the folder or
+    /// already labelled: a name that is neither is a typo, whose labels no recording would show.
+    fn key(&self, recording: &Bound<'_, PyAny>) -> PyResult<String> {
+        let key = recording_key(recording)?;
+        if recording.cast::<Recording>().is_ok() || self.document.recording(&key).is_some() {
+            return Ok(key);
+        }
+        let folder = (self.document.path().parent())
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        if names_a_recording_in(folder, &key) {
+            return Ok(key);
+        }
+        Err(PyValueError::new_err(format!(
+            "{key:?}: no recording of that name in {} and none labelled so (name a file there, \
+             e.g. \"push_003.csv\", or pass the Recording)",
+            folder.display()
+        )))
+    }
+
     fn labels_of(&self, key: &str) -> RecordingLabels {
         self.document.recording(key).cloned().unwrap_or_default()
     }
@@ -145,7 +172,7 @@ impl Labels {
 
     /// The range segments of a recording as `(label, start, end)` (end exclusive), sorted by start.
     fn segments(&self, recording: &Bound<'_, PyAny>) -> PyResult<Vec<(String, usize, usize)>> {
-        let labels = self.labels_of(&recording_key(recording)?);
+        let labels = self.labels_of(&self.key(recording)?);
         Ok(labels
             .segments
             .iter()
@@ -155,7 +182,7 @@ impl Labels {
 
     /// The point events of a recording as `(label, frame)`, in frame order.
     fn events(&self, recording: &Bound<'_, PyAny>) -> PyResult<Vec<(String, usize)>> {
-        let labels = self.labels_of(&recording_key(recording)?);
+        let labels = self.labels_of(&self.key(recording)?);
         Ok(labels
             .events
             .iter()
@@ -169,7 +196,7 @@ impl Labels {
         py: Python<'py>,
         recording: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        to_python(py, &self.labels_of(&recording_key(recording)?).meta)
+        to_python(py, &self.labels_of(&self.key(recording)?).meta)
     }
 
     /// The per-frame mask of one range label: True where it covers a frame, shape (frames,). With a
@@ -195,8 +222,7 @@ impl Labels {
         }
         Ok(column(
             py,
-            self.labels_of(&recording_key(recording)?)
-                .mask(label, frames),
+            self.labels_of(&self.key(recording)?).mask(label, frames),
         ))
     }
 
@@ -209,7 +235,7 @@ impl Labels {
         frames: Option<usize>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let frames = frame_count(recording, frames)?;
-        let labels = self.labels_of(&recording_key(recording)?);
+        let labels = self.labels_of(&self.key(recording)?);
         let masks = PyDict::new(py);
         for def in self
             .document
@@ -233,7 +259,7 @@ impl Labels {
         end: usize,
     ) -> PyResult<bool> {
         let frames = frame_range(recording, start, end)?;
-        let recording = recording_key(recording)?;
+        let recording = self.key(recording)?;
         self.apply(Command::Paint {
             recording,
             label,
@@ -251,7 +277,7 @@ impl Labels {
         label: Option<String>,
     ) -> PyResult<bool> {
         let frames = frame_range(recording, start, end)?;
-        let recording = recording_key(recording)?;
+        let recording = self.key(recording)?;
         self.apply(Command::Erase {
             recording,
             label,
@@ -267,7 +293,7 @@ impl Labels {
         frame: usize,
     ) -> PyResult<bool> {
         let frame = event_frame(recording, frame)?;
-        let recording = recording_key(recording)?;
+        let recording = self.key(recording)?;
         self.apply(Command::AddEvent {
             recording,
             label,
@@ -282,7 +308,7 @@ impl Labels {
         label: String,
         frame: usize,
     ) -> PyResult<bool> {
-        let recording = recording_key(recording)?;
+        let recording = self.key(recording)?;
         self.apply(Command::RemoveEvent {
             recording,
             label,
@@ -299,7 +325,7 @@ impl Labels {
         field: &str,
         value: &Bound<'_, PyAny>,
     ) -> PyResult<bool> {
-        let recording = recording_key(recording)?;
+        let recording = self.key(recording)?;
         let text = || value.extract::<String>();
         let field = match field {
             "object" => MetaField::Object(text()?),
@@ -329,7 +355,7 @@ impl Labels {
 
     /// Removes every label and metadata field of a recording.
     fn clear(&mut self, recording: &Bound<'_, PyAny>) -> PyResult<bool> {
-        let recording = recording_key(recording)?;
+        let recording = self.key(recording)?;
         self.apply(Command::ClearRecording { recording })
     }
 

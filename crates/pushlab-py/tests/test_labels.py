@@ -1,6 +1,7 @@
 """pushlab.Labels: edits go through pushlab's labels document and come back unchanged everywhere."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -75,23 +76,23 @@ def test_edits_saved_from_python_reopen_unchanged(set_copy, cli):
 
 def test_painting_cuts_the_exclusive_group(set_copy):
     labels = pushlab.Labels(set_copy)
-    labels.paint("a.csv", "sticking", 0, 50)
-    labels.paint("a.csv", "slipping", 30, 80)
-    assert labels.segments("a.csv") == [("sticking", 0, 30), ("slipping", 30, 80)]
+    labels.paint("offline_000.csv", "sticking", 0, 50)
+    labels.paint("offline_000.csv", "slipping", 30, 80)
+    assert labels.segments("offline_000.csv") == [("sticking", 0, 30), ("slipping", 30, 80)]
 
 
 def test_refused_edits_raise_the_documents_message(set_copy):
     labels = pushlab.Labels(set_copy)
     with pytest.raises(pushlab.PushlabError, match="unknown label \"wobbling\""):
-        labels.paint("a.csv", "wobbling", 0, 5)
+        labels.paint("offline_000.csv", "wobbling", 0, 5)
     with pytest.raises(pushlab.PushlabError, match="point event"):
-        labels.paint("a.csv", "contact made", 0, 5)
+        labels.paint("offline_000.csv", "contact made", 0, 5)
     with pytest.raises(pushlab.PushlabError, match="not a split"):
-        labels.set_meta("a.csv", "split", "training")
+        labels.set_meta("offline_000.csv", "split", "training")
     with pytest.raises(ValueError, match=r"frames 10\.\.0: start is after end"):
-        labels.paint("a.csv", "sticking", 10, 0)
+        labels.paint("offline_000.csv", "sticking", 10, 0)
     with pytest.raises(ValueError, match=r"frames 10\.\.0: start is after end"):
-        labels.erase("a.csv", 10, 0)
+        labels.erase("offline_000.csv", 10, 0)
     with pytest.raises(pushlab.PushlabError, match="no such set folder"):
         pushlab.Labels(set_copy / "typo")
     # The field that does not fit, not a position in JSON the user never wrote.
@@ -101,30 +102,30 @@ def test_refused_edits_raise_the_documents_message(set_copy):
         labels.add_label("wobbling", kind="blob")
     assert not labels.dirty
     assert labels.add_label("wobbling", colour="#112233", group="contact mode")
-    assert labels.paint("a.csv", "wobbling", 0, 5)
+    assert labels.paint("offline_000.csv", "wobbling", 0, 5)
     labels.rename_label("wobbling", "rocking")
-    assert labels.segments("a.csv") == [("rocking", 0, 5)]
+    assert labels.segments("offline_000.csv") == [("rocking", 0, 5)]
     with pytest.raises(pushlab.PushlabError, match="is used 1 times"):
         labels.remove_label("rocking")
 
 
 def test_a_file_changed_by_another_program_is_not_overwritten(set_copy):
     labels = pushlab.Labels(set_copy)
-    labels.paint("a.csv", "contact", 0, 5)
+    labels.paint("offline_000.csv", "contact", 0, 5)
     labels.save()
     other = pushlab.Labels(set_copy)
-    other.paint("a.csv", "contact", 20, 25)
+    other.paint("offline_000.csv", "contact", 20, 25)
     other.save()
-    labels.paint("a.csv", "contact", 40, 45)
+    labels.paint("offline_000.csv", "contact", 40, 45)
     with pytest.raises(pushlab.PushlabError, match="changed"):
         labels.save()
     labels.save(overwrite=True)
-    assert pushlab.Labels(set_copy).segments("a.csv") == [("contact", 0, 5), ("contact", 40, 45)]
+    assert pushlab.Labels(set_copy).segments("offline_000.csv") == [("contact", 0, 5), ("contact", 40, 45)]
 
 
 def test_a_broken_labels_file_raises_naming_it(set_copy):
     path = set_copy / "pushlab-labels.json"
-    path.write_text('{"format": "pushlab-labels", "version": 1, "recordings": {"a.csv": {"segments": 3}}}')
+    path.write_text('{"format": "pushlab-labels", "version": 1, "recordings": {"offline_000.csv": {"segments": 3}}}')
     with pytest.raises(pushlab.PushlabError) as raised:
         pushlab.Labels(set_copy)
     assert str(path) in str(raised.value)
@@ -146,3 +147,17 @@ def test_edits_past_the_end_of_a_recording_are_refused(set_copy):
     assert labels.paint(rec, "contact", n - 5, n)
     assert labels.add_event(rec, "contact made", n - 1)
     assert labels.segments(rec) == [("contact", n - 5, n)]
+
+
+def test_a_name_that_is_no_recording_of_the_folder_is_refused(set_copy):
+    labels = pushlab.Labels(set_copy)
+    typo = '^' + re.escape(f'"offline_00.csv": no recording of that name in {set_copy} and none labelled so')
+    with pytest.raises(ValueError, match=typo):
+        labels.paint("offline_00.csv", "contact", 0, 5)
+    with pytest.raises(ValueError, match=typo):
+        labels.segments("offline_00.csv")
+    assert not labels.dirty
+    # A push of a bag or dataset in the folder is named after it, '#' and its number.
+    (set_copy / "run1.mcap").write_bytes(b"")
+    assert labels.paint("run1.mcap#002", "contact", 0, 5)
+    assert labels.segments("run1.mcap#002") == [("contact", 0, 5)]
