@@ -244,13 +244,12 @@ fn set_spec_from_args(args: &SimulateArgs) -> anyhow::Result<SetSpec> {
             _ => "--preset",
         },
     };
-    let outline = object.outline().with_context(|| match object {
-        ObjectShape::Polygon { .. } => {
-            format!("{flag}: the object is not a simple counter-clockwise outline")
-        }
-        // A box's and a preset's errors say what was expected themselves.
-        _ => flag.to_owned(),
-    })?;
+    let outline = object
+        .outline()
+        .with_context(|| match object.outline_expected() {
+            Some(expected) => format!("{flag}: the object is not {expected}"),
+            None => flag.to_owned(),
+        })?;
     let pusher_radius = args.pusher_radius.unwrap_or(match &object {
         ObjectShape::Preset(p) => PushT::AGENT_RADIUS_PX * p.metres_per_px,
         _ => 0.175,

@@ -146,7 +146,7 @@ fn name_text(ui: &egui::Ui, name: &str, row: &Row<'_>) -> egui::text::LayoutJob 
         let warn = egui::TextFormat::simple(font.clone(), ui.visuals().warn_fg_color);
         job.append("! ", 0.0, warn);
     }
-    // The placeholder takes the button's own colour, selected or not.
+    // Color32::PLACEHOLDER: egui draws the name in the button's own colour, selected or not.
     job.append(
         name,
         0.0,

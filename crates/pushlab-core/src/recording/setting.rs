@@ -69,6 +69,16 @@ impl ObjectShape {
             (ObjectShape::Preset(_), _) => Some("preset"),
         }
     }
+
+    /// What an outline of this shape was expected to be, for an error of [`ObjectShape::outline`]
+    /// to add: a polygon's errors say what is wrong with its vertices; a box's and a preset's say
+    /// what was expected themselves (`None`).
+    pub fn outline_expected(&self) -> Option<&'static str> {
+        match self {
+            ObjectShape::Polygon { .. } => Some("a simple counter-clockwise outline"),
+            ObjectShape::Box { .. } | ObjectShape::Preset(_) => None,
+        }
+    }
 }
 
 /// A box's footprint as a command line writes it, `WIDTHxLENGTH` in metres (`0.3x0.4`): width along

@@ -82,7 +82,8 @@ impl TopicTable {
 
 /// Lists the topics of a bag with their types, message counts and log-time span. Only the messages
 /// of TF topics (for their child frames) and each camera's first frame (for its encoding and size)
-/// are read; the counts come from the files' indexes.
+/// are read; the counts come from the files' indexes (from reading a file through when it has
+/// none: cut short).
 pub fn topics(path: &Path) -> Result<BagListing, LoadError> {
     topics_in(path, &bag_files(path)?, None)
 }

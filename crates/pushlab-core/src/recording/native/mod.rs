@@ -17,7 +17,7 @@ pub use self::problem::{CSV_HEADER, CsvProblem};
 use super::camera::CameraStream;
 use super::error::{LoadError, WriteError};
 use super::read::read_file;
-use super::{ObjectShape, Recording, RecordingSet, Setting};
+use super::{Recording, RecordingSet, Setting};
 use crate::geometry::{Pose2, unwrap_angles};
 use crate::json_problem;
 use crate::trajectory::{Frame, Trajectory};
@@ -201,13 +201,9 @@ pub(crate) fn check_setting(setting: &Setting) -> Result<(), (String, String)> {
             Some(below) => format!("object.{below}"),
             None => "object".to_owned(),
         };
-        // A box's and a preset's errors say what was expected themselves; a polygon's say what is
-        // wrong with its vertices.
-        let problem = match setting.object {
-            ObjectShape::Polygon { .. } => {
-                format!("{e}, expected a simple counter-clockwise outline")
-            }
-            _ => e.to_string(),
+        let problem = match setting.object.outline_expected() {
+            Some(expected) => format!("{e}, expected {expected}"),
+            None => e.to_string(),
         };
         return field(&name, problem);
     }

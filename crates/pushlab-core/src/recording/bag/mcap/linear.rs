@@ -45,28 +45,15 @@ pub(super) fn read<S: Source + ?Sized>(
 /// that is not whole, reading the header of each chunk. What [`read_records`] then finds wrong
 /// with a chunk is its to say.
 fn chunks_of<S: Source + ?Sized>(source: &S) -> Vec<ChunkIndex> {
-    /// Enough of a chunk's body for its header with a compression name of up to 64 bytes.
-    const HEADER_READ: u64 = 8 + 8 + 8 + 4 + 4 + 64 + 8;
+    // Enough of a chunk's body for its header with a compression name of up to 64 bytes.
+    let header_read = records::chunk_header_len(64);
     let mut chunks = Vec::new();
     let mut at = MAGIC.len() as u64;
-    loop {
-        let mut header = [0u8; RECORD_HEADER as usize];
-        if at + RECORD_HEADER > source.len() || source.read_at(at, &mut header).is_err() {
-            break;
-        }
-        let len = u64::from_le_bytes([
-            header[1], header[2], header[3], header[4], header[5], header[6], header[7], header[8],
-        ]);
-        let Some(end) = (at + RECORD_HEADER)
-            .checked_add(len)
-            .filter(|&end| end <= source.len())
-        else {
-            break;
-        };
-        match header[0] {
+    while let Record::Whole { op, len } = record_at(source, at) {
+        match op {
             OP_DATA_END | OP_FOOTER => break,
             OP_CHUNK => {
-                let body = source.read_vec(at + RECORD_HEADER, len.min(HEADER_READ));
+                let body = source.read_vec(at + RECORD_HEADER, len.min(header_read));
                 let Some(chunk) = body.ok().as_deref().and_then(records::chunk_header) else {
                     break;
                 };
@@ -82,9 +69,40 @@ fn chunks_of<S: Source + ?Sized>(source: &S) -> Vec<ChunkIndex> {
             }
             _ => {}
         }
-        at = end;
+        at += RECORD_HEADER + len;
     }
     chunks
+}
+
+/// A record as its header says, read at where it starts.
+enum Record {
+    /// Its header and body lie within the file.
+    Whole { op: u8, len: u64 },
+    /// The file ends inside its header (or it cannot be read).
+    HeaderCut,
+    /// Its body runs past the file's end.
+    BodyCut { op: u8, len: u64 },
+}
+
+/// The record starting at byte `at`: the one reading of a record's header, so that the walk for
+/// the chunks ahead and the pass over the records stop at the same place.
+fn record_at<S: Source + ?Sized>(source: &S, at: u64) -> Record {
+    let mut header = [0u8; RECORD_HEADER as usize];
+    if at + RECORD_HEADER > source.len() || source.read_at(at, &mut header).is_err() {
+        return Record::HeaderCut;
+    }
+    let op = header[0];
+    let len = u64::from_le_bytes([
+        header[1], header[2], header[3], header[4], header[5], header[6], header[7], header[8],
+    ]);
+    let whole = (at + RECORD_HEADER)
+        .checked_add(len)
+        .is_some_and(|end| end <= source.len());
+    if whole {
+        Record::Whole { op, len }
+    } else {
+        Record::BodyCut { op, len }
+    }
 }
 
 /// The records in order, chunks taken decompressed from `prefetched` when it has them.
@@ -107,33 +125,26 @@ fn read_records<S: Source + ?Sized>(
             file_len: source.len(),
             messages_lost,
         };
-        let mut header = [0u8; RECORD_HEADER as usize];
-        if at + RECORD_HEADER > source.len() || source.read_at(at, &mut header).is_err() {
-            if !pass.channels.is_empty() {
-                break Some(cut(at < source.len()));
+        let (op, len) = match record_at(source, at) {
+            Record::Whole { op, len } => (op, len),
+            Record::HeaderCut if !pass.channels.is_empty() => break Some(cut(at < source.len())),
+            Record::HeaderCut => {
+                return Err(BagProblem::Mcap(format!(
+                    "the file ends at byte {} before its data-end record: it is cut short (a \
+                     recording that did not finish?)",
+                    source.len()
+                )));
             }
-            return Err(BagProblem::Mcap(format!(
-                "the file ends at byte {} before its data-end record: it is cut short (a recording \
-                 that did not finish?)",
-                source.len()
-            )));
-        }
-        let op = header[0];
-        let len = u64::from_le_bytes([
-            header[1], header[2], header[3], header[4], header[5], header[6], header[7], header[8],
-        ]);
-        let body_start = at + RECORD_HEADER;
-        if body_start
-            .checked_add(len)
-            .is_none_or(|end| end > source.len())
-        {
-            if !pass.channels.is_empty() {
+            Record::BodyCut { op, .. } if !pass.channels.is_empty() => {
                 break Some(cut(matches!(op, OP_CHUNK | OP_MESSAGE)));
             }
-            return Err(BagProblem::Mcap(format!(
-                "a record at byte {at} claims {len} bytes, past the end of the file"
-            )));
-        }
+            Record::BodyCut { len, .. } => {
+                return Err(BagProblem::Mcap(format!(
+                    "a record at byte {at} claims {len} bytes, past the end of the file"
+                )));
+            }
+        };
+        let body_start = at + RECORD_HEADER;
         match op {
             OP_DATA_END | OP_FOOTER => break None,
             OP_SCHEMA | OP_CHANNEL => {
