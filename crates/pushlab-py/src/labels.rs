@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use numpy::PyArray1;
+use pushlab_core::labels::pipeline::key_names_a_recording_in;
 use pushlab_core::labels::{
     Command, LabelDef, LabelDocument, LabelKind, MetaField, RecordingLabels, Split,
 };
@@ -35,13 +36,6 @@ fn recording_key(recording: &Bound<'_, PyAny>) -> PyResult<String> {
             "expected a Recording or a recording's file name (e.g. \"push_003.csv\")",
         )
     })
-}
-
-/// Whether `key` can name a recording of `folder`: a file there, or a push of a bag or dataset
-/// there (`run1.mcap#003`, `pusht#episode_000005`: the part before `#`).
-fn names_a_recording_in(folder: &std::path::Path, key: &str) -> bool {
-    let file = key.split_once('#').map_or(key, |(file, _)| file);
-    !file.is_empty() && (folder.join(key).exists() || folder.join(file).exists())
 }
 
 /// The recording's frame count when it is given as a `Recording`; a file name alone does not say.
@@ -100,7 +94,7 @@ impl Labels {
         let folder = (self.document.path().parent())
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or(std::path::Path::new("."));
-        if names_a_recording_in(folder, &key) {
+        if key_names_a_recording_in(folder, &key) {
             return Ok(key);
         }
         Err(PyValueError::new_err(format!(

@@ -19,6 +19,14 @@ pub fn key_of(recording_path: &Path) -> Option<String> {
         .map(|n| n.to_string_lossy().into_owned())
 }
 
+/// Whether `key` can be the labels key (see [`key_of`]) of a recording in `folder`: a file there,
+/// or a push of a bag or dataset there, whose source is the bag's or dataset's path, `#` and the
+/// push (`run1.mcap#003`, `pusht#episode_000005`).
+pub fn key_names_a_recording_in(folder: &Path, key: &str) -> bool {
+    let file = key.split_once('#').map_or(key, |(file, _)| file);
+    !file.is_empty() && (folder.join(key).exists() || folder.join(file).exists())
+}
+
 /// The labels file that describes the recording at `recording_path` (beside it).
 pub fn labels_file_beside(recording_path: &Path) -> PathBuf {
     file::path_in(recording_path.parent().unwrap_or(Path::new(".")))
