@@ -24,6 +24,7 @@ pub mod labels;
 pub mod learn;
 pub mod model;
 pub mod model_file;
+mod parallel;
 pub mod pattern;
 mod real;
 pub mod recording;

@@ -110,7 +110,7 @@ pub fn train_contact(
     // Online gradient descent's step scales per metre of each object's `θ_online(0)` `h`: the
     // Gauss–Newton diagonal of the loss in `θ_online / h₀` over the training samples, as the paper
     // model calibrates its scales in metres.
-    let curvature = model.theta_curvature(&prepared.train, &mut trainee.batch);
+    let curvature = model.theta_curvature(&prepared.train);
     model.relative_theta_scales = scales_from_curvature(curvature, prepared.train.len(), 1.0);
     Ok(Trained { model, report })
 }

@@ -10,6 +10,7 @@ use super::pass::{OuterGradient, OuterPass, Prepared};
 use super::{CONTACT_INPUTS, ContactModel};
 use crate::model::kernel::{loss_gradient, loss_weights};
 use crate::model::mlp::{BATCH, BatchActivations, HIDDEN, Mlp, OUTPUTS};
+use crate::parallel;
 use crate::real::Real;
 use crate::simd::{MulAdd, Unfused};
 
@@ -162,25 +163,60 @@ impl<T: Real> ContactModel<T> {
         total
     }
 
+    /// The Gauss–Newton diagonal of the loss in `θ_online / h₀` summed over `samples` (each
+    /// sample's `h₀` is its `θ_online(0)`'s): what the online step scales are calibrated from.
+    /// Summed in the order of the single-sample passes this replaced (sample, output, component), so
+    /// the stored scales keep their bits; the later samples' terms are computed on the machine's
+    /// other cores ([`parallel`]), which halves the pass on two.
+    pub(crate) fn theta_curvature(&self, samples: &[TrainingSample<T>]) -> [f64; 3]
+    where
+        T: Sync,
+    {
+        let mut curvature = [0.0f64; 3];
+        let add = |curvature: &mut [f64; 3], terms: [[f64; 3]; 3]| {
+            for output in terms {
+                for (c, term) in curvature.iter_mut().zip(output) {
+                    *c += term;
+                }
+            }
+        };
+        let later = parallel::first_here_rest_elsewhere(
+            samples,
+            parallel::SAMPLES_PER_WORKER,
+            |first| {
+                let sum = &mut |terms| add(&mut curvature, terms);
+                self.theta_curvature_terms(first, &mut Box::default(), sum);
+            },
+            |part| {
+                let mut terms = Vec::with_capacity(part.len());
+                self.theta_curvature_terms(part, &mut Box::default(), &mut |t| terms.push(t));
+                terms
+            },
+        );
+        for terms in later.into_iter().flatten() {
+            add(&mut curvature, terms);
+        }
+        curvature
+    }
+
     crate::simd::dispatch_simd! {
-        /// The Gauss–Newton diagonal of the loss in `θ_online / h₀` summed over `samples` (each
-        /// sample's `h₀` is its `θ_online(0)`'s): what the online step scales are calibrated from.
-        /// Unfused and summed in the order of the single-sample passes it replaced (sample, output,
-        /// component), so the stored scales keep their bits; run in the AVX2 copy for its wider
-        /// registers.
-        pub(crate) fn theta_curvature(&self, samples: &[TrainingSample<T>], batch: &mut BatchPass<T>)
-            -> [f64; 3] => unfused theta_curvature_portable, theta_curvature_avx2
+        /// Each sample's terms of [`ContactModel::theta_curvature`], by output and component, handed
+        /// to `each` in sample order. Unfused, as the single-sample passes it replaced; run in the
+        /// AVX2 copy for its wider registers.
+        fn theta_curvature_terms(&self, samples: &[TrainingSample<T>], batch: &mut BatchPass<T>,
+            each: &mut dyn FnMut([[f64; 3]; 3])) -> () => unfused
+            theta_curvature_terms_portable, theta_curvature_terms_avx2
     }
 
     #[inline(always)]
-    fn theta_curvature_portable(
+    fn theta_curvature_terms_portable(
         &self,
         samples: &[TrainingSample<T>],
         batch: &mut BatchPass<T>,
-    ) -> [f64; 3] {
+        each: &mut dyn FnMut([[f64; 3]; 3]),
+    ) {
         let weights = loss_weights::<T>(&self.loss_scale);
         let state = &mut batch.state;
-        let mut curvature = [0.0f64; 3];
         let mut rows = [[[T::zero(); 3]; 3]; BATCH];
         for chunk in samples.chunks(BATCH) {
             self.forward_network_batch::<Unfused, Unfused>(chunk, state);
@@ -221,15 +257,14 @@ impl<T: Real> ContactModel<T> {
             }
             for (s, sample_rows) in chunk.iter().zip(&rows) {
                 let h0 = s.theta[2].as_f64();
-                for (w, row) in weights.iter().zip(sample_rows) {
-                    for (c, j) in curvature.iter_mut().zip(row) {
+                each(std::array::from_fn(|k| {
+                    sample_rows[k].map(|j| {
                         let j = j.as_f64() * h0;
-                        *c += 2.0 * w.as_f64() * j * j;
-                    }
-                }
+                        2.0 * weights[k].as_f64() * j * j
+                    })
+                }));
             }
         }
-        curvature
     }
 }
 

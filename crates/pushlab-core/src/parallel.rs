@@ -1,0 +1,93 @@
+//! Work over many independent items spread over the machine's cores, in a way that keeps every bit
+//! of a result whatever the number of cores.
+//!
+//! A sum over samples is the one place where running in parallel could change a result: added in
+//! another order, floating-point terms round differently. So the items are cut into contiguous
+//! slices; this thread works through the first, adding as it goes, while other threads compute the
+//! later slices' per-item terms and hand them back to be added afterwards in order. The sum is then
+//! the serial one, term for term.
+//!
+//! Only passes whose per-item work outweighs a thread's start pay for this: on this project's
+//! 2-core virtual machine, a thread costs about 50 µs to start and join, and a pass that mostly
+//! writes fresh memory (a sample's contact frame, its prepared form) gained nothing (measured with
+//! `train/train_epoch_contact`, `performance.md`).
+
+use std::sync::OnceLock;
+
+/// The fewest training samples a thread takes in offline training's per-sample passes (about
+/// 0.4 ms of the curvature pass's work).
+pub(crate) const SAMPLES_PER_WORKER: usize = 2048;
+
+/// How many threads to use: the cores this process may run on, read once (reading them opens files
+/// under `/sys` and `/proc` on Linux, a cost every training would pay again).
+fn workers() -> usize {
+    static WORKERS: OnceLock<usize> = OnceLock::new();
+    *WORKERS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}
+
+/// Runs `first` on this thread over the first slice of `items` and `rest` on other threads over the
+/// remaining slices, one thread each, every slice at least `min_slice` items (fewer items go to
+/// `first` alone); returns `rest`'s results in the slices' order. Up to [`workers`] slices.
+pub(crate) fn first_here_rest_elsewhere<T, R, F, G>(
+    items: &[T],
+    min_slice: usize,
+    first: F,
+    rest: G,
+) -> Vec<R>
+where
+    T: Sync,
+    R: Send,
+    F: FnOnce(&[T]),
+    G: Fn(&[T]) -> R + Sync,
+{
+    let count = workers().min(items.len() / min_slice.max(1)).max(1);
+    if count == 1 {
+        first(items);
+        return Vec::new();
+    }
+    let (here, elsewhere) = items.split_at(items.len().div_ceil(count));
+    let rest = &rest;
+    std::thread::scope(|scope| {
+        let others: Vec<_> = elsewhere
+            .chunks(here.len())
+            .map(|part| scope.spawn(move || rest(part)))
+            .collect();
+        first(here);
+        others
+            .into_iter()
+            .map(|other| match other.join() {
+                Ok(result) => result,
+                // A thread panics only if `rest` does, which this thread would have too: pass it on.
+                Err(panic) => std::panic::resume_unwind(panic),
+            })
+            .collect()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slices_cover_the_items_once_in_order() {
+        let items: Vec<u64> = (0..10_007).collect();
+        for min_slice in [1, 100, 5_000, 20_000] {
+            let mut seen = Vec::new();
+            let rest = first_here_rest_elsewhere(
+                &items,
+                min_slice,
+                |part| seen.extend_from_slice(part),
+                <[u64]>::to_vec,
+            );
+            let first_len = seen.len();
+            seen.extend(rest.into_iter().flatten());
+            assert_eq!(seen, items, "min_slice {min_slice}");
+            if min_slice > items.len() / 2 {
+                assert_eq!(first_len, items.len(), "too few items to share");
+            }
+        }
+        let none =
+            first_here_rest_elsewhere(&[] as &[u64], 1, |part| assert!(part.is_empty()), |_| 0);
+        assert!(none.is_empty());
+    }
+}
