@@ -193,7 +193,7 @@ fn width(column: Column) -> TableColumn {
         Column::Online | Column::Fixed => 44.0,
         Column::Shape => 56.0,
         Column::Surface => 46.0,
-        Column::Position => 50.0,
+        Column::Position => 58.0,
         Column::Side | Column::Angle | Column::Speed | Column::MitPosition => 38.0,
         Column::MitSide => 30.0,
         Column::Set => 120.0,
