@@ -42,7 +42,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         });
     });
     ui.label("Recordings to train on (frames labelled bad tracking are left out):");
-    ui.horizontal(|ui| {
+    // Wrapped: the four buttons are wider than a narrow Tools panel.
+    ui.horizontal_wrapped(|ui| {
         if ui.small_button("All").clicked() {
             commands.push(Command::Training(TrainingCommand::Choose(
                 TrainingChoice::All,
@@ -60,7 +61,27 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         {
             commands.push(Command::Training(TrainingCommand::ChooseOfflineLabelled));
         }
+        if ui
+            .small_button("Shown in the browser")
+            .on_hover_text(
+                "the recordings the Recordings list shows under its filter (type a shape, a \
+                 setting or a split there, e.g. \"hex\" or \"ellip1 offline\"), in place of the choice",
+            )
+            .clicked()
+        {
+            commands.push(Command::Training(TrainingCommand::Choose(
+                TrainingChoice::ShownInBrowser,
+            )));
+        }
     });
+    ui.label(
+        egui::RichText::new(format!(
+            "{} of {} chosen",
+            state.training().chosen.len(),
+            state.session().recording_count()
+        ))
+        .weak(),
+    );
     egui::ScrollArea::vertical()
         .id_salt("train-choice")
         .max_height(140.0)

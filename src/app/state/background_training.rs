@@ -48,6 +48,8 @@ pub enum TrainingChoice {
     All,
     /// None.
     None,
+    /// The recordings the browser shows under its filter, in place of the choice.
+    ShownInBrowser,
     /// Choose one recording (`true`) or leave it out.
     Set(RecordingId, bool),
 }

@@ -65,6 +65,7 @@ impl AppState {
         match choice {
             TrainingChoice::All => chosen.extend(self.session.recordings().map(|(id, _)| id)),
             TrainingChoice::None => chosen.clear(),
+            TrainingChoice::ShownInBrowser => self.choose_shown_in_browser(),
             TrainingChoice::Set(id, true) if self.session.get(id).is_some() => {
                 chosen.insert(id);
             }
@@ -72,6 +73,19 @@ impl AppState {
                 chosen.remove(&id);
             }
         }
+    }
+
+    /// Chooses for training the recordings the browser's filter shows ("hex", "ellip1 online"):
+    /// one shape of a dataset, one setting, one split, without ticking each.
+    fn choose_shown_in_browser(&mut self) {
+        let shown: Vec<RecordingId> = self.browser_rows().iter().map(|row| row.id).collect();
+        let filter = self.settings.browser.filter.trim();
+        self.status = Some(match (shown.len(), filter.is_empty()) {
+            (0, _) => format!("the browser shows no recording under the filter \"{filter}\""),
+            (n, true) => format!("chose all {n} recordings (the browser has no filter)"),
+            (n, false) => format!("chose the {n} recordings the filter \"{filter}\" shows"),
+        });
+        self.training.chosen = shown.into_iter().collect();
     }
 
     /// Chooses for training the recordings in the offline split.
@@ -83,5 +97,68 @@ impl AppState {
             format!("chose the {} recordings labelled offline", offline.len())
         });
         self.training.chosen = offline.into_iter().collect();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::app::state::browser::BrowserCommand;
+    use crate::app::state::models::Models;
+    use crate::app::state::{AppState, Command, Persisted, TrainingCommand};
+
+    use super::TrainingChoice;
+
+    fn filter_and_choose(state: &mut AppState, filter: &str) -> Vec<(String, String)> {
+        state.apply(Command::Browser(BrowserCommand::SetFilter(filter.into())));
+        state.apply(Command::Training(TrainingCommand::Choose(
+            TrainingChoice::ShownInBrowser,
+        )));
+        let mut chosen: Vec<(String, String)> = (state.training.chosen.iter())
+            .map(|&id| {
+                let set = &state.session.sets[id.set].setting.name;
+                (
+                    set.clone(),
+                    state.session.get(id).expect("open").name.clone(),
+                )
+            })
+            .collect();
+        chosen.sort();
+        chosen
+    }
+
+    #[test]
+    fn the_browser_filter_chooses_what_it_shows_in_place_of_the_choice() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data");
+        let mut state = AppState::new(Persisted::default(), Models::default());
+        state.open_blocking(&[dir]);
+        state.apply(Command::Training(TrainingCommand::Choose(
+            TrainingChoice::All,
+        )));
+
+        let chosen = filter_and_choose(&mut state, "online box2");
+        // Three box2 settings with nine online pushes each, and nothing else.
+        assert_eq!(chosen.len(), 27, "{chosen:?}");
+        assert!(
+            (chosen.iter())
+                .all(|(set, name)| set.starts_with("box2") && name.starts_with("online_"))
+        );
+        assert_eq!(
+            state.status.as_deref(),
+            Some("chose the 27 recordings the filter \"online box2\" shows")
+        );
+
+        assert!(filter_and_choose(&mut state, "no-such-push").is_empty());
+        assert_eq!(
+            state.status.as_deref(),
+            Some("the browser shows no recording under the filter \"no-such-push\"")
+        );
+
+        assert_eq!(filter_and_choose(&mut state, " ").len(), 324);
+        assert_eq!(
+            state.status.as_deref(),
+            Some("chose all 324 recordings (the browser has no filter)")
+        );
     }
 }
