@@ -262,3 +262,40 @@ fn eval_reports_a_finite_theta_and_finite_losses_at_lr_10_and_1e6_on_real_mit_pu
     }
     std::fs::remove_dir_all(&out_dir).ok();
 }
+
+#[test]
+fn train_takes_adams_learning_rate_into_the_model_file_and_refuses_a_bad_one() {
+    let dir = cli_common::temp_dir("pushlab-models", "adam-lr");
+    let model = dir.join("slow.json");
+    let train = |lr: &str| {
+        pushlab(&[
+            "train",
+            "--data",
+            &sample("offline_000.csv"),
+            &sample("offline_001.csv"),
+            "--epochs",
+            "1",
+            "--no-com-calibration",
+            "--adam-lr",
+            lr,
+            "--out",
+            &model.display().to_string(),
+        ])
+    };
+    let run = train("0.001");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    assert_eq!(
+        file.pointer("/training/report/config/learning_rate"),
+        Some(&json!(0.001))
+    );
+    for bad in ["0", "inf", "fast"] {
+        let run = train(bad);
+        assert_eq!(run.code, 2, "--adam-lr {bad}: {}", run.stderr);
+        assert!(
+            run.stderr.contains("--adam-lr") && run.stderr.contains(&format!("{bad:?}")),
+            "{}",
+            run.stderr
+        );
+    }
+}

@@ -19,6 +19,9 @@ pub struct TrainingArgs {
     /// Stop after this many epochs without a better validation loss; 0 never stops early.
     #[arg(long, value_name = "N", default_value_t = 15)]
     pub patience: usize,
+    /// Adam's learning rate in offline training (the paper: 0.005), as the app's Train tab sets it.
+    #[arg(long, value_name = "LR", default_value_t = 0.005, value_parser = positive_real)]
+    pub adam_lr: f64,
     /// Take from the given paths only the recordings whose split (in their folder's labels file, or
     /// else in setting.json) matches the role: offline for --data and --offline, online for --online.
     #[arg(long)]

@@ -103,6 +103,7 @@ pub fn train_config(
         epochs: args.epochs,
         seed: args.seed,
         patience: args.patience,
+        learning_rate: args.adam_lr,
         horizon,
         ..TrainConfig::default()
     }
