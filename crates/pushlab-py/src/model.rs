@@ -43,7 +43,8 @@ impl Model {
         Ok(Self { file })
     }
 
-    /// Trains a combined model on recordings, as `pushlab train` does: Adam at 0.005, batches of 32,
+    /// Trains a combined model on recordings, as `pushlab train` does: Adam at `adam_lr` (default
+    /// 0.005), batches of 32,
     /// stopping early when the validation loss stops improving for `patience` epochs; samples on
     /// frames labelled bad tracking left out, recordings without a sample at `horizon` skipped.
     /// `kind` is "contact" (default) or "paper"; with `baseline=True` the pure network is trained
@@ -53,7 +54,7 @@ impl Model {
     /// defaults (`pushlab train --help`).
     /// Ctrl-C stops training at the end of an epoch and raises KeyboardInterrupt.
     #[staticmethod]
-    #[pyo3(signature = (recordings, *, kind=None, horizon=None, epochs=None, seed=None, patience=None, baseline=false, com_calibration=true))]
+    #[pyo3(signature = (recordings, *, kind=None, horizon=None, epochs=None, seed=None, patience=None, adam_lr=None, baseline=false, com_calibration=true))]
     #[allow(clippy::too_many_arguments)]
     fn train(
         py: Python<'_>,
@@ -63,6 +64,7 @@ impl Model {
         epochs: Option<usize>,
         seed: Option<u64>,
         patience: Option<usize>,
+        adam_lr: Option<f64>,
         baseline: bool,
         com_calibration: bool,
     ) -> PyResult<Self> {
@@ -85,6 +87,7 @@ impl Model {
             epochs: epochs.unwrap_or(defaults.epochs),
             seed: seed.unwrap_or(defaults.seed),
             patience: patience.unwrap_or(defaults.patience),
+            learning_rate: adam_lr.unwrap_or(defaults.learning_rate),
             horizon,
             ..defaults
         };

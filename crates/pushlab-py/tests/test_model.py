@@ -217,6 +217,13 @@ def test_bad_options_raise(model_file):
     # No epoch would be the random initial network, not a model.
     with pytest.raises(pushlab.PushlabError, match="epochs must be at least 1"):
         pushlab.Model.train([recording], epochs=0)
+    with pytest.raises(pushlab.PushlabError, match="learning rate must be positive, got -0.01"):
+        pushlab.Model.train([recording], adam_lr=-0.01)
+
+
+def test_adams_learning_rate_goes_into_the_training_report():
+    model = pushlab.Model.train(pushlab.load(OFFLINE)[:2], epochs=1, adam_lr=0.001, com_calibration=False)
+    assert model.training["report"]["config"]["learning_rate"] == 0.001
 
 
 def test_a_bad_model_file_raises_naming_the_file_and_field(model_file, tmp_path):

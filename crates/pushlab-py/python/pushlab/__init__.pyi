@@ -167,6 +167,7 @@ class Model:
         epochs: Optional[int] = None,
         seed: Optional[int] = None,
         patience: Optional[int] = None,
+        adam_lr: Optional[float] = None,
         baseline: bool = False,
         com_calibration: bool = True,
     ) -> "Model": ...
