@@ -64,6 +64,37 @@ where
     })
 }
 
+/// The sum over `items` of their terms, term for term the serial sum whatever the number of cores:
+/// `terms` hands each item's terms of a slice, in the slice's order, to the function it is given;
+/// `add` adds one to the total. This thread adds the first slice's as they come; the later slices'
+/// are computed elsewhere, kept, and added after it in order.
+pub(crate) fn ordered_sum<T, Term, Total>(
+    items: &[T],
+    min_slice: usize,
+    mut total: Total,
+    add: impl Fn(&mut Total, Term),
+    terms: impl Fn(&[T], &mut dyn FnMut(Term)) + Sync,
+) -> Total
+where
+    T: Sync,
+    Term: Send,
+{
+    let later = first_here_rest_elsewhere(
+        items,
+        min_slice,
+        |first| terms(first, &mut |term| add(&mut total, term)),
+        |part| {
+            let mut kept = Vec::with_capacity(part.len());
+            terms(part, &mut |term| kept.push(term));
+            kept
+        },
+    );
+    for term in later.into_iter().flatten() {
+        add(&mut total, term);
+    }
+    total
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,5 +120,29 @@ mod tests {
         let none =
             first_here_rest_elsewhere(&[] as &[u64], 1, |part| assert!(part.is_empty()), |_| 0);
         assert!(none.is_empty());
+    }
+
+    #[test]
+    fn an_ordered_sum_has_the_bits_of_the_serial_one() {
+        // Terms of very different sizes: any other order of addition rounds differently.
+        let items: Vec<f64> = (0..9_001)
+            .map(|i| 1.0 / f64::from(i + 1) * 1e3_f64.powi(i % 5))
+            .collect();
+        let serial = items.iter().fold(0.0, |total, x| total + x * x);
+        let sum = ordered_sum(
+            &items,
+            1_000,
+            0.0,
+            |total: &mut f64, t| *total += t,
+            |part, each| part.iter().for_each(|x| each(x * x)),
+        );
+        assert_eq!(sum.to_bits(), serial.to_bits());
+        let halves = items[..4_500].iter().fold(0.0, |t, x| t + x * x)
+            + items[4_500..].iter().fold(0.0, |t, x| t + x * x);
+        assert_ne!(
+            halves.to_bits(),
+            serial.to_bits(),
+            "the test's terms must be order-sensitive"
+        );
     }
 }

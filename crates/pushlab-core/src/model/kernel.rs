@@ -5,8 +5,32 @@
 use super::params::{COM_OFFSET_MAX, H_MAX, H_MIN, OnlineParams};
 use super::{Prediction, Sample};
 use crate::model::LossScale;
+use crate::parallel;
 use crate::real::Real;
 use crate::simd::MulAdd;
+
+/// One sample's terms `2 w_k (∂ŷ_k/∂θ_i)²` of the Gauss–Newton diagonal of the loss in `θ_online`,
+/// by output `k` and component `i`: what the online step scales are calibrated from.
+pub(crate) type CurvatureTerms = [[f64; 3]; 3];
+
+/// The Gauss–Newton diagonal over `samples`, from each sample's [`CurvatureTerms`] as `terms` hands
+/// them over, slice by slice in sample order: added by sample, output and component, the order of
+/// the single-sample passes the kinds calibrated with first, so the stored scales keep their bits,
+/// while the later samples' terms are computed on the machine's other cores
+/// ([`parallel::ordered_sum`]).
+pub(crate) fn curvature_sum<S: Sync>(
+    samples: &[S],
+    terms: impl Fn(&[S], &mut dyn FnMut(CurvatureTerms)) + Sync,
+) -> [f64; 3] {
+    let add = |curvature: &mut [f64; 3], terms: CurvatureTerms| {
+        for output in terms {
+            for (c, term) in curvature.iter_mut().zip(output) {
+                *c += term;
+            }
+        }
+    };
+    parallel::ordered_sum(samples, parallel::SAMPLES_PER_WORKER, [0.0; 3], add, terms)
+}
 
 /// A sample converted once to the model's float type: `[p_x, p_y, u_x, u_y]` and
 /// `[Δp_x, Δp_y, Δω]`.

@@ -8,9 +8,8 @@
 
 use super::pass::{OuterGradient, OuterPass, Prepared};
 use super::{CONTACT_INPUTS, ContactModel};
-use crate::model::kernel::{loss_gradient, loss_weights};
+use crate::model::kernel::{CurvatureTerms, curvature_sum, loss_gradient, loss_weights};
 use crate::model::mlp::{BATCH, BatchActivations, HIDDEN, Mlp, OUTPUTS};
-use crate::parallel;
 use crate::real::Real;
 use crate::simd::{MulAdd, Unfused};
 
@@ -164,39 +163,16 @@ impl<T: Real> ContactModel<T> {
     }
 
     /// The Gauss–Newton diagonal of the loss in `θ_online / h₀` summed over `samples` (each
-    /// sample's `h₀` is its `θ_online(0)`'s): what the online step scales are calibrated from.
-    /// Summed in the order of the single-sample passes this replaced (sample, output, component), so
-    /// the stored scales keep their bits; the later samples' terms are computed on the machine's
-    /// other cores ([`parallel`]), which halves the pass on two.
+    /// sample's `h₀` is its `θ_online(0)`'s): what the online step scales are calibrated from. The
+    /// bits of the single-sample passes this replaced, with the later samples on the machine's other
+    /// cores ([`curvature_sum`]): half the time on two.
     pub(crate) fn theta_curvature(&self, samples: &[TrainingSample<T>]) -> [f64; 3]
     where
         T: Sync,
     {
-        let mut curvature = [0.0f64; 3];
-        let add = |curvature: &mut [f64; 3], terms: [[f64; 3]; 3]| {
-            for output in terms {
-                for (c, term) in curvature.iter_mut().zip(output) {
-                    *c += term;
-                }
-            }
-        };
-        let later = parallel::first_here_rest_elsewhere(
-            samples,
-            parallel::SAMPLES_PER_WORKER,
-            |first| {
-                let sum = &mut |terms| add(&mut curvature, terms);
-                self.theta_curvature_terms(first, &mut Box::default(), sum);
-            },
-            |part| {
-                let mut terms = Vec::with_capacity(part.len());
-                self.theta_curvature_terms(part, &mut Box::default(), &mut |t| terms.push(t));
-                terms
-            },
-        );
-        for terms in later.into_iter().flatten() {
-            add(&mut curvature, terms);
-        }
-        curvature
+        curvature_sum(samples, |part, each| {
+            self.theta_curvature_terms(part, &mut Box::default(), each)
+        })
     }
 
     crate::simd::dispatch_simd! {
@@ -204,7 +180,7 @@ impl<T: Real> ContactModel<T> {
         /// to `each` in sample order. Unfused, as the single-sample passes it replaced; run in the
         /// AVX2 copy for its wider registers.
         fn theta_curvature_terms(&self, samples: &[TrainingSample<T>], batch: &mut BatchPass<T>,
-            each: &mut dyn FnMut([[f64; 3]; 3])) -> () => unfused
+            each: &mut dyn FnMut(CurvatureTerms)) -> () => unfused
             theta_curvature_terms_portable, theta_curvature_terms_avx2
     }
 
@@ -213,7 +189,7 @@ impl<T: Real> ContactModel<T> {
         &self,
         samples: &[TrainingSample<T>],
         batch: &mut BatchPass<T>,
-        each: &mut dyn FnMut([[f64; 3]; 3]),
+        each: &mut dyn FnMut(CurvatureTerms),
     ) {
         let weights = loss_weights::<T>(&self.loss_scale);
         let state = &mut batch.state;

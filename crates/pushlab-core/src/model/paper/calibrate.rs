@@ -4,7 +4,7 @@
 use super::PaperModel;
 use super::batch::BatchPass;
 use crate::model::Sample;
-use crate::model::kernel::{RealSample, loss_weights, theta_real};
+use crate::model::kernel::{CurvatureTerms, RealSample, curvature_sum, loss_weights, theta_real};
 use crate::model::mlp::{BATCH, HIDDEN, OUTPUTS};
 use crate::model::tail::TailPass;
 use crate::real::Real;
@@ -22,17 +22,31 @@ impl<T: Real> PaperModel<T> {
         self.theta_scales = scales_from_curvature(curvature, samples.len(), fallback);
     }
 
+    /// `Σ_samples Σ_k 2 w_k (∂ŷ_k/∂θ_i)²` at `θ_online(0)`, the later samples' terms on the
+    /// machine's other cores ([`curvature_sum`]: the same bits, four tenths of a one-epoch training
+    /// halved on two).
+    fn theta_curvature(&self, samples: &[Sample]) -> [f64; 3]
+    where
+        T: Sync,
+    {
+        curvature_sum(samples, |part, each| self.theta_curvature_terms(part, each))
+    }
+
     crate::simd::dispatch_simd! {
-        /// `Σ_samples Σ_k 2 w_k (∂ŷ_k/∂θ_i)²` at `θ_online(0)`, in the widest SIMD available.
-        fn theta_curvature(&self, samples: &[Sample]) -> [f64; 3]
-            => theta_curvature_portable, theta_curvature_avx2
+        /// Each sample's terms of [`PaperModel::theta_curvature`], handed to `each` in sample order,
+        /// in the widest SIMD available.
+        fn theta_curvature_terms(&self, samples: &[Sample], each: &mut dyn FnMut(CurvatureTerms)) -> ()
+            => theta_curvature_terms_portable, theta_curvature_terms_avx2
     }
 
     #[inline(always)]
-    pub(super) fn theta_curvature_portable<A: MulAdd>(&self, samples: &[Sample]) -> [f64; 3] {
+    pub(super) fn theta_curvature_terms_portable<A: MulAdd>(
+        &self,
+        samples: &[Sample],
+        each: &mut dyn FnMut(CurvatureTerms),
+    ) {
         let weights = loss_weights::<T>(&self.loss_scale);
         let theta = theta_real(&self.theta0);
-        let mut curvature = [0.0f64; 3];
         let mut batch = Box::<BatchPass<T>>::default();
         let mut tangents = Box::new([[[T::zero(); HIDDEN]; 2]; BATCH]);
         let mut jacobians = Box::new([[[T::zero(); OUTPUTS]; 2]; BATCH]);
@@ -57,7 +71,8 @@ impl<T: Real> PaperModel<T> {
             for (z, [ja, jb]) in batch.output[..n].iter().zip(&*jacobians) {
                 let (contact, contact_motion) = self.contact_of::<A>(z);
                 tail.forward::<A>(contact, contact_motion, &theta);
-                for (k, w) in weights.iter().enumerate() {
+                let mut terms = [[0.0f64; 3]; 3];
+                for ((k, w), terms) in weights.iter().enumerate().zip(&mut terms) {
                     let mut d_output = [T::zero(); 3];
                     d_output[k] = T::one();
                     let d_tail = tail.backward::<A>(&theta, d_output);
@@ -69,13 +84,11 @@ impl<T: Real> PaperModel<T> {
                             + A::mul_add(d_z[2], jb[2], d_z[3] * jb[3]),
                     ];
                     let row = self.theta_gradient::<A>(d_x, d_tail.com_offset, d_tail.h);
-                    for (c, j) in curvature.iter_mut().zip(row) {
-                        *c += 2.0 * w.as_f64() * j.as_f64() * j.as_f64();
-                    }
+                    *terms = row.map(|j| 2.0 * w.as_f64() * j.as_f64() * j.as_f64());
                 }
+                each(terms);
             }
         }
-        curvature
     }
 }
 
@@ -129,9 +142,43 @@ mod tests {
                 }
             }
         }
-        let curvature = model.theta_curvature_portable::<Unfused>(&samples);
+        let curvature =
+            added_here(|each| model.theta_curvature_terms_portable::<Unfused>(&samples, each));
         for (a, b) in curvature.iter().zip(expected) {
             assert!(b > 0.0 && relative_error(*a, b) <= 1e-12, "{a} vs {b}");
         }
+    }
+
+    /// The terms a pass hands over, added on this thread alone by sample, output and component.
+    fn added_here(pass: impl FnOnce(&mut dyn FnMut(CurvatureTerms))) -> [f64; 3] {
+        let mut curvature = [0.0; 3];
+        pass(&mut |terms| {
+            for output in terms {
+                for (c, term) in curvature.iter_mut().zip(output) {
+                    *c += term;
+                }
+            }
+        });
+        curvature
+    }
+
+    #[test]
+    fn theta_curvature_on_several_cores_keeps_the_bits_of_one() {
+        // Enough samples to be shared between threads where there are cores.
+        let model = model_f64(7);
+        let mut rng = SplitMix64::new(10);
+        let samples: Vec<Sample> = (0..2 * crate::parallel::SAMPLES_PER_WORKER + 5)
+            .map(|frame| {
+                let mut s = sample();
+                s.input.robot_in_object[0] += 0.02 * rng.normal();
+                s.input.robot_in_object[1] += 0.05 * rng.normal();
+                s.frame = frame;
+                s
+            })
+            .collect();
+        let shared = model.theta_curvature(&samples);
+        // The dispatched terms, as `theta_curvature` takes them, all added here.
+        let serial = added_here(|each| model.theta_curvature_terms(&samples, each));
+        assert_eq!(shared.map(f64::to_bits), serial.map(f64::to_bits));
     }
 }
