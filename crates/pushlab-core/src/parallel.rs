@@ -9,8 +9,9 @@
 //!
 //! Only passes whose per-item work outweighs a thread's start pay for this: on this project's
 //! 2-core virtual machine, a thread costs about 50 µs to start and join, and a pass that mostly
-//! writes fresh memory (a sample's contact frame, its prepared form) gained nothing (measured with
-//! `train/train_epoch_contact`, `performance.md`).
+//! writes fresh memory (a sample's contact frame, its prepared form) gained nothing. And only where
+//! a core is free: the slices are fixed halves, so with the other core busy the split costs a few
+//! per cent (`train/train_epoch*`, `performance.md`).
 
 use std::sync::OnceLock;
 
@@ -28,12 +29,7 @@ fn workers() -> usize {
 /// Runs `first` on this thread over the first slice of `items` and `rest` on other threads over the
 /// remaining slices, one thread each, every slice at least `min_slice` items (fewer items go to
 /// `first` alone); returns `rest`'s results in the slices' order. Up to [`workers`] slices.
-pub(crate) fn first_here_rest_elsewhere<T, R, F, G>(
-    items: &[T],
-    min_slice: usize,
-    first: F,
-    rest: G,
-) -> Vec<R>
+fn first_here_rest_elsewhere<T, R, F, G>(items: &[T], min_slice: usize, first: F, rest: G) -> Vec<R>
 where
     T: Sync,
     R: Send,
