@@ -205,7 +205,12 @@ fn palette(
                         act(LabelAction::SetActive(label.name.clone()));
                     }
                 } else {
-                    ui.label(name);
+                    // Inset by a button's padding, so that its name lines up with the range
+                    // labels' names, which sit inside selectable buttons.
+                    ui.horizontal(|ui| {
+                        ui.add_space(ui.spacing().button_padding.x);
+                        ui.label(name);
+                    });
                 }
                 ui.monospace(label.hotkey.as_deref().unwrap_or(""));
                 ui.end_row();
