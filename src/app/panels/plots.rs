@@ -180,22 +180,17 @@ fn band(
         out
     };
     let (high, low) = (edge(&high, true), edge(&low, false));
-    let clip = |mut p: [f64; 2]| {
-        p[1] = p[1].clamp(range.0 * 1e3, range.1 * 1e3);
-        p
-    };
-    let color = colors::ONLINE.gamma_multiply(0.18);
-    // One quad per segment: the band is not convex, and egui fills convex polygons only.
-    for (h, l) in high.windows(2).zip(low.windows(2)) {
-        plot_ui.polygon(
-            egui_plot::Polygon::new(
-                "±2σ",
-                PlotPoints::from(vec![clip(h[0]), clip(h[1]), clip(l[1]), clip(l[0])]),
-            )
-            .fill_color(color)
-            .stroke(egui::Stroke::NONE),
-        );
-    }
+    let clip = |y: f64| y.clamp(range.0 * 1e3, range.1 * 1e3);
+    // One mesh between the edges (egui_plot's `FilledArea`): drawn as a quad per segment, the
+    // band's anti-aliased shared edges showed as a seam each, stripes at a frame per pixel.
+    let ((xs, lows), highs): ((Vec<f64>, Vec<f64>), Vec<f64>) = (high.iter())
+        .zip(&low)
+        .map(|(h, l)| ((h[0], clip(l[1])), clip(h[1])))
+        .unzip();
+    plot_ui.add(
+        egui_plot::FilledArea::new("±2σ", &xs, &lows, &highs)
+            .fill_color(colors::ONLINE.gamma_multiply(0.18)),
+    );
 }
 
 /// The times the plot showed last frame (its first frame: the whole push) and its width in pixel
