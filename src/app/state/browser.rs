@@ -313,6 +313,11 @@ impl BrowserMemory {
         }
     }
 
+    /// Forgets every recording's mean losses: they were of runs under another model.
+    pub fn forget_losses(&mut self) {
+        self.losses.clear();
+    }
+
     /// Keeps the mean losses of the recording shown as its run learns.
     pub fn remember_losses(&mut self, run: Option<&OnlineRun>, recording: Option<&Recording>) {
         if let (Some(run), Some(recording)) = (run, recording)

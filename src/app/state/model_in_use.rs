@@ -42,6 +42,9 @@ impl AppState {
         self.models.source = Some(source);
         (self.training).follow_model(self.models.kind(), self.models.horizon());
         self.refresh_fit();
+        // The browser's losses were measured under the model before: next to the new model's
+        // they would compare two models, not two pushes.
+        self.browsed.forget_losses();
         self.restart_run_keeping_frame();
     }
 
@@ -165,5 +168,41 @@ impl AppState {
                 ));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use pushlab_core::model_file::ModelFile;
+
+    use crate::app::state::models::Models;
+    use crate::app::state::timeline::TimelineCommand;
+    use crate::app::state::{AppState, Command, Persisted};
+
+    #[test]
+    fn another_model_clears_the_losses_the_browser_showed() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut state = AppState::new(Persisted::default(), Models::default());
+        state.open_blocking(&[root.join("sample-data/box1-paper-center-front")]);
+        state.settings.learn_while_playing = true;
+        for _ in 0..20 {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+        let with_losses = |state: &AppState| {
+            (state.browser_rows().iter())
+                .filter(|row| row.losses.is_some())
+                .count()
+        };
+        assert_eq!(with_losses(&state), 1);
+        let file = ModelFile::load(&root.join("assets/default-model.json")).expect("the default");
+        state.use_model_file(file, "default".into());
+        assert_eq!(with_losses(&state), 0);
+        // The run under the new model fills its row in again as it learns.
+        for _ in 0..5 {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+        assert_eq!(with_losses(&state), 1);
     }
 }
