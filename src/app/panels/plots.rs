@@ -228,6 +228,8 @@ fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static
         .y_axis_label(title.to_owned())
         .y_axis_min_width(36.0)
         .x_grid_spacer(uniform_grid_spacer(time_grid_steps))
+        .y_grid_spacer(uniform_grid_spacer(value_grid_steps))
+        .y_axis_formatter(|mark, _| format!("{:.*}", decimals_for(mark.step_size), mark.value))
         .x_axis_formatter(|mark, _| {
             let decimals = if mark.step_size < 1.0 { 1 } else { 0 };
             format!("{:.*} s", decimals, mark.value)
@@ -242,9 +244,32 @@ fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static
 /// close, hidden) or a whole push apart on a 10 s push in a 330-point plot, which left only "0 s".
 #[allow(clippy::needless_pass_by_value)] // the signature egui_plot's `uniform_grid_spacer` calls
 fn time_grid_steps(input: GridInput) -> [f64; 3] {
+    grid_steps(&input, 75.0)
+}
+
+/// Value-axis grid steps, the same way with labels at least 30 points apart (egui_plot shows a
+/// value label in full from there): by powers of ten, a COM plot ±60 mm tall in 130 points (an MIT
+/// object's) labelled only 0, its 10 mm steps too close for a label and 100 mm past both ends.
+#[allow(clippy::needless_pass_by_value)] // the signature egui_plot's `uniform_grid_spacer` calls
+fn value_grid_steps(input: GridInput) -> [f64; 3] {
+    grid_steps(&input, 30.0)
+}
+
+/// The decimals that tell a step's values apart: 0.05 → 2 (0.05, 0.10, 0.15; egui_plot's own
+/// formatter wrote 0.1 for 0.05 and for 0.10), 50 → 0.
+fn decimals_for(step: f64) -> usize {
+    if !(step.is_finite() && step > 0.0) {
+        return 0;
+    }
+    // The nudge keeps 0.1 (0.09999… in binary) at one decimal.
+    (-(step.log10() + 1e-9).floor()).max(0.0) as usize
+}
+
+/// 1–2–5 grid steps whose largest, the labelled one, is at least `labelled_points` apart.
+fn grid_steps(input: &GridInput, labelled_points: f64) -> [f64; 3] {
     // `base_step_size` is the value spanned by the plot's minimum grid spacing (8 points).
     let per_point = input.base_step_size / 8.0;
-    let labelled = nice_step(per_point * 75.0);
+    let labelled = nice_step(per_point * labelled_points);
     let medium = finer(labelled);
     [finer(medium), medium, labelled]
 }
@@ -315,5 +340,24 @@ mod tests {
             base_step_size: 1.0 / 330.0 * 8.0,
         });
         assert_eq!(steps, [0.05, 0.1, 0.5]);
+    }
+
+    #[test]
+    fn a_com_plot_of_an_mit_object_gets_values_labelled_every_50_mm() {
+        // ±60 mm over 130 points.
+        let steps = value_grid_steps(GridInput {
+            bounds: (-60.0, 60.0),
+            base_step_size: 120.0 / 130.0 * 8.0,
+        });
+        assert_eq!(steps, [5.0, 10.0, 50.0]);
+        let labels = |step: f64| {
+            (0..4)
+                .map(|k| format!("{:.*}", decimals_for(step), k as f64 * step))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(labels(50.0), ["0", "50", "100", "150"]);
+        assert_eq!(labels(0.05), ["0.00", "0.05", "0.10", "0.15"]);
+        assert_eq!(labels(0.1), ["0.0", "0.1", "0.2", "0.3"]);
+        assert_eq!(labels(0.002), ["0.000", "0.002", "0.004", "0.006"]);
     }
 }
