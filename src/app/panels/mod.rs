@@ -3,6 +3,7 @@
 //!
 //! [`Command`]: crate::app::state::Command
 
+pub mod axes;
 pub mod bag_dialog;
 pub mod browser;
 pub mod camera;

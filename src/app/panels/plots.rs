@@ -7,9 +7,10 @@
 
 use eframe::egui::{self, Color32, Id};
 use egui_plot::{
-    GridInput, HLine, Legend, Line, LineStyle, Plot, PlotPoints, PlotUi, VLine, uniform_grid_spacer,
+    HLine, Legend, Line, LineStyle, Plot, PlotPoints, PlotUi, VLine, uniform_grid_spacer,
 };
 
+use super::axes;
 use crate::app::colors;
 use crate::app::state::online::OnlineRun;
 use crate::app::state::run_plots::{LossPart, MOVING_AVERAGE, Series};
@@ -217,7 +218,7 @@ fn points(
 }
 
 fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static> {
-    Plot::new((title, group))
+    axes::y_values(Plot::new((title, group)))
         .height(height)
         .link_axis(group, [true, false])
         .link_cursor(group, [true, false])
@@ -227,74 +228,11 @@ fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static
         .allow_boxed_zoom(false)
         .y_axis_label(title.to_owned())
         .y_axis_min_width(36.0)
-        .x_grid_spacer(uniform_grid_spacer(time_grid_steps))
-        .y_grid_spacer(uniform_grid_spacer(value_grid_steps))
-        .y_axis_formatter(|mark, _| format!("{:.*}", decimals_for(mark.step_size), mark.value))
-        .x_axis_formatter(|mark, _| {
-            let decimals = if mark.step_size < 1.0 { 1 } else { 0 };
-            format!("{:.*} s", decimals, mark.value)
-        })
+        .x_grid_spacer(uniform_grid_spacer(axes::x_steps))
+        .x_axis_formatter(|mark, _| format!("{} s", axes::label(mark.value, mark.step_size)))
         .default_x_bounds(0.0, duration)
         .auto_bounds([false, true])
         .include_y(0.0)
-}
-
-/// Time-axis grid steps from the 1–2–5 sequence, the labelled ones at least 75 points apart, each
-/// step dividing the next. egui_plot's default powers of ten put labels either 33 points apart (too
-/// close, hidden) or a whole push apart on a 10 s push in a 330-point plot, which left only "0 s".
-#[allow(clippy::needless_pass_by_value)] // the signature egui_plot's `uniform_grid_spacer` calls
-fn time_grid_steps(input: GridInput) -> [f64; 3] {
-    grid_steps(&input, 75.0)
-}
-
-/// Value-axis grid steps, the same way with labels at least 30 points apart (egui_plot shows a
-/// value label in full from there): by powers of ten, a COM plot ±60 mm tall in 130 points (an MIT
-/// object's) labelled only 0, its 10 mm steps too close for a label and 100 mm past both ends.
-#[allow(clippy::needless_pass_by_value)] // the signature egui_plot's `uniform_grid_spacer` calls
-fn value_grid_steps(input: GridInput) -> [f64; 3] {
-    grid_steps(&input, 30.0)
-}
-
-/// The decimals that tell a step's values apart: 0.05 → 2 (0.05, 0.10, 0.15; egui_plot's own
-/// formatter wrote 0.1 for 0.05 and for 0.10), 50 → 0.
-fn decimals_for(step: f64) -> usize {
-    if !(step.is_finite() && step > 0.0) {
-        return 0;
-    }
-    // The nudge keeps 0.1 (0.09999… in binary) at one decimal.
-    (-(step.log10() + 1e-9).floor()).max(0.0) as usize
-}
-
-/// 1–2–5 grid steps whose largest, the labelled one, is at least `labelled_points` apart.
-fn grid_steps(input: &GridInput, labelled_points: f64) -> [f64; 3] {
-    // `base_step_size` is the value spanned by the plot's minimum grid spacing (8 points).
-    let per_point = input.base_step_size / 8.0;
-    let labelled = nice_step(per_point * labelled_points);
-    let medium = finer(labelled);
-    [finer(medium), medium, labelled]
-}
-
-/// The next finer 1–2–5 step that divides `step`: 5 → 1, 2 → 1, 1 → 0.5.
-fn finer(step: f64) -> f64 {
-    let mantissa = step / 10f64.powf(step.log10().floor());
-    if (mantissa - 1.0).abs() < 1e-6 || (mantissa - 2.0).abs() < 1e-6 {
-        step / 2.0
-    } else {
-        step / 5.0
-    }
-}
-
-/// The smallest of 1, 2 or 5 × 10ⁿ that is at least `x`.
-fn nice_step(x: f64) -> f64 {
-    if !(x.is_finite() && x > 0.0) {
-        return 1.0;
-    }
-    let power = 10f64.powf(x.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * power)
-        .find(|&step| step >= x * (1.0 - 1e-9))
-        .unwrap_or(10.0 * power)
 }
 
 fn cursor(plot_ui: &mut egui_plot::PlotUi<'_>, now: f64) {
@@ -310,54 +248,5 @@ fn clicked_x(plot_ui: &egui_plot::PlotUi<'_>) -> Option<f64> {
         plot_ui.pointer_coordinate().map(|p| p.x)
     } else {
         None
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn nice_steps_follow_one_two_five() {
-        let steps: Vec<f64> = [0.09, 0.1, 0.11, 0.3, 0.7, 1.0, 1.5, 3.0, 12.0]
-            .into_iter()
-            .map(nice_step)
-            .collect();
-        assert_eq!(steps, [0.1, 0.1, 0.2, 0.5, 1.0, 1.0, 2.0, 5.0, 20.0]);
-    }
-
-    #[test]
-    fn a_ten_second_push_in_a_330_point_plot_gets_labels_every_five_seconds() {
-        // 10 s over 330 points: the minimum grid spacing of 8 points spans 10 / 330 * 8 s.
-        let steps = time_grid_steps(GridInput {
-            bounds: (0.0, 10.0),
-            base_step_size: 10.0 / 330.0 * 8.0,
-        });
-        assert_eq!(steps, [0.5, 1.0, 5.0]);
-        // Zoomed in to 1 s over the same width: labels every 0.5 s.
-        let steps = time_grid_steps(GridInput {
-            bounds: (3.0, 4.0),
-            base_step_size: 1.0 / 330.0 * 8.0,
-        });
-        assert_eq!(steps, [0.05, 0.1, 0.5]);
-    }
-
-    #[test]
-    fn a_com_plot_of_an_mit_object_gets_values_labelled_every_50_mm() {
-        // ±60 mm over 130 points.
-        let steps = value_grid_steps(GridInput {
-            bounds: (-60.0, 60.0),
-            base_step_size: 120.0 / 130.0 * 8.0,
-        });
-        assert_eq!(steps, [5.0, 10.0, 50.0]);
-        let labels = |step: f64| {
-            (0..4)
-                .map(|k| format!("{:.*}", decimals_for(step), k as f64 * step))
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(labels(50.0), ["0", "50", "100", "150"]);
-        assert_eq!(labels(0.05), ["0.00", "0.05", "0.10", "0.15"]);
-        assert_eq!(labels(0.1), ["0.0", "0.1", "0.2", "0.3"]);
-        assert_eq!(labels(0.002), ["0.000", "0.002", "0.004", "0.006"]);
     }
 }
