@@ -7,6 +7,7 @@
 pub mod colors;
 pub mod dialogs;
 pub mod export;
+pub mod format;
 pub mod frame_rate;
 pub mod keys;
 pub mod layout;

@@ -7,6 +7,7 @@ use eframe::egui::{self, RichText};
 use std::path::Path;
 
 use crate::app::colors;
+use crate::app::format;
 use crate::app::state::AppState;
 use crate::app::state::proposals::Status;
 
@@ -73,19 +74,21 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
         row_colored(
             ui,
             "online: pos x, pos y, rot",
-            format!("{:.4}, {:.4}, {:.4}", l.pos_x, l.pos_y, l.rot),
+            [l.pos_x, l.pos_y, l.rot]
+                .map(|v| format::loss(v, 4))
+                .join(", "),
             colors::ONLINE,
         );
         row_colored(
             ui,
             "online: total",
-            format!("{:.4}", l.total()),
+            format::loss(l.total(), 4),
             colors::ONLINE,
         );
         row_colored(
             ui,
             "fixed: total",
-            format!("{:.4}", fixed.loss.total()),
+            format::loss(fixed.loss.total(), 4),
             colors::FIXED,
         );
     });

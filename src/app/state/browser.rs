@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::labels::{LabelTarget, Labeling};
 use super::online::OnlineRun;
 use super::session::{RecordingId, Session};
+use crate::app::format;
 use pushlab_core::learn::MeanLosses;
 
 /// A column of the browser's table.
@@ -188,8 +189,8 @@ impl Row<'_> {
                 0 => String::new(),
                 n => n.to_string(),
             },
-            Column::Online => optional(self.losses.map(|l| loss_text(online_total(&l)))),
-            Column::Fixed => optional(self.losses.map(|l| loss_text(fixed_total(&l)))),
+            Column::Online => optional(self.losses.map(|l| format::loss(online_total(&l), 3))),
+            Column::Fixed => optional(self.losses.map(|l| format::loss(fixed_total(&l), 3))),
         }
     }
 
@@ -260,17 +261,6 @@ impl SortKey {
             (SortKey::Text(a), SortKey::Text(b)) => missing_last(a, b, |a, b| direction(a.cmp(b))),
             _ => Ordering::Equal,
         }
-    }
-}
-
-/// A mean loss in a cell: three decimals, or two digits and an exponent below 0.001, where three
-/// decimals read 0.000 (the MIT files under a model trained on the sample data's pushes, whose
-/// loss scale is a hundred times theirs).
-fn loss_text(loss: f64) -> String {
-    if loss == 0.0 || loss.abs() >= 0.001 {
-        format!("{loss:.3}")
-    } else {
-        format!("{loss:.1e}")
     }
 }
 
@@ -461,12 +451,6 @@ mod tests {
     }
 
     #[test]
-    fn losses_below_a_thousandth_keep_two_digits() {
-        let cells = [0.1314, 0.001, 4.23e-4, 0.0].map(loss_text);
-        assert_eq!(cells, ["0.131", "0.001", "4.2e-4", "0.000"]);
-    }
-
-    #[test]
     fn the_filter_keeps_rows_with_every_word_and_sorting_twice_reverses() {
         let mut state = state_on(&sample_data());
         assert_eq!(state.browser_rows().len(), 324);
@@ -524,7 +508,7 @@ mod tests {
         assert_eq!(rows[0].losses, Some(expected));
         assert_eq!(
             rows[0].text(Column::Online),
-            loss_text(expected.online_pos + expected.online_rot)
+            crate::app::format::loss(expected.online_pos + expected.online_rot, 3)
         );
         assert!(rows[1..].iter().all(|r| r.losses.is_none()));
         // Descending too: the recording that was run comes first, the others after it.
