@@ -116,16 +116,7 @@ mod tests {
     fn theta_curvature_matches_reverse_mode_jacobians() {
         // The calibration's forward-mode Jacobian against one backward pass per output.
         let model = model_f64(7);
-        let mut rng = SplitMix64::new(9);
-        let samples: Vec<Sample> = (0..20)
-            .map(|frame| {
-                let mut s = sample();
-                s.input.robot_in_object[0] += 0.02 * rng.normal();
-                s.input.robot_in_object[1] += 0.05 * rng.normal();
-                s.frame = frame;
-                s
-            })
-            .collect();
+        let samples = varied(20, 9);
         let weights = loss_weights::<f64>(&model.loss_scale);
         let theta = theta_real::<f64>(&model.theta0);
         let mut expected = [0.0; 3];
@@ -149,6 +140,20 @@ mod tests {
         }
     }
 
+    /// `count` pushes around the test sample, the pusher moved about at random (`seed`).
+    fn varied(count: usize, seed: u64) -> Vec<Sample> {
+        let mut rng = SplitMix64::new(seed);
+        (0..count)
+            .map(|frame| {
+                let mut s = sample();
+                s.input.robot_in_object[0] += 0.02 * rng.normal();
+                s.input.robot_in_object[1] += 0.05 * rng.normal();
+                s.frame = frame;
+                s
+            })
+            .collect()
+    }
+
     /// The terms a pass hands over, added on this thread alone by sample, output and component.
     fn added_here(pass: impl FnOnce(&mut dyn FnMut(CurvatureTerms))) -> [f64; 3] {
         let mut curvature = [0.0; 3];
@@ -166,16 +171,7 @@ mod tests {
     fn theta_curvature_on_several_cores_keeps_the_bits_of_one() {
         // Enough samples to be shared between threads where there are cores.
         let model = model_f64(7);
-        let mut rng = SplitMix64::new(10);
-        let samples: Vec<Sample> = (0..2 * crate::parallel::SAMPLES_PER_WORKER + 5)
-            .map(|frame| {
-                let mut s = sample();
-                s.input.robot_in_object[0] += 0.02 * rng.normal();
-                s.input.robot_in_object[1] += 0.05 * rng.normal();
-                s.frame = frame;
-                s
-            })
-            .collect();
+        let samples = varied(2 * crate::parallel::SAMPLES_PER_WORKER + 5, 10);
         let shared = model.theta_curvature(&samples);
         // The dispatched terms, as `theta_curvature` takes them, all added here.
         let serial = added_here(|each| model.theta_curvature_terms(&samples, each));
