@@ -22,14 +22,18 @@ pub(crate) fn curvature_sum<S: Sync>(
     samples: &[S],
     terms: impl Fn(&[S], &mut dyn FnMut(CurvatureTerms)) + Sync,
 ) -> [f64; 3] {
-    let add = |curvature: &mut [f64; 3], terms: CurvatureTerms| {
-        for output in terms {
-            for (c, term) in curvature.iter_mut().zip(output) {
-                *c += term;
-            }
-        }
-    };
+    let add = add_curvature_terms;
     parallel::ordered_sum(samples, parallel::SAMPLES_PER_WORKER, [0.0; 3], add, terms)
+}
+
+/// Adds one sample's terms to `curvature`, by output, then component: the order the sums' bits
+/// depend on.
+pub(crate) fn add_curvature_terms(curvature: &mut [f64; 3], terms: CurvatureTerms) {
+    for output in terms {
+        for (c, term) in curvature.iter_mut().zip(output) {
+            *c += term;
+        }
+    }
 }
 
 /// A sample converted once to the model's float type: `[p_x, p_y, u_x, u_y]` and

@@ -108,6 +108,7 @@ pub(crate) fn scales_from_curvature(curvature: [f64; 3], count: usize, fallback:
 mod tests {
     use super::super::pass::tests::{model_f64, relative_error, sample};
     use super::*;
+    use crate::model::kernel::add_curvature_terms;
     use crate::model::paper::Pass;
     use crate::rng::SplitMix64;
     use crate::simd::Unfused;
@@ -157,13 +158,7 @@ mod tests {
     /// The terms a pass hands over, added on this thread alone by sample, output and component.
     fn added_here(pass: impl FnOnce(&mut dyn FnMut(CurvatureTerms))) -> [f64; 3] {
         let mut curvature = [0.0; 3];
-        pass(&mut |terms| {
-            for output in terms {
-                for (c, term) in curvature.iter_mut().zip(output) {
-                    *c += term;
-                }
-            }
-        });
+        pass(&mut |terms| add_curvature_terms(&mut curvature, terms));
         curvature
     }
 
