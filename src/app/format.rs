@@ -1,4 +1,5 @@
-//! Numbers as the panels print them, where a fixed number of decimals would mislead.
+//! Numbers as the panels and the browser print them, where a plain fixed number of decimals would
+//! mislead.
 
 /// A loss with `decimals` decimals, or two digits and an exponent below a thousandth, where the
 /// decimals would read 0.000: the MIT files run under a model trained on the sample data's pushes,
@@ -11,6 +12,17 @@ pub fn loss(value: f64, decimals: usize) -> String {
     }
 }
 
+/// `value` to two decimals, without the minus of a value that rounds to zero: an MIT shape's true
+/// COM is its centroid, whose offset from itself is a rounding error like −1e-18 m, shown as
+/// "-0.00" before.
+pub fn hundredths(value: f64) -> String {
+    let text = format!("{value:.2}");
+    match text.strip_prefix('-') {
+        Some(magnitude) if magnitude == "0.00" => magnitude.to_owned(),
+        _ => text,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -19,5 +31,14 @@ mod tests {
         assert_eq!(cells, ["0.131", "0.001", "4.2e-4", "0.000"]);
         assert_eq!(super::loss(2.6e-5, 4), "2.6e-5");
         assert_eq!(super::loss(0.14131, 4), "0.1413");
+    }
+
+    #[test]
+    fn hundredths_drop_the_sign_of_a_zero() {
+        assert_eq!(super::hundredths(-1e-15), "0.00");
+        assert_eq!(super::hundredths(-0.0), "0.00");
+        assert_eq!(super::hundredths(-0.004), "0.00");
+        assert_eq!(super::hundredths(-0.006), "-0.01");
+        assert_eq!(super::hundredths(12.345), "12.35");
     }
 }

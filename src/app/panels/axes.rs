@@ -20,26 +20,27 @@ pub fn y_values(plot: Plot<'_>) -> Plot<'_> {
         .y_axis_formatter(|mark, _| label(mark.value, mark.step_size))
 }
 
-/// `plot` with 1–2–5 value steps and labels on its x axis.
-pub fn x_values(plot: Plot<'_>) -> Plot<'_> {
+/// `plot` with 1–2–5 value steps and labels on its x axis, each followed by `unit` (`" s"`, or
+/// `""` where the axis's title names it).
+pub fn x_values<'a>(plot: Plot<'a>, unit: &'static str) -> Plot<'a> {
     plot.x_grid_spacer(uniform_grid_spacer(x_steps))
-        .x_axis_formatter(|mark, _| label(mark.value, mark.step_size))
+        .x_axis_formatter(move |mark, _| format!("{}{unit}", label(mark.value, mark.step_size)))
 }
 
 /// Grid steps for an x axis (labels at least 75 points apart), each dividing the next.
 #[allow(clippy::needless_pass_by_value)] // the signature egui_plot's `uniform_grid_spacer` calls
-pub fn x_steps(input: GridInput) -> [f64; 3] {
+fn x_steps(input: GridInput) -> [f64; 3] {
     steps(&input, X_LABEL_POINTS)
 }
 
 /// Grid steps for a y axis (labels at least 30 points apart, where egui_plot prints them in full).
 #[allow(clippy::needless_pass_by_value)] // the signature egui_plot's `uniform_grid_spacer` calls
-pub fn y_steps(input: GridInput) -> [f64; 3] {
+fn y_steps(input: GridInput) -> [f64; 3] {
     steps(&input, Y_LABEL_POINTS)
 }
 
 /// `value` with the decimals that tell values `step` apart: step 0.05 → "0.05", 50 → "50".
-pub fn label(value: f64, step: f64) -> String {
+fn label(value: f64, step: f64) -> String {
     format!("{:.*}", decimals_for(step), value)
 }
 

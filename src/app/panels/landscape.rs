@@ -201,7 +201,7 @@ fn com_plot(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult, side:
     let theta = result.request.theta.com_offset;
     let minimum = landscape.minimum();
     let truth = state.recording().and_then(|r| r.setting.com_offset);
-    let response = axes::x_values(axes::y_values(Plot::new("landscape-com")))
+    let response = axes::x_values(axes::y_values(Plot::new("landscape-com")), "")
         .width(side)
         .height(side)
         .data_aspect(1.0)
@@ -285,7 +285,7 @@ fn h_plot(ui: &mut egui::Ui, result: &LandscapeResult) {
     if let Some([lh, _]) = lowest {
         ui.label(format!("h slice: lowest at {lh:.1} mm, θ's h = {h:.1} mm"));
     }
-    axes::x_values(axes::y_values(Plot::new("landscape-h")))
+    axes::x_values(axes::y_values(Plot::new("landscape-h")), "")
         .height(ui.available_height().clamp(90.0, 160.0))
         .x_axis_label("h (mm)")
         .y_axis_label("mean loss")

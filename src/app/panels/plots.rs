@@ -6,9 +6,7 @@
 //! `plot_points`), so a million-frame recording draws about as many points as a short one.
 
 use eframe::egui::{self, Color32, Id};
-use egui_plot::{
-    HLine, Legend, Line, LineStyle, Plot, PlotPoints, PlotUi, VLine, uniform_grid_spacer,
-};
+use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotPoints, PlotUi, VLine};
 
 use super::axes;
 use crate::app::colors;
@@ -218,7 +216,7 @@ fn points(
 }
 
 fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static> {
-    axes::y_values(Plot::new((title, group)))
+    axes::x_values(axes::y_values(Plot::new((title, group))), " s")
         .height(height)
         .link_axis(group, [true, false])
         .link_cursor(group, [true, false])
@@ -228,8 +226,6 @@ fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static
         .allow_boxed_zoom(false)
         .y_axis_label(title.to_owned())
         .y_axis_min_width(36.0)
-        .x_grid_spacer(uniform_grid_spacer(axes::x_steps))
-        .x_axis_formatter(|mark, _| format!("{} s", axes::label(mark.value, mark.step_size)))
         .default_x_bounds(0.0, duration)
         .auto_bounds([false, true])
         .include_y(0.0)

@@ -7,6 +7,7 @@ use pushlab_core::model::OnlineParams;
 use pushlab_core::recording::Recording;
 
 use crate::app::colors;
+use crate::app::format;
 use crate::app::state::best_fit::BestFitCommand;
 use crate::app::state::{AppState, Command, MAX_WHAT_IF_STEPS};
 use crate::app::state::{OnlineCommand, TrainingCommand};
@@ -241,8 +242,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             colors::TRUE,
             format!(
                 "true: COM ({}, {}) mm{}",
-                hundredths(com[0] * 1e3),
-                hundredths(com[1] * 1e3),
+                format::hundredths(com[0] * 1e3),
+                format::hundredths(com[1] * 1e3),
                 h.map(|h| format!(", h {:.2} mm", h * 1e3))
                     .unwrap_or_default()
             ),
@@ -402,27 +403,4 @@ fn how_far_learned(run: &learn::OnlineRun) -> String {
         run.frontier(),
         run.sample_count()
     )
-}
-
-/// `value` to two decimals, without the minus of a value that rounds to zero: an MIT shape's true
-/// COM is its centroid, whose offset from itself is a rounding error like −1e-18 m, shown as
-/// "-0.00" before.
-fn hundredths(value: f64) -> String {
-    let text = format!("{value:.2}");
-    match text.strip_prefix('-') {
-        Some(magnitude) if magnitude == "0.00" => magnitude.to_owned(),
-        _ => text,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn hundredths_drop_the_sign_of_a_zero() {
-        assert_eq!(super::hundredths(-1e-15), "0.00");
-        assert_eq!(super::hundredths(-0.0), "0.00");
-        assert_eq!(super::hundredths(-0.004), "0.00");
-        assert_eq!(super::hundredths(-0.006), "-0.01");
-        assert_eq!(super::hundredths(12.345), "12.35");
-    }
 }
