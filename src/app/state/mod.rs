@@ -500,10 +500,18 @@ impl AppState {
                 self.labels.stroke_to(now);
             }
         }
-        if self.settings.learn_while_playing && now > before && self.run.is_some() {
+        if now > before {
+            self.learn_while_playing(before, now);
+        }
+    }
+
+    /// Learns from frames `from..to` when "Learn while playing" is on, holding θ over frames
+    /// labelled to skip in training.
+    fn learn_while_playing(&mut self, from: usize, to: usize) {
+        if self.settings.learn_while_playing && self.run.is_some() {
             let skip = self.frames_to_skip();
             if let Some(run) = &mut self.run {
-                run.learn_through(before, now, &skip);
+                run.learn_through(from, to, &skip);
             }
         }
     }
@@ -557,11 +565,15 @@ impl AppState {
     }
 
     /// A fresh online run with the current models (a model trained or loaded), staying at the frame
-    /// shown, playing on if it was, and keeping a paint stroke and the in point.
+    /// shown and learned up to it, playing on if it was, and keeping a paint stroke and the in
+    /// point.
     pub fn restart_run_keeping_frame(&mut self) {
         let (frame, playing) = (self.frame(), self.timeline.playing);
         self.start_run_keeping_labels();
         self.timeline.apply(TimelineCommand::SeekTo(frame));
+        // What the new model learned up to the frame shown, as a seek there from frame 0 would
+        // learn: θ(0) held over those frames would show a model that learned nothing yet.
+        self.learn_while_playing(0, self.frame());
         if playing {
             self.timeline.apply(TimelineCommand::TogglePlay);
         }

@@ -205,4 +205,34 @@ mod tests {
         }
         assert_eq!(with_losses(&state), 1);
     }
+
+    #[test]
+    fn another_model_taken_at_a_frame_shows_what_it_learned_up_to_that_frame() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let default = || ModelFile::load(&root.join("assets/default-model.json")).expect("default");
+        let opened = || {
+            let mut state = AppState::new(Persisted::default(), Models::default());
+            state.open_blocking(&[root.join("sample-data/box1-paper-center-front")]);
+            state.settings.learn_while_playing = true;
+            state
+        };
+        // The model taken at frame 20 ...
+        let mut state = opened();
+        state.apply(Command::Timeline(TimelineCommand::SeekTo(20)));
+        state.use_model_file(default(), "default".into());
+        // ... against a run under that model from frame 0, sought to frame 20.
+        let mut reference = opened();
+        reference.use_model_file(default(), "default".into());
+        reference.apply(Command::Timeline(TimelineCommand::SeekTo(20)));
+
+        let (run, reference) = (state.run().expect("a run"), reference.run().expect("a run"));
+        assert_eq!(state.frame(), 20);
+        assert_eq!(
+            run.frontier(),
+            20,
+            "frames 0..20 are learned, not held at θ(0)"
+        );
+        assert_eq!(run.checkpoints(), reference.checkpoints());
+        assert_ne!(run.theta_at(20), run.theta0(), "θ moved from θ(0)");
+    }
 }
