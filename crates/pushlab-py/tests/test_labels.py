@@ -156,8 +156,12 @@ def test_a_name_that_is_no_recording_of_the_folder_is_refused(set_copy):
         labels.paint("offline_00.csv", "contact", 0, 5)
     with pytest.raises(ValueError, match=typo):
         labels.segments("offline_00.csv")
+    # A file of the folder that is not a recording: the setting, the labels, a bag without its push.
+    (set_copy / "run1.mcap").write_bytes(b"")
+    for name in ["setting.json", "pushlab-labels.json", "run1.mcap"]:
+        with pytest.raises(ValueError, match=re.escape(f'"{name}": no recording of that name')):
+            labels.paint(name, "contact", 0, 5)
     assert not labels.dirty
     # A push of a bag or dataset in the folder is named after it, '#' and its number.
-    (set_copy / "run1.mcap").write_bytes(b"")
     assert labels.paint("run1.mcap#002", "contact", 0, 5)
     assert labels.segments("run1.mcap#002") == [("contact", 0, 5)]

@@ -10,6 +10,9 @@ use std::path::{Path, PathBuf};
 use super::file;
 use super::metadata::Split;
 use super::{LabelSet, RecordingLabels};
+use crate::recording::bag::is_bag;
+use crate::recording::dataset::is_dataset;
+use crate::recording::is_recording_file;
 
 /// The labels key of a recording file: its file name (`push_003.csv`), as used in the labels file
 /// of its folder.
@@ -19,12 +22,21 @@ pub fn key_of(recording_path: &Path) -> Option<String> {
         .map(|n| n.to_string_lossy().into_owned())
 }
 
-/// Whether `key` can be the labels key (see [`key_of`]) of a recording in `folder`: a file there,
-/// or a push of a bag or dataset there, whose source is the bag's or dataset's path, `#` and the
-/// push (`run1.mcap#003`, `pusht#episode_000005`).
+/// Whether `key` can be the labels key (see [`key_of`]) of a recording in `folder`: a recording
+/// file there (a CSV, an MIT file; not the setting or the labels file beside them), or a push of a
+/// bag or dataset there, whose source is the bag's or dataset's path, `#` and the push
+/// (`run1.mcap#003`, `pusht#episode_000005`; the bag's name alone names none of its pushes).
 pub fn key_names_a_recording_in(folder: &Path, key: &str) -> bool {
-    let file = key.split_once('#').map_or(key, |(file, _)| file);
-    !file.is_empty() && (folder.join(key).exists() || folder.join(file).exists())
+    if is_recording_file(&folder.join(key)) {
+        return true;
+    }
+    key.split_once('#').is_some_and(|(file, push)| {
+        let source = folder.join(file);
+        !file.is_empty()
+            && !push.is_empty()
+            && source.exists()
+            && (is_bag(&source) || is_dataset(&source))
+    })
 }
 
 /// The labels file that describes the recording at `recording_path` (beside it).
@@ -178,6 +190,46 @@ mod tests {
     use super::super::{RecordingMeta, Segment};
     use super::*;
     use crate::model::sample_is_skipped;
+
+    #[test]
+    fn a_key_names_a_recording_file_or_a_push_of_a_bag_not_any_file_of_the_folder() {
+        let folder = std::env::temp_dir().join(format!("pushlab-keys-{}", std::process::id()));
+        std::fs::create_dir_all(folder.join("rosbag")).unwrap();
+        for name in [
+            "push_003.csv",
+            "motion_surface=abs_shape=rect1_a=0_v=10_i=0.000_s=0.000_t=0.000.json",
+            "setting.json",
+            "pushlab-labels.json",
+            "run1.mcap",
+            "run1.pushlab-bag.json",
+            "notes.txt",
+            "rosbag/metadata.yaml",
+        ] {
+            std::fs::write(folder.join(name), "").unwrap();
+        }
+        let names = |key: &str| key_names_a_recording_in(&folder, key);
+        assert!(names("push_003.csv"));
+        assert!(names(
+            "motion_surface=abs_shape=rect1_a=0_v=10_i=0.000_s=0.000_t=0.000.json"
+        ));
+        assert!(names("run1.mcap#003"));
+        assert!(names("rosbag#000"));
+        // pushlab's own files, other files, a bag without its push, a push of a missing bag.
+        for key in [
+            "setting.json",
+            "pushlab-labels.json",
+            "run1.pushlab-bag.json",
+            "notes.txt",
+            "run1.mcap",
+            "run1.mcap#",
+            "run2.mcap#003",
+            "push_004.csv",
+            "#003",
+        ] {
+            assert!(!names(key), "{key:?} names no recording");
+        }
+        let _ = std::fs::remove_dir_all(&folder);
+    }
 
     #[test]
     fn splits_select_recordings() {

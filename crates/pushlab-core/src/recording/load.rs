@@ -443,6 +443,25 @@ fn extension(path: &Path) -> Option<String> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
 }
 
+/// Whether the file at `path` is one the loader reads as a recording when it is named: a CSV of a
+/// set, or an MIT Push Dataset `.json`/`.h5` — not one of pushlab's own JSON files beside them (the
+/// set's `setting.json`, the labels, a bag's or dataset's remembered choice), whose names start
+/// with `pushlab-` or hold `.pushlab-`.
+pub fn is_recording_file(path: &Path) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let pushlabs_own =
+        name == SETTING_FILE || name.starts_with("pushlab-") || name.contains(".pushlab-");
+    path.is_file()
+        && match extension(path).as_deref() {
+            Some("csv") => true,
+            Some("json" | "h5") => !pushlabs_own,
+            _ => false,
+        }
+}
+
 /// Whether a file found while searching a folder is an MIT Push Dataset file (by name: other JSON
 /// files, such as the dataset's `shapes.json`, are not recordings).
 fn is_mit_file(path: &Path) -> bool {

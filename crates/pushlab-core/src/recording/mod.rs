@@ -25,7 +25,9 @@ pub use bag::BagProblem;
 pub use dataset::DatasetProblem;
 pub use describe::PushParameters;
 pub use error::{LoadError, WriteError};
-pub use load::{LoadReport, SourceChoice, load_paths, load_paths_choosing, load_paths_with};
+pub use load::{
+    LoadReport, SourceChoice, is_recording_file, load_paths, load_paths_choosing, load_paths_with,
+};
 pub use mit_push::MitProblem;
 pub use native::CsvProblem;
 pub use native::{read_set, write_set};
