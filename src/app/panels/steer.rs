@@ -353,7 +353,27 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             OnlineConfig::default(),
         )));
     }
-    ui.weak(how_far_learned(run));
+    match state.learning_ahead() {
+        Some((done, to)) => {
+            ui.horizontal(|ui| {
+                ui.add(
+                    egui::ProgressBar::new(done)
+                        .desired_width(160.0)
+                        .text(format!("learning up to frame {to}: {:.0} %", done * 100.0)),
+                )
+                .on_hover_text(
+                    "Every frame up to the one shown is learned, as playing there would; on a \
+                     long recording that runs in the background, and θ shows held meanwhile",
+                );
+                if ui.button("Cancel").clicked() {
+                    commands.push(Command::Online(OnlineCommand::StopLearningAhead));
+                }
+            });
+        }
+        None => {
+            ui.weak(how_far_learned(run));
+        }
+    }
 
     best_theta(ui, state, recording, commands);
 

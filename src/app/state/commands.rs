@@ -64,6 +64,15 @@ impl AppState {
 
     pub(super) fn apply_online(&mut self, command: OnlineCommand) {
         let frame = self.frame();
+        if let OnlineCommand::SetTheta(_)
+        | OnlineCommand::LearnThisFrame
+        | OnlineCommand::ResetTheta
+        | OnlineCommand::SetConfig(_)
+        | OnlineCommand::StopLearningAhead = command
+        {
+            // A copy learning ahead would overwrite the change when it is back.
+            self.stop_learning_ahead();
+        }
         match command {
             OnlineCommand::SetTheta(theta) => {
                 if let Some(run) = &mut self.run {
@@ -102,6 +111,7 @@ impl AppState {
             OnlineCommand::SetWhatIfSteps(steps) => {
                 self.settings.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
             }
+            OnlineCommand::StopLearningAhead => {}
         }
     }
 

@@ -21,6 +21,7 @@ pub mod label_losses;
 pub mod labels;
 pub mod landscape;
 pub mod layers;
+mod learning_ahead;
 mod model_in_use;
 pub mod models;
 pub mod online;
@@ -56,6 +57,7 @@ use self::frame_cache::FrameCache;
 use self::labels::{LabelAction, Labeling};
 use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
+use self::learning_ahead::LearningAhead;
 use self::models::Models;
 use self::online::OnlineRun;
 use self::overview::PathOverview;
@@ -154,6 +156,8 @@ pub enum OnlineCommand {
     SetCarryTheta(bool),
     /// How many steps what-if rollouts run ahead.
     SetWhatIfSteps(usize),
+    /// Stop learning far ahead on a worker (after a long seek), holding θ where it got to.
+    StopLearningAhead,
 }
 
 /// Offline training of a combined model, in the background.
@@ -279,6 +283,8 @@ pub struct AppState {
     frame_cache: FrameCache,
     /// Counts the runs started, so that what was computed for one is not taken for another's.
     run_generation: u64,
+    /// A copy of the run learning far ahead on a worker.
+    learning_ahead: LearningAhead,
 }
 
 impl AppState {
@@ -315,6 +321,7 @@ impl AppState {
             cameras,
             frame_cache: FrameCache::default(),
             run_generation: 0,
+            learning_ahead: LearningAhead::default(),
         }
     }
 
@@ -469,6 +476,7 @@ impl AppState {
         self.remember_losses();
         let landscape = self.update_landscape();
         let best_fit = self.best_fit.poll();
+        let learning_ahead = self.poll_learning_ahead();
         (self.cameras).update(
             self.timeline.frame_time(),
             self.timeline.playing,
@@ -484,6 +492,7 @@ impl AppState {
             || self.datasets.listing().is_some()
             || landscape
             || best_fit
+            || learning_ahead
     }
 
     /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames
@@ -505,17 +514,6 @@ impl AppState {
         }
     }
 
-    /// Learns from frames `from..to` when "Learn while playing" is on, holding θ over frames
-    /// labelled to skip in training.
-    fn learn_while_playing(&mut self, from: usize, to: usize) {
-        if self.settings.learn_while_playing && self.run.is_some() {
-            let skip = self.frames_to_skip();
-            if let Some(run) = &mut self.run {
-                run.learn_through(from, to, &skip);
-            }
-        }
-    }
-
     /// A fresh timeline and online run for the selected recording; labeling starts over too (no
     /// stroke, no in point).
     pub fn start_run(&mut self) {
@@ -526,6 +524,7 @@ impl AppState {
 
     fn start_run_keeping_labels(&mut self) {
         self.run_generation += 1;
+        self.learning_ahead.cancel();
         self.frame_cache.clear();
         self.cameras.select(self.session.selected_recording());
         let Some(recording) = self.session.selected_recording() else {

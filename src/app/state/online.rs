@@ -90,6 +90,13 @@ impl OnlineRun {
         self.plots.follow(&mut self.run);
     }
 
+    /// Takes `learned` in place of the core run: a copy of it that learned further on a worker
+    /// while this one was left alone (`learning_ahead`); the plots follow what the copy added.
+    pub fn take_learned_ahead(&mut self, learned: learn::OnlineRun) {
+        self.run = learned;
+        self.plots.follow(&mut self.run);
+    }
+
     /// Sets θ at `frame` (a user's steering), forgetting everything learned after it.
     pub fn set_theta_at(&mut self, frame: usize, theta: OnlineParams) {
         self.run.set_theta_at(frame, theta);

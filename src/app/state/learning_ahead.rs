@@ -1,0 +1,158 @@
+//! Learning far ahead of the online run on a worker thread.
+//!
+//! Why: a seek, or a model taken into use, at a frame far past what the run has learned learns every
+//! frame between — what playing there would have learned — and on a long recording that is seconds
+//! of work (a million frames: about 1.5 s), which on the UI thread would freeze the window. Past
+//! [`LEARN_AHEAD_FRAMES`] frames the learning runs on a worker, on a copy of the core run, with a
+//! progress bar and Cancel in the Steer tab; the copy takes the run's place when it is done, so the
+//! θ and losses are those of learning on the UI thread, to the bit. Meanwhile the run is left alone:
+//! θ is held at its frontier, playing learns nothing until the copy is back (then the frames passed
+//! meanwhile are learned), and every change to the run — steering, a reset, another update rule,
+//! another run — cancels the copy first, so a late copy never overwrites it.
+
+use std::sync::Arc;
+
+use pushlab_core::learn;
+
+use super::AppState;
+use super::job::{Job, take_ended};
+use super::online::OnlineRun;
+
+/// Frames learned on the UI thread in one go at most (about 10 ms); more are learned on a worker.
+pub const LEARN_AHEAD_FRAMES: usize = 10_000;
+/// Frames the worker learns between looking for a cancel and reporting its progress.
+const BLOCK: usize = 4_096;
+
+/// The copy of the run learning ahead on a worker, if any.
+#[derive(Default)]
+pub struct LearningAhead {
+    job: Option<(Target, Job<learn::OnlineRun>)>,
+}
+
+/// Which run a copy learns for, and up to which frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Target {
+    generation: u64,
+    to: usize,
+}
+
+impl LearningAhead {
+    /// Whether learning frames `from..to` of `run` is too long for the UI thread: frames already
+    /// learned are passed over, so only those past the frontier count.
+    pub fn is_long(run: &learn::OnlineRun, from: usize, to: usize) -> bool {
+        let to = to.min(run.sample_count());
+        to.saturating_sub(from.max(run.frontier())) > LEARN_AHEAD_FRAMES
+    }
+
+    /// Learns frames `from..to` on a copy of `run` on a worker (replacing any copy under way),
+    /// holding θ over the frames `skip` marks; `generation` names the run.
+    fn start(
+        &mut self,
+        run: &OnlineRun,
+        from: usize,
+        to: usize,
+        skip: Arc<[bool]>,
+        generation: u64,
+    ) {
+        let mut copy = learn::OnlineRun::clone(run);
+        let job = Job::spawn(move |context| {
+            let mut at = from;
+            while at < to {
+                if context.is_cancelled() {
+                    return None;
+                }
+                let next = (at + BLOCK).min(to);
+                // Learning `from..to` in blocks is learning it in one go: frame by frame in order.
+                copy.learn_through(at, next, &skip);
+                context.set_progress((next - from) as f32 / (to - from) as f32);
+                at = next;
+            }
+            Some(copy)
+        });
+        self.job = Some((Target { generation, to }, job));
+    }
+
+    /// The share done and the frame learned up to, while a copy learns.
+    pub fn progress(&self) -> Option<(f32, usize)> {
+        (self.job.as_ref()).map(|(target, job)| (job.progress(), target.to))
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Stops the copy under way (dropped, so cancelled); whether there was one.
+    pub fn cancel(&mut self) -> bool {
+        self.job.take().is_some()
+    }
+
+    /// The copy, once it has learned, with the frame it learned up to; `None` while it learns, or
+    /// when it was for another run than the one of `generation`.
+    fn poll(&mut self, generation: u64) -> Option<(learn::OnlineRun, usize)> {
+        let (target, copy) = take_ended(&mut self.job)?;
+        copy.filter(|_| target.generation == generation)
+            .map(|copy| (copy, target.to))
+    }
+}
+
+impl AppState {
+    /// Learns from frames `from..to` when "Learn while playing" is on, holding θ over frames
+    /// labelled to skip in training: on the UI thread, or on a worker when that is long. While a
+    /// worker learns, nothing more is learned here; what the frame shown has passed meanwhile is
+    /// learned when its copy is back.
+    pub(super) fn learn_while_playing(&mut self, from: usize, to: usize) {
+        if !self.settings.learn_while_playing
+            || self.run.is_none()
+            || self.learning_ahead.is_running()
+        {
+            return;
+        }
+        let skip = self.frames_to_skip();
+        let Some(run) = &mut self.run else {
+            return;
+        };
+        if LearningAhead::is_long(run, from, to) {
+            (self.learning_ahead).start(run, from, to, skip, self.run_generation);
+            self.status = Some(format!(
+                "learning up to frame {to} in the background (the Steer tab shows how far, with \
+                 Cancel)"
+            ));
+        } else {
+            run.learn_through(from, to, &skip);
+        }
+    }
+
+    /// Stops learning ahead before the run is changed (the copy would overwrite the change), or
+    /// when asked to; says so when a copy was stopped.
+    pub(super) fn stop_learning_ahead(&mut self) {
+        if self.learning_ahead.cancel() {
+            let held = self.run.as_ref().map_or(0, |run| run.frontier());
+            self.status = Some(format!(
+                "stopped learning ahead: θ is held from frame {held} (play or seek to learn on)"
+            ));
+        }
+    }
+
+    /// Takes the copy that learned ahead in place of the run once it is done, and learns what the
+    /// frame shown passed meanwhile. Returns whether a copy is still learning.
+    pub(super) fn poll_learning_ahead(&mut self) -> bool {
+        if let Some((learned, to)) = self.learning_ahead.poll(self.run_generation) {
+            if let Some(run) = &mut self.run {
+                run.take_learned_ahead(learned);
+            }
+            let now = self.frame();
+            if now > to {
+                self.learn_while_playing(to, now);
+            }
+        }
+        self.learning_ahead.is_running()
+    }
+
+    /// The copy learning ahead: the share done and the frame it learns up to.
+    pub fn learning_ahead(&self) -> Option<(f32, usize)> {
+        self.learning_ahead.progress()
+    }
+}
+
+#[cfg(test)]
+mod tests;

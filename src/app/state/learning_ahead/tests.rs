@@ -1,0 +1,160 @@
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use pushlab_core::geometry::Pose2;
+use pushlab_core::model::OnlineParams;
+use pushlab_core::recording::{Setting, write_set};
+use pushlab_core::trajectory::{Frame, Trajectory};
+
+use super::LEARN_AHEAD_FRAMES;
+use crate::app::state::models::Models;
+use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::{AppState, Command, OnlineCommand, Persisted};
+
+/// Frames of the long push: three times what the UI thread learns in one go.
+const FRAMES: usize = 3 * LEARN_AHEAD_FRAMES;
+
+/// A one-push set of `FRAMES` frames at 250 Hz: a box pushed round a wide circle, the pusher behind
+/// its face.
+fn long_set(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pushlab-ahead-{name}-{}", std::process::id()));
+    let frames = (0..FRAMES)
+        .map(|i| {
+            let t = i as f64 / 250.0;
+            let angle = 0.02 * t;
+            let object = Pose2::new(
+                angle.sin(),
+                1.0 - angle.cos(),
+                angle + 0.05 * (0.7 * t).sin(),
+            );
+            Frame {
+                time: t,
+                robot: object.point_in_world(nalgebra::Point2::new(-0.2, 0.01)),
+                object,
+            }
+        })
+        .collect();
+    let setting: Setting = serde_json::from_value(serde_json::json!({
+        "name": "long",
+        "object": {"shape": "box", "width": 0.3, "length": 0.4},
+        "pusher_radius": 0.005,
+        "trajectories": [{"file": "push_000.csv"}],
+    }))
+    .expect("a valid setting");
+    let _ = std::fs::remove_dir_all(&dir);
+    write_set(&dir, &setting, &[Trajectory::new(frames)]).expect("write the long set");
+    dir
+}
+
+fn state_on(dir: &std::path::Path) -> AppState {
+    let mut state = AppState::new(Persisted::default(), Models::default());
+    state.open_blocking(&[dir.to_path_buf()]);
+    assert!(state.recording().is_some(), "{:?}", state.session.problems);
+    state.settings.learn_while_playing = true;
+    state
+}
+
+fn seek(state: &mut AppState, frame: usize) {
+    state.apply(Command::Timeline(TimelineCommand::SeekTo(frame)));
+}
+
+/// Polls as the UI thread does until the copy learning ahead is back.
+fn until_learned(state: &mut AppState) {
+    let started = Instant::now();
+    while state.learning_ahead().is_some() {
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "still learning"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+        state.advance(0.0);
+    }
+}
+
+#[test]
+fn a_long_seek_learns_on_a_worker_what_short_seeks_learn_on_the_ui_thread() {
+    let dir = long_set("seek");
+    let target = FRAMES - 100;
+    let mut state = state_on(&dir);
+    seek(&mut state, target);
+    assert!(
+        state.learning_ahead().is_some(),
+        "learned in the background"
+    );
+    let run = state.run().expect("a run");
+    assert_eq!(run.frontier(), 0, "θ is held while the copy learns");
+    assert!(
+        state
+            .status
+            .as_deref()
+            .is_some_and(|s| s.contains("learning up to frame"))
+    );
+    until_learned(&mut state);
+
+    // The same frames learned by seeks short enough for the UI thread.
+    let mut reference = state_on(&dir);
+    for frame in (LEARN_AHEAD_FRAMES / 2..target).step_by(LEARN_AHEAD_FRAMES / 2) {
+        seek(&mut reference, frame);
+        assert!(reference.learning_ahead().is_none());
+    }
+    seek(&mut reference, target);
+    let (run, reference) = (state.run().expect("a run"), reference.run().expect("a run"));
+    assert_eq!(run.frontier(), target);
+    assert_eq!(run.checkpoints(), reference.checkpoints());
+    assert_eq!(run.learned(), reference.learned());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn frames_passed_while_the_copy_learns_are_learned_when_it_is_back() {
+    let dir = long_set("passed");
+    let mut state = state_on(&dir);
+    seek(&mut state, 2 * LEARN_AHEAD_FRAMES);
+    state.apply(Command::Timeline(TimelineCommand::Step(5)));
+    until_learned(&mut state);
+    assert_eq!(
+        state.run().expect("a run").frontier(),
+        2 * LEARN_AHEAD_FRAMES + 5
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn steering_or_cancel_stops_the_copy_and_it_never_lands() {
+    let dir = long_set("steer");
+    let mut state = state_on(&dir);
+    let frame = FRAMES - 100;
+    seek(&mut state, frame);
+    let steered = OnlineParams {
+        com_offset: [0.01, -0.01],
+        h: 0.1,
+    };
+    state.apply(Command::Online(OnlineCommand::SetTheta(steered)));
+    assert!(state.learning_ahead().is_none());
+    assert_eq!(
+        state.status.as_deref(),
+        Some("stopped learning ahead: θ is held from frame 0 (play or seek to learn on)")
+    );
+    let held = state.run().expect("a run").checkpoints().to_vec();
+    assert_eq!(
+        held.len(),
+        frame + 1,
+        "θ set at the frame shown, held before it"
+    );
+    // Long enough for the copy to have learned, had it not been stopped.
+    std::thread::sleep(Duration::from_millis(500));
+    state.advance(0.0);
+    assert_eq!(state.run().expect("a run").checkpoints(), held.as_slice());
+
+    // Cancel from the Steer tab: nothing learned, θ held.
+    seek(&mut state, 0);
+    state.apply(Command::Online(OnlineCommand::ResetTheta));
+    seek(&mut state, frame);
+    assert!(state.learning_ahead().is_some());
+    state.apply(Command::Online(OnlineCommand::StopLearningAhead));
+    assert!(state.learning_ahead().is_none());
+    std::thread::sleep(Duration::from_millis(500));
+    state.advance(0.0);
+    assert_eq!(state.run().expect("a run").frontier(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
