@@ -356,10 +356,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     match state.learning_ahead() {
         Some((done, to)) => {
             ui.horizontal(|ui| {
+                // Room left for Cancel: the text is cut to the bar's width.
                 ui.add(
                     egui::ProgressBar::new(done)
-                        .desired_width(160.0)
-                        .text(format!("learning up to frame {to}: {:.0} %", done * 100.0)),
+                        .desired_width((ui.available_width() - 70.0).max(120.0))
+                        .text(format!("learning to frame {to}: {:.0} %", done * 100.0)),
                 )
                 .on_hover_text(
                     "Every frame up to the one shown is learned, as playing there would; on a \

@@ -11,10 +11,10 @@
 //! another run — cancels the copy first, so a late copy never overwrites it.
 
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use pushlab_core::learn;
 
-use super::AppState;
 use super::job::{Job, take_ended};
 use super::online::OnlineRun;
 
@@ -29,11 +29,12 @@ pub struct LearningAhead {
     job: Option<(Target, Job<learn::OnlineRun>)>,
 }
 
-/// Which run a copy learns for, and up to which frame.
+/// Which run a copy learns for, up to which frame, and since when.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Target {
     generation: u64,
     to: usize,
+    started: Instant,
 }
 
 impl LearningAhead {
@@ -46,7 +47,7 @@ impl LearningAhead {
 
     /// Learns frames `from..to` on a copy of `run` on a worker (replacing any copy under way),
     /// holding θ over the frames `skip` marks; `generation` names the run.
-    fn start(
+    pub fn start(
         &mut self,
         run: &OnlineRun,
         from: usize,
@@ -54,6 +55,7 @@ impl LearningAhead {
         skip: Arc<[bool]>,
         generation: u64,
     ) {
+        let to = to.min(run.sample_count());
         let mut copy = learn::OnlineRun::clone(run);
         let job = Job::spawn(move |context| {
             let mut at = from;
@@ -69,7 +71,13 @@ impl LearningAhead {
             }
             Some(copy)
         });
-        self.job = Some((Target { generation, to }, job));
+        let started = Instant::now();
+        let target = Target {
+            generation,
+            to,
+            started,
+        };
+        self.job = Some((target, job));
     }
 
     /// The share done and the frame learned up to, while a copy learns.
@@ -86,73 +94,11 @@ impl LearningAhead {
         self.job.take().is_some()
     }
 
-    /// The copy, once it has learned, with the frame it learned up to; `None` while it learns, or
-    /// when it was for another run than the one of `generation`.
-    fn poll(&mut self, generation: u64) -> Option<(learn::OnlineRun, usize)> {
+    /// The copy, once it has learned, with the frame it learned up to and how long it took;
+    /// `None` while it learns, or when it was for another run than the one of `generation`.
+    pub fn poll(&mut self, generation: u64) -> Option<(learn::OnlineRun, usize, Duration)> {
         let (target, copy) = take_ended(&mut self.job)?;
         copy.filter(|_| target.generation == generation)
-            .map(|copy| (copy, target.to))
+            .map(|copy| (copy, target.to, target.started.elapsed()))
     }
 }
-
-impl AppState {
-    /// Learns from frames `from..to` when "Learn while playing" is on, holding θ over frames
-    /// labelled to skip in training: on the UI thread, or on a worker when that is long. While a
-    /// worker learns, nothing more is learned here; what the frame shown has passed meanwhile is
-    /// learned when its copy is back.
-    pub(super) fn learn_while_playing(&mut self, from: usize, to: usize) {
-        if !self.settings.learn_while_playing
-            || self.run.is_none()
-            || self.learning_ahead.is_running()
-        {
-            return;
-        }
-        let skip = self.frames_to_skip();
-        let Some(run) = &mut self.run else {
-            return;
-        };
-        if LearningAhead::is_long(run, from, to) {
-            (self.learning_ahead).start(run, from, to, skip, self.run_generation);
-            self.status = Some(format!(
-                "learning up to frame {to} in the background (the Steer tab shows how far, with \
-                 Cancel)"
-            ));
-        } else {
-            run.learn_through(from, to, &skip);
-        }
-    }
-
-    /// Stops learning ahead before the run is changed (the copy would overwrite the change), or
-    /// when asked to; says so when a copy was stopped.
-    pub(super) fn stop_learning_ahead(&mut self) {
-        if self.learning_ahead.cancel() {
-            let held = self.run.as_ref().map_or(0, |run| run.frontier());
-            self.status = Some(format!(
-                "stopped learning ahead: θ is held from frame {held} (play or seek to learn on)"
-            ));
-        }
-    }
-
-    /// Takes the copy that learned ahead in place of the run once it is done, and learns what the
-    /// frame shown passed meanwhile. Returns whether a copy is still learning.
-    pub(super) fn poll_learning_ahead(&mut self) -> bool {
-        if let Some((learned, to)) = self.learning_ahead.poll(self.run_generation) {
-            if let Some(run) = &mut self.run {
-                run.take_learned_ahead(learned);
-            }
-            let now = self.frame();
-            if now > to {
-                self.learn_while_playing(to, now);
-            }
-        }
-        self.learning_ahead.is_running()
-    }
-
-    /// The copy learning ahead: the share done and the frame it learns up to.
-    pub fn learning_ahead(&self) -> Option<(f32, usize)> {
-        self.learning_ahead.progress()
-    }
-}
-
-#[cfg(test)]
-mod tests;

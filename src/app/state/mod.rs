@@ -21,6 +21,7 @@ pub mod label_losses;
 pub mod labels;
 pub mod landscape;
 pub mod layers;
+mod learning;
 mod learning_ahead;
 mod model_in_use;
 pub mod models;

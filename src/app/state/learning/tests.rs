@@ -6,7 +6,7 @@ use pushlab_core::model::OnlineParams;
 use pushlab_core::recording::{Setting, write_set};
 use pushlab_core::trajectory::{Frame, Trajectory};
 
-use super::LEARN_AHEAD_FRAMES;
+use crate::app::state::learning_ahead::LEARN_AHEAD_FRAMES;
 use crate::app::state::models::Models;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command, OnlineCommand, Persisted};
@@ -83,13 +83,11 @@ fn a_long_seek_learns_on_a_worker_what_short_seeks_learn_on_the_ui_thread() {
     );
     let run = state.run().expect("a run");
     assert_eq!(run.frontier(), 0, "θ is held while the copy learns");
-    assert!(
-        state
-            .status
-            .as_deref()
-            .is_some_and(|s| s.contains("learning up to frame"))
-    );
+    let status = |state: &AppState| state.status.clone().unwrap_or_default();
+    assert!(status(&state).starts_with("learning up to the frame shown"));
     until_learned(&mut state);
+    let said = format!("learned up to frame {target} in the background in ");
+    assert!(status(&state).starts_with(&said), "{}", status(&state));
 
     // The same frames learned by seeks short enough for the UI thread.
     let mut reference = state_on(&dir);

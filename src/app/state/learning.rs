@@ -1,0 +1,73 @@
+//! The state's learning along the run: what a frame move learns ("Learn while playing"), on the UI
+//! thread or, when it is long, ahead on a worker (`learning_ahead`), and taking the worker's copy
+//! back.
+
+use super::AppState;
+use super::learning_ahead::LearningAhead;
+
+impl AppState {
+    /// Learns from frames `from..to` when "Learn while playing" is on, holding θ over frames
+    /// labelled to skip in training: on the UI thread, or on a worker when that is long. While a
+    /// worker learns, nothing more is learned here; what the frame shown has passed meanwhile is
+    /// learned when its copy is back.
+    pub(super) fn learn_while_playing(&mut self, from: usize, to: usize) {
+        if !self.settings.learn_while_playing
+            || self.run.is_none()
+            || self.learning_ahead.is_running()
+        {
+            return;
+        }
+        let skip = self.frames_to_skip();
+        let Some(run) = &mut self.run else {
+            return;
+        };
+        if LearningAhead::is_long(run, from, to) {
+            (self.learning_ahead).start(run, from, to, skip, self.run_generation);
+            self.status = Some(
+                "learning up to the frame shown in the background (the Steer tab shows how far, \
+                 with Cancel)"
+                    .to_owned(),
+            );
+        } else {
+            run.learn_through(from, to, &skip);
+        }
+    }
+
+    /// Stops learning ahead before the run is changed (the copy would overwrite the change), or
+    /// when asked to; says so when a copy was stopped.
+    pub(super) fn stop_learning_ahead(&mut self) {
+        if self.learning_ahead.cancel() {
+            let held = self.run.as_ref().map_or(0, |run| run.frontier());
+            self.status = Some(format!(
+                "stopped learning ahead: θ is held from frame {held} (play or seek to learn on)"
+            ));
+        }
+    }
+
+    /// Takes the copy that learned ahead in place of the run once it is done, and learns what the
+    /// frame shown passed meanwhile. Returns whether a copy is still learning.
+    pub(super) fn poll_learning_ahead(&mut self) -> bool {
+        if let Some((learned, to, took)) = self.learning_ahead.poll(self.run_generation) {
+            if let Some(run) = &mut self.run {
+                run.take_learned_ahead(learned);
+            }
+            self.status = Some(format!(
+                "learned up to frame {to} in the background in {:.1} s",
+                took.as_secs_f64()
+            ));
+            let now = self.frame();
+            if now > to {
+                self.learn_while_playing(to, now);
+            }
+        }
+        self.learning_ahead.is_running()
+    }
+
+    /// The copy learning ahead: the share done and the frame it learns up to.
+    pub fn learning_ahead(&self) -> Option<(f32, usize)> {
+        self.learning_ahead.progress()
+    }
+}
+
+#[cfg(test)]
+mod tests;
