@@ -18,7 +18,7 @@ use pushlab_core::learn;
 use super::job::{Job, take_ended};
 use super::online::OnlineRun;
 
-/// Frames learned on the UI thread in one go at most (about 10 ms); more are learned on a worker.
+/// Frames learned on the UI thread in one go at most (about 15 ms); more are learned on a worker.
 pub const LEARN_AHEAD_FRAMES: usize = 10_000;
 /// Frames the worker learns between looking for a cancel and reporting its progress.
 const BLOCK: usize = 4_096;

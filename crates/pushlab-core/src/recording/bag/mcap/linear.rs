@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicUsize;
 use super::prefetch::Prefetch;
 use super::records::{
     self, ChunkIndex, MAGIC, MAX_CHUNK_BYTES, MESSAGE_HEADER, OP_CHANNEL, OP_CHUNK, OP_DATA_END,
-    OP_FOOTER, OP_MESSAGE, OP_SCHEMA, RECORD_HEADER,
+    OP_FOOTER, OP_MESSAGE, OP_MESSAGE_INDEX, OP_SCHEMA, RECORD_HEADER,
 };
 use super::source::Source;
 use super::{
@@ -28,7 +28,7 @@ pub(super) fn read<S: Source + ?Sized>(
     source: &S,
     visitor: &mut dyn Visitor,
 ) -> Result<FileRead, BagProblem> {
-    let chunks = chunks_of(source);
+    let chunks = walk(source).chunks;
     let ahead: Vec<usize> = (chunks.iter().enumerate())
         .filter(|(_, c)| !c.compression.is_empty())
         .map(|(index, _)| index)
@@ -40,24 +40,53 @@ pub(super) fn read<S: Source + ?Sized>(
     })
 }
 
-/// The chunks of a file without a summary, in order, as an index would list them (no message
-/// indexes): found by walking the record headers up to the data-end record or the first record
-/// that is not whole, reading the header of each chunk. What [`read_records`] then finds wrong
-/// with a chunk is its to say.
-fn chunks_of<S: Source + ?Sized>(source: &S) -> Vec<ChunkIndex> {
+/// What a walk of the record headers of a file without a summary finds, up to its data-end record
+/// or the first record that is not whole.
+pub(super) struct Walk {
+    /// The chunks, in order, as an index would list them, with the message index records that
+    /// follow each (none when the writer wrote none; none for a last chunk whose indexes may be
+    /// cut short).
+    pub chunks: Vec<ChunkIndex>,
+    /// Schema and channel records outside chunks: their opcode, where their body starts, length.
+    pub definitions: Vec<(u8, u64, u64)>,
+    /// Whether a message record lies outside chunks.
+    pub loose_messages: bool,
+    /// Where the walk stopped, and the record there: `None` at the data-end or footer record; a
+    /// [`Record::Whole`] chunk whose header could not be read, or the first record not whole.
+    pub stopped: Option<(u64, Record)>,
+}
+
+/// Walks the record headers of a file without a summary (a few bytes read per record): the
+/// chunks and what [`Walk`] says. What [`read_records`] then finds wrong with a chunk is its to say.
+pub(super) fn walk<S: Source + ?Sized>(source: &S) -> Walk {
     // Enough of a chunk's body for its header with a compression name of up to 64 bytes.
     let header_read = records::chunk_header_len(64);
-    let mut chunks = Vec::new();
+    let mut walk = Walk {
+        chunks: Vec::new(),
+        definitions: Vec::new(),
+        loose_messages: false,
+        stopped: None,
+    };
+    // The chunk whose message indexes the records just walked were.
+    let mut indexes_of: Option<usize> = None;
     let mut at = MAGIC.len() as u64;
-    while let Record::Whole { op, len } = record_at(source, at) {
+    loop {
+        let record = record_at(source, at);
+        let Record::Whole { op, len } = record else {
+            walk.stopped = Some((at, record));
+            break;
+        };
+        let body = at + RECORD_HEADER;
         match op {
             OP_DATA_END | OP_FOOTER => break,
             OP_CHUNK => {
-                let body = source.read_vec(at + RECORD_HEADER, len.min(header_read));
-                let Some(chunk) = body.ok().as_deref().and_then(records::chunk_header) else {
+                let header = source.read_vec(body, len.min(header_read));
+                let Some(chunk) = header.ok().as_deref().and_then(records::chunk_header) else {
+                    // Whole but unreadable: the pass from the start says what is wrong with it.
+                    walk.stopped = Some((at, record));
                     break;
                 };
-                chunks.push(ChunkIndex {
+                walk.chunks.push(ChunkIndex {
                     start: at,
                     length: RECORD_HEADER + len,
                     message_index_offsets: BTreeMap::new(),
@@ -66,16 +95,51 @@ fn chunks_of<S: Source + ?Sized>(source: &S) -> Vec<ChunkIndex> {
                     compressed_size: chunk.records_len,
                     uncompressed_size: chunk.uncompressed_size,
                 });
+                indexes_of = Some(walk.chunks.len() - 1);
             }
+            OP_MESSAGE_INDEX => {
+                let channel = source.read_vec(body, 2.min(len)).ok();
+                match (indexes_of, channel.as_deref()) {
+                    (Some(index), Some(&[low, high])) => {
+                        let chunk = &mut walk.chunks[index];
+                        (chunk.message_index_offsets).insert(u16::from_le_bytes([low, high]), at);
+                        chunk.message_index_length += RECORD_HEADER + len;
+                    }
+                    _ => indexes_of = None,
+                }
+            }
+            OP_SCHEMA | OP_CHANNEL => walk.definitions.push((op, body, len)),
+            OP_MESSAGE => walk.loose_messages = true,
             _ => {}
         }
-        at += RECORD_HEADER + len;
+        if !matches!(op, OP_CHUNK | OP_MESSAGE_INDEX) {
+            indexes_of = None;
+        }
+        at = body + len;
     }
-    chunks
+    // Indexes the walk stopped in, or before a record whose header is cut (another index?), may
+    // be missing a channel's: the chunk is counted from its records instead.
+    let indexes_cut = matches!(
+        walk.stopped,
+        Some((
+            _,
+            Record::HeaderCut
+                | Record::BodyCut {
+                    op: OP_MESSAGE_INDEX,
+                    ..
+                }
+        ))
+    );
+    if indexes_cut && let Some(last) = indexes_of.and_then(|index| walk.chunks.get_mut(index)) {
+        last.message_index_offsets.clear();
+        last.message_index_length = 0;
+    }
+    walk
 }
 
 /// A record as its header says, read at where it starts.
-enum Record {
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Record {
     /// Its header and body lie within the file.
     Whole { op: u8, len: u64 },
     /// The file ends inside its header (or it cannot be read).

@@ -9,10 +9,12 @@
 //! few percent of it. A chunk read whole has its CRC checked; one read message by message cannot
 //! (its CRC covers the whole chunk), and relies on the messages decoding.
 //!
-//! Without a summary the file is read from the start, record by record and chunk by chunk; a file
-//! cut short (its recorder stopped before writing the summary, or a disk filled) is read up to its
-//! last whole record and the loss said ([`CutShort`]), as Foxglove's `mcap recover` would keep it,
-//! unless not one whole record holds a channel.
+//! Without a summary, a file whose chunks have their message indexes after them has its summary
+//! rebuilt from a walk of its record headers and is read as an indexed one (`unfinished.rs`);
+//! another is read from the start, record by record and chunk by chunk. Either way a file cut short
+//! (its recorder stopped before writing the summary, or a disk filled) is read up to its last whole
+//! record and the loss said ([`CutShort`]), as Foxglove's `mcap recover` would keep it, unless not
+//! one whole record holds a channel.
 //!
 //! Either way the caller sees, in file order, every message of the channels it wants: their payload,
 //! or only its first bytes and where the message lies (`MessageAt`), to read it again later — a
@@ -26,6 +28,7 @@ mod reader;
 mod records;
 mod source;
 mod summary;
+mod unfinished;
 
 pub use self::payload::{ChunkCache, read_payload};
 pub use self::reader::read_messages;

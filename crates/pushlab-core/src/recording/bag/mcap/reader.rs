@@ -28,13 +28,18 @@ pub fn read_messages<S: Source + ?Sized>(
     visitor: &mut dyn Visitor,
 ) -> Result<FileRead, BagProblem> {
     check_magic(source)?;
-    match summary::read(source)? {
-        Some(summary) if indexes_every_message(&summary) => Ok(FileRead {
-            channels: Indexed::new(source, summary, visitor).run(visitor)?,
-            cut_short: None,
-        }),
-        _ => super::linear::read(source, visitor),
-    }
+    let (summary, cut_short) = match summary::read(source)? {
+        Some(summary) if indexes_every_message(&summary) => (summary, None),
+        Some(_) => return super::linear::read(source, visitor),
+        None => match super::unfinished::rebuilt_summary(source) {
+            Some(rebuilt) => rebuilt,
+            None => return super::linear::read(source, visitor),
+        },
+    };
+    Ok(FileRead {
+        channels: Indexed::new(source, summary, visitor).run(visitor)?,
+        cut_short,
+    })
 }
 
 fn check_magic<S: Source + ?Sized>(source: &S) -> Result<(), BagProblem> {

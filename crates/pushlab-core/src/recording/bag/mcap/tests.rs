@@ -87,11 +87,14 @@ fn camera_bag(summary: bool) -> Vec<u8> {
     out.into_inner()
 }
 
-/// Keeps what a pass shows: each message's channel, log time, data and place.
+/// A message as a pass showed it: its channel's topic, log time, data and place.
+type Seen = (String, u64, Vec<u8>, MessageAt);
+
+/// Keeps what a pass shows.
 #[derive(Default)]
 struct Recorder {
     wants: BTreeMap<String, Want>,
-    seen: Vec<(String, u64, Vec<u8>, MessageAt)>,
+    seen: Vec<Seen>,
     passed: u64,
 }
 
@@ -256,6 +259,71 @@ fn a_file_cut_short_is_read_up_to_its_last_whole_record() {
     // Cut before any channel is declared: nothing to read, refused.
     let first = chunks[0];
     assert!(read_messages(&Bytes(&whole[..first + 100]), &mut recorder(&wants)).is_err());
+}
+
+/// What a pass over `bytes` finds: the bytes it read, the messages it saw, the channels and cut it
+/// returned; `linear` reads from the start, else as `read_messages` does.
+fn pass_over(bytes: &[u8], wants: &[(&str, Want)], linear: bool) -> (u64, Vec<Seen>, FileRead) {
+    let source = Counting {
+        bytes: Bytes(bytes),
+        read: AtomicU64::new(0),
+    };
+    let mut seen = recorder(wants);
+    let read = if linear {
+        super::linear::read(&source, &mut seen)
+    } else {
+        read_messages(&source, &mut seen)
+    };
+    (
+        source.read.load(Ordering::Relaxed),
+        seen.seen,
+        read.unwrap(),
+    )
+}
+
+#[test]
+fn a_file_cut_short_with_message_indexes_is_read_as_an_indexed_one() {
+    // What listing a bag's topics asks: a camera's first frame, nothing of the poses.
+    let listing = [("/camera/image/compressed", Want::First(16))];
+    let poses = [("/pose", Want::Payload)];
+    let whole = camera_bag(false);
+    let starts = record_starts(&whole);
+    let chunks: Vec<usize> = (starts.iter().copied())
+        .filter(|&at| whole[at] == 0x06)
+        .collect();
+    // Cut inside the fourth chunk; cut inside the second message index after the third; not cut.
+    let indexes: Vec<usize> = (starts.iter().copied())
+        .filter(|&at| at > chunks[2] && at < chunks[3] && whole[at] == 0x07)
+        .collect();
+    assert_eq!(
+        indexes.len(),
+        2,
+        "an index per channel after the third chunk"
+    );
+    for len in [chunks[3] + 5000, indexes[1] + 12, whole.len()] {
+        let file = &whole[..len];
+        for wants in [&listing[..], &poses[..]] {
+            let (read, seen, found) = pass_over(file, wants, false);
+            let (read_from_start, seen_from_start, found_from_start) = pass_over(file, wants, true);
+            assert_eq!(seen, seen_from_start, "cut at {len}");
+            assert_eq!(found.channels, found_from_start.channels, "cut at {len}");
+            assert_eq!(found.cut_short, found_from_start.cut_short, "cut at {len}");
+            if wants == &listing[..] {
+                // The first chunk (for the channels it declares, and the camera's first frame),
+                // then only the record headers and message indexes of the rest — but a last chunk
+                // whose indexes are cut, read for its declarations and to count its messages;
+                // from the start, every chunk.
+                let last_read_whole = if len == indexes[1] + 12 {
+                    2 * (chunks[3] - chunks[2])
+                } else {
+                    0
+                };
+                let most = chunks[1] + last_read_whole + 64 * 1024;
+                assert!(read < most as u64, "{read} bytes read of {len}");
+                assert!(read_from_start > len as u64 * 9 / 10);
+            }
+        }
+    }
 }
 
 #[test]

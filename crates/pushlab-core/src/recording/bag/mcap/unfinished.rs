@@ -1,0 +1,111 @@
+//! A file without a summary whose chunks have their message indexes after them — most often a
+//! recording cut short, its recorder killed before it wrote the summary — read as an indexed file.
+//!
+//! Why: read from the start, every chunk of such a file is read whole, and a zstd one decompressed,
+//! even to list its topics (a 2.9 GB camera bag cut short: seconds, where its indexed original
+//! lists in milliseconds). But the message index records a writer puts after each chunk say which
+//! channels it holds and when each message was logged, and a walk of the record headers finds the
+//! chunks and those indexes reading a few bytes per record. So the summary is rebuilt from the walk
+//! — the channels from the records outside chunks and from the first chunks that declare them — and
+//! the file read as an indexed one: a chunk holding nothing asked for is never read. Where a file
+//! is not so (no message indexes, messages outside chunks, a chunk whose header cannot be read, a
+//! cut before any channel), it is read from the start as before, which also says what is wrong.
+
+use std::collections::BTreeMap;
+
+use super::chunk::read_whole;
+use super::linear::{Record, Walk, walk};
+use super::records::{self, OP_CHANNEL, OP_CHUNK, OP_MESSAGE, OP_SCHEMA};
+use super::source::Source;
+use super::summary::Summary;
+use super::{ChannelInfo, CutShort};
+
+/// The summary of a file without one, rebuilt from its record headers and message indexes, and
+/// where the file was cut short; `None` when it cannot be rebuilt (see the module documentation).
+pub(super) fn rebuilt_summary<S: Source + ?Sized>(
+    source: &S,
+) -> Option<(Summary, Option<CutShort>)> {
+    let walk = walk(source);
+    let Walk {
+        chunks,
+        definitions,
+        loose_messages,
+        stopped,
+    } = &walk;
+    // Every chunk but a last one cut through its indexes has message indexes.
+    let indexed = |index: usize| !chunks[index].message_index_offsets.is_empty();
+    let last_unindexed = chunks.len().checked_sub(1).filter(|&last| !indexed(last));
+    if chunks.is_empty()
+        || *loose_messages
+        || (0..chunks.len()).any(|i| !indexed(i) && Some(i) != last_unindexed)
+        || matches!(stopped, Some((_, Record::Whole { .. })))
+    {
+        return None;
+    }
+    let mut declared = Declared::default();
+    for &(op, body, len) in definitions {
+        declared.add(op, &source.read_vec(body, len).ok()?)?;
+    }
+    // The channels are declared in the chunks where they are first used (or before them): read
+    // those chunks, and a last chunk whose indexes were cut, for their schema and channel records.
+    for (index, chunk) in chunks.iter().enumerate() {
+        let undeclared =
+            (chunk.message_index_offsets.keys()).any(|id| !declared.channels.contains_key(id));
+        if undeclared || Some(index) == last_unindexed {
+            let (_, records) = read_whole(source, chunk).ok()?;
+            for record in records::walk(&records) {
+                let (_, op, body) = record.ok()?;
+                if matches!(op, OP_SCHEMA | OP_CHANNEL) {
+                    declared.add(op, body)?;
+                }
+            }
+        }
+    }
+    let all_declared = (chunks.iter())
+        .flat_map(|c| c.message_index_offsets.keys())
+        .all(|id| declared.channels.contains_key(id));
+    if !all_declared || declared.channels.is_empty() {
+        return None;
+    }
+    let cut_short = stopped.map(|(at, record)| CutShort {
+        readable: at,
+        file_len: source.len(),
+        messages_lost: match record {
+            Record::HeaderCut => at < source.len(),
+            Record::BodyCut { op, .. } => matches!(op, OP_CHUNK | OP_MESSAGE),
+            Record::Whole { .. } => false,
+        },
+    });
+    let summary = Summary {
+        channels: declared.channels,
+        chunks: walk.chunks,
+        message_count: None,
+    };
+    Some((summary, cut_short))
+}
+
+/// Schemas and channels as their records declare them.
+#[derive(Default)]
+struct Declared {
+    schemas: BTreeMap<u16, String>,
+    channels: BTreeMap<u16, ChannelInfo>,
+}
+
+impl Declared {
+    /// Adds a schema or channel record's body; `None` when it is cut short.
+    fn add(&mut self, op: u8, body: &[u8]) -> Option<()> {
+        if op == OP_SCHEMA {
+            let (id, name) = records::schema(body)?;
+            self.schemas.insert(id, name);
+        } else {
+            let (id, schema, topic, encoding) = records::channel(body)?;
+            let type_name = self.schemas.get(&schema).cloned().unwrap_or_default();
+            (self.channels).entry(id).or_insert(ChannelInfo {
+                topic,
+                type_name,
+                encoding,
+            });
+        }
+        Some(())
+    }
+}
