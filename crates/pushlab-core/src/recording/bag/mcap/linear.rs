@@ -19,7 +19,7 @@ use super::{
 use crate::recording::bag::problem::BagProblem;
 
 /// Largest schema or channel record accepted (a ROS 2 message definition is a few kB).
-const MAX_DEFINITION_BYTES: u64 = 16 << 20;
+pub(super) const MAX_DEFINITION_BYTES: u64 = 16 << 20;
 
 /// A pass from the start of a file without a summary: record by record, each chunk read whole. A
 /// file cut short is read up to its last whole record, unless no channel was declared before the

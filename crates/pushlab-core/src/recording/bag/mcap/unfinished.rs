@@ -14,8 +14,8 @@
 use std::collections::BTreeMap;
 
 use super::chunk::read_whole;
-use super::linear::{Record, Walk, walk};
-use super::records::{self, OP_CHANNEL, OP_CHUNK, OP_MESSAGE, OP_SCHEMA};
+use super::linear::{MAX_DEFINITION_BYTES, Record, Walk, walk};
+use super::records::{self, MAX_CHUNK_BYTES, OP_CHANNEL, OP_CHUNK, OP_MESSAGE, OP_SCHEMA};
 use super::source::Source;
 use super::summary::Summary;
 use super::{ChannelInfo, CutShort};
@@ -35,8 +35,12 @@ pub(super) fn rebuilt_summary<S: Source + ?Sized>(
     // Every chunk but a last one cut through its indexes has message indexes.
     let indexed = |index: usize| !chunks[index].message_index_offsets.is_empty();
     let last_unindexed = chunks.len().checked_sub(1).filter(|&last| !indexed(last));
+    // Lengths a damaged file claims are not allocated: the pass from the start refuses them.
+    let too_long = (chunks.iter()).any(|c| c.message_index_length > MAX_CHUNK_BYTES)
+        || (definitions.iter()).any(|&(_, _, len)| len > MAX_DEFINITION_BYTES);
     if chunks.is_empty()
         || *loose_messages
+        || too_long
         || (0..chunks.len()).any(|i| !indexed(i) && Some(i) != last_unindexed)
         || matches!(stopped, Some((_, Record::Whole { .. })))
     {
