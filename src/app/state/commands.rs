@@ -67,11 +67,10 @@ impl AppState {
         if let OnlineCommand::SetTheta(_)
         | OnlineCommand::LearnThisFrame
         | OnlineCommand::ResetTheta
-        | OnlineCommand::SetConfig(_)
-        | OnlineCommand::StopLearningAhead = command
+        | OnlineCommand::SetConfig(_) = command
         {
             // A copy learning ahead would overwrite the change when it is back.
-            self.stop_learning_ahead();
+            self.drop_learning_ahead();
         }
         match command {
             OnlineCommand::SetTheta(theta) => {
@@ -111,7 +110,7 @@ impl AppState {
             OnlineCommand::SetWhatIfSteps(steps) => {
                 self.settings.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
             }
-            OnlineCommand::StopLearningAhead => {}
+            OnlineCommand::StopLearningAhead => self.stop_learning_ahead(),
         }
     }
 

@@ -33,9 +33,9 @@ impl AppState {
         }
     }
 
-    /// Stops learning ahead before the run is changed (the copy would overwrite the change), or
-    /// when asked to; says so when a copy was stopped.
-    pub(super) fn stop_learning_ahead(&mut self) {
+    /// Drops the copy learning ahead, what it learned thrown away, before the run is changed (the
+    /// copy would overwrite the change); says so when there was one.
+    pub(super) fn drop_learning_ahead(&mut self) {
         if self.learning_ahead.cancel() {
             let held = self.run.as_ref().map_or(0, |run| run.frontier());
             self.status = Some(format!(
@@ -44,20 +44,35 @@ impl AppState {
         }
     }
 
-    /// Takes the copy that learned ahead in place of the run once it is done, and learns what the
-    /// frame shown passed meanwhile. Returns whether a copy is still learning.
+    /// Asks the copy learning ahead to stop where it got (Cancel); what it learned is kept when
+    /// it is back.
+    pub(super) fn stop_learning_ahead(&mut self) {
+        self.learning_ahead.stop();
+    }
+
+    /// Takes the copy that learned ahead in place of the run once it is back, and learns what the
+    /// frame shown passed meanwhile unless it was stopped. Returns whether a copy is still learning.
     pub(super) fn poll_learning_ahead(&mut self) -> bool {
-        if let Some((learned, to, took)) = self.learning_ahead.poll(self.run_generation) {
+        if let Some(learned) = self.learning_ahead.poll(self.run_generation) {
+            let got_to = learned.run.frontier();
             if let Some(run) = &mut self.run {
-                run.take_learned_ahead(learned);
+                run.take_learned_ahead(learned.run);
             }
-            self.status = Some(format!(
-                "learned up to frame {to} in the background in {:.1} s",
-                took.as_secs_f64()
-            ));
-            let now = self.frame();
-            if now > to {
-                self.learn_while_playing(to, now);
+            let took = learned.took.as_secs_f64();
+            if learned.stopped {
+                self.status = Some(format!(
+                    "stopped learning ahead at frame {got_to} after {took:.1} s: θ is held from \
+                     there (play or seek to learn on)"
+                ));
+            } else {
+                self.status = Some(format!(
+                    "learned up to frame {} in the background in {took:.1} s",
+                    learned.to
+                ));
+                let now = self.frame();
+                if now > learned.to {
+                    self.learn_while_playing(learned.to, now);
+                }
             }
         }
         self.learning_ahead.is_running()

@@ -8,9 +8,11 @@
 //! θ and losses are those of learning on the UI thread, to the bit. Meanwhile the run is left alone:
 //! θ is held at its frontier, playing learns nothing until the copy is back (then the frames passed
 //! meanwhile are learned), and every change to the run — steering, a reset, another update rule,
-//! another run — cancels the copy first, so a late copy never overwrites it.
+//! another run — drops the copy first, so a late copy never overwrites it. Cancel is not a change
+//! to the run: it stops the copy where it got and keeps what it learned.
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use pushlab_core::learn;
@@ -29,12 +31,24 @@ pub struct LearningAhead {
     job: Option<(Target, Job<learn::OnlineRun>)>,
 }
 
-/// Which run a copy learns for, up to which frame, and since when.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Which run a copy learns for, up to which frame, since when, and the flag that asks it to stop
+/// where it got (Cancel: what it learned is kept; dropping the job instead throws it away).
+#[derive(Clone, Debug)]
 struct Target {
     generation: u64,
     to: usize,
     started: Instant,
+    stop: Arc<AtomicBool>,
+}
+
+/// A copy back from the worker.
+pub struct Learned {
+    pub run: learn::OnlineRun,
+    /// The frame it was to learn up to; it learned up to its frontier.
+    pub to: usize,
+    /// Whether it was stopped before `to`.
+    pub stopped: bool,
+    pub took: Duration,
 }
 
 impl LearningAhead {
@@ -57,11 +71,16 @@ impl LearningAhead {
     ) {
         let to = to.min(run.sample_count());
         let mut copy = learn::OnlineRun::clone(run);
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopping = Arc::clone(&stop);
         let job = Job::spawn(move |context| {
             let mut at = from;
             while at < to {
                 if context.is_cancelled() {
                     return None;
+                }
+                if stopping.load(Ordering::Relaxed) {
+                    break;
                 }
                 let next = (at + BLOCK).min(to);
                 // Learning `from..to` in blocks is learning it in one go: frame by frame in order.
@@ -71,11 +90,11 @@ impl LearningAhead {
             }
             Some(copy)
         });
-        let started = Instant::now();
         let target = Target {
             generation,
             to,
-            started,
+            started: Instant::now(),
+            stop,
         };
         self.job = Some((target, job));
     }
@@ -89,16 +108,30 @@ impl LearningAhead {
         self.job.is_some()
     }
 
-    /// Stops the copy under way (dropped, so cancelled); whether there was one.
+    /// Drops the copy under way, cancelled, what it learned thrown away (the run is about to
+    /// change); whether there was one.
     pub fn cancel(&mut self) -> bool {
         self.job.take().is_some()
     }
 
-    /// The copy, once it has learned, with the frame it learned up to and how long it took;
-    /// `None` while it learns, or when it was for another run than the one of `generation`.
-    pub fn poll(&mut self, generation: u64) -> Option<(learn::OnlineRun, usize, Duration)> {
+    /// Asks the copy under way to stop where it got; it comes back, with what it learned, at a
+    /// later [`Self::poll`].
+    pub fn stop(&self) {
+        if let Some((target, _)) = &self.job {
+            target.stop.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// The copy once it is back; `None` while it learns, or when it was for another run than the
+    /// one of `generation`.
+    pub fn poll(&mut self, generation: u64) -> Option<Learned> {
         let (target, copy) = take_ended(&mut self.job)?;
-        copy.filter(|_| target.generation == generation)
-            .map(|copy| (copy, target.to, target.started.elapsed()))
+        let run = copy.filter(|_| target.generation == generation)?;
+        Some(Learned {
+            stopped: run.frontier() < target.to,
+            run,
+            to: target.to,
+            took: target.started.elapsed(),
+        })
     }
 }

@@ -157,7 +157,8 @@ pub enum OnlineCommand {
     SetCarryTheta(bool),
     /// How many steps what-if rollouts run ahead.
     SetWhatIfSteps(usize),
-    /// Stop learning far ahead on a worker (after a long seek), holding θ where it got to.
+    /// Stop learning far ahead on a worker (after a long seek) where it got, keeping what it
+    /// learned; θ is held from there.
     StopLearningAhead,
 }
 
