@@ -21,21 +21,22 @@ use crate::recording::bag::problem::BagProblem;
 /// Largest schema or channel record accepted (a ROS 2 message definition is a few kB).
 pub(super) const MAX_DEFINITION_BYTES: u64 = 16 << 20;
 
-/// A pass from the start of a file without a summary: record by record, each chunk read whole. A
-/// file cut short is read up to its last whole record, unless no channel was declared before the
-/// cut (nothing to read: the cut is the file's problem).
+/// A pass from the start of a file without a summary: record by record, each chunk read whole,
+/// the compressed ones decompressed ahead (`chunks`: as [`walk`] found them). A file cut short is
+/// read up to its last whole record, unless no channel was declared before the cut (nothing to
+/// read: the cut is the file's problem).
 pub(super) fn read<S: Source + ?Sized>(
     source: &S,
+    chunks: &[ChunkIndex],
     visitor: &mut dyn Visitor,
 ) -> Result<FileRead, BagProblem> {
-    let chunks = walk(source).chunks;
     let ahead: Vec<usize> = (chunks.iter().enumerate())
         .filter(|(_, c)| !c.compression.is_empty())
         .map(|(index, _)| index)
         .collect();
     let next = AtomicUsize::new(0);
     std::thread::scope(|scope| {
-        let mut prefetched = Prefetch::start(scope, source, &chunks, &ahead, &next);
+        let mut prefetched = Prefetch::start(scope, source, chunks, &ahead, &next);
         read_records(source, &mut prefetched, visitor)
     })
 }
@@ -176,7 +177,7 @@ fn read_records<S: Source + ?Sized>(
     visitor: &mut dyn Visitor,
 ) -> Result<FileRead, BagProblem> {
     let mut pass = Linear {
-        schemas: BTreeMap::new(),
+        definitions: Definitions::default(),
         channels: BTreeMap::new(),
         wants: BTreeMap::new(),
     };
@@ -317,25 +318,46 @@ fn read_records<S: Source + ?Sized>(
 
 /// What a pass from the start has learned of the file so far.
 struct Linear {
-    schemas: BTreeMap<u16, String>,
+    definitions: Definitions,
     channels: Channels,
     wants: BTreeMap<u16, Want>,
 }
 
-impl Linear {
-    fn definition(&mut self, op: u8, body: &[u8], visitor: &mut dyn Visitor) -> Result<(), String> {
+/// The schemas declared so far, in file order, to name the type of each channel declared after
+/// them: what a pass from the start and a rebuilt summary (`unfinished.rs`) both read records with.
+#[derive(Default)]
+pub(super) struct Definitions {
+    schemas: BTreeMap<u16, String>,
+}
+
+impl Definitions {
+    /// Reads a schema or channel record's body: the channel a channel record declares, with its
+    /// schema's name as its type.
+    pub(super) fn add(
+        &mut self,
+        op: u8,
+        body: &[u8],
+    ) -> Result<Option<(u16, ChannelInfo)>, String> {
         if op == OP_SCHEMA {
             let (id, name) =
                 records::schema(body).ok_or_else(|| "a schema record is cut short".to_owned())?;
             self.schemas.insert(id, name);
-        } else {
-            let (id, schema, topic, encoding) =
-                records::channel(body).ok_or_else(|| "a channel record is cut short".to_owned())?;
-            let channel = ChannelInfo {
-                topic,
-                type_name: self.schemas.get(&schema).cloned().unwrap_or_default(),
-                encoding,
-            };
+            return Ok(None);
+        }
+        let (id, schema, topic, encoding) =
+            records::channel(body).ok_or_else(|| "a channel record is cut short".to_owned())?;
+        let channel = ChannelInfo {
+            topic,
+            type_name: self.schemas.get(&schema).cloned().unwrap_or_default(),
+            encoding,
+        };
+        Ok(Some((id, channel)))
+    }
+}
+
+impl Linear {
+    fn definition(&mut self, op: u8, body: &[u8], visitor: &mut dyn Visitor) -> Result<(), String> {
+        if let Some((id, channel)) = self.definitions.add(op, body)? {
             self.wants.insert(id, visitor.want(id, &channel));
             self.channels
                 .entry(id)

@@ -15,6 +15,7 @@ use super::{
     ChannelStats, Channels, FileRead, MessageAt, Visit, Visitor, Want, chunk_problem, head,
     io_problem, message_cut_short, undeclared,
 };
+use super::{linear, unfinished};
 use crate::recording::bag::problem::BagProblem;
 
 /// Unwanted bytes between two wanted messages of a chunk read in one go rather than two reads.
@@ -30,10 +31,11 @@ pub fn read_messages<S: Source + ?Sized>(
     check_magic(source)?;
     let (summary, cut_short) = match summary::read(source)? {
         Some(summary) if indexes_every_message(&summary) => (summary, None),
-        Some(_) => return super::linear::read(source, visitor),
-        None => match super::unfinished::rebuilt_summary(source) {
-            Some(rebuilt) => rebuilt,
-            None => return super::linear::read(source, visitor),
+        Some(_) => return linear::read(source, &linear::walk(source).chunks, visitor),
+        None => match unfinished::rebuilt_summary(source, linear::walk(source)) {
+            Ok(rebuilt) => rebuilt,
+            // The pass from the start, from the same walk of the record headers.
+            Err(walk) => return linear::read(source, &walk.chunks, visitor),
         },
     };
     Ok(FileRead {

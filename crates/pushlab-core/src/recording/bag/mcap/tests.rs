@@ -270,7 +270,7 @@ fn pass_over(bytes: &[u8], wants: &[(&str, Want)], linear: bool) -> (u64, Vec<Se
     };
     let mut seen = recorder(wants);
     let read = if linear {
-        super::linear::read(&source, &mut seen)
+        super::linear::read(&source, &super::linear::walk(&source).chunks, &mut seen)
     } else {
         read_messages(&source, &mut seen)
     };

@@ -14,24 +14,44 @@
 use std::collections::BTreeMap;
 
 use super::chunk::read_whole;
-use super::linear::{MAX_DEFINITION_BYTES, Record, Walk, walk};
+use super::linear::{Definitions, MAX_DEFINITION_BYTES, Record, Walk};
 use super::records::{self, MAX_CHUNK_BYTES, OP_CHANNEL, OP_CHUNK, OP_MESSAGE, OP_SCHEMA};
 use super::source::Source;
 use super::summary::Summary;
 use super::{ChannelInfo, CutShort};
 
-/// The summary of a file without one, rebuilt from its record headers and message indexes, and
-/// where the file was cut short; `None` when it cannot be rebuilt (see the module documentation).
+/// The summary of a file without one, rebuilt from the walk of its record headers and its message
+/// indexes, and where the file was cut short; the walk back when the summary cannot be rebuilt
+/// (see the module documentation), for the pass from the start.
 pub(super) fn rebuilt_summary<S: Source + ?Sized>(
     source: &S,
-) -> Option<(Summary, Option<CutShort>)> {
-    let walk = walk(source);
+    walk: Walk,
+) -> Result<(Summary, Option<CutShort>), Walk> {
+    match channels_and_cut(source, &walk) {
+        Some((channels, cut_short)) => {
+            let summary = Summary {
+                channels,
+                chunks: walk.chunks,
+                message_count: None,
+            };
+            Ok((summary, cut_short))
+        }
+        None => Err(walk),
+    }
+}
+
+/// The channels the walked file declares and where it was cut short, when every channel its
+/// message indexes name is declared.
+fn channels_and_cut<S: Source + ?Sized>(
+    source: &S,
+    walk: &Walk,
+) -> Option<(BTreeMap<u16, ChannelInfo>, Option<CutShort>)> {
     let Walk {
         chunks,
         definitions,
         loose_messages,
         stopped,
-    } = &walk;
+    } = walk;
     // Every chunk but a last one cut through its indexes has message indexes.
     let indexed = |index: usize| !chunks[index].message_index_offsets.is_empty();
     let last_unindexed = chunks.len().checked_sub(1).filter(|&last| !indexed(last));
@@ -80,35 +100,21 @@ pub(super) fn rebuilt_summary<S: Source + ?Sized>(
             Record::Whole { .. } => false,
         },
     });
-    let summary = Summary {
-        channels: declared.channels,
-        chunks: walk.chunks,
-        message_count: None,
-    };
-    Some((summary, cut_short))
+    Some((declared.channels, cut_short))
 }
 
-/// Schemas and channels as their records declare them.
+/// The channels declared so far, each as first declared.
 #[derive(Default)]
 struct Declared {
-    schemas: BTreeMap<u16, String>,
+    definitions: Definitions,
     channels: BTreeMap<u16, ChannelInfo>,
 }
 
 impl Declared {
-    /// Adds a schema or channel record's body; `None` when it is cut short.
+    /// Reads a schema or channel record's body; `None` when it is cut short.
     fn add(&mut self, op: u8, body: &[u8]) -> Option<()> {
-        if op == OP_SCHEMA {
-            let (id, name) = records::schema(body)?;
-            self.schemas.insert(id, name);
-        } else {
-            let (id, schema, topic, encoding) = records::channel(body)?;
-            let type_name = self.schemas.get(&schema).cloned().unwrap_or_default();
-            (self.channels).entry(id).or_insert(ChannelInfo {
-                topic,
-                type_name,
-                encoding,
-            });
+        if let Some((id, channel)) = self.definitions.add(op, body).ok()? {
+            self.channels.entry(id).or_insert(channel);
         }
         Some(())
     }
