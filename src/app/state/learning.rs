@@ -54,12 +54,12 @@ impl AppState {
     /// frame shown passed meanwhile unless it was stopped. Returns whether a copy is still learning.
     pub(super) fn poll_learning_ahead(&mut self) -> bool {
         if let Some(learned) = self.learning_ahead.poll(self.run_generation) {
-            let got_to = learned.run.frontier();
+            let (got_to, stopped) = (learned.run.frontier(), learned.stopped());
             if let Some(run) = &mut self.run {
                 run.take_learned_ahead(learned.run);
             }
             let took = learned.took.as_secs_f64();
-            if learned.stopped {
+            if stopped {
                 self.status = Some(format!(
                     "stopped learning ahead at frame {got_to} after {took:.1} s: θ is held from \
                      there (play or seek to learn on)"

@@ -46,9 +46,14 @@ pub struct Learned {
     pub run: learn::OnlineRun,
     /// The frame it was to learn up to; it learned up to its frontier.
     pub to: usize,
-    /// Whether it was stopped before `to`.
-    pub stopped: bool,
     pub took: Duration,
+}
+
+impl Learned {
+    /// Whether it was stopped (Cancel) before `to`.
+    pub fn stopped(&self) -> bool {
+        self.run.frontier() < self.to
+    }
 }
 
 impl LearningAhead {
@@ -128,7 +133,6 @@ impl LearningAhead {
         let (target, copy) = take_ended(&mut self.job)?;
         let run = copy.filter(|_| target.generation == generation)?;
         Some(Learned {
-            stopped: run.frontier() < target.to,
             run,
             to: target.to,
             took: target.started.elapsed(),

@@ -71,6 +71,19 @@ fn until_learned(state: &mut AppState) {
     }
 }
 
+/// The long set learned up to frame `to` on the UI thread alone, by seeks short enough for it:
+/// what learning ahead must give.
+fn learned_by_short_seeks(dir: &std::path::Path, to: usize) -> AppState {
+    let mut state = state_on(dir);
+    for frame in (LEARN_AHEAD_FRAMES / 2..to).step_by(LEARN_AHEAD_FRAMES / 2) {
+        seek(&mut state, frame);
+        assert!(state.learning_ahead().is_none());
+    }
+    seek(&mut state, to);
+    assert!(state.learning_ahead().is_none());
+    state
+}
+
 #[test]
 fn a_long_seek_learns_on_a_worker_what_short_seeks_learn_on_the_ui_thread() {
     let dir = long_set("seek");
@@ -89,13 +102,7 @@ fn a_long_seek_learns_on_a_worker_what_short_seeks_learn_on_the_ui_thread() {
     let said = format!("learned up to frame {target} in the background in ");
     assert!(status(&state).starts_with(&said), "{}", status(&state));
 
-    // The same frames learned by seeks short enough for the UI thread.
-    let mut reference = state_on(&dir);
-    for frame in (LEARN_AHEAD_FRAMES / 2..target).step_by(LEARN_AHEAD_FRAMES / 2) {
-        seek(&mut reference, frame);
-        assert!(reference.learning_ahead().is_none());
-    }
-    seek(&mut reference, target);
+    let reference = learned_by_short_seeks(&dir, target);
     let (run, reference) = (state.run().expect("a run"), reference.run().expect("a run"));
     assert_eq!(run.frontier(), target);
     assert_eq!(run.checkpoints(), reference.checkpoints());
@@ -168,11 +175,7 @@ fn cancel_stops_the_copy_where_it_got_and_keeps_what_it_learned() {
     let status = state.status.clone().unwrap_or_default();
     assert!(status.starts_with(&said), "{status}");
     // What it learned is what learning up to there on the UI thread gives; nothing after it.
-    let mut reference = state_on(&dir);
-    for frame in (0..=got_to).step_by(LEARN_AHEAD_FRAMES / 2).skip(1) {
-        seek(&mut reference, frame);
-    }
-    seek(&mut reference, got_to);
+    let reference = learned_by_short_seeks(&dir, got_to);
     let reference = reference.run().expect("a run");
     assert_eq!(run.checkpoints(), reference.checkpoints());
     assert_eq!(run.learned(), reference.learned());
