@@ -69,6 +69,7 @@ fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
             entry: None,
             trajectory: Arc::new(trajectory),
             warnings: Vec::new(),
+            notes: Vec::new(),
             cameras: Vec::new(),
         }],
     });

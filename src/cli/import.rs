@@ -197,6 +197,9 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
         for warning in &first.warnings {
             println!("warning: {warning}");
         }
+        for note in &first.notes {
+            println!("note: {note}");
+        }
     }
     println!(
         "{} push(es) from {} -> {}",

@@ -107,6 +107,9 @@ pub fn run(args: &DatasetImport) -> anyhow::Result<()> {
         for warning in &recording.warnings {
             println!("warning: {}: {warning}", recording.name);
         }
+        for note in &recording.notes {
+            println!("note: {}: {note}", recording.name);
+        }
     }
     println!(
         "{} episode(s) of {} ({}, pusher {}, object {}, {} m/px) -> {}",

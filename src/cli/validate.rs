@@ -3,7 +3,11 @@
 //!
 //! Lines (stdout), then a summary line:
 //! - `ok: PATH (N frames, D s)`
-//! - `N warning(s): PATH: first; second; …`
+//! - `N warning(s): PATH: first; second; …` — the frames are not all the file had (rows dropped,
+//!   gaps interpolated across, a file cut short)
+//!
+//! Either line ends in ` — notes: first; …` when loading did something that loses nothing (an
+//! angle unwrapped, streams put on one clock): said, but the recording is not counted as warned.
 //! - `error: PATH[ line L]: what is wrong, expected what`
 //!
 //! A ROS 2 bag (an `.mcap` file or a rosbag2 folder) holds no push until its topics are chosen, so
@@ -60,13 +64,19 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         };
     }
     let report = with_load_bar("loading", |progress| load_paths_with(&paths, &[], progress));
-    let mut with_warnings = 0;
+    let (mut with_warnings, mut with_notes) = (0, 0);
     for set in &report.sets {
         for recording in &set.recordings {
             let path = recording.source.display();
+            let notes = if recording.notes.is_empty() {
+                String::new()
+            } else {
+                with_notes += 1;
+                format!(" — notes: {}", recording.notes.join("; "))
+            };
             if recording.warnings.is_empty() {
                 println!(
-                    "ok: {path} ({} frames, {:.2} s)",
+                    "ok: {path} ({} frames, {:.2} s){notes}",
                     recording.trajectory.len(),
                     recording.trajectory.duration()
                 );
@@ -74,15 +84,23 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
                 with_warnings += 1;
                 let n = recording.warnings.len();
                 let plural = if n == 1 { "warning" } else { "warnings" };
-                println!("{n} {plural}: {path}: {}", recording.warnings.join("; "));
+                println!(
+                    "{n} {plural}: {path}: {}{notes}",
+                    recording.warnings.join("; ")
+                );
             }
         }
     }
+    let noted = if with_notes > 0 {
+        format!(", {with_notes} with notes")
+    } else {
+        String::new()
+    };
     for error in &report.errors {
         println!("error: {error}");
     }
     println!(
-        "{} recording(s) loaded ({with_warnings} with warnings), {} error(s)",
+        "{} recording(s) loaded ({with_warnings} with warnings{noted}), {} error(s)",
         report.recording_count(),
         report.errors.len()
     );

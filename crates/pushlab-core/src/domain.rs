@@ -239,6 +239,7 @@ mod tests {
             entry: None,
             trajectory: std::sync::Arc::new(Trajectory::new(frames)),
             warnings: Vec::new(),
+            notes: Vec::new(),
             cameras: Vec::new(),
         }
     }

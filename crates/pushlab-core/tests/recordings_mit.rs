@@ -95,17 +95,20 @@ fn all_four_real_files_load_with_their_known_defects() {
             ]
         }
     );
-    let warnings = rect1.warnings.join("\n");
-    assert!(
-        warnings.contains("ft_wrench is frozen: 287 of 293 rows"),
-        "{warnings}"
+    // A pose dropped is a warning; a frozen force sensor, which pushlab does not read, a note.
+    assert_eq!(
+        rect1.warnings,
+        [
+            "object_pose: 1 timestamp(s) step backwards (worst -0.1 ms); 1 row(s) out of order dropped"
+        ]
     );
+    let notes = rect1.notes.join("\n");
     assert!(
-        warnings.contains("object_pose: 1 timestamp(s) step backwards (worst -0.1 ms)"),
-        "{warnings}"
+        notes.contains("ft_wrench is frozen: 287 of 293 rows"),
+        "{notes}"
     );
     // Three rows apart of 295 is how the dataset's sensors start and stop: not a defect.
-    assert!(!warnings.contains("streams start or stop"), "{warnings}");
+    assert!(!notes.contains("streams start or stop"), "{notes}");
     let entry = rect1.entry.as_ref().unwrap();
     assert!((entry.push_angle_deg.unwrap() - 0.349f64.to_degrees()).abs() < 1e-9);
     assert_eq!(entry.extra["mit_side"], 2.0);
@@ -113,7 +116,7 @@ fn all_four_real_files_load_with_their_known_defects() {
     assert_eq!(rect1.setting.material.as_deref(), Some("abs"));
     // The other files' force streams are live.
     for set in [&report.sets[0], &report.sets[1], &report.sets[3]] {
-        assert!(!set.recordings[0].warnings.join(" ").contains("frozen"));
+        assert!(!set.recordings[0].notes.join(" ").contains("frozen"));
     }
 }
 
@@ -298,22 +301,26 @@ fn defects_are_reported_with_numbers() {
     }
     let path = PathBuf::from(format!("{TRI_NAME}.json"));
     let push = import_bytes(&s.json(), &path).unwrap();
+    // Rows dropped and a gap interpolated across are warnings: the frames are not all the file had.
     let w = push.warnings.join("\n");
     assert!(w.contains("object_pose: 2 timestamp(s) step backwards (worst -1.9 ms); 2 row(s) out of order dropped"), "{w}");
     assert!(
         w.contains("object_pose: 1 gap(s) over 50 ms (longest 84.0 ms)"),
         "{w}"
     );
+    assert_eq!(push.warnings.len(), 2);
+    // An angle unwrapped, a sensor pushlab does not read, streams put on one clock: notes.
+    let n = push.notes.join("\n");
     assert!(
-        w.contains("object yaw wraps at ±π 1 time(s); unwrapped"),
-        "{w}"
+        n.contains("object yaw wraps at ±π 1 time(s); unwrapped"),
+        "{n}"
     );
-    assert!(w.contains("ft_wrench is frozen: 299 of 299 rows"), "{w}");
+    assert!(n.contains("ft_wrench is frozen: 299 of 299 rows"), "{n}");
     assert!(
-        w.contains("streams start or stop up to 82.0 ms apart (tip_pose 280, object_pose 280, ft_wrench 300 rows)"),
-        "{w}"
+        n.contains("streams start or stop up to 82.0 ms apart (tip_pose 280, object_pose 280, ft_wrench 300 rows)"),
+        "{n}"
     );
-    assert_eq!(push.warnings.len(), 5);
+    assert_eq!(push.notes.len(), 3);
     // Yaw is continuous through the wrap and through the gap.
     let thetas: Vec<f64> = push
         .trajectory

@@ -224,12 +224,8 @@ fn csv_accepts_crlf_bom_spaces_and_unwraps_theta_with_a_warning() {
         "{thetas:?}"
     );
     assert!((thetas[2] - (2.0 * std::f64::consts::PI - 3.0)).abs() < 1e-12);
-    assert_eq!(parsed.warnings.len(), 1);
-    assert!(
-        parsed.warnings[0].contains("1 time(s)"),
-        "{:?}",
-        parsed.warnings
-    );
+    assert_eq!(parsed.notes.len(), 1);
+    assert!(parsed.notes[0].contains("1 time(s)"), "{:?}", parsed.notes);
 }
 
 #[test]
@@ -471,7 +467,9 @@ fn loading_never_modifies_input_files() {
         .modified()
         .unwrap();
     let report = load_paths(std::slice::from_ref(&dir));
-    assert_eq!(report.sets[0].recordings[0].warnings.len(), 1);
+    // Unwrapping loses nothing: a note, not a warning.
+    let recording = &report.sets[0].recordings[0];
+    assert_eq!((recording.warnings.len(), recording.notes.len()), (0, 1));
     assert_eq!(std::fs::read_to_string(dir.join("t.csv")).unwrap(), text);
     assert_eq!(
         std::fs::metadata(dir.join("t.csv"))

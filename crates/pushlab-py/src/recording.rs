@@ -132,10 +132,18 @@ impl Recording {
         column(py, skip)
     }
 
-    /// Recoverable defects found while loading, each a sentence.
+    /// Recoverable defects found while loading, each a sentence: rows dropped, gaps interpolated
+    /// across, a file cut short (the frames are not all the recording had).
     #[getter]
     fn warnings(&self) -> Vec<String> {
         self.used.recording.warnings.clone()
+    }
+
+    /// What loading did that loses nothing, each a sentence: an angle unwrapped, streams put on one
+    /// clock, a log time for a missing stamp.
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.used.recording.notes.clone()
     }
 
     fn __len__(&self) -> usize {

@@ -104,6 +104,7 @@ fn in_memory(name: &str, set: GeneratedSet) -> Vec<Recording> {
                 entry: Some(entry.clone()),
                 trajectory: Arc::new(trajectory),
                 warnings: Vec::new(),
+                notes: Vec::new(),
                 cameras: Vec::new(),
             };
             Recording::new(UsedRecording::labelled_with(

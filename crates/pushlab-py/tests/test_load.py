@@ -91,3 +91,10 @@ def test_mit_files_load_through_the_same_loader():
         assert np.isfinite(r.object).all() and np.isfinite(r.robot).all()
         assert np.all(np.diff(r.times) > 0)
         assert r.setting["object"]
+    # rect1 lost a pose row (a warning); its force sensor, which pushlab does not read, is frozen
+    # (a note).
+    rect1 = next(r for r in recordings if "shape=rect1" in r.name)
+    assert rect1.warnings == [
+        "object_pose: 1 timestamp(s) step backwards (worst -0.1 ms); 1 row(s) out of order dropped"
+    ]
+    assert len(rect1.notes) == 1 and rect1.notes[0].startswith("ft_wrench is frozen: 287 of 293 rows")

@@ -136,9 +136,9 @@ fn cell(
     }
 }
 
-/// A recording's name, after a "!" in the warning colour when it loaded with warnings (a bag cut
-/// short, streams resampled): marked where it is listed, said on hover. (The default fonts have
-/// no warning sign.)
+/// A recording's name, after a "!" in the warning colour when it loaded with warnings (rows dropped,
+/// a bag cut short): marked where it is listed, said on hover. Notes (an angle unwrapped, streams
+/// resampled) are said on hover only. (The default fonts have no warning sign.)
 fn name_text(ui: &egui::Ui, name: &str, row: &Row<'_>) -> egui::text::LayoutJob {
     let font = egui::TextStyle::Button.resolve(ui.style());
     let mut job = egui::text::LayoutJob::default();
@@ -155,7 +155,7 @@ fn name_text(ui: &egui::Ui, name: &str, row: &Row<'_>) -> egui::text::LayoutJob 
     job
 }
 
-/// What the name's tooltip says: the file, its rate, labels and load warnings, its losses.
+/// What the name's tooltip says: the file, its rate, labels, load warnings and notes, its losses.
 fn details(ui: &mut egui::Ui, state: &AppState, row: &Row<'_>) {
     let recording = row.recording;
     ui.label(recording.source.display().to_string());
@@ -182,6 +182,9 @@ fn details(ui: &mut egui::Ui, state: &AppState, row: &Row<'_>) {
     }
     for warning in &recording.warnings {
         ui.colored_label(ui.visuals().warn_fg_color, warning);
+    }
+    for note in &recording.notes {
+        ui.weak(format!("note: {note}"));
     }
 }
 

@@ -94,8 +94,8 @@ impl Column {
                 "The set: a native set's folder, or the MIT files of one surface and shape"
             }
             Column::Name => {
-                "The file's short name (hover for the whole path); \"!\": loaded with warnings, \
-                 said on hover"
+                "The file's short name (hover for the whole path); \"!\": loaded with warnings \
+                 (frames dropped, interpolated or cut), said on hover with any notes"
             }
             Column::Shape => "The object (the MIT shape, or the box's size)",
             Column::Surface => "The surface (the setting's material)",

@@ -340,6 +340,7 @@ mod tests {
             entry: None,
             trajectory,
             warnings: Vec::new(),
+            notes: Vec::new(),
             cameras: Vec::new(),
         };
         OnlineRun::new(

@@ -56,8 +56,15 @@ pub struct Recording {
     /// The frames. Shared, so that an online run, a training job or an evaluation on another thread
     /// reads a long recording without copying it.
     pub trajectory: Arc<Trajectory>,
-    /// Recoverable defects found while loading, each a sentence with numbers.
+    /// Recoverable defects found while loading, each a sentence with numbers: rows dropped, gaps
+    /// interpolated across, a file cut short — the frames are not all the recording had. Flagged
+    /// wherever the recording is listed.
     pub warnings: Vec<String>,
+    /// What loading did that loses nothing, each a sentence with numbers: an angle unwrapped,
+    /// streams put on one clock, a log time for a missing stamp, a stream pushlab does not use
+    /// found frozen. Said where asked for, not flagged: a note on most of a dataset's files would
+    /// hide the warnings among them.
+    pub notes: Vec<String>,
     /// What its cameras saw: one stream of frames per camera, read when shown.
     pub cameras: Vec<Arc<CameraStream>>,
 }

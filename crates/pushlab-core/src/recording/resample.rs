@@ -70,12 +70,12 @@ pub(crate) fn clean(key: &str, rows: &[[f64; 4]], warnings: &mut Vec<String>) ->
 }
 
 /// Unwraps the yaw column (kept in (−π, π] by every source) so that interpolation never swings the
-/// long way round; reports how often it wrapped.
-pub(crate) fn unwrap_yaw(key: &str, rows: &mut [[f64; 4]], warnings: &mut Vec<String>) {
+/// long way round; notes how often it wrapped (nothing is lost: a note, not a warning).
+pub(crate) fn unwrap_yaw(key: &str, rows: &mut [[f64; 4]], notes: &mut Vec<String>) {
     let mut yaw: Vec<f64> = rows.iter().map(|r| r[3]).collect();
     let wraps = unwrap_angles(&mut yaw);
     if wraps > 0 {
-        warnings.push(format!("{key} yaw wraps at ±π {wraps} time(s); unwrapped"));
+        notes.push(format!("{key} yaw wraps at ±π {wraps} time(s); unwrapped"));
         for (row, y) in rows.iter_mut().zip(&yaw) {
             row[3] = *y;
         }

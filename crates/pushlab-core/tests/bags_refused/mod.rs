@@ -223,7 +223,10 @@ fn a_bag_cut_short_imports_what_it_holds_before_the_cut_and_says_what_was_lost()
         .pushes;
     assert_eq!((gap_whole.len(), gap_cut.len()), (2, 2));
     assert_eq!(gap_cut[0].trajectory, gap_whole[0].trajectory);
-    assert_eq!(gap_cut[0].warnings, gap_whole[0].warnings);
+    assert_eq!(
+        (&gap_cut[0].warnings, &gap_cut[0].notes),
+        (&gap_whole[0].warnings, &gap_whole[0].notes)
+    );
     assert!(gap_cut[1].trajectory.len() < gap_whole[1].trajectory.len());
     assert!(
         gap_cut[1]
@@ -231,16 +234,17 @@ fn a_bag_cut_short_imports_what_it_holds_before_the_cut_and_says_what_was_lost()
             .iter()
             .any(|w| w.starts_with("the file is cut short"))
     );
-    // Cut in its data-end record: every message read, none lost.
+    // Cut in its data-end record: every message read, none lost — a note, not a warning.
     let cut = import_bytes("end", &bytes[..end - 1]).unwrap();
     assert_eq!(cut.pushes[0].trajectory, whole.pushes[0].trajectory);
+    assert_eq!(cut.pushes[0].warnings, whole.pushes[0].warnings);
     assert!(
         cut.pushes[0]
-            .warnings
+            .notes
             .iter()
             .any(|w| w.ends_with("without its data-end record (a recording that did not finish?); every message in it was read")),
         "{:?}",
-        cut.pushes[0].warnings
+        cut.pushes[0].notes
     );
     // Cut in its summary or footer, a file still holds every message: read from the start, with
     // nothing to say.
@@ -249,7 +253,7 @@ fn a_bag_cut_short_imports_what_it_holds_before_the_cut_and_says_what_was_lost()
         assert_eq!(cut.pushes.len(), whole.pushes.len(), "{len}");
         for (a, b) in cut.pushes.iter().zip(&whole.pushes) {
             assert_eq!(a.trajectory, b.trajectory, "{len}");
-            assert_eq!(a.warnings, b.warnings, "{len}");
+            assert_eq!((&a.warnings, &a.notes), (&b.warnings, &b.notes), "{len}");
         }
     }
 }

@@ -48,7 +48,11 @@ class Recording:
     def skip(self) -> Bools:
         """True at frames labelled bad tracking, shape (N,)."""
     @property
-    def warnings(self) -> List[str]: ...
+    def warnings(self) -> List[str]:
+        """Defects found while loading: rows dropped, gaps interpolated across, a file cut short."""
+    @property
+    def notes(self) -> List[str]:
+        """What loading did that loses nothing: an angle unwrapped, streams put on one clock."""
     def __len__(self) -> int: ...
 
 def load(paths: Union[_Path, Sequence[_Path]]) -> List[Recording]:

@@ -54,6 +54,9 @@ pub fn setting_for(
             if !push.warnings.is_empty() {
                 extra.insert("import_warnings".into(), push.warnings.clone().into());
             }
+            if !push.notes.is_empty() {
+                extra.insert("import_notes".into(), push.notes.clone().into());
+            }
             TrajectoryEntry {
                 file: if many {
                     format!("{stem}_{:03}.csv", i + 1)
@@ -121,6 +124,7 @@ pub fn open_with(
             entry: Some(entry.clone()),
             trajectory: Arc::new(push.trajectory),
             warnings: push.warnings,
+            notes: push.notes,
             cameras: push.cameras,
         })
         .collect();

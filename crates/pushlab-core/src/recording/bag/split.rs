@@ -39,8 +39,10 @@ pub struct BagPush {
     pub trajectory: Trajectory,
     /// Unix time of the first frame, seconds.
     pub start_unix_s: f64,
-    /// Recoverable defects found, each a sentence with numbers.
+    /// Recoverable defects found, each a sentence with numbers (see [`Recording::warnings`]).
     pub warnings: Vec<String>,
+    /// What reading did that loses nothing (see [`Recording::notes`]).
+    pub notes: Vec<String>,
     /// The frames of the cameras asked for, on the push's clock: those from a second before its
     /// first frame to a second after its last.
     pub cameras: Vec<Arc<CameraStream>>,
@@ -156,9 +158,9 @@ pub fn resample_streams(
         .rate_hz
         .unwrap_or_else(|| tip_rate.min(obj_rate).round())
         .clamp(1.0, MAX_RATE_HZ);
-    let mut common = streams.warnings.clone();
+    let mut common_notes = streams.notes.clone();
     if (tip_rate - obj_rate).abs() > 0.1 * tip_rate.max(obj_rate) {
-        common.push(format!(
+        common_notes.push(format!(
             "streams have unequal rates ({pusher_key} {tip_rate:.1} Hz, {object_key} {obj_rate:.1} Hz); aligned by resampling at {rate_hz} Hz"
         ));
     }
@@ -178,7 +180,7 @@ pub fn resample_streams(
                 .copied()
                 .collect()
         };
-        let mut warnings = common.clone();
+        let (mut warnings, mut notes) = (streams.warnings.clone(), common_notes.clone());
         let t = clean(&pusher_key, &within(&streams.pusher), &mut warnings);
         let mut o = clean(&object_key, &within(&streams.object), &mut warnings);
         let too_few = [(pusher, &t), (object, &o)]
@@ -192,10 +194,12 @@ pub fn resample_streams(
         let problem = match too_few {
             Some(problem) => Some(problem),
             None => {
-                unwrap_yaw(&object_key, &mut o, &mut warnings);
+                unwrap_yaw(&object_key, &mut o, &mut notes);
                 match grid(&t, &o, rate_hz) {
                     Ok((start, count)) => {
-                        let mut push = resample(&t, &o, start, count, rate_hz, base_s, warnings);
+                        let mut push = resample(&t, &o, start, count, rate_hz, base_s);
+                        push.warnings = warnings;
+                        push.notes = notes;
                         let span = (
                             -CAMERA_MARGIN_S,
                             push.trajectory.duration() + CAMERA_MARGIN_S,
@@ -232,12 +236,16 @@ pub fn resample_streams(
             skipped.join(", ")
         );
         for push in &mut pushes {
-            push.warnings.push(note.clone());
+            push.notes.push(note.clone());
         }
     }
     // The pushes before the last end before the cut: whole.
     if let (Some(cut), Some(last)) = (&streams.cut_short, pushes.last_mut()) {
-        last.warnings.push(cut.clone());
+        if cut.messages_lost {
+            last.warnings.push(cut.said.clone());
+        } else {
+            last.notes.push(cut.said.clone());
+        }
     }
     Ok((pushes, rate_hz))
 }
@@ -250,7 +258,6 @@ fn resample(
     count: usize,
     rate_hz: f64,
     base_s: f64,
-    warnings: Vec<String>,
 ) -> BagPush {
     let mut tip_at = Interpolator::new(tip);
     let mut obj_at = Interpolator::new(obj);
@@ -269,7 +276,8 @@ fn resample(
     BagPush {
         trajectory: Trajectory::new(frames),
         start_unix_s: base_s + start,
-        warnings,
+        warnings: Vec::new(),
+        notes: Vec::new(),
         cameras: Vec::new(),
     }
 }

@@ -19,6 +19,15 @@ use crate::recording::error::LoadError;
 use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::resample::MAX_POSITION_M;
 
+/// How the bag's last file was cut short, said of the push the cut ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LastFileCut {
+    /// The sentence that says where and what was lost.
+    pub said: String,
+    /// Whether messages were lost (a warning) or only the records after them (a note).
+    pub messages_lost: bool,
+}
+
 /// The raw pose streams of the pusher and the object, rows `[t, x, y, yaw]` with `t` in seconds
 /// since `base_unix_ns`, in file order (not yet cleaned).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -29,12 +38,16 @@ pub struct BagStreams {
     pub base_unix_ns: u64,
     /// Every topic of the bag.
     pub topics: Vec<TopicInfo>,
-    /// Recoverable oddities found while reading (stamps replaced by log times, `/tf` poses dropped
-    /// outside a moving link's span), said of every push.
+    /// Recoverable defects found while reading (`/tf` poses dropped outside a moving link's span, an
+    /// earlier file of a rosbag2 folder cut short), said of every push.
     pub warnings: Vec<String>,
+    /// What reading did that loses nothing (header stamps missing, log times used), said of every
+    /// push.
+    pub notes: Vec<String>,
     /// The bag's last file cut short: said of the last push alone, the one the cut ends (a cut in
-    /// an earlier file of a rosbag2 folder is one of `warnings`).
-    pub cut_short: Option<String>,
+    /// an earlier file of a rosbag2 folder is one of `warnings`, or of `notes` when it lost no
+    /// message).
+    pub cut_short: Option<LastFileCut>,
     /// The frames of the camera topics asked for, in the order asked.
     pub cameras: Vec<FoundCamera>,
     /// Where the bag's bytes are, for reading the frames later.
@@ -127,7 +140,7 @@ fn read_streams_in(
     let wants_tree = pusher.child_frame.is_some() || object.child_frame.is_some();
     let mut base: Option<u64> = None;
     let mut found: Vec<Option<FoundCamera>> = vec![None; cameras.len()];
-    let mut warnings = Vec::new();
+    let (mut warnings, mut notes) = (Vec::new(), Vec::new());
     let mut cut_short = None;
     for (file_number, file) in files.iter().enumerate() {
         for stream in &mut streams {
@@ -152,9 +165,14 @@ fn read_streams_in(
         if let Some(cut) = read.cut_short {
             let said = cut_of(path, file, cut);
             if file_number + 1 == files.len() {
-                cut_short = Some(said);
-            } else {
+                cut_short = Some(LastFileCut {
+                    said,
+                    messages_lost: cut.messages_lost,
+                });
+            } else if cut.messages_lost {
                 warnings.push(said);
+            } else {
+                notes.push(said);
             }
         }
     }
@@ -208,7 +226,7 @@ fn read_streams_in(
             read_chain(stream, chain, files, path, &mut base, &mut warnings)?;
         }
         if stream.unstamped > 0 {
-            warnings.push(format!(
+            notes.push(format!(
                 "{}: {} of {} pose(s) without a header stamp; their log time used",
                 stream.spec,
                 stream.unstamped,
@@ -233,7 +251,7 @@ fn read_streams_in(
             return Err(bag_error(problem));
         };
         if camera.unstamped > 0 {
-            warnings.push(format!(
+            notes.push(format!(
                 "camera {topic}: {} of {} frame(s) without a header stamp; their log time used",
                 camera.unstamped,
                 camera.frames.len()
@@ -248,6 +266,7 @@ fn read_streams_in(
         base_unix_ns: base.unwrap_or(0),
         topics: table.into_sorted(),
         warnings,
+        notes,
         cut_short,
         cameras: found_cameras,
         bag,

@@ -157,6 +157,7 @@ pub fn to_set(
             entry: Some(entry),
             trajectory: Arc::new(trajectory),
             warnings,
+            notes: Vec::new(),
             cameras: cameras.of_episode(table, index),
         });
     }

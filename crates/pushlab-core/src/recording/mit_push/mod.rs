@@ -8,7 +8,7 @@
 //!    [`MIN_DURATION_S`](super::resample::MIN_DURATION_S)).
 //! 2. Drops samples whose timestamp does not increase (real files step back by up to ~2 ms); a
 //!    stream must be monotone to be interpolated. Counted and reported as a warning.
-//! 3. Unwraps the object's yaw, which the dataset keeps in (−π, π].
+//! 3. Unwraps the object's yaw, which the dataset keeps in (−π, π] (a note: nothing is lost).
 //! 4. Resamples the tip and object streams by linear interpolation onto one grid of
 //!    [`RESAMPLE_HZ`] (the dataset's nominal rate) over the interval both cover, as every user of
 //!    this dataset does; yaw is interpolated after unwrapping. Time starts at 0 (the Unix time of
@@ -19,7 +19,7 @@
 //!    so for them the position changes by the centroid rotated into the world.
 //!
 //! The force stream is only checked (for being frozen), never imported: pushlab's model does not use
-//! forces.
+//! forces, so a frozen sensor is a note, not a warning.
 
 mod problem;
 mod set;
@@ -195,8 +195,10 @@ pub struct MitPush {
     pub trajectory: Trajectory,
     /// Unix time of the first frame, seconds.
     pub start_unix_s: f64,
-    /// Recoverable defects found, each a sentence with numbers.
+    /// Recoverable defects found, each a sentence with numbers (see [`Recording::warnings`]).
     pub warnings: Vec<String>,
+    /// What reading did that loses nothing (see [`Recording::notes`]).
+    pub notes: Vec<String>,
 }
 
 /// Imports one MIT file held in memory; the extension of `path` (`.json` or `.h5`) picks the
@@ -218,13 +220,14 @@ pub fn import_bytes(bytes: &[u8], path: &Path) -> Result<MitPush, LoadError> {
         parse_json(bytes)
     }
     .map_err(fail)?;
-    let (trajectory, start_unix_s, warnings) =
+    let (trajectory, start_unix_s, [warnings, notes]) =
         align(&streams, shape.centroid_in_mit_frame).map_err(fail)?;
     Ok(MitPush {
         name,
         trajectory,
         start_unix_s,
         warnings,
+        notes,
     })
 }
 
@@ -234,11 +237,12 @@ pub fn import_file(path: &Path) -> Result<MitPush, LoadError> {
     import_bytes(&bytes, path)
 }
 
-/// Cleans, checks and resamples the streams; returns the frames, the Unix start time and warnings.
+/// Cleans, checks and resamples the streams; returns the frames, the Unix start time, the warnings
+/// and the notes.
 fn align(
     streams: &Streams,
     centroid_in_mit_frame: Vector2<f64>,
-) -> Result<(Trajectory, f64, Vec<String>), MitProblem> {
+) -> Result<(Trajectory, f64, [Vec<String>; 2]), MitProblem> {
     for (key, rows) in
         KEYS.iter()
             .zip([&streams.tip_pose, &streams.object_pose, &streams.ft_wrench])
@@ -255,7 +259,7 @@ fn align(
         }
     }
     check_ranges(streams)?;
-    let mut warnings = Vec::new();
+    let (mut warnings, mut notes) = (Vec::new(), Vec::new());
     let (n_tip, n_obj, n_ft) = (
         streams.tip_pose.len(),
         streams.object_pose.len(),
@@ -271,19 +275,19 @@ fn align(
         });
     }
     if let Some(apart) = streams_apart(streams) {
-        warnings.push(format!(
+        notes.push(format!(
             "streams start or stop up to {:.1} ms apart (tip_pose {n_tip}, object_pose {n_obj}, ft_wrench {n_ft} rows); aligned by resampling at {RESAMPLE_HZ} Hz over the span both poses cover",
             apart * 1e3
         ));
     }
     let repeated = repeated_wrench_rows(&streams.ft_wrench);
     if n_ft >= 2 && repeated as f64 > FROZEN_SHARE * (n_ft - 1) as f64 {
-        warnings.push(format!(
+        notes.push(format!(
             "ft_wrench is frozen: {repeated} of {} rows repeat the previous force/torque exactly (the force sensor was not recording)",
             n_ft - 1
         ));
     }
-    unwrap_yaw("object", &mut object, &mut warnings);
+    unwrap_yaw("object", &mut object, &mut notes);
     let (start, count) = grid(&tip, &object, RESAMPLE_HZ).map_err(MitProblem::Span)?;
     let mut tip_at = Interpolator::new(&tip);
     let mut object_at = Interpolator::new(&object);
@@ -301,7 +305,7 @@ fn align(
             }
         })
         .collect();
-    Ok((Trajectory::new(frames), start, warnings))
+    Ok((Trajectory::new(frames), start, [warnings, notes]))
 }
 
 /// Refuses values no real file holds: positions beyond [`MAX_POSITION_M`] of the robot base and

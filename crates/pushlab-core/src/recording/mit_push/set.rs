@@ -174,6 +174,7 @@ pub(crate) fn recordings_for(
             entry: setting.trajectories.get(i).cloned(),
             trajectory: Arc::new(push.trajectory),
             warnings: push.warnings,
+            notes: push.notes,
             cameras: Vec::new(),
         })
         .collect();

@@ -42,13 +42,13 @@ const LIMITS: [f64; 6] = [1e12, 1e6, 1e6, 1e6, 1e6, 1e6];
 /// Longest piece of offending text quoted in an error; fuzzed junk must not make megabyte messages.
 const MAX_QUOTED: usize = 40;
 
-/// One CSV parsed from bytes: the frames and the recoverable defects found.
+/// One CSV parsed from bytes: the frames and what was done to read them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParsedCsv {
     /// The frames, object yaw unwrapped.
     pub trajectory: Trajectory,
-    /// Recoverable defects (wrapped yaw), each a sentence with numbers.
-    pub warnings: Vec<String>,
+    /// What reading did that loses nothing (wrapped yaw unwrapped), each a sentence with numbers.
+    pub notes: Vec<String>,
 }
 
 /// Parses a native trajectory CSV held in memory; `path` is only used in messages.
@@ -124,19 +124,19 @@ pub fn parse_csv(bytes: &[u8], path: &Path) -> Result<ParsedCsv, LoadError> {
         ));
     }
 
-    let mut warnings = Vec::new();
+    let mut notes = Vec::new();
     let wraps = unwrap_angles(&mut thetas);
     if wraps > 0 {
         for (frame, theta) in frames.iter_mut().zip(&thetas) {
             frame.object.yaw = *theta;
         }
-        warnings.push(format!(
+        notes.push(format!(
             "object_theta jumps by more than π {wraps} time(s) (wrapped angles); unwrapped on loading"
         ));
     }
     Ok(ParsedCsv {
         trajectory: Trajectory::new(frames),
-        warnings,
+        notes,
     })
 }
 
@@ -311,7 +311,8 @@ pub(crate) fn read_set_filtered(
                     setting: Arc::clone(&setting),
                     entry: index.map(|i| setting.trajectories[i].clone()),
                     trajectory: Arc::new(parsed.trajectory),
-                    warnings: parsed.warnings,
+                    warnings: Vec::new(),
+                    notes: parsed.notes,
                 }),
                 Err(e) => errors.push(e),
             },
@@ -335,7 +336,8 @@ pub(crate) fn read_set_filtered(
             setting: Arc::clone(&setting),
             entry: None,
             trajectory: Arc::new(parsed.trajectory),
-            warnings: parsed.warnings,
+            warnings: Vec::new(),
+            notes: parsed.notes,
         });
     }
     Ok((
