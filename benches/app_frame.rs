@@ -6,6 +6,9 @@
 //!   layout and tessellation, without the GPU upload — while playing at 1.0× (one 60 Hz frame of a
 //!   250 Hz recording learns four frames) with learning on, on pushes of 1,500, 100,000 and
 //!   1,000,001 frames. Target: ≤ 16 ms.
+//! - `frame_playing_5k_recordings`: the same on the 1,500-frame push with 5,000 more recordings
+//!   open (the browser lists 5,324). Target: ≤ 16 ms, and no more than a few rows' worth above
+//!   `frame_playing_1k5`: a frame builds the rows in view, not every open recording's.
 //! - `open_1m`: opening a 1,000,001-frame CSV (250 Hz, 55 MB) from disk as `pushlab open` does —
 //!   the default model, the file, the online run with its fixed pass — and drawing the first frame.
 //!   Target: ≤ 2 s.
@@ -49,9 +52,9 @@ fn long_push(frames: usize, rate_hz: f64) -> Trajectory {
     )
 }
 
-/// The app on the sample data with `trajectory` added as a recording of the first sample setting,
-/// selected, playing at 1.0× with learning on.
-fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
+/// The app on the sample data with `trajectory` added as a recording of the first sample setting
+/// (and `more` recordings of the same frames beside it), selected, playing at 1.0× with learning on.
+fn playing(trajectory: Trajectory, more: usize) -> Harness<'static, PushlabApp> {
     let mut app = PushlabApp::new(initial_state(&[], Persisted::default()));
     let setting = Arc::clone(
         &app.state
@@ -59,19 +62,24 @@ fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
             .expect("the sample data opens")
             .setting,
     );
+    let trajectory = Arc::new(trajectory);
+    let recording = |name: String| Recording {
+        source: PathBuf::from(format!("bench/{name}.csv")),
+        name,
+        setting: Arc::clone(&setting),
+        entry: None,
+        trajectory: Arc::clone(&trajectory),
+        warnings: Vec::new(),
+        notes: Vec::new(),
+        cameras: Vec::new(),
+    };
+    let recordings = std::iter::once(recording("long-push".to_owned()))
+        .chain((0..more).map(|i| recording(format!("push-{i:04}"))))
+        .collect();
     let id = app.state.add_set(RecordingSet {
         dir: PathBuf::from("bench"),
         setting: Arc::clone(&setting),
-        recordings: vec![Recording {
-            source: PathBuf::from("bench/long-push.csv"),
-            name: "long-push".to_owned(),
-            setting,
-            entry: None,
-            trajectory: Arc::new(trajectory),
-            warnings: Vec::new(),
-            notes: Vec::new(),
-            cameras: Vec::new(),
-        }],
+        recordings,
     });
     app.state
         .apply(Command::Session(SessionCommand::Select(id)));
@@ -87,9 +95,9 @@ fn playing(trajectory: Trajectory) -> Harness<'static, PushlabApp> {
 
 /// Benchmarks frames of the harness while playing; starts over (forgetting what was learned) before
 /// the end, so that every frame learns.
-fn bench_playing(c: &mut Criterion, name: &str, trajectory: Trajectory) {
+fn bench_playing(c: &mut Criterion, name: &str, trajectory: Trajectory, more: usize) {
     let frames = trajectory.len();
-    let mut harness = playing(trajectory);
+    let mut harness = playing(trajectory, more);
     c.bench_function(name, |b| {
         b.iter(|| {
             let state: &mut AppState = &mut harness.state_mut().state;
@@ -108,9 +116,15 @@ fn bench_playing(c: &mut Criterion, name: &str, trajectory: Trajectory) {
 }
 
 fn frame_playing(c: &mut Criterion) {
-    bench_playing(c, "frame_playing_1k5", long_push(1500, 100.0));
-    bench_playing(c, "frame_playing_100k", long_push(100_000, 250.0));
-    bench_playing(c, "frame_playing_1m", long_push(1_000_001, 250.0));
+    bench_playing(c, "frame_playing_1k5", long_push(1500, 100.0), 0);
+    bench_playing(c, "frame_playing_100k", long_push(100_000, 250.0), 0);
+    bench_playing(c, "frame_playing_1m", long_push(1_000_001, 250.0), 0);
+    bench_playing(
+        c,
+        "frame_playing_5k_recordings",
+        long_push(1500, 100.0),
+        5000,
+    );
 }
 
 /// Writes a one-push native set of `trajectory` with the object and pusher of the sample data.

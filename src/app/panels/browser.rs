@@ -11,6 +11,7 @@ use crate::app::state::SessionCommand;
 use crate::app::state::bag_import::BagCommand;
 use crate::app::state::browser::{BrowserCommand, Column, Row};
 use crate::app::state::dataset_import::DatasetCommand;
+use crate::app::state::session::RecordingId;
 use crate::app::state::{AppState, Command};
 
 /// Height of a table row, points.
@@ -36,7 +37,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             commands.push(Command::Browser(BrowserCommand::SetFilter(filter)));
         }
     });
-    let rows = state.browser_rows();
+    let rows = state.browser_shown();
     ui.weak(format!(
         "{} of {} recordings",
         rows.len(),
@@ -47,12 +48,13 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         .id_salt("browser-columns")
         .show(ui, |ui| {
             ui.set_height(table_height.max(ROW_HEIGHT * 3.0));
-            table(ui, state, &rows, commands);
+            table(ui, state, rows, commands);
         });
     problems(ui, state, commands);
 }
 
-fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut Vec<Command>) {
+/// The table; only the rows in view are built (`body.rows` asks for those alone).
+fn table(ui: &mut egui::Ui, state: &AppState, rows: &[RecordingId], commands: &mut Vec<Command>) {
     ui.spacing_mut().item_spacing.x = 4.0;
     let mut builder = TableBuilder::new(ui)
         .id_salt("browser-table")
@@ -62,7 +64,7 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
         .max_scroll_height(f32::INFINITY)
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center));
     let columns = state.browser_columns();
-    for &column in &columns {
+    for &column in columns {
         builder = builder.column(width(column));
     }
     let sorted = (
@@ -71,7 +73,7 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
     );
     builder
         .header(ROW_HEIGHT + 2.0, |mut header| {
-            for &column in &columns {
+            for &column in columns {
                 header.col(|ui| {
                     if ui
                         .add(egui::Button::new(header_text(ui, column, sorted)).frame(false))
@@ -85,11 +87,13 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[Row<'_>], commands: &mut V
         })
         .body(|body| {
             body.rows(ROW_HEIGHT, rows.len(), |mut table_row| {
-                let row = &rows[table_row.index()];
+                let Some(row) = state.browser_row(rows[table_row.index()]) else {
+                    return;
+                };
                 let selected = state.session().selected == Some(row.id);
                 table_row.set_selected(selected);
-                for &column in &columns {
-                    table_row.col(|ui| cell(ui, state, row, column, selected, commands));
+                for &column in columns {
+                    table_row.col(|ui| cell(ui, state, &row, column, selected, commands));
                 }
             });
         });

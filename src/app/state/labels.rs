@@ -105,6 +105,8 @@ pub const ERASE_HOTKEY: &str = "Delete";
 #[derive(Default)]
 pub struct Labeling {
     documents: BTreeMap<PathBuf, LabelDocument>,
+    /// How many labels files were opened (read into `documents`) so far.
+    opened: u64,
     autosaves: BTreeMap<PathBuf, Autosave>,
     /// Labels files that exist but could not be read, with the reason. Their recordings are
     /// read-only so that the file is never overwritten.
@@ -135,6 +137,7 @@ impl Labeling {
                 Ok(document) => {
                     self.autosaves.insert(path.clone(), Autosave::default());
                     self.documents.insert(path, document);
+                    self.opened += 1;
                 }
                 Err(e) => {
                     self.unreadable.insert(path, e.to_string());
@@ -146,6 +149,14 @@ impl Labeling {
     /// The document at `path`, if it is open.
     pub fn document(&self, path: &Path) -> Option<&LabelDocument> {
         self.documents.get(path)
+    }
+
+    /// What changes whenever a labels file is opened or any open one is edited, undone or redone:
+    /// the number opened so far and each file's content id, in the files' order. What views
+    /// computed from the labels (the browser's rows) are kept by.
+    pub fn contents_key(&self) -> (u64, Vec<u64>) {
+        let states = self.documents.values().map(LabelDocument::state_id);
+        (self.opened, states.collect())
     }
 
     /// One flag per frame of a target: labelled "skip in training" (bad tracking). All false when
@@ -585,4 +596,4 @@ fn stroke_command(stroke: &Stroke, frames: std::ops::Range<usize>) -> labels::Co
 }
 
 #[cfg(test)]
-mod tests;
+pub(super) mod tests;

@@ -340,10 +340,12 @@ impl AppState {
         self.demos = Demos::load(suite);
     }
 
-    /// Adds a set built in memory (benchmarks, tests) without showing it; returns its first
-    /// recording's id.
+    /// Adds a set built in memory (benchmarks, tests) without showing it, listed in the browser as
+    /// an opened one is; returns its first recording's id.
     pub fn add_set(&mut self, set: pushlab_core::recording::RecordingSet) -> RecordingId {
         self.session.sets.push(set);
+        self.remember_parameters();
+        self.refresh_frame_cache();
         RecordingId {
             set: self.session.sets.len() - 1,
             recording: 0,

@@ -40,6 +40,7 @@ impl AppState {
         let effects = self.datasets.poll(&mut self.session);
         self.apply_effects(effects);
         self.proposals.wait();
+        self.refresh_frame_cache();
     }
 
     /// Merges what the loading threads finished: the recordings (the first new one shown), the

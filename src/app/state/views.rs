@@ -30,7 +30,7 @@ use super::online::OnlineRun;
 use super::overview::PathOverview;
 use super::proposals::Pending;
 use super::proposals::ProposalState;
-use super::session::Session;
+use super::session::{RecordingId, Session};
 use super::timeline::Timeline;
 use super::{AppState, Persisted};
 
@@ -169,16 +169,30 @@ impl AppState {
     pub(super) fn refresh_frame_cache(&mut self) {
         let (frame, steps) = (self.frame(), self.settings.what_if_steps);
         (self.frame_cache).refresh_what_if(self.run.as_ref(), self.run_generation, frame, steps);
+        (self.browsed).refresh_shown(&self.session, &self.labels, &self.settings.browser);
     }
 
-    /// The browser's rows: every open recording that passes the filter, sorted.
+    /// The browser's rows: every open recording that passes the filter, sorted, computed now (for
+    /// commands and tests; the panel draws [`AppState::browser_shown`]'s rows in view).
     pub fn browser_rows(&self) -> Vec<Row<'_>> {
         (self.browsed).rows(&self.session, &self.labels, &self.settings.browser)
     }
 
-    /// The browser's columns for the recordings open (see `BrowserMemory::columns`).
-    pub fn browser_columns(&self) -> Vec<Column> {
-        self.browsed.columns(&self.session)
+    /// The ids of the browser's rows, filtered and sorted: [`AppState::browser_rows`]'s, kept
+    /// between frames until something they depend on changes.
+    pub fn browser_shown(&self) -> &[RecordingId] {
+        self.browsed.shown_ids()
+    }
+
+    /// One row of the browser (the panel builds the rows in view).
+    pub fn browser_row(&self, id: RecordingId) -> Option<Row<'_>> {
+        self.browsed.row_of(id, &self.session, &self.labels)
+    }
+
+    /// The browser's columns for the recordings open (see `BrowserMemory::columns`), kept with the
+    /// shown rows.
+    pub fn browser_columns(&self) -> &[Column] {
+        self.browsed.shown_columns()
     }
 
     /// The mean losses last seen on a recording's run.

@@ -14,7 +14,7 @@ use crate::app::state::{OnlineCommand, TrainingCommand};
 
 /// A private copy of one sample-data set, so tests never write into the repository.
 /// `sample-data/` is committed: a missing set is a broken checkout, so the test fails.
-fn copy_of_sample_set(test: &str) -> PathBuf {
+pub(in crate::app::state) fn copy_of_sample_set(test: &str) -> PathBuf {
     let source = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("sample-data")
         .join("box1-paper-center-front");
