@@ -44,6 +44,15 @@ impl AppState {
         }
     }
 
+    /// Hands the labels as they are now to the copy learning ahead, if any (after every command and
+    /// every frame: labels change by commands, and by another program's edits noticed on a frame).
+    pub(super) fn learning_ahead_follows_labels(&mut self) {
+        if self.learning_ahead.is_running() {
+            let skip = self.frames_to_skip();
+            self.learning_ahead.follow_labels(skip);
+        }
+    }
+
     /// Asks the copy learning ahead to stop where it got (Cancel); what it learned is kept when
     /// it is back.
     pub(super) fn stop_learning_ahead(&mut self) {

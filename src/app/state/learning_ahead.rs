@@ -9,10 +9,13 @@
 //! θ is held at its frontier, playing learns nothing until the copy is back (then the frames passed
 //! meanwhile are learned), and every change to the run — steering, a reset, another update rule,
 //! another run — drops the copy first, so a late copy never overwrites it. Cancel is not a change
-//! to the run: it stops the copy where it got and keeps what it learned.
+//! to the run: it stops the copy where it got and keeps what it learned. Nor is a label: one
+//! painted while the copy learns (bad tracking, seen in the camera at the frame just sought to) is
+//! handed to the worker, which holds θ over it if it has not passed it yet — as on the UI thread,
+//! where a label counts from when learning passes it.
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 use pushlab_core::learn;
@@ -31,14 +34,16 @@ pub struct LearningAhead {
     job: Option<(Target, Job<learn::OnlineRun>)>,
 }
 
-/// Which run a copy learns for, up to which frame, since when, and the flag that asks it to stop
-/// where it got (Cancel: what it learned is kept; dropping the job instead throws it away).
+/// Which run a copy learns for, up to which frame, since when, the flag that asks it to stop
+/// where it got (Cancel: what it learned is kept; dropping the job instead throws it away), and the
+/// frames to hold θ over as the labels are now (read by the worker before each block).
 #[derive(Clone, Debug)]
 struct Target {
     generation: u64,
     to: usize,
     started: Instant,
     stop: Arc<AtomicBool>,
+    skip: Arc<Mutex<Arc<[bool]>>>,
 }
 
 /// A copy back from the worker.
@@ -78,6 +83,8 @@ impl LearningAhead {
         let mut copy = learn::OnlineRun::clone(run);
         let stop = Arc::new(AtomicBool::new(false));
         let stopping = Arc::clone(&stop);
+        let skip = Arc::new(Mutex::new(skip));
+        let labelled = Arc::clone(&skip);
         let job = Job::spawn(move |context| {
             let mut at = from;
             while at < to {
@@ -88,6 +95,7 @@ impl LearningAhead {
                     break;
                 }
                 let next = (at + BLOCK).min(to);
+                let skip = Arc::clone(&labelled.lock().unwrap_or_else(PoisonError::into_inner));
                 // Learning `from..to` in blocks is learning it in one go: frame by frame in order.
                 copy.learn_through(at, next, &skip);
                 context.set_progress((next - from) as f32 / (to - from) as f32);
@@ -100,6 +108,7 @@ impl LearningAhead {
             to,
             started: Instant::now(),
             stop,
+            skip,
         };
         self.job = Some((target, job));
     }
@@ -125,6 +134,26 @@ impl LearningAhead {
         if let Some((target, _)) = &self.job {
             target.stop.store(true, Ordering::Relaxed);
         }
+    }
+
+    /// Hands the frames to hold θ over, as the labels are now, to the copy under way: it holds θ
+    /// over those it has not passed yet.
+    pub fn follow_labels(&self, skip: Arc<[bool]>) {
+        if let Some((target, _)) = &self.job {
+            let mut shared = target.skip.lock().unwrap_or_else(PoisonError::into_inner);
+            if !Arc::ptr_eq(&shared, &skip) {
+                *shared = skip;
+            }
+        }
+    }
+
+    /// The frames the copy under way holds θ over, as last handed to it.
+    #[cfg(test)]
+    pub fn labels_handed(&self) -> Option<Arc<[bool]>> {
+        let (target, _) = self.job.as_ref()?;
+        Some(Arc::clone(
+            &target.skip.lock().unwrap_or_else(PoisonError::into_inner),
+        ))
     }
 
     /// The copy once it is back; `None` while it learns, or when it was for another run than the

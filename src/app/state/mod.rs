@@ -394,6 +394,7 @@ impl AppState {
     pub fn apply(&mut self, command: Command) {
         self.apply_command(command);
         self.remember_losses();
+        self.learning_ahead_follows_labels();
         self.refresh_frame_cache();
     }
 
@@ -480,6 +481,7 @@ impl AppState {
         self.remember_losses();
         let landscape = self.update_landscape();
         let best_fit = self.best_fit.poll();
+        self.learning_ahead_follows_labels();
         let learning_ahead = self.poll_learning_ahead();
         (self.cameras).update(
             self.timeline.frame_time(),

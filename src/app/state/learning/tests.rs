@@ -181,3 +181,73 @@ fn cancel_stops_the_copy_where_it_got_and_keeps_what_it_learned() {
     assert_eq!(run.learned(), reference.learned());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_label_handed_to_the_copy_as_it_learns_holds_theta_over_the_frames_it_had_not_passed() {
+    use std::sync::Arc;
+
+    use pushlab_core::learn;
+
+    use crate::app::state::learning_ahead::LearningAhead;
+    let dir = long_set("label");
+    let state = state_on(&dir);
+    let run = state.run.as_ref().expect("a run");
+    let target = FRAMES - 100;
+    // Bad tracking near the frame sought to, labelled just after the copy set out: the worker,
+    // which reads the labels before each block of 4,096 frames, is still far from there.
+    let (first, last) = (target - 50, target - 40);
+    let mut labelled = vec![false; FRAMES];
+    labelled[first..=last].fill(true);
+    let mut ahead = LearningAhead::default();
+    ahead.start(run, 0, target, Arc::from(vec![false; FRAMES]), 7);
+    ahead.follow_labels(Arc::from(labelled.clone()));
+    let (done, to) = ahead.progress().expect("learning");
+    assert!(
+        (done * to as f32) as usize + 2 * 4_096 < first - 20,
+        "the worker was at {done} of {to} when the label was handed: too near it for this test"
+    );
+    let started = Instant::now();
+    let learned = loop {
+        if let Some(learned) = ahead.poll(7) {
+            break learned;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "still learning"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    // What learning with the label from the start gives, θ held over the samples touching it.
+    let mut reference = learn::OnlineRun::clone(run);
+    reference.learn_through(0, target, &labelled);
+    assert_eq!(learned.run.checkpoints(), reference.checkpoints());
+    assert_eq!(learned.run.learned(), reference.learned());
+    let held = (first - 10..=last).filter(|&k| learned.run.learned()[k].is_none());
+    assert!(held.count() > last - first, "every labelled frame held");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_label_painted_while_the_copy_learns_is_handed_to_it() {
+    use crate::app::state::labels::LabelAction;
+    let dir = long_set("painted");
+    let mut state = state_on(&dir);
+    let target = FRAMES - 100;
+    seek(&mut state, target);
+    let handed = |state: &AppState| state.learning_ahead.labels_handed().expect("learning");
+    assert!(!handed(&state).contains(&true));
+    for command in [
+        Command::Timeline(TimelineCommand::SeekTo(target - 50)),
+        Command::Label(LabelAction::SetInPoint),
+        Command::Timeline(TimelineCommand::SeekTo(target - 40)),
+        Command::Label(LabelAction::SetActive("bad tracking".into())),
+        Command::Label(LabelAction::PaintFromInPoint),
+    ] {
+        state.apply(command);
+    }
+    let painted = handed(&state);
+    assert_eq!(&*painted, &*state.frames_to_skip());
+    assert_eq!(painted.iter().filter(|&&s| s).count(), 11);
+    until_learned(&mut state);
+    let _ = std::fs::remove_dir_all(&dir);
+}
