@@ -84,9 +84,11 @@ impl Timeline {
         self.frame_times.get(self.frame).copied().unwrap_or(0.0)
     }
 
-    /// Seconds since the first frame.
+    /// Seconds from the first frame to the frame shown: what the scene and the Inspect tab show,
+    /// not the playback clock between two frames (paused 2.96 s into a 10 Hz push, frame 29 is
+    /// shown: 2.90 s, where the clock would say 2.96 and, rounded, 3.0 beside "frame 29").
     pub fn elapsed(&self) -> f64 {
-        self.time - self.frame_times.first().copied().unwrap_or(0.0)
+        self.frame_time() - self.frame_times.first().copied().unwrap_or(0.0)
     }
 
     /// Applies one command.
@@ -232,6 +234,16 @@ mod tests {
         t.apply(TimelineCommand::JumpStart);
         assert_eq!(t.frame(), 0);
         assert!((t.elapsed()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_time_said_is_the_shown_frames_not_the_clock_between_frames() {
+        let mut t = Timeline::new((0..100).map(|i| 1.5 + i as f64 * 0.1).collect());
+        t.apply(TimelineCommand::TogglePlay);
+        t.update(2.96);
+        t.apply(TimelineCommand::TogglePlay);
+        assert_eq!(t.frame(), 29);
+        assert!((t.elapsed() - 2.9).abs() < 1e-9, "{}", t.elapsed());
     }
 
     #[test]
