@@ -12,6 +12,8 @@
 //! - `open_1m`: opening a 1,000,001-frame CSV (250 Hz, 55 MB) from disk as `pushlab open` does —
 //!   the default model, the file, the online run with its fixed pass — and drawing the first frame.
 //!   Target: ≤ 2 s.
+//! - `select_1m`: selecting that recording after another — its online run with the fixed pass,
+//!   the path's overview, the plots' series — all on the UI thread. Target: ≤ 0.5 s.
 //! - `open_sample_data`: everything `cargo run` does before its first frame on the bundled sample
 //!   data (model, 324 recordings, 9 labels files, the first run). Target: under 1 s.
 //!
@@ -23,6 +25,7 @@ use std::sync::Arc;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use egui_kittest::Harness;
+use pushlab::app::state::session::RecordingId;
 use pushlab::app::state::timeline::TimelineCommand;
 use pushlab::app::state::{AppState, Command, Persisted};
 use pushlab::app::state::{OnlineCommand, SessionCommand};
@@ -165,6 +168,34 @@ fn open_1m(c: &mut Criterion) {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+fn select_1m(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join(format!("pushlab-bench-select-1m-{}", std::process::id()));
+    write_long_set(&dir, long_push(1_000_001, 250.0));
+    let paths = [
+        dir.clone(),
+        sample_data_dir().join("box1-paper-center-front"),
+    ];
+    let mut state = initial_state(&paths, Persisted::default());
+    let (long, short) = (
+        RecordingId {
+            set: 0,
+            recording: 0,
+        },
+        RecordingId {
+            set: 1,
+            recording: 0,
+        },
+    );
+    c.bench_function("select_1m", |b| {
+        b.iter(|| {
+            state.apply(Command::Session(SessionCommand::Select(short)));
+            state.apply(Command::Session(SessionCommand::Select(long)));
+            black_box(state.run().expect("a run").sample_count())
+        })
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// What `cargo run` does before the first frame: load the default model, the sample data's 324
 /// recordings and 9 labels files, and start the online run on the first recording.
 fn open_sample_data(c: &mut Criterion) {
@@ -182,6 +213,6 @@ fn open_sample_data(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = frame_playing, open_1m, open_sample_data
+    targets = frame_playing, open_1m, select_1m, open_sample_data
 }
 criterion_main!(benches);

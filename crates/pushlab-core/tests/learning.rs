@@ -501,3 +501,64 @@ fn the_contact_model_learns_a_moved_com_online_and_its_files_round_trip() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A pass that keeps only the losses (the fixed run of every recording opened, the best θ's scores)
+/// takes `loss_at`, which skips the gradient: it must be `evaluate`'s loss to the bit, for every
+/// kind, at `θ_online(0)`, at a moved COM and at a θ out of range (clamped as `evaluate` clamps it).
+#[test]
+fn loss_at_is_the_loss_evaluate_gives_to_the_bit_for_every_kind() {
+    let offline = simulated([0.0, 0.0], PressureModel::Rim, 0.0002, 41);
+    let online = simulated_on(PushSide::Left, [0.03, 0.0], PressureModel::Rim, 0.0002, 42);
+    let (geometry, contact) = train_contact_on(&offline, 5);
+    let outline = offline.setting.object.outline().expect("a box");
+    let config = TrainConfig {
+        epochs: 5,
+        seed: 3,
+        theta0: Some(OnlineParams::for_outline(&outline)),
+        ..TrainConfig::default()
+    };
+    let paper = train_paper(
+        &samples(&offline),
+        &config,
+        &mut |_| {},
+        &AtomicBool::new(false),
+    )
+    .expect("trains")
+    .model;
+    let data = samples(&online);
+    let scale = pushlab_core::model::LossScale::from_samples(data.iter().flatten());
+    let physics: Arc<dyn OnlineModel + Send + Sync> =
+        Arc::new(PhysicsOnlyModel::new(outline, 0.05, 0.005, scale));
+    let learners = [
+        CombinedModel::Contact(Arc::new(contact))
+            .on_object(Some(&geometry))
+            .expect("outline"),
+        CombinedModel::Paper(Arc::new(paper))
+            .on_object(None)
+            .expect("no outline needed"),
+        physics,
+    ];
+    for learner in &learners {
+        let thetas = [
+            learner.theta0(),
+            OnlineParams {
+                com_offset: [0.04, -0.03],
+                h: 0.12,
+            },
+            OnlineParams {
+                com_offset: [0.0, 0.0],
+                h: 50.0,
+            },
+        ];
+        for (theta, sample) in thetas
+            .iter()
+            .flat_map(|t| data.iter().flatten().map(move |s| (t, s)))
+        {
+            assert_eq!(
+                learner.loss_at(sample, theta),
+                learner.evaluate(sample, theta).loss,
+                "at {theta:?}"
+            );
+        }
+    }
+}

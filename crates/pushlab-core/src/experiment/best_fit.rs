@@ -143,10 +143,7 @@ pub fn best_fit<M: OnlineModel + ?Sized>(
     }
     // Every θ predicting a non-finite loss (a model gone wrong): nothing to report.
     let (_, theta) = best.filter(|b| b.0.is_finite())?;
-    let losses: Vec<Loss> = samples
-        .iter()
-        .map(|s| model.evaluate(s, &theta).loss)
-        .collect();
+    let losses: Vec<Loss> = samples.iter().map(|s| model.loss_at(s, &theta)).collect();
     let nmse = Nmse::of_frames(losses.iter().map(FrameLoss::of));
     Some(BestFit {
         theta,

@@ -127,7 +127,7 @@ impl OnlineRun {
         let theta0 = model.theta0();
         let fixed = (0..sample_count(&trajectory, horizon))
             .filter_map(|k| sample_at(&trajectory, k, horizon))
-            .map(|s| FrameLoss::of(&model.evaluate(&s, &theta0).loss))
+            .map(|s| FrameLoss::of(&model.loss_at(&s, &theta0)))
             .collect();
         Self {
             checkpoints: vec![start.theta],

@@ -135,6 +135,13 @@ pub trait OnlineModel {
     fn evaluate(&self, sample: &Sample, theta: &OnlineParams) -> OnlineStep {
         self.online_step(sample, theta, &Descent::NONE)
     }
+    /// [`OnlineModel::evaluate`]'s loss alone, the same bits, at the cost of a prediction: no
+    /// gradient. What a pass that keeps only losses takes (the fixed run of every recording
+    /// opened: a third of the time of selecting a million-frame recording was its gradients).
+    fn loss_at(&self, sample: &Sample, theta: &OnlineParams) -> Loss {
+        let prediction = self.predict(&sample.input, &theta.clamped());
+        Loss::of(&prediction.motion, &sample.target, &self.loss_scale())
+    }
 }
 
 impl<T: Real> OnlineModel for PaperModel<T> {
@@ -307,6 +314,9 @@ macro_rules! forward_online_model {
             }
             fn evaluate(&self, sample: &Sample, theta: &OnlineParams) -> OnlineStep {
                 (**self).evaluate(sample, theta)
+            }
+            fn loss_at(&self, sample: &Sample, theta: &OnlineParams) -> Loss {
+                (**self).loss_at(sample, theta)
             }
             fn linearize(&self, sample: &Sample, theta: &OnlineParams) -> Linearization {
                 (**self).linearize(sample, theta)
