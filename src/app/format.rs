@@ -23,8 +23,21 @@ pub fn hundredths(value: f64) -> String {
     }
 }
 
+/// `n` and the noun for it: "1 step", "20 steps" (a sentence in a panel, where "1 steps" reads as a
+/// slip; the CLI's tables keep "step(s)").
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_count_of_one_takes_the_singular() {
+        assert_eq!(super::count(1, "step", "steps"), "1 step");
+        assert_eq!(super::count(0, "step", "steps"), "0 steps");
+        assert_eq!(super::count(20, "step", "steps"), "20 steps");
+    }
+
     #[test]
     fn losses_below_a_thousandth_keep_two_digits() {
         let cells = [0.1314, 0.001, 4.23e-4, 0.0].map(|v| super::loss(v, 3));

@@ -10,6 +10,7 @@ use pushlab_core::recording::PushSide;
 
 use super::label_bands::color;
 use crate::app::dialogs::{DialogRequest, Dialogs};
+use crate::app::format;
 use crate::app::state::labels::{LabelAction, LabelTarget};
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
@@ -227,9 +228,9 @@ fn segment_list(
     commands: &mut Vec<Command>,
 ) {
     ui.label(format!(
-        "{} segment(s), {} event(s)",
-        labels.segments.len(),
-        labels.events.len()
+        "{}, {}",
+        format::count(labels.segments.len(), "segment", "segments"),
+        format::count(labels.events.len(), "event", "events")
     ));
     egui::ScrollArea::vertical()
         .id_salt("segment-list")
@@ -412,8 +413,8 @@ fn loss_table(ui: &mut egui::Ui, state: &AppState) {
         return;
     };
     ui.label(format!(
-        "Mean loss by label over the {} frames learned so far (online / fixed):",
-        all.frames
+        "Mean loss by label over the {} learned so far (online / fixed):",
+        format::count(all.frames, "frame", "frames")
     ));
     egui::Grid::new("loss-by-label")
         .num_columns(4)

@@ -399,8 +399,8 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         && let Some((offset, yaw)) = rollout.final_error(&recording.trajectory)
     {
         ui.label(format!(
-            "After {} steps: {:.1} mm and {:.2}° from the recorded pose",
-            rollout.poses.len(),
+            "After {}: {:.1} mm and {:.2}° from the recorded pose",
+            format::count(rollout.poses.len(), "step", "steps"),
             offset * 1e3,
             yaw.to_degrees()
         ));
