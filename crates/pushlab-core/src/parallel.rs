@@ -13,6 +13,7 @@
 //! a core is free: the slices are fixed halves, so with the other core busy the split costs a few
 //! per cent (`train/train_epoch*`, `performance.md`).
 
+use std::ops::Range;
 use std::sync::OnceLock;
 
 /// The fewest training samples a thread takes in offline training's per-sample passes (about
@@ -36,19 +37,39 @@ where
     F: FnOnce(&[T]),
     G: Fn(&[T]) -> R + Sync,
 {
-    let count = workers().min(items.len() / min_slice.max(1)).max(1);
+    first_range_here_rest_elsewhere(
+        items.len(),
+        min_slice,
+        |range| first(&items[range]),
+        |range| rest(&items[range]),
+    )
+}
+
+/// [`first_here_rest_elsewhere`] over the ranges of indices `0..len` rather than a slice's items.
+fn first_range_here_rest_elsewhere<R, F, G>(
+    len: usize,
+    min_slice: usize,
+    first: F,
+    rest: G,
+) -> Vec<R>
+where
+    R: Send,
+    F: FnOnce(Range<usize>),
+    G: Fn(Range<usize>) -> R + Sync,
+{
+    let count = workers().min(len / min_slice.max(1)).max(1);
     if count == 1 {
-        first(items);
+        first(0..len);
         return Vec::new();
     }
-    let (here, elsewhere) = items.split_at(items.len().div_ceil(count));
+    let slice = len.div_ceil(count);
     let rest = &rest;
     std::thread::scope(|scope| {
-        let others: Vec<_> = elsewhere
-            .chunks(here.len())
-            .map(|part| scope.spawn(move || rest(part)))
+        let others: Vec<_> = (slice..len)
+            .step_by(slice)
+            .map(|start| scope.spawn(move || rest(start..(start + slice).min(len))))
             .collect();
-        first(here);
+        first(0..slice);
         others
             .into_iter()
             .map(|other| match other.join() {
@@ -58,6 +79,26 @@ where
             })
             .collect()
     })
+}
+
+/// `item(i)` for every `i` in `0..len`, in order, the later ranges computed on other cores: for
+/// passes of independent items that only collect (each result is what a serial pass gives).
+pub(crate) fn ordered_map<R: Send>(
+    len: usize,
+    min_slice: usize,
+    item: impl Fn(usize) -> R + Sync,
+) -> Vec<R> {
+    let mut results = Vec::with_capacity(len);
+    let later = first_range_here_rest_elsewhere(
+        len,
+        min_slice,
+        |range| results.extend(range.map(&item)),
+        |range| range.map(&item).collect::<Vec<R>>(),
+    );
+    for part in later {
+        results.extend(part);
+    }
+    results
 }
 
 /// The sum over `items` of their terms, term for term the serial sum whatever the number of cores:
@@ -116,6 +157,15 @@ mod tests {
         let none =
             first_here_rest_elsewhere(&[] as &[u64], 1, |part| assert!(part.is_empty()), |_| 0);
         assert!(none.is_empty());
+    }
+
+    #[test]
+    fn an_ordered_map_is_the_serial_one() {
+        for (len, min_slice) in [(0, 1), (7, 100), (10_007, 1_000), (10_007, 1)] {
+            let serial: Vec<u64> = (0..len).map(|i| (i as u64).pow(2) % 97).collect();
+            let mapped = ordered_map(len, min_slice, |i| (i as u64).pow(2) % 97);
+            assert_eq!(mapped, serial, "{len} items, {min_slice} a slice");
+        }
     }
 
     #[test]

@@ -28,10 +28,15 @@ use crate::model::{
     FrameLoss, OnlineParams, OnlineStep, Sample, SharedOnlineModel, sample_at, sample_count,
     sample_is_skipped,
 };
+use crate::parallel;
 use crate::trajectory::Trajectory;
 
 /// Frames between kept posteriors: the most a rewind replays.
 pub const KEYFRAME: usize = 64;
+
+/// The fewest samples of the fixed run a thread scores (about 1 ms of predictions): a recording of
+/// fewer than twice this is scored on one core.
+const FIXED_PER_WORKER: usize = 8192;
 
 /// Mean losses over the frames learned so far, online and fixed on the same frames.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -125,9 +130,14 @@ impl OnlineRun {
     ) -> Self {
         let horizon = horizon.max(1);
         let theta0 = model.theta0();
-        let fixed = (0..sample_count(&trajectory, horizon))
-            .filter_map(|k| sample_at(&trajectory, k, horizon))
-            .map(|s| FrameLoss::of(&model.loss_at(&s, &theta0)))
+        // Every sample is scored on its own: a long recording's are shared between the cores.
+        let fixed =
+            parallel::ordered_map(sample_count(&trajectory, horizon), FIXED_PER_WORKER, |k| {
+                sample_at(&trajectory, k, horizon)
+                    .map(|s| FrameLoss::of(&model.loss_at(&s, &theta0)))
+            })
+            .into_iter()
+            .flatten()
             .collect();
         Self {
             checkpoints: vec![start.theta],

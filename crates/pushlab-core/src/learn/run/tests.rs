@@ -395,3 +395,32 @@ fn a_continuing_run_starts_where_the_earlier_push_ended_and_resets_there() {
     );
     assert_eq!(second.spread_at(0), carried);
 }
+
+#[test]
+fn a_long_recordings_fixed_run_shared_between_cores_is_the_serial_one() {
+    // Long enough to be shared (more than two slices of the fixed run), turning, so that the
+    // losses differ from frame to frame.
+    let trajectory = turning_push(3 * FIXED_PER_WORKER, 0.3, [-0.06, 0.01]);
+    let model = model(&trajectory);
+    let run = OnlineRun::new(
+        Arc::clone(&model),
+        Arc::clone(&trajectory),
+        1,
+        OnlineConfig::default(),
+    );
+    let theta0 = model.theta0();
+    let serial: Vec<FrameLoss> = samples_from_trajectory(&trajectory, 1)
+        .iter()
+        .map(|s| FrameLoss::of(&model.loss_at(s, &theta0)))
+        .collect();
+    assert_eq!(serial.len(), 3 * FIXED_PER_WORKER - 1);
+    let distinct: std::collections::HashSet<_> = (serial.iter())
+        .map(|l| (l.pos.to_bits(), l.rot.to_bits()))
+        .collect();
+    assert!(
+        distinct.len() > 1000,
+        "{} distinct: the order must show",
+        distinct.len()
+    );
+    assert_eq!(run.fixed(), serial.as_slice());
+}
