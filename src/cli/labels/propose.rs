@@ -161,7 +161,7 @@ fn model_residuals(model: &CombinedModel, recording: &Recording) -> anyhow::Resu
     let samples = samples_from_trajectory(&recording.trajectory, model.horizon());
     Ok(fixed_pass(learner.as_ref(), &samples)
         .iter()
-        .map(|s| s.loss.total())
+        .map(pushlab_core::model::Loss::total)
         .collect())
 }
 

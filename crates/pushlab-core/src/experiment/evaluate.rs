@@ -13,7 +13,7 @@ use crate::geometry::OutlineError;
 use crate::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
 use crate::learn::{Nmse, OnlineConfig, OnlineRun, OnlineState, Posterior};
 use crate::model::{
-    CombinedModel, FrameLoss, Loss, LossScale, NoOutline, OnlineModel, OnlineParams, OnlineStep,
+    CombinedModel, FrameLoss, Loss, LossScale, NoOutline, OnlineModel, OnlineParams,
     PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel, samples_from_trajectory,
 };
 use crate::recording::Recording;
@@ -80,12 +80,13 @@ pub fn loss_scale_for(
     scale
 }
 
-/// Every sample predicted and scored with `θ_online(0)`, never updated: the "Fixed" run.
-pub fn fixed_pass(learner: &dyn OnlineModel, samples: &[Sample]) -> Vec<OnlineStep> {
+/// Every sample predicted and scored with `θ_online(0)`, never updated: the "Fixed" run's losses
+/// (`OnlineModel::loss_at`: no gradient, which no caller read).
+pub fn fixed_pass(learner: &dyn OnlineModel, samples: &[Sample]) -> Vec<Loss> {
     let theta0 = learner.theta0();
     samples
         .iter()
-        .map(|s| learner.evaluate(s, &theta0))
+        .map(|s| learner.loss_at(s, &theta0))
         .collect()
 }
 
@@ -349,11 +350,7 @@ pub fn evaluate(
     for u in offline {
         let samples = u.samples(horizon);
         if let Some(learner) = learner(u) {
-            offline_losses.extend(
-                fixed_pass(learner.as_ref(), &samples)
-                    .iter()
-                    .map(|s| s.loss),
-            );
+            offline_losses.extend(fixed_pass(learner.as_ref(), &samples));
         }
         if let Some(nn) = pure_nn {
             offline_nn.extend(
@@ -432,7 +429,7 @@ fn physics_nmse(
     let mut offline_losses = Vec::new();
     for u in offline {
         if let Some(m) = model(u) {
-            offline_losses.extend(fixed_pass(&m, &u.samples(horizon)).iter().map(|s| s.loss));
+            offline_losses.extend(fixed_pass(&m, &u.samples(horizon)));
         }
     }
     let (mut fixed, mut learned, mut pushes) = (Vec::new(), Vec::new(), Vec::new());
