@@ -49,7 +49,12 @@ fn seek(state: &mut AppState, frame: usize) {
 }
 
 /// Paints `label` over `first..=last` with the in and out points, as a user would.
-fn paint_frames(state: &mut AppState, label_name: &str, first: usize, last: usize) {
+pub(in crate::app::state) fn paint_frames(
+    state: &mut AppState,
+    label_name: &str,
+    first: usize,
+    last: usize,
+) {
     seek(state, first);
     label(state, LabelAction::SetInPoint);
     seek(state, last);

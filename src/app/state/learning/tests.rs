@@ -60,14 +60,27 @@ fn seek(state: &mut AppState, frame: usize) {
 
 /// Polls as the UI thread does until the copy learning ahead is back.
 fn until_learned(state: &mut AppState) {
+    waited_for(|| {
+        if state.learning_ahead().is_none() {
+            return Some(());
+        }
+        state.advance(0.0);
+        None
+    });
+}
+
+/// What `ready` gives once it gives something, asked every 5 ms for up to two minutes.
+fn waited_for<T>(mut ready: impl FnMut() -> Option<T>) -> T {
     let started = Instant::now();
-    while state.learning_ahead().is_some() {
+    loop {
+        if let Some(done) = ready() {
+            return done;
+        }
         assert!(
             started.elapsed() < Duration::from_secs(120),
             "still learning"
         );
         std::thread::sleep(Duration::from_millis(5));
-        state.advance(0.0);
     }
 }
 
@@ -206,17 +219,7 @@ fn a_label_handed_to_the_copy_as_it_learns_holds_theta_over_the_frames_it_had_no
         (done * to as f32) as usize + 2 * 4_096 < first - 20,
         "the worker was at {done} of {to} when the label was handed: too near it for this test"
     );
-    let started = Instant::now();
-    let learned = loop {
-        if let Some(learned) = ahead.poll(7) {
-            break learned;
-        }
-        assert!(
-            started.elapsed() < Duration::from_secs(120),
-            "still learning"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    };
+    let learned = waited_for(|| ahead.poll(7));
     // What learning with the label from the start gives, θ held over the samples touching it.
     let mut reference = learn::OnlineRun::clone(run);
     reference.learn_through(0, target, &labelled);
@@ -229,22 +232,14 @@ fn a_label_handed_to_the_copy_as_it_learns_holds_theta_over_the_frames_it_had_no
 
 #[test]
 fn a_label_painted_while_the_copy_learns_is_handed_to_it() {
-    use crate::app::state::labels::LabelAction;
+    use crate::app::state::labels::tests::paint_frames;
     let dir = long_set("painted");
     let mut state = state_on(&dir);
     let target = FRAMES - 100;
     seek(&mut state, target);
     let handed = |state: &AppState| state.learning_ahead.labels_handed().expect("learning");
     assert!(!handed(&state).contains(&true));
-    for command in [
-        Command::Timeline(TimelineCommand::SeekTo(target - 50)),
-        Command::Label(LabelAction::SetInPoint),
-        Command::Timeline(TimelineCommand::SeekTo(target - 40)),
-        Command::Label(LabelAction::SetActive("bad tracking".into())),
-        Command::Label(LabelAction::PaintFromInPoint),
-    ] {
-        state.apply(command);
-    }
+    paint_frames(&mut state, "bad tracking", target - 50, target - 40);
     let painted = handed(&state);
     assert_eq!(&*painted, &*state.frames_to_skip());
     assert_eq!(painted.iter().filter(|&&s| s).count(), 11);

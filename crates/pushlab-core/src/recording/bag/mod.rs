@@ -48,6 +48,6 @@ pub use self::split::{
     BagImport, BagPush, ImportOptions, MAX_RATE_HZ, import, import_bytes,
     import_bytes_with_cameras, import_with_cameras, resample_streams,
 };
-pub use self::streams::{BagStreams, LastFileCut, read_streams, read_streams_bytes};
+pub use self::streams::{BagStreams, FileCut, read_streams, read_streams_bytes};
 pub use self::topic_info::{BagListing, CameraInfo, MAX_LISTED_FRAMES, TF_STATIC, TopicInfo};
 pub use self::topics::{topics, topics_bytes};

@@ -197,19 +197,20 @@ pub fn resample_streams(
                 unwrap_yaw(&object_key, &mut o, &mut notes);
                 match grid(&t, &o, rate_hz) {
                     Ok((start, count)) => {
-                        let mut push = resample(&t, &o, start, count, rate_hz, base_s);
-                        push.warnings = warnings;
-                        push.notes = notes;
-                        let span = (
-                            -CAMERA_MARGIN_S,
-                            push.trajectory.duration() + CAMERA_MARGIN_S,
-                        );
-                        push.cameras = (streams.cameras.iter())
+                        let trajectory = resample(&t, &o, start, count, rate_hz);
+                        let span = (-CAMERA_MARGIN_S, trajectory.duration() + CAMERA_MARGIN_S);
+                        let cameras = (streams.cameras.iter())
                             .map(|c| {
                                 Arc::new(c.stream(&streams.bag, streams.base_unix_ns, start, span))
                             })
                             .collect();
-                        pushes.push(push);
+                        pushes.push(BagPush {
+                            trajectory,
+                            start_unix_s: base_s + start,
+                            warnings,
+                            notes,
+                            cameras,
+                        });
                         None
                     }
                     Err(span) => Some(BagProblem::Span(span)),
@@ -241,11 +242,7 @@ pub fn resample_streams(
     }
     // The pushes before the last end before the cut: whole.
     if let (Some(cut), Some(last)) = (&streams.cut_short, pushes.last_mut()) {
-        if cut.messages_lost {
-            last.warnings.push(cut.said.clone());
-        } else {
-            last.notes.push(cut.said.clone());
-        }
+        cut.clone().say(&mut last.warnings, &mut last.notes);
     }
     Ok((pushes, rate_hz))
 }
@@ -257,8 +254,7 @@ fn resample(
     start: f64,
     count: usize,
     rate_hz: f64,
-    base_s: f64,
-) -> BagPush {
+) -> Trajectory {
     let mut tip_at = Interpolator::new(tip);
     let mut obj_at = Interpolator::new(obj);
     let frames = (0..count)
@@ -273,13 +269,7 @@ fn resample(
             }
         })
         .collect();
-    BagPush {
-        trajectory: Trajectory::new(frames),
-        start_unix_s: base_s + start,
-        warnings: Vec::new(),
-        notes: Vec::new(),
-        cameras: Vec::new(),
-    }
+    Trajectory::new(frames)
 }
 
 /// The time intervals between pauses longer than `gap` seconds in either stream.

@@ -19,13 +19,21 @@ use crate::recording::error::LoadError;
 use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::resample::MAX_POSITION_M;
 
-/// How the bag's last file was cut short, said of the push the cut ends.
+/// How a file of the bag was cut short.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LastFileCut {
+pub struct FileCut {
     /// The sentence that says where and what was lost.
     pub said: String,
     /// Whether messages were lost (a warning) or only the records after them (a note).
     pub messages_lost: bool,
+}
+
+impl FileCut {
+    /// Says the cut among `warnings` when it lost messages, else among `notes`.
+    pub fn say(self, warnings: &mut Vec<String>, notes: &mut Vec<String>) {
+        let among = if self.messages_lost { warnings } else { notes };
+        among.push(self.said);
+    }
 }
 
 /// The raw pose streams of the pusher and the object, rows `[t, x, y, yaw]` with `t` in seconds
@@ -47,7 +55,7 @@ pub struct BagStreams {
     /// The bag's last file cut short: said of the last push alone, the one the cut ends (a cut in
     /// an earlier file of a rosbag2 folder is one of `warnings`, or of `notes` when it lost no
     /// message).
-    pub cut_short: Option<LastFileCut>,
+    pub cut_short: Option<FileCut>,
     /// The frames of the camera topics asked for, in the order asked.
     pub cameras: Vec<FoundCamera>,
     /// Where the bag's bytes are, for reading the frames later.
@@ -163,16 +171,14 @@ fn read_streams_in(
             table.add(channel, stats);
         }
         if let Some(cut) = read.cut_short {
-            let said = cut_of(path, file, cut);
+            let cut = FileCut {
+                said: cut_of(path, file, cut),
+                messages_lost: cut.messages_lost,
+            };
             if file_number + 1 == files.len() {
-                cut_short = Some(LastFileCut {
-                    said,
-                    messages_lost: cut.messages_lost,
-                });
-            } else if cut.messages_lost {
-                warnings.push(said);
+                cut_short = Some(cut);
             } else {
-                notes.push(said);
+                cut.say(&mut warnings, &mut notes);
             }
         }
     }
