@@ -164,21 +164,7 @@ fn combined_model_adapts_online_to_a_moved_com_and_beats_the_fixed_model() {
     // positional NMSE of any model near 1 and hides what learning does.
     let offline = simulated([0.0, 0.0], PressureModel::Rim, 0.0002, 11);
     let online = simulated([0.05, 0.05], PressureModel::Rim, 0.0002, 12);
-    let outline = offline.setting.object.outline().expect("a box");
-    let config = TrainConfig {
-        epochs: 60,
-        seed: 3,
-        theta0: Some(OnlineParams::for_outline(&outline)),
-        ..TrainConfig::default()
-    };
-    let trained = train_paper(
-        &samples(&offline),
-        &config,
-        &mut |_| {},
-        &AtomicBool::new(false),
-    )
-    .expect("trains");
-    let model = trained.model;
+    let model = train_paper_on(&offline, 60);
 
     let (mut fixed, mut adaptive) = (Vec::new(), Vec::new());
     for trajectory in samples(&online) {
@@ -407,6 +393,20 @@ fn train_contact_on(
     (geometry, trained.model)
 }
 
+/// Trains the paper's model on a simulated set's pushes, `θ_online(0)` the outline's.
+fn train_paper_on(set: &GeneratedSet, epochs: usize) -> pushlab_core::model::PaperModel {
+    let outline = set.setting.object.outline().expect("a box");
+    let config = TrainConfig {
+        epochs,
+        seed: 3,
+        theta0: Some(OnlineParams::for_outline(&outline)),
+        ..TrainConfig::default()
+    };
+    train_paper(&samples(set), &config, &mut |_| {}, &AtomicBool::new(false))
+        .expect("trains")
+        .model
+}
+
 #[test]
 fn the_contact_model_carries_over_to_another_face_where_the_paper_model_does_not() {
     // Offline: front-face pushes. Online: the left face, which puts the pusher where the paper's
@@ -415,20 +415,7 @@ fn the_contact_model_carries_over_to_another_face_where_the_paper_model_does_not
     let online = simulated_on(PushSide::Left, [0.0, 0.0], PressureModel::Rim, 0.0002, 22);
     let (geometry, contact) = train_contact_on(&offline, 60);
     let contact = CombinedModel::Contact(Arc::new(contact));
-    let outline = offline.setting.object.outline().expect("a box");
-    let paper = train_paper(
-        &samples(&offline),
-        &TrainConfig {
-            epochs: 60,
-            seed: 3,
-            theta0: Some(OnlineParams::for_outline(&outline)),
-            ..TrainConfig::default()
-        },
-        &mut |_| {},
-        &AtomicBool::new(false),
-    )
-    .expect("trains");
-    let paper = CombinedModel::Paper(Arc::new(paper.model));
+    let paper = CombinedModel::Paper(Arc::new(train_paper_on(&offline, 60)));
     let fixed_nmse = |model: &CombinedModel, set: &GeneratedSet| {
         let learner = model
             .on_object(Some(&geometry))
@@ -511,20 +498,7 @@ fn loss_at_is_the_loss_evaluate_gives_to_the_bit_for_every_kind() {
     let online = simulated_on(PushSide::Left, [0.03, 0.0], PressureModel::Rim, 0.0002, 42);
     let (geometry, contact) = train_contact_on(&offline, 5);
     let outline = offline.setting.object.outline().expect("a box");
-    let config = TrainConfig {
-        epochs: 5,
-        seed: 3,
-        theta0: Some(OnlineParams::for_outline(&outline)),
-        ..TrainConfig::default()
-    };
-    let paper = train_paper(
-        &samples(&offline),
-        &config,
-        &mut |_| {},
-        &AtomicBool::new(false),
-    )
-    .expect("trains")
-    .model;
+    let paper = train_paper_on(&offline, 5);
     let data = samples(&online);
     let scale = pushlab_core::model::LossScale::from_samples(data.iter().flatten());
     let physics: Arc<dyn OnlineModel + Send + Sync> =
