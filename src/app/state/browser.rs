@@ -287,7 +287,7 @@ struct ShownKey {
     /// How many files' push parameters are read (once per new file).
     parameters: usize,
     /// The open labels files' contents (a row's labels count and split).
-    labels: (u64, Vec<u64>),
+    labels: Vec<u64>,
     /// The losses' version, when the rows depend on them: sorted by a loss column, or filtered
     /// (the filter reads every cell). While a run learns its losses change every frame; any other
     /// view keeps its rows.

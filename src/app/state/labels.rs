@@ -105,8 +105,6 @@ pub const ERASE_HOTKEY: &str = "Delete";
 #[derive(Default)]
 pub struct Labeling {
     documents: BTreeMap<PathBuf, LabelDocument>,
-    /// How many labels files were opened (read into `documents`) so far.
-    opened: u64,
     autosaves: BTreeMap<PathBuf, Autosave>,
     /// Labels files that exist but could not be read, with the reason. Their recordings are
     /// read-only so that the file is never overwritten.
@@ -137,7 +135,6 @@ impl Labeling {
                 Ok(document) => {
                     self.autosaves.insert(path.clone(), Autosave::default());
                     self.documents.insert(path, document);
-                    self.opened += 1;
                 }
                 Err(e) => {
                     self.unreadable.insert(path, e.to_string());
@@ -152,11 +149,14 @@ impl Labeling {
     }
 
     /// What changes whenever a labels file is opened or any open one is edited, undone or redone:
-    /// the number opened so far and each file's content id, in the files' order. What views
-    /// computed from the labels (the browser's rows) are kept by.
-    pub fn contents_key(&self) -> (u64, Vec<u64>) {
-        let states = self.documents.values().map(LabelDocument::state_id);
-        (self.opened, states.collect())
+    /// each open file's content id, in the files' order (a file is opened once and never closed,
+    /// so one more id is one more file). What views computed from the labels (the browser's rows)
+    /// are kept by.
+    pub fn contents_key(&self) -> Vec<u64> {
+        self.documents
+            .values()
+            .map(LabelDocument::state_id)
+            .collect()
     }
 
     /// One flag per frame of a target: labelled "skip in training" (bad tracking). All false when
