@@ -1,4 +1,6 @@
-//! The `pushlab` package as a library: the desktop app, so that the UI tests in `tests/` can drive it
-//! exactly as the binary does.
+//! The `pushlab` package as a library: the app, so that the UI tests in `tests/` can drive it
+//! exactly as the binary does, and (on `wasm32`) the page that runs it in a browser tab.
 
 pub mod app;
+#[cfg(target_arch = "wasm32")]
+pub mod web;

@@ -1,42 +1,19 @@
-//! Native file dialogs (rfd, via the XDG desktop portal) on a worker thread, so that the window keeps
-//! drawing while a dialog is open. Results arrive through [`Dialogs::poll`].
+//! File dialogs, so that the window keeps drawing while one is open; results arrive through
+//! [`Dialogs::poll`]. On the desktop: native dialogs (rfd, via the XDG desktop portal) on a worker
+//! thread. In a page: the browser's file picker, the picked files put among the page's files, and
+//! saves written there and downloaded (`browser`).
 
-use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, Sender, channel};
+#[cfg(not(target_arch = "wasm32"))]
 use std::time::{Duration, Instant};
 
-pub use super::state::LabelExportFormat;
+pub use self::request::{DialogRequest, DialogResult, LabelExportFormat};
 
-/// What the user asked a dialog for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DialogRequest {
-    OpenFiles,
-    OpenFolder,
-    SaveScene,
-    SavePlots,
-    SaveLossCsv,
-    LoadModel,
-    SaveModel,
-    ExportLabelsCsv,
-    ExportLabelsJson,
-    /// A `setting.json` describing a bag's object.
-    BagSetting,
-}
-
-/// What a dialog returned (nothing arrives when it was cancelled).
-#[derive(Clone, Debug, PartialEq)]
-pub enum DialogResult {
-    Open(Vec<PathBuf>),
-    SaveScene(PathBuf),
-    SavePlots(PathBuf),
-    SaveLossCsv(PathBuf),
-    LoadModel(PathBuf),
-    SaveModel(PathBuf),
-    ExportLabels(PathBuf, LabelExportFormat),
-    BagSetting(PathBuf),
-    /// No dialog could be shown (neither the XDG desktop portal nor zenity answered).
-    Unavailable(String),
-}
+#[cfg(target_arch = "wasm32")]
+pub mod browser;
+#[cfg(target_arch = "wasm32")]
+pub mod fetch;
+mod request;
 
 /// Dialogs in flight.
 pub struct Dialogs {
@@ -59,15 +36,8 @@ impl Default for Dialogs {
 impl Dialogs {
     /// Shows a dialog on a worker thread.
     pub fn open(&mut self, request: DialogRequest) {
-        let sender = self.sender.clone();
         self.open += 1;
-        std::thread::spawn(move || {
-            let started = Instant::now();
-            let result = run_dialog(request);
-            let result = result.or_else(|| unavailable_if_instant(started.elapsed()));
-            // The receiver is gone only when the app closed.
-            let _ = sender.send(result);
-        });
+        show(request, self.sender.clone());
     }
 
     /// Whether a dialog is showing (the app keeps polling while one is).
@@ -87,11 +57,31 @@ impl Dialogs {
     }
 }
 
+/// Shows a native dialog on a worker thread; its answer (or `None`, cancelled) goes to `sender`.
+#[cfg(not(target_arch = "wasm32"))]
+fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
+    std::thread::spawn(move || {
+        let started = Instant::now();
+        let result = run_dialog(request);
+        let result = result.or_else(|| unavailable_if_instant(started.elapsed()));
+        // The receiver is gone only when the app closed.
+        let _ = sender.send(result);
+    });
+}
+
+/// Shows the browser's picker, or names the download a save becomes.
+#[cfg(target_arch = "wasm32")]
+fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
+    browser::show(request, sender);
+}
+
 /// Nobody cancels a file dialog within a quarter of a second: a dialog that returned nothing that
 /// fast never appeared. rfd then found neither the XDG desktop portal nor its zenity fallback, and
 /// says so only in a log nobody reads, so the app says it instead.
+#[cfg(not(target_arch = "wasm32"))]
 const NO_DIALOG_WITHIN: Duration = Duration::from_millis(250);
 
+#[cfg(not(target_arch = "wasm32"))]
 fn unavailable_if_instant(elapsed: Duration) -> Option<DialogResult> {
     (elapsed < NO_DIALOG_WITHIN).then(|| {
         DialogResult::Unavailable(
@@ -102,6 +92,7 @@ fn unavailable_if_instant(elapsed: Duration) -> Option<DialogResult> {
     })
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
     use rfd::FileDialog;
     let png = |name: &str| {

@@ -24,15 +24,12 @@ pub fn save_region_png(
     buffer
         .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
         .context("cannot encode PNG")?;
-    pushlab_core::atomic_file::write_atomically(path, &png)
+    pushlab_core::files::write_atomically(path, &png)
         .with_context(|| format!("{}: cannot write", path.display()))
 }
 
 /// The bundled pretrained model, if the build ships one.
 pub fn default_model_path() -> Option<PathBuf> {
-    let candidates = [
-        PathBuf::from("assets/default-model.json"),
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/default-model.json"),
-    ];
-    candidates.into_iter().find(|p| p.is_file())
+    let path = super::platform::bundled_root().join("assets/default-model.json");
+    pushlab_core::files::is_file(&path).then_some(path)
 }

@@ -9,14 +9,18 @@ pub mod dialogs;
 pub mod export;
 pub mod format;
 pub mod frame_rate;
+pub mod hook;
 pub mod keys;
 pub mod layout;
+pub mod link;
 pub mod panels;
+pub mod platform;
+pub mod projector;
 pub mod state;
 pub mod view;
 mod workbench;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use eframe::egui;
 
@@ -33,9 +37,9 @@ use crate::app::state::SessionCommand;
 pub const MAX_FRAME_STEP_S: f64 = 0.25;
 
 /// Key under which eframe persists [`Persisted`].
-const STORAGE_KEY: &str = "pushlab";
+pub(crate) const STORAGE_KEY: &str = "pushlab";
 /// Key under which eframe persists the window's [`layout::Layout`].
-const LAYOUT_KEY: &str = "pushlab-layout";
+pub(crate) const LAYOUT_KEY: &str = "pushlab-layout";
 
 /// The app: its state and its view.
 pub struct PushlabApp {
@@ -68,7 +72,10 @@ impl PushlabApp {
         keys::handle(ui.ctx(), &self.state, &mut self.view, &mut commands);
         dropped_files(ui.ctx(), &mut commands);
 
-        panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
+        projector::apply(ui.ctx(), self.view.projector);
+        if !self.view.hide_menu {
+            panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
+        }
         if self.view.presentation {
             panels::presentation::ui(ui, &self.state, &mut self.view, &mut commands);
         } else {
@@ -154,6 +161,9 @@ impl eframe::App for PushlabApp {
         if self.state.advance(dt.min(MAX_FRAME_STEP_S)) || self.view.dialogs.is_open() {
             ctx.request_repaint();
         }
+        if platform::run_queued() || platform::has_queued() {
+            ctx.request_repaint();
+        }
         self.state.autosave_labels(ctx.input(|i| i.time));
         if self.state.labels().any_unsaved() {
             // Wake up to autosave even when nothing else moves.
@@ -191,7 +201,8 @@ fn dropped_files(ctx: &egui::Context, commands: &mut Vec<Command>) {
             .dropped_files
             .iter()
             .map(|f| f.path().to_path_buf())
-            .filter(|p| !p.as_os_str().is_empty())
+            // A page's drops carry a bare file name and their bytes: the page reads them.
+            .filter(|p| p.is_absolute())
             .collect()
     });
     if !paths.is_empty() {
@@ -202,19 +213,13 @@ fn dropped_files(ctx: &egui::Context, commands: &mut Vec<Command>) {
 /// The bundled sample data: `sample-data/` next to the working directory, else in the source tree
 /// the binary was built from.
 pub fn sample_data_dir() -> PathBuf {
-    let local = PathBuf::from("sample-data");
-    if local.is_dir() {
-        local
-    } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("sample-data")
-    }
+    platform::bundled_root().join("sample-data")
 }
 
 /// The suite of the paper's experiments on the sample data, whose experiments are the Demos menu's
 /// presets: `experiments/sample-data.json` beside the sample data.
 pub fn demo_suite_path() -> PathBuf {
-    sample_data_dir()
-        .join("..")
+    platform::bundled_root()
         .join("experiments")
         .join("sample-data.json")
 }
@@ -239,6 +244,7 @@ pub fn initial_state(paths: &[PathBuf], persisted: Persisted) -> AppState {
 }
 
 /// Opens the app window; returns when it is closed.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

@@ -40,6 +40,15 @@ pub struct View {
     pub presentation: bool,
     /// The camera panel's zoom and textures.
     pub cameras: CameraView,
+    /// High-contrast colours and larger text, for a projector (`projector`).
+    pub projector: bool,
+    /// Controls a classroom link hid (`link::HIDEABLE`): the timeline and the menu bar here; the
+    /// browser and tools panes are hidden through the layout.
+    pub hide_timeline: bool,
+    pub hide_menu: bool,
+    /// The page's address without its query, in a browser tab (Help → Copy link); `None` on the
+    /// desktop.
+    pub page_address: Option<String>,
 }
 
 impl Default for View {
@@ -55,6 +64,10 @@ impl Default for View {
             frame_rate: FrameRate::default(),
             presentation: false,
             cameras: CameraView::default(),
+            projector: false,
+            hide_timeline: false,
+            hide_menu: false,
+            page_address: None,
         }
     }
 }

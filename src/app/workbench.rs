@@ -14,7 +14,9 @@ use super::view::{SideTab, View};
 
 /// Draws the timeline and the panes.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
-    panels::timeline::bottom_bar(ui, state, commands);
+    if !view.hide_timeline {
+        panels::timeline::bottom_bar(ui, state, commands);
+    }
     let View {
         layout,
         scene,

@@ -17,6 +17,7 @@
 pub mod atomic_file;
 pub mod domain;
 pub mod experiment;
+pub mod files;
 pub mod geometry;
 pub mod inspect;
 pub mod json_problem;

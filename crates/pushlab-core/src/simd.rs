@@ -17,15 +17,30 @@ use crate::real::Real;
 /// Whether the AVX2 + FMA copies of the hot loops may run on this CPU (checked once, then cached by
 /// std).
 #[inline]
+#[cfg_attr(
+    not(target_arch = "x86_64"),
+    expect(dead_code, reason = "the dispatch calls it on x86-64 only")
+)]
 pub(crate) fn avx2_fma_available() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
-        std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
+        std::is_x86_feature_detected!("avx2")
+            && std::is_x86_feature_detected!("fma")
+            && !portable_asked()
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
         false
     }
+}
+
+/// Whether `PUSHLAB_SIMD=portable` asks for the portable copy on a CPU that has AVX2 and FMA: the
+/// bits a CPU without them (and a browser tab, whose wasm has no FMA) compute, to compare with
+/// (`scripts/web-test` runs `pushlab eval` so). Read once.
+#[cfg(target_arch = "x86_64")]
+fn portable_asked() -> bool {
+    static PORTABLE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *PORTABLE.get_or_init(|| std::env::var("PUSHLAB_SIMD").is_ok_and(|v| v == "portable"))
 }
 
 /// How the hot loops compute `a · b + c`: chosen per compiled copy, because a fused multiply-add is a
@@ -48,6 +63,10 @@ impl MulAdd for Unfused {
 
 /// `a · b + c` rounded once, as one FMA instruction: only inside the `avx2,fma` copies.
 #[derive(Clone, Copy, Debug)]
+#[cfg_attr(
+    not(target_arch = "x86_64"),
+    expect(dead_code, reason = "only the x86-64 AVX2 copies fuse")
+)]
 pub(crate) struct Fused;
 
 impl MulAdd for Fused {

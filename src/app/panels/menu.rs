@@ -151,6 +151,9 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 }
                 panes_menu(ui, view);
                 cameras_menu(ui, state, commands);
+                ui.separator();
+                ui.checkbox(&mut view.projector, "Projector mode")
+                    .on_hover_text("high-contrast colours and larger text, for a lecture hall");
             });
             ui.menu_button("Demos", |ui| demos_menu(ui, state, view, commands));
             ui.menu_button("Help", |ui| {
@@ -159,6 +162,19 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     .clicked()
                 {
                     view.show_shortcuts = true;
+                }
+                if let Some(address) = &view.page_address {
+                    let link = crate::app::link::Link::of(state, &view_part(view));
+                    if ui
+                        .button("Copy link to this view")
+                        .on_hover_text(
+                            "the address of this page showing this push, frame, θ and settings",
+                        )
+                        .clicked()
+                    {
+                        ui.ctx().copy_text(format!("{address}?{}", link.to_query()));
+                        commands.push(Command::Report("link copied".to_owned()));
+                    }
                 }
             });
             ui.separator();
@@ -208,6 +224,28 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
             });
         });
     });
+}
+
+/// What of the view a link holds.
+pub fn view_part(view: &View) -> crate::app::link::ViewPart {
+    let mut hide = Vec::new();
+    if !view.layout.is_shown(crate::app::layout::Pane::Browser) {
+        hide.push("browser".to_owned());
+    }
+    if !view.layout.is_shown(crate::app::layout::Pane::Tools) {
+        hide.push("tools".to_owned());
+    }
+    if view.hide_timeline {
+        hide.push("timeline".to_owned());
+    }
+    if view.hide_menu {
+        hide.push("menu".to_owned());
+    }
+    crate::app::link::ViewPart {
+        present: view.presentation,
+        projector: view.projector,
+        hide,
+    }
 }
 
 /// One checkbox per pane of the window (the view's own, remembered across restarts), and Reset

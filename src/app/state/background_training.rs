@@ -139,7 +139,7 @@ impl Training {
         let cancel = Arc::new(AtomicBool::new(false));
         let (kind, config) = (self.kind, self.config);
         let worker_cancel = cancel.clone();
-        std::thread::spawn(move || {
+        crate::app::platform::spawn(move || {
             let progress_sender = sender.clone();
             let mut progress = |p: &TrainProgress| {
                 let _ = progress_sender.send(Message::Progress(*p));

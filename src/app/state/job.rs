@@ -53,7 +53,7 @@ impl<T: Send + 'static> Job<T> {
             shared: Arc::clone(&shared),
         };
         let (sender, receiver) = channel();
-        std::thread::spawn(move || {
+        crate::app::platform::spawn(move || {
             if let Some(result) = work(&context)
                 && !context.is_cancelled()
             {
@@ -91,8 +91,17 @@ impl<T> Job<T> {
 
     /// Waits for the result (work started from the command line, tests); `None` whenever
     /// [`Self::poll`] would say [`Polled::Stopped`].
+    /// In a page, where work waits for the one thread, the queued work is run here until the
+    /// result is in (`platform::run_queued`; on the desktop nothing is queued and this blocks).
     pub fn wait(&self) -> Option<T> {
-        let result = self.receiver.recv().ok();
+        let result = loop {
+            match self.receiver.try_recv() {
+                Ok(result) => break Some(result),
+                Err(TryRecvError::Disconnected) => break None,
+                Err(TryRecvError::Empty) if crate::app::platform::run_queued() => {}
+                Err(TryRecvError::Empty) => break self.receiver.recv().ok(),
+            }
+        };
         result.filter(|_| !self.is_cancelled())
     }
 

@@ -19,6 +19,7 @@ use pushlab_core::labels::{
 use pushlab_core::recording::Recording;
 
 use super::session::Session;
+use crate::app::platform;
 
 /// Where the labels of one recording live: its labels file and its key in that file.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -475,8 +476,8 @@ impl Labeling {
         let mut lines = Vec::new();
         for document in self.documents.values_mut() {
             if let Err(e) = document.save_if_dirty() {
-                let stamp = std::time::SystemTime::now()
-                    .duration_since(std::time::UNIX_EPOCH)
+                let stamp = platform::SystemTime::now()
+                    .duration_since(platform::UNIX_EPOCH)
                     .map_or(0, |d| d.as_secs());
                 let beside = document
                     .path()
@@ -545,7 +546,7 @@ pub fn rescue_path(document: &Path, dir: &Path) -> PathBuf {
 /// Writes a document's labels to its [`rescue_path`] in `dir`.
 fn rescue(document: &LabelDocument, dir: &Path) -> Result<PathBuf, LabelFileError> {
     let to = rescue_path(document.path(), dir);
-    std::fs::create_dir_all(dir).map_err(|source| LabelFileError::Write {
+    pushlab_core::files::create_dir_all(dir).map_err(|source| LabelFileError::Write {
         path: to.clone(),
         source,
     })?;

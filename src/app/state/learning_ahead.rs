@@ -14,9 +14,9 @@
 //! handed to the worker, which holds θ over it if it has not passed it yet — as on the UI thread,
 //! where a label counts from when learning passes it.
 
+use crate::app::platform::{Duration, Instant};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
-use std::time::{Duration, Instant};
 
 use pushlab_core::learn;
 

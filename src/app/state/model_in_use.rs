@@ -124,7 +124,7 @@ impl AppState {
             .model_store
             .as_ref()
             .ok_or("the app has no folder to keep models in")?;
-        std::fs::create_dir_all(store)
+        pushlab_core::files::create_dir_all(store)
             .map_err(|e| format!("cannot create {}: {e}", store.display()))?;
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         folders.hash(&mut hasher);

@@ -5,10 +5,10 @@
 //! each load reports its bytes (the status bar's progress bar) and stops at its next file or chunk
 //! when cancelled. Tests and the command line can load synchronously with `open_blocking`.
 
+use crate::app::platform::{self, Duration, Instant};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
-use std::time::{Duration, Instant};
 
 use pushlab_core::recording::bag::BagListing;
 use pushlab_core::recording::dataset;
@@ -122,7 +122,7 @@ impl Session {
         let (sender, receiver) = channel();
         let progress = Arc::new(LoadProgress::default());
         let (worker_paths, worker_progress) = (paths.clone(), Arc::clone(&progress));
-        std::thread::spawn(move || {
+        platform::spawn(move || {
             let started = Instant::now();
             let report = load_paths_with(&worker_paths, &choices, &worker_progress);
             // The receiver is gone only if the app closed or the load was cancelled.

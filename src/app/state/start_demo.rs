@@ -121,7 +121,8 @@ impl AppState {
         self.session
             .recordings()
             .filter(|(_, r)| {
-                let source = r.source.canonicalize().unwrap_or_else(|_| r.source.clone());
+                let source = pushlab_core::files::canonicalize(&r.source)
+                    .unwrap_or_else(|_| r.source.clone());
                 source.starts_with(path)
             })
             .filter(|(_, r)| {
@@ -161,6 +162,6 @@ impl AppState {
 fn canonical(paths: &[PathBuf]) -> Vec<PathBuf> {
     paths
         .iter()
-        .map(|p| p.canonicalize().unwrap_or_else(|_| p.clone()))
+        .map(|p| pushlab_core::files::canonicalize(p).unwrap_or_else(|_| p.clone()))
         .collect()
 }

@@ -35,6 +35,16 @@ use super::timeline::Timeline;
 use super::{AppState, Persisted};
 
 impl AppState {
+    /// Whether work runs off the UI thread: a load, training, the landscape, proposals, or
+    /// learning far ahead (a page's test hook waits for it to end).
+    pub fn is_busy(&self) -> bool {
+        self.session.loading().is_some()
+            || self.training.is_running()
+            || self.landscape.is_running()
+            || self.proposals.is_running()
+            || self.learning_ahead.is_running()
+    }
+
     /// The persisted settings as they stand (layers, online settings, the browser's view…).
     pub fn settings(&self) -> &Persisted {
         &self.settings

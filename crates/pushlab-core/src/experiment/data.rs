@@ -324,7 +324,7 @@ impl LabelCache {
         if let Some(found) = self.files.get(&path) {
             return found.clone();
         }
-        let found = if path.is_file() {
+        let found = if crate::files::is_file(&path) {
             labels_file::read(&path)
                 .map(|set| Some(Arc::new(set)))
                 .map_err(|e| e.to_string())

@@ -18,7 +18,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::Instant;
+use web_time::Instant;
 
 use serde::{Deserialize, Serialize};
 
@@ -124,7 +124,7 @@ pub enum SuiteError {
 impl SuiteSpec {
     /// Reads and checks a suite file.
     pub fn load(path: &Path) -> Result<Self, SuiteError> {
-        let bytes = std::fs::read(path).map_err(|source| SuiteError::Io {
+        let bytes = crate::files::read(path).map_err(|source| SuiteError::Io {
             path: path.to_owned(),
             source,
         })?;

@@ -23,15 +23,15 @@
 //! goes to a temporary file in the same folder, is flushed to disk, then renamed over the old file,
 //! so a crash at any moment leaves either the old or the new file.
 
+use crate::files as fs;
 use crate::json_problem::{self, JsonProblem};
 use std::collections::BTreeMap;
-use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::atomic_file::write_atomically;
+use crate::files::write_atomically;
 
 use super::schema::LabelSchema;
 use super::{LabelSet, RecordingLabels};

@@ -34,7 +34,7 @@ pub fn key_names_a_recording_in(folder: &Path, key: &str) -> bool {
         let source = folder.join(file);
         !file.is_empty()
             && !push.is_empty()
-            && source.exists()
+            && crate::files::exists(&source)
             && (is_bag(&source) || is_dataset(&source))
     })
 }

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::atomic_file::write_atomically;
+use crate::files::write_atomically;
 use crate::json_problem::JsonProblem;
 use std::sync::Arc;
 
@@ -148,7 +148,7 @@ impl ModelFile {
 
     /// Reads a model from `path`, checking its format, version and shapes.
     pub fn load(path: &Path) -> Result<Self, ModelFileError> {
-        let bytes = std::fs::read(path).map_err(|source| ModelFileError::Io {
+        let bytes = crate::files::read(path).map_err(|source| ModelFileError::Io {
             path: path.to_owned(),
             source,
         })?;

@@ -80,7 +80,7 @@ mod tests {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../../shared")
             .join(folder);
-        if dir.is_dir() {
+        if crate::files::is_dir(&dir) {
             Some(dir)
         } else {
             eprintln!("skipped: {} is missing", dir.display());

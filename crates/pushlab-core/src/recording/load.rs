@@ -11,6 +11,7 @@ use super::error::LoadError;
 use super::mit_push::{self, MitPush};
 use super::native::{self, SETTING_FILE};
 use super::progress::{LoadProgress, Progress};
+use crate::files;
 
 /// Deepest folder nesting searched below a path given by the user; deeper folders are not searched.
 const MAX_DEPTH: usize = 16;
@@ -122,16 +123,16 @@ impl Item {
 
     /// Bytes it will read, for the progress bar: the set's CSV files, the MIT file, the bag's files.
     fn bytes(&self) -> u64 {
-        let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
+        let size = |p: &Path| files::metadata(p).map_or(0, |m| m.len);
         match self {
             Item::Set {
                 only: Some(file), ..
             }
             | Item::Mit(file) => size(file),
-            Item::Set { dir, only: None } => std::fs::read_dir(dir).map_or(0, |entries| {
+            Item::Set { dir, only: None } => files::read_dir(dir).map_or(0, |entries| {
                 entries
-                    .filter_map(Result::ok)
-                    .map(|e| e.path())
+                    .into_iter()
+                    .map(|e| e.path)
                     .filter(|p| extension(p).as_deref() == Some("csv"))
                     .map(|p| size(&p))
                     .sum()
@@ -190,12 +191,12 @@ struct Loader {
 
 impl Loader {
     fn add_path(&mut self, path: &Path) {
-        let meta = match std::fs::metadata(path) {
+        let meta = match files::metadata(path) {
             Ok(m) => m,
             Err(e) => return self.report.errors.push(LoadError::io(path, e)),
         };
-        if meta.is_dir() {
-            if path.join(SETTING_FILE).is_file() {
+        if meta.is_dir {
+            if files::is_file(&path.join(SETTING_FILE)) {
                 self.add_set(path, None);
                 self.add_bags_in(path);
             } else if dataset::is_dataset(path) {
@@ -217,7 +218,7 @@ impl Loader {
         match extension(path).as_deref() {
             _ if file_name.as_deref() == Some(SETTING_FILE) => self.add_set(dir, None),
             Some("csv") => {
-                if dir.join(SETTING_FILE).is_file() {
+                if files::is_file(&dir.join(SETTING_FILE)) {
                     self.add_set(dir, Some(path));
                 } else {
                     self.report.errors.push(LoadError::NoSetting {
@@ -235,22 +236,20 @@ impl Loader {
 
     /// Searches `dir` for sets and MIT files; returns whether anything recognisable was found.
     fn scan(&mut self, dir: &Path, depth: usize) -> bool {
-        let entries = match std::fs::read_dir(dir) {
+        let entries = match files::read_dir(dir) {
             Ok(entries) => entries,
             Err(e) => {
                 self.report.errors.push(LoadError::io(dir, e));
                 return true; // reported: not "nothing found"
             }
         };
-        let mut paths: Vec<(PathBuf, bool)> = entries
-            .filter_map(Result::ok)
-            .map(|e| (e.path(), e.file_type().is_ok_and(|t| t.is_dir())))
-            .collect();
+        let mut paths: Vec<(PathBuf, bool)> =
+            entries.into_iter().map(|e| (e.path, e.is_dir)).collect();
         paths.sort();
         let mut found = false;
         for (path, is_dir) in paths {
             if is_dir {
-                if path.join(SETTING_FILE).is_file() {
+                if files::is_file(&path.join(SETTING_FILE)) {
                     self.add_set(&path, None);
                     self.add_bags_in(&path);
                     found = true;
@@ -263,11 +262,11 @@ impl Loader {
                 } else if depth < MAX_DEPTH {
                     found |= self.scan(&path, depth + 1);
                 }
-            } else if is_mit_file(&path) && path.is_file() {
+            } else if is_mit_file(&path) && files::is_file(&path) {
                 self.add_mit(&path);
                 found = true;
             } else if extension(&path).as_deref() == Some("mcap")
-                && !dir.join("metadata.yaml").is_file()
+                && !files::is_file(&dir.join("metadata.yaml"))
             {
                 self.add_bag(&path);
                 found = true;
@@ -351,12 +350,12 @@ impl Loader {
     /// The bags directly inside a set folder: a `setting.json` beside a bag describes its object, so
     /// a folder holding both is opened with its bags.
     fn add_bags_in(&mut self, dir: &Path) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
+        let Ok(entries) = files::read_dir(dir) else {
             return; // the set's own reading reports an unreadable folder
         };
         let mut bags: Vec<PathBuf> = entries
-            .filter_map(Result::ok)
-            .map(|e| e.path())
+            .into_iter()
+            .map(|e| e.path)
             .filter(|p| bag::is_bag(p))
             .collect();
         bags.sort();
@@ -454,7 +453,7 @@ pub fn is_recording_file(path: &Path) -> bool {
         .unwrap_or_default();
     let pushlabs_own =
         name == SETTING_FILE || name.starts_with("pushlab-") || name.contains(".pushlab-");
-    path.is_file()
+    files::is_file(path)
         && match extension(path).as_deref() {
             Some("csv") => true,
             Some("json" | "h5") => !pushlabs_own,
@@ -472,5 +471,5 @@ fn is_mit_file(path: &Path) -> bool {
 }
 
 fn canonical(path: &Path) -> PathBuf {
-    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+    files::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
 }

@@ -5,7 +5,6 @@
 //! memory that is free is refused up front with its size and what it would need — before, a
 //! recording larger than memory was read until the system killed the program.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use super::error::LoadError;
@@ -25,9 +24,9 @@ pub(crate) fn file_beside(source: &Path, suffix: &str, fallback: &str) -> PathBu
 
 /// The whole file at `path`, or an error naming it: unreadable, or too large for the free memory.
 pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
-    let size = std::fs::metadata(path)
+    let size = crate::files::metadata(path)
         .map_err(|e| LoadError::io(path, e))?
-        .len();
+        .len;
     fits_in_memory(path, size, available_memory())?;
     let mut bytes = Vec::new();
     let too_large = || LoadError::TooLarge {
@@ -39,10 +38,23 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
     bytes
         .try_reserve_exact(usize::try_from(size).map_err(|_| too_large())?)
         .map_err(|_| too_large())?;
-    std::fs::File::open(path)
-        .and_then(|mut file| file.read_to_end(&mut bytes))
-        .map_err(|e| LoadError::io(path, e))?;
+    read_into(path, &mut bytes).map_err(|e| LoadError::io(path, e))?;
     Ok(bytes)
+}
+
+/// Reads the file at `path` into `bytes`, whose room was reserved for it.
+#[cfg(not(target_arch = "wasm32"))]
+fn read_into(path: &Path, bytes: &mut Vec<u8>) -> std::io::Result<()> {
+    use std::io::Read;
+    std::fs::File::open(path).and_then(|mut file| file.read_to_end(bytes))?;
+    Ok(())
+}
+
+/// Reads the file at `path` from the page's files into `bytes`.
+#[cfg(target_arch = "wasm32")]
+fn read_into(path: &Path, bytes: &mut Vec<u8>) -> std::io::Result<()> {
+    bytes.extend_from_slice(&crate::files::read(path)?);
+    Ok(())
 }
 
 /// Refuses a file of `size` bytes when opening it would need more than `available` bytes.

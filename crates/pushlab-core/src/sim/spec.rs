@@ -323,7 +323,7 @@ pub enum SpecFileError {
 
 /// Reads a [`SampleSpec`] file and expands it into one [`SetSpec`] per setting.
 pub fn read_sample_spec(path: &Path) -> Result<Vec<SetSpec>, SpecFileError> {
-    let text = std::fs::read_to_string(path).map_err(|error| SpecFileError::Io {
+    let text = crate::files::read_to_string(path).map_err(|error| SpecFileError::Io {
         path: path.to_path_buf(),
         error,
     })?;

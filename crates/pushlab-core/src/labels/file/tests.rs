@@ -7,6 +7,7 @@ use super::super::{Event, RecordingMeta, Segment, Split};
 use super::*;
 use crate::atomic_file::{SaveStage, write_with_interrupt};
 use crate::recording::PushSide;
+use std::fs;
 
 /// A fresh empty folder under the target directory's temp space.
 pub(crate) fn temp_folder(name: &str) -> PathBuf {

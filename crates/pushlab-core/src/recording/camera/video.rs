@@ -208,6 +208,13 @@ impl Decoding {
             FrameProblem::Unreadable(format!("{} gave no output", program.display()))
         })?;
         let said = child.stderr.take().map(|mut stderr| {
+            #[cfg_attr(
+                target_arch = "wasm32",
+                expect(
+                    clippy::disallowed_methods,
+                    reason = "a page cannot run ffmpeg: spawning it fails above"
+                )
+            )]
             std::thread::spawn(move || {
                 let mut said = Vec::new();
                 let mut buffer = [0; 4096];

@@ -285,7 +285,7 @@ pub(crate) fn read_set_filtered(
     only: Option<&Path>,
 ) -> Result<(RecordingSet, Vec<LoadError>), LoadError> {
     let setting_path = dir.join(SETTING_FILE);
-    let bytes = std::fs::read(&setting_path).map_err(|e| LoadError::io(&setting_path, e))?;
+    let bytes = crate::files::read(&setting_path).map_err(|e| LoadError::io(&setting_path, e))?;
     let setting = Arc::new(parse_setting(&bytes, &setting_path)?);
 
     let files: Vec<(PathBuf, Option<usize>)> = if setting.trajectories.is_empty() {
@@ -364,10 +364,9 @@ fn cameras_of(csv: &Path, errors: &mut Vec<LoadError>) -> Vec<Arc<CameraStream>>
 
 fn csv_files_in(dir: &Path) -> Result<Vec<PathBuf>, LoadError> {
     let mut files = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(|e| LoadError::io(dir, e))? {
-        let entry = entry.map_err(|e| LoadError::io(dir, e))?;
-        let path = entry.path();
-        if path.extension().is_some_and(|e| e == "csv") && path.is_file() {
+    for entry in crate::files::read_dir(dir).map_err(|e| LoadError::io(dir, e))? {
+        let path = entry.path;
+        if path.extension().is_some_and(|e| e == "csv") && !entry.is_dir {
             files.push(path);
         }
     }
@@ -409,7 +408,7 @@ pub fn write_set(
             problem,
         })?;
     }
-    std::fs::create_dir_all(dir).map_err(|source| WriteError::Io {
+    crate::files::create_dir_all(dir).map_err(|source| WriteError::Io {
         path: dir.to_path_buf(),
         source,
     })?;
@@ -467,9 +466,9 @@ fn csv_bytes(trajectory: &Trajectory) -> Vec<u8> {
     s.into_bytes()
 }
 
-/// Writes `bytes` to `path` atomically (see [`crate::atomic_file`]).
+/// Writes `bytes` to `path` atomically (see [`crate::files::write_atomically`]).
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    crate::atomic_file::write_atomically(path, bytes).map_err(|source| WriteError::Io {
+    crate::files::write_atomically(path, bytes).map_err(|source| WriteError::Io {
         path: path.to_path_buf(),
         source,
     })

@@ -1,0 +1,198 @@
+// pushlab's page in Debian's chromium (scripts/web-test builds and serves it, then runs these).
+// Each test drives the page through its hook, window.pushlab (docs/src/web.md), as a teacher's
+// script would, and checks what a user would see: the picture, θ, the losses, the files opened.
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { readFileSync } from "node:fs";
+import { chromium } from "playwright-core";
+
+const site = process.env.PUSHLAB_WEB_URL ?? "http://127.0.0.1:8765/";
+const chromiumPath = process.env.PUSHLAB_CHROMIUM ?? "/usr/bin/chromium";
+let browser;
+
+before(async () => {
+  browser = await chromium.launch({
+    executablePath: chromiumPath,
+    // This machine's network is closed: no background connections, no first-run work.
+    args: ["--no-sandbox", "--disable-background-networking", "--disable-component-update",
+      "--disable-sync", "--no-first-run", "--disable-quic", "--use-angle=swiftshader",
+      "--enable-unsafe-swiftshader"],
+  });
+});
+
+after(async () => {
+  await browser?.close();
+});
+
+/** Opens the page and waits until the app drew a frame and nothing runs off the UI thread. */
+async function open(query = "") {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto(site + query);
+  await settled(page);
+  return { page, errors };
+}
+
+async function settled(page, timeout = 120_000) {
+  await page.waitForFunction(() => {
+    const s = window.pushlab?.state();
+    return s && !s.busy;
+  }, null, { timeout, polling: 100 });
+  return page.evaluate(() => window.pushlab.state());
+}
+
+const state = (page) => page.evaluate(() => window.pushlab.state());
+const command = (page, obj) => page.evaluate((o) => window.pushlab.command(o), obj);
+
+test("the page loads the sample data and draws with no console error", async () => {
+  const { page, errors } = await open();
+  const s = await state(page);
+  assert.ok(s.open.length >= 300, `the sample data's pushes are open: ${s.open.length}`);
+  assert.ok(s.recording, "a push is selected");
+  assert.ok(s.frames > 50, `it has frames: ${s.frames}`);
+  assert.equal(s.theta.length, 3);
+  assert.equal(s.error, null);
+  // The pixels of a real screenshot, read back in the page's 2D canvas.
+  const png = (await page.screenshot()).toString("base64");
+  const colours = await page.evaluate(async (data) => {
+    const image = new Image();
+    image.src = "data:image/png;base64," + data;
+    await image.decode();
+    const canvas = new OffscreenCanvas(image.width, image.height);
+    const context = canvas.getContext("2d");
+    context.drawImage(image, 0, 0);
+    const pixels = context.getImageData(0, 0, image.width, image.height).data;
+    const seen = new Set();
+    for (let i = 0; i < pixels.length; i += 4 * 7) {
+      seen.add((pixels[i] >> 3) << 10 | (pixels[i + 1] >> 3) << 5 | (pixels[i + 2] >> 3));
+    }
+    return seen.size;
+  }, png);
+  assert.ok(colours > 40, `a drawn app has many colours, a blank canvas one: ${colours}`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test("a demo played for two seconds moves θ and the losses", async () => {
+  const { page, errors } = await open();
+  const { demos } = await state(page);
+  assert.ok(demos.includes("R2b COM"), `the demos: ${demos}`);
+  await command(page, { demo: "R2b COM" });
+  const start = await settled(page);
+  assert.match(start.recording, /^box1-paper-ur-front\//);
+  assert.equal(start.frame, 0);
+  await command(page, { play: true });
+  await page.waitForTimeout(2000);
+  await command(page, { play: false });
+  const played = await settled(page);
+  assert.ok(played.frame > 5, `two seconds of playing pass frames: ${played.frame}`);
+  assert.notDeepEqual(played.theta, start.theta, "learning while playing moves θ");
+  assert.notDeepEqual(played.fixed_loss, start.fixed_loss, "the losses move with the frame");
+  // The frame before the one shown was learned while playing: its online loss is there.
+  await command(page, { seek: played.frame - 1 });
+  const back = await settled(page);
+  assert.ok(back.online_loss?.every(Number.isFinite), `online loss: ${back.online_loss}`);
+  assert.notDeepEqual(back.online_loss, back.fixed_loss, "learning changed the prediction");
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test("θ and the losses after a seek with learning on are pushlab eval --per-frame's, to the bit", async () => {
+  const expected = JSON.parse(readFileSync(process.env.PUSHLAB_EVAL_JSON, "utf8"));
+  const { page } = await open();
+  const { recording, frame, theta, online, fixed } = expected.web_check;
+  await command(page, { learn: true });
+  const s0 = await state(page);
+  assert.equal(s0.recording, recording, "the first sample push is selected at start");
+  // A seek to N learns frames 0..N-1; N's own loss is learned once the timeline passes it.
+  await command(page, { seek: frame + 1 });
+  await settled(page);
+  await command(page, { seek: frame });
+  const s = await settled(page);
+  assert.equal(s.frame, frame);
+  // To the bit: the page's wasm and eval's portable copy do the same float operations.
+  assert.deepEqual(s.theta, theta, "theta");
+  assert.deepEqual(s.online_loss, online, "online loss");
+  assert.deepEqual(s.fixed_loss, fixed, "fixed loss");
+  await page.close();
+});
+
+test("a CSV set dropped on the page opens, and a bad file gives the desktop's error", async () => {
+  const { page, errors } = await open();
+  let before = await state(page);
+  const drop = async (files) => {
+    await page.evaluate(async (files) => {
+      const transfer = new DataTransfer();
+      for (const [name, text] of files) transfer.items.add(new File([text], name));
+      const canvas = document.getElementById("pushlab_canvas");
+      for (const type of ["dragenter", "dragover", "drop"]) {
+        canvas.dispatchEvent(new DragEvent(type, { dataTransfer: transfer, bubbles: true, cancelable: true }));
+      }
+    }, files);
+    // The drop is read asynchronously, then opened on a frame: wait for what it changes.
+    await page.waitForFunction(([count, error]) => {
+      const s = window.pushlab.state();
+      return s.open.length !== count || s.error !== error;
+    }, [before.open.length, before.error], { timeout: 30_000, polling: 50 });
+    return settled(page);
+  };
+  const dir = new URL("../../sample-data/box1-paper-ur-front/", import.meta.url);
+  // A set of two pushes: its setting.json lists only those two.
+  const setting = JSON.parse(readFileSync(new URL("setting.json", dir), "utf8"));
+  const two = { ...setting, trajectories: setting.trajectories.slice(0, 2) };
+  const setFiles = [["setting.json", JSON.stringify(two)]];
+  for (const entry of two.trajectories) {
+    setFiles.push([entry.file, readFileSync(new URL(entry.file, dir), "utf8")]);
+  }
+  const opened = await drop(setFiles);
+  assert.equal(opened.error, null);
+  assert.equal(opened.open.length, before.open.length + 2, "the two pushes dropped are open");
+  before = opened;
+  assert.deepEqual(errors, []);
+  // The same file the desktop refused in scripts/web-test, with the same words.
+  const badDir = process.env.PUSHLAB_BAD_CSV_DIR;
+  const bad = await drop(["setting.json", "online_000.csv"].map((name) =>
+    [name, readFileSync(badDir + name, "utf8")]));
+  assert.ok(bad.error, "the bad file is reported");
+  const pageDir = bad.error.slice(0, bad.error.indexOf("online_000.csv"));
+  assert.match(pageDir, /^\/dropped\/\d+\/$/);
+  assert.equal(bad.error.replaceAll(pageDir, ""), process.env.PUSHLAB_BAD_CSV_ERROR);
+  await page.close();
+});
+
+test("the address bar's link reopens the same frame, θ and losses", async () => {
+  const { page } = await open();
+  await command(page, { learn: true, seek: 41 });
+  await settled(page);
+  await command(page, { seek: 40, theta: [0.012, -0.004, 0.09] });
+  const shown = await settled(page);
+  // The address bar follows what is shown at most four times a second.
+  await page.waitForTimeout(600);
+  const query = await page.evaluate(() => window.location.search);
+  assert.match(query, /frame=40/);
+  assert.match(query, /theta=0\.012,-0\.004,0\.09/);
+  const again = await open(query);
+  const reopened = await settled(again.page);
+  for (const key of ["recording", "frame", "theta", "sigma_com", "online_loss", "fixed_loss", "learn_while_playing"]) {
+    assert.deepEqual(reopened[key], shown[key], key);
+  }
+  await page.close();
+  await again.page.close();
+});
+
+test("?url= opens a recording by address, and a refused fetch says which and why", async () => {
+  const recording = `${site}sample-data/box1-paper-ur-front/online_003.csv`;
+  const { page } = await open(`?url=${encodeURIComponent(recording)}`);
+  await page.waitForFunction(() => window.pushlab.state().open.length > 324, null, { timeout: 30_000 });
+  const s = await settled(page);
+  assert.ok(s.open.some((name) => /^\d+\/online_003$/.test(name)), `opened: ${s.open.slice(-3)}`);
+  await page.close();
+  const missing = `${site}no-such/push.json`;
+  const refused = await open(`?url=${encodeURIComponent(missing)}`);
+  await refused.page.waitForFunction(() => window.pushlab.state().status?.includes("could not") || window.pushlab.state().status?.includes("answered"), null, { timeout: 30_000 });
+  const status = (await state(refused.page)).status;
+  assert.equal(status, `${missing}: the server answered 404 File not found`);
+  await refused.page.close();
+});
