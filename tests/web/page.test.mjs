@@ -159,6 +159,11 @@ test("a CSV set dropped on the page opens, and a bad file gives the desktop's er
   const pageDir = bad.error.slice(0, bad.error.indexOf("online_000.csv"));
   assert.match(pageDir, /^\/dropped\/\d+\/$/);
   assert.equal(bad.error.replaceAll(pageDir, ""), process.env.PUSHLAB_BAD_CSV_ERROR);
+  // What the page cannot read yet is said by name, never a panic.
+  before = bad;
+  const bag = await drop([["run1.mcap", "\x89MCAP0\r\n"]]);
+  assert.match(bag.error, /^\/dropped\/\d+\/run1\.mcap: .*a ROS 2 bag is not read in a browser tab yet: open it with the desktop app/);
+  assert.equal(await page.evaluate(() => window.pushlab.panic()), null);
   await page.close();
 });
 
