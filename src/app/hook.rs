@@ -82,6 +82,11 @@ pub fn display_name(recording: &pushlab_core::recording::Recording) -> String {
     }
 }
 
+/// `θ_online` as the hook and links say it: `[x, y, h]`, metres.
+pub fn theta_array(theta: OnlineParams) -> [f64; 3] {
+    [theta.com_offset[0], theta.com_offset[1], theta.h]
+}
+
 /// What `state()` returns for `state`.
 pub fn shown(state: &AppState) -> Shown {
     let frame = state.frame();
@@ -91,9 +96,7 @@ pub fn shown(state: &AppState) -> Shown {
         recording: state.recording().map(display_name),
         frame,
         frames: state.recording().map_or(0, |r| r.trajectory.len()),
-        theta: state
-            .theta()
-            .map(|t| [t.com_offset[0], t.com_offset[1], t.h]),
+        theta: state.theta().map(theta_array),
         sigma_com: run.map(|r| {
             let std = r.spread_at(frame).std();
             [std[0], std[1]]

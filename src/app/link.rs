@@ -79,9 +79,7 @@ impl Link {
                 .run()
                 .map(|r| r.frontier())
                 .filter(|&f| f > state.frame()),
-            theta: state
-                .theta()
-                .map(|t| [t.com_offset[0], t.com_offset[1], t.h]),
+            theta: state.theta().map(super::hook::theta_array),
             optimizer: Some(config.optimizer),
             lr: Some(config.lr),
             speed: Some(state.timeline().speed),
@@ -259,7 +257,8 @@ impl Steps {
     /// what the link asked for that is not there.
     pub fn next(&mut self, state: &AppState) -> Option<Result<Vec<Command>, String>> {
         if state.is_busy() {
-            return (self.stage < 3).then(|| Ok(Vec::new()));
+            // Waiting, while a stage is left (the seek's learning ahead may still run before θ).
+            return (self.stage <= 3).then(|| Ok(Vec::new()));
         }
         let link = &self.link;
         let stage = self.stage;
@@ -295,9 +294,7 @@ impl Steps {
                 .map(|f| Command::Timeline(TimelineCommand::SeekTo(f)))
                 .collect())),
             3 => {
-                let now = state
-                    .theta()
-                    .map(|t| [t.com_offset[0], t.com_offset[1], t.h]);
+                let now = state.theta().map(super::hook::theta_array);
                 Some(Ok(match link.theta {
                     Some([x, y, h]) if now != Some([x, y, h]) => {
                         vec![Command::Online(OnlineCommand::SetTheta(OnlineParams {

@@ -8,7 +8,8 @@ use eframe::egui;
 
 use super::dialogs::Dialogs;
 use super::frame_rate::FrameRate;
-use super::layout::Layout;
+use super::layout::{Layout, Pane};
+use super::link::ViewPart;
 use super::panels::camera::CameraView;
 use super::panels::scene::SceneView;
 
@@ -49,6 +50,43 @@ pub struct View {
     /// The page's address without its query, in a browser tab (Help → Copy link); `None` on the
     /// desktop.
     pub page_address: Option<String>,
+}
+
+impl View {
+    /// What of the view a link holds (see `link`): the layouts, projector mode and the controls
+    /// hidden — the browser and tools panes by the layout, the timeline and menu bar here.
+    pub fn link_part(&self) -> ViewPart {
+        let hidden = [
+            ("browser", !self.layout.is_shown(Pane::Browser)),
+            ("tools", !self.layout.is_shown(Pane::Tools)),
+            ("timeline", self.hide_timeline),
+            ("menu", self.hide_menu),
+        ];
+        ViewPart {
+            present: self.presentation,
+            projector: self.projector,
+            hide: (hidden.into_iter())
+                .filter(|&(_, hidden)| hidden)
+                .map(|(name, _)| name.to_owned())
+                .collect(),
+        }
+    }
+
+    /// Shows the view a link asks for (what [`Self::link_part`] reads); panes it does not hide
+    /// stay as the user had them.
+    pub fn follow_link_part(&mut self, part: &ViewPart) {
+        let hidden = |name: &str| part.hide.iter().any(|h| h == name);
+        self.presentation = part.present;
+        self.projector = part.projector;
+        if hidden("browser") {
+            self.layout.set_shown(Pane::Browser, false);
+        }
+        if hidden("tools") {
+            self.layout.set_shown(Pane::Tools, false);
+        }
+        self.hide_timeline = hidden("timeline");
+        self.hide_menu = hidden("menu");
+    }
 }
 
 impl Default for View {

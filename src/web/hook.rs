@@ -4,7 +4,6 @@
 
 use std::cell::RefCell;
 
-use eframe::egui;
 use wasm_bindgen::prelude::*;
 
 use crate::app::hook::{HookCommand, Shown};
@@ -14,8 +13,6 @@ thread_local! {
     static SHOWN: RefCell<Option<Shown>> = const { RefCell::new(None) };
     /// Commands waiting for the next frame.
     static INBOX: RefCell<Vec<HookCommand>> = const { RefCell::new(Vec::new()) };
-    /// The app's context, to wake it when a command arrives.
-    static CONTEXT: RefCell<Option<egui::Context>> = const { RefCell::new(None) };
     /// The runner, kept for the page's life (dropping it would stop the app).
     static RUNNER: RefCell<Option<eframe::WebRunner>> = const { RefCell::new(None) };
 }
@@ -39,11 +36,7 @@ pub fn pushlab_state() -> String {
 pub fn pushlab_command(json: &str) -> Result<(), JsValue> {
     let command = crate::app::hook::parse(json).map_err(JsValue::from)?;
     INBOX.with(|inbox| inbox.borrow_mut().push(command));
-    CONTEXT.with(|context| {
-        if let Some(context) = context.borrow().as_ref() {
-            context.request_repaint();
-        }
-    });
+    crate::app::dialogs::browser::wake();
     Ok(())
 }
 
@@ -59,10 +52,6 @@ pub fn pushlab_panic() -> Option<String> {
 
 pub(super) fn keep_runner(runner: eframe::WebRunner) {
     RUNNER.with(|kept| *kept.borrow_mut() = Some(runner));
-}
-
-pub(super) fn keep_context(context: &egui::Context) {
-    CONTEXT.with(|kept| *kept.borrow_mut() = Some(context.clone()));
 }
 
 pub(super) fn take_commands() -> Vec<HookCommand> {

@@ -8,9 +8,7 @@ use eframe::egui;
 use pushlab_core::files::memory::TREE;
 
 use crate::app::PushlabApp;
-use crate::app::layout::Pane;
 use crate::app::link::{Link, Steps};
-use crate::app::panels::menu::view_part;
 use crate::app::state::Command;
 
 use super::address::{self, AddressBar};
@@ -29,23 +27,11 @@ pub struct Page {
 
 impl Page {
     pub fn new(mut app: PushlabApp, context: &egui::Context) -> Self {
-        super::hook::keep_context(context);
         browser::keep_context(context);
         app.view.page_address = address::page_address();
         let link = match Link::parse(&address::opened_query()) {
             Ok(link) => {
-                let view = link.view();
-                app.view.presentation = view.present;
-                app.view.projector = view.projector;
-                let hidden = |name: &str| view.hide.iter().any(|h| h == name);
-                if hidden("browser") {
-                    app.view.layout.set_shown(Pane::Browser, false);
-                }
-                if hidden("tools") {
-                    app.view.layout.set_shown(Pane::Tools, false);
-                }
-                app.view.hide_timeline = hidden("timeline");
-                app.view.hide_menu = hidden("menu");
+                app.view.follow_link_part(&link.view());
                 Some(link.steps())
             }
             Err(why) => {
@@ -168,7 +154,7 @@ impl eframe::App for Page {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         self.app.ui(ui, frame);
         if self.link.is_none() {
-            let link = Link::of(&self.app.state, &view_part(&self.app.view));
+            let link = Link::of(&self.app.state, &self.app.view.link_part());
             self.address_bar.follow(&link);
         }
         self.drawn += 1;

@@ -62,12 +62,13 @@ pub fn put_files<'a>(
     }
 }
 
-/// Keeps the app's context, to ask for a frame when files arrive outside one.
+/// Keeps the app's context, to ask for a frame when files or commands arrive outside one.
 pub fn keep_context(context: &eframe::egui::Context) {
     CONTEXT.with(|kept| *kept.borrow_mut() = Some(context.clone()));
 }
 
-fn wake() {
+/// Asks for a frame.
+pub fn wake() {
     CONTEXT.with(|context| {
         if let Some(context) = context.borrow().as_ref() {
             context.request_repaint();
@@ -219,20 +220,15 @@ pub fn take_opened() -> Vec<DialogResult> {
     OPENED.with(|o| std::mem::take(&mut *o.borrow_mut()))
 }
 
-/// Hands every file the app saved under [`DOWNLOADS`] to the browser as a download.
+/// Hands every file the app saved under [`DOWNLOADS`] to the browser as a download (once a frame:
+/// only the files under that folder are looked at).
 pub fn download_saved() {
-    let saved = TREE
-        .files()
-        .into_iter()
-        .filter(|(p, _)| p.starts_with(DOWNLOADS));
-    for (path, _) in saved {
-        if let Some(bytes) = TREE.remove(&path) {
-            let name = Path::new(&path)
-                .file_name()
-                .map_or_else(|| "pushlab".into(), |n| n.to_string_lossy().into_owned());
-            if let Err(why) = download(&name, &bytes) {
-                web_sys::console::error_1(&why);
-            }
+    for (path, bytes) in TREE.take_under(Path::new(DOWNLOADS)) {
+        let name = path
+            .file_name()
+            .map_or_else(|| "pushlab".into(), |n| n.to_string_lossy().into_owned());
+        if let Err(why) = download(&name, &bytes) {
+            web_sys::console::error_1(&why);
         }
     }
 }

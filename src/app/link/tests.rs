@@ -109,3 +109,15 @@ fn opening_a_link_shows_the_same_frame_theta_and_losses() {
     assert_eq!(shown(&reopened).theta, shown(&shared).theta);
     assert_eq!(shown(&reopened).theta, Some([0.011, -0.007, 0.05]));
 }
+
+#[test]
+fn the_view_a_link_asks_for_is_the_view_it_reads_back() {
+    let asked = Link::parse("present=1&projector=1&hide=browser,menu").expect("parses");
+    let mut view = crate::app::View::default();
+    assert_eq!(view.link_part(), ViewPart::default());
+    view.follow_link_part(&asked.view());
+    assert!(!view.layout.is_shown(crate::app::layout::Pane::Browser));
+    assert!(view.layout.is_shown(crate::app::layout::Pane::Tools));
+    assert!(view.hide_menu && !view.hide_timeline);
+    assert_eq!(view.link_part(), asked.view());
+}

@@ -164,7 +164,7 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     view.show_shortcuts = true;
                 }
                 if let Some(address) = &view.page_address {
-                    let link = crate::app::link::Link::of(state, &view_part(view));
+                    let link = crate::app::link::Link::of(state, &view.link_part());
                     if ui
                         .button("Copy link to this view")
                         .on_hover_text(
@@ -224,28 +224,6 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
             });
         });
     });
-}
-
-/// What of the view a link holds.
-pub fn view_part(view: &View) -> crate::app::link::ViewPart {
-    let mut hide = Vec::new();
-    if !view.layout.is_shown(crate::app::layout::Pane::Browser) {
-        hide.push("browser".to_owned());
-    }
-    if !view.layout.is_shown(crate::app::layout::Pane::Tools) {
-        hide.push("tools".to_owned());
-    }
-    if view.hide_timeline {
-        hide.push("timeline".to_owned());
-    }
-    if view.hide_menu {
-        hide.push("menu".to_owned());
-    }
-    crate::app::link::ViewPart {
-        present: view.presentation,
-        projector: view.projector,
-        hide,
-    }
 }
 
 /// One checkbox per pane of the window (the view's own, remembered across restarts), and Reset

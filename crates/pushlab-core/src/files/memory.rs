@@ -80,6 +80,27 @@ impl Tree {
         Some(Arc::try_unwrap(bytes).unwrap_or_else(|shared| shared.as_ref().clone()))
     }
 
+    /// Takes every file under `folder` out of the tree, by path (a page's downloads).
+    pub fn take_under(&self, folder: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+        let folder = normal(folder);
+        let mut inner = self.lock();
+        let paths: Vec<PathBuf> = (inner.files.range(folder.clone()..))
+            .map(|(p, _)| p)
+            .take_while(|p| p.starts_with(&folder))
+            .cloned()
+            .collect();
+        paths
+            .into_iter()
+            .filter_map(|p| {
+                let bytes = inner.files.remove(&p)?;
+                Some((
+                    p,
+                    Arc::try_unwrap(bytes).unwrap_or_else(|b| b.as_ref().clone()),
+                ))
+            })
+            .collect()
+    }
+
     /// Removes every file and folder.
     pub fn clear(&self) {
         let mut inner = self.lock();
@@ -221,6 +242,14 @@ mod tests {
                 .expect_err("a folder")
                 .to_string(),
             "/site/set is a folder"
+        );
+        let taken = tree.take_under(Path::new("/site/set"));
+        let names: Vec<String> = taken.iter().map(|(p, _)| p.display().to_string()).collect();
+        assert_eq!(names, ["/site/set/push_000.csv", "/site/set/setting.json"]);
+        assert!(tree.metadata(Path::new("/site/set")).is_err(), "taken out");
+        assert!(
+            tree.metadata(Path::new("/site/other/a.csv")).is_ok(),
+            "left"
         );
     }
 }
