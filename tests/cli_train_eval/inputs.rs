@@ -48,6 +48,16 @@ fn nothing_usable_is_exit_1_and_wrong_arguments_exit_2() {
     let run = pushlab(&["eval", "--offline", &offline[0]]);
     assert_eq!(run.code, 2);
     assert!(run.stderr.contains("--online"), "{}", run.stderr);
+    // --offline is needed without a model to train, and the help says when.
+    let run = pushlab(&["eval", "--online", &online[0]]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("--offline <PATH>"), "{}", run.stderr);
+    let help = pushlab(&["eval", "--help"]);
+    assert!(
+        help.stdout.contains("Needed unless --model is given"),
+        "{}",
+        help.stdout
+    );
     let run = pushlab(&eval_args(&offline, &online, &["--lr", "0"]));
     assert_eq!(run.code, 2);
     assert!(

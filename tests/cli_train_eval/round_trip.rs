@@ -82,6 +82,60 @@ fn train_then_eval_with_the_model_gives_the_same_numbers() {
         );
     }
 
+    // Without --offline, a model file is evaluated on new pushes alone: every online row (fixed,
+    // online, the network alone, physics, each push frame by frame) as with --offline, to the bit;
+    // the offline rows null, said once.
+    let (alone_json, beside_json) = (dir.join("alone.json"), dir.join("beside.json"));
+    let (alone_s, beside_s) = (
+        alone_json.display().to_string(),
+        beside_json.display().to_string(),
+    );
+    let mut alone_args = vec!["eval", "--model", &model_s, "--online"];
+    alone_args.extend(online.iter().map(String::as_str));
+    alone_args.extend(["--physics", "--per-frame", "--json", &alone_s]);
+    let alone = pushlab(&alone_args);
+    assert_eq!(alone.code, 0, "{}\n{}", alone.stdout, alone.stderr);
+    assert_eq!(
+        alone
+            .stdout
+            .matches("no --offline: the offline rows are not computed")
+            .count(),
+        1,
+        "{}",
+        alone.stdout
+    );
+    assert!(!alone.stdout.contains("Offline"), "{}", alone.stdout);
+    assert!(alone.stdout.contains("Online NN"), "{}", alone.stdout);
+    let beside = pushlab(&eval_args(
+        &offline,
+        &online,
+        &[
+            "--model",
+            &model_s,
+            "--physics",
+            "--per-frame",
+            "--json",
+            &beside_s,
+        ],
+    ));
+    assert_eq!(beside.code, 0, "{}\n{}", beside.stdout, beside.stderr);
+    let a: Value = serde_json::from_str(&std::fs::read_to_string(&alone_json).unwrap()).unwrap();
+    let b: Value = serde_json::from_str(&std::fs::read_to_string(&beside_json).unwrap()).unwrap();
+    for key in ["fixed", "online", "online_nn", "trajectories"] {
+        assert_eq!(a[key], b[key], "{key} differs without --offline");
+    }
+    for key in ["fixed", "online"] {
+        assert_eq!(a["physics"][key], b["physics"][key], "physics.{key}");
+    }
+    assert!(a["trajectories"][0]["frames"].as_array().unwrap().len() > 10);
+    nmse(&a["online_nn"], "online_nn");
+    nmse(&b["offline"], "offline");
+    for key in ["offline_nn", "offline"] {
+        assert!(a[key].is_null(), "{key}: {}", a[key]);
+    }
+    assert!(a["physics"]["offline"].is_null(), "{}", a["physics"]);
+    assert_eq!(a["config"]["offline_samples"], 0);
+
     // A --horizon that contradicts the model is a wrong argument.
     let run = pushlab(&eval_args(
         &offline,
@@ -175,4 +229,30 @@ fn ctrl_c_stops_training_and_keeps_the_best_model() {
     assert_eq!(report["cancelled"], true);
     assert!(report["epochs_run"].as_u64().unwrap() < 1_000_000);
     assert!(file["pure_nn"].is_null());
+}
+
+#[test]
+fn the_apps_default_model_evaluates_on_new_pushes_without_its_training_data() {
+    let dir = temp_dir("default-model");
+    let report = dir.join("report.json");
+    let report_s = report.display().to_string();
+    let model = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join("default-model.json")
+        .display()
+        .to_string();
+    let online = online_subset();
+    let mut args = vec!["eval", "--model", &model, "--online"];
+    args.extend(online.iter().map(String::as_str));
+    args.extend(["--json", &report_s]);
+    let run = pushlab(&args);
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(v["config"]["horizon"], 10);
+    assert_eq!(v["trajectories"].as_array().unwrap().len(), 2);
+    let (fixed, online) = (nmse(&v["fixed"], "fixed"), nmse(&v["online"], "online"));
+    nmse(&v["online_nn"], "online_nn");
+    assert!(v["offline"].is_null() && v["offline_nn"].is_null(), "{v}");
+    // The pushes have the COM moved from θ_online(0)'s: learning it online must help.
+    assert!(online.0 < fixed.0, "online {online:?} vs fixed {fixed:?}");
 }

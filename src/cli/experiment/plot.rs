@@ -59,7 +59,8 @@ pub struct Figure<'a> {
     pub fixed: &'a [StepLosses],
     /// Per online trajectory, online learning's losses.
     pub online: &'a [StepLosses],
-    pub offline: OfflineMeans,
+    /// The black lines; `None` without offline data (`eval --model` alone).
+    pub offline: Option<OfflineMeans>,
 }
 
 /// Renders the figure and writes it as a PNG, atomically.
@@ -153,7 +154,7 @@ fn draw_total(area: &DrawingArea<BitMapBackend, Shift>, figure: &Figure) -> anyh
         fixed_top
             .iter()
             .chain(&online_top)
-            .chain(std::iter::once(&figure.offline.total)),
+            .chain(figure.offline.as_ref().map(|o| &o.total)),
     );
     let (x_end, y_top) = (x.end, y.end);
     let mut chart = ChartBuilder::on(area)
@@ -200,14 +201,16 @@ fn draw_total(area: &DrawingArea<BitMapBackend, Shift>, figure: &Figure) -> anyh
                 PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
             });
     }
-    chart
-        .draw_series(LineSeries::new(
-            vec![(0.0, figure.offline.total), (x_end, figure.offline.total)],
-            BLACK.stroke_width(2),
-        ))
-        .map_err(plot_error)?
-        .label("Offline")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
+    if let Some(offline) = &figure.offline {
+        chart
+            .draw_series(LineSeries::new(
+                vec![(0.0, offline.total), (x_end, offline.total)],
+                BLACK.stroke_width(2),
+            ))
+            .map_err(plot_error)?
+            .label("Offline")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
+    }
     legend(&mut chart)
 }
 
@@ -249,7 +252,7 @@ fn draw_components(
         curves
             .iter()
             .flat_map(|c| c.0.iter())
-            .chain([&figure.offline.pos, &figure.offline.rot]),
+            .chain(figure.offline.iter().flat_map(|o| [&o.pos, &o.rot])),
     );
     let (x_end, y_top) = (x.end, y.end);
     let mut chart = ChartBuilder::on(area)
@@ -276,22 +279,24 @@ fn draw_components(
             });
         }
     }
-    chart
-        .draw_series(LineSeries::new(
-            vec![(0.0, figure.offline.pos), (x_end, figure.offline.pos)],
-            BLACK.stroke_width(2),
-        ))
-        .map_err(plot_error)?
-        .label("Offline")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
-    chart
-        .draw_series(DashedLineSeries::new(
-            vec![(0.0, figure.offline.rot), (x_end, figure.offline.rot)],
-            10,
-            6,
-            BLACK.stroke_width(2),
-        ))
-        .map_err(plot_error)?;
+    if let Some(offline) = &figure.offline {
+        chart
+            .draw_series(LineSeries::new(
+                vec![(0.0, offline.pos), (x_end, offline.pos)],
+                BLACK.stroke_width(2),
+            ))
+            .map_err(plot_error)?
+            .label("Offline")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(0.0, offline.rot), (x_end, offline.rot)],
+                10,
+                6,
+                BLACK.stroke_width(2),
+            ))
+            .map_err(plot_error)?;
+    }
     legend(&mut chart)
 }
 

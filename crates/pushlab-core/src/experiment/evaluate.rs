@@ -254,7 +254,8 @@ impl TrajectoryRun {
 /// The physics-only model's NMSE.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct PhysicsNmse {
-    pub offline: Nmse,
+    /// `None` without offline recordings (a loaded model evaluated on new pushes alone).
+    pub offline: Option<Nmse>,
     pub fixed: Nmse,
     pub online: Nmse,
 }
@@ -296,13 +297,21 @@ pub struct OfflineMeans {
 }
 
 /// What an experiment measured.
+///
+/// The offline rows are `None` when no offline recordings were given: a model loaded from a file
+/// is evaluated on new pushes without the data it was trained on, and a row of zeros would read as
+/// a perfect fit.
 #[derive(Clone, Debug)]
 pub struct Evaluation {
-    /// The pure network on the offline data, when there is one.
+    /// The pure network on the offline data, when there is one and offline data.
     pub offline_nn: Option<Nmse>,
-    /// The combined model on the offline data at `θ_online(0)`.
-    pub offline: Nmse,
-    pub offline_means: OfflineMeans,
+    /// The combined model on the offline data at `θ_online(0)`, when there is offline data.
+    pub offline: Option<Nmse>,
+    pub offline_means: Option<OfflineMeans>,
+    /// The pure network on the online data, when there is one: over the same frames as `fixed`
+    /// and `online`, what the combined model's physics and online learning add to the network alone
+    /// on new pushes.
+    pub online_nn: Option<Nmse>,
     pub fixed: Nmse,
     pub online: Nmse,
     pub trajectories: Vec<TrajectoryRun>,
@@ -323,7 +332,9 @@ pub struct Evaluation {
 }
 
 /// Evaluates a trained model (and the pure network, when given) on offline and online recordings.
-/// Every loss is normalised by the model's offline σ, so that every row is comparable.
+/// Every loss is normalised by the model's offline σ (kept in the model), so that every row is
+/// comparable. `offline` may be empty: the offline rows are then `None` and every other row is the
+/// same, to the bit, as with it (nothing online depends on the offline recordings).
 pub fn evaluate(
     model: &CombinedModel,
     pure_nn: Option<&PureNnModel>,
@@ -391,14 +402,18 @@ pub fn evaluate(
     let mean = |f: fn(&Loss) -> f64| {
         offline_losses.iter().map(f).sum::<f64>() / offline_losses.len().max(1) as f64
     };
+    let has_offline = !offline.is_empty();
     Evaluation {
-        offline_nn: pure_nn.map(|_| Nmse::of(&offline_nn)),
-        offline: Nmse::of(&offline_losses),
-        offline_means: OfflineMeans {
+        offline_nn: pure_nn
+            .filter(|_| has_offline)
+            .map(|_| Nmse::of(&offline_nn)),
+        offline: has_offline.then(|| Nmse::of(&offline_losses)),
+        offline_means: has_offline.then(|| OfflineMeans {
             total: mean(Loss::total),
             pos: mean(Loss::pos),
             rot: mean(|l| l.rot),
-        },
+        }),
+        online_nn: pure_nn.map(|nn| pure_nn_online(nn, &trajectories, scale)),
         fixed: Nmse::of_frames(trajectories.iter().flat_map(TrajectoryRun::fixed)),
         online: Nmse::of_frames(trajectories.iter().flat_map(TrajectoryRun::online)),
         per_label: per_label(online, &trajectories),
@@ -412,6 +427,16 @@ pub fn evaluate(
         left_out,
         object_best_fits: Vec::new(),
     }
+}
+
+/// The pure network's NMSE on the online recordings, over the frames each trajectory's online run
+/// learned from (the frames of the "Fixed" and "Online" rows).
+fn pure_nn_online(nn: &PureNnModel, runs: &[TrajectoryRun], scale: LossScale) -> Nmse {
+    let losses: Vec<Loss> = (runs.iter())
+        .flat_map(|r| r.frames().filter_map(|frame| r.run.sample(frame)))
+        .map(|s| Loss::of(&nn.predict(&s.input).motion, &s.target, &scale))
+        .collect();
+    Nmse::of(&losses)
 }
 
 /// The physics-only model on the offline data (fixed) and on each online recording, fixed and learning
@@ -461,7 +486,7 @@ fn physics_nmse(
         }
     }
     let nmse = PhysicsNmse {
-        offline: Nmse::of(&offline_losses),
+        offline: (!offline.is_empty()).then(|| Nmse::of(&offline_losses)),
         fixed: Nmse::of_frames(fixed),
         online: Nmse::of_frames(learned),
     };

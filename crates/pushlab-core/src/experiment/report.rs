@@ -42,8 +42,13 @@ pub struct ReportContext<'a> {
 /// The report.
 #[derive(Debug, Serialize)]
 pub struct EvalReport {
-    pub offline_nn: Nmse,
-    pub offline: Nmse,
+    /// The pure network and the combined model on the offline data; `null` without offline data
+    /// (`pushlab eval --model` with no `--offline`), or, for `offline_nn`, without a pure network.
+    pub offline_nn: Option<Nmse>,
+    pub offline: Option<Nmse>,
+    /// The pure network on the online data, over the frames of `fixed` and `online`; `null`
+    /// without a pure network.
+    pub online_nn: Option<Nmse>,
     pub fixed: Nmse,
     pub online: Nmse,
     pub trajectories: Vec<TrajectoryReport>,
@@ -263,8 +268,9 @@ impl EvalReport {
         skipped.extend(evaluation.left_out.iter().cloned());
         let count = |l: &Loaded| l.samples(context.horizon).iter().map(Vec::len).sum();
         Self {
-            offline_nn: evaluation.offline_nn.unwrap_or_default(),
+            offline_nn: evaluation.offline_nn,
             offline: evaluation.offline,
+            online_nn: evaluation.online_nn,
             fixed: evaluation.fixed,
             online: evaluation.online,
             trajectories: evaluation

@@ -323,7 +323,8 @@ pub fn run_experiment(
         result.skipped.extend(evaluation.left_out);
         result.models.push(ModelResult {
             model: variant,
-            offline: evaluation.offline,
+            // A suite's experiments always have offline recordings (checked when the spec is read).
+            offline: evaluation.offline.unwrap_or_default(),
             fixed: evaluation.fixed,
             online: evaluation.online,
             epochs_run: trained.report.epochs_run,

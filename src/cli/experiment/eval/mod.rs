@@ -10,7 +10,13 @@
 //! - with `--physics`, the physics-only model (outline + Lynch, no network) fixed and online, which
 //!   shows what the network buys.
 //!
+//! With `--model`, `--offline` is optional: a model file carries everything the online run needs,
+//! so a model received, or trained on data kept elsewhere, is evaluated on new pushes alone, without
+//! the offline rows.
+//!
 //! Every number comes from `pushlab_core::experiment::evaluate`; this module prints and writes them.
+
+mod table;
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -23,11 +29,9 @@ use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::domain::Domain;
 use pushlab_core::experiment::DEFAULT_HORIZON;
 use pushlab_core::experiment::report::{EvalReport, ReportContext};
-use pushlab_core::experiment::{
-    self, BestFitSummary, ComSummary, EvalOptions, Evaluation, UsedRecording,
-};
+use pushlab_core::experiment::{self, EvalOptions, Evaluation, Loaded, UsedRecording};
 use pushlab_core::labels::Split;
-use pushlab_core::learn::{Nmse, OnlineConfig, Optimizer, TrainConfig};
+use pushlab_core::learn::{OnlineConfig, Optimizer};
 use pushlab_core::model::{
     CombinedModel, DEFAULT_CONTACT_TOLERANCE, FrameLoss, ModelKind, PureNnModel,
 };
@@ -43,14 +47,17 @@ use crate::cli::exit::Failure;
 /// Arguments of `pushlab eval`.
 #[derive(Debug, Args)]
 pub struct EvalArgs {
-    /// Recordings for offline training (files or folders, as for `pushlab validate`).
-    #[arg(long, required = true, num_args = 1.., value_name = "PATH")]
+    /// Recordings for offline training (files or folders, as for `pushlab validate`). Needed
+    /// unless --model is given; with --model they add the Offline rows (and train the pure network
+    /// when the model file has none).
+    #[arg(long, required_unless_present = "model", num_args = 1.., value_name = "PATH")]
     pub offline: Vec<PathBuf>,
     /// Recordings streamed to online learning.
     #[arg(long, required = true, num_args = 1.., value_name = "PATH")]
     pub online: Vec<PathBuf>,
     /// Use this trained model instead of training on --offline (its pure network too, when the file
-    /// has one; otherwise the pure network is trained on --offline).
+    /// has one; otherwise the pure network is trained on --offline when given). --offline is then
+    /// optional.
     #[arg(long, value_name = "MODEL.json")]
     pub model: Option<PathBuf>,
     #[command(flatten)]
@@ -133,11 +140,22 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         (None, k) => k.unwrap_or_default(),
     };
     let by_split = args.training.split_from_labels;
-    let offline = experiment::load(&args.offline, by_split.then_some(Split::Offline), horizon);
+    let has_offline = !args.offline.is_empty();
+    let offline = match has_offline {
+        true => experiment::load(&args.offline, by_split.then_some(Split::Offline), horizon),
+        false => Loaded::default(),
+    };
     let online = experiment::load(&args.online, by_split.then_some(Split::Online), horizon);
-    data::print_summary("offline", &offline, horizon);
+    if has_offline {
+        data::print_summary("offline", &offline, horizon);
+    } else {
+        println!("no --offline: the offline rows are not computed");
+    }
     data::print_summary("online", &online, horizon);
-    for (role, loaded) in [("--offline", &offline), ("--online", &online)] {
+    let given = [("--offline", &offline)]
+        .into_iter()
+        .filter(|_| has_offline);
+    for (role, loaded) in given.chain([("--online", &online)]) {
         if loaded.used.is_empty() {
             return Err(Failure::Failed(anyhow!(
                 "nothing usable in {role}: {}",
@@ -158,11 +176,10 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         eprintln!("warning: {}", mismatch.message);
     }
 
-    let config = train_config(&args.training, horizon, kind, &offline.used);
     let training_started = Instant::now();
     let calibrate = !args.training.no_com_calibration;
     let (combined, pure_nn, trained_with) =
-        models(model_file, kind, &offline.used, &config, calibrate)?;
+        models(model_file, args, horizon, kind, &offline.used, calibrate)?;
     let training_time = training_started.elapsed();
     if train_progress::cancelled() {
         println!("training stopped by Ctrl-C: evaluating the best models so far");
@@ -181,7 +198,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     };
     let mut evaluation = experiment::evaluate(
         &combined,
-        Some(&pure_nn),
+        pure_nn.as_ref(),
         &offline.used,
         &online.used,
         &options,
@@ -208,7 +225,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
             per_frame: args.per_frame,
         },
     );
-    print_tables(&report, &evaluation, &online.used);
+    table::print_tables(&report, &evaluation, &online.used);
     if let Some(path) = &args.json {
         let mut json = serde_json::to_vec_pretty(&report).context("cannot encode the report")?;
         json.push(b'\n');
@@ -228,20 +245,23 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
             .iter()
             .map(|r| steps_of(r.online().collect()))
             .collect();
-        let means = evaluation.offline_means;
-        let figure = Figure {
-            title: format!(
+        let title = match has_offline {
+            true => format!(
                 "{kind} model — offline: {}   online: {}",
                 setting_names(&offline.used),
                 setting_names(&online.used)
             ),
+            false => format!("{kind} model — online: {}", setting_names(&online.used)),
+        };
+        let figure = Figure {
+            title,
             fixed: &fixed,
             online: &learning,
-            offline: OfflineMeans {
+            offline: evaluation.offline_means.map(|means| OfflineMeans {
                 total: means.total,
                 pos: means.pos,
                 rot: means.rot,
-            },
+            }),
         };
         plot::write_png(path, &figure)?;
         println!("wrote {}", path.display());
@@ -291,17 +311,21 @@ struct TrainedWith {
     seed: u64,
 }
 
-/// The combined model and the pure network: loaded, or trained on the offline recordings.
+/// The combined model and the pure network: loaded, or trained on the offline recordings. The pure
+/// network is `None` when a model file without one is evaluated without offline recordings.
 fn models(
     file: Option<ModelFile>,
+    args: &EvalArgs,
+    horizon: usize,
     kind: ModelKind,
     offline: &[UsedRecording],
-    config: &TrainConfig,
     calibrate: bool,
-) -> anyhow::Result<(CombinedModel, PureNnModel, TrainedWith)> {
+) -> anyhow::Result<(CombinedModel, Option<PureNnModel>, TrainedWith)> {
+    let config = || train_config(&args.training, horizon, kind, offline);
     let Some(file) = file else {
+        let config = config();
         let TrainedModels { combined, pure_nn } =
-            train_progress::train_models(kind, offline, config, calibrate, true)?;
+            train_progress::train_models(kind, offline, &config, calibrate, true)?;
         if !combined.report.kept_an_epoch() {
             bail!("stopped by Ctrl-C before the first epoch ended: no model to evaluate");
         }
@@ -310,13 +334,13 @@ fn models(
             // Ctrl-C before the baseline had an epoch: the table's "Offline NN" row still needs
             // a trained network, not random weights, so it trains to its end (a second Ctrl-C
             // quits at once).
-            None => train_progress::train_pure_nn(offline, config, &AtomicBool::new(false))?.model,
+            None => train_progress::train_pure_nn(offline, &config, &AtomicBool::new(false))?.model,
         };
         let with = TrainedWith {
             epochs: combined.report.config.epochs,
             seed: combined.report.config.seed,
         };
-        return Ok((combined.model, pure_nn, with));
+        return Ok((combined.model, Some(pure_nn), with));
     };
     let with = match &file.training.report {
         Some(r) => TrainedWith {
@@ -324,18 +348,26 @@ fn models(
             seed: r.config.seed,
         },
         None => TrainedWith {
-            epochs: config.epochs,
-            seed: config.seed,
+            epochs: args.training.epochs,
+            seed: args.training.seed,
         },
     };
     let pure_nn = match file.pure_nn {
-        Some(nn) if nn.horizon() == file.combined.horizon() => nn,
+        Some(nn) if nn.horizon() == file.combined.horizon() => Some(nn),
+        _ if offline.is_empty() => {
+            println!(
+                "the model file has no pure network for this horizon and there is no --offline to \
+                 train one on: the NN rows are not computed"
+            );
+            None
+        }
         _ => {
             println!(
                 "the model file has no pure network for this horizon: training one on --offline"
             );
             // The table needs it trained, as above.
-            train_progress::train_pure_nn(offline, config, &AtomicBool::new(false))?.model
+            let config = config();
+            Some(train_progress::train_pure_nn(offline, &config, &AtomicBool::new(false))?.model)
         }
     };
     Ok((file.combined, pure_nn, with))
@@ -351,221 +383,4 @@ fn setting_names(used: &[UsedRecording]) -> String {
         }
     }
     names.join("+")
-}
-
-/// Prints the paper-style table, the physics rows, the per-trajectory results and per-label means.
-fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[UsedRecording]) {
-    println!();
-    println!(
-        "{:<18} {:>9} {:>9}   data ({} model)",
-        "NMSE", "pos", "rot", report.config.kind
-    );
-    let row = |name: &str, n: &Nmse, data: &str| {
-        println!("{name:<18} {:>9.3} {:>9.3}   {data}", n.pos, n.rot);
-    };
-    row("Offline NN", &report.offline_nn, "offline");
-    row("Offline", &report.offline, "offline");
-    row("Fixed", &report.fixed, "online");
-    row("Online", &report.online, "online");
-    if let Some(p) = &report.physics {
-        row(
-            "Physics offline",
-            &p.offline,
-            "offline (physics only, no network)",
-        );
-        row(
-            "Physics fixed",
-            &p.fixed,
-            "online (physics only, no network)",
-        );
-        row(
-            "Physics online",
-            &p.online,
-            "online (physics only, no network)",
-        );
-    }
-    println!();
-    // With --physics, each push's physics-only online NMSE beside the combined model's.
-    let physics_online = |recording: usize| {
-        let push = (evaluation.physics_pushes.iter()).find(|p| p.recording == recording);
-        match (report.physics.is_some(), push) {
-            (false, _) => String::new(),
-            (true, Some(p)) => format!(" {:>7.3}/{:<7.3}", p.online.pos, p.online.rot),
-            (true, None) => format!(" {:>15}", "-"),
-        }
-    };
-    // With --best-fit, each push's best θ's NMSE beside them: what no online learner beats.
-    let best = |r: &experiment::TrajectoryRun| match (report.best_fit.is_some(), r.best_fit) {
-        (false, _) => String::new(),
-        (true, Some(b)) => format!(" {:>7.3}/{:<7.3}", b.nmse.pos, b.nmse.rot),
-        (true, None) => format!(" {:>15}", "-"),
-    };
-    println!(
-        "{:<28} {:>5} {:>15} {:>15}{}{} {:>27} {:>15}",
-        "online trajectory",
-        "steps",
-        "fixed pos/rot",
-        "online pos/rot",
-        if report.physics.is_some() {
-            format!(" {:>15}", "phys online")
-        } else {
-            String::new()
-        },
-        if report.best_fit.is_some() {
-            format!(" {:>15}", "best θ")
-        } else {
-            String::new()
-        },
-        "COM offset learned (true)",
-        "h learned (true)"
-    );
-    for (t, r) in report.trajectories.iter().zip(&evaluation.trajectories) {
-        let recording = &online[r.recording].recording;
-        let name = format!("{}/{}", recording.setting.name, recording.name);
-        let com_true = t
-            .com_offset_true
-            .map(|c| format!("({:.3},{:.3})", c[0], c[1]))
-            .unwrap_or_else(|| "?".into());
-        let h_true = t
-            .h_true
-            .map(|h| format!("{h:.3}"))
-            .unwrap_or_else(|| "?".into());
-        println!(
-            "{name:<28} {:>5} {:>7.3}/{:<7.3} {:>7.3}/{:<7.3}{}{} {:>13} {:<13} {:>6.3} {:<8}",
-            t.steps,
-            t.fixed.pos,
-            t.fixed.rot,
-            t.online.pos,
-            t.online.rot,
-            physics_online(r.recording),
-            best(r),
-            format!(
-                "({:.3},{:.3})",
-                t.com_offset_learned[0], t.com_offset_learned[1]
-            ),
-            com_true,
-            t.h_learned,
-            format!("({h_true})"),
-        );
-    }
-    if report.config.carry_theta {
-        let continued = report.trajectories.iter().filter(|t| t.continued).count();
-        println!(
-            "--carry-theta: {continued} of {} trajectories went on from the one before them (same \
-             object); the others started from θ_online(0)",
-            report.trajectories.len()
-        );
-    }
-    if let Some([x, y]) = report.config.start_com_shift {
-        println!(
-            "--start-com-shift: pushes not carried on started believing the COM ({:.1}, {:.1}) mm \
-             from θ_online(0)'s (kept inside the object), the prior centred there",
-            x * 1e3,
-            y * 1e3
-        );
-    }
-    if let Some(p) = &report.per_label {
-        println!();
-        println!(
-            "{:<18} {:>8} {:>11} {:>11}",
-            "mean loss by label", "frames", "fixed", "online"
-        );
-        for (f, o) in p.fixed.iter().zip(&p.online) {
-            println!(
-                "{:<18} {:>8} {:>11.3} {:>11.3}",
-                f.label, f.count, f.mean, o.mean
-            );
-        }
-    }
-    if let Some(c) = &report.com_found {
-        println!();
-        println!("{}", com_found_line(c));
-    }
-    if let Some(c) = &report.physics_com_found {
-        println!("Physics-only online: {}", com_found_line(c));
-    }
-    if let Some(b) = &report.best_fit {
-        println!(
-            "{}",
-            best_fit_line(
-                "Best θ per push",
-                b,
-                &report.online,
-                report.com_found.as_ref()
-            )
-        );
-    }
-    if let Some(b) = &report.object_best_fit {
-        let com = b.mean_com_error_m.map(|e| {
-            format!(
-                "; mean COM error {:.1} mm over {} objects with a known COM",
-                e * 1e3,
-                b.with_truth
-            )
-        });
-        println!(
-            "Best θ per object (all its carried pushes at once, held fixed): NMSE {:.3}/{:.3} pos/rot \
-             over {} objects{}",
-            b.nmse.pos,
-            b.nmse.rot,
-            b.pushes,
-            com.unwrap_or_default()
-        );
-    }
-    if let (Some(b), Some(p)) = (&report.physics_best_fit, &report.physics) {
-        let found = report.physics_com_found.as_ref();
-        println!(
-            "{}",
-            best_fit_line("Physics-only best θ per push", b, &p.online, found)
-        );
-    }
-    for s in &evaluation.left_out {
-        println!("left out: {}", s.message());
-    }
-    println!();
-}
-
-/// One line on each push's best θ against what online learning reached (`online`, `found`).
-fn best_fit_line(
-    what: &str,
-    b: &BestFitSummary,
-    online: &Nmse,
-    found: Option<&ComSummary>,
-) -> String {
-    let com = match (b.mean_com_error_m, found) {
-        (Some(best), Some(c)) => format!(
-            "; mean COM error {:.1} mm over {} pushes with a known COM (online learning: {:.1} mm)",
-            best * 1e3,
-            b.with_truth,
-            c.mean_error_m * 1e3
-        ),
-        (Some(best), None) => format!(
-            "; mean COM error {:.1} mm over {} pushes with a known COM",
-            best * 1e3,
-            b.with_truth
-        ),
-        _ => String::new(),
-    };
-    format!(
-        "{what} (the whole push at once, held fixed): NMSE {:.3}/{:.3} pos/rot over {} pushes \
-         (online {:.3}/{:.3}){com}",
-        b.nmse.pos, b.nmse.rot, b.pushes, online.pos, online.rot
-    )
-}
-
-/// One line on how well online learning found a known COM.
-fn com_found_line(c: &ComSummary) -> String {
-    let settled = match c.median_frames_to_near {
-        Some(frames) => format!("after a median {frames} frames"),
-        None => "never".into(),
-    };
-    format!(
-        "COM found on {} pushes with a known COM: the 95 % ellipse holds it on {} ({:.0} %); \
-         mean final error {:.1} mm; within 5 mm to the end on {} ({settled})",
-        c.pushes,
-        c.within_95,
-        100.0 * c.coverage(),
-        c.mean_error_m * 1e3,
-        c.settled,
-    )
 }
