@@ -226,3 +226,73 @@ fn a_lerobot_dataset_dropped_on_the_window_opens_with_push_ts_layout() {
     assert_eq!(set.recordings.len(), 8);
     assert_eq!(set.setting.extra["dataset_format"], "LeRobot dataset v3.0");
 }
+
+#[test]
+fn a_dataset_opened_after_the_sample_data_is_what_the_scene_shows() {
+    let sample = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("sample-data/box1-paper-ur-front");
+    let state = initial_state(std::slice::from_ref(&sample), Persisted::default());
+    let mut harness = harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(1);
+    let shown = |app: &PushlabApp| {
+        let session = app.state.session();
+        session.selected_set_dir().map(Path::to_path_buf)
+    };
+    assert_eq!(shown(harness.state()), Some(sample.clone()));
+    // The user looks at another push of the sample, then opens a dataset: its first push is shown.
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Session(SessionCommand::Select(RecordingId {
+            set: 0,
+            recording: 3,
+        })));
+    let fixture = scratch_dir("dataset-shown").join("replay.zarr");
+    copy_dir(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("crates/pushlab-core/tests/pusht/replay.zarr"),
+        &fixture,
+    );
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Session(SessionCommand::Open(vec![
+            fixture.clone(),
+        ])));
+    run_until(&mut harness, "the dataset to open", |app| {
+        app.state.session().sets.iter().any(|s| s.dir == fixture)
+            || !app.state.session().problems.is_empty()
+    });
+    let app = harness.state();
+    assert_eq!(
+        shown(app),
+        Some(fixture.clone()),
+        "{:?}",
+        app.state.session().problems
+    );
+    assert_eq!(app.state.session().selected.map(|id| id.recording), Some(0));
+    // Opening the dataset shown again keeps the push shown.
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Session(SessionCommand::Select(RecordingId {
+            set: 1,
+            recording: 2,
+        })));
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Session(SessionCommand::Open(vec![
+            fixture.clone(),
+        ])));
+    run_until(&mut harness, "the dataset to open again", |app| {
+        app.state.session().loading().is_none()
+    });
+    let selected = harness.state().state.session().selected;
+    assert_eq!(
+        selected,
+        Some(RecordingId {
+            set: 1,
+            recording: 2
+        })
+    );
+}

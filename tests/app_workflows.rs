@@ -12,6 +12,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::dialogs::{DialogResult, LabelExportFormat};
 use pushlab::app::state::background_training::RunEnd;
+use pushlab::app::state::session::RecordingId;
 use pushlab::app::state::{Command, Persisted, TrainingCommand};
 use pushlab::app::{PushlabApp, export, initial_state};
 use pushlab_core::learn::TrainConfig;
@@ -67,9 +68,12 @@ fn dropping_a_folder_opens_it_and_a_bad_file_is_reported_without_closing_anythin
         "the dropped folder added recordings"
     );
     assert_eq!(
-        state.session().selected.map(|s| s.set),
-        Some(0),
-        "the recording shown stays selected"
+        state.session().selected,
+        Some(RecordingId {
+            set: 1,
+            recording: 0
+        }),
+        "what was dropped is shown: the dropped folder's first push"
     );
     assert!(
         state

@@ -199,3 +199,53 @@ fn import_writes_a_lerobot_datasets_episodes_as_pushes() {
     assert!(output.code == 0, "{}", text(&output));
     std::fs::remove_dir_all(&out_dir).ok();
 }
+
+/// `from` copied to `to`, folders and all.
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
+
+#[test]
+fn validate_says_a_damaged_datasets_error_once_and_its_disagreeing_totals_as_a_note() {
+    let zarr = temp_dir("pushlab-cli-pusht", "damaged").join("replay.zarr");
+    copy_dir(&fixtures().join("replay.zarr"), &zarr);
+    let chunk = zarr.join("data/state/0.0");
+    let bytes = std::fs::read(&chunk).unwrap();
+    std::fs::write(&chunk, &bytes[..40]).unwrap();
+    let output = pushlab(&["validate", zarr.to_str().unwrap()]);
+    let out = text(&output);
+    assert_eq!(output.code, 1, "{out}");
+    assert_eq!(out.matches("data/state/0.0: blosc:").count(), 1, "{out}");
+    assert!(
+        out.contains("0 recording(s) loaded (0 with warnings), 1 error(s)"),
+        "{out}"
+    );
+
+    let lerobot = temp_dir("pushlab-cli-pusht", "totals").join("lerobot-v2.1");
+    copy_dir(&fixtures().join("lerobot-v2.1"), &lerobot);
+    let info_path = lerobot.join("meta/info.json");
+    let mut info: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&info_path).unwrap()).unwrap();
+    info["total_frames"] = 5.into();
+    std::fs::write(&info_path, info.to_string()).unwrap();
+    let output = pushlab(&["validate", lerobot.to_str().unwrap()]);
+    let out = text(&output);
+    assert_eq!(output.code, 0, "{out}");
+    assert!(
+        out.contains(&format!(
+            "note: {}: meta/info.json says total_frames 5 but the files hold 192 frames: the \
+             files are read",
+            lerobot.display()
+        )),
+        "{out}"
+    );
+}

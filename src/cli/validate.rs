@@ -18,7 +18,9 @@
 //!
 //! A Push-T dataset (a zarr replay buffer or a LeRobot dataset folder) is listed first — its
 //! format, episodes, features and the pusher and object features it will be read with
-//! (`dataset: PATH: …`, `episode: PATH: N: F frames, D s`) — and then validated like any recording.
+//! (`dataset: PATH: …`, `note: PATH: …` where its metadata and its files disagree, `episode: PATH:
+//! N: F frames, D s`) — and then validated like any recording. A dataset or bag that cannot be
+//! listed says its error once.
 //!
 //! Exit code 0 when every recording loaded (warnings allowed), 1 when any did not, 2 for wrong
 //! arguments (handled by clap before this runs).
@@ -44,24 +46,31 @@ pub struct ValidateArgs {
 
 /// Runs the command; see the module documentation for the output and exit codes.
 pub fn run(args: &ValidateArgs) -> ExitCode {
-    let (bags, mut paths): (Vec<PathBuf>, Vec<PathBuf>) =
+    let (bags, paths): (Vec<PathBuf>, Vec<PathBuf>) =
         args.paths.iter().cloned().partition(|p| bag::is_bag(p));
-    let mut failed = false;
-    for path in paths.iter().filter(|p| dataset::is_dataset(p)) {
-        failed |= !list_dataset(path);
-    }
+    // A dataset or bag whose listing failed has said its error: it is not loaded again to say it
+    // twice, but it counts in the summary's errors.
+    let mut listing_errors = 0;
+    let mut paths: Vec<PathBuf> = (paths.into_iter())
+        .filter(|path| {
+            let failed = dataset::is_dataset(path) && !list_dataset(path);
+            listing_errors += usize::from(failed);
+            !failed
+        })
+        .collect();
     for path in &bags {
-        failed |= !list_topics(path);
-        if bag::choice::choice_path(path).is_file() {
+        if !list_topics(path) {
+            listing_errors += 1;
+        } else if bag::choice::choice_path(path).is_file() {
             paths.push(path.clone());
         }
     }
     if paths.is_empty() {
-        return if failed {
-            ExitCode::from(1)
-        } else {
-            ExitCode::SUCCESS
-        };
+        if listing_errors == 0 {
+            return ExitCode::SUCCESS;
+        }
+        println!("0 recording(s) loaded (0 with warnings), {listing_errors} error(s)");
+        return ExitCode::from(1);
     }
     let report = with_load_bar("loading", |progress| load_paths_with(&paths, &[], progress));
     let (mut with_warnings, mut with_notes) = (0, 0);
@@ -102,9 +111,9 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     println!(
         "{} recording(s) loaded ({with_warnings} with warnings{noted}), {} error(s)",
         report.recording_count(),
-        report.errors.len()
+        report.errors.len() + listing_errors
     );
-    if report.errors.is_empty() && !failed {
+    if report.errors.is_empty() && listing_errors == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
@@ -190,6 +199,9 @@ fn list_dataset(path: &std::path::Path) -> bool {
             format!("; cameras: {}", cameras.join(", "))
         }
     );
+    for note in &table.notes {
+        println!("note: {}: {note}", path.display());
+    }
     for (i, rows) in table.episodes.iter().enumerate() {
         let last = rows.end.saturating_sub(1).max(rows.start);
         println!(

@@ -512,3 +512,49 @@ fn validate_lists_the_videos_as_cameras() {
             .ends_with("videos/observation.image/chunk-000/file-000.mp4")
     }));
 }
+
+#[test]
+fn a_path_template_that_leaves_the_dataset_is_refused_naming_the_field() {
+    let dir = copy_of_lerobot("v2.1", "escape");
+    edit_info(&dir, |info| {
+        info["data_path"] = "../../../../etc/episode_{episode_index:06d}.parquet".into();
+    });
+    let message = read_error(&dir);
+    assert!(
+        message.contains(
+            "meta/info.json: field `data_path`: \"../../../../etc/episode_{episode_index:06d}.parquet\" \
+             gives \"../../../../etc/episode_000000.parquet\", which leaves the dataset's folder"
+        ),
+        "{message}"
+    );
+    let dir = copy_of_lerobot("v3.0", "escape-video");
+    edit_info(&dir, |info| {
+        info["video_path"] = "/tmp/{video_key}/file-{file_index:03d}.mp4".into();
+    });
+    let message = read_error(&dir);
+    assert!(
+        message.contains("meta/info.json: field `video_path`: \"/tmp/"),
+        "{message}"
+    );
+}
+
+#[test]
+fn totals_that_disagree_with_the_files_are_a_note_and_the_files_are_read() {
+    let dir = copy_of_lerobot("v2.1", "totals");
+    edit_info(&dir, |info| {
+        info["total_episodes"] = serde_json::json!(1_000_000_000_000_000u64);
+    });
+    let table = dataset::read_table(&dir, &NoProgress).expect("the files are read");
+    assert_eq!(table.episodes.len(), 8);
+    assert_eq!(
+        table.notes,
+        vec![
+            "meta/info.json says total_episodes 1000000000000000 but the files hold 8 episodes: \
+             the files are read"
+                .to_owned()
+        ]
+    );
+    let untouched =
+        dataset::read_table(&fixtures().join("lerobot-v2.1"), &NoProgress).expect("fixture");
+    assert!(untouched.notes.is_empty(), "{:?}", untouched.notes);
+}

@@ -87,6 +87,17 @@ fn broken_buffers_are_errors_naming_the_file_and_the_problem() {
         .to_string();
     assert!(message.contains("data/state/1.0: blosc:"), "{message}");
 
+    // A chunk file removed is refused by name, never read as the fill value (zeros: the pusher and
+    // the object at the origin for 64 frames).
+    std::fs::remove_file(&chunk).expect("remove");
+    let message = dataset::read_table(&zarr, &NoProgress)
+        .expect_err("missing")
+        .to_string();
+    assert!(
+        message.contains("data/state/1.0: chunk file missing: rows 64..128 of the array"),
+        "{message}"
+    );
+
     let meta = zarr.join("data/action/.zarray");
     let text = std::fs::read_to_string(&meta).expect("meta");
     std::fs::write(&meta, text.replace("<f4", "<c8")).expect("write");

@@ -96,7 +96,8 @@ pub struct Session {
 }
 
 impl Session {
-    /// Loads paths on this thread and merges them in. Returns whether a new recording got selected.
+    /// Loads paths on this thread and merges them in, the first recording opened shown. Returns
+    /// whether the selection changed.
     pub fn open_blocking(&mut self, paths: &[PathBuf]) -> bool {
         let started = Instant::now();
         let report = load_paths(paths);
@@ -202,7 +203,7 @@ impl Session {
                 error => self.problems.push(LoadProblem::of(&error)),
             }
         }
-        let mut first_new = None;
+        let mut opened = Vec::new();
         for set in report.sets {
             if set.recordings.is_empty() {
                 continue;
@@ -220,7 +221,7 @@ impl Session {
                     self.sets.len() - 1
                 }
             };
-            first_new.get_or_insert(index);
+            opened.push(index);
         }
         // A replaced set may have fewer recordings than before.
         if let Some(id) = self.selected
@@ -228,8 +229,11 @@ impl Session {
         {
             self.selected = None;
         }
-        match (self.selected, first_new) {
-            (None, Some(set)) => {
+        // What was just opened is shown: its first recording, unless the one shown is in a set
+        // opened again (it stays).
+        let shown_reopened = self.selected.is_some_and(|id| opened.contains(&id.set));
+        match opened.first() {
+            Some(&set) if !shown_reopened => {
                 self.selected = Some(RecordingId { set, recording: 0 });
                 true
             }

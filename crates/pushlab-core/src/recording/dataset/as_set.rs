@@ -157,7 +157,7 @@ pub fn to_set(
             entry: Some(entry),
             trajectory: Arc::new(trajectory),
             warnings,
-            notes: Vec::new(),
+            notes: table.notes.clone(),
             cameras: cameras.of_episode(table, index),
         });
     }

@@ -26,6 +26,14 @@ pub enum DatasetProblem {
         bytes: usize,
         expected: usize,
     },
+    /// A chunk file of an array that is not there. Zarr lets an absent chunk mean "all fill value",
+    /// but no recording is made of fill values: reading it as zeros would put the pusher and the
+    /// object at the origin for the chunk's frames, so it is refused naming the file.
+    #[error(
+        "chunk file missing: rows {start}..{end} of the array would read as its fill value, which \
+         no recording holds; restore the file (or leave the dataset's other files and re-export it)"
+    )]
+    MissingChunk { start: usize, end: usize },
     /// A column of a LeRobot parquet file that is not what `meta/info.json` says its feature is.
     #[error("column `{column}` row {row} (counting from 0): {found}, expected {expected}")]
     Column {

@@ -122,5 +122,6 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
         times: None,
         cameras,
         videos: Vec::new(),
+        notes: Vec::new(),
     })
 }

@@ -57,6 +57,9 @@ pub struct DatasetTable {
     /// A LeRobot dataset's video features (dtype `video`), each one of `cameras` too: where their
     /// MP4 files are, so that a camera can be attached to each episode. Empty for a replay buffer.
     pub videos: Vec<VideoFeature>,
+    /// What reading did that loses nothing but a user should know (metadata that disagrees with
+    /// the files, which are read): said by `validate` and kept in every episode's notes.
+    pub notes: Vec<String>,
 }
 
 /// A LeRobot video feature: its frames are in MP4 files beside the parquet, one per episode (v2) or

@@ -1,8 +1,10 @@
 //! Zarr v2 arrays on disk, as Diffusion Policy's replay buffers store them: a folder with a
 //! `.zarray` (JSON: shape, chunks, dtype, compressor, fill value, order) and one file per chunk
-//! named by its grid index (`3.0`, or `3/0` with the `/` separator). A chunk that is absent holds
-//! the fill value. Chunks are decoded with [`super::blosc`] or the plain zstd and LZ4 codecs of
-//! numcodecs; filters and Fortran order (which those buffers never use) are refused by name.
+//! named by its grid index (`3.0`, or `3/0` with the `/` separator). Zarr lets a chunk that is
+//! absent hold the fill value; pushlab refuses it (`DatasetProblem::MissingChunk`), since no
+//! recording is made of fill values and zeros would be read as poses. Chunks are decoded with
+//! [`super::blosc`] or the plain zstd and LZ4 codecs of numcodecs; filters and Fortran order
+//! (which those buffers never use) are refused by name.
 
 use std::path::{Path, PathBuf};
 
@@ -209,7 +211,7 @@ impl ZarrArray {
     }
 
     /// The decoded bytes of chunk `index` along the first dimension of an array chunked along it
-    /// only (an image array: whole frames per chunk); a chunk that was never written is the fill.
+    /// only (an image array: whole frames per chunk); a chunk file that is missing is an error.
     pub fn read_time_chunk(&self, index: usize) -> Result<Vec<u8>, LoadError> {
         let chunk_len: usize = self.chunks.iter().product::<usize>() * self.dtype.size;
         let mut key = index.to_string();
@@ -219,8 +221,7 @@ impl ZarrArray {
         }
         let path = self.dir.join(&key);
         if !path.is_file() {
-            // Bytes arrays only: the fill value as a byte.
-            return Ok(vec![self.fill as u8; chunk_len]);
+            return Err(self.missing_chunk(path, index));
         }
         let raw = std::fs::read(&path).map_err(|e| LoadError::io(&path, e))?;
         self.decode(&raw, chunk_len)
@@ -250,17 +251,18 @@ impl ZarrArray {
             let key: Vec<String> = index.iter().map(usize::to_string).collect();
             let key = key.join(&self.separator.to_string());
             let path = self.dir.join(&key);
-            if path.is_file() {
-                let raw = std::fs::read(&path).map_err(|e| LoadError::io(&path, e))?;
-                progress.advance(raw.len() as u64);
-                let bytes = self
-                    .decode(&raw, chunk_len * self.dtype.size)
-                    .map_err(|problem| LoadError::Dataset {
-                        path: path.clone(),
-                        problem,
-                    })?;
-                self.place(&bytes, &index, &mut out);
+            if !path.is_file() {
+                return Err(self.missing_chunk(path, index[0]));
             }
+            let raw = std::fs::read(&path).map_err(|e| LoadError::io(&path, e))?;
+            progress.advance(raw.len() as u64);
+            let bytes = self
+                .decode(&raw, chunk_len * self.dtype.size)
+                .map_err(|problem| LoadError::Dataset {
+                    path: path.clone(),
+                    problem,
+                })?;
+            self.place(&bytes, &index, &mut out);
             // The next chunk of the grid, last dimension fastest.
             let mut d = grid.len();
             loop {
@@ -274,6 +276,17 @@ impl ZarrArray {
                 }
                 index[d] = 0;
             }
+        }
+    }
+
+    /// The error for the chunk file at `path`, the `row_chunk`-th along the first dimension.
+    fn missing_chunk(&self, path: PathBuf, row_chunk: usize) -> LoadError {
+        let rows = self.chunks.first().copied().unwrap_or(1);
+        let start = row_chunk * rows;
+        let end = (start + rows).min(self.shape.first().copied().unwrap_or(0));
+        LoadError::Dataset {
+            path,
+            problem: DatasetProblem::MissingChunk { start, end },
         }
     }
 

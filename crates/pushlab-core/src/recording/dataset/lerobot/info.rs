@@ -3,7 +3,7 @@
 //! and the features — dtype and shape each. Read field by field, so that an error names the field
 //! and what was expected.
 
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
 use serde_json::{Map, Value};
 
@@ -84,6 +84,29 @@ pub struct Info {
     /// Image and video features: (name, what they are).
     pub cameras: Vec<(String, String)>,
     pub videos: Vec<VideoFeature>,
+    /// `total_episodes` and `total_frames` as written, when there: the files are read whatever
+    /// they say, and a disagreement is noted ([`Info::disagreements`]).
+    pub totals: Vec<(&'static str, Value)>,
+}
+
+impl Info {
+    /// Notes on the totals that disagree with the `episodes` and `frames` the files hold.
+    pub fn disagreements(&self, episodes: usize, frames: usize) -> Vec<String> {
+        (self.totals.iter())
+            .filter_map(|(key, said)| {
+                let (held, what) = match *key {
+                    "total_episodes" => (episodes, "episodes"),
+                    _ => (frames, "frames"),
+                };
+                (said.as_u64() != u64::try_from(held).ok()).then(|| {
+                    format!(
+                        "{INFO_FILE} says {key} {said} but the files hold {held} {what}: the files \
+                         are read"
+                    )
+                })
+            })
+            .collect()
+    }
 }
 
 /// The `codebase_version` of the LeRobot dataset in `dir`, if `dir` holds one (whatever version).
@@ -189,6 +212,9 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
         features: Vec::new(),
         cameras: Vec::new(),
         videos: Vec::new(),
+        totals: (["total_episodes", "total_frames"].into_iter())
+            .filter_map(|key| Some((key, object.get(key)?.clone())))
+            .collect(),
     };
     for (name, feature) in features {
         let at = |key: &str| format!("features.{name}.{key}");
@@ -299,6 +325,39 @@ fn shape(value: &Value) -> Result<Vec<usize>, String> {
     }
 }
 
+/// The file that `template` (the info's `data_path` or `video_path`, `name`) names with these
+/// fields, inside the dataset's folder `dir`. A dataset downloaded from a hub is not trusted: a
+/// template whose expansion leaves the folder (a `..`, an absolute path, or a symbolic link that
+/// points out of it) is refused naming the field, and nothing outside is opened.
+pub fn file_in(
+    dir: &Path,
+    template: &str,
+    name: &str,
+    values: &[(&str, usize)],
+) -> Result<PathBuf, DatasetProblem> {
+    let relative = fill_template(template, name, values)?;
+    let inside = Path::new(&relative)
+        .components()
+        .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+    let path = dir.join(&relative);
+    // A link is followed only to check where it lands; a file that is not there is left for the
+    // reader to name.
+    let linked_out = match (std::fs::canonicalize(dir), std::fs::canonicalize(&path)) {
+        (Ok(root), Ok(target)) => !target.starts_with(root),
+        _ => false,
+    };
+    if !inside || linked_out {
+        return Err(field(
+            name,
+            format!(
+                "\"{template}\" gives \"{relative}\", which leaves the dataset's folder (by `..`, an \
+                 absolute path or a symbolic link out); a dataset's files must be inside it"
+            ),
+        ));
+    }
+    Ok(path)
+}
+
 /// `template` with its `{key}` and `{key:03d}` fields filled from `values`, as Python's
 /// `str.format` does for LeRobot's path templates; `name` is the template's field, for errors.
 pub fn fill_template(
@@ -383,6 +442,49 @@ mod tests {
         );
         assert!(fill_template("{x:3f}", "p", &[("x", 1)]).is_err());
         assert!(fill_template("{x", "p", &[("x", 1)]).is_err());
+    }
+
+    #[test]
+    fn a_template_that_leaves_the_dataset_is_refused_naming_the_field() {
+        let dir = std::env::temp_dir().join(format!("pushlab-template-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("data")).expect("dir");
+        let fields = [("episode_index", 3)];
+        let inside = file_in(
+            &dir,
+            "data/e_{episode_index:03d}.parquet",
+            "data_path",
+            &fields,
+        );
+        assert_eq!(inside, Ok(dir.join("data/e_003.parquet")));
+        for template in [
+            "../../../../etc/episode_{episode_index:06d}.parquet",
+            "data/../../e_{episode_index}.parquet",
+            "/etc/e_{episode_index}.parquet",
+        ] {
+            let error = file_in(&dir, template, "data_path", &fields).expect_err(template);
+            let message = error.to_string();
+            assert!(
+                message.starts_with("field `data_path`: \"")
+                    && message.contains("which leaves the dataset's folder"),
+                "{message}"
+            );
+        }
+        #[cfg(unix)]
+        {
+            let outside = dir.with_extension("outside");
+            std::fs::create_dir_all(&outside).expect("outside");
+            std::fs::write(outside.join("e_3.mp4"), b"x").expect("file");
+            let _ = std::fs::remove_file(dir.join("videos"));
+            std::os::unix::fs::symlink(&outside, dir.join("videos")).expect("link");
+            let error = file_in(&dir, "videos/e_{episode_index}.mp4", "video_path", &fields)
+                .expect_err("a link out");
+            assert!(
+                error.to_string().starts_with("field `video_path`"),
+                "{error}"
+            );
+            let _ = std::fs::remove_dir_all(&outside);
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -91,7 +91,7 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
             .filter_map(|episode| episode.videos.get(k).cloned())
             .collect();
     }
-    let episodes = episodes.into_iter().map(|episode| episode.rows).collect();
+    let episodes: Vec<Range<usize>> = episodes.into_iter().map(|episode| episode.rows).collect();
     let features: Vec<Feature> = (info.features.iter().zip(columns))
         .map(|(feature, values)| Feature {
             name: feature.name.clone(),
@@ -102,6 +102,8 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
     let times = (features.iter())
         .find(|f| f.name == TIMESTAMP && f.width == 1)
         .map(|f| f.values.clone());
+    let frames = episodes.iter().map(ExactSizeIterator::len).sum();
+    let notes = info.disagreements(episodes.len(), frames);
     Ok(DatasetTable {
         format: DatasetFormat::LeRobot(info.version),
         features,
@@ -110,6 +112,7 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
         times,
         cameras: info.cameras,
         videos,
+        notes,
     })
 }
 
@@ -136,22 +139,22 @@ impl Reading<'_> {
             .find(|v| v.name == video)
             .map(|v| v.path_template.replace("{video_key}", video))
             .unwrap_or_default();
-        info::fill_template(&template, "video_path", fields)
-            .map(|relative| self.dir.join(relative))
-            .map_err(|problem| LoadError::Dataset {
+        info::file_in(self.dir, &template, "video_path", fields).map_err(|problem| {
+            LoadError::Dataset {
                 path: self.dir.join(INFO_FILE),
                 problem,
-            })
+            }
+        })
     }
 
     /// The data file of `data_path` with these template fields.
     fn data_file(&self, fields: &[(&str, usize)]) -> Result<std::path::PathBuf, LoadError> {
-        info::fill_template(&self.info.data_path, "data_path", fields)
-            .map(|relative| self.dir.join(relative))
-            .map_err(|problem| LoadError::Dataset {
+        info::file_in(self.dir, &self.info.data_path, "data_path", fields).map_err(|problem| {
+            LoadError::Dataset {
                 path: self.dir.join(INFO_FILE),
                 problem,
-            })
+            }
+        })
     }
 
     /// v2.x: each listed episode's own file, holding its rows only, as many as listed.
