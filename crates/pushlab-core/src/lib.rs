@@ -23,6 +23,7 @@ pub mod inspect;
 pub mod json_problem;
 pub mod labels;
 pub mod learn;
+pub mod live;
 pub mod model;
 pub mod model_file;
 mod parallel;

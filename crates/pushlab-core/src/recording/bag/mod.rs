@@ -35,7 +35,9 @@ mod topic_info;
 mod topics;
 
 pub use self::as_set::{open, open_with, setting_for};
-pub use self::cdr::{PoseType, encode_pose_stamped, yaw_of};
+pub use self::cdr::{
+    PlanarPose, PoseType, Transform, decode as decode_pose, decode_tf, encode_pose_stamped, yaw_of,
+};
 pub use self::choice::{BagChoice, SettingSource};
 pub use self::files::{bag_files, is_bag};
 pub use self::image_msg::{
