@@ -11,8 +11,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use foxglove::{ChannelBuilder, Context, PartialMetadata, Schema, WebSocketServer};
-use pushlab_core::live::{LiveClient, LiveError, LiveEvent, PoseReading};
-use pushlab_core::recording::bag::encode_pose_stamped;
+use pushlab_core::live::{LiveClient, LiveError, LiveEvent, PoseReading, RecordError, Recorder};
+use pushlab_core::recording::bag::{self, encode_pose_stamped};
 
 /// The pose logged as message `k`: its stamp and x, y, yaw.
 fn pose(k: u64) -> (u64, f64, f64, f64) {
@@ -111,6 +111,14 @@ fn the_foxglove_sdks_server_streams_poses_the_client_reads() {
             }
         })
     };
+    // Every message is recorded as it arrives; a copy of the file taken after a flush is what a
+    // crash at that moment leaves.
+    let dir = std::env::temp_dir().join(format!("pushlab-live-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let record_path = dir.join("session.mcap");
+    let mut recorder = Recorder::create(&record_path).expect("a new file");
+    let mut crashed: Option<Vec<u8>> = None;
     let mut received: BTreeMap<u64, Vec<(u64, u64)>> = BTreeMap::new();
     while received.values().map(Vec::len).sum::<usize>() < 40 && Instant::now() < deadline {
         let Some(LiveEvent::Message {
@@ -139,6 +147,17 @@ fn the_foxglove_sdks_server_streams_poses_the_client_reads() {
             .entry(channel)
             .or_default()
             .push((k, log_time_ns - stamp));
+        let advertised = client
+            .channels()
+            .find(|c| c.id == channel)
+            .expect("advertised");
+        recorder
+            .write(advertised, log_time_ns, &payload)
+            .expect("recorded");
+        if recorder.messages() == 20 {
+            recorder.flush().expect("flushed");
+            crashed = Some(std::fs::read(&record_path).unwrap());
+        }
     }
     for id in [pusher_id, object_id] {
         let messages = received.get(&id).map_or(&[][..], Vec::as_slice);
@@ -152,6 +171,38 @@ fn the_foxglove_sdks_server_streams_poses_the_client_reads() {
             "the log time kept: {messages:?}"
         );
     }
+
+    // The recording: both topics, every message received, at the server's log times.
+    let recorded = recorder.finish().expect("finished");
+    assert_eq!(
+        (recorded.channels as usize, recorded.messages),
+        (2, 40.max(recorded.messages))
+    );
+    let listing = bag::topics(&record_path).expect("the recording opens as a bag");
+    assert!(listing.cut_short.is_empty(), "{:?}", listing.cut_short);
+    for (topic, id, type_name) in [
+        ("/pusher", pusher_id, "pushlab.Pose"),
+        ("/object", object_id, "geometry_msgs/msg/PoseStamped"),
+    ] {
+        let info = listing
+            .topics
+            .iter()
+            .find(|t| t.topic == topic)
+            .expect(topic);
+        assert_eq!(info.type_name, type_name);
+        assert_eq!(info.count, received[&id].len() as u64, "{topic}");
+        assert_eq!(info.first_ns, pose(received[&id][0].0).0 + 1_000, "{topic}");
+    }
+    // The crash copy opens too, cut short, with the 20 messages flushed before it.
+    let crash = crashed.expect("a copy after 20 messages");
+    let listing = bag::topics_bytes(&crash, &dir.join("crashed.mcap")).expect("opens cut short");
+    assert!(!listing.cut_short.is_empty(), "said cut short");
+    assert_eq!(listing.topics.iter().map(|t| t.count).sum::<u64>(), 20);
+    // A file that exists is never written over.
+    let error = Recorder::create(&record_path).err().expect("exists");
+    assert!(matches!(error, RecordError::Exists { .. }), "{error}");
+    assert!(error.to_string().contains("already exists"), "{error}");
+    let _ = std::fs::remove_dir_all(&dir);
 
     // The object's channel withdrawn: the client forgets it.
     object.close();

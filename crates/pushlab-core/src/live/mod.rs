@@ -1,15 +1,20 @@
 //! Live input: a robot pushing now, read from a Foxglove WebSocket server (the Foxglove SDK's,
 //! foxglove_bridge for ROS 1 and ROS 2), as the paper's setting has it — learning while the robot
 //! pushes. The protocol's messages ([`protocol`]), a client ([`client`], not in a browser tab: a
-//! page has no sockets of this kind) and the pose in each message ([`pose`], through the bag
-//! reader's decoders, so that a live session and its recording read the same numbers).
+//! page has no sockets of this kind), the pose in each message ([`pose`], through the bag reader's
+//! decoders, so that a live session and its recording read the same numbers) and the MCAP file
+//! every message received is written to ([`recorder`]).
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod client;
 pub mod pose;
 pub mod protocol;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod recorder;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub use self::client::{LiveClient, LiveError, LiveEvent};
 pub use self::pose::PoseReading;
 pub use self::protocol::{Channel, SUBPROTOCOLS};
+#[cfg(not(target_arch = "wasm32"))]
+pub use self::recorder::{RecordError, Recorded, Recorder};
