@@ -12,7 +12,9 @@ mod exit;
 mod experiment;
 mod import;
 mod import_dataset;
+mod interrupt;
 mod labels;
+mod live;
 mod load_bar;
 mod pipe;
 mod simulate;
@@ -36,6 +38,9 @@ enum Command {
         #[arg(required = true)]
         paths: Vec<PathBuf>,
     },
+    /// Connect to a robot's Foxglove WebSocket server, record every message it sends and show the
+    /// pusher's and the object's poses as they arrive.
+    Live(live::LiveArgs),
     /// Set splits, inspect and export a recording set's labels (`pushlab-labels.json`).
     Labels {
         #[command(subcommand)]
@@ -81,6 +86,7 @@ pub fn run() -> ExitCode {
             exit::exit_code(labels::run(command).map_err(exit::Failure::from))
         }
         Some(Command::Validate(args)) => validate::run(&args),
+        Some(Command::Live(args)) => exit::exit_code(live::run(&args)),
         Some(Command::Import(args)) => {
             exit::exit_code(import::run(&args).map_err(exit::Failure::from))
         }

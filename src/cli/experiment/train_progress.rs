@@ -1,8 +1,7 @@
 //! Offline training as `train` and `eval` run it: a progress bar per epoch showing the current loss,
 //! and Ctrl-C stopping cleanly with the best model so far.
 
-use std::sync::OnceLock;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -12,31 +11,8 @@ use pushlab_core::learn::{
 };
 use pushlab_core::model::{CombinedModel, ModelKind, PureNnModel};
 
-/// Set by Ctrl-C; training checks it between batches and keeps the best model so far.
-static CANCEL: AtomicBool = AtomicBool::new(false);
-
-/// The cancel flag, with the Ctrl-C handler installed on first use. A second Ctrl-C exits at once
-/// (code 130, as a shell reports an interrupted command).
-pub fn cancel_flag() -> &'static AtomicBool {
-    static INSTALLED: OnceLock<()> = OnceLock::new();
-    INSTALLED.get_or_init(|| {
-        let installed = ctrlc::set_handler(|| {
-            if CANCEL.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            eprintln!("\nstopping after this batch; Ctrl-C again to quit at once");
-        });
-        if let Err(e) = installed {
-            eprintln!("note: Ctrl-C cannot stop training cleanly here ({e})");
-        }
-    });
-    &CANCEL
-}
-
-/// Whether Ctrl-C was pressed.
-pub fn cancelled() -> bool {
-    CANCEL.load(Ordering::SeqCst)
-}
+// Ctrl-C: training checks the flag between batches and keeps the best model so far.
+pub use crate::cli::interrupt::{cancel_flag, cancelled};
 
 /// The trained models of one run.
 pub struct TrainedModels {

@@ -1,0 +1,316 @@
+//! `pushlab live ws://HOST:PORT --pusher TOPIC --object TOPIC [--record OUT.mcap]`: connects to a
+//! running robot's Foxglove WebSocket server (the Foxglove SDK's, foxglove_bridge), subscribes to
+//! every channel it advertises (now and later), writes every message received to `--record` as it
+//! arrives, and prints once a second what came: messages and their rate, and the pusher's and the
+//! object's latest poses with how late they arrived (`--json`: one JSON object a line). Ctrl-C,
+//! `--duration` or the server closing ends it; the recording is then closed cleanly and opens with
+//! `pushlab validate` and `pushlab import` like any bag.
+//!
+//! Learning θ online as the frames arrive is not here yet: the recording is learned on after the
+//! fact (`pushlab import`, then the app or `eval`).
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use anyhow::anyhow;
+use clap::Args;
+use pushlab_core::live::{Channel, LiveClient, LiveError, LiveEvent, PoseReading, Recorder};
+use pushlab_core::recording::bag::PlanarPose;
+use serde_json::json;
+
+use super::exit::Failure;
+use super::experiment::args::positive_real;
+use super::interrupt;
+
+/// How long to wait for the server, and at most between two looks at Ctrl-C.
+const READ_TIMEOUT: Duration = Duration::from_millis(100);
+/// How long the topics asked for may take to be advertised.
+const ADVERTISE_WAIT: Duration = Duration::from_secs(5);
+
+/// Arguments of `pushlab live`.
+#[derive(Debug, Args)]
+pub struct LiveArgs {
+    /// The server's address: ws://HOST:PORT (foxglove_bridge and the Foxglove SDK listen on 8765).
+    pub url: String,
+    /// The pusher's topic (TOPIC:CHILD_FRAME for a TFMessage topic such as /tf).
+    #[arg(long, value_name = "TOPIC")]
+    pub pusher: String,
+    /// The object's topic (TOPIC:CHILD_FRAME for a TFMessage topic such as /tf).
+    #[arg(long, value_name = "TOPIC")]
+    pub object: String,
+    /// Write every message received, on every channel, to this new MCAP file as it arrives.
+    #[arg(long, value_name = "OUT.mcap")]
+    pub record: Option<PathBuf>,
+    /// Print one JSON object a second instead of a line of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Stop after this many seconds (else at Ctrl-C or when the server closes).
+    #[arg(long, value_name = "SECONDS", value_parser = positive_real)]
+    pub duration: Option<f64>,
+}
+
+/// One of the two streams shown: its topic, how it is read, its latest pose.
+struct Watched {
+    role: &'static str,
+    topic: String,
+    child: Option<String>,
+    channel: Option<u64>,
+    reading: Option<PoseReading>,
+    latest: Option<PlanarPose>,
+    /// Receive time − header stamp of the latest, seconds.
+    lag_s: Option<f64>,
+    unreadable: usize,
+}
+
+impl Watched {
+    fn new(role: &'static str, spec: &str) -> Self {
+        let (topic, child) = match spec.split_once(':') {
+            Some((topic, child)) => (topic.to_owned(), Some(child.to_owned())),
+            None => (spec.to_owned(), None),
+        };
+        Self {
+            role,
+            topic,
+            child,
+            channel: None,
+            reading: None,
+            latest: None,
+            lag_s: None,
+            unreadable: 0,
+        }
+    }
+
+    /// Binds to the advertised channel of its topic; why it cannot be read, in words.
+    fn bind(&mut self, channel: &Channel) -> Result<(), String> {
+        let reading = PoseReading::for_channel(channel, self.child.as_deref())?;
+        self.channel = Some(channel.id);
+        self.reading = Some(reading);
+        Ok(())
+    }
+
+    fn take(&mut self, payload: &[u8], now_ns: u64) {
+        let Some(reading) = &self.reading else { return };
+        match reading.read(payload) {
+            Ok(Some(pose)) => {
+                self.lag_s =
+                    (pose.stamp_ns > 0).then_some((now_ns as f64 - pose.stamp_ns as f64) * 1e-9);
+                self.latest = Some(pose);
+            }
+            Ok(None) => {}
+            Err(why) => {
+                if self.unreadable == 0 {
+                    eprintln!("warning: {} {}: {why}", self.role, self.topic);
+                }
+                self.unreadable += 1;
+            }
+        }
+    }
+
+    fn text(&self) -> String {
+        match self.latest {
+            Some(p) => format!(
+                "{} ({:.3}, {:.3}) m {:.1}°{}",
+                self.role,
+                p.x,
+                p.y,
+                p.yaw.to_degrees(),
+                self.lag_s
+                    .map(|l| format!(" {:.0} ms late", l * 1e3))
+                    .unwrap_or_default()
+            ),
+            None => format!("{} -", self.role),
+        }
+    }
+
+    fn json(&self) -> serde_json::Value {
+        match self.latest {
+            Some(p) => json!({"stamp_ns": p.stamp_ns, "x": p.x, "y": p.y, "yaw": p.yaw,
+                              "lag_s": self.lag_s, "unreadable": self.unreadable}),
+            None => serde_json::Value::Null,
+        }
+    }
+}
+
+fn now_ns() -> u64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
+}
+
+/// Runs `pushlab live`.
+pub fn run(args: &LiveArgs) -> Result<(), Failure> {
+    interrupt::cancel_flag();
+    let mut recorder = match &args.record {
+        Some(path) => Some(Recorder::create(path).map_err(|e| Failure::Failed(e.into()))?),
+        None => None,
+    };
+    let mut client =
+        LiveClient::connect(&args.url, READ_TIMEOUT).map_err(|e| Failure::Failed(e.into()))?;
+    let mut watched = [
+        Watched::new("pusher", &args.pusher),
+        Watched::new("object", &args.object),
+    ];
+    // The topics asked for, advertised within a few seconds.
+    let asked = Instant::now();
+    let mut server = None;
+    while watched
+        .iter()
+        .any(|w| client.channel_of(&w.topic).is_none())
+        && asked.elapsed() < ADVERTISE_WAIT
+        && !interrupt::cancelled()
+    {
+        if let Some(LiveEvent::ServerInfo { name }) =
+            client.next_event().map_err(|e| Failure::Failed(e.into()))?
+        {
+            server = Some(name);
+        }
+    }
+    for w in &mut watched {
+        let channel = client.channel_of(&w.topic).cloned().ok_or_else(|| {
+            let topics: Vec<String> = (client.channels())
+                .map(|c| format!("{} ({})", c.topic, c.schema_name))
+                .collect();
+            Failure::Failed(anyhow!(
+                "{}: no topic {} advertised within {} s; the server's topics: {}",
+                args.url,
+                w.topic,
+                ADVERTISE_WAIT.as_secs(),
+                if topics.is_empty() {
+                    "none".to_owned()
+                } else {
+                    topics.join(", ")
+                }
+            ))
+        })?;
+        w.bind(&channel)
+            .map_err(|why| Failure::Usage(anyhow!("--{} {}: {why}", w.role, w.topic)))?;
+    }
+    let ids: Vec<u64> = client.channels().map(|c| c.id).collect();
+    for id in ids {
+        client
+            .subscribe(id)
+            .map_err(|e| Failure::Failed(e.into()))?;
+    }
+    println!(
+        "connected to {} ({}, {}): {} channel(s){}",
+        args.url,
+        server.as_deref().unwrap_or("unnamed server"),
+        client.subprotocol(),
+        client.channels().count(),
+        args.record
+            .as_ref()
+            .map(|p| format!(", recording to {}", p.display()))
+            .unwrap_or_default()
+    );
+
+    let started = Instant::now();
+    let mut next_line = Duration::from_secs(1);
+    let (mut messages, mut since_line) = (0u64, 0u64);
+    let mut ended: Option<LiveError> = None;
+    loop {
+        if interrupt::cancelled()
+            || args
+                .duration
+                .is_some_and(|d| started.elapsed().as_secs_f64() >= d)
+        {
+            break;
+        }
+        match client.next_event() {
+            Ok(Some(LiveEvent::Message {
+                channel,
+                log_time_ns,
+                payload,
+            })) => {
+                messages += 1;
+                since_line += 1;
+                if let (Some(recorder), Some(c)) = (
+                    recorder.as_mut(),
+                    client.channels().find(|c| c.id == channel),
+                ) {
+                    recorder
+                        .write(c, log_time_ns, &payload)
+                        .map_err(|e| Failure::Failed(e.into()))?;
+                }
+                let now = now_ns();
+                for w in watched.iter_mut().filter(|w| w.channel == Some(channel)) {
+                    w.take(&payload, now);
+                }
+            }
+            Ok(Some(LiveEvent::Advertised(channels))) => {
+                for c in channels {
+                    client
+                        .subscribe(c.id)
+                        .map_err(|e| Failure::Failed(e.into()))?;
+                }
+            }
+            Ok(Some(LiveEvent::Unadvertised(ids))) => {
+                for w in watched
+                    .iter()
+                    .filter(|w| w.channel.is_some_and(|c| ids.contains(&c)))
+                {
+                    eprintln!(
+                        "warning: the server withdrew the {} topic {}",
+                        w.role, w.topic
+                    );
+                }
+            }
+            Ok(Some(LiveEvent::Status { level, message })) => {
+                let level = ["info", "warning", "error"]
+                    .get(usize::from(level))
+                    .unwrap_or(&"status");
+                eprintln!("server {level}: {message}");
+            }
+            Ok(Some(LiveEvent::ServerInfo { .. }) | None) => {}
+            Err(e) => {
+                ended = Some(e);
+                break;
+            }
+        }
+        let elapsed = started.elapsed();
+        if elapsed >= next_line {
+            next_line += Duration::from_secs(1);
+            if let Some(recorder) = recorder.as_mut() {
+                recorder.flush().map_err(|e| Failure::Failed(e.into()))?;
+            }
+            print_line(args.json, elapsed, messages, since_line, &watched);
+            since_line = 0;
+        }
+    }
+    print_line(args.json, started.elapsed(), messages, 0, &watched);
+    if let Some(recorder) = recorder {
+        let recorded = recorder.finish().map_err(|e| Failure::Failed(e.into()))?;
+        println!(
+            "recorded {} message(s) on {} channel(s) to {}; open it with pushlab validate {} or pushlab import",
+            recorded.messages,
+            recorded.channels,
+            recorded.path.display(),
+            recorded.path.display()
+        );
+    }
+    client.close();
+    match ended {
+        Some(e) => Err(Failure::Failed(e.into())),
+        None => Ok(()),
+    }
+}
+
+/// The line of one second: time, messages, rate, the two latest poses.
+fn print_line(json: bool, elapsed: Duration, messages: u64, in_second: u64, watched: &[Watched]) {
+    if json {
+        let line = json!({
+            "t": elapsed.as_secs_f64(),
+            "messages": messages,
+            "rate_hz": in_second,
+            "pusher": watched[0].json(),
+            "object": watched[1].json(),
+        });
+        println!("{line}");
+    } else {
+        println!(
+            "{:>7.1} s  {messages} messages ({in_second}/s)  {}  {}",
+            elapsed.as_secs_f64(),
+            watched[0].text(),
+            watched[1].text()
+        );
+    }
+}
