@@ -136,6 +136,44 @@ fn live_prints_the_poses_and_records_every_message_to_a_bag() {
         .sum();
     assert_eq!(counts, messages, "{}", validate.stdout);
 
+    // The recording imports as any bag, the JSON pusher read as the live session read it.
+    let setting = dir.join("box.json");
+    std::fs::write(
+        &setting,
+        r#"{"name": "live-box", "object": {"shape": "box", "width": 0.1, "length": 0.12},
+            "pusher_radius": 0.005, "trajectories": []}"#,
+    )
+    .unwrap();
+    let set = dir.join("set");
+    let import = pushlab(&[
+        "import",
+        &out_s,
+        "--pusher",
+        "/pusher",
+        "--object",
+        "/object",
+        "--setting",
+        setting.to_str().unwrap(),
+        "--out",
+        set.to_str().unwrap(),
+    ]);
+    assert_eq!(import.code, 0, "{}\n{}", import.stdout, import.stderr);
+    let csv = std::fs::read_dir(&set)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "csv"))
+        .expect("a push written");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("time,robot_x,robot_y,object_x,object_y,object_theta")
+    );
+    let first: Vec<f64> = (lines.next().unwrap().split(','))
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(first[1..], [0.25, -0.5, 0.125, 0.5, 0.0], "{text:.200}");
+
     // Never over an existing file; a topic that is not advertised is named with those that are.
     let again = pushlab(&[
         "live",

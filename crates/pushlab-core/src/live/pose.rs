@@ -1,23 +1,11 @@
 //! A planar pose from one message of a live channel, the way a bag's messages give one: the header
 //! stamp, x, y and the yaw of the quaternion. CDR messages (`geometry_msgs/msg/PoseStamped`,
 //! `nav_msgs/msg/Odometry`, `geometry_msgs/msg/Pose2D`, a child frame of `tf2_msgs/msg/TFMessage`)
-//! go through the bag reader's decoders, so that a live session and the bag it is recorded to read
-//! the same numbers. JSON messages are a pose in one of two documented shapes:
-//!
-//! ```json
-//! {"header": {"stamp": {"sec": 12, "nanosec": 5000}, "frame_id": "table"},
-//!  "pose": {"position": {"x": 0.1, "y": 0.2, "z": 0}, "orientation": {"x": 0, "y": 0, "z": 0, "w": 1}}}
-//! {"timestamp": {"sec": 12, "nsec": 5000}, "frame_id": "table",
-//!  "pose": {"position": {…}, "orientation": {…}}}
-//! ```
-//!
-//! The first is a `PoseStamped` as rosbridge and foxglove_bridge write JSON; the second is
-//! `foxglove.PoseInFrame`. A missing stamp is 0: the receive time is then the frame's time.
+//! and JSON poses (two documented shapes, `recording::bag::json_pose`) go through the bag reader's
+//! decoders, so that a live session and the bag it is recorded to read the same numbers.
 //!
 //! A TF child frame is taken in its parent's frame as published (one link): a chain of frames is
 //! not composed here yet, unlike a bag's `/tf`.
-
-use serde_json::Value;
 
 use super::protocol::Channel;
 use crate::recording::bag::{PlanarPose, PoseType, decode_pose, decode_tf, yaw_of};
@@ -25,19 +13,17 @@ use crate::recording::bag::{PlanarPose, PoseType, decode_pose, decode_tf, yaw_of
 /// How a channel's messages are read as a pose.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum PoseReading {
-    /// A CDR message of a single-pose type.
-    Cdr(PoseType),
+    /// A message of a single-pose type: CDR, or a JSON pose (`PoseType::JsonPose`).
+    Single(PoseType),
     /// A CDR `TFMessage`: the transform of this child frame.
     Tf { child: String },
-    /// A JSON pose (see the module documentation).
-    Json,
 }
 
 impl PoseReading {
     /// How `channel` is read, with `child` the frame asked of a TF channel; why not, in words.
     pub fn for_channel(channel: &Channel, child: Option<&str>) -> Result<Self, String> {
         match channel.encoding.as_str() {
-            "json" => Ok(Self::Json),
+            "json" => Ok(Self::Single(PoseType::JsonPose)),
             "cdr" => match (PoseType::from_schema(&channel.schema_name), child) {
                 (Some(PoseType::TfMessage), Some(child)) => Ok(Self::Tf {
                     child: child.to_owned(),
@@ -46,7 +32,7 @@ impl PoseReading {
                     "{} is a TFMessage: name the child frame (TOPIC:CHILD_FRAME)",
                     channel.topic
                 )),
-                (Some(kind), _) => Ok(Self::Cdr(kind)),
+                (Some(kind), _) => Ok(Self::Single(kind)),
                 (None, _) => Err(format!(
                     "{} is a {}, expected a PoseStamped, an Odometry, a Pose2D or a TFMessage",
                     channel.topic, channel.schema_name
@@ -62,7 +48,7 @@ impl PoseReading {
     /// The pose in one message; `None` for a TF message without the child frame.
     pub fn read(&self, payload: &[u8]) -> Result<Option<PlanarPose>, String> {
         match self {
-            Self::Cdr(kind) => decode_pose(*kind, payload).map(Some),
+            Self::Single(kind) => decode_pose(*kind, payload).map(Some),
             Self::Tf { child } => {
                 let mut found = None;
                 decode_tf(payload, |t| {
@@ -77,53 +63,8 @@ impl PoseReading {
                 })?;
                 Ok(found)
             }
-            Self::Json => read_json(payload).map(Some),
         }
     }
-}
-
-/// A JSON pose in either documented shape.
-fn read_json(payload: &[u8]) -> Result<PlanarPose, String> {
-    let value: Value = serde_json::from_slice(payload).map_err(|e| format!("not JSON: {e}"))?;
-    let stamp = value.pointer("/header/stamp").or(value.get("timestamp"));
-    let stamp_ns = match stamp {
-        None => 0,
-        Some(stamp) => {
-            let sec = whole(stamp, "sec")?;
-            let nanos = match stamp.get("nanosec") {
-                Some(_) => whole(stamp, "nanosec")?,
-                None => whole(stamp, "nsec")?,
-            };
-            sec * 1_000_000_000 + nanos
-        }
-    };
-    let number = |pointer: &str| {
-        value
-            .pointer(pointer)
-            .and_then(Value::as_f64)
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("field {pointer}: missing or not a finite number"))
-    };
-    let q = [
-        number("/pose/orientation/x")?,
-        number("/pose/orientation/y")?,
-        number("/pose/orientation/z")?,
-        number("/pose/orientation/w")?,
-    ];
-    Ok(PlanarPose {
-        stamp_ns,
-        x: number("/pose/position/x")?,
-        y: number("/pose/position/y")?,
-        yaw: yaw_of(q),
-    })
-}
-
-/// A stamp's whole-number field.
-fn whole(stamp: &Value, key: &str) -> Result<u64, String> {
-    stamp
-        .get(key)
-        .and_then(Value::as_u64)
-        .ok_or_else(|| format!("field stamp.{key}: missing or not a whole number"))
 }
 
 #[cfg(test)]
@@ -169,19 +110,20 @@ mod tests {
             r#"{{"header":{{"stamp":{{"sec":3,"nanosec":7}},"frame_id":"t"}},
                 "pose":{{"position":{{"x":1.5,"y":2,"z":0}},"orientation":{{"x":0,"y":0,"z":{s},"w":{c}}}}}}}"#
         );
-        let pose = read_json(stamped.as_bytes()).expect("PoseStamped JSON");
+        let pose = decode_pose(PoseType::JsonPose, stamped.as_bytes()).expect("PoseStamped JSON");
         assert_eq!(pose.stamp_ns, 3_000_000_007);
         assert_eq!((pose.x, pose.y), (1.5, 2.0));
         assert!((pose.yaw - 0.4).abs() < 1e-12);
         let in_frame = r#"{"timestamp":{"sec":1,"nsec":2},"frame_id":"t",
             "pose":{"position":{"x":0,"y":0,"z":0},"orientation":{"x":0,"y":0,"z":0,"w":1}}}"#;
         assert_eq!(
-            read_json(in_frame.as_bytes())
+            decode_pose(PoseType::JsonPose, in_frame.as_bytes())
                 .expect("PoseInFrame")
                 .stamp_ns,
             1_000_000_002
         );
-        let error = read_json(br#"{"pose":{"position":{"x":1}}}"#).expect_err("no y");
+        let error =
+            decode_pose(PoseType::JsonPose, br#"{"pose":{"position":{"x":1}}}"#).expect_err("no y");
         assert!(error.contains("/pose/orientation/x"), "{error}");
     }
 

@@ -18,6 +18,9 @@ pub enum PoseType {
     Odometry,
     /// `geometry_msgs/msg/Pose2D` (no header: time is the log time)
     Pose2D,
+    /// A JSON-encoded pose, whatever its schema's name (see [`super::json_pose`]): what Foxglove
+    /// servers and rosbridge send as JSON, and what `pushlab live` records of it.
+    JsonPose,
 }
 
 impl PoseType {
@@ -32,13 +35,24 @@ impl PoseType {
         }
     }
 
-    /// The ROS 2 type name.
+    /// How a channel of this message encoding and schema is read, if it can be: CDR by the type's
+    /// name, JSON as a JSON pose.
+    pub fn for_channel(encoding: &str, type_name: &str) -> Option<Self> {
+        match encoding {
+            "cdr" => Self::from_schema(type_name),
+            "json" => Some(Self::JsonPose),
+            _ => None,
+        }
+    }
+
+    /// The ROS 2 type name (what a JSON pose is, for one).
     pub fn name(self) -> &'static str {
         match self {
             Self::PoseStamped => "geometry_msgs/msg/PoseStamped",
             Self::TfMessage => "tf2_msgs/msg/TFMessage",
             Self::Odometry => "nav_msgs/msg/Odometry",
             Self::Pose2D => "geometry_msgs/msg/Pose2D",
+            Self::JsonPose => "JSON pose",
         }
     }
 }
@@ -191,7 +205,8 @@ pub fn yaw_of([x, y, z, w]: [f64; 4]) -> f64 {
     (2.0 * (w * z + x * y)).atan2(w * w + x * x - y * y - z * z)
 }
 
-/// Reads a pose from a message of a header-carrying single-pose type (not [`PoseType::TfMessage`]).
+/// Reads a pose from a CDR message of a header-carrying single-pose type (not
+/// [`PoseType::TfMessage`], nor [`PoseType::JsonPose`]: `super::message::decode` reads every type).
 pub fn decode(kind: PoseType, bytes: &[u8]) -> Result<PlanarPose, DecodeError> {
     let mut cdr = Cdr::new(bytes)?;
     let (stamp_ns, (x, y, yaw)) = match kind {
@@ -204,6 +219,9 @@ pub fn decode(kind: PoseType, bytes: &[u8]) -> Result<PlanarPose, DecodeError> {
         PoseType::Pose2D => (0, (cdr.f64("x")?, cdr.f64("y")?, cdr.f64("theta")?)),
         PoseType::TfMessage => {
             return Err("a TFMessage needs a child frame".to_owned());
+        }
+        PoseType::JsonPose => {
+            return Err("a JSON pose is not a CDR message".to_owned());
         }
     };
     Ok(PlanarPose {

@@ -25,7 +25,9 @@ mod cdr;
 pub mod choice;
 mod files;
 mod image_msg;
+pub mod json_pose;
 mod mcap;
+mod message;
 mod problem;
 mod spec;
 mod split;
@@ -35,15 +37,14 @@ mod topic_info;
 mod topics;
 
 pub use self::as_set::{open, open_with, setting_for};
-pub use self::cdr::{
-    PlanarPose, PoseType, Transform, decode as decode_pose, decode_tf, encode_pose_stamped, yaw_of,
-};
+pub use self::cdr::{PlanarPose, PoseType, Transform, decode_tf, encode_pose_stamped, yaw_of};
 pub use self::choice::{BagChoice, SettingSource};
 pub use self::files::{bag_files, is_bag};
 pub use self::image_msg::{
     ImageKind, decode as decode_image_message, describe as describe_image_message,
     encode_compressed_image,
 };
+pub use self::message::decode as decode_pose;
 pub use self::problem::BagProblem;
 pub use self::spec::TopicSpec;
 pub use self::split::{

@@ -10,6 +10,7 @@ use super::cdr::{self, PoseType};
 use super::files::{bag_files, read_file};
 use super::image_msg::{self, ImageKind};
 use super::mcap::{ChannelInfo, Visit, Visitor, Want, read_messages};
+use super::message;
 use super::problem::BagProblem;
 use super::spec::TopicSpec;
 use super::tf_tree::{Chain, Transforms};
@@ -396,8 +397,7 @@ impl Visitor for PoseVisitor<'_, '_> {
             return Want::Head(image_msg::STAMP_BYTES);
         }
         let role = (|| {
-            let kind =
-                PoseType::from_schema(&channel.type_name).filter(|_| channel.encoding == "cdr")?;
+            let kind = PoseType::for_channel(&channel.encoding, &channel.type_name)?;
             let feeds = self
                 .streams
                 .each_ref()
@@ -490,7 +490,7 @@ fn read_message(
     for (stream, _) in streams.iter_mut().zip(feeds).filter(|(_, f)| *f) {
         stream.index += 1;
     }
-    let pose = cdr::decode(kind, payload).map_err(|why| BagProblem::Decode {
+    let pose = message::decode(kind, payload).map_err(|why| BagProblem::Decode {
         topic: channel.topic.clone(),
         index,
         type_name: kind.name(),

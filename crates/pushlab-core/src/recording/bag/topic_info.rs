@@ -76,11 +76,9 @@ impl TopicInfo {
         });
     }
 
-    /// The type pushlab reads it as, when it can (CDR-encoded and a known type).
+    /// The type pushlab reads it as, when it can (CDR-encoded and a known type, or a JSON pose).
     pub fn pose_type(&self) -> Option<PoseType> {
-        (self.encoding == "cdr")
-            .then(|| PoseType::from_schema(&self.type_name))
-            .flatten()
+        PoseType::for_channel(&self.encoding, &self.type_name)
     }
 }
 
