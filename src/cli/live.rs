@@ -223,10 +223,7 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
             })) => {
                 messages += 1;
                 since_line += 1;
-                if let (Some(recorder), Some(c)) = (
-                    recorder.as_mut(),
-                    client.channels().find(|c| c.id == channel),
-                ) {
+                if let (Some(recorder), Some(c)) = (recorder.as_mut(), client.channel(channel)) {
                     recorder
                         .write(c, log_time_ns, &payload)
                         .map_err(|e| Failure::Failed(e.into()))?;

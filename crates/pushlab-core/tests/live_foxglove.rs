@@ -147,10 +147,7 @@ fn the_foxglove_sdks_server_streams_poses_the_client_reads() {
             .entry(channel)
             .or_default()
             .push((k, log_time_ns - stamp));
-        let advertised = client
-            .channels()
-            .find(|c| c.id == channel)
-            .expect("advertised");
+        let advertised = client.channel(channel).expect("advertised");
         recorder
             .write(advertised, log_time_ns, &payload)
             .expect("recorded");

@@ -137,6 +137,11 @@ impl LiveClient {
         self.channels.values()
     }
 
+    /// An advertised channel by its id (a message's channel).
+    pub fn channel(&self, id: u64) -> Option<&Channel> {
+        self.channels.get(&id)
+    }
+
     /// The first advertised channel of a topic.
     pub fn channel_of(&self, topic: &str) -> Option<&Channel> {
         self.channels.values().find(|c| c.topic == topic)
