@@ -8,16 +8,21 @@
 
 mod cli_common;
 
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use cli_common::{pushlab, temp_dir};
-use foxglove::{ChannelBuilder, Context, PartialMetadata, Schema, WebSocketServer};
+use foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, Schema, WebSocketServer};
 use pushlab_core::recording::bag::encode_pose_stamped;
 
-/// A server logging poses until the returned flag is set; its address.
-fn robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
+/// What a test robot does with its two channels (the pusher's JSON, the object's CDR PoseStamped)
+/// until the flag is set.
+type Logging = Box<dyn FnOnce(&RawChannel, &RawChannel, &AtomicBool) + Send>;
+
+/// A server whose robot logs as `log` says until the returned flag is set; its address.
+fn robot_with(log: Logging) -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
     let context = Context::new();
     let server = WebSocketServer::new()
         .name("test robot")
@@ -47,23 +52,34 @@ fn robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
     let logging = std::thread::spawn(move || {
         // The context lives as long as the robot logs: its channels are advertised while it does.
         let _context = context;
+        log(&pusher, &object, &flag);
+        let _ = server.stop();
+    });
+    (url, stop, logging)
+}
+
+/// A JSON pose (the documented PoseStamped shape) stamped `stamp` ns.
+fn json_pose(stamp: u64, x: f64, y: f64) -> String {
+    format!(
+        r#"{{"header":{{"stamp":{{"sec":{},"nanosec":{}}}}},"pose":{{"position":{{"x":{x},"y":{y},"z":0}},"orientation":{{"x":0,"y":0,"z":0,"w":1}}}}}}"#,
+        stamp / 1_000_000_000,
+        stamp % 1_000_000_000
+    )
+}
+
+/// A robot holding still, logging the same poses every 10 ms.
+fn robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
+    robot_with(Box::new(|pusher, object, stop| {
         let mut k = 0u64;
-        while !flag.load(Ordering::Relaxed) {
+        while !stop.load(Ordering::Relaxed) {
             let stamp = 1_700_000_000_000_000_000 + k * 10_000_000;
-            let json = format!(
-                r#"{{"header":{{"stamp":{{"sec":{},"nanosec":{}}}}},"pose":{{"position":{{"x":0.25,"y":-0.5,"z":0}},"orientation":{{"x":0,"y":0,"z":0,"w":1}}}}}}"#,
-                stamp / 1_000_000_000,
-                stamp % 1_000_000_000
-            );
             let at = PartialMetadata::with_log_time(stamp);
-            pusher.log_with_meta(json.as_bytes(), at);
+            pusher.log_with_meta(json_pose(stamp, 0.25, -0.5).as_bytes(), at);
             object.log_with_meta(&encode_pose_stamped(stamp, "table", 0.125, 0.5, 0.0), at);
             k += 1;
             std::thread::sleep(Duration::from_millis(10));
         }
-        let _ = server.stop();
-    });
-    (url, stop, logging)
+    }))
 }
 
 #[test]
@@ -212,4 +228,150 @@ fn live_prints_the_poses_and_records_every_message_to_a_bag() {
     );
     stop.store(true, Ordering::Relaxed);
     logging.join().unwrap();
+}
+
+/// A robot pushing: a push of the sample data (10 Hz), sent once the client subscribed to both
+/// channels, the object's stamps 3 ms after the pusher's.
+fn pushing_robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sample-data/box1-paper-ur-front/online_000.csv"),
+    )
+    .unwrap();
+    let rows: Vec<Vec<f64>> = (text.lines().skip(1))
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    robot_with(Box::new(move |pusher, object, stop| {
+        let subscribed = || pusher.has_sinks() && object.has_sinks();
+        while !subscribed() && !stop.load(Ordering::Relaxed) {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        for r in &rows {
+            let stamp = 1_700_000_000_000_000_000 + (r[0] * 1e9).round() as u64;
+            pusher.log_with_meta(
+                json_pose(stamp, r[1], r[2]).as_bytes(),
+                PartialMetadata::with_log_time(stamp),
+            );
+            let late = stamp + 3_000_000;
+            object.log_with_meta(
+                &encode_pose_stamped(late, "table", r[3], r[4], r[5]),
+                PartialMetadata::with_log_time(late),
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        while !stop.load(Ordering::Relaxed) {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }))
+}
+
+#[test]
+fn live_learns_theta_as_the_push_arrives_and_eval_of_its_recording_agrees_to_the_bit() {
+    let (url, stop, logging) = pushing_robot();
+    let dir = temp_dir("pushlab-live", "learn");
+    let out = dir.join("push.mcap");
+    let out_s = out.display().to_string();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let setting = root.join("sample-data/box1-paper-ur-front/setting.json");
+    let setting_s = setting.display().to_string();
+    let run = pushlab(&[
+        "live",
+        &url,
+        "--pusher",
+        "/pusher",
+        "--object",
+        "/object",
+        "--setting",
+        &setting_s,
+        "--record",
+        &out_s,
+        "--duration",
+        "2.5",
+        "--json",
+    ]);
+    stop.store(true, Ordering::Relaxed);
+    logging.join().unwrap();
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout.contains(
+            "learning θ online with the default model (assets/default-model.json) (horizon 10 frames) on a 10 Hz grid"
+        ),
+        "{}",
+        run.stdout
+    );
+    let last: serde_json::Value = (run.stdout.lines())
+        .rfind(|l| l.starts_with('{'))
+        .map(|l| serde_json::from_str(l).unwrap())
+        .unwrap();
+    let learning = &last["learning"];
+    let frontier = learning["frontier"].as_u64().unwrap() as usize;
+    assert!(frontier > 80, "the 10 s push learned: {learning}");
+    assert_eq!(
+        learning["mean_losses"]["frames"].as_u64(),
+        Some(frontier as u64)
+    );
+    let sigma = learning["sigma"]["com_offset"][0].as_f64().unwrap();
+    assert!(sigma > 0.0 && sigma < 0.05, "{learning}");
+
+    // The recording, imported at the grid's rate and evaluated with the same model.
+    let set = dir.join("set");
+    let import = pushlab(&[
+        "import",
+        &out_s,
+        "--pusher",
+        "/pusher",
+        "--object",
+        "/object",
+        "--setting",
+        &setting_s,
+        "--rate",
+        "10",
+        "--out",
+        set.to_str().unwrap(),
+    ]);
+    assert_eq!(import.code, 0, "{}\n{}", import.stdout, import.stderr);
+    let report = dir.join("eval.json");
+    let model = root.join("assets/default-model.json");
+    let eval = pushlab(&[
+        "eval",
+        "--model",
+        model.to_str().unwrap(),
+        "--online",
+        set.to_str().unwrap(),
+        "--per-frame",
+        "--json",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(eval.code, 0, "{}\n{}", eval.stdout, eval.stderr);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let push = &report["trajectories"][0];
+    let frames = push["frames"].as_array().unwrap();
+    assert!(frontier <= frames.len(), "{frontier} of {}", frames.len());
+    // θ where the session stopped learning: a frame of the report, or the push's end.
+    let (theta_com, theta_h) = match frames.get(frontier) {
+        Some(f) => (f["theta"]["com_offset"].clone(), f["theta"]["h"].clone()),
+        None => (
+            push["com_offset_learned"].clone(),
+            push["h_learned"].clone(),
+        ),
+    };
+    assert_eq!(learning["theta"]["com_offset"], theta_com, "{learning}");
+    assert_eq!(learning["theta"]["h"], theta_h);
+    let online_pos: f64 = frames[..frontier]
+        .iter()
+        .map(|f| f["online"]["pos"].as_f64().unwrap())
+        .sum::<f64>()
+        / frontier as f64;
+    assert_eq!(
+        learning["mean_losses"]["online_pos"]
+            .as_f64()
+            .unwrap()
+            .to_bits(),
+        online_pos.to_bits()
+    );
+    assert_ne!(
+        theta_com, report["config"]["theta0"]["com_offset"],
+        "θ was learned"
+    );
 }

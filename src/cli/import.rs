@@ -84,7 +84,7 @@ pub struct ImportArgs {
     pub object_feature: Option<ObjectSource>,
 }
 
-fn rate(text: &str) -> Result<f64, String> {
+pub(super) fn rate(text: &str) -> Result<f64, String> {
     let hz = positive_real(text)?;
     if hz > bag::MAX_RATE_HZ {
         return Err(format!(

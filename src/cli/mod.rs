@@ -38,8 +38,8 @@ enum Command {
         #[arg(required = true)]
         paths: Vec<PathBuf>,
     },
-    /// Connect to a robot's Foxglove WebSocket server, record every message it sends and show the
-    /// pusher's and the object's poses as they arrive.
+    /// Connect to a robot's Foxglove WebSocket server, record every message it sends, show the
+    /// pusher's and the object's poses as they arrive and, with --setting, learn θ online from them.
     Live(live::LiveArgs),
     /// Set splits, inspect and export a recording set's labels (`pushlab-labels.json`).
     Labels {

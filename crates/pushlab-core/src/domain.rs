@@ -71,6 +71,14 @@ fn range(values: impl Iterator<Item = f64>) -> Option<[f64; 2]> {
 }
 
 impl Domain {
+    /// The one frame rate the model was trained at, Hz, rounded to a thousandth (each recording's
+    /// mean rate is measured from its frames' times), when every recording had it: the grid a live
+    /// session is put on. `None` when the rates differ by more than that.
+    pub fn single_rate_hz(&self) -> Option<f64> {
+        let [lo, hi] = self.sample_rate_hz.map(|r| (r * 1e3).round() / 1e3);
+        (lo == hi && lo > 0.0).then_some(lo)
+    }
+
     /// The domain of the recordings a model is trained on, or `None` when none has a usable outline,
     /// motion and frame rate.
     pub fn of<'a>(

@@ -107,21 +107,50 @@ pub fn wrap_angle(angle: f64) -> f64 {
 ///
 /// Returns how many wraps were removed, so that importers can report them.
 pub fn unwrap_angles(angles: &mut [f64]) -> usize {
+    let mut unwrapper = AngleUnwrapper::default();
     let mut wraps = 0;
-    let mut offset = 0.0;
-    for i in 1..angles.len() {
-        let raw_prev = angles[i - 1] - offset;
-        let step = angles[i] - raw_prev;
-        if step > PI {
-            offset -= 2.0 * PI * ((step + PI) / (2.0 * PI)).floor();
-            wraps += 1;
-        } else if step < -PI {
-            offset += 2.0 * PI * ((-step + PI) / (2.0 * PI)).floor();
-            wraps += 1;
-        }
-        angles[i] += offset;
+    for angle in angles.iter_mut() {
+        let (unwrapped, wrapped) = unwrapper.next(*angle);
+        *angle = unwrapped;
+        wraps += usize::from(wrapped);
     }
     wraps
+}
+
+/// [`unwrap_angles`] one angle at a time, for angles that arrive one by one (a live stream): the
+/// same operations in the same order, so a stream unwrapped as it arrives and the file it was
+/// recorded to, unwrapped whole, hold the same bits.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AngleUnwrapper {
+    /// What is added to each raw angle.
+    offset: f64,
+    /// The previous angle, unwrapped.
+    previous: Option<f64>,
+}
+
+impl AngleUnwrapper {
+    /// The next angle unwrapped, and whether it wrapped.
+    pub fn next(&mut self, angle: f64) -> (f64, bool) {
+        let mut wrapped = false;
+        if let Some(previous) = self.previous {
+            let raw_previous = previous - self.offset;
+            let step = angle - raw_previous;
+            if step > PI {
+                self.offset -= 2.0 * PI * ((step + PI) / (2.0 * PI)).floor();
+                wrapped = true;
+            } else if step < -PI {
+                self.offset += 2.0 * PI * ((-step + PI) / (2.0 * PI)).floor();
+                wrapped = true;
+            }
+        }
+        let unwrapped = if self.previous.is_some() {
+            angle + self.offset
+        } else {
+            angle
+        };
+        self.previous = Some(unwrapped);
+        (unwrapped, wrapped)
+    }
 }
 
 #[cfg(test)]

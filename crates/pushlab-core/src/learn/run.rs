@@ -29,7 +29,7 @@ use crate::model::{
     sample_is_skipped,
 };
 use crate::parallel;
-use crate::trajectory::Trajectory;
+use crate::trajectory::{Frame, Trajectory};
 
 /// Frames between kept posteriors: the most a rewind replays.
 pub const KEYFRAME: usize = 64;
@@ -153,6 +153,22 @@ impl OnlineRun {
             learned: Vec::new(),
             totals: MeanLosses::default(),
             cut: None,
+        }
+    }
+
+    /// Frames that arrived after the run started (a live session): appended to the trajectory, the
+    /// fixed run scored on the samples they complete. Learning goes on from the frontier as before
+    /// ([`OnlineRun::learn_through`]); nothing learned is touched, so a run grown frame by frame and
+    /// one made on the whole trajectory at once hold the same bits. The trajectory is copied only if
+    /// someone else holds it.
+    pub fn extend(&mut self, frames: impl IntoIterator<Item = Frame>) {
+        Arc::make_mut(&mut self.trajectory).frames.extend(frames);
+        let theta0 = self.model.theta0();
+        for k in self.fixed.len()..sample_count(&self.trajectory, self.horizon) {
+            if let Some(sample) = sample_at(&self.trajectory, k, self.horizon) {
+                self.fixed
+                    .push(FrameLoss::of(&self.model.loss_at(&sample, &theta0)));
+            }
         }
     }
 

@@ -7,7 +7,10 @@
 //! one problem of their span, so that each importer's own problems wrap them rather than restate
 //! them.
 
-use crate::geometry::unwrap_angles;
+use nalgebra::Point2;
+
+use crate::geometry::{Pose2, unwrap_angles};
+use crate::trajectory::Frame;
 
 /// A gap between consecutive samples longer than this is reported, seconds.
 pub const GAP_WARN_S: f64 = 0.050;
@@ -142,21 +145,43 @@ impl<'a> Interpolator<'a> {
         while self.cursor + 2 < rows.len() && rows[self.cursor + 1][0] <= t {
             self.cursor += 1;
         }
-        let (a, b) = (
+        between(
             rows[self.cursor],
             rows[(self.cursor + 1).min(rows.len() - 1)],
-        );
-        let span = b[0] - a[0];
-        let w = if span > 0.0 {
-            ((t - a[0]) / span).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        [
             t,
-            a[1] + w * (b[1] - a[1]),
-            a[2] + w * (b[2] - a[2]),
-            a[3] + w * (b[3] - a[3]),
-        ]
+        )
+    }
+}
+
+/// The row at time `t` on the segment from row `a` to row `b` (clamped to it): the one
+/// interpolation of a resampled frame, for a file read whole ([`Interpolator`]) and for a live stream
+/// ([`crate::live`]) alike.
+pub(crate) fn between(a: [f64; 4], b: [f64; 4], t: f64) -> [f64; 4] {
+    let span = b[0] - a[0];
+    let w = if span > 0.0 {
+        ((t - a[0]) / span).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    [
+        t,
+        a[1] + w * (b[1] - a[1]),
+        a[2] + w * (b[2] - a[2]),
+        a[3] + w * (b[3] - a[3]),
+    ]
+}
+
+/// The time of grid point `k` on the streams' clock, for a grid from `start` at `rate_hz`.
+pub(crate) fn grid_time(start: f64, k: usize, rate_hz: f64) -> f64 {
+    start + k as f64 / rate_hz
+}
+
+/// Frame `k` of a grid at `rate_hz` (its time from the grid's start) from the pusher's and the
+/// object's rows at its time.
+pub(crate) fn grid_frame(k: usize, rate_hz: f64, tip: [f64; 4], obj: [f64; 4]) -> Frame {
+    Frame {
+        time: k as f64 / rate_hz,
+        robot: Point2::new(tip[1], tip[2]),
+        object: Pose2::new(obj[1], obj[2], obj[3]),
     }
 }

@@ -52,5 +52,6 @@ pub use self::split::{
     import_bytes_with_cameras, import_with_cameras, resample_streams,
 };
 pub use self::streams::{BagStreams, FileCut, read_streams, read_streams_bytes};
+pub(crate) use self::streams::{check_pose, seconds_since};
 pub use self::topic_info::{BagListing, CameraInfo, MAX_LISTED_FRAMES, TF_STATIC, TopicInfo};
 pub use self::topics::{topics, topics_bytes};

@@ -4,18 +4,17 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use nalgebra::Point2;
-
 use super::problem::BagProblem;
 use super::spec::TopicSpec;
 use super::streams::{BagStreams, read_streams, read_streams_bytes};
 use super::topic_info::TopicInfo;
-use crate::geometry::Pose2;
 use crate::recording::camera::CameraStream;
 use crate::recording::error::LoadError;
 use crate::recording::progress::{NoProgress, Progress};
-use crate::recording::resample::{Interpolator, MIN_ROWS, SpanProblem, clean, grid, unwrap_yaw};
-use crate::trajectory::{Frame, Trajectory};
+use crate::recording::resample::{
+    Interpolator, MIN_ROWS, SpanProblem, clean, grid, grid_frame, grid_time, unwrap_yaw,
+};
+use crate::trajectory::Trajectory;
 
 /// Highest grid rate, Hz: far above what a pose tracker publishes, and it bounds the frames a push
 /// can have (with [`crate::recording::resample::MAX_DURATION_S`]) whatever the stamps say.
@@ -259,14 +258,8 @@ fn resample(
     let mut obj_at = Interpolator::new(obj);
     let frames = (0..count)
         .map(|k| {
-            let time = start + k as f64 / rate_hz;
-            let r = tip_at.at(time);
-            let q = obj_at.at(time);
-            Frame {
-                time: k as f64 / rate_hz,
-                robot: Point2::new(r[1], r[2]),
-                object: Pose2::new(q[1], q[2], q[3]),
-            }
+            let time = grid_time(start, k, rate_hz);
+            grid_frame(k, rate_hz, tip_at.at(time), obj_at.at(time))
         })
         .collect();
     Trajectory::new(frames)

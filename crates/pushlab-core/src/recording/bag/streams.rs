@@ -340,14 +340,20 @@ fn read_chain(
 }
 
 /// `ns` in seconds after `base`.
-fn seconds_since(base: u64, ns: u64) -> f64 {
+pub(crate) fn seconds_since(base: u64, ns: u64) -> f64 {
     (i128::from(ns) - i128::from(base)) as f64 * 1e-9
 }
 
 /// Refuses a pose that is not finite or far from the origin (a unit error, a broken tracker).
 /// Inlined with the words kept out of line: it runs for every pose of a bag.
 #[inline]
-fn check_pose(topic: &str, index: u64, x: f64, y: f64, yaw: f64) -> Result<(), BagProblem> {
+pub(crate) fn check_pose(
+    topic: &str,
+    index: u64,
+    x: f64,
+    y: f64,
+    yaw: f64,
+) -> Result<(), BagProblem> {
     if x.is_finite() && y.is_finite() && yaw.is_finite() && x.abs().max(y.abs()) <= MAX_POSITION_M {
         return Ok(());
     }

@@ -6,18 +6,23 @@
 //! `--duration` or the server closing ends it; the recording is then closed cleanly and opens with
 //! `pushlab validate` and `pushlab import` like any bag.
 //!
-//! Learning θ online as the frames arrive is not here yet: the recording is learned on after the
-//! fact (`pushlab import`, then the app or `eval`).
+//! With `--setting`, θ is learned online as the frames arrive ([`learning`]): the line of each
+//! second adds θ, its σ and the losses, and the recording imported at the same rate (`pushlab import
+//! --rate`) gives `pushlab eval` the same θ to the bit.
+
+mod learning;
+mod watched;
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use anyhow::anyhow;
 use clap::Args;
-use pushlab_core::live::{Channel, LiveClient, LiveError, LiveEvent, PoseReading, Recorder};
-use pushlab_core::recording::bag::PlanarPose;
+use pushlab_core::live::{LiveClient, LiveError, LiveEvent, Recorder, Stream};
 use serde_json::json;
 
+use self::learning::{Learning, LearningArgs};
+use self::watched::Watched;
 use super::exit::Failure;
 use super::experiment::args::positive_real;
 use super::interrupt;
@@ -47,88 +52,8 @@ pub struct LiveArgs {
     /// Stop after this many seconds (else at Ctrl-C or when the server closes).
     #[arg(long, value_name = "SECONDS", value_parser = positive_real)]
     pub duration: Option<f64>,
-}
-
-/// One of the two streams shown: its topic, how it is read, its latest pose.
-struct Watched {
-    role: &'static str,
-    topic: String,
-    child: Option<String>,
-    channel: Option<u64>,
-    reading: Option<PoseReading>,
-    latest: Option<PlanarPose>,
-    /// Receive time − header stamp of the latest, seconds.
-    lag_s: Option<f64>,
-    unreadable: usize,
-}
-
-impl Watched {
-    fn new(role: &'static str, spec: &str) -> Self {
-        let (topic, child) = match spec.split_once(':') {
-            Some((topic, child)) => (topic.to_owned(), Some(child.to_owned())),
-            None => (spec.to_owned(), None),
-        };
-        Self {
-            role,
-            topic,
-            child,
-            channel: None,
-            reading: None,
-            latest: None,
-            lag_s: None,
-            unreadable: 0,
-        }
-    }
-
-    /// Binds to the advertised channel of its topic; why it cannot be read, in words.
-    fn bind(&mut self, channel: &Channel) -> Result<(), String> {
-        let reading = PoseReading::for_channel(channel, self.child.as_deref())?;
-        self.channel = Some(channel.id);
-        self.reading = Some(reading);
-        Ok(())
-    }
-
-    fn take(&mut self, payload: &[u8], now_ns: u64) {
-        let Some(reading) = &self.reading else { return };
-        match reading.read(payload) {
-            Ok(Some(pose)) => {
-                self.lag_s =
-                    (pose.stamp_ns > 0).then_some((now_ns as f64 - pose.stamp_ns as f64) * 1e-9);
-                self.latest = Some(pose);
-            }
-            Ok(None) => {}
-            Err(why) => {
-                if self.unreadable == 0 {
-                    eprintln!("warning: {} {}: {why}", self.role, self.topic);
-                }
-                self.unreadable += 1;
-            }
-        }
-    }
-
-    fn text(&self) -> String {
-        match self.latest {
-            Some(p) => format!(
-                "{} ({:.3}, {:.3}) m {:.1}°{}",
-                self.role,
-                p.x,
-                p.y,
-                p.yaw.to_degrees(),
-                self.lag_s
-                    .map(|l| format!(" {:.0} ms late", l * 1e3))
-                    .unwrap_or_default()
-            ),
-            None => format!("{} -", self.role),
-        }
-    }
-
-    fn json(&self) -> serde_json::Value {
-        match self.latest {
-            Some(p) => json!({"stamp_ns": p.stamp_ns, "x": p.x, "y": p.y, "yaw": p.yaw,
-                              "lag_s": self.lag_s, "unreadable": self.unreadable}),
-            None => serde_json::Value::Null,
-        }
-    }
+    #[command(flatten)]
+    pub learning: LearningArgs,
 }
 
 fn now_ns() -> u64 {
@@ -146,9 +71,10 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
     };
     let mut client =
         LiveClient::connect(&args.url, READ_TIMEOUT).map_err(|e| Failure::Failed(e.into()))?;
+    let mut learning = Learning::new(&args.learning)?;
     let mut watched = [
-        Watched::new("pusher", &args.pusher),
-        Watched::new("object", &args.object),
+        Watched::new(Stream::Pusher, &args.pusher),
+        Watched::new(Stream::Object, &args.object),
     ];
     // The topics asked for, advertised within a few seconds.
     let asked = Instant::now();
@@ -230,7 +156,12 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
                 }
                 let now = now_ns();
                 for w in watched.iter_mut().filter(|w| w.channel == Some(channel)) {
-                    w.take(&payload, now);
+                    if let (Some(pose), Some(learning)) = (w.take(&payload, now), &mut learning) {
+                        learning.take(w.stream, &pose, log_time_ns);
+                    }
+                }
+                if let Some(learning) = &mut learning {
+                    learning.learn();
                 }
             }
             Ok(Some(LiveEvent::Advertised(channels))) => {
@@ -269,11 +200,25 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
             if let Some(recorder) = recorder.as_mut() {
                 recorder.flush().map_err(|e| Failure::Failed(e.into()))?;
             }
-            print_line(args.json, elapsed, messages, since_line, &watched);
+            print_line(
+                args.json,
+                elapsed,
+                messages,
+                since_line,
+                &watched,
+                learning.as_mut(),
+            );
             since_line = 0;
         }
     }
-    print_line(args.json, started.elapsed(), messages, 0, &watched);
+    print_line(
+        args.json,
+        started.elapsed(),
+        messages,
+        0,
+        &watched,
+        learning.as_mut(),
+    );
     if let Some(recorder) = recorder {
         let recorded = recorder.finish().map_err(|e| Failure::Failed(e.into()))?;
         println!(
@@ -291,23 +236,36 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
     }
 }
 
-/// The line of one second: time, messages, rate, the two latest poses.
-fn print_line(json: bool, elapsed: Duration, messages: u64, in_second: u64, watched: &[Watched]) {
+/// The line of one second: time, messages, rate, the two latest poses, and what learning holds.
+fn print_line(
+    json: bool,
+    elapsed: Duration,
+    messages: u64,
+    in_second: u64,
+    watched: &[Watched],
+    learning: Option<&mut Learning>,
+) {
     if json {
-        let line = json!({
+        let mut line = json!({
             "t": elapsed.as_secs_f64(),
             "messages": messages,
             "rate_hz": in_second,
             "pusher": watched[0].json(),
             "object": watched[1].json(),
         });
+        if let Some(learning) = learning {
+            line["learning"] = learning.json();
+        }
         println!("{line}");
     } else {
         println!(
-            "{:>7.1} s  {messages} messages ({in_second}/s)  {}  {}",
+            "{:>7.1} s  {messages} messages ({in_second}/s)  {}  {}{}",
             elapsed.as_secs_f64(),
             watched[0].text(),
-            watched[1].text()
+            watched[1].text(),
+            learning
+                .map(|l| format!("\n          {}", l.text()))
+                .unwrap_or_default()
         );
     }
 }
