@@ -11,7 +11,7 @@ mod cli_common;
 use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use cli_common::{pushlab, temp_dir};
 use foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, Schema, WebSocketServer};
@@ -374,4 +374,138 @@ fn live_learns_theta_as_the_push_arrives_and_eval_of_its_recording_agrees_to_the
         theta_com, report["config"]["theta0"]["com_offset"],
         "θ was learned"
     );
+}
+
+/// A robot whose server goes away after a second and comes back on the same port 0.7 s later,
+/// advertising its channels in the other order (so their ids change), logging the still poses.
+fn restarting_robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
+    let start = |port: u16, object_first: bool| {
+        let context = Context::new();
+        let server = WebSocketServer::new()
+            .name("test robot")
+            .bind("127.0.0.1", port)
+            .context(&context)
+            .start_blocking()
+            .expect("the SDK's server starts");
+        let pusher = || {
+            ChannelBuilder::new("/pusher")
+                .context(&context)
+                .message_encoding("json")
+                .schema(Schema::new("pushlab.Pose", "jsonschema", b"{}".to_vec()))
+                .build_raw()
+                .unwrap()
+        };
+        let object = || {
+            ChannelBuilder::new("/object")
+                .context(&context)
+                .message_encoding("cdr")
+                .schema(Schema::new(
+                    "geometry_msgs/msg/PoseStamped",
+                    "ros2msg",
+                    b"".to_vec(),
+                ))
+                .build_raw()
+                .unwrap()
+        };
+        let (pusher, object) = if object_first {
+            let o = object();
+            (pusher(), o)
+        } else {
+            (pusher(), object())
+        };
+        (context, server, pusher, object)
+    };
+    let first = start(0, false);
+    let port = first.1.port();
+    let url = format!("ws://127.0.0.1:{port}");
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    let logging = std::thread::spawn(move || {
+        let mut k = 0u64;
+        let mut log = |pusher: &RawChannel, object: &RawChannel, until: Option<Instant>| {
+            while !flag.load(Ordering::Relaxed) && until.is_none_or(|u| Instant::now() < u) {
+                let stamp = 1_700_000_000_000_000_000 + k * 10_000_000;
+                let at = PartialMetadata::with_log_time(stamp);
+                pusher.log_with_meta(json_pose(stamp, 0.25, -0.5).as_bytes(), at);
+                object.log_with_meta(&encode_pose_stamped(stamp, "table", 0.125, 0.5, 0.0), at);
+                k += 1;
+                std::thread::sleep(Duration::from_millis(10));
+            }
+        };
+        let (context, server, pusher, object) = first;
+        log(
+            &pusher,
+            &object,
+            Some(Instant::now() + Duration::from_secs(1)),
+        );
+        let _ = server.stop();
+        drop((pusher, object, context));
+        std::thread::sleep(Duration::from_millis(700));
+        let (_context, server, pusher, object) = start(port, true);
+        log(&pusher, &object, None);
+        let _ = server.stop();
+    });
+    (url, stop, logging)
+}
+
+#[test]
+fn live_connects_again_when_the_server_comes_back_and_follows_the_topics_by_name() {
+    let (url, stop, logging) = restarting_robot();
+    let dir = temp_dir("pushlab-live", "restart");
+    let out = dir.join("session.mcap");
+    let out_s = out.display().to_string();
+    let run = pushlab(&[
+        "live",
+        &url,
+        "--pusher",
+        "/pusher",
+        "--object",
+        "/object",
+        "--record",
+        &out_s,
+        "--duration",
+        "4",
+        "--json",
+    ]);
+    stop.store(true, Ordering::Relaxed);
+    logging.join().unwrap();
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr.contains("the connection ended")
+            && run
+                .stderr
+                .contains("connecting again (Ctrl-C ends the session)"),
+        "{}",
+        run.stderr
+    );
+    let reconnected = (run.stdout.lines())
+        .position(|l| l.starts_with(&format!("reconnected to {url} after ")))
+        .unwrap_or_else(|| panic!("{}", run.stdout));
+    assert!(reconnected > 0, "{}", run.stdout);
+    let after = (run.stdout.lines())
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter_map(|v| v["messages"].as_u64())
+        .max()
+        .unwrap_or(0);
+    // The first server logs for 1 s at 2 × 100 messages/s: more came from the second.
+    assert!(after > 300, "{after} messages\n{}", run.stdout);
+
+    // One channel per topic in the file, though the server numbered them anew.
+    let validate = pushlab(&["validate", &out_s]);
+    assert_eq!(validate.code, 0, "{}\n{}", validate.stdout, validate.stderr);
+    let topics: Vec<&str> = (validate.stdout.lines())
+        .filter(|l| l.contains(" messages"))
+        .collect();
+    assert_eq!(topics.len(), 2, "{}", validate.stdout);
+    let recorded: u64 = topics
+        .iter()
+        .filter_map(|l| {
+            l.split(", ")
+                .nth(1)?
+                .strip_suffix(" messages")?
+                .parse::<u64>()
+                .ok()
+        })
+        .sum();
+    assert_eq!(recorded, after, "{}", validate.stdout);
 }

@@ -2,35 +2,32 @@
 //! running robot's Foxglove WebSocket server (the Foxglove SDK's, foxglove_bridge), subscribes to
 //! every channel it advertises (now and later), writes every message received to `--record` as it
 //! arrives, and prints once a second what came: messages and their rate, and the pusher's and the
-//! object's latest poses with how late they arrived (`--json`: one JSON object a line). Ctrl-C,
-//! `--duration` or the server closing ends it; the recording is then closed cleanly and opens with
-//! `pushlab validate` and `pushlab import` like any bag.
+//! object's latest poses with how late they arrived (`--json`: one JSON object a line). Ctrl-C or
+//! `--duration` ends it; the recording is then closed cleanly and opens with `pushlab validate` and
+//! `pushlab import` like any bag. A server that goes away is connected to again ([`connection`]),
+//! the topics followed by name.
 //!
 //! With `--setting`, θ is learned online as the frames arrive ([`learning`]): the line of each
 //! second adds θ, its σ and the losses, and the recording imported at the same rate (`pushlab import
 //! --rate`) gives `pushlab eval` the same θ to the bit.
 
+mod connection;
 mod learning;
 mod watched;
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use anyhow::anyhow;
 use clap::Args;
-use pushlab_core::live::{LiveClient, LiveError, LiveEvent, Recorder, Stream};
+use pushlab_core::live::{LiveEvent, Recorder, Stream};
 use serde_json::json;
 
+use self::connection::Connected;
 use self::learning::{Learning, LearningArgs};
 use self::watched::Watched;
 use super::exit::Failure;
 use super::experiment::args::positive_real;
 use super::interrupt;
-
-/// How long to wait for the server, and at most between two looks at Ctrl-C.
-const READ_TIMEOUT: Duration = Duration::from_millis(100);
-/// How long the topics asked for may take to be advertised.
-const ADVERTISE_WAIT: Duration = Duration::from_secs(5);
 
 /// Arguments of `pushlab live`.
 #[derive(Debug, Args)]
@@ -69,54 +66,13 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
         Some(path) => Some(Recorder::create(path).map_err(|e| Failure::Failed(e.into()))?),
         None => None,
     };
-    let mut client =
-        LiveClient::connect(&args.url, READ_TIMEOUT).map_err(|e| Failure::Failed(e.into()))?;
     let mut learning = Learning::new(&args.learning)?;
     let mut watched = [
         Watched::new(Stream::Pusher, &args.pusher),
         Watched::new(Stream::Object, &args.object),
     ];
-    // The topics asked for, advertised within a few seconds.
-    let asked = Instant::now();
-    let mut server = None;
-    while watched
-        .iter()
-        .any(|w| client.channel_of(&w.topic).is_none())
-        && asked.elapsed() < ADVERTISE_WAIT
-        && !interrupt::cancelled()
-    {
-        if let Some(LiveEvent::ServerInfo { name }) =
-            client.next_event().map_err(|e| Failure::Failed(e.into()))?
-        {
-            server = Some(name);
-        }
-    }
-    for w in &mut watched {
-        let channel = client.channel_of(&w.topic).cloned().ok_or_else(|| {
-            let topics: Vec<String> = (client.channels())
-                .map(|c| format!("{} ({})", c.topic, c.schema_name))
-                .collect();
-            Failure::Failed(anyhow!(
-                "{}: no topic {} advertised within {} s; the server's topics: {}",
-                args.url,
-                w.topic,
-                ADVERTISE_WAIT.as_secs(),
-                if topics.is_empty() {
-                    "none".to_owned()
-                } else {
-                    topics.join(", ")
-                }
-            ))
-        })?;
-        w.bind(&channel)
-            .map_err(|why| Failure::Usage(anyhow!("--{} {}: {why}", w.role, w.topic)))?;
-    }
-    let ids: Vec<u64> = client.channels().map(|c| c.id).collect();
-    for id in ids {
-        client
-            .subscribe(id)
-            .map_err(|e| Failure::Failed(e.into()))?;
-    }
+    let Connected { mut client, server } =
+        Connected::open(&args.url, &mut watched, &interrupt::cancelled)?;
     println!(
         "connected to {} ({}, {}): {} channel(s){}",
         args.url,
@@ -130,15 +86,16 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
     );
 
     let started = Instant::now();
-    let mut next_line = Duration::from_secs(1);
-    let (mut messages, mut since_line) = (0u64, 0u64);
-    let mut ended: Option<LiveError> = None;
-    loop {
-        if interrupt::cancelled()
+    let stop = || {
+        interrupt::cancelled()
             || args
                 .duration
                 .is_some_and(|d| started.elapsed().as_secs_f64() >= d)
-        {
+    };
+    let mut next_line = Duration::from_secs(1);
+    let (mut messages, mut since_line) = (0u64, 0u64);
+    loop {
+        if stop() {
             break;
         }
         match client.next_event() {
@@ -169,6 +126,18 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
                     client
                         .subscribe(c.id)
                         .map_err(|e| Failure::Failed(e.into()))?;
+                    // A topic advertised again (its node restarted) is followed on its new channel.
+                    for w in watched.iter_mut().filter(|w| w.topic == c.topic) {
+                        if w.channel != Some(c.id) {
+                            match w.bind(&c) {
+                                Ok(()) => eprintln!(
+                                    "the server advertised the {} topic {} again: following it",
+                                    w.role, w.topic
+                                ),
+                                Err(why) => eprintln!("warning: {} {}: {why}", w.role, w.topic),
+                            }
+                        }
+                    }
                 }
             }
             Ok(Some(LiveEvent::Unadvertised(ids))) => {
@@ -190,8 +159,26 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
             }
             Ok(Some(LiveEvent::ServerInfo { .. }) | None) => {}
             Err(e) => {
-                ended = Some(e);
-                break;
+                if stop() {
+                    break;
+                }
+                let lost = Instant::now();
+                eprintln!("warning: {e}; connecting again (Ctrl-C ends the session)");
+                if let Some(recorder) = recorder.as_mut() {
+                    recorder.flush().map_err(|e| Failure::Failed(e.into()))?;
+                }
+                let Some((connected, attempts)) =
+                    Connected::reopen(&args.url, &mut watched, &stop)?
+                else {
+                    break;
+                };
+                client = connected.client;
+                println!(
+                    "reconnected to {} after {:.1} s ({attempts} attempt(s)): {} channel(s); a gap in the recording and in learning there (an import interpolates across it and says so; pushlab import --split-gap cuts the push there)",
+                    args.url,
+                    lost.elapsed().as_secs_f64(),
+                    client.channels().count(),
+                );
             }
         }
         let elapsed = started.elapsed();
@@ -230,10 +217,7 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
         );
     }
     client.close();
-    match ended {
-        Some(e) => Err(Failure::Failed(e.into())),
-        None => Ok(()),
-    }
+    Ok(())
 }
 
 /// The line of one second: time, messages, rate, the two latest poses, and what learning holds.

@@ -34,8 +34,12 @@ pub struct Recorded {
 pub struct Recorder {
     path: PathBuf,
     writer: mcap::Writer<BufWriter<File>>,
-    /// The server's channel id → the file's.
-    channels: BTreeMap<u64, u16>,
+    /// The server's channel id → the file's, with the topic it had: a server that restarts may give
+    /// an id to another topic.
+    by_id: BTreeMap<u64, (u16, String)>,
+    /// (topic, encoding, schema name) → the file's channel: a topic seen again under a new id (the
+    /// server restarted) goes on in the same channel of the file.
+    channels: BTreeMap<(String, String, String), u16>,
     messages: u64,
 }
 
@@ -61,6 +65,7 @@ impl Recorder {
         Ok(Self {
             path: path.to_path_buf(),
             writer,
+            by_id: BTreeMap::new(),
             channels: BTreeMap::new(),
             messages: 0,
         })
@@ -74,11 +79,23 @@ impl Recorder {
         log_time_ns: u64,
         payload: &[u8],
     ) -> Result<(), RecordError> {
-        let id = match self.channels.get(&channel.id) {
-            Some(&id) => id,
-            None => {
-                let id = self.add_channel(channel)?;
-                self.channels.insert(channel.id, id);
+        let id = match self.by_id.get(&channel.id) {
+            Some((id, topic)) if *topic == channel.topic => *id,
+            _ => {
+                let key = (
+                    channel.topic.clone(),
+                    channel.encoding.clone(),
+                    channel.schema_name.clone(),
+                );
+                let id = match self.channels.get(&key) {
+                    Some(&id) => id,
+                    None => {
+                        let id = self.add_channel(channel)?;
+                        self.channels.insert(key, id);
+                        id
+                    }
+                };
+                self.by_id.insert(channel.id, (id, channel.topic.clone()));
                 id
             }
         };
