@@ -1,7 +1,9 @@
 //! A planar pose from one message of a live channel, the way a bag's messages give one: the header
 //! stamp, x, y and the yaw of the quaternion. CDR messages (`geometry_msgs/msg/PoseStamped`,
 //! `nav_msgs/msg/Odometry`, `geometry_msgs/msg/Pose2D`, a child frame of `tf2_msgs/msg/TFMessage`)
-//! and JSON poses (two documented shapes, `recording::bag::json_pose`) go through the bag reader's
+//! JSON poses (two documented shapes, `recording::bag::json_pose`) and protobuf
+//! `foxglove.PoseInFrame` (`recording::bag::proto_pose`, what the SDKs' typed channel sends) go
+//! through the bag reader's
 //! decoders, so that a live session and the bag it is recorded to read the same numbers.
 //!
 //! A TF child frame is taken in its parent's frame as published (one link): a chain of frames is
@@ -13,7 +15,8 @@ use crate::recording::bag::{PlanarPose, PoseType, decode_pose, decode_tf, yaw_of
 /// How a channel's messages are read as a pose.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum PoseReading {
-    /// A message of a single-pose type: CDR, or a JSON pose (`PoseType::JsonPose`).
+    /// A message of a single-pose type: CDR, a JSON pose (`PoseType::JsonPose`) or a protobuf
+    /// `foxglove.PoseInFrame` (`PoseType::ProtoPoseInFrame`).
     Single(PoseType),
     /// A CDR `TFMessage`: the transform of this child frame.
     Tf { child: String },
@@ -38,8 +41,15 @@ impl PoseReading {
                     channel.topic, channel.schema_name
                 )),
             },
+            "protobuf" => match PoseType::for_channel("protobuf", &channel.schema_name) {
+                Some(kind) => Ok(Self::Single(kind)),
+                None => Err(format!(
+                    "{} is a protobuf {}, expected a foxglove.PoseInFrame",
+                    channel.topic, channel.schema_name
+                )),
+            },
             other => Err(format!(
-                "{} is encoded as {other}, expected cdr or json",
+                "{} is encoded as {other}, expected cdr, json or protobuf",
                 channel.topic
             )),
         }
@@ -138,8 +148,20 @@ mod tests {
         let error = PoseReading::for_channel(&channel("cdr", "tf2_msgs/msg/TFMessage"), None)
             .expect_err("no child");
         assert!(error.contains("name the child frame"), "{error}");
-        let error = PoseReading::for_channel(&channel("protobuf", "foxglove.PoseInFrame"), None)
-            .expect_err("protobuf");
-        assert!(error.contains("encoded as protobuf"), "{error}");
+        let error = PoseReading::for_channel(&channel("protobuf", "foxglove.SceneUpdate"), None)
+            .expect_err("a protobuf scene");
+        assert!(
+            error.contains(
+                "/object is a protobuf foxglove.SceneUpdate, expected a foxglove.PoseInFrame"
+            ),
+            "{error}"
+        );
+        let error = PoseReading::for_channel(&channel("flatbuffer", "foxglove.PoseInFrame"), None)
+            .expect_err("flatbuffer");
+        assert!(error.contains("encoded as flatbuffer"), "{error}");
+        assert_eq!(
+            PoseReading::for_channel(&channel("protobuf", "foxglove.PoseInFrame"), None),
+            Ok(PoseReading::Single(PoseType::ProtoPoseInFrame))
+        );
     }
 }

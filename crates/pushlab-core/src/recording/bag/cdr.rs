@@ -21,6 +21,9 @@ pub enum PoseType {
     /// A JSON-encoded pose, whatever its schema's name (see [`super::json_pose`]): what Foxglove
     /// servers and rosbridge send as JSON, and what `pushlab live` records of it.
     JsonPose,
+    /// A protobuf `foxglove.PoseInFrame` (see [`super::proto_pose`]): what the Foxglove SDKs' typed
+    /// pose channel sends.
+    ProtoPoseInFrame,
 }
 
 impl PoseType {
@@ -36,11 +39,14 @@ impl PoseType {
     }
 
     /// How a channel of this message encoding and schema is read, if it can be: CDR by the type's
-    /// name, JSON as a JSON pose.
+    /// name, JSON as a JSON pose, protobuf if it is a `foxglove.PoseInFrame`.
     pub fn for_channel(encoding: &str, type_name: &str) -> Option<Self> {
         match encoding {
             "cdr" => Self::from_schema(type_name),
             "json" => Some(Self::JsonPose),
+            "protobuf" if type_name == super::proto_pose::SCHEMA_NAME => {
+                Some(Self::ProtoPoseInFrame)
+            }
             _ => None,
         }
     }
@@ -53,6 +59,7 @@ impl PoseType {
             Self::Odometry => "nav_msgs/msg/Odometry",
             Self::Pose2D => "geometry_msgs/msg/Pose2D",
             Self::JsonPose => "JSON pose",
+            Self::ProtoPoseInFrame => "foxglove.PoseInFrame",
         }
     }
 }
@@ -206,7 +213,7 @@ pub fn yaw_of([x, y, z, w]: [f64; 4]) -> f64 {
 }
 
 /// Reads a pose from a CDR message of a header-carrying single-pose type (not
-/// [`PoseType::TfMessage`], nor [`PoseType::JsonPose`]: `super::message::decode` reads every type).
+/// [`PoseType::TfMessage`], nor a JSON or protobuf pose: `super::message::decode` reads every type).
 pub fn decode(kind: PoseType, bytes: &[u8]) -> Result<PlanarPose, DecodeError> {
     let mut cdr = Cdr::new(bytes)?;
     let (stamp_ns, (x, y, yaw)) = match kind {
@@ -220,8 +227,8 @@ pub fn decode(kind: PoseType, bytes: &[u8]) -> Result<PlanarPose, DecodeError> {
         PoseType::TfMessage => {
             return Err("a TFMessage needs a child frame".to_owned());
         }
-        PoseType::JsonPose => {
-            return Err("a JSON pose is not a CDR message".to_owned());
+        PoseType::JsonPose | PoseType::ProtoPoseInFrame => {
+            return Err(format!("a {} is not a CDR message", kind.name()));
         }
     };
     Ok(PlanarPose {

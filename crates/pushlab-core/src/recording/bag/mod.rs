@@ -29,6 +29,7 @@ pub mod json_pose;
 mod mcap;
 mod message;
 mod problem;
+mod proto_pose;
 mod spec;
 mod split;
 mod streams;
