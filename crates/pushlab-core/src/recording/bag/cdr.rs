@@ -44,9 +44,7 @@ impl PoseType {
         match encoding {
             "cdr" => Self::from_schema(type_name),
             "json" => Some(Self::JsonPose),
-            "protobuf" if type_name == super::proto_pose::SCHEMA_NAME => {
-                Some(Self::ProtoPoseInFrame)
-            }
+            "protobuf" if type_name == "foxglove.PoseInFrame" => Some(Self::ProtoPoseInFrame),
             _ => None,
         }
     }

@@ -17,9 +17,6 @@
 
 use super::cdr::{DecodeError, PlanarPose, yaw_of};
 
-/// The schema name a channel of this message carries.
-pub const SCHEMA_NAME: &str = "foxglove.PoseInFrame";
-
 /// One field's value, by protobuf wire type.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Value<'a> {
