@@ -76,8 +76,22 @@ fn a_suite_prints_one_table_and_gives_the_same_numbers_on_one_worker_and_on_two(
     let (one, two) = (dir.join("one.json"), dir.join("two.json"));
     let (one_s, two_s) = (one.display().to_string(), two.display().to_string());
 
-    let run = pushlab(&["suite", &spec_s, "--jobs", "2", "--json", &two_s]);
+    let (md, tex) = (dir.join("table.md"), dir.join("table.tex"));
+    let (md_s, tex_s) = (md.display().to_string(), tex.display().to_string());
+    let run = pushlab(&[
+        "suite",
+        &spec_s,
+        "--jobs",
+        "2",
+        "--json",
+        &two_s,
+        "--markdown",
+        &md_s,
+        "--latex",
+        &tex_s,
+    ]);
     assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    paper_tables_hold_the_reports_numbers(&two, &md, &tex);
     let lines: Vec<&str> = run.stdout.lines().collect();
     let header = lines
         .iter()
@@ -503,4 +517,80 @@ fn carry_theta_in_a_suite_goes_on_from_push_to_push_as_eval_does() {
     let eval: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(eval["trajectories"][1]["continued"], true);
     assert_eq!(eval["online"], online_nmse(&carried));
+}
+
+/// The Markdown and LaTeX tables: one row per experiment holding the report's NMSE to three
+/// decimals, in the terminal table's column order, the lowest online ones in bold, booktabs rules.
+fn paper_tables_hold_the_reports_numbers(report: &Path, md: &Path, tex: &Path) {
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap();
+    let (md, tex) = (
+        std::fs::read_to_string(md).unwrap(),
+        std::fs::read_to_string(tex).unwrap(),
+    );
+    let md_lines: Vec<&str> = md.lines().filter(|l| l.starts_with('|')).collect();
+    assert_eq!(
+        md_lines[0],
+        "| Experiment | contact offline | contact fixed | contact online | paper offline | paper fixed | paper online | physics only fixed | physics only online |"
+    );
+    assert_eq!(md_lines.len(), 4, "header, rule, two rows:\n{md}");
+    assert!(
+        tex.contains("\\begin{tabular}{lcccccccc}\n\\toprule"),
+        "{tex}"
+    );
+    assert!(tex.contains("\\multicolumn{3}{c}{contact} & \\multicolumn{3}{c}{paper} & \\multicolumn{2}{c}{physics only}"), "{tex}");
+    assert!(
+        tex.contains("\\cmidrule(lr){2-4} \\cmidrule(lr){5-7} \\cmidrule(lr){8-9}"),
+        "{tex}"
+    );
+    assert!(
+        tex.contains("\\midrule") && tex.trim_end().ends_with("\\bottomrule\n\\end{tabular}"),
+        "{tex}"
+    );
+    let plain = |s: &str| {
+        s.replace("**", "")
+            .replace("\\textbf{", "")
+            .replace('}', "")
+    };
+    for (i, experiment) in report["experiments"].as_array().unwrap().iter().enumerate() {
+        let name = experiment["name"].as_str().unwrap();
+        let pair = |n: &Value| {
+            format!(
+                "{:.3} / {:.3}",
+                n["pos"].as_f64().unwrap(),
+                n["rot"].as_f64().unwrap()
+            )
+        };
+        let mut cells = Vec::new();
+        for model in experiment["models"].as_array().unwrap() {
+            cells.extend(["offline", "fixed", "online"].map(|k| pair(&model[k])));
+        }
+        cells.extend(["fixed", "online"].map(|k| pair(&experiment["physics"][k])));
+        assert_eq!(
+            plain(md_lines[2 + i]),
+            format!("| {name} | {} |", cells.join(" | ")),
+            "{md}"
+        );
+        let tex_row = (tex.lines())
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no row {name}:\n{tex}"));
+        assert_eq!(
+            plain(tex_row),
+            format!("{name} & {} \\\\", cells.join(" & "))
+        );
+        // The lowest online position NMSE of the row is the bold one.
+        let online: Vec<f64> = (experiment["models"].as_array().unwrap().iter())
+            .map(|m| m["online"]["pos"].as_f64().unwrap())
+            .chain([experiment["physics"]["online"]["pos"].as_f64().unwrap()])
+            .collect();
+        let best = online.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(
+            md_lines[2 + i].contains(&format!("**{best:.3}** /")),
+            "{}",
+            md_lines[2 + i]
+        );
+        assert!(
+            tex_row.contains(&format!("\\textbf{{{best:.3}}} /")),
+            "{tex_row}"
+        );
+    }
 }

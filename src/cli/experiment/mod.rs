@@ -17,5 +17,6 @@ pub mod data;
 pub mod eval;
 pub mod plot;
 pub mod suite;
+pub mod suite_tables;
 pub mod train;
 pub mod train_progress;

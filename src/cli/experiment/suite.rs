@@ -1,5 +1,6 @@
 //! `pushlab suite SPEC.json`: many experiments, every model (kind or ablation) and the physics-only
-//! model, into one table (and with `--json`, one report). The spec's format is `pushlab_core::experiment::suite`'s.
+//! model, into one table (and with `--json`, one report; with `--markdown` and `--latex`, the table
+//! for a paper: [`super::suite_tables`]). The spec's format is `pushlab_core::experiment::suite`'s.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -13,6 +14,7 @@ use pushlab_core::experiment::variant::ModelVariant;
 use pushlab_core::learn::Nmse;
 use serde::Serialize;
 
+use super::suite_tables;
 use super::train_progress::{cancel_flag, cancelled};
 use crate::cli::exit::Failure;
 
@@ -26,6 +28,12 @@ pub struct SuiteArgs {
     /// Write every number as JSON.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
+    /// Write the table as Markdown (a pipe table, the best online numbers in bold).
+    #[arg(long, value_name = "OUT.md")]
+    pub markdown: Option<PathBuf>,
+    /// Write the table as a LaTeX booktabs tabular (for \input in a paper).
+    #[arg(long, value_name = "OUT.tex")]
+    pub latex: Option<PathBuf>,
     /// Experiments run at once [default: the number of cores].
     #[arg(long, value_name = "N", value_parser = super::args::positive)]
     pub jobs: Option<usize>,
@@ -107,6 +115,17 @@ pub fn run(args: &SuiteArgs) -> Result<(), Failure> {
         write_atomically(path, &json)
             .with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());
+    }
+    let tables: [(&Option<PathBuf>, suite_tables::Table); 2] = [
+        (&args.markdown, suite_tables::markdown),
+        (&args.latex, suite_tables::latex),
+    ];
+    for (path, table) in tables {
+        if let Some(path) = path {
+            write_atomically(path, table(&spec, &results).as_bytes())
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            println!("wrote {}", path.display());
+        }
     }
     if cancelled() {
         return Err(Failure::Failed(anyhow!(
