@@ -12,6 +12,7 @@ use serde_json::Value;
 
 #[path = "../cli_common/mod.rs"]
 mod cli_common;
+mod figure;
 mod inputs;
 mod report;
 mod round_trip;

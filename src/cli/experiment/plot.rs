@@ -5,7 +5,8 @@
 //! offline loss as a black line. Right: the mean positional (solid) and rotational (dashed) losses of
 //! both, with the offline means in black. Curves are smoothed with a trailing moving average of 10
 //! steps, as in the paper. Text uses the font shipped in `assets/fonts`, so rendering never depends
-//! on the fonts installed on the machine.
+//! on the fonts installed on the machine. The same drawing code writes a PNG or an SVG
+//! ([`write`], by the file's extension).
 
 use std::path::Path;
 use std::sync::OnceLock;
@@ -63,30 +64,126 @@ pub struct Figure<'a> {
     pub offline: Option<OfflineMeans>,
 }
 
-/// Renders the figure and writes it as a PNG, atomically.
-pub fn write_png(path: &Path, figure: &Figure) -> anyhow::Result<()> {
-    let pixels = render(figure)?;
-    let mut png = Vec::new();
-    PngEncoder::new(&mut png)
-        .write_image(&pixels, WIDTH, HEIGHT, ExtendedColorType::Rgb8)
-        .context("cannot encode the figure as PNG")?;
-    write_atomically(path, &png).with_context(|| format!("cannot write {}", path.display()))
+/// The figure's file formats, by the name's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Png,
+    /// Vector: lines as polylines, text as text in the bundled font, embedded.
+    Svg,
+}
+
+impl Format {
+    /// The format of a file name, or why not (for the argument's parser).
+    pub fn of(path: &Path) -> Result<Self, String> {
+        let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
+        match extension.as_deref() {
+            Some("png") => Ok(Self::Png),
+            Some("svg") => Ok(Self::Svg),
+            other => Err(format!(
+                "{}: expected a .png or .svg file name, got {}",
+                path.display(),
+                other.map_or_else(|| "no extension".to_owned(), |e| format!(".{e}"))
+            )),
+        }
+    }
+}
+
+/// Renders the figure and writes it as its name's extension says (PNG or SVG), atomically.
+pub fn write(path: &Path, figure: &Figure) -> anyhow::Result<()> {
+    let bytes = match Format::of(path).map_err(|e| anyhow!(e))? {
+        Format::Png => {
+            let pixels = render(figure)?;
+            let mut png = Vec::new();
+            PngEncoder::new(&mut png)
+                .write_image(&pixels, WIDTH, HEIGHT, ExtendedColorType::Rgb8)
+                .context("cannot encode the figure as PNG")?;
+            png
+        }
+        Format::Svg => render_svg(figure)?.into_bytes(),
+    };
+    write_atomically(path, &bytes).with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// The figure as RGB pixels, row by row.
 pub fn render(figure: &Figure) -> anyhow::Result<Vec<u8>> {
-    register()?;
     let mut pixels = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut pixels, (WIDTH, HEIGHT)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_error)?;
-        let body = root.titled(&figure.title, (FONT, 20)).map_err(plot_error)?;
-        let (left, right) = body.split_horizontally(WIDTH / 2);
-        draw_total(&left, figure)?;
-        draw_components(&right, figure)?;
-        root.present().map_err(plot_error)?;
-    }
+    draw(
+        &BitMapBackend::with_buffer(&mut pixels, (WIDTH, HEIGHT)).into_drawing_area(),
+        figure,
+    )?;
     Ok(pixels)
+}
+
+/// The same figure as SVG, drawn by the same code: lines and bands as polylines and polygons, text
+/// as `<text>` in the bundled font, which the file carries (an `@font-face` of the TTF, about
+/// 550 kB), so that it renders with the PNG's letters in a browser or a vector editor that has never
+/// seen the font; Arial and Helvetica, of the same widths, are named after it.
+pub fn render_svg(figure: &Figure) -> anyhow::Result<String> {
+    let mut svg = String::new();
+    draw(
+        &SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area(),
+        figure,
+    )?;
+    Ok(svg_with_font(&svg))
+}
+
+/// The figure on a drawing area of either backend.
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &Figure) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    register()?;
+    root.fill(&WHITE).map_err(plot_error)?;
+    let body = root.titled(&figure.title, (FONT, 20)).map_err(plot_error)?;
+    let (left, right) = body.split_horizontally(WIDTH / 2);
+    draw_total(&left, figure)?;
+    draw_components(&right, figure)?;
+    root.present().map_err(plot_error)
+}
+
+/// The family the SVG's text names: the embedded font first, then fonts of the same metrics.
+const SVG_FAMILY: &str = "pushlab-figure, 'Liberation Sans', Arial, Helvetica, sans-serif";
+
+/// `svg` with the bundled font embedded and its text set in it.
+fn svg_with_font(svg: &str) -> String {
+    let style = format!(
+        "<defs><style>@font-face{{font-family:pushlab-figure;src:url(data:font/ttf;base64,{})format('truetype');}}</style></defs>",
+        base64(FONT_BYTES)
+    );
+    let svg = svg.replace(
+        &format!("font-family=\"{FONT}\""),
+        &format!("font-family=\"{SVG_FAMILY}\""),
+    );
+    // After the opening <svg …> tag.
+    match svg
+        .find("<svg")
+        .and_then(|at| svg[at..].find('>').map(|end| at + end + 1))
+    {
+        Some(at) => format!("{}{style}{}", &svg[..at], &svg[at..]),
+        None => svg,
+    }
+}
+
+/// Standard base64 with padding (RFC 4648).
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(char::from(ALPHABET[((n >> (18 - 6 * i)) & 63) as usize]));
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
 }
 
 fn register() -> anyhow::Result<()> {
@@ -142,7 +239,13 @@ fn ranges<'a>(
     (0.0..(steps - 1) as f64, 0.0..top)
 }
 
-fn draw_total(area: &DrawingArea<BitMapBackend, Shift>, figure: &Figure) -> anyhow::Result<()> {
+fn draw_total<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    figure: &Figure,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
     let totals = |s: &[StepLosses]| s.iter().map(|l| l.total.clone()).collect::<Vec<_>>();
     let (fixed_mean, fixed_std) = band(&totals(figure.fixed));
     let (online_mean, online_std) = band(&totals(figure.online));
@@ -214,10 +317,13 @@ fn draw_total(area: &DrawingArea<BitMapBackend, Shift>, figure: &Figure) -> anyh
     legend(&mut chart)
 }
 
-fn draw_components(
-    area: &DrawingArea<BitMapBackend, Shift>,
+fn draw_components<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
     figure: &Figure,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
     let pick = |s: &[StepLosses], f: fn(&StepLosses) -> &Vec<f64>| {
         s.iter().map(|l| f(l).clone()).collect::<Vec<_>>()
     };
@@ -300,13 +406,19 @@ fn draw_components(
     legend(&mut chart)
 }
 
-type Chart<'a, 'b> = ChartContext<
+type Chart<'a, DB> = ChartContext<
     'a,
-    BitMapBackend<'b>,
+    DB,
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-fn configure(chart: &mut Chart, y_top: f64) -> anyhow::Result<()> {
+fn configure<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    y_top: f64,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
     // Enough decimals to tell the ticks apart, no more.
     let decimals = if y_top >= 10.0 {
         0
@@ -332,7 +444,10 @@ fn configure(chart: &mut Chart, y_top: f64) -> anyhow::Result<()> {
         .map_err(plot_error)
 }
 
-fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>) -> anyhow::Result<()> {
+fn legend<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
@@ -341,4 +456,26 @@ fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>) -> anyhow::Result<()> {
         .label_font((FONT, 16))
         .draw()
         .map_err(plot_error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_is_rfc_4648() {
+        assert_eq!(base64(b""), "");
+        assert_eq!(base64(b"f"), "Zg==");
+        assert_eq!(base64(b"fo"), "Zm8=");
+        assert_eq!(base64(b"foobar"), "Zm9vYmFy");
+    }
+
+    #[test]
+    fn a_figure_file_is_named_png_or_svg() {
+        assert_eq!(Format::of(Path::new("a/fig.SVG")), Ok(Format::Svg));
+        assert_eq!(
+            Format::of(Path::new("fig.pdf")).expect_err("a PDF"),
+            "fig.pdf: expected a .png or .svg file name, got .pdf"
+        );
+    }
 }

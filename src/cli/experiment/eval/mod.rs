@@ -79,8 +79,9 @@ pub struct EvalArgs {
     /// online trajectory (what the app shows for the same recording, model and settings).
     #[arg(long, requires = "json")]
     pub per_frame: bool,
-    /// Draw the paper-style figure of the online losses as a PNG.
-    #[arg(long, value_name = "OUT.png")]
+    /// Draw the paper-style figure of the online losses: a PNG, or an SVG (vector, text as text)
+    /// when the name ends in .svg.
+    #[arg(long, value_name = "OUT.png|OUT.svg", value_parser = figure_path)]
     pub plot: Option<PathBuf>,
     /// Also evaluate the physics-only model (object outline + Lynch, no network).
     #[arg(long)]
@@ -263,7 +264,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
                 rot: means.rot,
             }),
         };
-        plot::write_png(path, &figure)?;
+        plot::write(path, &figure)?;
         println!("wrote {}", path.display());
     }
     println!(
@@ -383,4 +384,11 @@ fn setting_names(used: &[UsedRecording]) -> String {
         }
     }
     names.join("+")
+}
+
+/// A figure's file name: its format checked before anything is trained.
+fn figure_path(text: &str) -> Result<PathBuf, String> {
+    let path = PathBuf::from(text);
+    plot::Format::of(&path)?;
+    Ok(path)
 }
