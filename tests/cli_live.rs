@@ -310,6 +310,19 @@ fn live_learns_theta_as_the_push_arrives_and_eval_of_its_recording_agrees_to_the
         learning["mean_losses"]["frames"].as_u64(),
         Some(frontier as u64)
     );
+    // The prediction a horizon ahead of the newest frame, scored as the frames came.
+    let ahead = &learning["ahead"];
+    assert_eq!(
+        ahead["frame"].as_u64(),
+        Some(learning["frames"].as_u64().unwrap() - 1 + 10),
+        "{learning}"
+    );
+    let off = ahead["mean_position_m"].as_f64().unwrap();
+    assert!(
+        ahead["scored"].as_u64().unwrap() > 70 && off > 0.0 && off < 0.03,
+        "{ahead}"
+    );
+    eprintln!("ahead 1 s: {ahead}");
     let sigma = learning["sigma"]["com_offset"][0].as_f64().unwrap();
     assert!(sigma > 0.0 && sigma < 0.05, "{learning}");
 

@@ -184,6 +184,20 @@ fn a_live_session_learns_what_the_replay_of_its_recording_learns_to_the_bit() {
                 > 1e-4,
             "{optimizer:?}: θ moved: {start:?} → {end:?}"
         );
+        // Predicted ahead from every frame, and scored once the frame came.
+        let frames_seen = live.trajectory().len();
+        let (ahead_frame, _) = learner.ahead().expect("a prediction ahead");
+        assert_eq!(ahead_frame, frames_seen - 1 + live.horizon());
+        let score = learner.ahead_score();
+        assert_eq!(score.predictions, frames_seen - 2 * live.horizon());
+        assert!(
+            score.mean_position_m > 0.0 && score.mean_position_m < 0.03,
+            "{optimizer:?}: {score:?}"
+        );
+        assert!(
+            score.baseline_position_m > 0.0 && score.baseline_yaw_rad > 0.0,
+            "{score:?}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

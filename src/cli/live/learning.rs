@@ -151,6 +151,25 @@ impl Learning {
                 m.online_pos, m.online_rot, m.fixed_pos, m.fixed_rot
             );
         }
+        if let Some((frame, pose)) = self.learner.ahead() {
+            let score = self.learner.ahead_score();
+            text += &format!(
+                "; ahead to frame {frame}: object at ({:.3}, {:.3}) m {:.1}°",
+                pose.position.x,
+                pose.position.y,
+                pose.yaw.to_degrees()
+            );
+            if score.predictions > 0 {
+                text += &format!(
+                    " (such predictions off by {:.1} mm, {:.1}° on average over {}; the object's last motion repeated: {:.1} mm, {:.1}°)",
+                    score.mean_position_m * mm,
+                    score.mean_yaw_rad.to_degrees(),
+                    score.predictions,
+                    score.baseline_position_m * mm,
+                    score.baseline_yaw_rad.to_degrees(),
+                );
+            }
+        }
         text + &format!(" ({:.1} ms learning)", busy.as_secs_f64() * 1e3)
     }
 
@@ -173,6 +192,14 @@ impl Learning {
                 "fixed_pos": m.fixed_pos, "fixed_rot": m.fixed_rot,
             })),
             "refused": {"out_of_order": refused.out_of_order, "bad_value": refused.bad_value},
+            "ahead": self.learner.ahead().map(|(frame, pose)| {
+                let score = self.learner.ahead_score();
+                json!({"frame": frame, "x": pose.position.x, "y": pose.position.y, "yaw": pose.yaw,
+                       "scored": score.predictions, "mean_position_m": score.mean_position_m,
+                       "mean_yaw_rad": score.mean_yaw_rad,
+                       "baseline_position_m": score.baseline_position_m,
+                       "baseline_yaw_rad": score.baseline_yaw_rad})
+            }),
             "learning_ms": busy.as_secs_f64() * 1e3,
         })
     }

@@ -12,4 +12,4 @@ pub use landscape::{
     ComGrid, Landscape, LandscapeFrames, MAX_LANDSCAPE_SAMPLES, com_landscape, h_slice,
     landscape_samples,
 };
-pub use rollout::{Rollout, rollout};
+pub use rollout::{Rollout, ahead, rollout};

@@ -4,11 +4,19 @@
 //! ([`crate::experiment::model_on`] through the setting's geometry) and the run starts at
 //! `θ_online(0)`, so a live session and the replay of its recording (imported at the same rate)
 //! give the same θ, spread and losses to the bit.
+//!
+//! From each new frame it also predicts where the object will be a horizon later
+//! ([`crate::inspect::ahead`]: the pusher assumed to keep its velocity, since its future is not known
+//! yet) and, when that frame arrives, scores the prediction: what is drawn in front of the object
+//! and how far ahead the model can be trusted right now.
 
+use std::collections::VecDeque;
 use std::sync::Arc;
 
 use super::grid::{LiveGrid, Refused, Stream};
 use crate::experiment::geometry_of;
+use crate::geometry::Pose2;
+use crate::inspect::ahead;
 use crate::learn::{OnlineConfig, OnlineRun};
 use crate::model::{CombinedModel, NoOutline};
 use crate::recording::Setting;
@@ -22,12 +30,34 @@ pub struct RefusedCounts {
     pub bad_value: [usize; 2],
 }
 
+/// Where the object is predicted to be a horizon ahead of the newest frame, and how such predictions
+/// did once their frame arrived.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AheadScore {
+    /// Predictions whose frame has arrived.
+    pub predictions: usize,
+    /// Mean distance of the predicted object centre from where it was, metres.
+    pub mean_position_m: f64,
+    /// Mean absolute yaw error, radians.
+    pub mean_yaw_rad: f64,
+    /// The same for the object's own motion over the last horizon repeated (no model): what the
+    /// model's prediction must beat to be worth drawing.
+    pub baseline_position_m: f64,
+    pub baseline_yaw_rad: f64,
+}
+
 /// A live session's online learning (see the module documentation).
 #[derive(Debug)]
 pub struct LiveLearner {
     grid: LiveGrid,
     run: OnlineRun,
     refused: RefusedCounts,
+    /// Predictions ahead whose frame has not arrived: `(frame, the model's pose, the baseline's)`,
+    /// oldest first (at most a horizon of them).
+    pending: VecDeque<(usize, Pose2, Pose2)>,
+    /// Sums over the predictions scored: count, then distance and |yaw error| of the model's and of
+    /// the baseline's.
+    scored: (usize, [f64; 4]),
 }
 
 impl LiveLearner {
@@ -52,6 +82,8 @@ impl LiveLearner {
             grid: LiveGrid::new(rate_hz),
             run,
             refused: RefusedCounts::default(),
+            pending: VecDeque::new(),
+            scored: (0, [0.0; 4]),
         })
     }
 
@@ -79,11 +111,68 @@ impl LiveLearner {
         let frames = self.grid.take_frames();
         let arrived = frames.len();
         if arrived > 0 {
+            let first = self.run.trajectory().len();
             self.run.extend(frames);
             let from = self.run.frontier();
             self.run.learn_through(from, self.run.sample_count(), &[]);
+            self.predict_ahead(first);
         }
         arrived
+    }
+
+    /// Scores the predictions whose frame is among those from `first` on, and predicts ahead from
+    /// each of them with θ as learned now.
+    fn predict_ahead(&mut self, first: usize) {
+        let theta = self.run.theta_at(self.run.frontier());
+        let horizon = self.run.horizon();
+        let frames = &self.run.trajectory().frames;
+        for k in first..frames.len() {
+            while let Some(&(frame, predicted, baseline)) = self.pending.front() {
+                if frame > k {
+                    break;
+                }
+                self.pending.pop_front();
+                if frame == k {
+                    let (offset, yaw) = frames[k].object.motion_to(&predicted);
+                    let (base_offset, base_yaw) = frames[k].object.motion_to(&baseline);
+                    self.scored.0 += 1;
+                    let sums = &mut self.scored.1;
+                    sums[0] += offset.norm();
+                    sums[1] += yaw.abs();
+                    sums[2] += base_offset.norm();
+                    sums[3] += base_yaw.abs();
+                }
+            }
+            if let Some((frame, pose)) =
+                ahead(self.run.model().as_ref(), &frames[..=k], horizon, &theta)
+            {
+                // The object's last motion over a horizon, repeated.
+                let (before, now) = (frames[k - horizon].object, frames[k].object);
+                let (moved, turned) = before.motion_to(&now);
+                self.pending
+                    .push_back((frame, pose, now.moved_by(moved, turned)));
+            }
+        }
+    }
+
+    /// The newest prediction ahead: the frame it is for (a horizon after the newest frame) and the
+    /// object's pose then, if the pusher keeps its velocity; `None` before a horizon of frames.
+    pub fn ahead(&self) -> Option<(usize, Pose2)> {
+        self.pending.back().map(|&(frame, pose, _)| (frame, pose))
+    }
+
+    /// How the predictions ahead did, once their frame arrived.
+    pub fn ahead_score(&self) -> AheadScore {
+        let (n, sums) = self.scored;
+        let [position, yaw, base_position, base_yaw] =
+            sums.map(|sum| if n > 0 { sum / n as f64 } else { 0.0 });
+        AheadScore {
+            predictions: n,
+            mean_position_m: position,
+            mean_yaw_rad: yaw,
+            baseline_position_m: base_position,
+            baseline_yaw_rad: base_yaw,
+        }
     }
 
     /// The run so far: θ, its spread and the losses at every frame learned.

@@ -19,7 +19,7 @@ pub mod recorder;
 #[cfg(not(target_arch = "wasm32"))]
 pub use self::client::{LiveClient, LiveError, LiveEvent};
 pub use self::grid::{LiveGrid, Refused, Stream};
-pub use self::learner::{LiveLearner, RefusedCounts};
+pub use self::learner::{AheadScore, LiveLearner, RefusedCounts};
 pub use self::pose::PoseReading;
 pub use self::protocol::{Channel, SUBPROTOCOLS};
 #[cfg(not(target_arch = "wasm32"))]
