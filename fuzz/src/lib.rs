@@ -15,6 +15,8 @@ use pushlab_core::recording::mit_push::import_bytes;
 use pushlab_core::recording::native::{parse_csv, parse_setting};
 use pushlab_core::trajectory::Trajectory;
 
+pub mod datasets;
+
 /// The parameters an MIT file's name carries; the readers need one to import.
 const MIT_STEM: &str = "motion_surface=abs_shape=tri1_a=0_v=20_i=0.000_s=0.500_t=0.000";
 
@@ -144,4 +146,16 @@ pub fn image_message(data: &[u8]) {
             );
         }
     }
+}
+
+/// Push-T's zarr replay buffers (`.zarray` metadata, blosc, zstd and LZ4 chunks, `episode_ends`,
+/// the images): one file of the fixture buffer replaced by the input (see [`datasets`]).
+pub fn zarr(data: &[u8]) {
+    datasets::zarr(data);
+}
+
+/// LeRobot datasets v2.1 and v3.0 (`meta/info.json`, `meta/episodes.jsonl`, the episode metadata
+/// and data parquet files): one file of a fixture dataset replaced by the input (see [`datasets`]).
+pub fn lerobot(data: &[u8]) {
+    datasets::lerobot(data);
 }

@@ -253,8 +253,19 @@ fn episode(
         let p = &pusher.row(row)[pusher_first..pusher_first + 2];
         finite(pusher, row, p)?;
         let at = Pose2::new(origin.position.x, origin.position.y, yaw).point_in_world(centroid);
+        let time = table.time(row, rows.start);
+        // Written so that a NaN is refused too; a recording's time only goes forward.
+        if let Some(previous) = frames.last().map(|f: &Frame| f.time)
+            && !(time > previous && time.is_finite())
+        {
+            return Err(DatasetProblem::TimeNotIncreasing {
+                row,
+                time,
+                previous,
+            });
+        }
         frames.push(Frame {
-            time: table.time(row, rows.start),
+            time,
             robot: Point2::new(p[0] * scale, p[1] * scale),
             object: Pose2::new(at.x * scale, at.y * scale, yaw),
         });

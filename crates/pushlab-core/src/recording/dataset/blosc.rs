@@ -75,7 +75,8 @@ pub fn decompress(frame: &[u8], expected: usize) -> Result<Vec<u8>, DatasetProbl
     };
     let nblocks = nbytes.div_ceil(blocksize);
     let mut out = vec![0u8; nbytes];
-    let mut scratch = vec![0u8; blocksize];
+    // A block is never longer than the chunk: a header's block size is not trusted to allocate.
+    let mut scratch = vec![0u8; blocksize.min(nbytes)];
     for block in 0..nblocks {
         let start =
             u32_at(frame, HEADER + 4 * block).ok_or_else(|| corrupt("block offsets cut short"))?;

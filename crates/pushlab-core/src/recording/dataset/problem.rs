@@ -67,6 +67,18 @@ pub enum DatasetProblem {
         row: usize,
         value: f64,
     },
+    /// Frame times (a LeRobot `timestamp` column) that do not go forward within an episode.
+    #[error(
+        "frame times: row {row} (counting from 0) is at {} s, expected a finite time after row {}'s {} s",
+        seconds(*time),
+        row - 1,
+        seconds(*previous)
+    )]
+    TimeNotIncreasing {
+        row: usize,
+        time: f64,
+        previous: f64,
+    },
     /// `meta/episode_ends` (or the episode index column) that does not cut the frames into episodes.
     #[error("{0}")]
     Episodes(String),
@@ -84,4 +96,16 @@ pub enum DatasetProblem {
     /// The load it was read for was cancelled.
     #[error("opening cancelled")]
     Cancelled,
+}
+
+/// Seconds as a person reads them: fixed point to the microsecond, or in scientific notation when
+/// that would show only zeros.
+fn seconds(value: f64) -> String {
+    if value == 0.0 || !value.is_finite() || value.abs() >= 1e-6 {
+        let text = format!("{value:.6}");
+        let text = text.trim_end_matches('0');
+        text.strip_suffix('.').unwrap_or(text).to_owned()
+    } else {
+        format!("{value:.3e}")
+    }
 }
