@@ -92,3 +92,29 @@ pub fn positive_real(text: &str) -> Result<f64, String> {
         Err(_) => Err(format!("expected a number, got {text:?}")),
     }
 }
+
+/// How θ_online learns along a push: `pushlab eval`'s and `pushlab live`'s options, one definition.
+#[derive(Debug, Args)]
+pub struct OnlineArgs {
+    /// Gradient-descent steps on θ_online per online time step (the paper: 5).
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub steps: usize,
+    /// Online learning rate on θ_online / s (the paper: 0.005).
+    #[arg(long, value_name = "LR", default_value_t = 0.005, value_parser = positive_real)]
+    pub lr: f64,
+    /// How θ_online learns: `gd` (the paper's gradient descent, --steps and --lr) or `gauss-newton`
+    /// (one Gauss–Newton step per frame weighed against the frames before; --steps 0 still fixes θ).
+    #[arg(long, value_name = "OPTIMIZER", default_value = "gd", value_parser = optimizer)]
+    pub optimizer: pushlab_core::learn::Optimizer,
+}
+
+impl OnlineArgs {
+    /// The core's rule from the options.
+    pub fn config(&self) -> pushlab_core::learn::OnlineConfig {
+        pushlab_core::learn::OnlineConfig {
+            steps: self.steps,
+            lr: self.lr,
+            optimizer: self.optimizer,
+        }
+    }
+}

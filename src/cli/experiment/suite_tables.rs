@@ -53,6 +53,30 @@ fn row(spec: &SuiteSpec, r: &ExperimentResult) -> Vec<Cell> {
         .collect()
 }
 
+/// A row's cells as text, `position / rotation` to three decimals, the best ones wrapped by `bold`,
+/// `dash` where a number could not be computed: the one cell rule of both tables.
+fn cell_texts(
+    spec: &SuiteSpec,
+    r: &ExperimentResult,
+    bold: fn(&str) -> String,
+    dash: &str,
+) -> Vec<String> {
+    let number = |v: f64, best: bool| {
+        let text = format!("{v:.3}");
+        if best { bold(&text) } else { text }
+    };
+    (row(spec, r).iter())
+        .map(|c| match c.nmse {
+            Some(n) => format!(
+                "{} / {}",
+                number(n.pos, c.best[0]),
+                number(n.rot, c.best[1])
+            ),
+            None => dash.to_owned(),
+        })
+        .collect()
+}
+
 /// The column groups: each model's name, then "physics only".
 fn groups(spec: &SuiteSpec) -> Vec<(String, &'static [&'static str])> {
     let mut groups: Vec<(String, &'static [&'static str])> = (spec.models.iter())
@@ -66,13 +90,6 @@ fn groups(spec: &SuiteSpec) -> Vec<(String, &'static [&'static str])> {
 
 /// The results as a Markdown table (GitHub's pipe tables).
 pub fn markdown(spec: &SuiteSpec, results: &[ExperimentResult]) -> String {
-    let number = |v: f64, bold: bool| {
-        if bold {
-            format!("**{v:.3}**")
-        } else {
-            format!("{v:.3}")
-        }
-    };
     let mut header = vec!["Experiment".to_owned()];
     for (group, columns) in groups(spec) {
         header.extend(columns.iter().map(|c| format!("{group} {c}")));
@@ -87,16 +104,7 @@ pub fn markdown(spec: &SuiteSpec, results: &[ExperimentResult]) -> String {
             .collect::<String>()
     );
     for r in results {
-        let cells: Vec<String> = (row(spec, r).iter())
-            .map(|c| match c.nmse {
-                Some(n) => format!(
-                    "{} / {}",
-                    number(n.pos, c.best[0]),
-                    number(n.rot, c.best[1])
-                ),
-                None => "–".to_owned(),
-            })
-            .collect();
+        let cells = cell_texts(spec, r, |v| format!("**{v}**"), "–");
         text += &format!(
             "| {} | {} |\n",
             r.name.replace('|', "\\|"),
@@ -135,13 +143,6 @@ fn latex_text(text: &str) -> String {
 /// The results as a LaTeX `tabular` with `booktabs` rules (the document needs
 /// `\usepackage{booktabs}`).
 pub fn latex(spec: &SuiteSpec, results: &[ExperimentResult]) -> String {
-    let number = |v: f64, bold: bool| {
-        if bold {
-            format!("\\textbf{{{v:.3}}}")
-        } else {
-            format!("{v:.3}")
-        }
-    };
     let groups = groups(spec);
     let columns: usize = groups.iter().map(|(_, c)| c.len()).sum();
     let mut text = String::from(
@@ -171,16 +172,7 @@ pub fn latex(spec: &SuiteSpec, results: &[ExperimentResult]) -> String {
         .collect();
     text += &format!("Experiment & {} \\\\\n\\midrule\n", names.join(" & "));
     for r in results {
-        let cells: Vec<String> = (row(spec, r).iter())
-            .map(|c| match c.nmse {
-                Some(n) => format!(
-                    "{} / {}",
-                    number(n.pos, c.best[0]),
-                    number(n.rot, c.best[1])
-                ),
-                None => "--".to_owned(),
-            })
-            .collect();
+        let cells = cell_texts(spec, r, |v| format!("\\textbf{{{v}}}"), "--");
         text += &format!("{} & {} \\\\\n", latex_text(&r.name), cells.join(" & "));
     }
     text += "\\bottomrule\n\\end{tabular}\n";

@@ -7,7 +7,6 @@ use std::time::{Duration, Instant};
 
 use anyhow::anyhow;
 use clap::Args;
-use pushlab_core::learn::{OnlineConfig, Optimizer};
 use pushlab_core::live::{LiveLearner, Refused, Stream};
 use pushlab_core::model_file::ModelFile;
 use pushlab_core::recording::bag::PlanarPose;
@@ -15,7 +14,7 @@ use pushlab_core::recording::bag::SettingSource;
 use serde_json::json;
 
 use crate::cli::exit::Failure;
-use crate::cli::experiment::args::{optimizer, positive_real};
+use crate::cli::experiment::args::OnlineArgs;
 use crate::cli::import::rate;
 
 /// The model learned with when `--model` is not given: the app's default, built in.
@@ -35,15 +34,9 @@ pub struct LearningArgs {
     /// With --setting: the grid's rate, Hz (default: the rate the model was trained at).
     #[arg(long, value_name = "HZ", value_parser = rate, requires = "setting")]
     pub rate: Option<f64>,
-    /// With --setting: gradient-descent steps on θ_online per frame (the paper: 5).
-    #[arg(long, value_name = "N", default_value_t = 5)]
-    pub steps: usize,
-    /// With --setting: online learning rate on θ_online (the paper: 0.005).
-    #[arg(long, value_name = "LR", default_value_t = 0.005, value_parser = positive_real)]
-    pub lr: f64,
-    /// With --setting: `gd` (the paper's) or `gauss-newton`.
-    #[arg(long, value_name = "OPTIMIZER", default_value = "gd", value_parser = optimizer)]
-    pub optimizer: Optimizer,
+    // With --setting: how θ learns, as in `pushlab eval`.
+    #[command(flatten)]
+    pub online: OnlineArgs,
 }
 
 /// Learning along a live session, and what it says.
@@ -76,11 +69,7 @@ impl Learning {
                     ))
                 })?,
         };
-        let config = OnlineConfig {
-            steps: args.steps,
-            lr: args.lr,
-            optimizer: args.optimizer,
-        };
+        let config = args.online.config();
         let learner = LiveLearner::new(&model.combined, &setting, config, rate)
             .map_err(|e| Failure::Usage(anyhow!("{}: {e}", setting_path.display())))?;
         println!(

@@ -31,13 +31,12 @@ use pushlab_core::experiment::DEFAULT_HORIZON;
 use pushlab_core::experiment::report::{EvalReport, ReportContext};
 use pushlab_core::experiment::{self, EvalOptions, Evaluation, Loaded, UsedRecording};
 use pushlab_core::labels::Split;
-use pushlab_core::learn::{OnlineConfig, Optimizer};
 use pushlab_core::model::{
     CombinedModel, DEFAULT_CONTACT_TOLERANCE, FrameLoss, ModelKind, PureNnModel,
 };
 use pushlab_core::model_file::ModelFile;
 
-use super::args::{TrainingArgs, offset_xy, optimizer, positive_real};
+use super::args::{OnlineArgs, TrainingArgs, offset_xy, positive_real};
 use super::data;
 use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
@@ -62,16 +61,8 @@ pub struct EvalArgs {
     pub model: Option<PathBuf>,
     #[command(flatten)]
     pub training: TrainingArgs,
-    /// Gradient-descent steps on θ_online per online time step (the paper: 5).
-    #[arg(long, value_name = "N", default_value_t = 5)]
-    pub steps: usize,
-    /// Online learning rate on θ_online / s (the paper: 0.005).
-    #[arg(long, value_name = "LR", default_value_t = 0.005, value_parser = positive_real)]
-    pub lr: f64,
-    /// How θ_online learns: `gd` (the paper's gradient descent, --steps and --lr) or `gauss-newton`
-    /// (one Gauss–Newton step per frame weighed against the frames before; --steps 0 still fixes θ).
-    #[arg(long, value_name = "OPTIMIZER", default_value = "gd", value_parser = optimizer)]
-    pub optimizer: Optimizer,
+    #[command(flatten)]
+    pub online_rule: OnlineArgs,
     /// Write the results as JSON (the format is documented in the guide, docs/src/experiments.md).
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
@@ -188,11 +179,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
 
     let pass_started = Instant::now();
     let options = EvalOptions {
-        online: OnlineConfig {
-            steps: args.steps,
-            lr: args.lr,
-            optimizer: args.optimizer,
-        },
+        online: args.online_rule.config(),
         physics: args.physics.then_some(args.contact_tolerance),
         carry: args.carry_theta,
         start_com_shift: args.start_com_shift,
