@@ -14,8 +14,58 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use cli_common::{pushlab, temp_dir};
-use foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, Schema, WebSocketServer};
+use foxglove::{
+    ChannelBuilder, Context, PartialMetadata, RawChannel, Schema, WebSocketServer,
+    WebSocketServerHandle,
+};
 use pushlab_core::recording::bag::encode_pose_stamped;
+
+/// A robot's server on `port` (0: any free one) with its two channels: the pusher's JSON and the
+/// object's CDR PoseStamped, advertised in that order or, with `object_first`, the other.
+fn start_robot(
+    port: u16,
+    object_first: bool,
+) -> (
+    Arc<Context>,
+    WebSocketServerHandle,
+    Arc<RawChannel>,
+    Arc<RawChannel>,
+) {
+    let context = Context::new();
+    let server = WebSocketServer::new()
+        .name("test robot")
+        .bind("127.0.0.1", port)
+        .context(&context)
+        .start_blocking()
+        .expect("the SDK's server starts");
+    let pusher = || {
+        ChannelBuilder::new("/pusher")
+            .context(&context)
+            .message_encoding("json")
+            .schema(Schema::new("pushlab.Pose", "jsonschema", b"{}".to_vec()))
+            .build_raw()
+            .unwrap()
+    };
+    let object = || {
+        ChannelBuilder::new("/object")
+            .context(&context)
+            .message_encoding("cdr")
+            .schema(Schema::new(
+                "geometry_msgs/msg/PoseStamped",
+                "ros2msg",
+                b"".to_vec(),
+            ))
+            .build_raw()
+            .unwrap()
+    };
+    let (pusher, object) = if object_first {
+        let o = object();
+        (pusher(), o)
+    } else {
+        (pusher(), object())
+    };
+    (context, server, pusher, object)
+}
 
 /// What a test robot does with its two channels (the pusher's JSON, the object's CDR PoseStamped)
 /// until the flag is set.
@@ -23,29 +73,7 @@ type Logging = Box<dyn FnOnce(&RawChannel, &RawChannel, &AtomicBool) + Send>;
 
 /// A server whose robot logs as `log` says until the returned flag is set; its address.
 fn robot_with(log: Logging) -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
-    let context = Context::new();
-    let server = WebSocketServer::new()
-        .name("test robot")
-        .bind("127.0.0.1", 0)
-        .context(&context)
-        .start_blocking()
-        .expect("the SDK's server starts");
-    let pusher = ChannelBuilder::new("/pusher")
-        .context(&context)
-        .message_encoding("json")
-        .schema(Schema::new("pushlab.Pose", "jsonschema", b"{}".to_vec()))
-        .build_raw()
-        .unwrap();
-    let object = ChannelBuilder::new("/object")
-        .context(&context)
-        .message_encoding("cdr")
-        .schema(Schema::new(
-            "geometry_msgs/msg/PoseStamped",
-            "ros2msg",
-            b"".to_vec(),
-        ))
-        .build_raw()
-        .unwrap();
+    let (context, server, pusher, object) = start_robot(0, false);
     let url = format!("ws://127.0.0.1:{}", server.port());
     let stop = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&stop);
@@ -70,16 +98,26 @@ fn json_pose(stamp: u64, x: f64, y: f64) -> String {
 /// A robot holding still, logging the same poses every 10 ms.
 fn robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
     robot_with(Box::new(|pusher, object, stop| {
-        let mut k = 0u64;
-        while !stop.load(Ordering::Relaxed) {
-            let stamp = 1_700_000_000_000_000_000 + k * 10_000_000;
-            let at = PartialMetadata::with_log_time(stamp);
-            pusher.log_with_meta(json_pose(stamp, 0.25, -0.5).as_bytes(), at);
-            object.log_with_meta(&encode_pose_stamped(stamp, "table", 0.125, 0.5, 0.0), at);
-            k += 1;
-            std::thread::sleep(Duration::from_millis(10));
-        }
+        log_still(pusher, object, stop, None, &mut 0);
     }))
+}
+
+/// Logs the still poses every 10 ms, message `k` on, until `stop` is set or `until` passes.
+fn log_still(
+    pusher: &RawChannel,
+    object: &RawChannel,
+    stop: &AtomicBool,
+    until: Option<Instant>,
+    k: &mut u64,
+) {
+    while !stop.load(Ordering::Relaxed) && until.is_none_or(|u| Instant::now() < u) {
+        let stamp = 1_700_000_000_000_000_000 + *k * 10_000_000;
+        let at = PartialMetadata::with_log_time(stamp);
+        pusher.log_with_meta(json_pose(stamp, 0.25, -0.5).as_bytes(), at);
+        object.log_with_meta(&encode_pose_stamped(stamp, "table", 0.125, 0.5, 0.0), at);
+        *k += 1;
+        std::thread::sleep(Duration::from_millis(10));
+    }
 }
 
 #[test]
@@ -392,70 +430,21 @@ fn live_learns_theta_as_the_push_arrives_and_eval_of_its_recording_agrees_to_the
 /// A robot whose server goes away after a second and comes back on the same port 0.7 s later,
 /// advertising its channels in the other order (so their ids change), logging the still poses.
 fn restarting_robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
-    let start = |port: u16, object_first: bool| {
-        let context = Context::new();
-        let server = WebSocketServer::new()
-            .name("test robot")
-            .bind("127.0.0.1", port)
-            .context(&context)
-            .start_blocking()
-            .expect("the SDK's server starts");
-        let pusher = || {
-            ChannelBuilder::new("/pusher")
-                .context(&context)
-                .message_encoding("json")
-                .schema(Schema::new("pushlab.Pose", "jsonschema", b"{}".to_vec()))
-                .build_raw()
-                .unwrap()
-        };
-        let object = || {
-            ChannelBuilder::new("/object")
-                .context(&context)
-                .message_encoding("cdr")
-                .schema(Schema::new(
-                    "geometry_msgs/msg/PoseStamped",
-                    "ros2msg",
-                    b"".to_vec(),
-                ))
-                .build_raw()
-                .unwrap()
-        };
-        let (pusher, object) = if object_first {
-            let o = object();
-            (pusher(), o)
-        } else {
-            (pusher(), object())
-        };
-        (context, server, pusher, object)
-    };
-    let first = start(0, false);
+    let first = start_robot(0, false);
     let port = first.1.port();
     let url = format!("ws://127.0.0.1:{port}");
     let stop = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&stop);
     let logging = std::thread::spawn(move || {
         let mut k = 0u64;
-        let mut log = |pusher: &RawChannel, object: &RawChannel, until: Option<Instant>| {
-            while !flag.load(Ordering::Relaxed) && until.is_none_or(|u| Instant::now() < u) {
-                let stamp = 1_700_000_000_000_000_000 + k * 10_000_000;
-                let at = PartialMetadata::with_log_time(stamp);
-                pusher.log_with_meta(json_pose(stamp, 0.25, -0.5).as_bytes(), at);
-                object.log_with_meta(&encode_pose_stamped(stamp, "table", 0.125, 0.5, 0.0), at);
-                k += 1;
-                std::thread::sleep(Duration::from_millis(10));
-            }
-        };
         let (context, server, pusher, object) = first;
-        log(
-            &pusher,
-            &object,
-            Some(Instant::now() + Duration::from_secs(1)),
-        );
+        let until = Some(Instant::now() + Duration::from_secs(1));
+        log_still(&pusher, &object, &flag, until, &mut k);
         let _ = server.stop();
         drop((pusher, object, context));
         std::thread::sleep(Duration::from_millis(700));
-        let (_context, server, pusher, object) = start(port, true);
-        log(&pusher, &object, None);
+        let (_context, server, pusher, object) = start_robot(port, true);
+        log_still(&pusher, &object, &flag, None, &mut k);
         let _ = server.stop();
     });
     (url, stop, logging)
