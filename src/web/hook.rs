@@ -40,6 +40,28 @@ pub fn pushlab_command(json: &str) -> Result<(), JsValue> {
     Ok(())
 }
 
+/// Opens files the page's script read from a folder dropped or picked: `paths[i]` (below the
+/// folder given, starting with its name) holds `contents[i]`.
+#[wasm_bindgen]
+pub fn pushlab_open_files(
+    paths: Vec<String>,
+    contents: Vec<js_sys::Uint8Array>,
+) -> Result<(), JsValue> {
+    if paths.len() != contents.len() {
+        return Err(JsValue::from(format!(
+            "open_files: {} paths but {} contents",
+            paths.len(),
+            contents.len()
+        )));
+    }
+    let files = paths
+        .into_iter()
+        .zip(contents.into_iter().map(|bytes| bytes.to_vec()))
+        .collect();
+    crate::app::dialogs::browser::open_given(files);
+    Ok(())
+}
+
 /// Whether the app panicked, and with what (for the page's own check).
 #[wasm_bindgen]
 pub fn pushlab_panic() -> Option<String> {

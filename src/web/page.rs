@@ -2,7 +2,7 @@
 //! frame — the hook's commands in, its `state()` out, files dropped on the page put among the page's
 //! files and opened, files the app saved handed to the browser as downloads.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use eframe::egui;
 use pushlab_core::files::memory::TREE;
@@ -17,8 +17,6 @@ use crate::app::platform::APP_FOLDER;
 
 pub struct Page {
     app: PushlabApp,
-    /// Files dropped so far (each drop gets its own folder, so two drops never mix).
-    drops: usize,
     /// The link the page was opened with, while it is being applied.
     link: Option<Steps>,
     address_bar: AddressBar,
@@ -41,7 +39,6 @@ impl Page {
         };
         Self {
             app,
-            drops: 0,
             link,
             address_bar: AddressBar::default(),
             drawn: 0,
@@ -92,9 +89,7 @@ impl Page {
         if dropped.is_empty() {
             return;
         }
-        self.drops += 1;
-        let folder = PathBuf::from(format!("/dropped/{}", self.drops));
-        browser::read_dropped(folder, dropped);
+        browser::read_dropped(dropped);
     }
 }
 

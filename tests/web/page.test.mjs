@@ -159,10 +159,64 @@ test("a CSV set dropped on the page opens, and a bad file gives the desktop's er
   const pageDir = bad.error.slice(0, bad.error.indexOf("online_000.csv"));
   assert.match(pageDir, /^\/dropped\/\d+\/$/);
   assert.equal(bad.error.replaceAll(pageDir, ""), process.env.PUSHLAB_BAD_CSV_ERROR);
-  // What the page cannot read yet is said by name, never a panic.
+  // A bag cut short after its magic is refused by name, never a panic.
   before = bad;
-  const bag = await drop([["run1.mcap", "\x89MCAP0\r\n"]]);
-  assert.match(bag.error, /^\/dropped\/\d+\/run1\.mcap: .*a ROS 2 bag is not read in a browser tab yet: open it with the desktop app/);
+  const cut = await drop([["run1.mcap", "\x89MCAP0\r\n"]]);
+  assert.match(cut.error, /^\/dropped\/\d+\/run1\.mcap: /);
+  assert.equal(await page.evaluate(() => window.pushlab.panic()), null);
+  await page.close();
+});
+
+/** What the desktop opened (`NAME FRAMES;…` from `pushlab validate`, scripts/web-test), as names. */
+const desktopNames = (opened) => opened.split(";").filter(Boolean).map((entry) => entry.split(" ")[0]);
+
+/** The recordings `after` has that `before` had not. */
+const newlyOpen = (before, after) => after.open.filter((name) => !before.open.includes(name));
+
+test("a ROS 2 bag dropped and Push-T datasets picked as folders open as on the desktop", async () => {
+  const { page, errors } = await open();
+  let before = await state(page);
+  // The bag, the choice remembered beside it and the object's setting, dropped together.
+  const bagDir = process.env.PUSHLAB_BAG_DIR;
+  await page.evaluate(async (files) => {
+    const transfer = new DataTransfer();
+    for (const [name, bytes] of files) transfer.items.add(new File([new Uint8Array(bytes)], name));
+    const canvas = document.getElementById("pushlab_canvas");
+    for (const type of ["dragenter", "dragover", "drop"]) {
+      canvas.dispatchEvent(new DragEvent(type, { dataTransfer: transfer, bubbles: true, cancelable: true }));
+    }
+  }, ["zstd.mcap", "zstd.mcap.pushlab-bag.json", "object.json"].map((name) =>
+    [name, [...readFileSync(bagDir + name)]]));
+  const waitForMore = (count) => page.waitForFunction((count) => window.pushlab.state().open.length > count,
+    count, { timeout: 60_000, polling: 50 });
+  await waitForMore(before.open.length);
+  let after = await settled(page);
+  assert.equal(after.error, null);
+  const bagNames = desktopNames(process.env.PUSHLAB_BAG_OPENED);
+  assert.equal(newlyOpen(before, after).length, bagNames.length, `the bag opened: ${newlyOpen(before, after)}`);
+  assert.ok(newlyOpen(before, after).every((name) => name.includes("zstd")), `${newlyOpen(before, after)}`);
+  // File → Open folder… shows the browser's folder picker; each dataset's episodes open.
+  for (const [dir, opened] of [
+    [process.env.PUSHLAB_ZARR_DIR, process.env.PUSHLAB_ZARR_OPENED],
+    [process.env.PUSHLAB_LEROBOT_DIR, process.env.PUSHLAB_LEROBOT_OPENED],
+  ]) {
+    before = after;
+    const [chooser] = await Promise.all([
+      page.waitForEvent("filechooser"),
+      page.evaluate(() => window.pushlab_pick_folder()),
+    ]);
+    await chooser.setFiles(dir);
+    await waitForMore(before.open.length);
+    after = await settled(page);
+    assert.equal(after.error, null, `${dir}: ${after.error}`);
+    const fresh = newlyOpen(before, after);
+    const wanted = desktopNames(opened).map((name) => name.split("#").pop());
+    assert.equal(fresh.length, wanted.length, `${dir}: ${fresh}`);
+    for (const episode of wanted) {
+      assert.ok(fresh.some((name) => name.endsWith(episode)), `${episode} among ${fresh}`);
+    }
+  }
+  assert.deepEqual(errors, []);
   assert.equal(await page.evaluate(() => window.pushlab.panic()), null);
   await page.close();
 });

@@ -7,8 +7,8 @@
 //! speaking of paths, so a set's `setting.json`, a labels file beside a recording and a demo's
 //! folders mean the same on both targets.
 //!
-//! Bags, datasets and cameras still read through `std::fs` (they stream from seekable files); in a
-//! page they fail with the platform's "unsupported" error, which the loader reports by file.
+//! Bags stream from their files by positioned reads ([`Positioned`]): of the file on the desktop, of
+//! the page's bytes in a tab (already in memory there, shared, not copied).
 
 pub mod memory;
 
@@ -69,6 +69,59 @@ mod backend {
     pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
         crate::atomic_file::write_atomically(path, bytes)
     }
+
+    /// An open file, read at offsets.
+    pub struct Positioned {
+        #[cfg_attr(
+            not(any(unix, windows)),
+            expect(dead_code, reason = "no positioned reads here")
+        )]
+        file: std::fs::File,
+        len: u64,
+    }
+
+    impl Positioned {
+        pub fn open(path: &Path) -> io::Result<Self> {
+            let file = std::fs::File::open(path)?;
+            let len = file.metadata()?.len();
+            Ok(Self { file, len })
+        }
+
+        pub fn len(&self) -> u64 {
+            self.len
+        }
+
+        pub fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::FileExt;
+                self.file.read_exact_at(buf, offset)
+            }
+            #[cfg(windows)]
+            {
+                use std::os::windows::fs::FileExt;
+                let mut done = 0;
+                while done < buf.len() {
+                    let n = self
+                        .file
+                        .seek_read(&mut buf[done..], offset + done as u64)?;
+                    if n == 0 {
+                        return Err(io::ErrorKind::UnexpectedEof.into());
+                    }
+                    done += n;
+                }
+                Ok(())
+            }
+            #[cfg(not(any(unix, windows)))]
+            {
+                let _ = (offset, buf);
+                Err(io::Error::new(
+                    io::ErrorKind::Unsupported,
+                    "positioned reads of a file are not available on this platform",
+                ))
+            }
+        }
+    }
 }
 
 #[cfg(target_arch = "wasm32")]
@@ -102,6 +155,31 @@ mod backend {
     pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
         TREE.write(path, bytes.to_vec());
         Ok(())
+    }
+
+    /// A file of the page, read at offsets: its bytes, shared with the tree.
+    pub struct Positioned {
+        bytes: std::sync::Arc<Vec<u8>>,
+    }
+
+    impl Positioned {
+        pub fn open(path: &Path) -> io::Result<Self> {
+            TREE.shared(path).map(|bytes| Self { bytes })
+        }
+
+        pub fn len(&self) -> u64 {
+            self.bytes.len() as u64
+        }
+
+        pub fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
+            let start = usize::try_from(offset).map_err(|_| io::ErrorKind::UnexpectedEof)?;
+            let bytes = start
+                .checked_add(buf.len())
+                .and_then(|end| self.bytes.get(start..end))
+                .ok_or(io::ErrorKind::UnexpectedEof)?;
+            buf.copy_from_slice(bytes);
+            Ok(())
+        }
     }
 }
 
@@ -154,4 +232,30 @@ pub fn create_dir_all(path: &Path) -> io::Result<()> {
 /// ([`crate::atomic_file::write_atomically`] on the desktop).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
     backend::write_atomically(path, bytes)
+}
+
+/// A file opened for reads at offsets, with no shared cursor (readers on several threads share
+/// one): a bag's chunks are read where its index says, never the whole file at once.
+pub struct Positioned(backend::Positioned);
+
+impl Positioned {
+    /// Opens the file at `path`.
+    pub fn open(path: &Path) -> io::Result<Self> {
+        backend::Positioned::open(path).map(Self)
+    }
+
+    /// The file's length in bytes, when it was opened.
+    pub fn len(&self) -> u64 {
+        self.0.len()
+    }
+
+    /// Whether the file is empty.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Fills `buf` from `offset`; an error when the file ends first.
+    pub fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
+        self.0.read_at(offset, buf)
+    }
 }

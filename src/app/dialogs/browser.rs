@@ -36,30 +36,61 @@ fn next_folder(kind: &str) -> PathBuf {
     PathBuf::from(format!("/{kind}/{k}"))
 }
 
-/// Writes named files into `folder` of the page's files; returns what to open: the folder when a
-/// set's `setting.json` is among them, else each file.
-pub fn put_files<'a>(
+/// Writes files into `folder` of the page's files, each at its path relative to what was given (a
+/// folder picked or dropped keeps its tree: `pusht.zarr/data/state/.zarray`); returns what to
+/// open: the folder when a set's `setting.json` is at its top, else each file and folder at its top
+/// (a bag, a dataset's folder), which the loader tells apart as on the desktop.
+pub fn put_files<N: AsRef<str>>(
     folder: &Path,
-    files: impl Iterator<Item = (&'a str, Vec<u8>)>,
+    files: impl IntoIterator<Item = (N, Vec<u8>)>,
 ) -> Vec<PathBuf> {
-    let mut paths = Vec::new();
+    let mut tops: Vec<PathBuf> = Vec::new();
     for (name, bytes) in files {
-        // A name is a file name: a path in it (`a/b.csv` from a folder drop) keeps its last part.
-        let name = Path::new(name)
-            .file_name()
-            .map_or_else(|| "unnamed".into(), |n| n.to_string_lossy().into_owned());
-        let path = folder.join(name);
-        TREE.write(&path, bytes);
-        paths.push(path);
+        // Only plain names: `..` or `/` in a path given by the browser never leaves the folder.
+        let relative: PathBuf = Path::new(name.as_ref())
+            .components()
+            .filter_map(|c| match c {
+                std::path::Component::Normal(part) => Some(part),
+                _ => None,
+            })
+            .collect();
+        let Some(top) = relative.components().next() else {
+            continue;
+        };
+        TREE.write(&folder.join(&relative), bytes);
+        let top = folder.join(top);
+        if !tops.contains(&top) {
+            tops.push(top);
+        }
     }
-    if paths
+    if tops
         .iter()
         .any(|p| p.file_name().is_some_and(|n| n == "setting.json"))
     {
-        vec![folder.to_path_buf()]
-    } else {
-        paths
+        return vec![folder.to_path_buf()];
     }
+    // JSON that is not an MIT recording, dropped beside one (a bag's remembered choice, the
+    // object's setting it names), is read from beside it, not opened; dropped alone it is opened, so
+    // that its error says what it is not.
+    let companion = |p: &PathBuf| {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
+        name.is_some_and(|n| n.ends_with(".json") && !n.starts_with("motion_"))
+    };
+    if tops.iter().any(|p| !companion(p)) {
+        tops.retain(|p| !companion(p));
+    }
+    tops
+}
+
+/// Opens files handed over by the page's script (a folder dropped or picked: each file's path
+/// below it and its bytes), in a folder of their own, on a later frame.
+pub fn open_given(files: Vec<(String, Vec<u8>)>) {
+    let folder = next_folder("dropped");
+    let paths = put_files(&folder, files);
+    if !paths.is_empty() {
+        OPENED.with(|o| o.borrow_mut().push(DialogResult::Open(paths)));
+    }
+    wake();
 }
 
 /// Keeps the app's context, to ask for a frame when files or commands arrive outside one.
@@ -102,12 +133,16 @@ pub fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
         let _ = sender.send(Some(saved));
         return;
     }
+    if request == DialogRequest::OpenFolder && pick_folder() {
+        // The page's script reads the folder and hands its files to `open_given`.
+        let _ = sender.send(None);
+        return;
+    }
     wasm_bindgen_futures::spawn_local(async move {
         let picker = match request {
             DialogRequest::LoadModel | DialogRequest::BagSetting => {
                 rfd::AsyncFileDialog::new().add_filter("JSON", &["json"])
             }
-            // A page cannot pick a folder: the files of one, chosen together, open as a folder.
             _ => {
                 rfd::AsyncFileDialog::new().add_filter("Recordings", &["csv", "json", "h5", "mcap"])
             }
@@ -125,7 +160,7 @@ pub fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
             files.push((handle.file_name(), handle.read().await));
         }
         let folder = next_folder("opened");
-        let paths = put_files(&folder, files.iter().map(|(n, b)| (n.as_str(), b.clone())));
+        let paths = put_files(&folder, files);
         let result = match (request, paths.first()) {
             (DialogRequest::LoadModel, Some(path)) => DialogResult::LoadModel(path.clone()),
             (DialogRequest::BagSetting, Some(path)) => DialogResult::BagSetting(path.clone()),
@@ -133,6 +168,18 @@ pub fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
         };
         let _ = sender.send(Some(result));
     });
+}
+
+/// Shows the browser's folder picker through the page's script (`window.pushlab_pick_folder`, an
+/// `<input webkitdirectory>`: rfd picks files only in a page); `false` when the page has none.
+fn pick_folder() -> bool {
+    let Some(window) = web_sys::window() else {
+        return false;
+    };
+    let pick = js_sys::Reflect::get(&window, &"pushlab_pick_folder".into())
+        .ok()
+        .and_then(|f| f.dyn_into::<js_sys::Function>().ok());
+    pick.is_some_and(|pick| pick.call0(&window).is_ok())
 }
 
 /// Fetches files by address into one folder per directory of the address (so a CSV and the
@@ -184,9 +231,11 @@ pub fn open_urls(urls: Vec<String>) {
     });
 }
 
-/// Reads files dropped on the page into `folder` and opens them (on a later frame); one the
-/// browser cannot read is said by name.
-pub fn read_dropped(folder: PathBuf, dropped: Vec<eframe::egui::DroppedFileHandle>) {
+/// Reads files dropped on the page into a folder of their own (two drops never mix) and opens them
+/// (on a later frame); one the browser cannot read is said by name. A dropped folder never gets
+/// here: the page's script walks it and hands its files to [`open_given`].
+pub fn read_dropped(dropped: Vec<eframe::egui::DroppedFileHandle>) {
+    let folder = next_folder("dropped");
     UNDER_WAY.with(|n| n.set(n.get() + 1));
     wasm_bindgen_futures::spawn_local(async move {
         let mut files = Vec::new();
@@ -201,7 +250,7 @@ pub fn read_dropped(folder: PathBuf, dropped: Vec<eframe::egui::DroppedFileHandl
                 }),
             }
         }
-        let paths = put_files(&folder, files.iter().map(|(n, b)| (n.as_str(), b.clone())));
+        let paths = put_files(&folder, files);
         if !paths.is_empty() {
             OPENED.with(|o| o.borrow_mut().push(DialogResult::Open(paths)));
         }

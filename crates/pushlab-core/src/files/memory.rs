@@ -110,10 +110,16 @@ impl Tree {
 
     /// The whole file.
     pub fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
+        self.shared(path).map(|bytes| bytes.as_ref().clone())
+    }
+
+    /// The whole file, shared with the tree rather than copied (a bag of hundreds of megabytes
+    /// read at offsets).
+    pub fn shared(&self, path: &Path) -> io::Result<Arc<Vec<u8>>> {
         let path = normal(path);
         let found = self.lock().files.get(&path).cloned();
         match found {
-            Some(bytes) => Ok(bytes.as_ref().clone()),
+            Some(bytes) => Ok(bytes),
             None if self.is_dir(&path) => Err(io::Error::new(
                 io::ErrorKind::InvalidInput,
                 format!("{} is a folder", path.display()),

@@ -291,24 +291,6 @@ impl Loader {
 
     /// Loads what planning found.
     fn load(&mut self, item: Item, progress: &dyn Progress) {
-        #[cfg(target_arch = "wasm32")]
-        if let Item::Bag(path) | Item::Dataset(path) = &item {
-            // Bags and datasets stream from files with positioned reads on worker threads, which a
-            // browser tab has not: say so by name rather than with the platform's bare refusal.
-            let what = if matches!(item, Item::Bag(_)) {
-                "a ROS 2 bag"
-            } else {
-                "a Push-T dataset"
-            };
-            let why = std::io::Error::new(
-                std::io::ErrorKind::Unsupported,
-                format!(
-                    "{what} is not read in a browser tab yet: open it with the desktop app \
-                     (pushlab open)"
-                ),
-            );
-            return self.report.errors.push(LoadError::io(path, why));
-        }
         match item {
             Item::Set { dir, only } => self.load_set(&dir, only.as_deref()),
             Item::Mit(path) => self.load_mit(&path),

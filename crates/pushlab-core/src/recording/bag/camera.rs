@@ -146,8 +146,7 @@ impl FrameReader for BagFrameReader {
                     self.files.resize_with(slot + 1, || None);
                 }
                 if self.files[slot].is_none() {
-                    let source = std::fs::File::open(path)
-                        .and_then(FileSource::new)
+                    let source = FileSource::open(path)
                         .map_err(|e| unreadable(format!("{}: {e}", path.display())))?;
                     self.files[slot] = Some(source);
                 }

@@ -83,7 +83,7 @@ pub fn choice_path(bag: &Path) -> PathBuf {
 /// naming it and the field.
 pub fn remembered(bag: &Path) -> Result<Option<BagChoice>, LoadError> {
     let path = choice_path(bag);
-    if !path.is_file() {
+    if !crate::files::is_file(&path) {
         return Ok(None);
     }
     let bytes = read_file(&path)?;
@@ -237,7 +237,7 @@ pub fn entered_box(
 /// folder, then in the folder holding the bag. Only those that exist.
 pub fn settings_beside(bag: &Path) -> Vec<PathBuf> {
     let mut candidates = Vec::new();
-    if bag.is_dir() {
+    if crate::files::is_dir(bag) {
         candidates.push(bag.join(SETTING_FILE));
     }
     if let Some(parent) = bag.parent() {
@@ -248,7 +248,7 @@ pub fn settings_beside(bag: &Path) -> Vec<PathBuf> {
         };
         candidates.push(parent.join(SETTING_FILE));
     }
-    candidates.retain(|p| p.is_file());
+    candidates.retain(|p| crate::files::is_file(p));
     candidates
 }
 

@@ -5,12 +5,13 @@ use std::path::{Path, PathBuf};
 
 use super::mcap::{Bytes, FileSource, Source};
 use super::problem::BagProblem;
+use crate::files;
 use crate::recording::error::LoadError;
 
 /// Whether `path` looks like a bag: an `.mcap` file, or a folder with `metadata.yaml`.
 pub fn is_bag(path: &Path) -> bool {
-    if path.is_dir() {
-        path.join("metadata.yaml").is_file()
+    if files::is_dir(path) {
+        files::is_file(&path.join("metadata.yaml"))
     } else {
         path.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
@@ -20,31 +21,32 @@ pub fn is_bag(path: &Path) -> bool {
 /// The `.mcap` files of a bag, in recording order: the file itself, or those a rosbag2 folder's
 /// `metadata.yaml` lists (all `.mcap` files of the folder by name when it lists none).
 pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, LoadError> {
-    if !path.is_dir() {
+    if !files::is_dir(path) {
         return Ok(vec![path.to_path_buf()]);
     }
     let metadata = path.join("metadata.yaml");
-    let text = std::fs::read_to_string(&metadata).map_err(|e| LoadError::io(&metadata, e))?;
-    let mut files: Vec<PathBuf> = listed_files(&text)
+    let text = files::read_to_string(&metadata).map_err(|e| LoadError::io(&metadata, e))?;
+    let mut mcaps: Vec<PathBuf> = listed_files(&text)
         .into_iter()
         .map(|name| path.join(name))
         .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
         .collect();
-    if files.is_empty() {
-        let entries = std::fs::read_dir(path).map_err(|e| LoadError::io(path, e))?;
-        files = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
+    if mcaps.is_empty() {
+        let entries = files::read_dir(path).map_err(|e| LoadError::io(path, e))?;
+        mcaps = entries
+            .into_iter()
+            .map(|e| e.path)
             .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
             .collect();
-        files.sort();
+        mcaps.sort();
     }
-    if files.is_empty() {
+    if mcaps.is_empty() {
         return Err(LoadError::Bag {
             path: path.to_path_buf(),
             problem: BagProblem::NoMcapFiles,
         });
     }
-    Ok(files)
+    Ok(mcaps)
 }
 
 /// The entries of `relative_file_paths:` in a rosbag2 `metadata.yaml` (a YAML block list of plain
@@ -88,9 +90,7 @@ pub(super) fn read_file<T>(
     match bytes {
         Some(bytes) => read(&Bytes(bytes)).map_err(fail),
         None => {
-            let source = std::fs::File::open(file)
-                .and_then(FileSource::new)
-                .map_err(|e| LoadError::io(file, e))?;
+            let source = FileSource::open(file).map_err(|e| LoadError::io(file, e))?;
             read(&source).map_err(fail)
         }
     }

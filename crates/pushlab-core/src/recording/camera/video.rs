@@ -32,6 +32,14 @@ const MAX_MESSAGE_BYTES: usize = 2048;
 /// Where the `ffmpeg` program is: `$PUSHLAB_FFMPEG`, else `ffmpeg` on the PATH; else why not, with
 /// how to get it.
 pub fn find_ffmpeg() -> Result<PathBuf, String> {
+    if cfg!(target_arch = "wasm32") {
+        return Err(
+            "its frames are in a video, which pushlab decodes with the ffmpeg program, and a \
+                    browser tab cannot run programs: open the dataset with the desktop app \
+                    (pushlab open) to see them"
+                .to_owned(),
+        );
+    }
     locate_ffmpeg(std::env::var_os(FFMPEG_VARIABLE), std::env::var_os("PATH"))
 }
 

@@ -140,7 +140,7 @@ pub fn choice_path(dataset: &Path) -> PathBuf {
 /// it and the field.
 pub fn remembered(dataset: &Path) -> Result<Option<DatasetChoice>, LoadError> {
     let path = choice_path(dataset);
-    if !path.is_file() {
+    if !crate::files::is_file(&path) {
         return Ok(None);
     }
     let bytes = read_file(&path)?;

@@ -33,7 +33,7 @@ use crate::recording::progress::Progress;
 /// Whether `path` is a dataset pushlab reads: a zarr replay buffer or a LeRobot dataset (a
 /// LeRobot version it does not read is recognised, and refused by [`read_table`] naming it).
 pub fn is_dataset(path: &Path) -> bool {
-    path.is_dir() && (replay::is_replay_buffer(path) || lerobot::is_lerobot(path))
+    crate::files::is_dir(path) && (replay::is_replay_buffer(path) || lerobot::is_lerobot(path))
 }
 
 /// Bytes the reader will read, for the progress bar: a buffer's numeric arrays, a LeRobot

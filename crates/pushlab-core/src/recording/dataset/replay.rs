@@ -17,7 +17,7 @@ pub const PUSHT_FPS: f64 = 10.0;
 
 /// Whether `dir` looks like a replay buffer: a zarr group with `data/` and `meta/episode_ends`.
 pub fn is_replay_buffer(dir: &Path) -> bool {
-    dir.join(".zgroup").is_file() && is_array(&dir.join("meta").join("episode_ends"))
+    crate::files::is_file(&dir.join(".zgroup")) && is_array(&dir.join("meta").join("episode_ends"))
 }
 
 /// Bytes of the arrays read on opening, for the progress bar (images are read when shown).
@@ -28,11 +28,11 @@ pub fn bytes(dir: &Path) -> u64 {
         .chain([dir.join("meta/episode_ends")])
     {
         if ZarrArray::open(&array).is_ok_and(|a| !is_image(&a)) {
-            total += std::fs::read_dir(&array).map_or(0, |entries| {
+            total += crate::files::read_dir(&array).map_or(0, |entries| {
                 entries
-                    .filter_map(Result::ok)
-                    .filter_map(|e| e.metadata().ok())
-                    .map(|m| m.len())
+                    .iter()
+                    .filter_map(|e| crate::files::metadata(&e.path).ok())
+                    .map(|m| m.len)
                     .sum()
             });
         }
@@ -42,11 +42,11 @@ pub fn bytes(dir: &Path) -> u64 {
 
 fn array_dirs(dir: &Path) -> Vec<std::path::PathBuf> {
     let data = dir.join("data");
-    let mut arrays: Vec<_> = std::fs::read_dir(&data)
+    let mut arrays: Vec<_> = crate::files::read_dir(&data)
         .map(|entries| {
             entries
-                .filter_map(Result::ok)
-                .map(|e| e.path())
+                .into_iter()
+                .map(|e| e.path)
                 .filter(|p| is_array(p))
                 .collect()
         })

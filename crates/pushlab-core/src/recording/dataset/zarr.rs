@@ -104,7 +104,7 @@ struct Meta {
 
 /// Whether `dir` is a zarr v2 array (holds a `.zarray`).
 pub fn is_array(dir: &Path) -> bool {
-    dir.join(".zarray").is_file()
+    crate::files::is_file(&dir.join(".zarray"))
 }
 
 impl ZarrArray {
@@ -121,7 +121,7 @@ impl ZarrArray {
                 why,
             })
         };
-        let text = std::fs::read(&meta_path).map_err(|e| LoadError::io(&meta_path, e))?;
+        let text = crate::files::read(&meta_path).map_err(|e| LoadError::io(&meta_path, e))?;
         let meta: Meta = json_problem::from_file_bytes(&text)
             .map_err(|problem| fail(DatasetProblem::Json(problem)))?;
         if meta.zarr_format != 2 {
@@ -220,10 +220,10 @@ impl ZarrArray {
             key.push('0');
         }
         let path = self.dir.join(&key);
-        if !path.is_file() {
+        if !crate::files::is_file(&path) {
             return Err(self.missing_chunk(path, index));
         }
-        let raw = std::fs::read(&path).map_err(|e| LoadError::io(&path, e))?;
+        let raw = crate::files::read(&path).map_err(|e| LoadError::io(&path, e))?;
         self.decode(&raw, chunk_len)
             .map_err(|problem| LoadError::Dataset { path, problem })
     }
@@ -251,10 +251,10 @@ impl ZarrArray {
             let key: Vec<String> = index.iter().map(usize::to_string).collect();
             let key = key.join(&self.separator.to_string());
             let path = self.dir.join(&key);
-            if !path.is_file() {
+            if !crate::files::is_file(&path) {
                 return Err(self.missing_chunk(path, index[0]));
             }
-            let raw = std::fs::read(&path).map_err(|e| LoadError::io(&path, e))?;
+            let raw = crate::files::read(&path).map_err(|e| LoadError::io(&path, e))?;
             progress.advance(raw.len() as u64);
             let bytes = self
                 .decode(&raw, chunk_len * self.dtype.size)

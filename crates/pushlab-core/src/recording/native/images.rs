@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::atomic_file::write_atomically;
+use crate::files;
 use crate::recording::camera::{
     CameraStream, EncodedImage, FrameProblem, FrameReader, FrameSource, ImageFormat, sniff,
 };
@@ -41,17 +42,18 @@ pub fn images_dir(csv: &Path) -> PathBuf {
 /// `frames.csv` (a camera named after the recording), and one camera per subfolder with one.
 pub fn read_cameras(csv: &Path) -> Result<Vec<CameraStream>, LoadError> {
     let dir = images_dir(csv);
-    if !dir.is_dir() {
+    if !files::is_dir(&dir) {
         return Ok(Vec::new());
     }
     let mut cameras = Vec::new();
-    if dir.join(FRAMES_FILE).is_file() {
+    if files::is_file(&dir.join(FRAMES_FILE)) {
         cameras.push(read_camera(&dir, "camera")?);
     }
-    let mut subfolders: Vec<PathBuf> = std::fs::read_dir(&dir)
+    let mut subfolders: Vec<PathBuf> = files::read_dir(&dir)
         .map_err(|e| LoadError::io(&dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.join(FRAMES_FILE).is_file())
+        .into_iter()
+        .map(|e| e.path)
+        .filter(|p| files::is_file(&p.join(FRAMES_FILE)))
         .collect();
     subfolders.sort();
     for folder in subfolders {
@@ -66,7 +68,7 @@ pub fn read_cameras(csv: &Path) -> Result<Vec<CameraStream>, LoadError> {
 /// The camera whose frame list is in `dir`.
 fn read_camera(dir: &Path, name: &str) -> Result<CameraStream, LoadError> {
     let path = dir.join(FRAMES_FILE);
-    let text = std::fs::read_to_string(&path).map_err(|e| LoadError::io(&path, e))?;
+    let text = files::read_to_string(&path).map_err(|e| LoadError::io(&path, e))?;
     let bad = |line: usize, why: String| LoadError::FrameList {
         path: path.clone(),
         line,
@@ -154,7 +156,7 @@ impl FrameReader for FolderReader {
             .get(index)
             .ok_or_else(|| FrameProblem::Unreadable(format!("there is no frame {index}")))?;
         let path = self.dir.join(name);
-        let bytes = std::fs::read(&path)
+        let bytes = files::read(&path)
             .map_err(|e| FrameProblem::Unreadable(format!("{}: {e}", path.display())))?;
         let format = sniff(&bytes).ok_or_else(|| {
             FrameProblem::UnknownEncoding(format!("{name} (neither JPEG nor PNG bytes)"))

@@ -1,8 +1,10 @@
 //! Where an MCAP file's bytes come from: a file read at offsets (never whole), or bytes in memory
 //! (tests, the fuzzer). Every read is bounded by the caller and checked against the source's length.
 
-use std::fs::File;
 use std::io;
+use std::path::Path;
+
+use crate::files::Positioned;
 
 /// Bytes read at offsets.
 pub trait Source: Sync {
@@ -30,59 +32,23 @@ pub trait Source: Sync {
     }
 }
 
-/// A file, read with positioned reads (no shared cursor, so readers on several threads each hold
-/// their own handle or share this one).
-pub struct FileSource {
-    #[cfg_attr(
-        not(any(unix, windows)),
-        expect(dead_code, reason = "no positioned reads here")
-    )]
-    file: File,
-    len: u64,
-}
+/// A bag's file, read at offsets (of the file on the desktop, of the page's bytes in a tab).
+pub struct FileSource(Positioned);
 
 impl FileSource {
-    pub fn new(file: File) -> io::Result<Self> {
-        let len = file.metadata()?.len();
-        Ok(Self { file, len })
+    /// Opens the file at `path`.
+    pub fn open(path: &Path) -> io::Result<Self> {
+        Positioned::open(path).map(Self)
     }
 }
 
 impl Source for FileSource {
     fn len(&self) -> u64 {
-        self.len
+        self.0.len()
     }
 
     fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::FileExt;
-            self.file.read_exact_at(buf, offset)
-        }
-        #[cfg(windows)]
-        {
-            use std::os::windows::fs::FileExt;
-            let mut done = 0;
-            while done < buf.len() {
-                let n = self
-                    .file
-                    .seek_read(&mut buf[done..], offset + done as u64)?;
-                if n == 0 {
-                    return Err(io::ErrorKind::UnexpectedEof.into());
-                }
-                done += n;
-            }
-            Ok(())
-        }
-        #[cfg(not(any(unix, windows)))]
-        {
-            // A page has no files to open: a bag opened there never gets this far.
-            let _ = (offset, buf);
-            Err(io::Error::new(
-                io::ErrorKind::Unsupported,
-                "positioned reads of a file are not available on this platform",
-            ))
-        }
+        self.0.read_at(offset, buf)
     }
 }
 

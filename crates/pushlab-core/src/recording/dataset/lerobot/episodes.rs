@@ -199,12 +199,12 @@ pub fn parquet_files(dir: &Path) -> Vec<PathBuf> {
     let mut files = Vec::new();
     let mut folders = vec![dir.to_path_buf()];
     while let Some(folder) = folders.pop() {
-        let Ok(entries) = std::fs::read_dir(&folder) else {
+        let Ok(entries) = crate::files::read_dir(&folder) else {
             continue;
         };
-        for entry in entries.filter_map(Result::ok) {
-            let path = entry.path();
-            if entry.file_type().is_ok_and(|t| t.is_dir()) {
+        for entry in entries {
+            let path = entry.path;
+            if entry.is_dir {
                 folders.push(path);
             } else if path.extension().is_some_and(|e| e == "parquet") {
                 files.push(path);

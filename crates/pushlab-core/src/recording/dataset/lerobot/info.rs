@@ -112,10 +112,10 @@ impl Info {
 /// The `codebase_version` of the LeRobot dataset in `dir`, if `dir` holds one (whatever version).
 pub fn version_of(dir: &Path) -> Option<String> {
     let path = dir.join(INFO_FILE);
-    if !path.is_file() {
+    if !crate::files::is_file(&path) {
         return None;
     }
-    let value: Value = serde_json::from_slice(&std::fs::read(path).ok()?).ok()?;
+    let value: Value = serde_json::from_slice(&crate::files::read(&path).ok()?).ok()?;
     value.get("codebase_version")?.as_str().map(str::to_owned)
 }
 
@@ -342,7 +342,10 @@ pub fn file_in(
     let path = dir.join(&relative);
     // A link is followed only to check where it lands; a file that is not there is left for the
     // reader to name.
-    let linked_out = match (std::fs::canonicalize(dir), std::fs::canonicalize(&path)) {
+    let linked_out = match (
+        crate::files::canonicalize(dir),
+        crate::files::canonicalize(&path),
+    ) {
         (Ok(root), Ok(target)) => !target.starts_with(root),
         _ => false,
     };

@@ -47,8 +47,8 @@ pub fn bytes(dir: &Path) -> u64 {
     [dir.join("data"), dir.join(EPISODES_DIR)]
         .iter()
         .flat_map(|folder| parquet_files(folder))
-        .filter_map(|file| std::fs::metadata(file).ok())
-        .map(|m| m.len())
+        .filter_map(|file| crate::files::metadata(&file).ok())
+        .map(|m| m.len)
         .sum()
 }
 

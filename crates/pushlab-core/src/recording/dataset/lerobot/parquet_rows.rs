@@ -4,7 +4,6 @@
 //! (nested) lists alike. A null reads as NaN, refused by the import where it is used.
 
 use std::collections::HashMap;
-use std::fs::File;
 use std::path::Path;
 
 use parquet::errors::ParquetError;
@@ -69,9 +68,11 @@ fn read_columns(
     };
     let parquet = |e: ParquetError| fail(DatasetProblem::Parquet(e.to_string()));
     let cancelled = || fail(DatasetProblem::Cancelled);
-    let file = File::open(path).map_err(|e| LoadError::io(path, e))?;
-    let size = file.metadata().map_or(0, |m| m.len());
-    let reader = SerializedFileReader::new(file).map_err(parquet)?;
+    // Read whole (an episode's file is small), through the one door to files, so that a page
+    // reads its dropped files as the desktop reads the disk.
+    let file = crate::files::read(path).map_err(|e| LoadError::io(path, e))?;
+    let size = file.len() as u64;
+    let reader = SerializedFileReader::new(bytes::Bytes::from(file)).map_err(parquet)?;
     let schema = reader.metadata().file_metadata().schema();
     let fields = schema.get_fields();
     let mut projected = Vec::with_capacity(wanted.len());
