@@ -245,7 +245,8 @@ pub fn read_dropped(dropped: Vec<eframe::egui::DroppedFileHandle>) {
                 Ok(bytes) => files.push((name, bytes)),
                 Err(why) => OPENED.with(|o| {
                     o.borrow_mut().push(DialogResult::Unavailable(format!(
-                        "{name}: the browser could not read the dropped file: {why}"
+                        "{name}: the browser could not read the dropped file: {}",
+                        browser_words(&why)
                     )));
                 }),
             }
@@ -257,6 +258,13 @@ pub fn read_dropped(dropped: Vec<eframe::egui::DroppedFileHandle>) {
         UNDER_WAY.with(|n| n.set(n.get().saturating_sub(1)));
         wake();
     });
+}
+
+/// The browser's own words in eframe's error for a file it could not read, which is the debug form
+/// of a JavaScript value (`JsValue(NotReadableError: …)` and a stack line, `undefined` in a page).
+fn browser_words(why: &str) -> &str {
+    let first = why.lines().next().unwrap_or(why);
+    first.strip_prefix("JsValue(").unwrap_or(first)
 }
 
 /// Whether files dropped or asked for by address are still being read or fetched.
