@@ -16,6 +16,7 @@
 mod episodes;
 mod info;
 mod parquet_rows;
+mod parquet_source;
 
 use std::collections::{BTreeSet, HashMap};
 use std::ops::Range;

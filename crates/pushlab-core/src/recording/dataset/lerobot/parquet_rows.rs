@@ -7,11 +7,12 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use parquet::errors::ParquetError;
-use parquet::file::reader::{FileReader, SerializedFileReader};
+use parquet::file::reader::{FileReader, Length as _, SerializedFileReader};
 use parquet::record::Field;
 use parquet::schema::types::Type;
 
 use super::super::problem::DatasetProblem;
+use super::parquet_source::ParquetSource;
 use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
@@ -68,11 +69,9 @@ fn read_columns(
     };
     let parquet = |e: ParquetError| fail(DatasetProblem::Parquet(e.to_string()));
     let cancelled = || fail(DatasetProblem::Cancelled);
-    // Read whole (an episode's file is small), through the one door to files, so that a page
-    // reads its dropped files as the desktop reads the disk.
-    let file = crate::files::read(path).map_err(|e| LoadError::io(path, e))?;
-    let size = file.len() as u64;
-    let reader = SerializedFileReader::new(bytes::Bytes::from(file)).map_err(parquet)?;
+    let file = ParquetSource::open(path).map_err(|e| LoadError::io(path, e))?;
+    let size = file.len();
+    let reader = SerializedFileReader::new(file).map_err(parquet)?;
     let schema = reader.metadata().file_metadata().schema();
     let fields = schema.get_fields();
     let mut projected = Vec::with_capacity(wanted.len());
