@@ -46,6 +46,13 @@ where
 }
 
 /// [`first_here_rest_elsewhere`] over the ranges of indices `0..len` rather than a slice's items.
+#[cfg_attr(
+    target_arch = "wasm32",
+    expect(
+        clippy::disallowed_methods,
+        reason = "a page has no cores to count (available_parallelism fails): one slice, no spawn"
+    )
+)]
 fn first_range_here_rest_elsewhere<R, F, G>(
     len: usize,
     min_slice: usize,

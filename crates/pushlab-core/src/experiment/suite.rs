@@ -337,6 +337,13 @@ pub fn run_experiment(
 
 /// Runs every experiment of a suite on `workers` threads (at least one); `progress` is told each
 /// experiment that finishes and how many have. Results are in the spec's order.
+#[cfg_attr(
+    target_arch = "wasm32",
+    expect(
+        clippy::disallowed_methods,
+        reason = "the suite is the command line's, never a page's"
+    )
+)]
 pub fn run_suite(
     spec: &SuiteSpec,
     base: &Path,

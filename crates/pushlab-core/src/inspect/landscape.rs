@@ -158,6 +158,13 @@ pub fn mean_loss<M: OnlineModel + ?Sized>(
 /// The mean loss of `samples` over `grid` at `h`. `cancelled` is polled once before each row (and
 /// only then, so counting its calls counts the rows begun: a caller's progress); a cancelled
 /// landscape is `None`.
+#[cfg_attr(
+    target_arch = "wasm32",
+    expect(
+        clippy::disallowed_methods,
+        reason = "a page has no cores to count (available_parallelism fails): one worker, no spawn"
+    )
+)]
 pub fn com_landscape<M: OnlineModel + Sync + ?Sized>(
     model: &M,
     samples: &[Sample],

@@ -33,6 +33,10 @@ impl Prefetch {
     /// Starts workers (one per core, at most two) decompressing `chunks[i]` for each `i` of
     /// `planned`, in order. None start for fewer than two chunks: there is nothing to overlap.
     /// `next` counts the chunks the workers took; it outlives them.
+    #[cfg_attr(
+        target_arch = "wasm32",
+        expect(clippy::disallowed_methods, reason = "a page returns before any spawn")
+    )]
     pub(super) fn start<'scope, 'env, S: Source + ?Sized>(
         scope: &'scope Scope<'scope, 'env>,
         source: &'env S,
