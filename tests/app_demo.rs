@@ -134,6 +134,49 @@ fn f5_leaves_and_enters_the_presentation_layout() {
     assert!(harness.query_by_label("Step").is_none());
 }
 
+/// A class's hidden controls come back from the app itself: the View menu hides the menu bar and
+/// the timeline, F10 brings the menu bar back, and a link made meanwhile says what is hidden.
+#[test]
+fn the_view_menu_hides_the_menu_bar_and_f10_brings_it_back() {
+    let state = initial_state(
+        &[common::sample_dir("box1-paper-lr-front")],
+        Persisted::default(),
+    );
+    let mut harness = common::harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(2);
+    harness.get_by_label("View").click();
+    harness.run_steps(2);
+    harness.get_by_label("Timeline").click();
+    harness.run_steps(2);
+    assert!(harness.state().view.hide_timeline);
+    assert!(
+        harness.query_by_label("Play").is_none(),
+        "the timeline is hidden"
+    );
+    // A checkbox leaves the menu open; open it again only if it closed.
+    if harness.query_by_label_contains("Hide the menu bar").is_none() {
+        harness.get_by_label("View").click();
+        harness.run_steps(2);
+    }
+    harness.get_by_label_contains("Hide the menu bar").click();
+    harness.run_steps(2);
+    assert!(
+        harness.query_by_label("File").is_none(),
+        "the menu bar is hidden"
+    );
+    assert_eq!(
+        harness.state().view.link_part().hide,
+        vec!["timeline".to_owned(), "menu".to_owned()]
+    );
+    harness.key_press(eframe::egui::Key::F10);
+    harness.run_steps(2);
+    assert!(
+        harness.query_by_label("File").is_some(),
+        "F10 shows the menu bar again"
+    );
+    assert!(!harness.state().view.hide_menu);
+}
+
 #[test]
 fn presentation_layout_snapshot() {
     let spec = SuiteSpec::load(&demo_suite_path()).expect("the sample-data suite");

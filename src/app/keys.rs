@@ -36,6 +36,8 @@ pub enum KeyAction {
     ToggleLandscape,
     /// Switch to or from the presentation layout (view state).
     TogglePresentation,
+    /// Show or hide the menu bar (view state): a classroom link may hide it (`hide=menu`).
+    ToggleMenuBar,
     /// How the scene's camera moves (view state).
     Camera(CameraMode),
 }
@@ -63,7 +65,7 @@ const COMMAND: Modifiers = Modifiers::COMMAND;
 
 /// The fixed bindings, most specific first (egui matches Shift loosely, so Shift+→ must be tried
 /// before →, and Ctrl+Shift+Z before Ctrl+Z).
-pub const BINDINGS: [Binding; 22] = [
+pub const BINDINGS: [Binding; 23] = [
     bind(
         NONE,
         Key::Space,
@@ -171,6 +173,12 @@ pub const BINDINGS: [Binding; 22] = [
     ),
     bind(
         NONE,
+        Key::F10,
+        KeyAction::ToggleMenuBar,
+        "show / hide the menu bar",
+    ),
+    bind(
+        NONE,
         Key::F,
         KeyAction::Camera(CameraMode::Follow),
         "camera: follow the object",
@@ -248,6 +256,7 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
                         LandscapeCommand::Show(!state.landscape().open),
                     )),
                     KeyAction::TogglePresentation => view.presentation = !view.presentation,
+                    KeyAction::ToggleMenuBar => view.hide_menu = !view.hide_menu,
                     KeyAction::Camera(mode) => view.scene.mode = mode,
                 }
             } else if *key == Key::Questionmark {

@@ -236,6 +236,18 @@ fn panes_menu(ui: &mut egui::Ui, view: &mut View) {
             view.layout.set_shown(pane, shown);
         }
     }
+    // The controls a classroom link can hide (`hide=`), hidden and shown here too.
+    let mut timeline = !view.hide_timeline;
+    if ui.checkbox(&mut timeline, "Timeline").changed() {
+        view.hide_timeline = !timeline;
+    }
+    if ui
+        .add(egui::Button::new("Hide the menu bar").shortcut_text("F10"))
+        .on_hover_text("for a class; F10 brings it back")
+        .clicked()
+    {
+        view.hide_menu = true;
+    }
     if ui
         .button("Reset layout")
         .on_hover_text("every pane shown, where it was at first")
