@@ -154,7 +154,10 @@ fn the_view_menu_hides_the_menu_bar_and_f10_brings_it_back() {
         "the timeline is hidden"
     );
     // A checkbox leaves the menu open; open it again only if it closed.
-    if harness.query_by_label_contains("Hide the menu bar").is_none() {
+    if harness
+        .query_by_label_contains("Hide the menu bar")
+        .is_none()
+    {
         harness.get_by_label("View").click();
         harness.run_steps(2);
     }
