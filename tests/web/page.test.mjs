@@ -3,7 +3,7 @@
 // script would, and checks what a user would see: the picture, θ, the losses, the files opened.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { readFileSync } from "node:fs";
+import { readdirSync, readFileSync } from "node:fs";
 import { chromium } from "playwright-core";
 
 const site = process.env.PUSHLAB_WEB_URL ?? "http://127.0.0.1:8765/";
@@ -218,6 +218,61 @@ test("a ROS 2 bag dropped and Push-T datasets picked as folders open as on the d
   }
   assert.deepEqual(errors, []);
   assert.equal(await page.evaluate(() => window.pushlab.panic()), null);
+  await page.close();
+});
+
+test("a folder dropped is walked with its tree and opens as on the desktop", async () => {
+  // A synthetic DataTransfer cannot hold a folder, so the drop's entries are given to the page's
+  // own walk (what its drop handler calls) as objects with the FileSystemEntry calls it makes,
+  // each folder answering in batches of two as chromium answers in batches of a hundred.
+  const { page, errors } = await open();
+  const before = await state(page);
+  const root = process.env.PUSHLAB_ZARR_DIR;
+  const name = root.split("/").filter(Boolean).pop();
+  const files = [];
+  const walk = (dir, rel) => {
+    for (const entry of readdirSync(dir, { withFileTypes: true })) {
+      const path = `${dir}/${entry.name}`;
+      if (entry.isDirectory()) walk(path, `${rel}/${entry.name}`);
+      else files.push([`${rel}/${entry.name}`, [...readFileSync(path)]]);
+    }
+  };
+  walk(root, `/${name}`);
+  await page.evaluate(async (files) => {
+    const folder = (fullPath) => ({ isFile: false, isDirectory: true, fullPath, children: [] });
+    const top = folder(files[0][0].split("/").slice(0, 2).join("/"));
+    const folders = new Map([[top.fullPath, top]]);
+    const folderOf = (path) => {
+      if (!folders.has(path)) {
+        const made = folder(path);
+        folders.set(path, made);
+        folderOf(path.slice(0, path.lastIndexOf("/"))).children.push(made);
+      }
+      return folders.get(path);
+    };
+    for (const [path, bytes] of files) {
+      folderOf(path.slice(0, path.lastIndexOf("/"))).children.push({
+        isFile: true, isDirectory: false, fullPath: path,
+        file: (ok) => ok(new File([new Uint8Array(bytes)], path.split("/").pop())),
+      });
+    }
+    for (const made of folders.values()) {
+      made.createReader = () => {
+        let at = 0;
+        return { readEntries: (ok) => { ok(made.children.slice(at, at + 2)); at += 2; } };
+      };
+    }
+    await window.pushlab_open_entries([top]);
+  }, files);
+  await page.waitForFunction((count) => window.pushlab.state().open.length > count,
+    before.open.length, { timeout: 60_000, polling: 50 });
+  const after = await settled(page);
+  assert.equal(after.error, null);
+  const fresh = newlyOpen(before, after);
+  const wanted = desktopNames(process.env.PUSHLAB_ZARR_OPENED).map((n) => n.split("#").pop());
+  assert.equal(fresh.length, wanted.length, `${fresh}`);
+  for (const episode of wanted) assert.ok(fresh.some((n) => n.endsWith(episode)), `${episode} among ${fresh}`);
+  assert.deepEqual(errors, []);
   await page.close();
 });
 
