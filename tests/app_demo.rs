@@ -117,11 +117,7 @@ fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
 
 #[test]
 fn f5_leaves_and_enters_the_presentation_layout() {
-    let state = initial_state(
-        &[common::sample_dir("box1-paper-lr-front")],
-        Persisted::default(),
-    );
-    let mut harness = common::harness(PushlabApp::new(state), 0.05);
+    let mut harness = common::app_on_sample("box1-paper-lr-front");
     harness.run_steps(2);
     assert!(harness.query_by_label("Step").is_none());
     harness.key_press(eframe::egui::Key::F5);
@@ -138,11 +134,7 @@ fn f5_leaves_and_enters_the_presentation_layout() {
 /// the timeline, F10 brings the menu bar back, and a link made meanwhile says what is hidden.
 #[test]
 fn the_view_menu_hides_the_menu_bar_and_f10_brings_it_back() {
-    let state = initial_state(
-        &[common::sample_dir("box1-paper-lr-front")],
-        Persisted::default(),
-    );
-    let mut harness = common::harness(PushlabApp::new(state), 0.05);
+    let mut harness = common::app_on_sample("box1-paper-lr-front");
     harness.run_steps(2);
     harness.get_by_label("View").click();
     harness.run_steps(2);
