@@ -172,13 +172,7 @@ mod backend {
         }
 
         pub fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
-            let start = usize::try_from(offset).map_err(|_| io::ErrorKind::UnexpectedEof)?;
-            let bytes = start
-                .checked_add(buf.len())
-                .and_then(|end| self.bytes.get(start..end))
-                .ok_or(io::ErrorKind::UnexpectedEof)?;
-            buf.copy_from_slice(bytes);
-            Ok(())
+            super::read_slice_at(&self.bytes, offset, buf)
         }
     }
 }
@@ -258,4 +252,16 @@ impl Positioned {
     pub fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
         self.0.read_at(offset, buf)
     }
+}
+
+/// Fills `buf` from `offset` of bytes in memory; an error when they end first (a page's file, a
+/// bag held in memory).
+pub fn read_slice_at(bytes: &[u8], offset: u64, buf: &mut [u8]) -> io::Result<()> {
+    let start = usize::try_from(offset).map_err(|_| io::ErrorKind::UnexpectedEof)?;
+    let slice = start
+        .checked_add(buf.len())
+        .and_then(|end| bytes.get(start..end))
+        .ok_or(io::ErrorKind::UnexpectedEof)?;
+    buf.copy_from_slice(slice);
+    Ok(())
 }

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::image_msg::{self, ImageKind};
-use super::mcap::{Bytes, ChunkCache, FileSource, MessageAt, Source, read_payload};
+use super::mcap::{Bytes, ChunkCache, MessageAt, Source, read_payload};
+use crate::files::Positioned;
 use crate::recording::camera::{
     CameraStream, EncodedImage, FrameProblem, FrameReader, FrameSource,
 };
@@ -117,7 +118,7 @@ struct BagFrameReader {
     kind: ImageKind,
     frames: Vec<(u32, MessageAt)>,
     /// The bag's files, opened when first read.
-    files: Vec<Option<FileSource>>,
+    files: Vec<Option<Positioned>>,
     /// The last decompressed chunk, and the file it is of.
     cache: ChunkCache,
     cached_file: Option<u32>,
@@ -146,7 +147,7 @@ impl FrameReader for BagFrameReader {
                     self.files.resize_with(slot + 1, || None);
                 }
                 if self.files[slot].is_none() {
-                    let source = FileSource::open(path)
+                    let source = Positioned::open(path)
                         .map_err(|e| unreadable(format!("{}: {e}", path.display())))?;
                     self.files[slot] = Some(source);
                 }

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::mcap::{Bytes, FileSource, Source};
+use super::mcap::{Bytes, Source};
 use super::problem::BagProblem;
 use crate::files;
 use crate::recording::error::LoadError;
@@ -90,7 +90,7 @@ pub(super) fn read_file<T>(
     match bytes {
         Some(bytes) => read(&Bytes(bytes)).map_err(fail),
         None => {
-            let source = FileSource::open(file).map_err(|e| LoadError::io(file, e))?;
+            let source = files::Positioned::open(file).map_err(|e| LoadError::io(file, e))?;
             read(&source).map_err(fail)
         }
     }

@@ -33,7 +33,7 @@ mod unfinished;
 pub use self::payload::{ChunkCache, read_payload};
 pub use self::reader::read_messages;
 
-pub use self::source::{Bytes, FileSource, Source};
+pub use self::source::{Bytes, Source};
 
 use super::problem::BagProblem;
 

@@ -2,7 +2,6 @@
 //! (tests, the fuzzer). Every read is bounded by the caller and checked against the source's length.
 
 use std::io;
-use std::path::Path;
 
 use crate::files::Positioned;
 
@@ -33,22 +32,13 @@ pub trait Source: Sync {
 }
 
 /// A bag's file, read at offsets (of the file on the desktop, of the page's bytes in a tab).
-pub struct FileSource(Positioned);
-
-impl FileSource {
-    /// Opens the file at `path`.
-    pub fn open(path: &Path) -> io::Result<Self> {
-        Positioned::open(path).map(Self)
-    }
-}
-
-impl Source for FileSource {
+impl Source for Positioned {
     fn len(&self) -> u64 {
-        self.0.len()
+        Positioned::len(self)
     }
 
     fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
-        self.0.read_at(offset, buf)
+        Positioned::read_at(self, offset, buf)
     }
 }
 
@@ -61,12 +51,6 @@ impl Source for Bytes<'_> {
     }
 
     fn read_at(&self, offset: u64, buf: &mut [u8]) -> io::Result<()> {
-        let start = usize::try_from(offset).map_err(|_| io::ErrorKind::UnexpectedEof)?;
-        let bytes = start
-            .checked_add(buf.len())
-            .and_then(|end| self.0.get(start..end))
-            .ok_or(io::ErrorKind::UnexpectedEof)?;
-        buf.copy_from_slice(bytes);
-        Ok(())
+        crate::files::read_slice_at(self.0, offset, buf)
     }
 }
