@@ -3,24 +3,18 @@
 // for each whether the app read it and said why it is not a bag, or stopped.
 //   node tests/web/limit.mjs URL [MEGABYTES...]
 // against a site served by `bash scripts/web --serve`, in Debian's chromium as the tests drive it.
-import { chromium } from "playwright-core";
+import { launch, settled } from "./browser.mjs";
 
 const site = process.argv[2] ?? "http://127.0.0.1:8765/";
 const sizes = process.argv.slice(3).map(Number);
-const browser = await chromium.launch({
-  executablePath: process.env.PUSHLAB_CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--no-sandbox", "--disable-background-networking", "--disable-component-update",
-    "--disable-sync", "--no-first-run", "--disable-quic", "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader"],
-});
+const browser = await launch();
 for (const megabytes of sizes.length ? sizes : [256, 512, 1024, 1536, 2048]) {
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
   const errors = [];
   page.on("pageerror", (e) => errors.push(String(e)));
   page.on("crash", () => errors.push("the tab crashed"));
   await page.goto(site);
-  await page.waitForFunction(() => window.pushlab?.state() && !window.pushlab.state().busy, null,
-    { timeout: 120_000, polling: 100 });
+  await settled(page);
   const start = Date.now();
   let outcome;
   try {

@@ -2,20 +2,12 @@
 //   node tests/web/measure.mjs URL [MIT_FOLDER]
 // against a site served by `bash scripts/web --serve`, in Debian's chromium as the tests drive it.
 import { readdirSync, readFileSync } from "node:fs";
-import { chromium } from "playwright-core";
+import { launch, settled } from "./browser.mjs";
 
 const site = process.argv[2] ?? "http://127.0.0.1:8765/";
 const mit = process.argv[3];
-const browser = await chromium.launch({
-  executablePath: process.env.PUSHLAB_CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--no-sandbox", "--disable-background-networking", "--disable-component-update",
-    "--disable-sync", "--no-first-run", "--disable-quic", "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader"],
-});
-const settle = (page) => page.waitForFunction(() => {
-  const s = window.pushlab?.state();
-  return s && !s.busy;
-}, null, { timeout: 120_000, polling: 20 });
+const browser = await launch();
+const settle = (page) => settled(page, { polling: 20 });
 
 // Navigation to the first frame drawn (the hook's state exists once a frame was drawn).
 const firsts = [];

@@ -4,20 +4,13 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { readdirSync, readFileSync } from "node:fs";
-import { chromium } from "playwright-core";
+import { launch, settled } from "./browser.mjs";
 
 const site = process.env.PUSHLAB_WEB_URL ?? "http://127.0.0.1:8765/";
-const chromiumPath = process.env.PUSHLAB_CHROMIUM ?? "/usr/bin/chromium";
 let browser;
 
 before(async () => {
-  browser = await chromium.launch({
-    executablePath: chromiumPath,
-    // This machine's network is closed: no background connections, no first-run work.
-    args: ["--no-sandbox", "--disable-background-networking", "--disable-component-update",
-      "--disable-sync", "--no-first-run", "--disable-quic", "--use-angle=swiftshader",
-      "--enable-unsafe-swiftshader"],
-  });
+  browser = await launch();
 });
 
 after(async () => {
@@ -33,14 +26,6 @@ async function open(query = "") {
   await page.goto(site + query);
   await settled(page);
   return { page, errors };
-}
-
-async function settled(page, timeout = 120_000) {
-  await page.waitForFunction(() => {
-    const s = window.pushlab?.state();
-    return s && !s.busy;
-  }, null, { timeout, polling: 100 });
-  return page.evaluate(() => window.pushlab.state());
 }
 
 const state = (page) => page.evaluate(() => window.pushlab.state());

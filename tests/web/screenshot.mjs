@@ -2,23 +2,16 @@
 // tests drive it:   node tests/web/screenshot.mjs URL QUERY FRAME OUT.png [WIDTHxHEIGHT]
 // e.g. node tests/web/screenshot.mjs http://127.0.0.1:8765/ '?demo=R2b%20COM&projector=1' 40 \
 //        ../../docs/src/images/web-projector.png 1280x800
-import { chromium } from "playwright-core";
+import { launch, settled } from "./browser.mjs";
 
 const [site, query, frame, out, size = "1280x800"] = process.argv.slice(2);
 const [width, height] = size.split("x").map(Number);
-const browser = await chromium.launch({
-  executablePath: process.env.PUSHLAB_CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--no-sandbox", "--disable-background-networking", "--disable-component-update",
-    "--disable-sync", "--no-first-run", "--disable-quic", "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader"],
-});
+const browser = await launch();
 const page = await browser.newPage({ viewport: { width, height } });
 await page.goto(site + query);
-const settled = () => page.waitForFunction(() => window.pushlab?.state() && !window.pushlab.state().busy,
-  null, { timeout: 120_000, polling: 100 });
-await settled();
+await settled(page);
 await page.evaluate((frame) => window.pushlab.command({ learn: true, seek: Number(frame) }), frame);
-await settled();
+await settled(page);
 await page.waitForTimeout(500);
 await page.screenshot({ path: out });
 await browser.close();
