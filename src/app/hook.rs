@@ -10,9 +10,11 @@ use serde::{Deserialize, Serialize};
 
 use pushlab_core::model::OnlineParams;
 
+use super::state::best_fit::BestFitCommand;
 use super::state::demo::DemoCommand;
+use super::state::landscape::LandscapeCommand;
 use super::state::timeline::TimelineCommand;
-use super::state::{AppState, Command, OnlineCommand};
+use super::state::{AppState, Command, OnlineCommand, SessionCommand, TrainingCommand};
 
 /// What is shown, as `state()` returns it (metres, radians; losses as `[pos, rot]`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -37,6 +39,9 @@ pub struct Shown {
     pub open: Vec<String>,
     /// Work is running off the UI thread (loading, training, learning ahead…).
     pub busy: bool,
+    /// The share of the running training done, in [0, 1] (what its progress bar shows); `null`
+    /// when no model is training.
+    pub training: Option<f32>,
     /// The newest load problem, or `null`.
     pub error: Option<String>,
     /// The status line.
@@ -53,6 +58,8 @@ pub struct Shown {
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HookCommand {
+    /// Stops what the Cancel buttons stop: a training, a load, the best θ, the landscape.
+    pub cancel: Option<bool>,
     pub demo: Option<String>,
     pub open_url: Option<String>,
     pub learn: Option<bool>,
@@ -109,6 +116,7 @@ pub fn shown(state: &AppState) -> Shown {
             .map(|(_, r)| display_name(r))
             .collect(),
         busy: state.is_busy(),
+        training: (state.training().is_running()).then(|| state.training().progress()),
         error: state.session().problems.last().map(|p| p.message.clone()),
         status: state.status().map(str::to_owned),
         demos: (state.demos().names().into_iter())
@@ -127,6 +135,14 @@ pub fn parse(json: &str) -> Result<HookCommand, String> {
 /// Turns a hook command into what the menus, keys and sliders send.
 pub fn translate(command: &HookCommand, state: &AppState) -> Result<Translated, String> {
     let mut out = Translated::default();
+    if command.cancel == Some(true) {
+        out.commands.extend([
+            Command::Training(TrainingCommand::Cancel),
+            Command::Session(SessionCommand::CancelLoading),
+            Command::BestFit(BestFitCommand::Cancel),
+            Command::Landscape(LandscapeCommand::Cancel),
+        ]);
+    }
     if let Some(name) = &command.demo {
         let names = state.demos().names();
         let index = names.iter().position(|n| n == name).ok_or_else(|| {

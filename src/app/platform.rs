@@ -3,11 +3,17 @@
 //! `pushlab_core::files`, which reads the disk on the desktop and the page's in-memory tree in a tab.
 //!
 //! Why one seam: a page has no threads (`std::thread::spawn` panics on `wasm32-unknown-unknown`) and
-//! no `std::time::Instant`; the panels and the state must not care. On the desktop [`spawn`] starts
-//! a thread; in a page it queues the work, and [`run_queued`] runs what is queued between two
-//! frames, after the frame that showed its progress bar was drawn. The jobs' channels, cancel flags
-//! and progress are the same on both.
+//! no `std::time::Instant`; the panels and the state must not care. On the desktop [`spawn`] and
+//! [`spawn_in_slices`] start a thread; in a page they queue the work, and [`run_queued`] runs it
+//! between two frames, after the frame that showed its progress bar was drawn: work in one piece
+//! whole, work written in slices (`pushlab_core::slices`: training) for a slice of each frame, so
+//! that the page keeps drawing and its Cancel can be pressed. The jobs' channels, cancel flags and
+//! progress are the same on both.
 
+#[cfg(any(target_arch = "wasm32", test))]
+mod queue;
+
+use std::future::Future;
 use std::path::PathBuf;
 
 pub use web_time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -25,8 +31,20 @@ pub fn spawn(work: impl FnOnce() + Send + 'static) {
     backend::spawn(Box::new(work));
 }
 
-/// Runs the work [`spawn`] queued in a page, oldest first, one item per call so that a frame is
-/// drawn between two; returns whether one ran. Nothing is ever queued on the desktop.
+/// Runs work written in slices off the UI thread: to its end on a thread of its own on the
+/// desktop, a slice of each frame in a page. `make` builds the work where it runs (the work
+/// itself need not be `Send`: it holds its progress callback across its pauses).
+pub fn spawn_in_slices<F>(make: impl FnOnce() -> F + Send + 'static)
+where
+    F: Future<Output = ()> + 'static,
+{
+    backend::spawn_in_slices(make);
+}
+
+/// Runs the work queued in a page, oldest first, one item per call so that a frame is drawn
+/// between two: work in one piece to its end, work in slices for about as long as the page spent
+/// on everything else since the last slice (16–100 ms: `queue::slice_budget`), then back at the
+/// end of the queue; returns whether one ran. Nothing is ever queued on the desktop.
 pub fn run_queued() -> bool {
     backend::run_queued()
 }
@@ -54,6 +72,12 @@ mod backend {
         std::thread::spawn(work);
     }
 
+    pub fn spawn_in_slices<F: std::future::Future<Output = ()>>(
+        make: impl FnOnce() -> F + Send + 'static,
+    ) {
+        std::thread::spawn(move || pushlab_core::slices::finish(make()));
+    }
+
     pub fn run_queued() -> bool {
         false
     }
@@ -73,21 +97,40 @@ mod backend {
 
 #[cfg(target_arch = "wasm32")]
 mod backend {
-    use std::cell::RefCell;
-    use std::collections::VecDeque;
+    use std::cell::{Cell, RefCell};
+
+    use crate::app::platform::Instant;
+    use crate::app::platform::queue::{WorkQueue, run_slice, slice_budget};
 
     thread_local! {
-        static QUEUE: RefCell<VecDeque<Box<dyn FnOnce() + Send>>> = RefCell::new(VecDeque::new());
+        static QUEUE: RefCell<WorkQueue> = RefCell::new(WorkQueue::default());
+        /// When the last slice ended: the time since is what the page spent elsewhere.
+        static LAST_SLICE_END: Cell<Option<Instant>> = const { Cell::new(None) };
     }
 
     pub fn spawn(work: Box<dyn FnOnce() + Send>) {
-        QUEUE.with(|queue| queue.borrow_mut().push_back(work));
+        QUEUE.with(|queue| queue.borrow_mut().push(Box::pin(async move { work() })));
+    }
+
+    pub fn spawn_in_slices<F: std::future::Future<Output = ()> + 'static>(
+        make: impl FnOnce() -> F + Send + 'static,
+    ) {
+        QUEUE.with(|queue| queue.borrow_mut().push(Box::pin(make())));
     }
 
     pub fn run_queued() -> bool {
-        // Taken out before it runs: the work may queue more.
-        let next = QUEUE.with(|queue| queue.borrow_mut().pop_front());
-        next.map(|work| work()).is_some()
+        // Taken out while it runs: the work may queue more.
+        let Some(work) = QUEUE.with(|queue| queue.borrow_mut().pop()) else {
+            return false;
+        };
+        let start = Instant::now();
+        let budget = slice_budget(LAST_SLICE_END.get().map(|end| start - end));
+        if let Some(unfinished) = run_slice(work, start, budget) {
+            QUEUE.with(|queue| queue.borrow_mut().push(unfinished));
+        }
+        // An idle page's time is not the page's drawing: the next work starts afresh.
+        LAST_SLICE_END.set(has_queued().then(Instant::now));
+        true
     }
 
     pub fn has_queued() -> bool {

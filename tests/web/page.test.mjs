@@ -84,6 +84,34 @@ test("a demo played for two seconds moves θ and the losses", async () => {
   await page.close();
 });
 
+test("a demo's model trains a slice of each frame: the page draws meanwhile, and Cancel stops it", async () => {
+  const { page, errors } = await open();
+  // The longest time between two of the browser's frames, from here on: the page's thread blocked.
+  await page.evaluate(() => {
+    window.gaps = [];
+    let last = performance.now();
+    const tick = (now) => { window.gaps.push([now - last, window.pushlab.state().training]); last = now; requestAnimationFrame(tick); };
+    requestAnimationFrame(tick);
+  });
+  await command(page, { demo: "R2b COM" });
+  await page.waitForFunction(() => window.pushlab.state().training !== null, null, { timeout: 60_000, polling: 20 });
+  const first = await state(page);
+  // The training takes about 2 s here; in one piece it drew no frame until it had ended.
+  await page.waitForFunction((drawn) => window.pushlab.state().frames_drawn > drawn, first.frames_drawn, { timeout: 30_000, polling: 10 });
+  const later = await state(page);
+  assert.notEqual(later.training, null, "a frame drawn while the model trains");
+  const longest = await page.evaluate(() => Math.max(...window.gaps.filter(([, training]) => training !== null).map(([gap]) => gap)));
+  // Headless chromium on SwiftShader draws a frame every 200-400 ms on this machine, playing or not;
+  // the training run in one piece held the page for 1.5 s.
+  assert.ok(longest < 1000, `the longest frame while training: ${longest.toFixed(0)} ms`);
+  await command(page, { cancel: true });
+  const ended = await settled(page);
+  assert.equal(ended.training, null);
+  assert.match(ended.status ?? "", /cancelled/, `the status line: ${ended.status}`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test("θ and the losses after a seek with learning on are pushlab eval --per-frame's, to the bit", async () => {
   const expected = JSON.parse(readFileSync(process.env.PUSHLAB_EVAL_JSON, "utf8"));
   const { page } = await open();

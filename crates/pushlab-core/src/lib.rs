@@ -33,4 +33,5 @@ pub mod recording;
 pub mod rng;
 pub mod sim;
 mod simd;
+pub mod slices;
 pub mod trajectory;

@@ -6,7 +6,10 @@ mod toy;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pushlab_core::learn::{Nmse, OnlineConfig, TrainConfig, train_paper, train_pure_nn};
+use pushlab_core::learn::{
+    Nmse, OnlineConfig, TrainConfig, train_paper, train_paper_in_slices, train_pure_nn,
+};
+use pushlab_core::slices;
 use toy::Chain;
 
 use pushlab_core::model::OnlineModel;
@@ -255,6 +258,71 @@ fn training_lowers_the_loss_reports_progress_and_stops_when_cancelled() {
         validation < 3.0,
         "validation loss {validation} (3 = predicting the mean)"
     );
+}
+
+/// What a browser tab does with a training: polls it a slice at a time between two frames, with a
+/// Cancel that may come between two slices.
+#[test]
+fn training_in_slices_stops_within_each_epoch_and_a_cancel_between_slices_keeps_the_best_epoch() {
+    let data = samples(&simulated([0.0, 0.0], PressureModel::Uniform, 0.0002, 6));
+    let config = TrainConfig {
+        epochs: 4,
+        patience: 0,
+        ..TrainConfig::default()
+    };
+    let never = AtomicBool::new(false);
+    let whole = train_paper(&data, &config, &mut |_| {}, &never).expect("trains");
+    let epochs_seen = std::cell::Cell::new(0);
+    let mut polls_per_epoch = vec![0usize; config.epochs + 1];
+    let mut progress = |p: &pushlab_core::learn::TrainProgress| epochs_seen.set(p.epoch);
+    let sliced = {
+        let mut work = Box::pin(train_paper_in_slices(&data, &config, &mut progress, &never));
+        loop {
+            polls_per_epoch[epochs_seen.get()] += 1;
+            if let Some(done) = slices::poll_once(work.as_mut()) {
+                break done.expect("trains");
+            }
+        }
+    };
+    // 80 % of the samples train, in batches of 32, 16 batches a slice: more than one slice an
+    // epoch, and the model polled in slices is the model trained in one piece.
+    let training = whole.report.training_samples;
+    let slices_per_epoch = training.div_ceil(32 * 16);
+    assert!(slices_per_epoch > 1, "{training} training samples");
+    for polls in &polls_per_epoch[..config.epochs] {
+        assert!(
+            *polls >= slices_per_epoch,
+            "polls per epoch {polls_per_epoch:?}"
+        );
+    }
+    assert_eq!(sliced.model, whole.model);
+    assert_eq!(sliced.report, whole.report);
+
+    // Cancelled after the first slice of the third epoch: the second epoch's model is kept.
+    let cancel = AtomicBool::new(false);
+    let epochs_seen = std::cell::Cell::new(0);
+    let mut progress = |p: &pushlab_core::learn::TrainProgress| epochs_seen.set(p.epoch);
+    let mut work = Box::pin(train_paper_in_slices(
+        &data,
+        &config,
+        &mut progress,
+        &cancel,
+    ));
+    let mut polls_in_third = 0;
+    let cancelled = loop {
+        if let Some(done) = slices::poll_once(work.as_mut()) {
+            break done.expect("trains");
+        }
+        if epochs_seen.get() == 2 {
+            polls_in_third += 1;
+            if polls_in_third == 1 {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        }
+    };
+    assert!(cancelled.report.cancelled);
+    assert_eq!(cancelled.report.epochs_run, 2);
+    assert!(cancelled.report.kept_an_epoch());
 }
 
 #[test]

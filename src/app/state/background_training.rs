@@ -1,6 +1,6 @@
 //! Offline training from the app: runs pushlab-core's `experiment::train_combined` (the same rules
-//! as `pushlab train`) on a worker thread, with progress, a loss history and cancel. The UI thread
-//! only polls.
+//! as `pushlab train`) off the UI thread — a worker thread on the desktop, a slice of each frame in
+//! a page — with progress, a loss history and cancel. The UI thread only polls.
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use pushlab_core::experiment::{
-    UsedRecording, train_baseline, train_calibrated, training_metadata,
+    UsedRecording, train_baseline_in_slices, train_calibrated_in_slices, training_metadata,
 };
 use pushlab_core::learn::{
     TrainConfig, TrainError, TrainProgress, TrainStage, Trained, TrainingEnding, TrainingReport,
@@ -139,12 +139,13 @@ impl Training {
         let cancel = Arc::new(AtomicBool::new(false));
         let (kind, config) = (self.kind, self.config);
         let worker_cancel = cancel.clone();
-        crate::app::platform::spawn(move || {
+        // In slices: a page polls the training a slice of each frame (`platform`).
+        crate::app::platform::spawn_in_slices(move || async move {
             let progress_sender = sender.clone();
             let mut progress = |p: &TrainProgress| {
                 let _ = progress_sender.send(Message::Progress(*p));
             };
-            let result = train_calibrated(
+            let combined = train_calibrated_in_slices(
                 kind,
                 &recordings,
                 &config,
@@ -152,24 +153,30 @@ impl Training {
                 &mut progress,
                 &worker_cancel,
             )
-            .and_then(|combined| {
-                // Not after a cancel; and a baseline cancelled before its first epoch ended is
-                // random weights, not a baseline.
-                let cancelled = worker_cancel.load(Ordering::Relaxed) || combined.report.cancelled;
-                let pure_nn = if with_baseline && !cancelled {
-                    let _ = progress_sender.send(Message::Baseline);
-                    Some(train_baseline(
-                        &recordings,
-                        &config,
-                        &mut progress,
-                        &worker_cancel,
-                    )?)
-                    .filter(|baseline| baseline.report.kept_an_epoch())
-                } else {
-                    None
-                };
-                Ok(TrainedPair { combined, pure_nn })
-            });
+            .await;
+            let result = match combined {
+                Ok(combined) => {
+                    // Not after a cancel; and a baseline cancelled before its first epoch ended
+                    // is random weights, not a baseline.
+                    let cancelled =
+                        worker_cancel.load(Ordering::Relaxed) || combined.report.cancelled;
+                    let pure_nn = if with_baseline && !cancelled {
+                        let _ = progress_sender.send(Message::Baseline);
+                        train_baseline_in_slices(
+                            &recordings,
+                            &config,
+                            &mut progress,
+                            &worker_cancel,
+                        )
+                        .await
+                        .map(|baseline| Some(baseline).filter(|b| b.report.kept_an_epoch()))
+                    } else {
+                        Ok(None)
+                    };
+                    pure_nn.map(|pure_nn| TrainedPair { combined, pure_nn })
+                }
+                Err(e) => Err(e),
+            };
             // The receiver is gone only when the app closed.
             let _ = sender.send(Message::Done(Box::new(result)));
         });

@@ -26,7 +26,7 @@ use nalgebra::{Matrix2, Vector2};
 
 use super::data::UsedRecording;
 use super::evaluate::TrajectoryRun;
-use super::train::train_combined;
+use super::train::train_combined_in_slices;
 use crate::learn::uncertainty::{CHI2_2DOF_95, com_block};
 use crate::learn::{
     OnlineConfig, Optimizer, TrainConfig, TrainError, TrainProgress, TrainStage, Trained,
@@ -116,6 +116,19 @@ pub fn calibrate_com_misfit(
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
 ) -> Result<ComMisfit, TrainError> {
+    crate::slices::finish(calibrate_com_misfit_in_slices(
+        kind, used, config, progress, cancel,
+    ))
+}
+
+/// [`calibrate_com_misfit`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+pub async fn calibrate_com_misfit_in_slices(
+    kind: ModelKind,
+    used: &[UsedRecording],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<ComMisfit, TrainError> {
     let objects = objects(used);
     let known = |i: &usize| used[*i].recording.setting.com_offset.is_some();
     let folds: Vec<&Vec<usize>> = objects.iter().filter(|o| o.iter().any(known)).collect();
@@ -134,13 +147,14 @@ pub fn calibrate_com_misfit(
         };
         let mut fold_progress = |p: &TrainProgress| progress(&TrainProgress { stage, ..*p });
         let Trained { model, report } =
-            train_combined(kind, &rest, config, &mut fold_progress, cancel)?;
+            train_combined_in_slices(kind, &rest, config, &mut fold_progress, cancel).await?;
         if report.cancelled || cancel.load(Ordering::Relaxed) {
             return Ok(ComMisfit::default());
         }
         for &i in fold.iter().filter(|i| known(i)) {
             for (pushes, optimizer) in left_out.iter_mut().zip(OPTIMIZERS) {
                 pushes.extend(left_out_push(&model, &used[i], optimizer));
+                crate::slices::pause().await;
             }
         }
     }
@@ -192,11 +206,25 @@ pub fn train_calibrated(
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
 ) -> Result<Trained<CombinedModel>, TrainError> {
-    let trained = train_combined(kind, used, config, progress, cancel)?;
+    crate::slices::finish(train_calibrated_in_slices(
+        kind, used, config, calibrate, progress, cancel,
+    ))
+}
+
+/// [`train_calibrated`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+pub async fn train_calibrated_in_slices(
+    kind: ModelKind,
+    used: &[UsedRecording],
+    config: &TrainConfig,
+    calibrate: bool,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<CombinedModel>, TrainError> {
+    let trained = train_combined_in_slices(kind, used, config, progress, cancel).await?;
     if !calibrate || trained.report.cancelled {
         return Ok(trained);
     }
-    let misfit = calibrate_com_misfit(kind, used, config, progress, cancel)?;
+    let misfit = calibrate_com_misfit_in_slices(kind, used, config, progress, cancel).await?;
     // A cancel that cut the calibration short is the run's: its report says cancelled, so that
     // nothing trains after it (a baseline) and the user is told the model has no misfit.
     let cut_short = cancel.load(Ordering::Relaxed) && !misfit.is_calibrated();

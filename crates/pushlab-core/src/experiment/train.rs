@@ -10,7 +10,7 @@ use super::variant::{symmetries, transformed};
 use crate::domain::Domain;
 use crate::learn::{
     ContactTrajectory, TrainConfig, TrainError, TrainProgress, Trained, paper_theta0,
-    train_contact, train_paper, train_pure_nn, training_trajectories,
+    train_contact_in_slices, train_paper_in_slices, train_pure_nn_in_slices, training_trajectories,
 };
 use crate::model::{CombinedModel, LossScale, ModelKind, OnlineParams, PureNnModel, Sample};
 use crate::model_file::TrainingMetadata;
@@ -48,6 +48,19 @@ pub fn train_combined(
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
 ) -> Result<Trained<CombinedModel>, TrainError> {
+    crate::slices::finish(train_combined_in_slices(
+        kind, used, config, progress, cancel,
+    ))
+}
+
+/// [`train_combined`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+pub async fn train_combined_in_slices(
+    kind: ModelKind,
+    used: &[UsedRecording],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<CombinedModel>, TrainError> {
     let mut samples: Vec<Vec<Sample>> = used.iter().map(|u| u.samples(config.horizon)).collect();
     match kind {
         ModelKind::Paper => {
@@ -76,7 +89,7 @@ pub fn train_combined(
                 theta0: config.theta0.or_else(|| paper_theta0_for(used)),
                 ..config
             };
-            let trained = train_paper(&samples, &config, progress, cancel)?;
+            let trained = train_paper_in_slices(&samples, &config, progress, cancel).await?;
             Ok(Trained {
                 model: CombinedModel::Paper(Arc::new(trained.model)),
                 report: trained.report,
@@ -96,7 +109,7 @@ pub fn train_combined(
             if trajectories.is_empty() && !used.is_empty() {
                 return Err(TrainError::NoOutline);
             }
-            let trained = train_contact(&trajectories, config, progress, cancel)?;
+            let trained = train_contact_in_slices(&trajectories, config, progress, cancel).await?;
             Ok(Trained {
                 model: CombinedModel::Contact(Arc::new(trained.model)),
                 report: trained.report,
@@ -112,6 +125,16 @@ pub fn train_baseline(
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
 ) -> Result<Trained<PureNnModel>, TrainError> {
+    crate::slices::finish(train_baseline_in_slices(used, config, progress, cancel))
+}
+
+/// [`train_baseline`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+pub async fn train_baseline_in_slices(
+    used: &[UsedRecording],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<PureNnModel>, TrainError> {
     let samples: Vec<Vec<Sample>> = used.iter().map(|u| u.samples(config.horizon)).collect();
-    train_pure_nn(&samples, config, progress, cancel)
+    train_pure_nn_in_slices(&samples, config, progress, cancel).await
 }

@@ -14,7 +14,8 @@ pub use config::{OnlineConfig, Optimizer};
 pub use metrics::{Nmse, mean_std_across, moving_average};
 pub use offline::{
     ContactTrajectory, TrainConfig, TrainError, TrainProgress, TrainStage, Trained, TrainingEnding,
-    TrainingReport, paper_theta0, train_contact, train_paper, train_pure_nn, training_trajectories,
+    TrainingReport, paper_theta0, train_contact, train_contact_in_slices, train_paper,
+    train_paper_in_slices, train_pure_nn, train_pure_nn_in_slices, training_trajectories,
 };
 pub use run::{KEYFRAME, MeanLosses, OnlineRun};
 pub use step::{OnlineState, learn_step, learn_step_in_place};

@@ -36,7 +36,22 @@ const TOLERANCE_PERCENTILE: f64 = 90.0;
 
 /// Trains the contact-frame combined model (eq. 12) on recordings of objects of known outline.
 pub fn train_contact(
-    trajectories: &[ContactTrajectory],
+    trajectories: &[ContactTrajectory<'_>],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<ContactModel>, TrainError> {
+    crate::slices::finish(train_contact_in_slices(
+        trajectories,
+        config,
+        progress,
+        cancel,
+    ))
+}
+
+/// [`train_contact`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+pub async fn train_contact_in_slices(
+    trajectories: &[ContactTrajectory<'_>],
     config: &TrainConfig,
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
@@ -98,6 +113,8 @@ pub fn train_contact(
         train: items(&split.train, &train_features),
         validation: items(&split.validation, &validation_features),
     };
+    // Each sample's contact frame was the costly part of the preparation.
+    crate::slices::pause().await;
     let mut trainee = ContactTrainee {
         model,
         batch: Box::default(),
@@ -105,7 +122,7 @@ pub fn train_contact(
         friction_adam: SmallAdam::new(config.learning_rate),
         friction_gradient: 0.0,
     };
-    let report = run(&mut trainee, &prepared, config, &mut rng, progress, cancel);
+    let report = run(&mut trainee, &prepared, config, &mut rng, progress, cancel).await;
     let mut model = trainee.model;
     // Online gradient descent's step scales per metre of each object's `θ_online(0)` `h`: the
     // Gauss–Newton diagonal of the loss in `θ_online / h₀` over the training samples, as the paper

@@ -11,9 +11,9 @@ mod contact;
 mod paper;
 mod pure_nn;
 
-pub use self::contact::{ContactTrajectory, train_contact};
-pub use self::paper::{paper_theta0, train_paper};
-pub use self::pure_nn::train_pure_nn;
+pub use self::contact::{ContactTrajectory, train_contact, train_contact_in_slices};
+pub use self::paper::{paper_theta0, train_paper, train_paper_in_slices};
+pub use self::pure_nn::{train_pure_nn, train_pure_nn_in_slices};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -315,8 +315,15 @@ trait Trainee<const I: usize> {
     fn after_batch(&mut self, _batch: usize) {}
 }
 
-/// The training loop shared by every model.
-fn run<const I: usize, M: Trainee<I>>(
+/// Batches trained between two pauses of a run in slices (`crate::slices`): 512 samples at the
+/// paper's batch size, about a millisecond of a browser tab's time, so that a page polling the run
+/// for a slice of each frame overruns its slice by little.
+const BATCHES_PER_SLICE: usize = 16;
+
+/// The training loop shared by every model, in slices: it pauses every [`BATCHES_PER_SLICE`]
+/// batches and after each epoch's validation. The batches and the sum of their losses are the same
+/// as in one piece, bit for bit: a slice is a run of whole batches, added to one running sum.
+async fn run<const I: usize, M: Trainee<I>>(
     trainee: &mut M,
     split: &Split<M::Item>,
     config: &TrainConfig,
@@ -335,22 +342,26 @@ fn run<const I: usize, M: Trainee<I>>(
     let (mut cancelled, mut stopped_early) = (false, false);
     let mut last_train_loss = f64::NAN;
 
-    for epoch in 1..=config.epochs {
+    'epochs: for epoch in 1..=config.epochs {
         rng.shuffle(&mut order);
-        let mut one_epoch = Epoch {
-            trainee: &mut *trainee,
-            train,
-            order: &order,
-            weights: &weights,
-            adam: &mut adam,
-            grad: &mut grad,
-            batch_size: config.batch_size,
-            cancel,
-        };
-        let Some(epoch_loss) = one_epoch.run() else {
-            cancelled = true;
-            break;
-        };
+        let mut epoch_loss = 0.0f64;
+        for slice in order.chunks(config.batch_size.saturating_mul(BATCHES_PER_SLICE)) {
+            let mut batches = Batches {
+                trainee: &mut *trainee,
+                train,
+                order: slice,
+                weights: &weights,
+                adam: &mut adam,
+                grad: &mut grad,
+                batch_size: config.batch_size,
+                cancel,
+            };
+            if !batches.run(&mut epoch_loss) {
+                cancelled = true;
+                break 'epochs;
+            }
+            crate::slices::pause().await;
+        }
         last_train_loss = epoch_loss / train.len().max(1) as f64;
         let validation_loss = (!validation.is_empty())
             .then(|| trainee.total_loss(validation, &weights) / validation.len() as f64);
@@ -376,6 +387,7 @@ fn run<const I: usize, M: Trainee<I>>(
             validation_loss,
             best_validation_loss: validation_loss.and(best.map(|b| b.0)),
         });
+        crate::slices::pause().await;
         if let (Some(_), Some((_, best_epoch, _))) = (validation_loss, best)
             && config.patience > 0
             && epoch - best_epoch >= config.patience
@@ -403,8 +415,8 @@ fn run<const I: usize, M: Trainee<I>>(
     }
 }
 
-/// One pass over the training samples in a given order: the hot loop of training.
-struct Epoch<'a, const I: usize, M: Trainee<I>> {
+/// Consecutive batches of an epoch, in the order given: the hot loop of training.
+struct Batches<'a, const I: usize, M: Trainee<I>> {
     trainee: &'a mut M,
     train: &'a [M::Item],
     order: &'a [usize],
@@ -415,36 +427,36 @@ struct Epoch<'a, const I: usize, M: Trainee<I>> {
     cancel: &'a AtomicBool,
 }
 
-impl<const I: usize, M: Trainee<I>> Epoch<'_, I, M> {
-    /// Runs the epoch in the widest SIMD available; the summed loss, or `None` when cancelled.
-    fn run(&mut self) -> Option<f64> {
+impl<const I: usize, M: Trainee<I>> Batches<'_, I, M> {
+    /// Trains the batches in the widest SIMD available, adding their losses to `epoch_loss`;
+    /// `false` when cancelled.
+    fn run(&mut self, epoch_loss: &mut f64) -> bool {
         #[cfg(target_arch = "x86_64")]
         if crate::simd::avx2_fma_available() {
             #[allow(unsafe_code)]
             // SAFETY: `run_avx2` only requires AVX2 and FMA, and the CPU was just checked to have them.
-            return unsafe { self.run_avx2() };
+            return unsafe { self.run_avx2(epoch_loss) };
         }
-        self.run_portable::<Unfused>()
+        self.run_portable::<Unfused>(epoch_loss)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    fn run_avx2(&mut self) -> Option<f64> {
-        self.run_portable::<Fused>()
+    fn run_avx2(&mut self, epoch_loss: &mut f64) -> bool {
+        self.run_portable::<Fused>(epoch_loss)
     }
 
     #[inline(always)]
-    fn run_portable<A: MulAdd>(&mut self) -> Option<f64> {
-        let mut epoch_loss = 0.0f64;
+    fn run_portable<A: MulAdd>(&mut self, epoch_loss: &mut f64) -> bool {
         for batch in self.order.chunks(self.batch_size) {
             if self.cancel.load(Ordering::Relaxed) {
-                return None;
+                return false;
             }
             self.grad.fill_zero();
             let batch_loss =
                 self.trainee
                     .accumulate_batch::<A>(self.train, batch, self.weights, self.grad);
-            epoch_loss += batch_loss.as_f64();
+            *epoch_loss += batch_loss.as_f64();
             self.grad.scale(M::Real::of(1.0 / batch.len() as f64));
             let (adam, grad) = (&mut *self.adam, &*self.grad);
             self.trainee
@@ -452,6 +464,6 @@ impl<const I: usize, M: Trainee<I>> Epoch<'_, I, M> {
                 .update(|params| adam.step(params, grad));
             self.trainee.after_batch(batch.len());
         }
-        Some(epoch_loss)
+        true
     }
 }

@@ -38,6 +38,21 @@ pub fn train_paper(
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
 ) -> Result<Trained<PaperModel>, TrainError> {
+    crate::slices::finish(train_paper_in_slices(
+        trajectories,
+        config,
+        progress,
+        cancel,
+    ))
+}
+
+/// [`train_paper`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+pub async fn train_paper_in_slices(
+    trajectories: &[Vec<Sample>],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<PaperModel>, TrainError> {
     let slices: Vec<&[Sample]> = trajectories.iter().map(Vec::as_slice).collect();
     check(&slices, config)?;
     let split = Split::new(trajectories, config);
@@ -73,7 +88,7 @@ pub fn train_paper(
         train: split.train.iter().map(RealSample::of).collect(),
         validation: split.validation.iter().map(RealSample::of).collect(),
     };
-    let report = run(&mut trainee, &real, config, &mut rng, progress, cancel);
+    let report = run(&mut trainee, &real, config, &mut rng, progress, cancel).await;
     let mut model = trainee.model;
     model.theta0 = crate::model::kernel::theta_params(&trainee.theta);
     model.calibrate_theta_scales(&split.train);

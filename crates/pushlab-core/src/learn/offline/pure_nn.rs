@@ -18,6 +18,21 @@ pub fn train_pure_nn(
     progress: &mut dyn FnMut(&TrainProgress),
     cancel: &AtomicBool,
 ) -> Result<Trained<PureNnModel>, TrainError> {
+    crate::slices::finish(train_pure_nn_in_slices(
+        trajectories,
+        config,
+        progress,
+        cancel,
+    ))
+}
+
+/// [`train_pure_nn`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+pub async fn train_pure_nn_in_slices(
+    trajectories: &[Vec<Sample>],
+    config: &TrainConfig,
+    progress: &mut dyn FnMut(&TrainProgress),
+    cancel: &AtomicBool,
+) -> Result<Trained<PureNnModel>, TrainError> {
     let slices: Vec<&[Sample]> = trajectories.iter().map(Vec::as_slice).collect();
     check(&slices, config)?;
     let split = Split::new(trajectories, config);
@@ -48,7 +63,7 @@ pub fn train_pure_nn(
         train: split.train.iter().map(RealSample::of).collect(),
         validation: split.validation.iter().map(RealSample::of).collect(),
     };
-    let report = run(&mut trainee, &real, config, &mut rng, progress, cancel);
+    let report = run(&mut trainee, &real, config, &mut rng, progress, cancel).await;
     Ok(Trained {
         model: trainee.model,
         report,
