@@ -101,9 +101,10 @@ test("a demo's model trains a slice of each frame: the page draws meanwhile, and
   const later = await state(page);
   assert.notEqual(later.training, null, "a frame drawn while the model trains");
   const longest = await page.evaluate(() => Math.max(...window.gaps.filter(([, training]) => training !== null).map(([gap]) => gap)));
-  // Headless chromium on SwiftShader draws a frame every 200-400 ms on this machine, playing or not;
-  // the training run in one piece held the page for 1.5 s.
-  assert.ok(longest < 1000, `the longest frame while training: ${longest.toFixed(0)} ms`);
+  // Headless chromium on SwiftShader draws a frame every 200-400 ms on this machine, playing or not
+  // (250-383 ms apart at most while training in slices); the training run in one piece held the
+  // page 900-1000 ms (tests/web/training.mjs, docs/src/performance.md).
+  assert.ok(longest < 600, `the longest frame while training: ${longest.toFixed(0)} ms`);
   await command(page, { cancel: true });
   const ended = await settled(page);
   assert.equal(ended.training, null);
