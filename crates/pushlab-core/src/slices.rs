@@ -1,5 +1,6 @@
-//! Long work that can stop between two slices and go on later: offline training written once as an
-//! `async fn` that [`pause`]s every few batches.
+//! Long work that can stop between two slices and go on later: offline training, loading, the best
+//! θ, the loss landscape and label proposals, each written once as an `async fn` that [`pause`]s
+//! where it checks for a cancel.
 //!
 //! Why: a browser tab has one thread, and the app's page draws its frames on it. Work that runs to
 //! its end there freezes the page — a demo's training froze it for 1.5 s, a Train tab run on real
@@ -7,7 +8,8 @@
 //! same code is a state machine the page polls for a slice of each frame (`app::platform`), while
 //! the desktop's worker thread and the command line run it to the end with [`finish`]. There is
 //! one copy of each rule: the blocking functions (`learn::train_paper`, `experiment::train_combined`,
-//! …) are [`finish`] over their `_in_slices` twins.
+//! `recording::load_paths_with`, `experiment::best_fit`, …) are [`finish`] over their `_in_slices`
+//! twins.
 //!
 //! Nothing here knows of a clock or of the page: a pause only says "a slice may end here"; whoever
 //! polls decides how long a slice is.

@@ -11,7 +11,7 @@ use std::sync::atomic::AtomicBool;
 
 use nalgebra::{DMatrix, DVector};
 use pushlab_core::experiment::ComTruth;
-use pushlab_core::inspect::{ComGrid, com_landscape, h_slice, rollout};
+use pushlab_core::inspect::{ComGrid, com_landscape, com_landscape_in_slices, h_slice, rollout};
 use pushlab_core::learn::uncertainty::{CHI2_2DOF_95, Spread};
 use pushlab_core::learn::{
     ContactTrajectory, OnlineConfig, Optimizer, TrainConfig, train_contact, train_paper,
@@ -23,6 +23,7 @@ use pushlab_core::model::{
 use pushlab_core::recording::{ObjectShape, PushSide};
 use pushlab_core::rng::SplitMix64;
 use pushlab_core::sim::{GeneratedSet, NoiseSpec, PressureModel, PushSpec, SetSpec, generate_set};
+use pushlab_core::slices;
 
 use toy::{Chain, GAUSS_NEWTON, LinearToy, theta_vector, toy_samples};
 
@@ -504,6 +505,47 @@ fn the_landscape_minimum_lies_within_one_cell_of_the_true_com() {
     );
     // Cancelled before it starts: nothing.
     assert!(com_landscape(&model, &frames, &grid, h, &|| true).is_none());
+}
+
+/// What a page does with the landscape: polls it a slice at a time. Its one core computes the rows
+/// one after another, a pause after each, to the same losses as in one piece; a cancel between two
+/// rows ends it.
+#[test]
+fn the_landscape_in_slices_pauses_after_each_row_and_a_cancel_between_rows_ends_it() {
+    let (set, data) = front_and_left([0.035, -0.02], 21);
+    let model = physics_model(&set, &data);
+    let h = set.setting.h.expect("the simulator writes h");
+    // Few enough cells and frames that even a machine of many cores takes the rows one by one.
+    let frames: Vec<Sample> = data[0].iter().take(40).copied().collect();
+    let grid = ComGrid {
+        centre: [0.0, 0.0],
+        half_width: 0.1,
+        cells: 10,
+    };
+    let whole = com_landscape(&model, &frames, &grid, h, &|| false).expect("not cancelled");
+    let mut work = Box::pin(com_landscape_in_slices(&model, &frames, &grid, h, &|| {
+        false
+    }));
+    let mut polls = 1;
+    let sliced = loop {
+        if let Some(landscape) = slices::poll_once(work.as_mut()) {
+            break landscape.expect("not cancelled");
+        }
+        polls += 1;
+    };
+    drop(work);
+    assert_eq!(polls, grid.cells + 1);
+    assert_eq!(sliced.loss, whole.loss);
+
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let check = || cancel.load(std::sync::atomic::Ordering::Relaxed);
+    let mut work = Box::pin(com_landscape_in_slices(&model, &frames, &grid, h, &check));
+    assert!(slices::poll_once(work.as_mut()).is_none());
+    cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+    assert_eq!(
+        slices::poll_once(work.as_mut()).map(|l| l.is_none()),
+        Some(true)
+    );
 }
 
 #[test]

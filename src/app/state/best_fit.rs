@@ -12,7 +12,7 @@
 
 use std::sync::Arc;
 
-use pushlab_core::experiment::{BEST_FIT_POLLS, BestFit, best_fit};
+use pushlab_core::experiment::{BEST_FIT_POLLS, BestFit, best_fit_in_slices};
 use pushlab_core::model::samples_kept;
 
 use super::job::{Job, take_ended};
@@ -84,9 +84,9 @@ impl BestFitState {
     fn start(&mut self, run: &OnlineRun, skip: &[bool]) {
         let samples = samples_kept(run.trajectory(), run.horizon(), skip);
         let model = Arc::clone(run.model());
-        let job = Job::spawn(move |context| {
+        let job = Job::spawn_in_slices(move |context| async move {
             let checks = context.counting_checks(BEST_FIT_POLLS);
-            Some(best_fit(model.as_ref(), &samples, &checks))
+            Some(best_fit_in_slices(model.as_ref(), &samples, &checks).await)
         });
         self.job = Some((run.identity(), job));
     }

@@ -9,6 +9,7 @@
 //! Offline training (a stream of epochs) and loading (the core's own `LoadProgress`) report more
 //! than one result and keep their own channels.
 
+use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
@@ -45,20 +46,37 @@ pub enum Polled<T> {
 }
 
 impl<T: Send + 'static> Job<T> {
-    /// Starts `work` on a new thread. Its result is delivered unless it is `None` or the job was
-    /// cancelled meanwhile.
+    /// Starts `work` off the UI thread (`platform::spawn`). Its result is delivered unless it is
+    /// `None` or the job was cancelled meanwhile.
     pub fn spawn(work: impl FnOnce(&JobContext) -> Option<T> + Send + 'static) -> Self {
+        Self::spawn_in_slices(move |context| async move { work(&context) })
+    }
+
+    /// [`Self::spawn`] for work written in slices (`pushlab_core::slices`): to its end on a thread
+    /// on the desktop, a slice of each frame in a page (`platform::spawn_in_slices`). `work` is
+    /// given the job's context to keep: it checks the cancel and reports progress across its
+    /// pauses.
+    pub fn spawn_in_slices<F>(work: impl FnOnce(JobContext) -> F + Send + 'static) -> Self
+    where
+        F: Future<Output = Option<T>> + 'static,
+    {
         let shared = Arc::new(Shared::default());
         let context = JobContext {
             shared: Arc::clone(&shared),
         };
         let (sender, receiver) = channel();
-        crate::app::platform::spawn(move || {
-            if let Some(result) = work(&context)
-                && !context.is_cancelled()
-            {
-                // The receiver is gone only when the job was dropped meanwhile: nobody wants it.
-                let _ = sender.send(result);
+        crate::app::platform::spawn_in_slices(move || {
+            let after = JobContext {
+                shared: Arc::clone(&context.shared),
+            };
+            let work = work(context);
+            async move {
+                if let Some(result) = work.await
+                    && !after.is_cancelled()
+                {
+                    // The receiver is gone only when the job was dropped meanwhile: nobody wants it.
+                    let _ = sender.send(result);
+                }
             }
         });
         Self { shared, receiver }

@@ -10,8 +10,8 @@
 use std::sync::Arc;
 
 use pushlab_core::inspect::{
-    ComGrid, Contour, DEFAULT_QUANTILES, Landscape, LandscapeFrames, com_landscape, contour_levels,
-    contours, h_slice, landscape_samples,
+    ComGrid, Contour, DEFAULT_QUANTILES, Landscape, LandscapeFrames, com_landscape_in_slices,
+    contour_levels, contours, h_slice, landscape_samples,
 };
 use pushlab_core::model::OnlineParams;
 
@@ -210,17 +210,18 @@ impl LandscapeState {
         let hs: Vec<f64> = (0..H_SLICE_POINTS)
             .map(|i| h_low + (h_high - h_low) * i as f64 / (H_SLICE_POINTS - 1) as f64)
             .collect();
-        let job = Job::spawn(move |context| {
+        let job = Job::spawn_in_slices(move |context| async move {
             // The landscape checks for a cancel once per row it begins.
             let rows_begun = context.counting_checks(for_request.grid.cells);
             let theta = for_request.theta;
-            let landscape = com_landscape(
+            let landscape = com_landscape_in_slices(
                 model.as_ref(),
                 &samples,
                 &for_request.grid,
                 theta.h,
                 &rows_begun,
-            )?;
+            )
+            .await?;
             let levels = contour_levels(&landscape, &DEFAULT_QUANTILES);
             let slice = h_slice(model.as_ref(), &samples, theta.com_offset, &hs);
             Some(LandscapeResult {

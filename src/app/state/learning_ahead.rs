@@ -85,7 +85,7 @@ impl LearningAhead {
         let stopping = Arc::clone(&stop);
         let skip = Arc::new(Mutex::new(skip));
         let labelled = Arc::clone(&skip);
-        let job = Job::spawn(move |context| {
+        let job = Job::spawn_in_slices(move |context| async move {
             let mut at = from;
             while at < to {
                 if context.is_cancelled() {
@@ -100,6 +100,7 @@ impl LearningAhead {
                 copy.learn_through(at, next, &skip);
                 context.set_progress((next - from) as f32 / (to - from) as f32);
                 at = next;
+                pushlab_core::slices::pause().await;
             }
             Some(copy)
         });

@@ -20,7 +20,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use pushlab_core::labels::propose::{Proposal, Proposals, ProposeOptions, Residuals, propose_for};
+use pushlab_core::labels::propose::{
+    Proposal, Proposals, ProposeOptions, Residuals, propose_for_in_slices,
+};
 use pushlab_core::labels::{self, LabelSchema, RecordingLabels};
 use pushlab_core::model::LossScale;
 use pushlab_core::recording::Recording;
@@ -122,13 +124,13 @@ impl ProposalState {
         }
         self.current = None;
         let recording = recording.clone();
-        let job = Job::spawn(move |context| {
+        let job = Job::spawn_in_slices(move |context| async move {
             let residuals = residuals.as_ref().map(|r| Residuals {
                 losses: &r.losses,
                 horizon: r.horizon,
                 scale: r.scale,
             });
-            let result = propose_for(
+            let result = propose_for_in_slices(
                 &recording,
                 residuals,
                 &ProposeOptions::default(),
@@ -137,6 +139,7 @@ impl ProposalState {
                     !context.is_cancelled()
                 },
             )
+            .await
             .map_err(|e| format!("no proposals: {e}"));
             Some(result)
         });

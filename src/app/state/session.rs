@@ -14,7 +14,7 @@ use pushlab_core::recording::bag::BagListing;
 use pushlab_core::recording::dataset;
 use pushlab_core::recording::{
     BagProblem, DatasetProblem, LoadError, LoadReport, Recording, RecordingSet, SourceChoice,
-    load_paths, load_paths_with,
+    load_paths, load_paths_in_slices,
 };
 use pushlab_core::recording::{LoadProgress, ProgressSnapshot};
 
@@ -123,9 +123,10 @@ impl Session {
         let (sender, receiver) = channel();
         let progress = Arc::new(LoadProgress::default());
         let (worker_paths, worker_progress) = (paths.clone(), Arc::clone(&progress));
-        platform::spawn(move || {
+        // In slices: a page reads a file a frame, its bar moving (`platform`).
+        platform::spawn_in_slices(move || async move {
             let started = Instant::now();
-            let report = load_paths_with(&worker_paths, &choices, &worker_progress);
+            let report = load_paths_in_slices(&worker_paths, &choices, &worker_progress).await;
             // The receiver is gone only if the app closed or the load was cancelled.
             let _ = sender.send((report, started.elapsed()));
         });

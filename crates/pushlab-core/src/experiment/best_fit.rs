@@ -113,6 +113,16 @@ pub fn best_fit<M: OnlineModel + ?Sized>(
     samples: &[Sample],
     cancelled: &dyn Fn() -> bool,
 ) -> Option<BestFit> {
+    crate::slices::finish(best_fit_in_slices(model, samples, cancelled))
+}
+
+/// [`best_fit`] in slices (`crate::slices`): it pauses after each grid row and each refinement,
+/// where it polls `cancelled`.
+pub async fn best_fit_in_slices<M: OnlineModel + ?Sized>(
+    model: &M,
+    samples: &[Sample],
+    cancelled: &dyn Fn() -> bool,
+) -> Option<BestFit> {
     if samples.is_empty() {
         return None;
     }
@@ -128,6 +138,7 @@ pub fn best_fit<M: OnlineModel + ?Sized>(
                 cells.push((loss, theta));
             }
         }
+        crate::slices::pause().await;
     }
     cells.sort_by(|a, b| a.0.total_cmp(&b.0));
     let starts = std::iter::once(theta0).chain(cells.iter().take(STARTS).map(|c| c.1));
@@ -140,6 +151,7 @@ pub fn best_fit<M: OnlineModel + ?Sized>(
         if best.is_none_or(|b| loss < b.0) {
             best = Some((loss, theta));
         }
+        crate::slices::pause().await;
     }
     // Every θ predicting a non-finite loss (a model gone wrong): nothing to report.
     let (_, theta) = best.filter(|b| b.0.is_finite())?;

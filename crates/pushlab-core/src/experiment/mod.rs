@@ -23,7 +23,9 @@ pub mod variant;
 /// take a horizon from) predicts that far.
 pub const DEFAULT_HORIZON: usize = 1;
 
-pub use best_fit::{BestFit, BestFitSummary, ObjectBestFit, POLLS as BEST_FIT_POLLS, best_fit};
+pub use best_fit::{
+    BestFit, BestFitSummary, ObjectBestFit, POLLS as BEST_FIT_POLLS, best_fit, best_fit_in_slices,
+};
 pub use com_truth::{ComSummary, ComTruth};
 pub use data::{Loaded, Skipped, UsedRecording, geometry_of, load, load_all, split_of};
 pub use evaluate::{

@@ -158,6 +158,19 @@ pub fn mean_loss<M: OnlineModel + ?Sized>(
 /// The mean loss of `samples` over `grid` at `h`. `cancelled` is polled once before each row (and
 /// only then, so counting its calls counts the rows begun: a caller's progress); a cancelled
 /// landscape is `None`.
+pub fn com_landscape<M: OnlineModel + Sync + ?Sized>(
+    model: &M,
+    samples: &[Sample],
+    grid: &ComGrid,
+    h: f64,
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Option<Landscape> {
+    crate::slices::finish(com_landscape_in_slices(model, samples, grid, h, cancelled))
+}
+
+/// [`com_landscape`] in slices (`crate::slices`): on one core (a page) the rows are computed one
+/// after another with a pause after each; on several they are split across the cores, in one
+/// piece.
 #[cfg_attr(
     target_arch = "wasm32",
     expect(
@@ -165,7 +178,7 @@ pub fn mean_loss<M: OnlineModel + ?Sized>(
         reason = "a page has no cores to count (available_parallelism fails): one worker, no spawn"
     )
 )]
-pub fn com_landscape<M: OnlineModel + Sync + ?Sized>(
+pub async fn com_landscape_in_slices<M: OnlineModel + Sync + ?Sized>(
     model: &M,
     samples: &[Sample],
     grid: &ComGrid,
@@ -195,7 +208,17 @@ pub fn com_landscape<M: OnlineModel + Sync + ?Sized>(
         .map_or(1, |n| n.get())
         .min(cells.max(1));
     let rows: Vec<Option<Vec<f64>>> = if workers <= 1 || cells * samples.len() < 4096 {
-        (0..cells).map(row).collect()
+        let mut rows = Vec::with_capacity(cells);
+        for iy in 0..cells {
+            let done = row(iy);
+            let cancelled = done.is_none();
+            rows.push(done);
+            if cancelled {
+                break;
+            }
+            crate::slices::pause().await;
+        }
+        rows
     } else {
         let mut rows = vec![None; cells];
         std::thread::scope(|scope| {

@@ -9,7 +9,7 @@ pub mod rollout;
 
 pub use contour::{Contour, DEFAULT_QUANTILES, contour_levels, contours};
 pub use landscape::{
-    ComGrid, Landscape, LandscapeFrames, MAX_LANDSCAPE_SAMPLES, com_landscape, h_slice,
-    landscape_samples,
+    ComGrid, Landscape, LandscapeFrames, MAX_LANDSCAPE_SAMPLES, com_landscape,
+    com_landscape_in_slices, h_slice, landscape_samples,
 };
 pub use rollout::{Rollout, ahead, rollout};

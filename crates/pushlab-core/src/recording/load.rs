@@ -90,6 +90,15 @@ pub fn load_paths_with(
     choices: &[(PathBuf, SourceChoice)],
     progress: &LoadProgress,
 ) -> LoadReport {
+    crate::slices::finish(load_paths_in_slices(paths, choices, progress))
+}
+
+/// [`load_paths_with`] in slices (`crate::slices`): it pauses after each file, set or bag.
+pub async fn load_paths_in_slices(
+    paths: &[PathBuf],
+    choices: &[(PathBuf, SourceChoice)],
+    progress: &LoadProgress,
+) -> LoadReport {
     let mut loader = Loader {
         choices: choices.to_vec(),
         ..Loader::default()
@@ -109,6 +118,7 @@ pub fn load_paths_with(
         let counted = Counted::new(progress);
         loader.load(item, &counted);
         progress.file_done(counted.reported(), bytes);
+        crate::slices::pause().await;
     }
     loader.finish()
 }

@@ -26,7 +26,8 @@ pub use dataset::DatasetProblem;
 pub use describe::PushParameters;
 pub use error::{LoadError, WriteError};
 pub use load::{
-    LoadReport, SourceChoice, is_recording_file, load_paths, load_paths_choosing, load_paths_with,
+    LoadReport, SourceChoice, is_recording_file, load_paths, load_paths_choosing,
+    load_paths_in_slices, load_paths_with,
 };
 pub use mit_push::MitProblem;
 pub use native::CsvProblem;

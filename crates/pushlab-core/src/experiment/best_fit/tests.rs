@@ -127,3 +127,37 @@ fn it_polls_as_often_as_it_says_so_that_a_caller_can_show_progress() {
     .expect("samples");
     assert_eq!(polls.get(), POLLS);
 }
+
+/// What a page does: polls the search a slice at a time. It stops after each grid row and each
+/// refinement, finds what the search in one piece finds, and a cancel between slices ends it.
+#[test]
+fn in_slices_it_pauses_at_each_poll_and_finds_the_same_fit() {
+    let model = physics();
+    let samples = pushes(&model, &TRUTH, 1e-4);
+    let whole = best_fit(&model, &samples, &|| false);
+    let polled = std::cell::Cell::new(0);
+    let check = || {
+        polled.set(polled.get() + 1);
+        false
+    };
+    let mut work = Box::pin(best_fit_in_slices(&model, &samples, &check));
+    let mut polls = 1;
+    let sliced = loop {
+        if let Some(fit) = crate::slices::poll_once(work.as_mut()) {
+            break fit;
+        }
+        polls += 1;
+    };
+    drop(work);
+    assert_eq!(sliced, whole);
+    // A pause after every poll of the cancel: a slice holds one row or one refinement.
+    assert_eq!(polls, polled.get() + 1);
+    assert_eq!(polled.get(), POLLS);
+
+    let cancelled = std::cell::Cell::new(false);
+    let check = || cancelled.get();
+    let mut work = Box::pin(best_fit_in_slices(&model, &samples, &check));
+    assert_eq!(crate::slices::poll_once(work.as_mut()), None);
+    cancelled.set(true);
+    assert_eq!(crate::slices::poll_once(work.as_mut()), Some(None));
+}

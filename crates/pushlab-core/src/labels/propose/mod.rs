@@ -151,6 +151,19 @@ pub fn propose_for(
     options: &ProposeOptions,
     progress: &mut dyn FnMut(f32) -> bool,
 ) -> Result<Proposals, ProposeError> {
+    crate::slices::finish(propose_for_in_slices(
+        recording, residuals, options, progress,
+    ))
+}
+
+/// [`propose_for`] in slices (`crate::slices`): it pauses every 4,096 frames of its costliest pass
+/// and between its stages.
+pub async fn propose_for_in_slices(
+    recording: &Recording,
+    residuals: Option<Residuals<'_>>,
+    options: &ProposeOptions,
+    progress: &mut dyn FnMut(f32) -> bool,
+) -> Result<Proposals, ProposeError> {
     let outline = recording
         .setting
         .object
@@ -159,7 +172,7 @@ pub fn propose_for(
             recording: recording.source.display().to_string(),
             reason: e.to_string(),
         })?;
-    propose(
+    propose_in_slices(
         &recording.trajectory,
         &outline,
         recording.setting.pusher_radius,
@@ -167,6 +180,7 @@ pub fn propose_for(
         options,
         progress,
     )
+    .await
 }
 
 /// Proposes labels for `trajectory` of an object with `outline`, pushed by a disc of
@@ -180,11 +194,31 @@ pub fn propose(
     options: &ProposeOptions,
     progress: &mut dyn FnMut(f32) -> bool,
 ) -> Result<Proposals, ProposeError> {
+    crate::slices::finish(propose_in_slices(
+        trajectory,
+        outline,
+        pusher_radius,
+        residuals,
+        options,
+        progress,
+    ))
+}
+
+/// [`propose`] in slices (`crate::slices`).
+pub async fn propose_in_slices(
+    trajectory: &Trajectory,
+    outline: &Outline,
+    pusher_radius: f64,
+    residuals: Option<Residuals<'_>>,
+    options: &ProposeOptions,
+    progress: &mut dyn FnMut(f32) -> bool,
+) -> Result<Proposals, ProposeError> {
     let n = trajectory.len();
     let noise = NoiseEstimate::of(trajectory);
     let on = rules::pusher_on_object(trajectory, outline, pusher_radius, &mut |k| {
         progress(0.6 * k as f32 / n.max(1) as f32)
     })
+    .await
     .ok_or(ProposeError::Cancelled)?;
     let raw_gap = &on.gap;
 
@@ -226,6 +260,7 @@ pub fn propose(
     if !progress(0.7) {
         return Err(ProposeError::Cancelled);
     }
+    crate::slices::pause().await;
 
     let mut evidence: Vec<FrameEvidence> = gap
         .iter()
@@ -264,6 +299,7 @@ pub fn propose(
     if !progress(0.85) {
         return Err(ProposeError::Cancelled);
     }
+    crate::slices::pause().await;
 
     // Bad tracking: jumps, and the model's residual spikes.
     let steps = rules::jump_scores(trajectory, &noise, outline.size());

@@ -107,7 +107,7 @@ pub(super) struct PusherOnObject {
 }
 
 /// Where the pusher is on the object at every frame; `None` when `progress` asks to stop.
-pub(super) fn pusher_on_object(
+pub(super) async fn pusher_on_object(
     trajectory: &Trajectory,
     outline: &Outline,
     pusher_radius: f64,
@@ -120,8 +120,11 @@ pub(super) fn pusher_on_object(
         gap: Vec::with_capacity(n),
     };
     for (k, frame) in trajectory.frames.iter().enumerate() {
-        if k % 4096 == 0 && !progress(k) {
-            return None;
+        if k % 4096 == 0 {
+            if !progress(k) {
+                return None;
+            }
+            crate::slices::pause().await;
         }
         let p = frame.object.point_in_object(frame.robot);
         let nearest = outline.closest_boundary_point(p);

@@ -266,3 +266,46 @@ fn proposals_become_labels_that_a_labels_file_accepts_and_stopping_is_an_error()
     );
     assert_eq!(stopped, Err(ProposeError::Cancelled));
 }
+
+/// What a page does with proposals: polls them a slice at a time. A long push stops every 4,096
+/// frames of the gap pass and between the stages, and gives what the proposals in one piece give.
+#[test]
+fn proposals_in_slices_pause_through_a_long_push_and_match_the_proposals_in_one_piece() {
+    let short = approach_then_push(0.002, 0.0, 1);
+    // A push of about 10,000 frames: the short one again and again, the clock running on.
+    let frames: Vec<Frame> = (0..10_000)
+        .map(|k| {
+            let mut frame = short.frames[k % short.frames.len()];
+            frame.time = k as f64 / RATE_HZ;
+            frame
+        })
+        .collect();
+    let long = Trajectory::new(frames);
+    let whole = run(&long);
+    let outline = square();
+    let options = ProposeOptions::default();
+    let mut progress = |_| true;
+    let mut work = Box::pin(propose_in_slices(
+        &long,
+        &outline,
+        RADIUS,
+        None,
+        &options,
+        &mut progress,
+    ));
+    let mut polls = 1;
+    let sliced = loop {
+        if let Some(done) = crate::slices::poll_once(work.as_mut()) {
+            break done.unwrap();
+        }
+        polls += 1;
+    };
+    drop(work);
+    // Frames 0, 4,096 and 8,192 of the gap pass, then two stages: five pauses.
+    assert_eq!(polls, 6);
+    // Compared as printed: the evidence holds NaN where a rule has no value, and NaN ≠ NaN.
+    assert!(
+        format!("{sliced:?}") == format!("{whole:?}"),
+        "the proposals in slices differ"
+    );
+}
