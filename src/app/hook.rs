@@ -46,12 +46,27 @@ pub struct Shown {
     pub error: Option<String>,
     /// The status line.
     pub status: Option<String>,
+    /// The camera pictures shown beside the scene, as the camera panel draws them.
+    pub cameras: Vec<ShownCamera>,
     /// The Demos menu's presets, by name (what `command({demo})` takes).
     pub demos: Vec<String>,
     /// Frames the page has drawn, and the app's CPU time on the newest (eframe's own figure, ms):
     /// for the guide's performance figures. Only a page fills them.
     pub frames_drawn: Option<u64>,
     pub frame_cpu_ms: Option<f32>,
+}
+
+/// One camera picture shown (`state().cameras`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ShownCamera {
+    /// The stream's name: a bag's topic, a dataset's image feature, a set's image folder.
+    pub name: String,
+    /// The stream's frame shown (at or before the scene frame's time); `null` before its first.
+    pub frame: Option<usize>,
+    /// `[width, height]` of the decoded picture; `null` while it is being decoded or if it failed.
+    pub size: Option<[u32; 2]>,
+    /// Why the picture cannot be shown, as the panel says it.
+    pub problem: Option<String>,
 }
 
 /// One call of `command(obj)`: each field that is present is done, in this order.
@@ -119,6 +134,21 @@ pub fn shown(state: &AppState) -> Shown {
         training: (state.training().is_running()).then(|| state.training().progress()),
         error: state.session().problems.last().map(|p| p.message.clone()),
         status: state.status().map(str::to_owned),
+        cameras: (state
+            .cameras()
+            .shown(state.timeline().frame_time())
+            .into_iter())
+        .map(|shown| ShownCamera {
+            name: shown.stream.name.clone(),
+            frame: shown.frame,
+            size: (shown.decoded.as_ref())
+                .and_then(|d| d.as_ref().ok())
+                .map(|image| [image.width, image.height]),
+            problem: (shown.decoded.as_ref())
+                .and_then(|d| d.as_ref().err())
+                .map(ToString::to_string),
+        })
+        .collect(),
         demos: (state.demos().names().into_iter())
             .map(str::to_owned)
             .collect(),

@@ -229,6 +229,20 @@ test("a ROS 2 bag dropped and Push-T datasets picked as folders open as on the d
     for (const episode of wanted) {
       assert.ok(fresh.some((name) => name.endsWith(episode)), `${episode} among ${fresh}`);
     }
+    // What was opened is shown, with its camera: the replay buffer's images decoded in the page
+    // (no worker thread there: decoded as the frames are drawn), LeRobot's video said, by name,
+    // to need the desktop.
+    assert.ok(fresh.includes(after.recording), `${after.recording} shown`);
+    const camera = await page.waitForFunction(() => {
+      const [first] = window.pushlab.state().cameras;
+      return (first?.size || first?.problem) && first;
+    }, null, { timeout: 30_000, polling: 50 }).then((handle) => handle.jsonValue());
+    if (dir === process.env.PUSHLAB_ZARR_DIR) {
+      assert.equal(camera.name, "img");
+      assert.deepEqual(camera.size, [96, 96], `the replay buffer's picture: ${JSON.stringify(camera)}`);
+    } else {
+      assert.match(camera.problem ?? "", /browser tab cannot run programs/, JSON.stringify(camera));
+    }
   }
   assert.deepEqual(errors, []);
   assert.equal(await page.evaluate(() => window.pushlab.panic()), null);

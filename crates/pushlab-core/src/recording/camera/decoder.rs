@@ -9,6 +9,11 @@
 //! order; when the cache is over its budget it forgets the frames used longest ago, never one that
 //! is wanted now. A frame that cannot be read or decoded is cached as its error, so a corrupt frame
 //! is reported once and the rest play on.
+//!
+//! Where no thread can be started (a browser tab: `std::thread` has none there), the decoder
+//! decodes on the caller instead, one frame per [`FrameDecoder::want`] — the first wanted frame
+//! not cached, so the frame shown comes first and the prefetch follows a frame a draw — so that a
+//! page's camera panel shows its pictures rather than waiting for a worker that never starts.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
@@ -63,12 +68,18 @@ struct Shared {
     quit: bool,
 }
 
-/// Reads and decodes frames on its own thread (see the module doc).
+/// Reads and decodes frames on its own thread, or on the caller where there are no threads (see
+/// the module doc).
 pub struct FrameDecoder {
     shared: Arc<(Mutex<Shared>, Condvar)>,
     budget_bytes: usize,
     worker: Option<JoinHandle<()>>,
+    /// The readers of a decoder without a worker, which decodes on the caller.
+    readers_here: Mutex<Readers>,
 }
+
+/// Each wanted stream's reader, by the stream's address.
+type Readers = HashMap<usize, Box<dyn FrameReader>>;
 
 impl Default for FrameDecoder {
     fn default() -> Self {
@@ -88,19 +99,26 @@ impl std::fmt::Debug for FrameDecoder {
 impl FrameDecoder {
     /// A decoder whose cache holds at most `budget_bytes` of decoded pixels (and always the frames
     /// wanted now, even when one alone is larger).
+    /// Where no thread can be started (a page), it decodes on the caller: see
+    /// [`Self::on_caller`].
     pub fn new(budget_bytes: usize) -> Self {
-        let shared = Arc::new((Mutex::new(Shared::default()), Condvar::new()));
-        let worker = {
-            let shared = Arc::clone(&shared);
-            std::thread::Builder::new()
-                .name("pushlab-frames".to_owned())
-                .spawn(move || work(&shared, budget_bytes))
-                .ok()
-        };
+        let mut decoder = Self::on_caller(budget_bytes);
+        let shared = Arc::clone(&decoder.shared);
+        decoder.worker = std::thread::Builder::new()
+            .name("pushlab-frames".to_owned())
+            .spawn(move || work(&shared, budget_bytes))
+            .ok();
+        decoder
+    }
+
+    /// A decoder without a worker: each [`Self::want`] decodes the first wanted frame not cached,
+    /// on the caller (what a browser tab gets from [`Self::new`]).
+    pub fn on_caller(budget_bytes: usize) -> Self {
         Self {
-            shared,
+            shared: Arc::new((Mutex::new(Shared::default()), Condvar::new())),
             budget_bytes,
-            worker,
+            worker: None,
+            readers_here: Mutex::new(HashMap::new()),
         }
     }
 
@@ -112,10 +130,36 @@ impl FrameDecoder {
             && (shared.wanted.iter().zip(&frames))
                 .all(|((a, i), (b, j))| Arc::ptr_eq(a, b) && i == j)
         {
+            drop(shared);
+            self.decode_here();
             return;
         }
         shared.wanted = frames;
         wake.notify_all();
+        drop(shared);
+        self.decode_here();
+    }
+
+    /// Without a worker: decodes the first wanted frame not cached, on the caller.
+    fn decode_here(&self) {
+        if self.worker.is_some() {
+            return;
+        }
+        let mut readers = self
+            .readers_here
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        let next = {
+            let state = lock_of(&self.shared.0);
+            // Readers of streams no longer wanted hold open files and decompressed chunks.
+            readers.retain(|key, _| {
+                (state.wanted.iter()).any(|(s, _)| Arc::as_ptr(s) as usize == *key)
+            });
+            next_wanted(&state)
+        };
+        if let Some(next) = next {
+            decode_one(&self.shared.0, &mut readers, next, self.budget_bytes);
+        }
     }
 
     /// Frame `frame` of `stream` when it is decoded (or failed); `None` while it is not.
@@ -137,6 +181,11 @@ impl FrameDecoder {
         timeout: Duration,
     ) -> Option<Decoded> {
         let key = FrameKey::of(stream, frame);
+        if self.worker.is_none() {
+            // No worker to wait for (and a page cannot wait): decode it now.
+            self.want(vec![(Arc::clone(stream), frame)]);
+            return self.get(stream, frame);
+        }
         let deadline = Instant::now() + timeout;
         let (lock, wake) = &*self.shared;
         let mut shared = lock_of(lock);
@@ -205,19 +254,15 @@ fn lock_of(lock: &Mutex<Shared>) -> MutexGuard<'_, Shared> {
 /// The worker: decode the first wanted frame not cached, until told to quit.
 fn work(shared: &(Mutex<Shared>, Condvar), budget_bytes: usize) {
     let (lock, wake) = shared;
-    let mut readers: HashMap<usize, Box<dyn FrameReader>> = HashMap::new();
+    let mut readers = Readers::new();
     loop {
-        let (stream, frame) = {
+        let next = {
             let mut state = lock_of(lock);
             loop {
                 if state.quit {
                     return;
                 }
-                let next = (state.wanted.iter())
-                    .find(|(s, i)| !state.cache.contains_key(&FrameKey::of(s, *i)))
-                    .map(|(s, i)| (Arc::clone(s), *i));
-                if let Some(next) = next {
-                    state.decoding = Some(FrameKey::of(&next.0, next.1));
+                if let Some(next) = next_wanted(&state) {
                     break next;
                 }
                 // Readers of streams no longer wanted hold open files and decompressed chunks.
@@ -227,18 +272,36 @@ fn work(shared: &(Mutex<Shared>, Condvar), budget_bytes: usize) {
                 state = wake.wait(state).unwrap_or_else(PoisonError::into_inner);
             }
         };
-        let key = FrameKey::of(&stream, frame);
-        let reader = readers.entry(key.stream).or_insert_with(|| stream.reader());
-        let decoded = reader
-            .read(frame)
-            .and_then(|encoded| Ok(Arc::new(decode(&encoded)?)));
-        let mut state = lock_of(lock);
-        state.decoding = None;
-        // A clear() while decoding: the stream may be gone, and the frame is not wanted.
-        if (state.wanted.iter()).any(|(s, i)| FrameKey::of(s, *i) == key) {
-            insert(&mut state, (stream, frame), decoded, budget_bytes);
-        }
+        decode_one(lock, &mut readers, next, budget_bytes);
         wake.notify_all();
+    }
+}
+
+/// The first wanted frame not cached.
+fn next_wanted(state: &Shared) -> Option<(Arc<CameraStream>, usize)> {
+    (state.wanted.iter())
+        .find(|(s, i)| !state.cache.contains_key(&FrameKey::of(s, *i)))
+        .map(|(s, i)| (Arc::clone(s), *i))
+}
+
+/// Reads and decodes one frame, the lock not held meanwhile, and caches it if it is still wanted.
+fn decode_one(
+    lock: &Mutex<Shared>,
+    readers: &mut Readers,
+    (stream, frame): (Arc<CameraStream>, usize),
+    budget_bytes: usize,
+) {
+    let key = FrameKey::of(&stream, frame);
+    lock_of(lock).decoding = Some(key);
+    let reader = readers.entry(key.stream).or_insert_with(|| stream.reader());
+    let decoded = reader
+        .read(frame)
+        .and_then(|encoded| Ok(Arc::new(decode(&encoded)?)));
+    let mut state = lock_of(lock);
+    state.decoding = None;
+    // A clear() while decoding: the stream may be gone, and the frame is not wanted.
+    if (state.wanted.iter()).any(|(s, i)| FrameKey::of(s, *i) == key) {
+        insert(&mut state, (stream, frame), decoded, budget_bytes);
     }
 }
 

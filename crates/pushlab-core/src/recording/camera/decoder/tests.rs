@@ -173,3 +173,34 @@ fn clearing_forgets_every_frame() {
     assert_eq!(decoder.cached_bytes(), 0);
     assert!(!decoder.is_busy());
 }
+
+/// A browser tab cannot start the worker: the decoder decodes on the caller, the frame shown
+/// first and then the prefetch, one frame for each drawn frame's `want`.
+#[test]
+fn without_a_worker_each_want_decodes_the_next_frame_on_the_caller() {
+    let (stream, reads) = stream(30, Some(5));
+    let decoder = FrameDecoder::on_caller(DEFAULT_BUDGET_BYTES);
+    let wanted: Vec<_> = (3..7).map(|i| (Arc::clone(&stream), i)).collect();
+    decoder.want(wanted.clone());
+    let shown = decoder
+        .get(&stream, 3)
+        .expect("the frame shown, at once")
+        .unwrap();
+    assert_eq!(shown.pixel(1, 1), Some([3, 3, 3, 255]));
+    assert!(decoder.get(&stream, 4).is_none(), "one frame a call");
+    assert!(decoder.is_busy(), "the prefetch is still to come");
+    // The next drawn frames want the same: the prefetch follows, the corrupt frame as its error.
+    for _ in 0..3 {
+        decoder.want(wanted.clone());
+    }
+    assert!(!decoder.is_busy());
+    assert_eq!(
+        decoder.get(&stream, 4).unwrap().unwrap().pixel(0, 0),
+        Some([4, 4, 4, 255])
+    );
+    assert!(decoder.get(&stream, 5).unwrap().is_err());
+    assert_eq!(reads.load(Ordering::SeqCst), 4);
+    // A seek's wait decodes at once rather than waiting for a worker.
+    let image = decoder.wait_for(&stream, 20, WAIT).unwrap().unwrap();
+    assert_eq!(image.pixel(0, 0), Some([20, 20, 20, 255]));
+}
