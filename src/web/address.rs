@@ -5,8 +5,13 @@
 use crate::app::link::Link;
 use crate::app::platform::Instant;
 
-/// Most often the address bar is rewritten (the frame changes every frame while playing).
+/// Most often the address bar is rewritten when paused: soon after a seek or a θ set.
 const EVERY_S: f64 = 0.25;
+/// Most often while playing, when the frame changes every frame. Chromium's `replaceState` is not
+/// cheap: at four times a second it was 13 % of the app's time on the page's thread while playing
+/// (a CDP profile, headless chromium, this machine). Help → Copy link copies the view of the moment
+/// whatever the bar says, and pausing rewrites the bar within [`EVERY_S`].
+const EVERY_S_PLAYING: f64 = 2.0;
 
 /// The address without its query (`http://host/path/`).
 pub fn page_address() -> Option<String> {
@@ -24,7 +29,8 @@ pub fn opened_query() -> String {
 }
 
 /// Writes the link of what is shown into the address bar when it changed, at most every
-/// [`EVERY_S`]; `url=` values the page was opened with are kept (they say what was fetched).
+/// [`EVERY_S`] ([`EVERY_S_PLAYING`] while playing); `url=` values the page was opened with are
+/// kept (they say what was fetched).
 #[derive(Default)]
 pub struct AddressBar {
     written: String,
@@ -32,16 +38,16 @@ pub struct AddressBar {
 }
 
 impl AddressBar {
-    pub fn follow(&mut self, link: &Link) {
+    pub fn follow(&mut self, link: &Link, playing: bool) {
+        let every = if playing { EVERY_S_PLAYING } else { EVERY_S };
+        if self.at.is_some_and(|at| at.elapsed().as_secs_f64() < every) {
+            return;
+        }
         let mut query = link.to_query();
         for url in query_values("url") {
             query.push_str(&format!("&url={}", js_sys::encode_uri_component(&url)));
         }
-        if query == self.written
-            || self
-                .at
-                .is_some_and(|at| at.elapsed().as_secs_f64() < EVERY_S)
-        {
+        if query == self.written {
             return;
         }
         let Some(history) = web_sys::window().and_then(|w| w.history().ok()) else {

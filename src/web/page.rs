@@ -150,7 +150,7 @@ impl eframe::App for Page {
         self.app.ui(ui, frame);
         if self.link.is_none() {
             let link = Link::of(&self.app.state, &self.app.view.link_part());
-            self.address_bar.follow(&link);
+            (self.address_bar).follow(&link, self.app.state.timeline().playing);
         }
         self.drawn += 1;
         let mut shown = crate::app::hook::shown(&self.app.state);
