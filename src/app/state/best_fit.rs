@@ -1,6 +1,7 @@
 //! The Steer tab's "best θ for this push": the `θ_online` that fits the whole recording shown best,
 //! held fixed over it — pushlab-core's `experiment::best_fit`, the one `pushlab eval --best-fit`
-//! reports — found on a worker thread with progress and cancel.
+//! reports — found off the UI thread (a worker thread on the desktop, a slice of each frame in a page:
+//! `platform`) with progress and cancel.
 //!
 //! Why in the app: an engineer watching online learning wants to know whether a COM far from the
 //! truth is the learner's fault (it would do better with other steps) or the model's (no `θ` fits

@@ -1,5 +1,6 @@
 //! The loss-landscape window's state: which frames it scores, and the landscape of the frame shown,
-//! computed by pushlab-core (`inspect::com_landscape`, `h_slice`, `contours`) on a worker thread.
+//! computed by pushlab-core (`inspect::com_landscape`, `h_slice`, `contours`) off the UI thread (a
+//! worker thread on the desktop, a slice of each frame in a page: `platform`).
 //!
 //! The landscape follows the frame shown and `θ` there, but never queues: while one is computed,
 //! later frames wait, and when it arrives the newest request starts. During playback the window so

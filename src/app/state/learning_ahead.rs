@@ -1,4 +1,5 @@
-//! Learning far ahead of the online run on a worker thread.
+//! Learning far ahead of the online run off the UI thread (a worker thread on the desktop, a slice
+//! of each frame in a page: `platform`).
 //!
 //! Why: a seek, or a model taken into use, at a frame far past what the run has learned learns every
 //! frame between — what playing there would have learned — and on a long recording that is seconds

@@ -13,8 +13,8 @@
 //! session (by its label and frames, so a recomputation keeps it hidden); "restore rejected" shows
 //! the rejected ones again, so nothing is lost.
 //!
-//! Proposing runs on a worker thread (a million-frame recording takes seconds), with progress and
-//! cancel; opening on the calling thread ([`ProposalState::wait`]) waits for it.
+//! Proposing runs off the UI thread (a worker thread on the desktop, a slice of each frame in a
+//! page: a million-frame recording takes seconds), with progress and cancel; opening on the calling thread ([`ProposalState::wait`]) waits for it.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;

@@ -1,7 +1,7 @@
 //! What is open: the recording sets, the load errors, and which recording is selected.
 //!
-//! Loading runs on worker threads (`start_loading` + `poll_loading`), one per open, side by side, so
-//! that the window keeps drawing and opening a second folder never waits for a large first one;
+//! Loading runs on worker threads (`start_loading` + `poll_loading`; in a page, a file a frame, round
+//! the queue: `platform`), one per open, side by side, so that the window keeps drawing and opening a second folder never waits for a large first one;
 //! each load reports its bytes (the status bar's progress bar) and stops at its next file or chunk
 //! when cancelled. Tests and the command line can load synchronously with `open_blocking`.
 
