@@ -108,20 +108,8 @@ fn objects(used: &[UsedRecording]) -> Vec<Vec<usize>> {
 /// object, online on that object's recordings with each optimiser (the default online rule
 /// otherwise). Uncalibrated (all zero) with fewer than two objects or no known COM; stops early,
 /// uncalibrated, when `cancel` is set. `progress` sees each fold's training, its stage saying which
-/// fold.
-pub fn calibrate_com_misfit(
-    kind: ModelKind,
-    used: &[UsedRecording],
-    config: &TrainConfig,
-    progress: &mut dyn FnMut(&TrainProgress),
-    cancel: &AtomicBool,
-) -> Result<ComMisfit, TrainError> {
-    crate::slices::finish(calibrate_com_misfit_in_slices(
-        kind, used, config, progress, cancel,
-    ))
-}
-
-/// [`calibrate_com_misfit`] in slices (`crate::slices`): what a browser tab polls a slice of each frame.
+/// fold. In slices (`crate::slices`): it pauses after each left-out push and within each fold's
+/// training.
 pub async fn calibrate_com_misfit_in_slices(
     kind: ModelKind,
     used: &[UsedRecording],
@@ -196,7 +184,7 @@ fn left_out_push(
 }
 
 /// Trains a combined model ([`train_combined`]) and calibrates its COM misfit
-/// ([`calibrate_com_misfit`]) when `calibrate`: what `pushlab train`, the app's Train tab and
+/// ([`calibrate_com_misfit_in_slices`]) when `calibrate`: what `pushlab train`, the app's Train tab and
 /// Python's `Model.train` make. A cancelled training is returned uncalibrated.
 pub fn train_calibrated(
     kind: ModelKind,

@@ -32,10 +32,7 @@ pub use evaluate::{
     EvalOptions, Evaluation, OfflineMeans, PerLabel, PhysicsNmse, PhysicsPush, TrajectoryRun,
     evaluate, fixed_pass, loss_scale_for, model_on, online_run, physics_model,
 };
-pub use misfit::{
-    calibrate_com_misfit, calibrate_com_misfit_in_slices, train_calibrated,
-    train_calibrated_in_slices,
-};
+pub use misfit::{calibrate_com_misfit_in_slices, train_calibrated, train_calibrated_in_slices};
 pub use push_fits::push_best_fit;
 pub use train::{
     paper_theta0_for, train_baseline, train_baseline_in_slices, train_combined,

@@ -94,7 +94,7 @@ impl CombinedModel {
         }
     }
 
-    /// The same model calibrated with `misfit` (`experiment::calibrate_com_misfit`).
+    /// The same model calibrated with `misfit` (`experiment::calibrate_com_misfit_in_slices`).
     pub fn with_com_misfit(mut self, misfit: ComMisfit) -> Self {
         match &mut self {
             CombinedModel::Paper(m) => Arc::make_mut(m).com_misfit = misfit,

@@ -6,7 +6,7 @@
 //! it. Measured on real MIT pushes of a held-out shape, its 95 % ellipse held the true COM in 23–40 %
 //! of pushes with Gauss–Newton; a sandwich covariance or a physical prior moved that by at most one
 //! push per shape. The bias can only be measured where the truth is known: training measures it by
-//! leaving each of its objects out in turn (`experiment::calibrate_com_misfit`), and the posterior
+//! leaving each of its objects out in turn (`experiment::calibrate_com_misfit_in_slices`), and the posterior
 //! adds it to the COM's covariance as an isotropic spread of `per_h × h` (`θ_online(0)`'s `h`, so it
 //! carries over to objects of another size).
 

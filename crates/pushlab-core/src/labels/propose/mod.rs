@@ -185,26 +185,8 @@ pub async fn propose_for_in_slices(
 
 /// Proposes labels for `trajectory` of an object with `outline`, pushed by a disc of
 /// `pusher_radius`. `progress` is told the fraction done now and then and stops the work by
-/// returning `false`.
-pub fn propose(
-    trajectory: &Trajectory,
-    outline: &Outline,
-    pusher_radius: f64,
-    residuals: Option<Residuals<'_>>,
-    options: &ProposeOptions,
-    progress: &mut dyn FnMut(f32) -> bool,
-) -> Result<Proposals, ProposeError> {
-    crate::slices::finish(propose_in_slices(
-        trajectory,
-        outline,
-        pusher_radius,
-        residuals,
-        options,
-        progress,
-    ))
-}
-
-/// [`propose`] in slices (`crate::slices`).
+/// returning `false`. In slices (`crate::slices`): it pauses every 4,096 frames of its gap pass
+/// and between its stages.
 pub async fn propose_in_slices(
     trajectory: &Trajectory,
     outline: &Outline,

@@ -41,6 +41,25 @@ fn pusher(object_x: f64, gap: f64, y: f64) -> Point2<f64> {
     Point2::new(object_x - HALF - RADIUS - gap, y)
 }
 
+/// Proposals polled to their end, as the command line and the desktop run them.
+fn propose(
+    trajectory: &Trajectory,
+    outline: &Outline,
+    pusher_radius: f64,
+    residuals: Option<Residuals<'_>>,
+    options: &ProposeOptions,
+    progress: &mut dyn FnMut(f32) -> bool,
+) -> Result<Proposals, ProposeError> {
+    crate::slices::finish(propose_in_slices(
+        trajectory,
+        outline,
+        pusher_radius,
+        residuals,
+        options,
+        progress,
+    ))
+}
+
 fn run(trajectory: &Trajectory) -> Proposals {
     propose(
         trajectory,

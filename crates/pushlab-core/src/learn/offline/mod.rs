@@ -85,7 +85,7 @@ impl Default for TrainConfig {
 }
 
 /// Which training an epoch belongs to: the model asked for, or one of the models trained to
-/// measure its COM misfit (`experiment::calibrate_com_misfit`), which a progress bar or a loss
+/// measure its COM misfit (`experiment::calibrate_com_misfit_in_slices`), which a progress bar or a loss
 /// curve of the model must not take for its own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TrainStage {
