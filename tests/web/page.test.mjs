@@ -4,7 +4,7 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { readdirSync, readFileSync } from "node:fs";
-import { launch, settled } from "./browser.mjs";
+import { gapsWhileTraining, launch, settled, watchFrameGaps } from "./browser.mjs";
 
 const site = process.env.PUSHLAB_WEB_URL ?? "http://127.0.0.1:8765/";
 let browser;
@@ -87,12 +87,7 @@ test("a demo played for two seconds moves θ and the losses", async () => {
 test("a demo's model trains a slice of each frame: the page draws meanwhile, and Cancel stops it", async () => {
   const { page, errors } = await open();
   // The longest time between two of the browser's frames, from here on: the page's thread blocked.
-  await page.evaluate(() => {
-    window.gaps = [];
-    let last = performance.now();
-    const tick = (now) => { window.gaps.push([now - last, window.pushlab.state().training]); last = now; requestAnimationFrame(tick); };
-    requestAnimationFrame(tick);
-  });
+  await watchFrameGaps(page);
   await command(page, { demo: "R2b COM" });
   await page.waitForFunction(() => window.pushlab.state().training !== null, null, { timeout: 60_000, polling: 20 });
   const first = await state(page);
@@ -100,7 +95,7 @@ test("a demo's model trains a slice of each frame: the page draws meanwhile, and
   await page.waitForFunction((drawn) => window.pushlab.state().frames_drawn > drawn, first.frames_drawn, { timeout: 30_000, polling: 10 });
   const later = await state(page);
   assert.notEqual(later.training, null, "a frame drawn while the model trains");
-  const longest = await page.evaluate(() => Math.max(...window.gaps.filter(([, training]) => training !== null).map(([gap]) => gap)));
+  const longest = Math.max(...await gapsWhileTraining(page));
   // Headless chromium on SwiftShader draws a frame every 200-400 ms on this machine, playing or not
   // (250-383 ms apart at most while training in slices); the training run in one piece held the
   // page 900-1000 ms (tests/web/training.mjs, docs/src/performance.md).
