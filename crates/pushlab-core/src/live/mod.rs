@@ -3,24 +3,31 @@
 //! pushes. The protocol's messages ([`protocol`]), a client ([`client`], not in a browser tab: a
 //! page has no sockets of this kind), the pose in each message ([`pose`], through the bag reader's
 //! decoders, so that a live session and its recording read the same numbers), the MCAP file
-//! every message received is written to ([`recorder`]), and learning as the frames arrive: the two
+//! every message received is written to ([`recorder`]), a session with both streams followed by
+//! topic name through reconnects ([`session`], [`followed`]: what the CLI and the app run), and learning as the frames arrive: the two
 //! streams on the bag import's grid ([`grid`]) learned from by the core online run ([`learner`]),
 //! so that the session and the replay of its recording agree to the bit.
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod client;
+pub mod followed;
 pub mod grid;
 pub mod learner;
 pub mod pose;
 pub mod protocol;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod recorder;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod session;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub use self::client::{LiveClient, LiveError, LiveEvent};
+pub use self::followed::Followed;
 pub use self::grid::{LiveGrid, Refused, Stream};
 pub use self::learner::{AheadScore, LiveLearner, RefusedCounts};
 pub use self::pose::PoseReading;
 pub use self::protocol::{Channel, SUBPROTOCOLS};
 #[cfg(not(target_arch = "wasm32"))]
 pub use self::recorder::{RecordError, Recorded, Recorder};
+#[cfg(not(target_arch = "wasm32"))]
+pub use self::session::{LiveSession, SessionError, SessionEvent};

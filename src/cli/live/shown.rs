@@ -1,0 +1,30 @@
+//! How `pushlab live`'s line of a second shows one followed stream: its latest pose and how late it
+//! arrived, as text or JSON.
+
+use pushlab_core::live::Followed;
+use serde_json::json;
+
+pub(super) fn text(followed: &Followed) -> String {
+    match followed.latest() {
+        Some(p) => format!(
+            "{} ({:.3}, {:.3}) m {:.1}°{}",
+            followed.role(),
+            p.x,
+            p.y,
+            p.yaw.to_degrees(),
+            followed
+                .lag_s()
+                .map(|l| format!(" {:.0} ms late", l * 1e3))
+                .unwrap_or_default()
+        ),
+        None => format!("{} -", followed.role()),
+    }
+}
+
+pub(super) fn json(followed: &Followed) -> serde_json::Value {
+    match followed.latest() {
+        Some(p) => json!({"stamp_ns": p.stamp_ns, "x": p.x, "y": p.y, "yaw": p.yaw,
+                          "lag_s": followed.lag_s(), "unreadable": followed.unreadable()}),
+        None => serde_json::Value::Null,
+    }
+}
