@@ -7,118 +7,14 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod cli_common;
+mod live_robot;
 
 use std::path::Path;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::atomic::Ordering;
+use std::time::Duration;
 
 use cli_common::{pushlab, temp_dir};
-use foxglove::{
-    ChannelBuilder, Context, PartialMetadata, RawChannel, Schema, WebSocketServer,
-    WebSocketServerHandle,
-};
-use pushlab_core::recording::bag::encode_pose_stamped;
-
-/// A robot's server on `port` (0: any free one) with its two channels: the pusher's JSON and the
-/// object's CDR PoseStamped, advertised in that order or, with `object_first`, the other.
-fn start_robot(
-    port: u16,
-    object_first: bool,
-) -> (
-    Arc<Context>,
-    WebSocketServerHandle,
-    Arc<RawChannel>,
-    Arc<RawChannel>,
-) {
-    let context = Context::new();
-    let server = WebSocketServer::new()
-        .name("test robot")
-        .bind("127.0.0.1", port)
-        .context(&context)
-        .start_blocking()
-        .expect("the SDK's server starts");
-    let pusher = || {
-        ChannelBuilder::new("/pusher")
-            .context(&context)
-            .message_encoding("json")
-            .schema(Schema::new("pushlab.Pose", "jsonschema", b"{}".to_vec()))
-            .build_raw()
-            .unwrap()
-    };
-    let object = || {
-        ChannelBuilder::new("/object")
-            .context(&context)
-            .message_encoding("cdr")
-            .schema(Schema::new(
-                "geometry_msgs/msg/PoseStamped",
-                "ros2msg",
-                b"".to_vec(),
-            ))
-            .build_raw()
-            .unwrap()
-    };
-    let (pusher, object) = if object_first {
-        let o = object();
-        (pusher(), o)
-    } else {
-        (pusher(), object())
-    };
-    (context, server, pusher, object)
-}
-
-/// What a test robot does with its two channels (the pusher's JSON, the object's CDR PoseStamped)
-/// until the flag is set.
-type Logging = Box<dyn FnOnce(&RawChannel, &RawChannel, &AtomicBool) + Send>;
-
-/// A server whose robot logs as `log` says until the returned flag is set; its address.
-fn robot_with(log: Logging) -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
-    let (context, server, pusher, object) = start_robot(0, false);
-    let url = format!("ws://127.0.0.1:{}", server.port());
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    let logging = std::thread::spawn(move || {
-        // The context lives as long as the robot logs: its channels are advertised while it does.
-        let _context = context;
-        log(&pusher, &object, &flag);
-        let _ = server.stop();
-    });
-    (url, stop, logging)
-}
-
-/// A JSON pose (the documented PoseStamped shape) stamped `stamp` ns.
-fn json_pose(stamp: u64, x: f64, y: f64) -> String {
-    format!(
-        r#"{{"header":{{"stamp":{{"sec":{},"nanosec":{}}}}},"pose":{{"position":{{"x":{x},"y":{y},"z":0}},"orientation":{{"x":0,"y":0,"z":0,"w":1}}}}}}"#,
-        stamp / 1_000_000_000,
-        stamp % 1_000_000_000
-    )
-}
-
-/// A robot holding still, logging the same poses every 10 ms.
-fn robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
-    robot_with(Box::new(|pusher, object, stop| {
-        log_still(pusher, object, stop, None, &mut 0);
-    }))
-}
-
-/// Logs the still poses every 10 ms, message `k` on, until `stop` is set or `until` passes.
-fn log_still(
-    pusher: &RawChannel,
-    object: &RawChannel,
-    stop: &AtomicBool,
-    until: Option<Instant>,
-    k: &mut u64,
-) {
-    while !stop.load(Ordering::Relaxed) && until.is_none_or(|u| Instant::now() < u) {
-        let stamp = 1_700_000_000_000_000_000 + *k * 10_000_000;
-        let at = PartialMetadata::with_log_time(stamp);
-        pusher.log_with_meta(json_pose(stamp, 0.25, -0.5).as_bytes(), at);
-        object.log_with_meta(&encode_pose_stamped(stamp, "table", 0.125, 0.5, 0.0), at);
-        *k += 1;
-        std::thread::sleep(Duration::from_millis(10));
-    }
-}
+use live_robot::{pushing_robot, restarting_robot, robot};
 
 #[test]
 fn live_prints_the_poses_and_records_every_message_to_a_bag() {
@@ -268,44 +164,9 @@ fn live_prints_the_poses_and_records_every_message_to_a_bag() {
     logging.join().unwrap();
 }
 
-/// A robot pushing: a push of the sample data (10 Hz), sent once the client subscribed to both
-/// channels, the object's stamps 3 ms after the pusher's.
-fn pushing_robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("sample-data/box1-paper-ur-front/online_000.csv"),
-    )
-    .unwrap();
-    let rows: Vec<Vec<f64>> = (text.lines().skip(1))
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    robot_with(Box::new(move |pusher, object, stop| {
-        let subscribed = || pusher.has_sinks() && object.has_sinks();
-        while !subscribed() && !stop.load(Ordering::Relaxed) {
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        for r in &rows {
-            let stamp = 1_700_000_000_000_000_000 + (r[0] * 1e9).round() as u64;
-            pusher.log_with_meta(
-                json_pose(stamp, r[1], r[2]).as_bytes(),
-                PartialMetadata::with_log_time(stamp),
-            );
-            let late = stamp + 3_000_000;
-            object.log_with_meta(
-                &encode_pose_stamped(late, "table", r[3], r[4], r[5]),
-                PartialMetadata::with_log_time(late),
-            );
-            std::thread::sleep(Duration::from_millis(2));
-        }
-        while !stop.load(Ordering::Relaxed) {
-            std::thread::sleep(Duration::from_millis(10));
-        }
-    }))
-}
-
 #[test]
 fn live_learns_theta_as_the_push_arrives_and_eval_of_its_recording_agrees_to_the_bit() {
-    let (url, stop, logging) = pushing_robot();
+    let (url, stop, logging) = pushing_robot(Duration::from_millis(2));
     let dir = temp_dir("pushlab-live", "learn");
     let out = dir.join("push.mcap");
     let out_s = out.display().to_string();
@@ -425,29 +286,6 @@ fn live_learns_theta_as_the_push_arrives_and_eval_of_its_recording_agrees_to_the
         theta_com, report["config"]["theta0"]["com_offset"],
         "θ was learned"
     );
-}
-
-/// A robot whose server goes away after a second and comes back on the same port 0.7 s later,
-/// advertising its channels in the other order (so their ids change), logging the still poses.
-fn restarting_robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
-    let first = start_robot(0, false);
-    let port = first.1.port();
-    let url = format!("ws://127.0.0.1:{port}");
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    let logging = std::thread::spawn(move || {
-        let mut k = 0u64;
-        let (context, server, pusher, object) = first;
-        let until = Some(Instant::now() + Duration::from_secs(1));
-        log_still(&pusher, &object, &flag, until, &mut k);
-        let _ = server.stop();
-        drop((pusher, object, context));
-        std::thread::sleep(Duration::from_millis(700));
-        let (_context, server, pusher, object) = start_robot(port, true);
-        log_still(&pusher, &object, &flag, None, &mut k);
-        let _ = server.stop();
-    });
-    (url, stop, logging)
 }
 
 #[test]

@@ -24,6 +24,9 @@ pub const GRID: Color32 = Color32::from_gray(55);
 /// Every tenth grid line.
 pub const GRID_MAJOR: Color32 = Color32::from_gray(80);
 
+/// The LIVE badge of a live session connected to its robot.
+pub const LIVE: Color32 = Color32::from_rgb(235, 70, 70);
+
 /// Warnings a user should act on (a model that does not fit the recordings).
 pub const WARNING: Color32 = Color32::from_rgb(255, 200, 60);
 

@@ -85,6 +85,7 @@ impl PushlabApp {
         panels::landscape::window(ui.ctx(), &self.state, &mut commands);
         panels::bag_dialog::window(ui.ctx(), &self.state, &mut self.view.dialogs, &mut commands);
         panels::dataset_dialog::window(ui.ctx(), &self.state, &mut commands);
+        panels::live::window(ui.ctx(), &self.state, &mut commands);
 
         for command in commands {
             self.state.apply(command);

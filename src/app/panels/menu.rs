@@ -12,6 +12,7 @@ use crate::app::state::dataset_import::DatasetCommand;
 use crate::app::state::demo::DemoCommand;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::landscape::LandscapeCommand;
+use crate::app::state::live::LiveCommand;
 use crate::app::state::{AppState, ChooseAgain, Command};
 use crate::app::view::View;
 
@@ -65,6 +66,13 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                     }
                 });
                 choose_again(ui, state, commands);
+                if ui
+                    .button("Connect to a live robot…")
+                    .on_hover_text("a Foxglove WebSocket server: learn while the robot pushes")
+                    .clicked()
+                {
+                    commands.push(Command::Live(LiveCommand::OpenForm));
+                }
                 ui.separator();
                 if ui.button("Load model…").clicked() {
                     view.dialogs.open(DialogRequest::LoadModel);

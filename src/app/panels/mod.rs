@@ -13,6 +13,7 @@ pub mod label_bands;
 pub mod label_schema;
 pub mod labels;
 pub mod landscape;
+pub mod live;
 pub mod menu;
 pub mod plots;
 pub mod presentation;

@@ -15,6 +15,7 @@ pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
     egui::Panel::bottom("timeline").show(ui, |ui| {
         ui.add_space(4.0);
         ui.horizontal(|ui| {
+            super::live::strip(ui, state, commands);
             ui.add_enabled_ui(!timeline.is_empty(), |ui| {
                 if ui
                     .button("Start")

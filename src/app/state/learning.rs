@@ -4,16 +4,38 @@
 
 use super::AppState;
 use super::learning_ahead::LearningAhead;
+use super::timeline::FrameMove;
 
 impl AppState {
+    /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames
+    /// labelled to skip in training; a held label hotkey paints every frame passed, in either
+    /// direction, but not the frames a seek or a loop's wrap-around jumps over.
+    pub(super) fn frame_moved(&mut self, before: usize, how: FrameMove) {
+        let now = self.timeline.frame();
+        match how {
+            FrameMove::Passed => self.labels.stroke_to(now),
+            FrameMove::Jumped => self.labels.stroke_jump(now),
+            FrameMove::Wrapped => {
+                self.labels.stroke_to(self.timeline.last_frame());
+                self.labels.stroke_jump(0);
+                self.labels.stroke_to(now);
+            }
+        }
+        if now > before {
+            self.learn_while_playing(before, now);
+        }
+    }
+
     /// Learns from frames `from..to` when "Learn while playing" is on, holding θ over frames
     /// labelled to skip in training: on the UI thread, or on a worker when that is long. While a
     /// worker learns, nothing more is learned here; what the frame shown has passed meanwhile is
     /// learned when its copy is back.
     pub(super) fn learn_while_playing(&mut self, from: usize, to: usize) {
+        // A live push learns as its frames arrive (`live_feed`), not as the timeline passes them.
         if !self.settings.learn_while_playing
             || self.run.is_none()
             || self.learning_ahead.is_running()
+            || (self.live.feeds()).is_some_and(|id| self.session.selected == Some(id))
         {
             return;
         }

@@ -23,6 +23,8 @@ pub mod landscape;
 pub mod layers;
 mod learning;
 mod learning_ahead;
+pub mod live;
+mod live_feed;
 mod model_in_use;
 pub mod models;
 pub mod online;
@@ -59,12 +61,13 @@ use self::labels::{LabelAction, Labeling};
 use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
 use self::learning_ahead::LearningAhead;
+use self::live::{Live, LiveChoice, LiveCommand};
 use self::models::Models;
 use self::online::OnlineRun;
 use self::overview::PathOverview;
 use self::proposals::{ProposalAction, ProposalState, ProposalTarget};
 use self::session::{RecordingId, Session};
-use self::timeline::{Timeline, TimelineCommand};
+use self::timeline::{FrameMove, Timeline, TimelineCommand};
 pub use self::views::ChooseAgain;
 
 /// Everything a panel can ask the app to do: one enum per concern.
@@ -102,6 +105,8 @@ pub enum Command {
     Camera(CameraCommand),
     /// A file asked for from a menu: losses, labels, a model.
     File(FileCommand),
+    /// File → Connect to a live robot…: the form and the session (see `live`).
+    Live(LiveCommand),
     /// A message for the status line from outside the state (a dialog that could not be shown,
     /// a screenshot saved).
     Report(String),
@@ -181,17 +186,6 @@ pub enum TrainingCommand {
     ChooseOfflineLabelled,
 }
 
-/// How the shown frame changed, which decides what a held paint key covers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum FrameMove {
-    /// Stepped or played over the frames between.
-    Passed,
-    /// Seeked or jumped: the frames between were not shown.
-    Jumped,
-    /// Looping playback went past the end and on from the first frame.
-    Wrapped,
-}
-
 /// What survives a restart (eframe persistence).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -214,6 +208,10 @@ pub struct Persisted {
     pub what_if_steps: usize,
     /// Camera streams the user hid, by name.
     pub hidden_cameras: BTreeSet<String>,
+    /// The Connect form's choice for each live server connected to, by address.
+    pub live_choices: BTreeMap<String, LiveChoice>,
+    /// The live server connected to last.
+    pub live_url: Option<String>,
 }
 
 impl Default for Persisted {
@@ -230,6 +228,8 @@ impl Default for Persisted {
             browser: BrowserView::default(),
             what_if_steps: DEFAULT_WHAT_IF_STEPS,
             hidden_cameras: BTreeSet::new(),
+            live_choices: BTreeMap::new(),
+            live_url: None,
         }
     }
 }
@@ -287,6 +287,10 @@ pub struct AppState {
     run_generation: u64,
     /// A copy of the run learning far ahead on a worker.
     learning_ahead: LearningAhead,
+    /// The Connect form and the live session (see `live_feed`).
+    live: Live,
+    /// The frames the path overview was made of (a live push's is made again as it grows).
+    overview_frames: usize,
 }
 
 impl AppState {
@@ -296,6 +300,7 @@ impl AppState {
         timeline.apply(TimelineCommand::SetSpeed(persisted.speed));
         timeline.apply(TimelineCommand::SetLoop(persisted.looping));
         let cameras = Cameras::new(persisted.hidden_cameras.clone());
+        let live = Live::new(persisted.live_choices.clone(), persisted.live_url.clone());
         let mut settings = persisted;
         settings.what_if_steps = settings.what_if_steps.clamp(1, MAX_WHAT_IF_STEPS);
         let mut training = Training::default();
@@ -324,6 +329,8 @@ impl AppState {
             frame_cache: FrameCache::default(),
             run_generation: 0,
             learning_ahead: LearningAhead::default(),
+            live,
+            overview_frames: 0,
         }
     }
 
@@ -358,6 +365,8 @@ impl AppState {
             speed: self.timeline.speed,
             looping: self.timeline.looping,
             hidden_cameras: self.cameras.hidden().clone(),
+            live_choices: self.live.remembered().clone(),
+            live_url: self.live.last_url().map(str::to_owned),
             ..self.settings.clone()
         }
     }
@@ -412,6 +421,7 @@ impl AppState {
                 if self.timeline.frame() != before {
                     self.frame_moved(before, how);
                 }
+                self.live_timeline_moved();
             }
             Command::Session(c) => self.apply_session(c),
             Command::Online(c) => self.apply_online(c),
@@ -454,6 +464,7 @@ impl AppState {
             }
             Command::Camera(c) => self.cameras.apply(c),
             Command::File(c) => self.apply_file(c),
+            Command::Live(c) => self.apply_live(&c),
             Command::Report(message) => self.status = Some(message),
         }
     }
@@ -462,6 +473,7 @@ impl AppState {
     /// is still moving (so the caller keeps repainting).
     pub fn advance(&mut self, dt: f64) -> bool {
         self.poll_opening();
+        let live = self.poll_live();
         self.proposals.poll();
         if let Some(message) = self.training.poll() {
             self.status = Some(message);
@@ -499,25 +511,7 @@ impl AppState {
             || landscape
             || best_fit
             || learning_ahead
-    }
-
-    /// Learning follows the timeline forward when "Learn while playing" is on, holding θ over frames
-    /// labelled to skip in training; a held label hotkey paints every frame passed, in either
-    /// direction, but not the frames a seek or a loop's wrap-around jumps over.
-    fn frame_moved(&mut self, before: usize, how: FrameMove) {
-        let now = self.timeline.frame();
-        match how {
-            FrameMove::Passed => self.labels.stroke_to(now),
-            FrameMove::Jumped => self.labels.stroke_jump(now),
-            FrameMove::Wrapped => {
-                self.labels.stroke_to(self.timeline.last_frame());
-                self.labels.stroke_jump(0);
-                self.labels.stroke_to(now);
-            }
-        }
-        if now > before {
-            self.learn_while_playing(before, now);
-        }
+            || live
     }
 
     /// A fresh timeline and online run for the selected recording; labeling starts over too (no
@@ -548,6 +542,7 @@ impl AppState {
         self.timeline.apply(TimelineCommand::SetLoop(looping));
         self.physics = self.models.physics_for(recording).ok();
         self.overview = PathOverview::of(&recording.trajectory);
+        self.overview_frames = recording.trajectory.len();
         // Another push of the same object goes on from what the run shown learned, when asked to.
         let previous = self.run.take();
         let from = previous

@@ -12,7 +12,7 @@ use std::sync::{Arc, Weak};
 use pushlab_core::learn::{self, OnlineConfig, OnlineState};
 use pushlab_core::model::{OnlineModel, OnlineParams, OnlineStep, SharedOnlineModel};
 use pushlab_core::recording::Recording;
-use pushlab_core::trajectory::Trajectory;
+use pushlab_core::trajectory::{Frame, Trajectory};
 
 use super::run_plots::{RunPlots, Series};
 
@@ -88,6 +88,17 @@ impl OnlineRun {
     pub fn learn_through(&mut self, from: usize, to: usize, skip_frames: &[bool]) {
         self.run.learn_through(from, to, skip_frames);
         self.plots.follow(&mut self.run);
+    }
+
+    /// Appends frames that arrived (a live push's); returns the trajectory, shared, for the
+    /// recording to hold. It grows in place when the caller let go of the recording's share first:
+    /// this run's is let go of here, so a long push is not copied for each batch.
+    pub fn extend(&mut self, frames: Vec<Frame>) -> Arc<Trajectory> {
+        self.recording.trajectory = Arc::new(Trajectory::new(Vec::new()));
+        self.run.extend(frames);
+        self.plots.follow(&mut self.run);
+        self.recording.trajectory = Arc::clone(self.run.shared_trajectory());
+        Arc::clone(&self.recording.trajectory)
     }
 
     /// Takes `learned` in place of the core run: a copy of it that learned further on a worker

@@ -7,7 +7,7 @@
 
 use std::collections::VecDeque;
 
-use pushlab_core::learn::{self, Spread, moving_average};
+use pushlab_core::learn::{self, Spread};
 use pushlab_core::model::{FrameLoss, OnlineParams};
 
 use super::envelope::{Envelope, envelope_points};
@@ -146,6 +146,9 @@ impl PlotLoss {
 #[derive(Default)]
 struct Averages {
     fixed: Vec<PlotLoss>,
+    /// The running sums of the fixed losses over the last window, as the core's `moving_average`
+    /// keeps them: a push that grows (a live one) extends the average with the same bits.
+    fixed_sums: [f64; 2],
     /// One per learned frame; NaN where θ was held.
     online: Vec<PlotLoss>,
     /// The last [`MOVING_AVERAGE`] learned losses before the end of `online`.
@@ -166,26 +169,8 @@ pub struct RunPlots {
 impl RunPlots {
     /// The plots of a run that has learned nothing yet.
     pub(super) fn new(run: &mut learn::OnlineRun) -> Self {
-        let average = |pick: fn(&PlotLoss) -> f32| {
-            let values: Vec<f64> = (run.fixed().iter())
-                .map(|l| f64::from(pick(&PlotLoss::of(l))))
-                .collect();
-            moving_average(&values, MOVING_AVERAGE)
-        };
-        let (pos, rot) = (average(|l| l.pos), average(|l| l.rot));
-        let averages = Averages {
-            fixed: pos
-                .iter()
-                .zip(&rot)
-                .map(|(&pos, &rot)| PlotLoss {
-                    pos: pos as f32,
-                    rot: rot as f32,
-                })
-                .collect(),
-            ..Averages::default()
-        };
         let mut plots = Self {
-            averages,
+            averages: Averages::default(),
             envelopes: Default::default(),
         };
         run.take_cut();
@@ -211,6 +196,24 @@ impl RunPlots {
         spreads: &[Spread],
     ) {
         let averages = &mut self.averages;
+        for i in averages.fixed.len()..fixed.len() {
+            let value = |i: usize| {
+                let loss = PlotLoss::of(&fixed[i]);
+                [f64::from(loss.pos), f64::from(loss.rot)]
+            };
+            let (now, sums) = (value(i), &mut averages.fixed_sums);
+            for (c, sum) in sums.iter_mut().enumerate() {
+                *sum += now[c];
+                if i >= MOVING_AVERAGE {
+                    *sum -= value(i - MOVING_AVERAGE)[c];
+                }
+            }
+            let n = (i + 1).min(MOVING_AVERAGE) as f64;
+            (averages.fixed).push(PlotLoss {
+                pos: (sums[0] / n) as f32,
+                rot: (sums[1] / n) as f32,
+            });
+        }
         for step in &learned[averages.online.len().min(learned.len())..] {
             let average = match step {
                 Some(loss) => {
@@ -298,6 +301,8 @@ mod tests {
     use super::*;
     use std::sync::Arc;
 
+    use pushlab_core::learn::moving_average;
+
     use crate::app::state::online::OnlineRun;
 
     use pushlab_core::geometry::{Outline, Pose2};
@@ -306,20 +311,21 @@ mod tests {
     use pushlab_core::recording::{ObjectShape, Recording, Setting};
     use pushlab_core::trajectory::{Frame, Trajectory};
 
-    /// A 10 cm box pushed off-centre along +x for `n` frames at 100 Hz.
+    /// Frame `i` of a 10 cm box pushed off-centre along +x at 100 Hz.
+    fn frame(i: usize) -> Frame {
+        let t = i as f64 * 0.01;
+        let object = Pose2::new(0.05 * t, 0.0, 0.3 * t);
+        let robot = object.point_in_world(nalgebra::Point2::new(-0.06, 0.01));
+        Frame {
+            time: t,
+            robot,
+            object,
+        }
+    }
+
+    /// The push's first `n` frames.
     fn run(n: usize) -> OnlineRun {
-        let frames = (0..n)
-            .map(|i| {
-                let t = i as f64 * 0.01;
-                let object = Pose2::new(0.05 * t, 0.0, 0.3 * t);
-                let robot = object.point_in_world(nalgebra::Point2::new(-0.06, 0.01));
-                Frame {
-                    time: t,
-                    robot,
-                    object,
-                }
-            })
-            .collect();
+        let frames = (0..n).map(frame).collect();
         let trajectory = Arc::new(Trajectory::new(frames));
         let mut scale = LossScale::from_samples(&samples_from_trajectory(&trajectory, 1));
         scale.sigma_pos = scale.sigma_pos.map(|s| s.max(1e-3));
@@ -355,6 +361,26 @@ mod tests {
     /// Every point `series` would give if the whole run were drawn point by point.
     fn all_points(run: &OnlineRun, series: Series) -> Vec<[f64; 2]> {
         run.plot_points(series, (-1.0, 1e9), usize::MAX / 4)
+    }
+
+    #[test]
+    fn a_run_that_grows_as_frames_arrive_draws_what_the_whole_run_draws_to_the_bit() {
+        let mut whole = run(300);
+        whole.learn_through(0, 300, &[]);
+        // A live push: frames arrive in batches and are learned as they come.
+        let mut grown = run(40);
+        for batch in [40..41, 41..120, 120..300] {
+            grown.extend(batch.map(frame).collect());
+            let from = grown.frontier();
+            grown.learn_through(from, grown.sample_count(), &[]);
+        }
+        for series in Series::ALL {
+            assert_eq!(
+                all_points(&grown, series),
+                all_points(&whole, series),
+                "{series:?}"
+            );
+        }
     }
 
     #[test]

@@ -28,6 +28,17 @@ pub enum TimelineCommand {
     SetLoop(bool),
 }
 
+/// How the shown frame changed, which decides what a held paint key covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameMove {
+    /// Stepped or played over the frames between.
+    Passed,
+    /// Seeked or jumped: the frames between were not shown.
+    Jumped,
+    /// Looping playback went past the end and on from the first frame.
+    Wrapped,
+}
+
 /// Playback state: which frame is shown, whether and how fast time runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Timeline {
@@ -114,6 +125,16 @@ impl Timeline {
                 }
             }
             TimelineCommand::SetLoop(looping) => self.looping = looping,
+        }
+    }
+
+    /// Appends frames that arrived (a live session's), their times after the last; the frame shown
+    /// stays where it is (at frame 0 when the timeline was empty).
+    pub fn extend(&mut self, times: impl IntoIterator<Item = f64>) {
+        let was_empty = self.is_empty();
+        self.frame_times.extend(times);
+        if was_empty && let Some(&first) = self.frame_times.first() {
+            self.time = first;
         }
     }
 
@@ -244,6 +265,19 @@ mod tests {
         t.apply(TimelineCommand::TogglePlay);
         assert_eq!(t.frame(), 29);
         assert!((t.elapsed() - 2.9).abs() < 1e-9, "{}", t.elapsed());
+    }
+
+    #[test]
+    fn a_growing_timeline_keeps_the_frame_shown_and_seeks_into_what_came() {
+        let mut t = Timeline::new(Vec::new());
+        t.extend([2.0, 2.1, 2.2]);
+        assert_eq!((t.frame(), t.frame_time()), (0, 2.0));
+        t.apply(TimelineCommand::JumpEnd);
+        t.extend((3..10).map(|i| 2.0 + f64::from(i) * 0.1));
+        assert_eq!((t.len(), t.frame()), (10, 2));
+        t.apply(TimelineCommand::JumpEnd);
+        assert_eq!(t.frame(), 9);
+        assert!((t.elapsed() - 0.9).abs() < 1e-9);
     }
 
     #[test]

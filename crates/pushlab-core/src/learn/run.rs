@@ -182,6 +182,11 @@ impl OnlineRun {
         &self.trajectory
     }
 
+    /// The same, shared: what a recording growing with the run (a live push) holds.
+    pub fn shared_trajectory(&self) -> &Arc<Trajectory> {
+        &self.trajectory
+    }
+
     /// `θ_online(0)`.
     pub fn theta0(&self) -> OnlineParams {
         self.model.theta0()

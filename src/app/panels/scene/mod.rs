@@ -120,12 +120,21 @@ struct Content<'a> {
 impl Content<'_> {
     /// The footprints drawn at the target frame, each with its style, for the layers switched on.
     fn targets(&self, state: &AppState) -> Vec<(Pose2, FootprintStyle)> {
-        let Some(p) = &self.predictions else {
-            return Vec::new();
-        };
         let layers = &state.settings().layers;
-        let at = |motion| draw::exaggerated(&self.pose, motion, self.gain);
         let mut targets = Vec::new();
+        // At a live push's newest frame no later frame is known yet: the online model's prediction
+        // a horizon ahead (the pusher keeping its velocity) is drawn instead.
+        if layers.predicted_online
+            && let Some((_, pose)) = state.live_ahead()
+        {
+            let (moved, turned) = self.pose.motion_to(&pose);
+            let pose = self.pose.moved_by(moved * self.gain, turned * self.gain);
+            targets.push((pose, FootprintStyle::predicted(colors::ONLINE)));
+        }
+        let Some(p) = &self.predictions else {
+            return targets;
+        };
+        let at = |motion| draw::exaggerated(&self.pose, motion, self.gain);
         if layers.true_target {
             targets.push((at(&p.sample.target), FootprintStyle::MEASURED_TARGET));
         }

@@ -1,0 +1,168 @@
+//! File → Connect to a live robot…: the form (server, topics, the object's setting, the file to
+//! record to), and the timeline's live strip (the connection, messages, how late the poses come,
+//! Back to live, Disconnect). Reads the state's `live` and sends `LiveCommand`s.
+
+use std::path::PathBuf;
+
+use eframe::egui::{self, RichText};
+
+use crate::app::colors;
+use crate::app::state::live::{Link, LiveCommand, Running};
+use crate::app::state::{AppState, Command};
+
+/// Draws the Connect form when it is open.
+pub fn window(ctx: &egui::Context, state: &AppState, commands: &mut Vec<Command>) {
+    let Some(form) = state.live().form() else {
+        return;
+    };
+    let mut send = |c| commands.push(Command::Live(c));
+    let mut choice = form.choice.clone();
+    let mut open = true;
+    egui::Window::new("Connect to a live robot")
+        .open(&mut open)
+        .collapsible(false)
+        .default_width(520.0)
+        .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+        .show(ctx, |ui| {
+            ui.label(
+                "A Foxglove WebSocket server: foxglove_bridge (ROS 1 and 2) or the Foxglove SDK's. \
+                 The push grows as the frames arrive and θ is learned as they do.",
+            );
+            if let Some(error) = &form.error {
+                ui.colored_label(ui.visuals().error_fg_color, error);
+            }
+            egui::Grid::new("live-form").num_columns(2).show(ui, |ui| {
+                ui.label("Server");
+                ui.text_edit_singleline(&mut choice.url)
+                    .on_hover_text("ws://HOST:PORT (foxglove_bridge and the SDK listen on 8765)");
+                ui.end_row();
+                ui.label("Pusher topic");
+                ui.text_edit_singleline(&mut choice.pusher)
+                    .on_hover_text("TOPIC, or TOPIC:CHILD_FRAME for a TF topic such as /tf");
+                ui.end_row();
+                ui.label("Object topic");
+                ui.text_edit_singleline(&mut choice.object)
+                    .on_hover_text("TOPIC, or TOPIC:CHILD_FRAME for a TF topic such as /tf");
+                ui.end_row();
+                ui.label("Object's setting.json");
+                path_edit(ui, &mut choice.setting);
+                ui.end_row();
+                ui.label("Record to (.mcap)");
+                path_edit(ui, &mut choice.record).on_hover_text(
+                    "a new MCAP file every message received is written to as it arrives; \
+                     empty: not recorded",
+                );
+                ui.end_row();
+                ui.label("Grid rate (Hz)");
+                let mut rate = choice.rate_hz.map(|r| r.to_string()).unwrap_or_default();
+                if ui
+                    .text_edit_singleline(&mut rate)
+                    .on_hover_text("empty: the rate the model was trained at")
+                    .changed()
+                {
+                    choice.rate_hz = rate.trim().parse().ok();
+                }
+                ui.end_row();
+            });
+            ui.horizontal(|ui| {
+                if ui.button("Connect").clicked() {
+                    send(LiveCommand::Connect);
+                }
+                if ui.button("Cancel").clicked() {
+                    send(LiveCommand::CloseForm);
+                }
+            });
+        });
+    if choice != form.choice {
+        send(LiveCommand::Edit(choice));
+    }
+    if !open {
+        send(LiveCommand::CloseForm);
+    }
+}
+
+/// A path typed in as text.
+fn path_edit(ui: &mut egui::Ui, path: &mut PathBuf) -> egui::Response {
+    let mut text = path.display().to_string();
+    let response = ui.text_edit_singleline(&mut text);
+    if response.changed() {
+        *path = PathBuf::from(text);
+    }
+    response
+}
+
+/// The live session's strip in the timeline bar, when there is one: what the connection is doing,
+/// messages and lateness, Back to live, Disconnect.
+pub fn strip(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let Some(running) = state.live().running() else {
+        return;
+    };
+    let live = state.live().is_live();
+    let (badge, color) = match &running.latest.link {
+        Link::Connecting => ("CONNECTING", ui.visuals().warn_fg_color),
+        Link::Connected { .. } => ("LIVE", colors::LIVE),
+        Link::Lost { .. } => ("RECONNECTING", ui.visuals().warn_fg_color),
+        Link::Ended { .. } => ("ENDED", ui.visuals().weak_text_color()),
+    };
+    ui.label(RichText::new(badge).strong().color(color))
+        .on_hover_text(describe(running));
+    if live {
+        let at_edge = running.following && state.frame() == state.timeline().last_frame();
+        if !at_edge
+            && ui
+                .button("Back to live")
+                .on_hover_text("show the newest frame and follow it")
+                .clicked()
+        {
+            commands.push(Command::Live(LiveCommand::BackToLive));
+        }
+        if ui
+            .button("Disconnect")
+            .on_hover_text(
+                "end the session; the recording is closed cleanly and the push stays open",
+            )
+            .clicked()
+        {
+            commands.push(Command::Live(LiveCommand::Disconnect));
+        }
+    }
+    ui.separator();
+}
+
+/// The session in a sentence.
+fn describe(running: &Running) -> String {
+    let latest = &running.latest;
+    let lag = |l: Option<f64>| l.map_or("-".to_owned(), |l| format!("{:.0} ms", l * 1e3));
+    let mut text = format!(
+        "{} — {} messages, {} frames; poses arrive late by: pusher {}, object {}",
+        running.choice.url,
+        latest.messages,
+        running.frames,
+        lag(latest.lag_s[0]),
+        lag(latest.lag_s[1]),
+    );
+    if running.every_nth > 1 {
+        text += &format!("; learning every {}th frame to keep up", running.every_nth);
+    }
+    if latest.refused > 0 {
+        text += &format!("; {} pose(s) left out", latest.refused);
+    }
+    if !latest.gaps.is_empty() {
+        text += &format!("; gaps at frames {:?}", latest.gaps);
+    }
+    match &latest.link {
+        Link::Connected { server } => text += &format!("; server: {server}"),
+        Link::Lost { why } => text += &format!("; lost: {why}"),
+        Link::Ended { error, recorded } => {
+            text += &error.as_ref().map_or(String::new(), |e| format!("; {e}"));
+            text += &recorded
+                .as_ref()
+                .map_or(String::new(), |r| format!("; {r}"));
+        }
+        Link::Connecting => {}
+    }
+    if !running.choice.record.as_os_str().is_empty() {
+        text += &format!("; recording to {}", running.choice.record.display());
+    }
+    text
+}

@@ -1,0 +1,126 @@
+//! The live session's worker thread (desktop only: a page has neither threads nor TCP sockets):
+//! the core's [`LiveSession`] read message by message, both pose streams put on the grid, and what
+//! came handed to the UI through the [`WorkerLink`]'s inbox.
+
+use pushlab_core::live::{LiveGrid, LiveSession, Refused, SessionEvent, Stream};
+
+use crate::app::state::live::{Link, LiveChoice, WorkerLink};
+
+/// Runs a session with `choice` on a grid at `rate_hz` until the link is stopped or the session
+/// fails; says how it ended in the inbox.
+pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
+    let stop = || link.stopped();
+    let record = (!choice.record.as_os_str().is_empty()).then_some(choice.record.as_path());
+    let mut session =
+        match LiveSession::open(&choice.url, &choice.pusher, &choice.object, record, &stop) {
+            Ok(session) => session,
+            Err(e) => {
+                link.with(|inbox| {
+                    inbox.link = Link::Ended {
+                        error: Some(e.to_string()),
+                        recorded: None,
+                    }
+                });
+                return;
+            }
+        };
+    link.with(|inbox| {
+        inbox.link = Link::Connected {
+            server: session.server().unwrap_or("unnamed server").to_owned(),
+        }
+    });
+    let mut grid = LiveGrid::new(rate_hz);
+    let (mut handed, mut refused, mut said_full) = (0usize, 0usize, false);
+    let mut error = None;
+    while !stop() {
+        let event = match session.next(&stop) {
+            Ok(event) => event,
+            Err(e) => {
+                error = Some(e.to_string());
+                break;
+            }
+        };
+        let mut said = None;
+        let mut gap = None;
+        let mut new_link = None;
+        match event {
+            Some(SessionEvent::Pose {
+                stream,
+                pose,
+                log_time_ns,
+            }) => match grid.push(stream, &pose, log_time_ns) {
+                Ok(()) => {}
+                Err(why) => {
+                    refused += 1;
+                    if refused == 1 {
+                        let role = match stream {
+                            Stream::Pusher => "pusher",
+                            Stream::Object => "object",
+                        };
+                        said = Some(match why {
+                            Refused::OutOfOrder => format!(
+                                "a {role} pose left out: its stamp is not after the one before (every such pose after it is counted)"
+                            ),
+                            Refused::BadValue(why) => format!(
+                                "a {role} pose left out: {why} (every such pose after it is counted)"
+                            ),
+                        });
+                    }
+                }
+            },
+            Some(SessionEvent::Said(what)) => said = Some(what),
+            Some(SessionEvent::Lost(why)) => {
+                said = Some(format!("{why}; connecting again"));
+                new_link = Some(Link::Lost { why });
+            }
+            Some(SessionEvent::Reconnected { after_s, attempts }) => {
+                said = Some(format!(
+                    "connected again to {} after {after_s:.1} s ({attempts} attempt(s)): a gap in the recording and in the push at frame {handed}",
+                    choice.url
+                ));
+                gap = Some(handed);
+                new_link = Some(Link::Connected {
+                    server: session.server().unwrap_or("unnamed server").to_owned(),
+                });
+            }
+            None => {}
+        }
+        let frames = grid.take_frames();
+        handed += frames.len();
+        if grid.is_full() && !said_full {
+            said_full = true;
+            said = Some(
+                "the push reached the longest an import takes: no more frames (the recording goes on)"
+                    .to_owned(),
+            );
+        }
+        let lag_s = session.followed().each_ref().map(|f| f.lag_s());
+        let messages = session.messages();
+        link.with(|inbox| {
+            inbox.frames.extend(frames);
+            inbox.said.extend(said);
+            inbox.gaps.extend(gap);
+            if let Some(l) = new_link {
+                inbox.link = l;
+            }
+            inbox.messages = messages;
+            inbox.lag_s = lag_s;
+            inbox.refused = refused;
+        });
+    }
+    let recorded = match session.finish() {
+        Ok(recorded) => recorded.map(|r| {
+            format!(
+                "recorded {} message(s) on {} channel(s) to {}",
+                r.messages,
+                r.channels,
+                r.path.display()
+            )
+        }),
+        Err(e) => {
+            error.get_or_insert(e.to_string());
+            None
+        }
+    };
+    link.with(|inbox| inbox.link = Link::Ended { error, recorded });
+}

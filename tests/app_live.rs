@@ -1,0 +1,175 @@
+//! File → Connect to a live robot… in the app's state, against a real peer: the Foxglove SDK's
+//! WebSocket server in this process pushing a sample-data push at 50 rows a second. The push grows
+//! as the frames arrive and is learned as it grows; the timeline follows the newest frame, stops
+//! following when scrubbed back and follows again on Back to live; the prediction ahead is there at
+//! the live edge; Disconnect closes the recording; and the recording, imported at the grid's rate
+//! and replayed in the app, gives θ and the losses the live session gave, to the bit.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+mod live_robot;
+
+use std::path::Path;
+use std::process::Command as Process;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use pushlab::app::initial_state;
+use pushlab::app::state::live::{Link, LiveChoice, LiveCommand};
+use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::{AppState, Command, Persisted};
+use pushlab_core::model::{FrameLoss, OnlineParams};
+
+/// Advances the state as the app's frames would (60 a second) until `done` or 20 s.
+fn advance_until(state: &mut AppState, what: &str, done: impl Fn(&AppState) -> bool) {
+    let started = Instant::now();
+    while !done(state) {
+        assert!(
+            started.elapsed() < Duration::from_secs(20),
+            "{what}: status {:?}",
+            state.status()
+        );
+        state.advance(1.0 / 60.0);
+        std::thread::sleep(Duration::from_millis(16));
+    }
+}
+
+fn frames(state: &AppState) -> usize {
+    state.recording().map_or(0, |r| r.trajectory.len())
+}
+
+/// θ and the online loss at every frame learned of the run shown.
+fn learned(state: &AppState) -> Vec<(OnlineParams, Option<FrameLoss>)> {
+    let run = state.run().expect("a run");
+    (0..run.frontier())
+        .map(|k| (run.theta_at(k), run.learned()[k]))
+        .collect()
+}
+
+#[test]
+fn a_live_push_grows_is_learned_as_it_comes_and_replays_to_the_same_theta() {
+    let (url, stop, logging) = live_robot::pushing_robot(Duration::from_millis(20));
+    let dir = common::scratch_dir("app-live");
+    let record = dir.join("push.mcap");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let setting = root.join("sample-data/box1-paper-ur-front/setting.json");
+
+    let mut state = initial_state(&[], Persisted::default());
+    let sample = state
+        .recording()
+        .expect("the sample data is shown")
+        .name
+        .clone();
+    state.apply(Command::Live(LiveCommand::OpenForm));
+    let form = state.live().form().expect("the form opens").choice.clone();
+    assert_eq!(
+        form.url, "ws://localhost:8765",
+        "the SDK's and the bridge's port"
+    );
+    // A wrong address is said on the form, and nothing is opened.
+    state.apply(Command::Live(LiveCommand::Edit(LiveChoice {
+        url: "http://robot".to_owned(),
+        ..form
+    })));
+    state.apply(Command::Live(LiveCommand::Connect));
+    let error = state.live().form().unwrap().error.clone().unwrap();
+    assert!(error.contains("ws://HOST:PORT"), "{error}");
+
+    state.apply(Command::Live(LiveCommand::Edit(LiveChoice {
+        url: url.clone(),
+        pusher: "/pusher".to_owned(),
+        object: "/object".to_owned(),
+        setting: setting.clone(),
+        record: record.clone(),
+        rate_hz: None,
+    })));
+    state.apply(Command::Live(LiveCommand::Connect));
+    assert!(
+        state.live().form().is_none(),
+        "the form closes on connecting"
+    );
+    assert_ne!(
+        state.recording().unwrap().name,
+        sample,
+        "the live push is shown"
+    );
+    assert_eq!(state.recording().unwrap().name, "push");
+
+    // The push grows and the timeline follows its newest frame, learning as it goes.
+    advance_until(&mut state, "30 frames arrive", |s| frames(s) >= 30);
+    assert_eq!(
+        state.frame(),
+        frames(&state) - 1,
+        "the newest frame is shown"
+    );
+    assert!(state.run().unwrap().frontier() > 0, "learned as it came");
+    assert!(
+        state.live_ahead().is_some(),
+        "the prediction ahead is drawn at the live edge"
+    );
+
+    // Scrubbing back stops following; the push still grows; Back to live follows again.
+    state.apply(Command::Timeline(TimelineCommand::SeekTo(5)));
+    let grown = frames(&state);
+    advance_until(&mut state, "more frames arrive", |s| frames(s) > grown + 10);
+    assert_eq!(state.frame(), 5, "scrubbed back, the frame shown stays");
+    assert!(
+        state.live_ahead().is_none(),
+        "no prediction ahead drawn off the edge"
+    );
+    state.apply(Command::Live(LiveCommand::BackToLive));
+    assert_eq!(state.frame(), frames(&state) - 1);
+
+    // The robot's push ends: every row sent gives a frame but the last (no row after it yet).
+    let csv = std::fs::read_to_string(setting.with_file_name("online_000.csv")).unwrap();
+    let rows = csv.lines().count() - 1;
+    advance_until(&mut state, "the whole push", |s| frames(s) >= rows - 1);
+    let live = learned(&state);
+    assert!(live.len() > 50, "{} frames learned", live.len());
+    assert_ne!(live.last().unwrap().0, live[0].0, "θ moved");
+
+    state.apply(Command::Live(LiveCommand::Disconnect));
+    advance_until(&mut state, "the session ends", |s| {
+        matches!(
+            s.live().running().map(|r| &r.latest.link),
+            Some(Link::Ended { .. })
+        )
+    });
+    let status = state.status().unwrap_or_default().to_owned();
+    assert!(
+        status.contains("recorded") && status.contains("push.mcap"),
+        "{status}"
+    );
+    stop.store(true, Ordering::Relaxed);
+    logging.join().unwrap();
+
+    // The recording, imported at the grid's rate (the model's, 10 Hz) and replayed in the app.
+    let imported = dir.join("imported");
+    let import = Process::new(env!("CARGO_BIN_EXE_pushlab"))
+        .arg("import")
+        .arg(&record)
+        .args(["--pusher", "/pusher", "--object", "/object", "--rate", "10"])
+        .arg("--setting")
+        .arg(&setting)
+        .arg("--out")
+        .arg(&imported)
+        .output()
+        .unwrap();
+    assert!(
+        import.status.success(),
+        "{}",
+        String::from_utf8_lossy(&import.stderr)
+    );
+    let mut replay = initial_state(&[imported], Persisted::default());
+    let length = frames(&replay);
+    for _ in 0..length {
+        replay.apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+    let replayed = learned(&replay);
+    assert!(replayed.len() >= live.len());
+    for (k, (live, replayed)) in live.iter().zip(&replayed).enumerate() {
+        assert_eq!(live, replayed, "θ and the online loss at frame {k}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
