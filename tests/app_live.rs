@@ -15,6 +15,7 @@ use std::process::Command as Process;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
+use egui_kittest::kittest::Queryable;
 use pushlab::app::initial_state;
 use pushlab::app::state::live::{Link, LiveChoice, LiveCommand};
 use pushlab::app::state::timeline::TimelineCommand;
@@ -172,4 +173,80 @@ fn a_live_push_grows_is_learned_as_it_comes_and_replays_to_the_same_theta() {
         assert_eq!(live, replayed, "θ and the online loss at frame {k}");
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The window drawn frame by frame through a live session, from the File menu on: every panel draws
+/// a push that has no frame yet and one that grows; LIVE, Back to live and Disconnect work as
+/// buttons.
+#[test]
+fn the_window_draws_a_live_push_from_its_first_frame_and_its_buttons_work() {
+    let (url, stop, logging) = live_robot::pushing_robot(Duration::from_millis(20));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let setting = root.join("sample-data/box1-paper-ur-front/setting.json");
+    let state = initial_state(&[], Persisted::default());
+    let mut harness = common::harness(pushlab::app::PushlabApp::new(state), 1.0 / 60.0);
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness.get_by_label("Connect to a live robot…").click();
+    harness.run_steps(2);
+    assert!(harness.state().state.live().form().is_some());
+    // The form's fields as typed (no recording: the field left empty).
+    harness
+        .state_mut()
+        .state
+        .apply(Command::Live(LiveCommand::Edit(LiveChoice {
+            url,
+            pusher: "/pusher".to_owned(),
+            object: "/object".to_owned(),
+            setting,
+            ..LiveChoice::default()
+        })));
+    harness.run_steps(1);
+    harness.get_by_label("Connect").click();
+    harness.run_steps(1);
+    assert!(
+        harness.state().state.live().running().is_some(),
+        "connected"
+    );
+    // Drawn from before the first frame arrives until the push has grown.
+    let started = Instant::now();
+    while harness.state().state.live().running().unwrap().frames < 40 {
+        assert!(
+            started.elapsed() < Duration::from_secs(20),
+            "the push grows"
+        );
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    harness.get_by_label("LIVE");
+    harness.get_by_label("-10").click();
+    harness.run_steps(2);
+    let shown = harness.state().state.frame();
+    std::thread::sleep(Duration::from_millis(300));
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.frame(),
+        shown,
+        "scrubbed back, it stays"
+    );
+    harness.get_by_label("Back to live").click();
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(
+        state.frame(),
+        state.timeline().last_frame(),
+        "following again"
+    );
+    harness.get_by_label("Disconnect").click();
+    let started = Instant::now();
+    while harness.query_by_label("ENDED").is_none() {
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "the session ends"
+        );
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    stop.store(true, Ordering::Relaxed);
+    logging.join().unwrap();
 }

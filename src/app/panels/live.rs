@@ -107,12 +107,14 @@ pub fn strip(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ui.label(RichText::new(badge).strong().color(color))
         .on_hover_text(describe(running));
     if live {
+        // Always there (greyed at the edge), so that the buttons after it never move under the
+        // pointer when the user scrubs back.
         let at_edge = running.following && state.frame() == state.timeline().last_frame();
-        if !at_edge
-            && ui
-                .button("Back to live")
-                .on_hover_text("show the newest frame and follow it")
-                .clicked()
+        if ui
+            .add_enabled(!at_edge, egui::Button::new("Back to live"))
+            .on_hover_text("show the newest frame and follow it")
+            .on_disabled_hover_text("following the newest frame")
+            .clicked()
         {
             commands.push(Command::Live(LiveCommand::BackToLive));
         }

@@ -27,6 +27,9 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     // Per recording, so that a new selection starts with its whole duration in view.
     let group = Id::unique(("pushlab-plots", state.session().selected));
     let duration = recording.trajectory.duration().max(1e-3);
+    // A live push grows: its plots keep all of it in view while the timeline follows its newest
+    // frame.
+    let follow = state.live_following();
 
     let mut seek: Option<f64> = None;
     // Two rows with a little room to spare; the rest is claimed below, so that the content is exactly
@@ -45,7 +48,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                     .text_style(egui::TextStyle::Small),
             );
             let response = plot.show(col, |plot_ui| {
-                let (visible, columns) = visible(plot_ui, duration);
+                let (visible, columns) = visible(plot_ui, duration, follow);
                 for (name, raw, average, color) in [
                     (
                         "Fixed",
@@ -104,7 +107,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                 plot
             };
             let response = plot.show(col, |plot_ui| {
-                let (visible, columns) = visible(plot_ui, duration);
+                let (visible, columns) = visible(plot_ui, duration, follow);
                 band(plot_ui, run, index, theta_ranges[index], visible, columns);
                 plot_ui.line(
                     Line::new(
@@ -192,12 +195,17 @@ fn band(
     );
 }
 
-/// The times the plot showed last frame (its first frame: the whole push) and its width in pixel
-/// columns.
-fn visible(plot_ui: &PlotUi<'_>, duration: f64) -> ((f64, f64), usize) {
+/// The times the plot showed last frame (its first frame, or following a live push: the whole push)
+/// and its width in pixel columns.
+fn visible(plot_ui: &mut PlotUi<'_>, duration: f64, follow: bool) -> ((f64, f64), usize) {
+    if follow {
+        plot_ui.set_plot_bounds_x(0.0..=duration);
+    }
     let transform = plot_ui.transform();
     let (min, max) = (transform.bounds().min()[0], transform.bounds().max()[0]);
-    let range = if min.is_finite() && max.is_finite() && max > min {
+    let range = if follow {
+        (0.0, duration)
+    } else if min.is_finite() && max.is_finite() && max > min {
         (min, max)
     } else {
         (0.0, duration)

@@ -337,6 +337,11 @@ impl BrowserMemory {
         }
     }
 
+    /// Forgets one recording's parameters, to be measured again (a live push, once it ended).
+    pub fn forget_parameters(&mut self, source: &std::path::Path) {
+        self.parameters.remove(source);
+    }
+
     /// Forgets every recording's mean losses: they were of runs under another model.
     pub fn forget_losses(&mut self) {
         self.losses.clear();

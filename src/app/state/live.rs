@@ -153,7 +153,8 @@ pub struct Running {
     /// Where the object is predicted to be a horizon after the newest frame, the pusher keeping its
     /// velocity: drawn in front of the object at the live edge.
     pub ahead: Option<(usize, Pose2)>,
-    /// Whether how the session ended was said.
+    /// Whether connecting, and how the session ended, were said.
+    pub said_connected: bool,
     pub said_end: bool,
 }
 
@@ -267,6 +268,7 @@ impl Live {
             frames: 0,
             recording,
             ahead: None,
+            said_connected: false,
             said_end: false,
         });
         link

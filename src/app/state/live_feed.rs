@@ -150,6 +150,22 @@ impl AppState {
         if let Some(last) = said.into_iter().last() {
             self.status = Some(last);
         }
+        if let Some(running) = self.live.running_mut()
+            && let Link::Connected { server } = &running.latest.link
+            && !running.said_connected
+        {
+            running.said_connected = true;
+            let record = &running.choice.record;
+            self.status = Some(format!(
+                "connected to {} ({server}): learning as the robot pushes{}",
+                running.choice.url,
+                if record.as_os_str().is_empty() {
+                    String::new()
+                } else {
+                    format!(", recording every message to {}", record.display())
+                }
+            ));
+        }
         if !frames.is_empty() {
             self.extend_live(frames);
         }
@@ -163,6 +179,15 @@ impl AppState {
                 (None, Some(recorded)) => format!("the live session ended; {recorded}"),
                 (None, None) => "the live session ended".to_owned(),
             });
+            // The push is whole now: what was measured of it while it grew is measured again.
+            let id = running.recording;
+            if let Some(source) = self.session.get(id).map(|r| r.source.clone()) {
+                self.browsed.forget_parameters(&source);
+                self.remember_parameters();
+            }
+            if self.session.selected == Some(id) {
+                (self.proposals).refresh(self.session.selected_recording(), self.run.as_ref());
+            }
         }
         self.live.is_live()
     }
@@ -283,6 +308,13 @@ impl AppState {
             && self.timeline.frame() == self.timeline.last_frame())
         .then_some(running.ahead)
         .flatten()
+    }
+
+    /// Whether the timeline follows a live push's newest frame (the plots keep all of it in view).
+    pub fn live_following(&self) -> bool {
+        self.live.running().is_some_and(|r| {
+            r.following && self.live.is_live() && self.session.selected == Some(r.recording)
+        })
     }
 
     /// The form and the session, for the panels.

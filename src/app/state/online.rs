@@ -68,6 +68,11 @@ impl OnlineRun {
         self.run.end_state()
     }
 
+    /// The recording learned along.
+    pub fn recording(&self) -> &Recording {
+        &self.recording
+    }
+
     /// The plots' derived series.
     pub fn plots(&self) -> &RunPlots {
         &self.plots

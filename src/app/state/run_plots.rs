@@ -289,7 +289,8 @@ impl RunPlots {
             &self.envelopes[series.index()],
             |i| series.value(&data, i),
             |i| frames[i].time - t0,
-            series.len(&data),
+            // θ at frame 0 is there before any frame is (a live push that has not begun).
+            series.len(&data).min(frames.len()),
             visible,
             columns,
         )
@@ -365,11 +366,25 @@ mod tests {
 
     #[test]
     fn a_run_that_grows_as_frames_arrive_draws_what_the_whole_run_draws_to_the_bit() {
+        // Before its first frame (a live push just connected) a run draws nothing.
+        let empty = run(40);
+        let mut grown = OnlineRun::new(
+            Arc::clone(empty.model()),
+            &Recording {
+                trajectory: Arc::new(Trajectory::new(Vec::new())),
+                ..empty.recording().clone()
+            },
+            1,
+            OnlineConfig::default(),
+            None,
+        );
+        for series in Series::ALL {
+            assert_eq!(all_points(&grown, series), Vec::<[f64; 2]>::new());
+        }
         let mut whole = run(300);
         whole.learn_through(0, 300, &[]);
         // A live push: frames arrive in batches and are learned as they come.
-        let mut grown = run(40);
-        for batch in [40..41, 41..120, 120..300] {
+        for batch in [0..40, 40..41, 41..120, 120..300] {
             grown.extend(batch.map(frame).collect());
             let from = grown.frontier();
             grown.learn_through(from, grown.sample_count(), &[]);
