@@ -2,5 +2,7 @@
 //! exactly as the binary does, and (on `wasm32`) the page that runs it in a browser tab.
 
 pub mod app;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod figures;
 #[cfg(target_arch = "wasm32")]
 pub mod web;

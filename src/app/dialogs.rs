@@ -113,6 +113,12 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
             .map(DialogResult::Open),
         DialogRequest::SaveScene => png("scene.png").map(DialogResult::SaveScene),
         DialogRequest::SavePlots => png("plots.png").map(DialogResult::SavePlots),
+        DialogRequest::SavePlotsSvg => FileDialog::new()
+            .set_title("Export the plots as SVG")
+            .add_filter("SVG figure", &["svg"])
+            .set_file_name("plots.svg")
+            .save_file()
+            .map(DialogResult::SavePlotsSvg),
         DialogRequest::SaveLossCsv => FileDialog::new()
             .add_filter("CSV", &["csv"])
             .set_file_name("losses.csv")

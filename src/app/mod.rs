@@ -116,6 +116,9 @@ impl PushlabApp {
             DialogResult::SavePlots(path) => {
                 self.request_screenshot(ctx, self.view.plots_rect, path)
             }
+            DialogResult::SavePlotsSvg(path) => self
+                .state
+                .apply(Command::File(FileCommand::ExportPlots(path))),
             DialogResult::SaveLossCsv(path) => self
                 .state
                 .apply(Command::File(FileCommand::SaveLosses(path))),

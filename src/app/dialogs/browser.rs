@@ -126,7 +126,9 @@ pub fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
         DialogRequest::OpenFiles
         | DialogRequest::OpenFolder
         | DialogRequest::LoadModel
-        | DialogRequest::BagSetting => None,
+        | DialogRequest::BagSetting
+        // Not offered in a page (the figure's font would double the download).
+        | DialogRequest::SavePlotsSvg => None,
     };
     if let Some(saved) = saved {
         // The receiver is gone only when the app closed.

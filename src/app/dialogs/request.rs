@@ -11,6 +11,8 @@ pub enum DialogRequest {
     OpenFolder,
     SaveScene,
     SavePlots,
+    /// The plots as a vector figure (desktop only).
+    SavePlotsSvg,
     SaveLossCsv,
     LoadModel,
     SaveModel,
@@ -26,6 +28,7 @@ pub enum DialogResult {
     Open(Vec<PathBuf>),
     SaveScene(PathBuf),
     SavePlots(PathBuf),
+    SavePlotsSvg(PathBuf),
     SaveLossCsv(PathBuf),
     LoadModel(PathBuf),
     SaveModel(PathBuf),

@@ -93,6 +93,14 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 if ui.button("Export plots as PNG…").clicked() {
                     view.dialogs.open(DialogRequest::SavePlots);
                 }
+                if cfg!(not(target_arch = "wasm32"))
+                    && ui
+                        .button("Export plots as SVG…")
+                        .on_hover_text("a vector figure of the losses and θ, text as text")
+                        .clicked()
+                {
+                    view.dialogs.open(DialogRequest::SavePlotsSvg);
+                }
                 if ui
                     .add_enabled(
                         state.run().is_some(),

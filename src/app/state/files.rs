@@ -34,12 +34,55 @@ impl AppState {
                 Ok(rows) => format!("exported {rows} label rows to {}", path.display()),
                 Err(e) => format!("could not export labels: {e:#}"),
             },
+            FileCommand::ExportPlots(path) => match self.export_plots(&path) {
+                Ok(frames) => format!(
+                    "exported the plots of {frames} frames to {}",
+                    path.display()
+                ),
+                Err(e) => format!("could not export the plots: {e:#}"),
+            },
             FileCommand::SaveModel(path) => match self.save_model(&path) {
                 Ok(()) => format!("model saved to {}", path.display()),
                 Err(e) => format!("{e:#}"),
             },
         };
         self.status = Some(message);
+    }
+
+    /// Writes the plots of the run shown — its losses and θ as the plots panel draws them — as a
+    /// figure file (`figures::run`: SVG, or PNG by the extension), atomically. Returns the frames
+    /// learned that it shows.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn export_plots(&self, path: &Path) -> anyhow::Result<usize> {
+        use crate::figures::{self, run::RunFigure};
+        let (Some(run), Some(recording)) = (self.run.as_ref(), self.recording()) else {
+            anyhow::bail!("no recording is shown");
+        };
+        let frames = &recording.trajectory.frames;
+        let t0 = frames.first().map_or(0.0, |f| f.time);
+        let learned = run.frontier();
+        let setting = &recording.setting;
+        let figure = RunFigure {
+            title: format!("{} — {}", recording.name, self.models.learner_name()),
+            times: frames.iter().map(|f| f.time - t0).collect(),
+            fixed: run.fixed(),
+            learned: &run.learned()[..learned.min(run.learned().len())],
+            theta: &run.checkpoints()[..(learned + 1).min(run.checkpoints().len())],
+            spreads: &run.spreads()[..(learned + 1).min(run.spreads().len())],
+            truth: [
+                setting.com_offset.map(|c| c[0]),
+                setting.com_offset.map(|c| c[1]),
+                setting.h,
+            ],
+        };
+        figures::write(path, &figure)?;
+        Ok(learned)
+    }
+
+    /// In a page the figure is not offered (see `dialogs::browser`).
+    #[cfg(target_arch = "wasm32")]
+    pub fn export_plots(&self, _: &Path) -> anyhow::Result<usize> {
+        anyhow::bail!("exporting the plots as a figure needs the desktop app")
     }
 
     /// Exports the labels file of the selected recording's folder (every recording in it, with

@@ -123,6 +123,8 @@ pub enum FileCommand {
     SaveModel(PathBuf),
     /// The labels of the folder shown, as CSV or JSON.
     ExportLabels(PathBuf, LabelExportFormat),
+    /// The plots of the run shown as a figure file (SVG, or PNG by the extension).
+    ExportPlots(PathBuf),
 }
 
 /// The two label export formats.

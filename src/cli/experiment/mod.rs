@@ -15,7 +15,6 @@
 pub mod args;
 pub mod data;
 pub mod eval;
-pub mod plot;
 pub mod suite;
 pub mod suite_tables;
 pub mod train;

@@ -38,10 +38,11 @@ use pushlab_core::model_file::ModelFile;
 
 use super::args::{OnlineArgs, TrainingArgs, offset_xy, positive_real};
 use super::data;
-use super::plot::{self, Figure, OfflineMeans, StepLosses};
 use super::train::train_config;
 use super::train_progress::{self, TrainedModels};
 use crate::cli::exit::Failure;
+use pushlab::figures::Format;
+use pushlab::figures::eval::{self as plot, Figure, OfflineMeans, StepLosses};
 
 /// Arguments of `pushlab eval`.
 #[derive(Debug, Args)]
@@ -376,6 +377,6 @@ fn setting_names(used: &[UsedRecording]) -> String {
 /// A figure's file name: its format checked before anything is trained.
 fn figure_path(text: &str) -> Result<PathBuf, String> {
     let path = PathBuf::from(text);
-    plot::Format::of(&path)?;
+    Format::of(&path)?;
     Ok(path)
 }

@@ -6,19 +6,15 @@
 //! both, with the offline means in black. Curves are smoothed with a trailing moving average of 10
 //! steps, as in the paper. Text uses the font shipped in `assets/fonts`, so rendering never depends
 //! on the fonts installed on the machine. The same drawing code writes a PNG or an SVG
-//! ([`write`], by the file's extension).
+//! ([`write`], by the file's extension; the shared parts are `figures`').
 
 use std::path::Path;
-use std::sync::OnceLock;
 
-use anyhow::{Context, anyhow};
-use image::codecs::png::PngEncoder;
-use image::{ExtendedColorType, ImageEncoder};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::{FontStyle, register_font};
-use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::learn::{mean_std_across, moving_average};
+
+use super::{Chart, Drawing, FIXED, FONT, ONLINE, legend, plot_error, register};
 
 /// Size of the figure, pixels: two panels side by side, sized so that at the paper's column width
 /// (about 3.4 in) the text is still about 6 pt.
@@ -26,12 +22,6 @@ pub const WIDTH: u32 = 1000;
 pub const HEIGHT: u32 = 400;
 /// The paper smooths its curves over 10 time steps.
 pub const SMOOTHING: usize = 10;
-
-const FONT: &str = "sans-serif";
-const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/LiberationSans-Regular.ttf");
-/// matplotlib's first two colours, the paper's blue (fixed) and orange (online).
-const FIXED: RGBColor = RGBColor(31, 119, 180);
-const ONLINE: RGBColor = RGBColor(255, 127, 14);
 
 /// Losses of one trajectory, one value per online step.
 #[derive(Clone, Debug, Default)]
@@ -64,67 +54,22 @@ pub struct Figure<'a> {
     pub offline: Option<OfflineMeans>,
 }
 
-/// The figure's file formats, by the name's extension.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    Png,
-    /// Vector: lines as polylines, text as text in the bundled font, embedded.
-    Svg,
-}
-
-impl Format {
-    /// The format of a file name, or why not (for the argument's parser).
-    pub fn of(path: &Path) -> Result<Self, String> {
-        let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
-        match extension.as_deref() {
-            Some("png") => Ok(Self::Png),
-            Some("svg") => Ok(Self::Svg),
-            other => Err(format!(
-                "{}: expected a .png or .svg file name, got {}",
-                path.display(),
-                other.map_or_else(|| "no extension".to_owned(), |e| format!(".{e}"))
-            )),
-        }
-    }
-}
-
 /// Renders the figure and writes it as its name's extension says (PNG or SVG), atomically.
 pub fn write(path: &Path, figure: &Figure) -> anyhow::Result<()> {
-    let bytes = match Format::of(path).map_err(|e| anyhow!(e))? {
-        Format::Png => {
-            let pixels = render(figure)?;
-            let mut png = Vec::new();
-            PngEncoder::new(&mut png)
-                .write_image(&pixels, WIDTH, HEIGHT, ExtendedColorType::Rgb8)
-                .context("cannot encode the figure as PNG")?;
-            png
-        }
-        Format::Svg => render_svg(figure)?.into_bytes(),
-    };
-    write_atomically(path, &bytes).with_context(|| format!("cannot write {}", path.display()))
+    super::write(path, figure)
 }
 
-/// The figure as RGB pixels, row by row.
-pub fn render(figure: &Figure) -> anyhow::Result<Vec<u8>> {
-    let mut pixels = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
-    draw(
-        &BitMapBackend::with_buffer(&mut pixels, (WIDTH, HEIGHT)).into_drawing_area(),
-        figure,
-    )?;
-    Ok(pixels)
-}
+impl Drawing for Figure<'_> {
+    fn size(&self) -> (u32, u32) {
+        (WIDTH, HEIGHT)
+    }
 
-/// The same figure as SVG, drawn by the same code: lines and bands as polylines and polygons, text
-/// as `<text>` in the bundled font, which the file carries (an `@font-face` of the TTF, about
-/// 550 kB), so that it renders with the PNG's letters in a browser or a vector editor that has never
-/// seen the font; Arial and Helvetica, of the same widths, are named after it.
-pub fn render_svg(figure: &Figure) -> anyhow::Result<String> {
-    let mut svg = String::new();
-    draw(
-        &SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area(),
-        figure,
-    )?;
-    Ok(svg_with_font(&svg))
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        draw(root, self)
+    }
 }
 
 /// The figure on a drawing area of either backend.
@@ -139,67 +84,6 @@ where
     draw_total(&left, figure)?;
     draw_components(&right, figure)?;
     root.present().map_err(plot_error)
-}
-
-/// The family the SVG's text names: the embedded font first, then fonts of the same metrics.
-const SVG_FAMILY: &str = "pushlab-figure, 'Liberation Sans', Arial, Helvetica, sans-serif";
-
-/// `svg` with the bundled font embedded and its text set in it.
-fn svg_with_font(svg: &str) -> String {
-    let style = format!(
-        "<defs><style>@font-face{{font-family:pushlab-figure;src:url(data:font/ttf;base64,{})format('truetype');}}</style></defs>",
-        base64(FONT_BYTES)
-    );
-    let svg = svg.replace(
-        &format!("font-family=\"{FONT}\""),
-        &format!("font-family=\"{SVG_FAMILY}\""),
-    );
-    // After the opening <svg …> tag.
-    match svg
-        .find("<svg")
-        .and_then(|at| svg[at..].find('>').map(|end| at + end + 1))
-    {
-        Some(at) => format!("{}{style}{}", &svg[..at], &svg[at..]),
-        None => svg,
-    }
-}
-
-/// Standard base64 with padding (RFC 4648).
-fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for i in 0..4 {
-            if i <= chunk.len() {
-                out.push(char::from(ALPHABET[((n >> (18 - 6 * i)) & 63) as usize]));
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
-fn register() -> anyhow::Result<()> {
-    static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED.get_or_init(|| register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok());
-    if ok {
-        Ok(())
-    } else {
-        Err(anyhow!(
-            "the bundled font assets/fonts/LiberationSans-Regular.ttf is unreadable"
-        ))
-    }
-}
-
-fn plot_error(e: impl std::fmt::Display) -> anyhow::Error {
-    anyhow!("cannot draw the figure: {e}")
 }
 
 /// Mean and standard deviation across trajectories, smoothed.
@@ -314,7 +198,7 @@ where
             .label("Offline")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
     }
-    legend(&mut chart)
+    legend(&mut chart, 16)
 }
 
 fn draw_components<DB: DrawingBackend>(
@@ -403,14 +287,8 @@ where
             ))
             .map_err(plot_error)?;
     }
-    legend(&mut chart)
+    legend(&mut chart, 16)
 }
-
-type Chart<'a, DB> = ChartContext<
-    'a,
-    DB,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
 
 fn configure<'a, DB: DrawingBackend + 'a>(
     chart: &mut Chart<'a, DB>,
@@ -442,40 +320,4 @@ where
         .y_label_formatter(&y_label)
         .draw()
         .map_err(plot_error)
-}
-
-fn legend<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>) -> anyhow::Result<()>
-where
-    DB::ErrorType: 'static,
-{
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .label_font((FONT, 16))
-        .draw()
-        .map_err(plot_error)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn base64_is_rfc_4648() {
-        assert_eq!(base64(b""), "");
-        assert_eq!(base64(b"f"), "Zg==");
-        assert_eq!(base64(b"fo"), "Zm8=");
-        assert_eq!(base64(b"foobar"), "Zm9vYmFy");
-    }
-
-    #[test]
-    fn a_figure_file_is_named_png_or_svg() {
-        assert_eq!(Format::of(Path::new("a/fig.SVG")), Ok(Format::Svg));
-        assert_eq!(
-            Format::of(Path::new("fig.pdf")).expect_err("a PDF"),
-            "fig.pdf: expected a .png or .svg file name, got .pdf"
-        );
-    }
 }
