@@ -250,3 +250,117 @@ fn the_window_draws_a_live_push_from_its_first_frame_and_its_buttons_work() {
     stop.store(true, Ordering::Relaxed);
     logging.join().unwrap();
 }
+
+/// A live camera beside the poses: the newest picture of its topic is decoded on the worker and
+/// shown in the camera panel at the live edge, numbered; pictures the window did not take in time
+/// are counted as dropped from the display, and every one of them is in the recording.
+#[test]
+fn a_live_camera_shows_its_newest_picture_and_counts_those_not_shown() {
+    use foxglove::{ChannelBuilder, PartialMetadata, Schema};
+    use pushlab_core::recording::bag::{encode_compressed_image, encode_pose_stamped};
+
+    let (context, server, pusher, object) = live_robot::start_robot(0, false);
+    let camera = ChannelBuilder::new("/camera")
+        .context(&context)
+        .message_encoding("cdr")
+        .schema(Schema::new(
+            "sensor_msgs/msg/CompressedImage",
+            "ros2msg",
+            b"".to_vec(),
+        ))
+        .build_raw()
+        .unwrap();
+    let url = format!("ws://127.0.0.1:{}", server.port());
+    // A 64×48 red JPEG.
+    let mut jpeg = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new(&mut jpeg)
+        .encode(
+            &[200u8, 30, 30].repeat(64 * 48),
+            64,
+            48,
+            image::ExtendedColorType::Rgb8,
+        )
+        .unwrap();
+    let dir = common::scratch_dir("app-live-camera");
+    let record = dir.join("camera.mcap");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut state = initial_state(&[], Persisted::default());
+    state.apply(Command::Live(LiveCommand::OpenForm));
+    state.apply(Command::Live(LiveCommand::Edit(LiveChoice {
+        url,
+        pusher: "/pusher".to_owned(),
+        object: "/object".to_owned(),
+        setting: root.join("sample-data/box1-paper-ur-front/setting.json"),
+        record: record.clone(),
+        rate_hz: Some(10.0),
+    })));
+    state.apply(Command::Live(LiveCommand::Connect));
+    let started = Instant::now();
+    while !(pusher.has_sinks() && object.has_sinks() && camera.has_sinks()) {
+        assert!(started.elapsed() < Duration::from_secs(10), "subscribed");
+        state.advance(1.0 / 60.0);
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // Two seconds at 10 Hz; five pictures each time (a burst the window cannot show each of).
+    let stamp0 = 1_700_000_000_000_000_000u64;
+    let mut pictures = 0;
+    for k in 0..20u64 {
+        let stamp = stamp0 + k * 100_000_000;
+        let at = PartialMetadata::with_log_time(stamp);
+        let json = format!(
+            r#"{{"header":{{"stamp":{{"sec":{},"nanosec":{}}}}},"pose":{{"position":{{"x":{},"y":0,"z":0}},"orientation":{{"x":0,"y":0,"z":0,"w":1}}}}}}"#,
+            stamp / 1_000_000_000,
+            stamp % 1_000_000_000,
+            -0.1 + 0.001 * k as f64
+        );
+        pusher.log_with_meta(json.as_bytes(), at);
+        object.log_with_meta(
+            &encode_pose_stamped(stamp, "table", 0.001 * k as f64, 0.0, 0.0),
+            at,
+        );
+        for _ in 0..5 {
+            camera.log_with_meta(&encode_compressed_image(stamp, "camera", "jpeg", &jpeg), at);
+            pictures += 1;
+        }
+        state.advance(1.0 / 60.0);
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    advance_until(&mut state, "the last picture shown", |s| {
+        s.live_images()
+            .and_then(|(images, _)| images.get("/camera"))
+            .is_some_and(|p| {
+                let dropped = s
+                    .live_images()
+                    .unwrap()
+                    .1
+                    .get("/camera")
+                    .copied()
+                    .unwrap_or(0);
+                p.number + dropped == pictures
+            })
+    });
+    let (images, dropped) = state.live_images().unwrap();
+    let picture = &images["/camera"];
+    let image = picture.image.as_ref().expect("decoded");
+    assert_eq!((image.width, image.height), (64, 48));
+    let [r, g, b, _] = image.pixel(32, 24).unwrap();
+    assert!(r > 150 && g < 80 && b < 80, "red: {r} {g} {b}");
+    let dropped = dropped.get("/camera").copied().unwrap_or(0);
+    assert!(dropped > 0, "a burst of five cannot each be shown");
+    assert_eq!(picture.number + dropped, pictures);
+
+    state.apply(Command::Live(LiveCommand::Disconnect));
+    advance_until(&mut state, "the session ends", |s| !s.live().is_live());
+    let status = state.status().unwrap_or_default().to_owned();
+    // 20 + 20 poses and every picture, dropped from the display or not.
+    assert!(
+        status.contains(&format!(
+            "recorded {} message(s) on 3 channel(s)",
+            40 + pictures
+        )),
+        "{status}"
+    );
+    drop((camera, pusher, object, context));
+    let _ = server.stop();
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -15,6 +15,7 @@ use pushlab_core::recording::camera::RgbaImage;
 
 use crate::app::state::AppState;
 use crate::app::state::cameras::CameraFrame;
+use crate::app::state::live::LiveImage;
 
 /// A frame's error, above its image.
 const ERROR_COLOR: Color32 = Color32::from_rgb(255, 110, 90);
@@ -93,7 +94,7 @@ impl ImageZoom {
 /// The camera panel on the right of the scene's area, resizable, whenever the recording shown has a
 /// camera shown (in the usual layout and the presentation's); call before drawing the scene.
 pub fn beside_scene(ui: &mut egui::Ui, state: &AppState, view: &mut CameraView) {
-    if !state.cameras().any_shown() {
+    if !state.cameras().any_shown() && state.live_images().is_none() {
         return;
     }
     let width = ui.available_width();
@@ -107,6 +108,10 @@ pub fn beside_scene(ui: &mut egui::Ui, state: &AppState, view: &mut CameraView) 
 
 /// Draws each shown stream, sharing the height among them.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut CameraView) {
+    if let Some((images, dropped)) = state.live_images() {
+        live_ui(ui, state, images, dropped, view);
+        return;
+    }
     let frames = state.cameras().shown(state.timeline().frame_time());
     if frames.is_empty() {
         return;
@@ -130,41 +135,101 @@ fn stream_ui(ui: &mut egui::Ui, frame: &CameraFrame<'_>, view: &mut StreamView) 
     });
     if let Some(Ok(image)) = &frame.decoded
         && let Some(index) = frame.frame
-        && view
-            .texture
-            .as_ref()
-            .is_none_or(|(shown, _)| *shown != index)
     {
-        let pixels = color_image(image);
-        match &mut view.texture {
-            Some((shown, texture)) => {
-                texture.set(pixels, egui::TextureOptions::LINEAR);
-                *shown = index;
-            }
-            None => {
-                let name = format!("camera {}", frame.stream.name);
-                let texture = ui
-                    .ctx()
-                    .load_texture(name, pixels, egui::TextureOptions::LINEAR);
-                view.texture = Some((index, texture));
-            }
-        }
+        upload(ui, view, index, &frame.stream.name, image);
     }
     if let Some(Err(problem)) = &frame.decoded {
         ui.colored_label(ERROR_COLOR, format!("frame cannot be shown: {problem}"));
     }
-    let area = ui.available_rect_before_wrap();
-    let response = ui.allocate_rect(area, egui::Sense::click_and_drag());
-    let painter = ui.painter_at(area);
-    painter.rect_filled(area, 0.0, Color32::from_gray(16));
     // Before the first frame, or at a frame that cannot be shown, no older image stands in for it.
     if frame.frame.is_none() || matches!(frame.decoded, Some(Err(_))) {
         view.texture = None;
     }
+    draw_texture(ui, view);
+}
+
+/// Uploads picture `number` of a stream as its texture, unless it is the one shown already.
+fn upload(ui: &egui::Ui, view: &mut StreamView, number: usize, name: &str, image: &RgbaImage) {
+    if view
+        .texture
+        .as_ref()
+        .is_some_and(|(shown, _)| *shown == number)
+    {
+        return;
+    }
+    let pixels = color_image(image);
+    match &mut view.texture {
+        Some((shown, texture)) => {
+            texture.set(pixels, egui::TextureOptions::LINEAR);
+            *shown = number;
+        }
+        None => {
+            let name = format!("camera {name}");
+            let texture = ui
+                .ctx()
+                .load_texture(name, pixels, egui::TextureOptions::LINEAR);
+            view.texture = Some((number, texture));
+        }
+    }
+}
+
+/// The rest of the view: its texture fitted, zoomed and panned, on a dark ground.
+fn draw_texture(ui: &mut egui::Ui, view: &mut StreamView) {
+    let area = ui.available_rect_before_wrap();
+    let response = ui.allocate_rect(area, egui::Sense::click_and_drag());
+    let painter = ui.painter_at(area);
+    painter.rect_filled(area, 0.0, Color32::from_gray(16));
     if let Some((_, texture)) = &view.texture {
         let rect = fitted(texture.size_vec2(), area);
         handle_input(ui, &response, rect, &mut view.zoom);
         painter.image(texture.id(), rect, view.zoom.uv(), Color32::WHITE);
+    }
+}
+
+/// A live push's cameras: each topic's newest picture, at the live edge; scrubbed back, where the
+/// pictures are (the recording, opened as a bag, shows them in step).
+fn live_ui(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    images: &std::collections::BTreeMap<String, LiveImage>,
+    dropped: &std::collections::BTreeMap<String, u64>,
+    view: &mut CameraView,
+) {
+    if state.live_ahead().is_none() && state.frame() != state.timeline().last_frame() {
+        ui.weak(
+            "Live pictures show at the newest frame (Back to live); the recording keeps every one, \
+             shown in step when it is opened as a bag.",
+        );
+        return;
+    }
+    let height = ui.available_height() / images.len() as f32;
+    for (topic, picture) in images {
+        let stream = view.streams.entry(topic.clone()).or_default();
+        ui.allocate_ui(egui::vec2(ui.available_width(), height), |ui| {
+            ui.horizontal_wrapped(|ui| {
+                ui.strong(topic);
+                let dropped = dropped.get(topic).copied().unwrap_or(0);
+                ui.add(
+                    egui::Label::new(format!(
+                        "live · picture {}{}",
+                        picture.number,
+                        if dropped > 0 {
+                            format!(" · {dropped} came faster than shown (recorded)")
+                        } else {
+                            String::new()
+                        }
+                    ))
+                    .wrap_mode(egui::TextWrapMode::Extend),
+                );
+            });
+            match &picture.image {
+                Ok(image) => upload(ui, stream, picture.number as usize, topic, image),
+                Err(why) => {
+                    ui.colored_label(ERROR_COLOR, format!("picture cannot be shown: {why}"));
+                }
+            }
+            draw_texture(ui, stream);
+        });
     }
 }
 

@@ -19,6 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
 use pushlab_core::geometry::Pose2;
+use pushlab_core::recording::camera::RgbaImage;
 use pushlab_core::trajectory::Frame;
 use serde::{Deserialize, Serialize};
 
@@ -100,6 +101,23 @@ pub struct Inbox {
     pub lag_s: [Option<f64>; 2],
     /// Poses the grid refused (out of order, bad values).
     pub refused: usize,
+    /// The newest picture of each camera topic, decoded, for the UI to take (latest wins).
+    pub images: BTreeMap<String, LiveImage>,
+    /// Camera messages per topic that came faster than the UI took them: recorded, not shown.
+    pub images_dropped: BTreeMap<String, u64>,
+}
+
+/// Each live camera's newest picture, and the pictures each dropped from the display.
+pub type LiveImages<'a> = (&'a BTreeMap<String, LiveImage>, &'a BTreeMap<String, u64>);
+
+/// The newest picture of a live camera, decoded on the worker.
+#[derive(Clone, Debug)]
+pub struct LiveImage {
+    /// Its header stamp (Unix ns).
+    pub stamp_ns: u64,
+    /// Counts the pictures of its topic shown, so the panel uploads each one once.
+    pub number: u64,
+    pub image: Result<Arc<RgbaImage>, String>,
 }
 
 /// The worker's half: the inbox and the stop flag.
@@ -153,6 +171,8 @@ pub struct Running {
     /// Where the object is predicted to be a horizon after the newest frame, the pusher keeping its
     /// velocity: drawn in front of the object at the live edge.
     pub ahead: Option<(usize, Pose2)>,
+    /// The newest picture of each camera topic taken from the worker.
+    pub images: BTreeMap<String, LiveImage>,
     /// Whether connecting, and how the session ended, were said.
     pub said_connected: bool,
     pub said_end: bool,
@@ -268,6 +288,7 @@ impl Live {
             frames: 0,
             recording,
             ahead: None,
+            images: BTreeMap::new(),
             said_connected: false,
             said_end: false,
         });
@@ -285,17 +306,22 @@ impl Live {
     /// latest.
     pub(super) fn take(&mut self) -> Option<(Vec<Frame>, Vec<String>, Vec<usize>)> {
         let running = self.session.as_mut()?;
-        let (frames, said, gaps, link, messages, lag_s, refused) = running.link.with(|inbox| {
-            (
-                std::mem::take(&mut inbox.frames),
-                std::mem::take(&mut inbox.said),
-                std::mem::take(&mut inbox.gaps),
-                inbox.link.clone(),
-                inbox.messages,
-                inbox.lag_s,
-                inbox.refused,
-            )
-        });
+        let (frames, said, gaps, link, messages, lag_s, refused, images, dropped) =
+            running.link.with(|inbox| {
+                (
+                    std::mem::take(&mut inbox.frames),
+                    std::mem::take(&mut inbox.said),
+                    std::mem::take(&mut inbox.gaps),
+                    inbox.link.clone(),
+                    inbox.messages,
+                    inbox.lag_s,
+                    inbox.refused,
+                    std::mem::take(&mut inbox.images),
+                    inbox.images_dropped.clone(),
+                )
+            });
+        running.images.extend(images);
+        running.latest.images_dropped = dropped;
         let latest = &mut running.latest;
         latest.link = link;
         latest.messages = messages;

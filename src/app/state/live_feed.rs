@@ -317,6 +317,14 @@ impl AppState {
         })
     }
 
+    /// The newest picture of each camera of the live push shown, with the pictures each dropped
+    /// from the display (they came faster than the window took them; the recording has them).
+    pub fn live_images(&self) -> Option<super::live::LiveImages<'_>> {
+        let running = self.live.running()?;
+        (self.session.selected == Some(running.recording) && !running.images.is_empty())
+            .then_some((&running.images, &running.latest.images_dropped))
+    }
+
     /// The form and the session, for the panels.
     pub fn live(&self) -> &super::live::Live {
         &self.live

@@ -117,7 +117,8 @@ pub fn run(args: &LiveArgs) -> Result<(), Failure> {
                 lost.take().map_or(0.0, |t| t.elapsed().as_secs_f64()),
                 session.channels(),
             ),
-            None => {}
+            // Images are recorded, not shown, here (the session hands them out only when asked).
+            Some(SessionEvent::Image { .. }) | None => {}
         }
         let elapsed = started.elapsed();
         if elapsed >= next_line {

@@ -17,7 +17,8 @@ use super::client::{LiveClient, LiveError, LiveEvent};
 use super::followed::{Followed, Reading};
 use super::grid::Stream;
 use super::recorder::{RecordError, Recorded, Recorder};
-use crate::recording::bag::PlanarPose;
+use crate::recording::bag::{ImageKind, PlanarPose, decode_image_message};
+use crate::recording::camera::{RgbaImage, decode as decode_image};
 
 /// How long to wait for the server, and at most between two looks at `stop`.
 pub const READ_TIMEOUT: Duration = Duration::from_millis(100);
@@ -69,6 +70,14 @@ pub enum SessionEvent {
     Lost(String),
     /// Connected again after `after_s` seconds and `attempts` attempts: a gap in the recording.
     Reconnected { after_s: f64, attempts: usize },
+    /// A camera message (`CompressedImage` or `Image`), when asked for ([`LiveSession::show_images`]):
+    /// still encoded, so that a caller that shows only the latest decodes only that one.
+    Image {
+        topic: String,
+        kind: ImageKind,
+        log_time_ns: u64,
+        payload: Vec<u8>,
+    },
 }
 
 /// A session (see the module documentation).
@@ -85,6 +94,8 @@ pub struct LiveSession {
     lost_at: Option<Instant>,
     /// Events of one message still to hand out (one TF message may hold both streams' poses).
     queued: VecDeque<SessionEvent>,
+    /// Whether camera messages are handed out too.
+    images: bool,
 }
 
 /// Unix time now, nanoseconds: what a pose's lag is measured against.
@@ -121,7 +132,14 @@ impl LiveSession {
             last_flush: Instant::now(),
             lost_at: None,
             queued: VecDeque::new(),
+            images: false,
         })
+    }
+
+    /// Hands out every camera message as [`SessionEvent::Image`] from now on (the app's camera
+    /// panel; `pushlab live` only records them).
+    pub fn show_images(&mut self) {
+        self.images = true;
     }
 
     /// The server's address.
@@ -188,6 +206,18 @@ impl LiveSession {
                     recorder.write(c, log_time_ns, &payload)?;
                 }
                 let now = unix_now_ns();
+                if self.images
+                    && let Some(c) = client.channel(channel)
+                    && let Some(kind) = ImageKind::from_schema(&c.schema_name)
+                    && c.encoding == "cdr"
+                {
+                    return Ok(Some(SessionEvent::Image {
+                        topic: c.topic.clone(),
+                        kind,
+                        log_time_ns,
+                        payload,
+                    }));
+                }
                 for f in (self.followed.iter_mut()).filter(|f| f.channel() == Some(channel)) {
                     match f.read(&payload, now) {
                         Reading::Pose(pose) => self.queued.push_back(SessionEvent::Pose {
@@ -357,4 +387,12 @@ fn connect(
         client.subscribe(id)?;
     }
     Ok((client, server))
+}
+
+/// The picture a camera message of a live session holds, decoded, with its header stamp; why not,
+/// in words.
+pub fn decode_live_image(kind: ImageKind, payload: &[u8]) -> Result<(u64, RgbaImage), String> {
+    let (stamp, encoded) = decode_image_message(kind, payload).map_err(|e| e.to_string())?;
+    let image = decode_image(&encoded).map_err(|e| e.to_string())?;
+    Ok((stamp, image))
 }

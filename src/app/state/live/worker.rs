@@ -2,9 +2,13 @@
 //! the core's [`LiveSession`] read message by message, both pose streams put on the grid, and what
 //! came handed to the UI through the [`WorkerLink`]'s inbox.
 
-use pushlab_core::live::{LiveGrid, LiveSession, Refused, SessionEvent, Stream};
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
-use crate::app::state::live::{Link, LiveChoice, WorkerLink};
+use pushlab_core::live::{LiveGrid, LiveSession, Refused, SessionEvent, Stream, decode_live_image};
+use pushlab_core::recording::bag::ImageKind;
+
+use crate::app::state::live::{Link, LiveChoice, LiveImage, WorkerLink};
 
 /// Runs a session with `choice` on a grid at `rate_hz` until the link is stopped or the session
 /// fails; says how it ended in the inbox.
@@ -29,6 +33,11 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             server: session.server().unwrap_or("unnamed server").to_owned(),
         }
     });
+    session.show_images();
+    // The newest camera message of each topic not yet decoded: decoded only once the UI took the
+    // picture before it, so a camera faster than the window costs one decode per picture shown.
+    let mut pending: BTreeMap<String, (ImageKind, Vec<u8>)> = BTreeMap::new();
+    let mut shown: BTreeMap<String, u64> = BTreeMap::new();
     let mut grid = LiveGrid::new(rate_hz);
     let (mut handed, mut refused, mut said_full) = (0usize, 0usize, false);
     let mut error = None;
@@ -68,6 +77,17 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
                     }
                 }
             },
+            Some(SessionEvent::Image {
+                topic,
+                kind,
+                payload,
+                ..
+            }) => {
+                let replaced = pending.insert(topic.clone(), (kind, payload));
+                // The one before was never shown: dropped from the display (it is recorded).
+                let dropped = u64::from(replaced.is_some());
+                link.with(|inbox| *inbox.images_dropped.entry(topic).or_default() += dropped);
+            }
             Some(SessionEvent::Said(what)) => said = Some(what),
             Some(SessionEvent::Lost(why)) => {
                 said = Some(format!("{why}; connecting again"));
@@ -93,6 +113,32 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
                 "the push reached the longest an import takes: no more frames (the recording goes on)"
                     .to_owned(),
             );
+        }
+        let taken: Vec<String> = link.with(|inbox| {
+            (pending.keys())
+                .filter(|topic| !inbox.images.contains_key(*topic))
+                .cloned()
+                .collect()
+        });
+        for topic in taken {
+            let Some((kind, payload)) = pending.remove(&topic) else {
+                continue;
+            };
+            let number = shown.entry(topic.clone()).or_default();
+            *number += 1;
+            let picture = match decode_live_image(kind, &payload) {
+                Ok((stamp_ns, image)) => LiveImage {
+                    stamp_ns,
+                    number: *number,
+                    image: Ok(Arc::new(image)),
+                },
+                Err(why) => LiveImage {
+                    stamp_ns: 0,
+                    number: *number,
+                    image: Err(why),
+                },
+            };
+            link.with(|inbox| inbox.images.insert(topic, picture));
         }
         let lag_s = session.followed().each_ref().map(|f| f.lag_s());
         let messages = session.messages();
