@@ -77,14 +77,26 @@ fn a_live_push_grows_is_learned_as_it_comes_and_replays_to_the_same_theta() {
     let error = state.live().form().unwrap().error.clone().unwrap();
     assert!(error.contains("ws://HOST:PORT"), "{error}");
 
+    // The server's topics listed, and the pusher and object pre-selected by name as for a bag.
     state.apply(Command::Live(LiveCommand::Edit(LiveChoice {
         url: url.clone(),
-        pusher: "/pusher".to_owned(),
-        object: "/object".to_owned(),
         setting: setting.clone(),
         record: record.clone(),
-        rate_hz: None,
+        ..LiveChoice::default()
     })));
+    state.apply(Command::Live(LiveCommand::ListTopics));
+    advance_until(&mut state, "the topics listed", |s| {
+        s.live().form().is_some_and(|f| f.streams.is_some())
+    });
+    let form = state.live().form().unwrap();
+    let streams: Vec<String> = (form.streams.clone().unwrap().unwrap().iter())
+        .map(ToString::to_string)
+        .collect();
+    assert_eq!(streams, ["/pusher", "/object"]);
+    assert_eq!(
+        (form.choice.pusher.as_str(), form.choice.object.as_str()),
+        ("/pusher", "/object")
+    );
     state.apply(Command::Live(LiveCommand::Connect));
     assert!(
         state.live().form().is_none(),

@@ -31,19 +31,56 @@ pub fn window(ctx: &egui::Context, state: &AppState, commands: &mut Vec<Command>
             if let Some(error) = &form.error {
                 ui.colored_label(ui.visuals().error_fg_color, error);
             }
+            let streams = match &form.streams {
+                Some(Ok(streams)) => streams.iter().map(ToString::to_string).collect(),
+                _ => Vec::new(),
+            };
             egui::Grid::new("live-form").num_columns(2).show(ui, |ui| {
                 ui.label("Server");
-                ui.text_edit_singleline(&mut choice.url)
-                    .on_hover_text("ws://HOST:PORT (foxglove_bridge and the SDK listen on 8765)");
+                ui.horizontal(|ui| {
+                    ui.text_edit_singleline(&mut choice.url).on_hover_text(
+                        "ws://HOST:PORT (foxglove_bridge and the SDK listen on 8765)",
+                    );
+                    if state.live().is_listing() {
+                        ui.spinner();
+                    } else if ui
+                        .button("List topics")
+                        .on_hover_text(
+                            "connect for a moment and offer the server's pose streams, \
+                             pre-selected by name as for a bag",
+                        )
+                        .clicked()
+                    {
+                        send(LiveCommand::ListTopics);
+                    }
+                });
                 ui.end_row();
-                ui.label("Pusher topic");
-                ui.text_edit_singleline(&mut choice.pusher)
-                    .on_hover_text("TOPIC, or TOPIC:CHILD_FRAME for a TF topic such as /tf");
-                ui.end_row();
-                ui.label("Object topic");
-                ui.text_edit_singleline(&mut choice.object)
-                    .on_hover_text("TOPIC, or TOPIC:CHILD_FRAME for a TF topic such as /tf");
-                ui.end_row();
+                if let Some(Err(why)) = &form.streams {
+                    ui.label("");
+                    ui.colored_label(ui.visuals().error_fg_color, why);
+                    ui.end_row();
+                }
+                for (label, id, value) in [
+                    ("Pusher topic", "live-pusher", &mut choice.pusher),
+                    ("Object topic", "live-object", &mut choice.object),
+                ] {
+                    ui.label(label);
+                    ui.horizontal(|ui| {
+                        ui.text_edit_singleline(value).on_hover_text(
+                            "TOPIC, or TOPIC:CHILD_FRAME for a TF topic such as /tf",
+                        );
+                        if !streams.is_empty() {
+                            egui::ComboBox::from_id_salt(id)
+                                .selected_text("choose")
+                                .show_ui(ui, |ui| {
+                                    for stream in &streams {
+                                        ui.selectable_value(value, stream.clone(), stream);
+                                    }
+                                });
+                        }
+                    });
+                    ui.end_row();
+                }
                 ui.label("Object's setting.json");
                 path_edit(ui, &mut choice.setting);
                 ui.end_row();

@@ -23,7 +23,9 @@ use pushlab_core::recording::camera::RgbaImage;
 use pushlab_core::trajectory::Frame;
 use serde::{Deserialize, Serialize};
 
+use super::job::{Job, take_ended};
 use super::session::RecordingId;
+use pushlab_core::recording::bag::{TopicInfo, TopicSpec, choice};
 
 /// What the form asks for; remembered per server address once a session with it started.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -47,7 +49,17 @@ pub struct LiveChoice {
 pub struct LiveForm {
     pub choice: LiveChoice,
     pub error: Option<String>,
+    /// The pose streams the server offers (as a bag's: topics, and TF child frames), once listed;
+    /// or why they could not be.
+    pub streams: Option<Result<Vec<TopicSpec>, String>>,
 }
+
+/// How long listing a server's topics listens for TF child frames.
+#[cfg(not(target_arch = "wasm32"))]
+const LISTEN: std::time::Duration = std::time::Duration::from_millis(1500);
+
+/// A server's name and topics, listed off the UI thread.
+type Listed = Result<(Option<String>, Vec<TopicInfo>), String>;
 
 /// Everything the Connect form and the live session do.
 #[derive(Clone, Debug, PartialEq)]
@@ -60,6 +72,8 @@ pub enum LiveCommand {
     CloseForm,
     /// Connect with the form's choice.
     Connect,
+    /// List the pose streams the form's server offers, to choose from as for a bag.
+    ListTopics,
     /// End the session: the recording closed cleanly; the push stays open to replay.
     Disconnect,
     /// Show the newest frame again and follow it (after scrubbing back while live).
@@ -143,7 +157,7 @@ impl WorkerLink {
 }
 
 /// The form, the choices remembered, and the session running.
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct Live {
     form: Option<LiveForm>,
     /// The choice of each server connected to, by address.
@@ -151,6 +165,8 @@ pub struct Live {
     /// The address connected to last: what the form opens with.
     last_url: Option<String>,
     session: Option<Running>,
+    /// The form's server being listed: its address and the job.
+    listing: Option<(String, Job<Listed>)>,
 }
 
 /// A session running (or ended and still shown).
@@ -186,6 +202,7 @@ impl Live {
             remembered,
             last_url,
             session: None,
+            listing: None,
         }
     }
 
@@ -240,6 +257,7 @@ impl Live {
                 self.form = Some(LiveForm {
                     choice,
                     error: None,
+                    streams: None,
                 });
             }
             LiveCommand::Edit(choice) => {
@@ -255,9 +273,63 @@ impl Live {
                 }
                 form.choice = choice;
             }
-            LiveCommand::CloseForm => self.form = None,
+            LiveCommand::CloseForm => {
+                self.form = None;
+                self.listing = None;
+            }
+            LiveCommand::ListTopics => self.list_topics(),
             LiveCommand::Connect | LiveCommand::Disconnect | LiveCommand::BackToLive => {}
         }
+    }
+
+    /// Lists the form's server's topics on a worker (a page has no sockets: said on the form).
+    fn list_topics(&mut self) {
+        let Some(form) = &mut self.form else { return };
+        let url = form.choice.url.clone();
+        if cfg!(target_arch = "wasm32") {
+            form.streams = Some(Err(
+                "a browser tab cannot connect to a robot's server yet".to_owned()
+            ));
+            return;
+        }
+        form.streams = None;
+        let job = Job::spawn(move |context| Some(list(&url, &|| context.is_cancelled())));
+        self.listing = Some((form.choice.url.clone(), job));
+    }
+
+    /// Whether the form's server is being listed.
+    pub fn is_listing(&self) -> bool {
+        self.listing.is_some()
+    }
+
+    /// Takes a finished listing into the form: the streams offered, and the pusher and object
+    /// pre-selected by name as for a bag where the form has none yet.
+    pub(super) fn poll_listing(&mut self) {
+        let Some((url, listed)) = take_ended(&mut self.listing) else {
+            return;
+        };
+        let Some(form) = self.form.as_mut().filter(|f| f.choice.url == url) else {
+            return;
+        };
+        form.streams = Some(match listed {
+            Some(Ok((_, topics))) => {
+                let (pusher, object) = choice::suggest(&topics);
+                let choice = &mut form.choice;
+                if choice.pusher.trim().is_empty()
+                    && let Some(pusher) = pusher
+                {
+                    choice.pusher = pusher.to_string();
+                }
+                if choice.object.trim().is_empty()
+                    && let Some(object) = object
+                {
+                    choice.object = object.to_string();
+                }
+                Ok(choice::candidates(&topics))
+            }
+            Some(Err(why)) => Err(why),
+            None => Err("listing stopped".to_owned()),
+        });
     }
 
     /// The form's choice, to connect with.
@@ -338,6 +410,16 @@ impl Drop for Live {
     fn drop(&mut self) {
         self.stop();
     }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn list(url: &str, stop: &dyn Fn() -> bool) -> Listed {
+    pushlab_core::live::list_topics(url, LISTEN, stop).map_err(|e| e.to_string())
+}
+
+#[cfg(target_arch = "wasm32")]
+fn list(_: &str, _: &dyn Fn() -> bool) -> Listed {
+    Err("a browser tab cannot connect to a robot's server yet".to_owned())
 }
 
 /// `path`, or when a file is there already, the first of `NAME-2.EXT`, `NAME-3.EXT`… that is not:

@@ -41,7 +41,10 @@ impl AppState {
                 }
                 self.follow_live_edge();
             }
-            LiveCommand::OpenForm | LiveCommand::Edit(_) | LiveCommand::CloseForm => {}
+            LiveCommand::OpenForm
+            | LiveCommand::Edit(_)
+            | LiveCommand::CloseForm
+            | LiveCommand::ListTopics => {}
         }
     }
 
@@ -144,8 +147,10 @@ impl AppState {
     /// Takes what the worker handed over: the frames onto the push, what it said onto the status
     /// line. Returns whether a session is running (the app keeps drawing).
     pub(super) fn poll_live(&mut self) -> bool {
+        self.live.poll_listing();
+        let listing = self.live.is_listing();
         let Some((frames, said, _gaps)) = self.live.take() else {
-            return false;
+            return listing;
         };
         if let Some(last) = said.into_iter().last() {
             self.status = Some(last);
@@ -189,7 +194,7 @@ impl AppState {
                 (self.proposals).refresh(self.session.selected_recording(), self.run.as_ref());
             }
         }
-        self.live.is_live()
+        self.live.is_live() || listing
     }
 
     /// Appends `frames` to the live push, learns from the samples they complete, and follows them

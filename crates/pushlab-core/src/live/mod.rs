@@ -30,4 +30,4 @@ pub use self::protocol::{Channel, SUBPROTOCOLS};
 #[cfg(not(target_arch = "wasm32"))]
 pub use self::recorder::{RecordError, Recorded, Recorder};
 #[cfg(not(target_arch = "wasm32"))]
-pub use self::session::{LiveSession, SessionError, SessionEvent, decode_live_image};
+pub use self::session::{LiveSession, SessionError, SessionEvent, decode_live_image, list_topics};

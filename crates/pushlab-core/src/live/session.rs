@@ -17,7 +17,9 @@ use super::client::{LiveClient, LiveError, LiveEvent};
 use super::followed::{Followed, Reading};
 use super::grid::Stream;
 use super::recorder::{RecordError, Recorded, Recorder};
-use crate::recording::bag::{ImageKind, PlanarPose, decode_image_message};
+use crate::recording::bag::{
+    ImageKind, PlanarPose, PoseType, TopicInfo, decode_image_message, decode_tf,
+};
 use crate::recording::camera::{RgbaImage, decode as decode_image};
 
 /// How long to wait for the server, and at most between two looks at `stop`.
@@ -395,4 +397,73 @@ pub fn decode_live_image(kind: ImageKind, payload: &[u8]) -> Result<(u64, RgbaIm
     let (stamp, encoded) = decode_image_message(kind, payload).map_err(|e| e.to_string())?;
     let image = decode_image(&encoded).map_err(|e| e.to_string())?;
     Ok((stamp, image))
+}
+
+/// What a server offers, for choosing the pusher and the object as for a bag: its name and each
+/// channel as a bag's topic (type, encoding, and for a TF topic the child frames its messages
+/// carried while listening for `listen`), so that the bag form's rules — the pose streams offered
+/// and the pre-selection by name (`recording::bag::choice`) — apply unchanged.
+pub fn list_topics(
+    url: &str,
+    listen: Duration,
+    stop: &dyn Fn() -> bool,
+) -> Result<(Option<String>, Vec<TopicInfo>), SessionError> {
+    let mut client = LiveClient::connect(url, READ_TIMEOUT)?;
+    let started = Instant::now();
+    let mut server = None;
+    let mut frames: Vec<(u64, Vec<String>)> = Vec::new();
+    while started.elapsed() < listen && !stop() {
+        match client.next_event()? {
+            Some(LiveEvent::ServerInfo { name }) => server = Some(name),
+            Some(LiveEvent::Advertised(channels)) => {
+                for c in channels {
+                    if PoseType::from_schema(&c.schema_name) == Some(PoseType::TfMessage) {
+                        client.subscribe(c.id)?;
+                    }
+                }
+            }
+            Some(LiveEvent::Message {
+                channel, payload, ..
+            }) => {
+                let at = match frames.iter().position(|(id, _)| *id == channel) {
+                    Some(at) => at,
+                    None => {
+                        frames.push((channel, Vec::new()));
+                        frames.len() - 1
+                    }
+                };
+                let seen = &mut frames[at].1;
+                // A message that does not decode lists nothing; the session says why later.
+                let _ = decode_tf(&payload, |t| {
+                    let child = String::from_utf8_lossy(t.child).into_owned();
+                    if !seen.contains(&child) {
+                        seen.push(child);
+                    }
+                });
+            }
+            _ => {}
+        }
+    }
+    let topics = (client.channels())
+        .map(|c| {
+            let mut info = TopicInfo {
+                topic: c.topic.clone(),
+                type_name: c.schema_name.clone(),
+                encoding: c.encoding.clone(),
+                count: 0,
+                first_ns: 0,
+                last_ns: 0,
+                child_frames: Vec::new(),
+                camera: None,
+            };
+            for (_, seen) in frames.iter().filter(|(id, _)| *id == c.id) {
+                for frame in seen {
+                    info.add_frame(frame);
+                }
+            }
+            info
+        })
+        .collect();
+    client.close();
+    Ok((server, topics))
 }

@@ -43,7 +43,7 @@ impl TopicInfo {
     }
 
     /// Lists a child frame, once, up to [`MAX_LISTED_FRAMES`].
-    pub(super) fn add_frame(&mut self, frame: &str) {
+    pub(crate) fn add_frame(&mut self, frame: &str) {
         if self.child_frames.len() < MAX_LISTED_FRAMES
             && !self.child_frames.iter().any(|f| f == frame)
         {
