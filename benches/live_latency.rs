@@ -28,7 +28,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use foxglove::{ChannelBuilder, PartialMetadata, Schema};
+use foxglove::PartialMetadata;
 use pushlab::app::state::live::{LiveChoice, LiveCommand};
 use pushlab::app::state::{Command, Persisted};
 use pushlab::app::{PushlabApp, initial_state};
@@ -61,18 +61,7 @@ struct Robot {
 fn robot(rate_hz: f64, camera: bool) -> Robot {
     let (context, server, pusher, object) = live_robot::start_robot(0, false);
     let url = format!("ws://127.0.0.1:{}", server.port());
-    let camera = camera.then(|| {
-        ChannelBuilder::new("/camera")
-            .context(&context)
-            .message_encoding("cdr")
-            .schema(Schema::new(
-                "sensor_msgs/msg/CompressedImage",
-                "ros2msg",
-                b"".to_vec(),
-            ))
-            .build_raw()
-            .unwrap()
-    });
+    let camera = camera.then(|| live_robot::camera_channel(&context));
     let stop = Arc::new(AtomicBool::new(false));
     let logged: Logged = Arc::default();
     let (flag, times) = (Arc::clone(&stop), Arc::clone(&logged));

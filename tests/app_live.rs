@@ -268,20 +268,11 @@ fn the_window_draws_a_live_push_from_its_first_frame_and_its_buttons_work() {
 /// are counted as dropped from the display, and every one of them is in the recording.
 #[test]
 fn a_live_camera_shows_its_newest_picture_and_counts_those_not_shown() {
-    use foxglove::{ChannelBuilder, PartialMetadata, Schema};
+    use foxglove::PartialMetadata;
     use pushlab_core::recording::bag::{encode_compressed_image, encode_pose_stamped};
 
     let (context, server, pusher, object) = live_robot::start_robot(0, false);
-    let camera = ChannelBuilder::new("/camera")
-        .context(&context)
-        .message_encoding("cdr")
-        .schema(Schema::new(
-            "sensor_msgs/msg/CompressedImage",
-            "ros2msg",
-            b"".to_vec(),
-        ))
-        .build_raw()
-        .unwrap();
+    let camera = live_robot::camera_channel(&context);
     let url = format!("ws://127.0.0.1:{}", server.port());
     // A 64×48 red JPEG.
     let mut jpeg = Vec::new();

@@ -172,3 +172,17 @@ pub fn restarting_robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<(
     });
     (url, stop, logging)
 }
+
+/// A camera channel on `context`: CDR `sensor_msgs/msg/CompressedImage` on `/camera`.
+pub fn camera_channel(context: &Arc<Context>) -> Arc<RawChannel> {
+    ChannelBuilder::new("/camera")
+        .context(context)
+        .message_encoding("cdr")
+        .schema(Schema::new(
+            "sensor_msgs/msg/CompressedImage",
+            "ros2msg",
+            b"".to_vec(),
+        ))
+        .build_raw()
+        .unwrap()
+}
