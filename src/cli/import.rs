@@ -29,7 +29,7 @@ use clap::Args;
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, TopicSpec};
 use pushlab_core::recording::dataset::{self, Columns, ObjectSource};
 use pushlab_core::recording::native::SETTING_FILE;
-use pushlab_core::recording::{LoadError, write_set};
+use pushlab_core::recording::{ReadError, write_set};
 
 use super::cameras_out;
 use super::load_bar::with_load_bar;
@@ -135,7 +135,7 @@ fn choice_of(args: &ImportArgs) -> anyhow::Result<BagChoice> {
 pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     // A mistyped path is said as such, not as a bag with no choice remembered beside it.
     if let Err(source) = std::fs::metadata(&args.bag) {
-        return Err(LoadError::Io {
+        return Err(ReadError::Io {
             path: args.bag.clone(),
             source,
         }

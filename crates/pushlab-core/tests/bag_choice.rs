@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use pushlab_core::recording::bag::{self, BagChoice, ImportOptions, SettingSource, choice};
 use pushlab_core::recording::{
-    BagProblem, LoadError, SourceChoice, load_paths, load_paths_choosing,
+    BagError, BagProblem, LoadError, SourceChoice, load_paths, load_paths_choosing,
 };
 
 fn fixture(name: &str) -> PathBuf {
@@ -150,7 +150,7 @@ fn a_remembered_choice_that_no_longer_fits_says_where_it_is_remembered() {
     let remembered_at = bag::choice::remember(&bag, &stale).unwrap();
     let report = load_paths(std::slice::from_ref(&bag));
     assert!(report.sets.is_empty());
-    let LoadError::Bag { path, problem } = &report.errors[0] else {
+    let LoadError::Bag(BagError::Problem { path, problem }) = &report.errors[0] else {
         panic!("{:?}", report.errors)
     };
     assert_eq!(path, &bag);
@@ -177,10 +177,10 @@ fn a_remembered_choice_that_no_longer_fits_says_where_it_is_remembered() {
 fn a_bag_without_a_choice_lists_its_topics_and_tf_child_frames() {
     let (dir, bag) = bag_copy("none", "tf");
     let report = load_paths(std::slice::from_ref(&bag));
-    let LoadError::Bag {
+    let LoadError::Bag(BagError::Problem {
         problem: BagProblem::NeedsImport { listing },
         ..
-    } = &report.errors[0]
+    }) = &report.errors[0]
     else {
         panic!("{:?}", report.errors)
     };
@@ -265,13 +265,24 @@ fn opening_a_bag_reports_its_bytes_and_stops_when_cancelled() {
     let cancelling = CancelAfterFirst::default();
     let cancelled = bag::open_with(&bag, &choice, &cancelling).unwrap_err();
     assert!(
-        matches!(cancelled, LoadError::Cancelled { .. }),
+        matches!(
+            cancelled,
+            BagError::Problem {
+                problem: BagProblem::Cancelled,
+                ..
+            }
+        ),
         "{cancelled}"
     );
     assert!(
         cancelled.to_string().ends_with("opening cancelled"),
         "{cancelled}"
     );
+    // The loader says a bag's cancel as it says any file's.
+    let said = cancelled.to_string();
+    let loaded = LoadError::from(cancelled);
+    assert!(matches!(loaded, LoadError::Cancelled { .. }), "{loaded}");
+    assert_eq!(loaded.to_string(), said);
 
     let stopped = LoadProgress::default();
     stopped.cancel();

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use pushlab_core::recording::bag::{self, BagImport, ImportOptions, TopicSpec};
-use pushlab_core::recording::{BagProblem, LoadError, load_paths};
+use pushlab_core::recording::{BagError, BagProblem, load_paths};
 
 /// The refusals and the bag cut short.
 mod bags_refused;
@@ -289,9 +289,9 @@ fn split_gap_cuts_a_bag_where_the_streams_pause() {
     assert_eq!(import.pushes[0].trajectory.len(), 121);
 }
 
-fn problem(result: Result<BagImport, LoadError>) -> (PathBuf, BagProblem) {
+fn problem(result: Result<BagImport, BagError>) -> (PathBuf, BagProblem) {
     match result {
-        Err(LoadError::Bag { path, problem }) => (path, problem),
+        Err(BagError::Problem { path, problem }) => (path, problem),
         Err(other) => panic!("expected a bag error, got {other}"),
         Ok(import) => panic!("expected a bag error, got {} push(es)", import.pushes.len()),
     }

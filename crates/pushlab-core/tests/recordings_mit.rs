@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use nalgebra::{Point2, Vector2};
 use pushlab_core::geometry::Pose2;
 use pushlab_core::recording::mit_push::{self, import_bytes, parse_file_name};
-use pushlab_core::recording::{LoadError, MitProblem, ObjectShape, load_paths};
+use pushlab_core::recording::{MitError, MitProblem, ObjectShape, load_paths};
 
 fn mit_dir() -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mit-push");
@@ -335,7 +335,7 @@ fn defects_are_reported_with_numbers() {
     assert!(thetas.last().unwrap() > &PI);
 }
 
-fn mit_error(bytes: &[u8], name: &str) -> (LoadError, String) {
+fn mit_error(bytes: &[u8], name: &str) -> (MitError, String) {
     let err = import_bytes(bytes, Path::new(name)).unwrap_err();
     let text = err.to_string();
     (err, text)
@@ -358,7 +358,7 @@ fn unusable_files_are_refused_naming_file_and_problem() {
     let (err, e) = mit_error(&s.h5(), &h5_name);
     assert!(matches!(
         err,
-        LoadError::Mit {
+        MitError::Problem {
             problem: MitProblem::NonFinite {
                 key: "object_pose",
                 row: 7,

@@ -54,11 +54,7 @@ fn check_promises(trajectory: &Trajectory, what: &str) {
     );
 }
 
-fn expect_outcome<T>(
-    path: &Path,
-    result: Result<T, pushlab_core::recording::LoadError>,
-    check: impl Fn(&T),
-) {
+fn expect_outcome<T, E: std::fmt::Display>(path: &Path, result: Result<T, E>, check: impl Fn(&T)) {
     let name = path.file_name().unwrap().to_string_lossy().into_owned();
     let should_load = name.starts_with("ok_");
     match result {

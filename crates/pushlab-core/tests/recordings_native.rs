@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use pushlab_core::geometry::Pose2;
 use pushlab_core::recording::native::{parse_csv, parse_setting};
 use pushlab_core::recording::{
-    LoadError, ObjectShape, PushSide, Setting, TrajectoryEntry, WriteError, load_paths, read_set,
+    NativeError, ObjectShape, PushSide, Setting, TrajectoryEntry, WriteError, load_paths, read_set,
     write_set,
 };
 use pushlab_core::trajectory::{Frame, Trajectory};
@@ -234,7 +234,7 @@ fn setting_errors_name_the_field() {
     let err = parse_setting(br#"{"name": "x", "object": {"shape": "box", "width": -1, "length": 0.1}, "pusher_radius": 0.01}"#, path)
         .unwrap_err();
     assert!(
-        matches!(err, LoadError::SettingField { ref field, .. } if field == "object"),
+        matches!(err, NativeError::SettingField { ref field, .. } if field == "object"),
         "{err}"
     );
     assert!(

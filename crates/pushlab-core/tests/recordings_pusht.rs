@@ -6,7 +6,7 @@ mod pusht_common;
 use std::path::PathBuf;
 
 use pushlab_core::recording::dataset::{self, DatasetChoice, ObjectSource};
-use pushlab_core::recording::{LoadError, NoProgress, load_paths};
+use pushlab_core::recording::{DatasetError, NoProgress, load_paths};
 use pusht_common::{copy_dir, fixtures, truth, worst_errors};
 
 #[test]
@@ -103,7 +103,7 @@ fn broken_buffers_are_errors_naming_the_file_and_the_problem() {
     std::fs::write(&meta, text.replace("<f4", "<c8")).expect("write");
     std::fs::copy(fixtures().join("replay.zarr/data/state/1.0"), &chunk).expect("restore");
     let error = dataset::read_table(&zarr, &NoProgress).expect_err("dtype");
-    assert!(matches!(error, LoadError::Dataset { .. }));
+    assert!(matches!(error, DatasetError::Problem { .. }));
     let message = error.to_string();
     assert!(
         message.contains("data/action/.zarray: field `dtype`: \"<c8\""),

@@ -13,8 +13,8 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use pushlab_core::recording::bag::BagListing;
 use pushlab_core::recording::dataset;
 use pushlab_core::recording::{
-    BagProblem, DatasetProblem, LoadError, LoadReport, Recording, RecordingSet, SourceChoice,
-    load_paths, load_paths_in_slices,
+    BagError, BagProblem, DatasetError, DatasetProblem, LoadError, LoadReport, Recording,
+    RecordingSet, SourceChoice, load_paths, load_paths_in_slices,
 };
 use pushlab_core::recording::{LoadProgress, ProgressSnapshot};
 
@@ -45,12 +45,12 @@ impl LoadProblem {
             message: error.to_string(),
             bag_to_choose: matches!(
                 error,
-                LoadError::Bag {
+                LoadError::Bag(BagError::Problem {
                     problem: BagProblem::ChoiceFailed { .. },
                     ..
-                }
+                })
             ),
-            dataset_to_choose: matches!(error, LoadError::Dataset { path, .. } if dataset::is_dataset(path)),
+            dataset_to_choose: matches!(error, LoadError::Dataset(DatasetError::Problem { path, .. }) if dataset::is_dataset(path)),
         }
     }
 }
@@ -193,14 +193,14 @@ impl Session {
         self.last_load_time = Some(elapsed);
         for error in report.errors {
             match error {
-                LoadError::Bag {
+                LoadError::Bag(BagError::Problem {
                     path,
                     problem: BagProblem::NeedsImport { listing },
-                } => self.bags_to_choose.push((path, listing)),
-                LoadError::Dataset {
+                }) => self.bags_to_choose.push((path, listing)),
+                LoadError::Dataset(DatasetError::Problem {
                     path,
                     problem: DatasetProblem::NeedsChoice { .. },
-                } => self.datasets_to_choose.push(path),
+                }) => self.datasets_to_choose.push(path),
                 error => self.problems.push(LoadProblem::of(&error)),
             }
         }

@@ -1,93 +1,46 @@
-//! What can go wrong reading or writing recordings.
+//! What can go wrong reading recordings: the loader's error, wrapping what each format's reader
+//! returns.
 //!
 //! Every error names the file it is about and, where it can, the line or field and what was expected,
-//! so that a user can open the file and fix it without reading pushlab's code.
+//! so that a user can open the file and fix it without reading pushlab's code. Imports run one way:
+//! each reader (`native`, `mit_push`, `bag`, `dataset`) returns its own error and knows nothing of
+//! this module; the loader wraps them here.
 
 use std::path::{Path, PathBuf};
 
-use super::bag::BagProblem;
-use super::dataset::DatasetProblem;
-use super::mit_push::MitProblem;
-use super::native::CsvProblem;
-use crate::json_problem::JsonProblem;
+use super::NOT_A_RECORDING;
+use super::bag::{BagError, BagProblem};
+use super::dataset::DatasetError;
+use super::mit_push::MitError;
+use super::native::NativeError;
+use super::read::ReadError;
 
 /// Why a recording (or a whole set) could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
-    /// The file or folder could not be read at all.
-    #[error("{}: cannot read: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    /// A native CSV file is malformed at a given line (1-based, the header is line 1).
-    #[error("{} line {line}: {problem}", path.display())]
-    Csv {
-        path: PathBuf,
-        line: usize,
-        problem: CsvProblem,
-    },
-    /// A camera's frame list (`NAME.images/frames.csv`) is malformed at a line (1-based).
-    #[error("{} line {line}: {why}", path.display())]
-    FrameList {
-        path: PathBuf,
-        line: usize,
-        why: String,
-    },
-    /// `setting.json` is not valid JSON or does not match the schema.
-    #[error("{}: not a valid setting.json: {problem}", path.display())]
-    SettingJson { path: PathBuf, problem: JsonProblem },
-    /// `setting.json` parses but a field has an unusable value.
-    #[error("{}: field `{field}`: {problem}", path.display())]
-    SettingField {
-        path: PathBuf,
-        field: String,
-        problem: String,
-    },
-    /// `setting.json` lists a trajectory whose CSV is not in the folder.
-    #[error("{}: listed in setting.json but the file does not exist", path.display())]
-    MissingTrajectory { path: PathBuf },
+    /// A file or folder that could not be read at all, or is too large for the memory that is free.
+    #[error(transparent)]
+    Read(#[from] ReadError),
+    /// A native set that cannot be used: a malformed CSV or frame list, a `setting.json` that is
+    /// invalid or lists a file that is not there.
+    #[error(transparent)]
+    Native(#[from] NativeError),
+    /// An MIT Push Dataset file that cannot be used.
+    #[error(transparent)]
+    Mit(#[from] MitError),
+    /// A ROS 2 bag (an `.mcap` file or a rosbag2 folder) that cannot be used. A bag whose reading
+    /// was cancelled is [`LoadError::Cancelled`] instead.
+    #[error(transparent)]
+    Bag(BagError),
+    /// A Push-T dataset (a zarr replay buffer or a LeRobot dataset) that cannot be used.
+    #[error(transparent)]
+    Dataset(#[from] DatasetError),
     /// A CSV passed on its own has no `setting.json` beside it.
     #[error("{}: no setting.json in the same folder, expected a native recording set", path.display())]
     NoSetting { path: PathBuf },
-    /// An MIT Push Dataset file that cannot be used.
-    #[error("{}: {problem}", path.display())]
-    Mit { path: PathBuf, problem: MitProblem },
-    /// A ROS 2 bag (an `.mcap` file or a rosbag2 folder) that cannot be used; `path` is the `.mcap`
-    /// file the problem is in, or the folder.
-    #[error("{}: {problem}", path.display())]
-    Bag { path: PathBuf, problem: BagProblem },
-    /// A Push-T dataset (a zarr replay buffer or a LeRobot dataset) that cannot be used; `path` is the
-    /// file the problem is in (an array's `.zarray` or chunk, a parquet file), or the dataset.
-    #[error("{}: {problem}", path.display())]
-    Dataset {
-        path: PathBuf,
-        problem: DatasetProblem,
-    },
     /// A path that is none of the things pushlab can open.
-    #[error(
-        "{}: not a recording: expected a native set folder (with setting.json), a folder of sets, a CSV inside a set, or an MIT Push Dataset .json/.h5 file",
-        path.display()
-    )]
+    #[error("{}: {}", path.display(), NOT_A_RECORDING)]
     NotRecognised { path: PathBuf },
-    /// A file too large for the memory that is free (see `MEMORY_PER_FILE_BYTE`).
-    #[error(
-        "{}: too large to open: the file is {} and opening it needs about {} of memory, but {} \
-         free; split the recording into shorter files or free memory",
-        path.display(),
-        gigabytes(*bytes),
-        gigabytes(*needed),
-        available.map_or("less is".to_owned(), |a| format!("{} are", gigabytes(a)))
-    )]
-    TooLarge {
-        path: PathBuf,
-        bytes: u64,
-        /// Memory opening it needs, bytes.
-        needed: u64,
-        /// Free memory when it was checked, bytes.
-        available: Option<u64>,
-    },
     /// The user stopped the load before this file.
     #[error("{}: opening cancelled", path.display())]
     Cancelled { path: PathBuf },
@@ -96,64 +49,186 @@ pub enum LoadError {
     NothingFound { path: PathBuf },
 }
 
+impl From<BagError> for LoadError {
+    /// A bag's error, except that a cancelled read is the load's [`LoadError::Cancelled`], as it
+    /// is for every other file.
+    fn from(error: BagError) -> Self {
+        match error {
+            BagError::Problem {
+                path,
+                problem: BagProblem::Cancelled,
+            } => LoadError::Cancelled { path },
+            error => LoadError::Bag(error),
+        }
+    }
+}
+
 impl LoadError {
     /// The file or folder the error is about.
     pub fn path(&self) -> &Path {
         match self {
-            LoadError::Io { path, .. }
-            | LoadError::Csv { path, .. }
-            | LoadError::FrameList { path, .. }
-            | LoadError::SettingJson { path, .. }
-            | LoadError::SettingField { path, .. }
-            | LoadError::MissingTrajectory { path }
-            | LoadError::NoSetting { path }
-            | LoadError::Mit { path, .. }
-            | LoadError::Bag { path, .. }
-            | LoadError::Dataset { path, .. }
+            LoadError::Read(e) => e.path(),
+            LoadError::Native(e) => e.path(),
+            LoadError::Mit(e) => e.path(),
+            LoadError::Bag(e) => e.path(),
+            LoadError::Dataset(e) => e.path(),
+            LoadError::NoSetting { path }
             | LoadError::NotRecognised { path }
-            | LoadError::TooLarge { path, .. }
             | LoadError::NothingFound { path }
             | LoadError::Cancelled { path } => path,
         }
     }
 
-    /// Whether the file or folder does not exist (it vanished, or was never there).
-    pub fn is_not_found(&self) -> bool {
-        matches!(self, LoadError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound)
-    }
-
     pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
-        LoadError::Io {
-            path: path.to_path_buf(),
-            source,
-        }
+        LoadError::Read(ReadError::io(path, source))
     }
 }
 
-/// Bytes as gigabytes with one decimal (10⁹ bytes, as file managers show them).
-fn gigabytes(bytes: u64) -> String {
-    format!("{:.1} GB", bytes as f64 / 1e9)
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recording::dataset::DatasetProblem;
+    use crate::recording::mit_push::MitProblem;
+    use crate::recording::native::CsvProblem;
 
-/// Why a recording set could not be written.
-#[derive(Debug, thiserror::Error)]
-pub enum WriteError {
-    #[error("{}: cannot write: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    #[error("setting.json lists {entries} trajectories but {trajectories} were given")]
-    CountMismatch { entries: usize, trajectories: usize },
-    #[error("trajectory file name '{0}' must be a plain file name ending in .csv (no folders)")]
-    BadFileName(String),
-    #[error("trajectory '{file}' frame {frame}: {problem}")]
-    BadTrajectory {
-        file: String,
-        frame: usize,
-        problem: String,
-    },
-    #[error("cannot serialise setting.json: {0}")]
-    Json(String),
+    fn path() -> PathBuf {
+        PathBuf::from("d/x")
+    }
+
+    /// Each message as the loader said it before each reader had its own error (when every kind
+    /// was a variant of `LoadError`), through the wrapping, with the file it names.
+    #[test]
+    fn every_error_reads_as_it_did_and_names_its_file() {
+        let io = || std::io::Error::new(std::io::ErrorKind::NotFound, "gone");
+        let said: Vec<(LoadError, &str)> = vec![
+            (LoadError::io(&path(), io()), "d/x: cannot read: gone"),
+            (
+                ReadError::TooLarge {
+                    path: path(),
+                    bytes: 2_000_000_000,
+                    needed: 6_000_000_000,
+                    available: None,
+                }
+                .into(),
+                "d/x: too large to open: the file is 2.0 GB and opening it needs about 6.0 GB of \
+                 memory, but less is free; split the recording into shorter files or free memory",
+            ),
+            (
+                NativeError::Csv {
+                    path: path(),
+                    line: 3,
+                    problem: CsvProblem::TooFewRows { rows: 1 },
+                }
+                .into(),
+                "d/x line 3: only 1 data rows, expected at least 2",
+            ),
+            (
+                NativeError::FrameList {
+                    path: path(),
+                    line: 2,
+                    why: "why".into(),
+                }
+                .into(),
+                "d/x line 2: why",
+            ),
+            (
+                NativeError::SettingField {
+                    path: path(),
+                    field: "h".into(),
+                    problem: "is 0".into(),
+                }
+                .into(),
+                "d/x: field `h`: is 0",
+            ),
+            (
+                NativeError::MissingTrajectory { path: path() }.into(),
+                "d/x: listed in setting.json but the file does not exist",
+            ),
+            (
+                NativeError::Read(ReadError::io(&path(), io())).into(),
+                "d/x: cannot read: gone",
+            ),
+            (
+                LoadError::NoSetting { path: path() },
+                "d/x: no setting.json in the same folder, expected a native recording set",
+            ),
+            (
+                MitError::Problem {
+                    path: path(),
+                    problem: MitProblem::TooFewRows {
+                        key: "tip_pose",
+                        rows: 5,
+                        min: 10,
+                    },
+                }
+                .into(),
+                "d/x: `tip_pose` has only 5 usable rows, expected at least 10",
+            ),
+            (
+                BagError::Problem {
+                    path: path(),
+                    problem: BagProblem::NoMcapFiles,
+                }
+                .into(),
+                "d/x: a rosbag2 folder, but it holds no .mcap file (expected the files \
+                 metadata.yaml lists)",
+            ),
+            (
+                DatasetError::Problem {
+                    path: path(),
+                    problem: DatasetProblem::Field {
+                        field: "dtype".into(),
+                        why: "why".into(),
+                    },
+                }
+                .into(),
+                "d/x: field `dtype`: why",
+            ),
+            (
+                LoadError::NotRecognised { path: path() },
+                "d/x: not a recording: expected a native set folder (with setting.json), a folder \
+                 of sets, a CSV inside a set, or an MIT Push Dataset .json/.h5 file",
+            ),
+            (
+                DatasetError::NotRecognised { path: path() }.into(),
+                "d/x: not a recording: expected a native set folder (with setting.json), a folder \
+                 of sets, a CSV inside a set, or an MIT Push Dataset .json/.h5 file",
+            ),
+            (
+                LoadError::Cancelled { path: path() },
+                "d/x: opening cancelled",
+            ),
+            (
+                LoadError::NothingFound { path: path() },
+                "d/x: no recordings found (no setting.json and no MIT Push Dataset files inside)",
+            ),
+        ];
+        for (error, message) in said {
+            assert_eq!(error.to_string(), message);
+            assert_eq!(error.path(), path());
+        }
+        let problem =
+            crate::json_problem::from_file_bytes::<serde_json::Value>(b"{").expect_err("not JSON");
+        let json = LoadError::from(NativeError::SettingJson {
+            path: path(),
+            problem: problem.clone(),
+        });
+        assert_eq!(
+            json.to_string(),
+            format!("d/x: not a valid setting.json: {problem}")
+        );
+    }
+
+    #[test]
+    fn a_bag_read_cancelled_is_the_load_cancelled() {
+        let cancelled = LoadError::from(BagError::Problem {
+            path: path(),
+            problem: BagProblem::Cancelled,
+        });
+        assert!(
+            matches!(cancelled, LoadError::Cancelled { .. }),
+            "{cancelled}"
+        );
+        assert_eq!(cancelled.to_string(), "d/x: opening cancelled");
+    }
 }

@@ -4,11 +4,11 @@ use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use super::RecordingSet;
-use super::bag::BagProblem;
 use super::bag::{self, BagChoice};
+use super::bag::{BagError, BagProblem};
 use super::dataset::{self, DatasetChoice};
 use super::error::LoadError;
-use super::mit_push::{self, MitPush};
+use super::mit_push::{self, MitError, MitPush};
 use super::native::{self, SETTING_FILE};
 use super::progress::{LoadProgress, Progress};
 use crate::files;
@@ -313,7 +313,7 @@ impl Loader {
                 });
                 match dataset::open_with(&path, given, None, progress) {
                     Ok(set) => self.report.sets.push(set),
-                    Err(e) => self.report.errors.push(e),
+                    Err(e) => self.report.errors.push(e.into()),
                 }
             }
         }
@@ -332,20 +332,20 @@ impl Loader {
             Some(choice) => bag::open_with(path, choice, progress),
             None => match bag::choice::remembered(path) {
                 Ok(Some(choice)) => bag::open_with(path, &choice, progress).map_err(|e| match e {
-                    LoadError::Cancelled { .. } => e,
-                    e => LoadError::Bag {
-                        path: path.to_path_buf(),
-                        problem: BagProblem::ChoiceFailed {
+                    BagError::Problem {
+                        problem: BagProblem::Cancelled,
+                        ..
+                    } => e,
+                    e => BagError::problem(
+                        path,
+                        BagProblem::ChoiceFailed {
                             choice_file: bag::choice::choice_path(path),
                             why: e.to_string(),
                         },
-                    },
+                    ),
                 }),
                 Ok(None) => Err(match bag::topics(path) {
-                    Ok(listing) => LoadError::Bag {
-                        path: path.to_path_buf(),
-                        problem: BagProblem::NeedsImport { listing },
-                    },
+                    Ok(listing) => BagError::problem(path, BagProblem::NeedsImport { listing }),
                     Err(e) => e,
                 }),
                 Err(e) => Err(e),
@@ -353,7 +353,7 @@ impl Loader {
         };
         match outcome {
             Ok(set) => self.report.sets.push(set),
-            Err(e) => self.report.errors.push(e),
+            Err(e) => self.report.errors.push(e.into()),
         }
     }
 
@@ -399,9 +399,11 @@ impl Loader {
                 if !set.recordings.is_empty() {
                     self.report.sets.push(set);
                 }
-                self.report.errors.extend(errors);
+                self.report
+                    .errors
+                    .extend(errors.into_iter().map(LoadError::from));
             }
-            Err(e) => self.report.errors.push(e),
+            Err(e) => self.report.errors.push(e.into()),
         }
     }
 
@@ -422,7 +424,7 @@ impl Loader {
                     .or_default()
                     .push((path.to_path_buf(), push));
             }
-            Err(e) => self.report.errors.push(e),
+            Err(e) => self.report.errors.push(e.into()),
         }
     }
 
@@ -437,10 +439,10 @@ impl Loader {
                     recordings,
                 }),
                 // Unreachable in practice: the shape was checked on import.
-                Err(problem) => self.report.errors.push(LoadError::Mit {
+                Err(problem) => self.report.errors.push(LoadError::Mit(MitError::Problem {
                     path: first,
                     problem,
-                }),
+                })),
             }
         }
         self.report

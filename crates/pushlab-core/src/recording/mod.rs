@@ -21,19 +21,19 @@ mod setting;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-pub use bag::BagProblem;
-pub use dataset::DatasetProblem;
+pub use bag::{BagError, BagProblem};
+pub use dataset::{DatasetError, DatasetProblem};
 pub use describe::PushParameters;
-pub use error::{LoadError, WriteError};
+pub use error::LoadError;
 pub use load::{
     LoadReport, SourceChoice, is_recording_file, load_paths, load_paths_choosing,
     load_paths_in_slices, load_paths_with,
 };
-pub use mit_push::MitProblem;
-pub use native::CsvProblem;
+pub use mit_push::{MitError, MitProblem};
+pub use native::{CsvProblem, NativeError, WriteError};
 pub use native::{read_set, write_set};
 pub use progress::{LoadProgress, NoProgress, Progress, ProgressSnapshot};
-pub use read::{MEMORY_PER_FILE_BYTE, available_memory};
+pub use read::{MEMORY_PER_FILE_BYTE, ReadError, available_memory};
 pub use resample::SpanProblem;
 pub use setting::{
     BoxSize, BoxSizeError, ObjectShape, PushSide, Setting, ShapePreset, TrajectoryEntry,
@@ -42,6 +42,10 @@ pub use setting::{
 
 use self::camera::CameraStream;
 use crate::trajectory::Trajectory;
+
+/// What is said of a path that is none of the things pushlab opens, after the path.
+const NOT_A_RECORDING: &str = "not a recording: expected a native set folder (with setting.json), a \
+     folder of sets, a CSV inside a set, or an MIT Push Dataset .json/.h5 file";
 
 /// One loaded push.
 #[derive(Clone, Debug)]

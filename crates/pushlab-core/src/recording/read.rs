@@ -7,7 +7,62 @@
 
 use std::path::{Path, PathBuf};
 
-use super::error::LoadError;
+/// Why a file could not be read whole, before any reader of a format looks at its bytes. Every
+/// reader returns it inside its own error, and the loader inside [`super::LoadError`].
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// The file or folder could not be read at all.
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file too large for the memory that is free (see `MEMORY_PER_FILE_BYTE`).
+    #[error(
+        "{}: too large to open: the file is {} and opening it needs about {} of memory, but {} \
+         free; split the recording into shorter files or free memory",
+        path.display(),
+        gigabytes(*bytes),
+        gigabytes(*needed),
+        available.map_or("less is".to_owned(), |a| format!("{} are", gigabytes(a)))
+    )]
+    TooLarge {
+        path: PathBuf,
+        bytes: u64,
+        /// Memory opening it needs, bytes.
+        needed: u64,
+        /// Free memory when it was checked, bytes.
+        available: Option<u64>,
+    },
+}
+
+impl ReadError {
+    /// The file or folder the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            ReadError::Io { path, .. } | ReadError::TooLarge { path, .. } => path,
+        }
+    }
+
+    /// Whether the file or folder does not exist (it vanished, or was never there).
+    pub fn is_not_found(&self) -> bool {
+        matches!(self, ReadError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound)
+    }
+
+    /// `source` met reading `path`.
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
+        ReadError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
+/// Bytes as gigabytes with one decimal (10⁹ bytes, as file managers show them).
+fn gigabytes(bytes: u64) -> String {
+    format!("{:.1} GB", bytes as f64 / 1e9)
+}
 
 /// Bytes of memory opening a recording needs per byte of its file: the file's bytes while it is
 /// parsed, its frames (48 bytes for a ~55-byte CSV line) and what the app keeps per frame.
@@ -23,13 +78,13 @@ pub(crate) fn file_beside(source: &Path, suffix: &str, fallback: &str) -> PathBu
 }
 
 /// The whole file at `path`, or an error naming it: unreadable, or too large for the free memory.
-pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, ReadError> {
     let size = crate::files::metadata(path)
-        .map_err(|e| LoadError::io(path, e))?
+        .map_err(|e| ReadError::io(path, e))?
         .len;
     fits_in_memory(path, size, available_memory())?;
     let mut bytes = Vec::new();
-    let too_large = || LoadError::TooLarge {
+    let too_large = || ReadError::TooLarge {
         path: path.to_path_buf(),
         bytes: size,
         needed: size.saturating_mul(MEMORY_PER_FILE_BYTE),
@@ -38,7 +93,7 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
     bytes
         .try_reserve_exact(usize::try_from(size).map_err(|_| too_large())?)
         .map_err(|_| too_large())?;
-    read_into(path, &mut bytes).map_err(|e| LoadError::io(path, e))?;
+    read_into(path, &mut bytes).map_err(|e| ReadError::io(path, e))?;
     Ok(bytes)
 }
 
@@ -58,10 +113,10 @@ fn read_into(path: &Path, bytes: &mut Vec<u8>) -> std::io::Result<()> {
 }
 
 /// Refuses a file of `size` bytes when opening it would need more than `available` bytes.
-fn fits_in_memory(path: &Path, size: u64, available: Option<u64>) -> Result<(), LoadError> {
+fn fits_in_memory(path: &Path, size: u64, available: Option<u64>) -> Result<(), ReadError> {
     match available {
         Some(free) if size.saturating_mul(MEMORY_PER_FILE_BYTE) > free => {
-            Err(LoadError::TooLarge {
+            Err(ReadError::TooLarge {
                 path: path.to_path_buf(),
                 bytes: size,
                 needed: size.saturating_mul(MEMORY_PER_FILE_BYTE),

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use pushlab_core::recording::bag::{self, BagImport, ImportOptions};
-use pushlab_core::recording::{BagProblem, LoadError};
+use pushlab_core::recording::{BagError, BagProblem};
 
 use super::{fixture, problem, spec};
 
@@ -114,7 +114,7 @@ fn an_undecodable_message_names_file_topic_and_index() {
 }
 
 /// Imports `bytes` written to a temporary `.mcap` file.
-fn import_bytes(name: &str, bytes: &[u8]) -> Result<BagImport, LoadError> {
+fn import_bytes(name: &str, bytes: &[u8]) -> Result<BagImport, BagError> {
     import_bytes_with(name, bytes, ImportOptions::default())
 }
 
@@ -122,7 +122,7 @@ fn import_bytes_with(
     name: &str,
     bytes: &[u8],
     options: ImportOptions,
-) -> Result<BagImport, LoadError> {
+) -> Result<BagImport, BagError> {
     let dir = std::env::temp_dir().join(format!("pushlab-bag-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.mcap"));

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::choice::BagChoice;
+use super::error::BagError;
 use super::spec::TopicSpec;
 use super::split::{BagImport, import_with_cameras};
-use crate::recording::error::LoadError;
 use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::setting::{Setting, TrajectoryEntry};
 use crate::recording::{Recording, RecordingSet};
@@ -85,7 +85,7 @@ fn source_of(bag: &Path, index: usize, many: bool) -> PathBuf {
 
 /// Imports a bag as `choice` says and returns its pushes as a set, in memory (nothing is written).
 /// The set's folder is the bag's.
-pub fn open(bag: &Path, choice: &BagChoice) -> Result<RecordingSet, LoadError> {
+pub fn open(bag: &Path, choice: &BagChoice) -> Result<RecordingSet, BagError> {
     open_with(bag, choice, &NoProgress)
 }
 
@@ -94,7 +94,7 @@ pub fn open_with(
     bag: &Path,
     choice: &BagChoice,
     progress: &dyn Progress,
-) -> Result<RecordingSet, LoadError> {
+) -> Result<RecordingSet, BagError> {
     let base = choice.setting.resolve()?;
     let import = import_with_cameras(
         bag,

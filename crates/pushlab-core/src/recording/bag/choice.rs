@@ -16,14 +16,14 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::cdr::PoseType;
+use super::error::BagError;
 use super::problem::BagProblem;
 use super::spec::TopicSpec;
 use super::split::{ImportOptions, MAX_RATE_HZ};
 use super::topic_info::{TF_STATIC, TopicInfo};
 use crate::atomic_file::write_atomically;
 use crate::json_problem;
-use crate::recording::error::LoadError;
-use crate::recording::native::{SETTING_FILE, check_setting, parse_setting};
+use crate::recording::native::{NativeError, SETTING_FILE, check_setting, parse_setting};
 use crate::recording::read::{file_beside, read_file};
 use crate::recording::setting::Setting;
 
@@ -81,7 +81,7 @@ pub fn choice_path(bag: &Path) -> PathBuf {
 
 /// The choice remembered beside `bag`, if any. A file that exists but cannot be used is an error
 /// naming it and the field.
-pub fn remembered(bag: &Path) -> Result<Option<BagChoice>, LoadError> {
+pub fn remembered(bag: &Path) -> Result<Option<BagChoice>, BagError> {
     let path = choice_path(bag);
     if !crate::files::is_file(&path) {
         return Ok(None);
@@ -90,8 +90,8 @@ pub fn remembered(bag: &Path) -> Result<Option<BagChoice>, LoadError> {
     parse(&bytes, &path).map(Some)
 }
 
-fn bad(path: &Path, why: String) -> LoadError {
-    LoadError::Bag {
+fn bad(path: &Path, why: String) -> BagError {
+    BagError::Problem {
         path: path.to_path_buf(),
         problem: BagProblem::BadChoice { why },
     }
@@ -99,7 +99,7 @@ fn bad(path: &Path, why: String) -> LoadError {
 
 /// Reads a choice file held in memory; `path` names it in messages and anchors a relative
 /// `setting_file`.
-pub fn parse(bytes: &[u8], path: &Path) -> Result<BagChoice, LoadError> {
+pub fn parse(bytes: &[u8], path: &Path) -> Result<BagChoice, BagError> {
     let file: ChoiceFile =
         json_problem::from_file_bytes(bytes).map_err(|problem| bad(path, problem.to_string()))?;
     if file.format != FORMAT {
@@ -196,7 +196,7 @@ pub fn remember(bag: &Path, choice: &BagChoice) -> std::io::Result<PathBuf> {
 impl SettingSource {
     /// The setting, read and checked when it is a file; an entered one was checked when entered
     /// ([`entered_box`]) or read ([`parse`]).
-    pub fn resolve(&self) -> Result<Setting, LoadError> {
+    pub fn resolve(&self) -> Result<Setting, NativeError> {
         match self {
             SettingSource::File(path) => parse_setting(&read_file(path)?, path),
             SettingSource::Entered(setting) => Ok(setting.clone()),

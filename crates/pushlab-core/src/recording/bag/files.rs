@@ -3,10 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
+use super::error::BagError;
 use super::mcap::{Bytes, Source};
 use super::problem::BagProblem;
 use crate::files;
-use crate::recording::error::LoadError;
 
 /// Whether `path` looks like a bag: an `.mcap` file, or a folder with `metadata.yaml`.
 pub fn is_bag(path: &Path) -> bool {
@@ -20,19 +20,19 @@ pub fn is_bag(path: &Path) -> bool {
 
 /// The `.mcap` files of a bag, in recording order: the file itself, or those a rosbag2 folder's
 /// `metadata.yaml` lists (all `.mcap` files of the folder by name when it lists none).
-pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, LoadError> {
+pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
     if !files::is_dir(path) {
         return Ok(vec![path.to_path_buf()]);
     }
     let metadata = path.join("metadata.yaml");
-    let text = files::read_to_string(&metadata).map_err(|e| LoadError::io(&metadata, e))?;
+    let text = files::read_to_string(&metadata).map_err(|e| BagError::io(&metadata, e))?;
     let mut mcaps: Vec<PathBuf> = listed_files(&text)
         .into_iter()
         .map(|name| path.join(name))
         .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
         .collect();
     if mcaps.is_empty() {
-        let entries = files::read_dir(path).map_err(|e| LoadError::io(path, e))?;
+        let entries = files::read_dir(path).map_err(|e| BagError::io(path, e))?;
         mcaps = entries
             .into_iter()
             .map(|e| e.path)
@@ -41,7 +41,7 @@ pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, LoadError> {
         mcaps.sort();
     }
     if mcaps.is_empty() {
-        return Err(LoadError::Bag {
+        return Err(BagError::Problem {
             path: path.to_path_buf(),
             problem: BagProblem::NoMcapFiles,
         });
@@ -72,25 +72,18 @@ fn listed_files(yaml: &str) -> Vec<String> {
 }
 
 /// Runs `read` on one `.mcap` file of a bag — opened for reading at offsets, or the bytes given
-/// (one file held in memory) — and names the file in what goes wrong.
+/// (one file held in memory) — and names the file in what goes wrong. A read stopped by its progress
+/// is [`BagProblem::Cancelled`], which the loader says as its own cancel.
 pub(super) fn read_file<T>(
     file: &Path,
     bytes: Option<&[u8]>,
     read: impl FnOnce(&dyn Source) -> Result<T, BagProblem>,
-) -> Result<T, LoadError> {
-    let fail = |problem| match problem {
-        BagProblem::Cancelled => LoadError::Cancelled {
-            path: file.to_path_buf(),
-        },
-        problem => LoadError::Bag {
-            path: file.to_path_buf(),
-            problem,
-        },
-    };
+) -> Result<T, BagError> {
+    let fail = |problem| BagError::problem(file, problem);
     match bytes {
         Some(bytes) => read(&Bytes(bytes)).map_err(fail),
         None => {
-            let source = files::Positioned::open(file).map_err(|e| LoadError::io(file, e))?;
+            let source = files::Positioned::open(file).map_err(|e| BagError::io(file, e))?;
             read(&source).map_err(fail)
         }
     }

@@ -23,6 +23,7 @@ mod as_set;
 mod camera;
 mod cdr;
 pub mod choice;
+mod error;
 mod files;
 mod image_msg;
 pub mod json_pose;
@@ -40,6 +41,7 @@ mod topics;
 pub use self::as_set::{open, open_with, setting_for};
 pub use self::cdr::{PlanarPose, PoseType, Transform, decode_tf, encode_pose_stamped, yaw_of};
 pub use self::choice::{BagChoice, SettingSource};
+pub use self::error::BagError;
 pub use self::files::{bag_files, is_bag};
 pub use self::image_msg::{
     ImageKind, decode as decode_image_message, describe as describe_image_message,

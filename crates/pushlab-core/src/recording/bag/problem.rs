@@ -85,7 +85,7 @@ pub enum BagProblem {
     )]
     DifferentRoots {
         pusher: String,
-        /// From the child frame up to the root (boxed slices keep `LoadError` small).
+        /// From the child frame up to the root (boxed slices keep `BagError` small).
         pusher_chain: Box<[String]>,
         object: String,
         object_chain: Box<[String]>,

@@ -4,12 +4,12 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use super::error::BagError;
 use super::problem::BagProblem;
 use super::spec::TopicSpec;
 use super::streams::{BagStreams, read_streams, read_streams_bytes};
 use super::topic_info::TopicInfo;
 use crate::recording::camera::CameraStream;
-use crate::recording::error::LoadError;
 use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::resample::{
     Interpolator, MIN_ROWS, SpanProblem, clean, grid, grid_frame, grid_time, unwrap_yaw,
@@ -65,7 +65,7 @@ pub fn import(
     pusher: &TopicSpec,
     object: &TopicSpec,
     options: ImportOptions,
-) -> Result<BagImport, LoadError> {
+) -> Result<BagImport, BagError> {
     import_with_cameras(path, pusher, object, &[], options, &NoProgress)
 }
 
@@ -78,7 +78,7 @@ pub fn import_with_cameras(
     cameras: &[String],
     options: ImportOptions,
     progress: &dyn Progress,
-) -> Result<BagImport, LoadError> {
+) -> Result<BagImport, BagError> {
     let streams = read_streams(path, pusher, object, cameras, progress)?;
     finish(path, &streams, pusher, object, options)
 }
@@ -90,7 +90,7 @@ pub fn import_bytes(
     pusher: &TopicSpec,
     object: &TopicSpec,
     options: ImportOptions,
-) -> Result<BagImport, LoadError> {
+) -> Result<BagImport, BagError> {
     import_bytes_with_cameras(bytes, path, pusher, object, &[], options)
 }
 
@@ -102,7 +102,7 @@ pub fn import_bytes_with_cameras(
     object: &TopicSpec,
     cameras: &[String],
     options: ImportOptions,
-) -> Result<BagImport, LoadError> {
+) -> Result<BagImport, BagError> {
     let streams = read_streams_bytes(bytes, path, pusher, object, cameras)?;
     finish(path, &streams, pusher, object, options)
 }
@@ -113,11 +113,13 @@ fn finish(
     pusher: &TopicSpec,
     object: &TopicSpec,
     options: ImportOptions,
-) -> Result<BagImport, LoadError> {
+) -> Result<BagImport, BagError> {
     let (pushes, rate_hz) =
-        resample_streams(streams, pusher, object, options).map_err(|problem| LoadError::Bag {
-            path: path.to_path_buf(),
-            problem,
+        resample_streams(streams, pusher, object, options).map_err(|problem| {
+            BagError::Problem {
+                path: path.to_path_buf(),
+                problem,
+            }
         })?;
     Ok(BagImport {
         pushes,

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use super::camera::{BagBytes, FoundCamera};
 use super::cdr::{self, PoseType};
+use super::error::BagError;
 use super::files::{bag_files, read_file};
 use super::image_msg::{self, ImageKind};
 use super::mcap::{ChannelInfo, Visit, Visitor, Want, read_messages};
@@ -16,7 +17,6 @@ use super::spec::TopicSpec;
 use super::tf_tree::{Chain, Transforms};
 use super::topic_info::{TF_STATIC, TopicInfo};
 use super::topics::{TopicTable, cut_of};
-use crate::recording::error::LoadError;
 use crate::recording::progress::{NoProgress, Progress};
 use crate::recording::resample::MAX_POSITION_M;
 
@@ -94,7 +94,7 @@ pub fn read_streams(
     object: &TopicSpec,
     cameras: &[String],
     progress: &dyn Progress,
-) -> Result<BagStreams, LoadError> {
+) -> Result<BagStreams, BagError> {
     let files = bag_files(path)?;
     let bag = BagBytes::Files(files.clone().into());
     read_streams_in(path, &files, None, bag, pusher, object, cameras, progress)
@@ -107,7 +107,7 @@ pub fn read_streams_bytes(
     pusher: &TopicSpec,
     object: &TopicSpec,
     cameras: &[String],
-) -> Result<BagStreams, LoadError> {
+) -> Result<BagStreams, BagError> {
     // The bytes are kept for reading frames later only when there are frames to read.
     let kept = if cameras.is_empty() { &[][..] } else { bytes };
     let bag = BagBytes::Memory {
@@ -137,7 +137,7 @@ fn read_streams_in(
     object: &TopicSpec,
     cameras: &[String],
     progress: &dyn Progress,
-) -> Result<BagStreams, LoadError> {
+) -> Result<BagStreams, BagError> {
     let mut streams = [pusher, object].map(|spec| Stream {
         spec,
         rows: Vec::new(),
@@ -183,7 +183,7 @@ fn read_streams_in(
             }
         }
     }
-    let bag_error = |problem| LoadError::Bag {
+    let bag_error = |problem| BagError::Problem {
         path: path.to_path_buf(),
         problem,
     };
@@ -301,9 +301,9 @@ fn read_chain(
     path: &Path,
     base: &mut Option<u64>,
     warnings: &mut Vec<String>,
-) -> Result<(), LoadError> {
+) -> Result<(), BagError> {
     let spec = stream.spec.to_string();
-    let error = |file: Option<usize>, problem| LoadError::Bag {
+    let error = |file: Option<usize>, problem| BagError::Problem {
         path: file
             .and_then(|f| files.get(f))
             .map_or_else(|| path.to_path_buf(), Clone::clone),

@@ -5,12 +5,12 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use super::cdr::PoseType;
+use super::error::BagError;
 use super::files::{bag_files, read_file};
 use super::image_msg::{ImageKind, describe};
 use super::mcap::{ChannelInfo, ChannelStats, CutShort, Visit, Visitor, Want, read_messages};
 use super::problem::BagProblem;
 use super::topic_info::{BagListing, CameraInfo, TopicInfo};
-use crate::recording::error::LoadError;
 
 /// Topics by name, accumulating over the files of a bag. Looked up by `&str` for every message of
 /// a bag, so a topic's name is copied once, when it is first seen, not per message.
@@ -84,20 +84,16 @@ impl TopicTable {
 /// of TF topics (for their child frames) and each camera's first frame (for its encoding and size)
 /// are read; the counts come from the files' indexes (from reading a file through when it has
 /// none: cut short).
-pub fn topics(path: &Path) -> Result<BagListing, LoadError> {
+pub fn topics(path: &Path) -> Result<BagListing, BagError> {
     topics_in(path, &bag_files(path)?, None)
 }
 
 /// Lists the topics of one `.mcap` file held in memory; `path` is only used in messages.
-pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<BagListing, LoadError> {
+pub fn topics_bytes(bytes: &[u8], path: &Path) -> Result<BagListing, BagError> {
     topics_in(path, &[path.to_path_buf()], Some(bytes))
 }
 
-fn topics_in(
-    path: &Path,
-    files: &[PathBuf],
-    bytes: Option<&[u8]>,
-) -> Result<BagListing, LoadError> {
+fn topics_in(path: &Path, files: &[PathBuf], bytes: Option<&[u8]>) -> Result<BagListing, BagError> {
     let mut table = TopicTable::default();
     let mut cut_short = Vec::new();
     for file in files {

@@ -17,10 +17,10 @@ use nalgebra::Point2;
 
 use super::cameras::DatasetCameras;
 use super::choice::{Columns, DatasetChoice, ObjectSource};
+use super::error::DatasetError;
 use super::problem::DatasetProblem;
 use super::table::{DatasetTable, Feature};
 use crate::geometry::{PUSH_T, Pose2, PushT, fit_rigid, unwrap_angles};
-use crate::recording::error::LoadError;
 use crate::recording::setting::{Setting, ShapePreset, TrajectoryEntry};
 use crate::recording::{Recording, RecordingSet};
 use crate::trajectory::{Frame, Trajectory};
@@ -108,8 +108,8 @@ pub fn to_set(
     table: &DatasetTable,
     choice: &DatasetChoice,
     range: Option<Range<usize>>,
-) -> Result<RecordingSet, LoadError> {
-    let fail = |problem| LoadError::Dataset {
+) -> Result<RecordingSet, DatasetError> {
+    let fail = |problem| DatasetError::Problem {
         path: dataset.to_path_buf(),
         problem,
     };

@@ -6,10 +6,10 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use super::error::DatasetError;
 use super::table::{DatasetFormat, DatasetTable};
 use super::zarr_frames::ImageArray;
 use crate::recording::camera::{CameraStream, VideoFrames, find_ffmpeg};
-use crate::recording::error::LoadError;
 
 /// What every episode's cameras are made from, opened once per dataset.
 pub struct DatasetCameras {
@@ -21,7 +21,7 @@ pub struct DatasetCameras {
 impl DatasetCameras {
     /// Opens a replay buffer's image arrays (an error names the array's `.zarray` when its frames
     /// are not whole along time) and finds ffmpeg for a LeRobot dataset's videos.
-    pub fn open(dataset: &Path, table: &DatasetTable) -> Result<Self, LoadError> {
+    pub fn open(dataset: &Path, table: &DatasetTable) -> Result<Self, DatasetError> {
         let arrays = if table.format == DatasetFormat::ReplayBuffer {
             (table.cameras.iter())
                 .map(|(name, _)| {

@@ -15,12 +15,12 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use super::error::DatasetError;
 use super::problem::DatasetProblem;
 use super::table::DatasetTable;
 use crate::atomic_file::write_atomically;
 use crate::geometry::PushT;
 use crate::json_problem;
-use crate::recording::error::LoadError;
 use crate::recording::read::{file_beside, read_file};
 
 /// Appended to a dataset's folder name to name its remembered choice.
@@ -138,13 +138,13 @@ pub fn choice_path(dataset: &Path) -> PathBuf {
 
 /// The choice remembered beside `dataset`, if any; a file that cannot be used is an error naming
 /// it and the field.
-pub fn remembered(dataset: &Path) -> Result<Option<DatasetChoice>, LoadError> {
+pub fn remembered(dataset: &Path) -> Result<Option<DatasetChoice>, DatasetError> {
     let path = choice_path(dataset);
     if !crate::files::is_file(&path) {
         return Ok(None);
     }
     let bytes = read_file(&path)?;
-    let bad = |problem| LoadError::Dataset {
+    let bad = |problem| DatasetError::Problem {
         path: path.clone(),
         problem,
     };

@@ -12,6 +12,7 @@ mod as_set;
 pub mod blosc;
 mod cameras;
 pub mod choice;
+mod error;
 pub mod lerobot;
 mod problem;
 pub mod replay;
@@ -24,10 +25,10 @@ use std::path::Path;
 
 pub use self::as_set::{episode_indexes, setting_for, to_set};
 pub use self::choice::{Columns, DatasetChoice, ObjectSource};
+pub use self::error::DatasetError;
 pub use self::problem::DatasetProblem;
 pub use self::table::{DatasetFormat, DatasetTable, Feature, VideoFeature, VideoSpan};
 use crate::recording::RecordingSet;
-use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
 /// Whether `path` is a dataset pushlab reads: a zarr replay buffer or a LeRobot dataset (a
@@ -47,14 +48,14 @@ pub fn bytes(path: &Path) -> u64 {
 }
 
 /// Reads a dataset's features and episodes.
-pub fn read_table(path: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadError> {
+pub fn read_table(path: &Path, progress: &dyn Progress) -> Result<DatasetTable, DatasetError> {
     if replay::is_replay_buffer(path) {
         return replay::read(path, progress);
     }
     if lerobot::is_lerobot(path) {
         return lerobot::read(path, progress);
     }
-    Err(LoadError::NotRecognised {
+    Err(DatasetError::NotRecognised {
         path: path.to_path_buf(),
     })
 }
@@ -66,14 +67,14 @@ pub fn open_with(
     choice: Option<&DatasetChoice>,
     range: Option<Range<usize>>,
     progress: &dyn Progress,
-) -> Result<RecordingSet, LoadError> {
+) -> Result<RecordingSet, DatasetError> {
     let table = read_table(path, progress)?;
     let choice = match choice {
         Some(choice) => choice.clone(),
         None => match choice::remembered(path)?.or_else(|| choice::suggest(&table)) {
             Some(choice) => choice,
             None => {
-                return Err(LoadError::Dataset {
+                return Err(DatasetError::Problem {
                     path: path.to_path_buf(),
                     problem: DatasetProblem::NeedsChoice {
                         features: table.feature_list(),

@@ -1,5 +1,5 @@
 //! What can be wrong with a Push-T dataset (a zarr replay buffer or a LeRobot dataset), beside the
-//! readers that find it. The error that carries it ([`crate::recording::LoadError::Dataset`]) names
+//! readers that find it. The error that carries it ([`super::DatasetError::Problem`]) names
 //! the file: the array's `.zarray` or chunk, the parquet file, `meta/info.json`.
 
 use crate::json_problem::JsonProblem;

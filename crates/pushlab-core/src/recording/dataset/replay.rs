@@ -5,10 +5,10 @@
 
 use std::path::Path;
 
+use super::error::DatasetError;
 use super::problem::DatasetProblem;
 use super::table::{DatasetFormat, DatasetTable, Feature};
 use super::zarr::{ZarrArray, is_array};
-use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
 /// Frames per second of Push-T: gym-pusht (and Diffusion Policy's own environment) takes 10
@@ -61,11 +61,11 @@ fn is_image(array: &ZarrArray) -> bool {
 }
 
 /// Reads the buffer's numeric arrays and its episodes; images are listed, read when shown.
-pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadError> {
+pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, DatasetError> {
     let ends_dir = dir.join("meta").join("episode_ends");
     let ends_array = ZarrArray::open(&ends_dir)?;
     let ends = ends_array.read_f64(progress)?;
-    let fail = |path: &Path, problem| LoadError::Dataset {
+    let fail = |path: &Path, problem| DatasetError::Problem {
         path: path.to_path_buf(),
         problem,
     };

@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use super::blosc;
+use super::error::DatasetError;
 use super::problem::DatasetProblem;
 use crate::json_problem;
-use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
 /// One zarr v2 array, its metadata read and checked; the values are read on demand.
@@ -109,9 +109,9 @@ pub fn is_array(dir: &Path) -> bool {
 
 impl ZarrArray {
     /// Reads and checks the array's `.zarray`; errors name that file and the field.
-    pub fn open(dir: &Path) -> Result<Self, LoadError> {
+    pub fn open(dir: &Path) -> Result<Self, DatasetError> {
         let meta_path = dir.join(".zarray");
-        let fail = |problem| LoadError::Dataset {
+        let fail = |problem| DatasetError::Problem {
             path: meta_path.clone(),
             problem,
         };
@@ -121,7 +121,7 @@ impl ZarrArray {
                 why,
             })
         };
-        let text = crate::files::read(&meta_path).map_err(|e| LoadError::io(&meta_path, e))?;
+        let text = crate::files::read(&meta_path).map_err(|e| DatasetError::io(&meta_path, e))?;
         let meta: Meta = json_problem::from_file_bytes(&text)
             .map_err(|problem| fail(DatasetProblem::Json(problem)))?;
         if meta.zarr_format != 2 {
@@ -212,7 +212,7 @@ impl ZarrArray {
 
     /// The decoded bytes of chunk `index` along the first dimension of an array chunked along it
     /// only (an image array: whole frames per chunk); a chunk file that is missing is an error.
-    pub fn read_time_chunk(&self, index: usize) -> Result<Vec<u8>, LoadError> {
+    pub fn read_time_chunk(&self, index: usize) -> Result<Vec<u8>, DatasetError> {
         let chunk_len: usize = self.chunks.iter().product::<usize>() * self.dtype.size;
         let mut key = index.to_string();
         for _ in 1..self.shape.len() {
@@ -223,14 +223,14 @@ impl ZarrArray {
         if !crate::files::is_file(&path) {
             return Err(self.missing_chunk(path, index));
         }
-        let raw = crate::files::read(&path).map_err(|e| LoadError::io(&path, e))?;
+        let raw = crate::files::read(&path).map_err(|e| DatasetError::io(&path, e))?;
         self.decode(&raw, chunk_len)
-            .map_err(|problem| LoadError::Dataset { path, problem })
+            .map_err(|problem| DatasetError::Problem { path, problem })
     }
 
     /// Every value, row-major, as `f64`; `progress` is told each chunk's bytes and stops the read
     /// when cancelled.
-    pub fn read_f64(&self, progress: &dyn Progress) -> Result<Vec<f64>, LoadError> {
+    pub fn read_f64(&self, progress: &dyn Progress) -> Result<Vec<f64>, DatasetError> {
         let total: usize = self.shape.iter().product();
         let mut out = vec![self.fill; total];
         let grid: Vec<usize> = (self.shape.iter().zip(&self.chunks))
@@ -243,7 +243,7 @@ impl ZarrArray {
         }
         loop {
             if progress.is_cancelled() {
-                return Err(LoadError::Dataset {
+                return Err(DatasetError::Problem {
                     path: self.dir.clone(),
                     problem: DatasetProblem::Cancelled,
                 });
@@ -254,11 +254,11 @@ impl ZarrArray {
             if !crate::files::is_file(&path) {
                 return Err(self.missing_chunk(path, index[0]));
             }
-            let raw = crate::files::read(&path).map_err(|e| LoadError::io(&path, e))?;
+            let raw = crate::files::read(&path).map_err(|e| DatasetError::io(&path, e))?;
             progress.advance(raw.len() as u64);
             let bytes = self
                 .decode(&raw, chunk_len * self.dtype.size)
-                .map_err(|problem| LoadError::Dataset {
+                .map_err(|problem| DatasetError::Problem {
                     path: path.clone(),
                     problem,
                 })?;
@@ -280,11 +280,11 @@ impl ZarrArray {
     }
 
     /// The error for the chunk file at `path`, the `row_chunk`-th along the first dimension.
-    fn missing_chunk(&self, path: PathBuf, row_chunk: usize) -> LoadError {
+    fn missing_chunk(&self, path: PathBuf, row_chunk: usize) -> DatasetError {
         let rows = self.chunks.first().copied().unwrap_or(1);
         let start = row_chunk * rows;
         let end = (start + rows).min(self.shape.first().copied().unwrap_or(0));
-        LoadError::Dataset {
+        DatasetError::Problem {
             path,
             problem: DatasetProblem::MissingChunk { start, end },
         }

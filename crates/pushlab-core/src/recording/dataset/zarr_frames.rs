@@ -5,12 +5,12 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use super::error::DatasetError;
 use super::problem::DatasetProblem;
 use super::zarr::ZarrArray;
 use crate::recording::camera::{
     CameraStream, EncodedImage, FrameProblem, FrameReader, FrameSource, ImageFormat, RawEncoding,
 };
-use crate::recording::error::LoadError;
 
 /// An image array checked to hold whole frames per chunk, RGB or grey bytes.
 #[derive(Debug)]
@@ -25,9 +25,9 @@ pub struct ImageArray {
 impl ImageArray {
     /// The image array in `dir` (named `name` in the buffer); an error names its `.zarray` when its
     /// frames are not bytes of height × width (× 3), or a chunk splits a frame.
-    pub fn open(dir: &std::path::Path, name: &str) -> Result<Self, LoadError> {
+    pub fn open(dir: &std::path::Path, name: &str) -> Result<Self, DatasetError> {
         let array = ZarrArray::open(dir)?;
-        let fail = |why: String| LoadError::Dataset {
+        let fail = |why: String| DatasetError::Problem {
             path: dir.join(".zarray"),
             problem: DatasetProblem::Field {
                 field: "shape".into(),

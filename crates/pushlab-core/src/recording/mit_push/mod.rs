@@ -21,6 +21,7 @@
 //! The force stream is only checked (for being frozen), never imported: pushlab's model does not use
 //! forces, so a frozen sensor is a note, not a warning.
 
+mod error;
 mod problem;
 mod set;
 
@@ -30,10 +31,10 @@ use std::path::Path;
 use nalgebra::{Point2, Vector2};
 use serde::Deserialize;
 
+pub use self::error::MitError;
 pub use self::problem::MitProblem;
 pub(crate) use self::set::recordings_for;
 pub use self::set::{KEY_REP, KEY_SHAPE, KEY_SIDE, KEY_SIDE_POSITION, KEY_SPEED, MitShape, shape};
-use super::error::LoadError;
 use super::resample::{self, GAP_WARN_S, Interpolator, MAX_POSITION_M, MIN_ROWS, grid, unwrap_yaw};
 use crate::geometry::Pose2;
 use crate::trajectory::{Frame, Trajectory};
@@ -203,8 +204,8 @@ pub struct MitPush {
 
 /// Imports one MIT file held in memory; the extension of `path` (`.json` or `.h5`) picks the
 /// reader and its stem gives the parameters. `path` is also used in messages.
-pub fn import_bytes(bytes: &[u8], path: &Path) -> Result<MitPush, LoadError> {
-    let fail = |problem| LoadError::Mit {
+pub fn import_bytes(bytes: &[u8], path: &Path) -> Result<MitPush, MitError> {
+    let fail = |problem| MitError::Problem {
         path: path.to_path_buf(),
         problem,
     };
@@ -232,7 +233,7 @@ pub fn import_bytes(bytes: &[u8], path: &Path) -> Result<MitPush, LoadError> {
 }
 
 /// Reads and imports one MIT file from disk.
-pub fn import_file(path: &Path) -> Result<MitPush, LoadError> {
+pub fn import_file(path: &Path) -> Result<MitPush, MitError> {
     let bytes = super::read::read_file(path)?;
     import_bytes(&bytes, path)
 }

@@ -16,12 +16,12 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use super::error::NativeError;
 use crate::atomic_file::write_atomically;
 use crate::files;
 use crate::recording::camera::{
     CameraStream, EncodedImage, FrameProblem, FrameReader, FrameSource, ImageFormat, sniff,
 };
-use crate::recording::error::LoadError;
 
 /// The name of the frame list in an image folder.
 pub const FRAMES_FILE: &str = "frames.csv";
@@ -40,7 +40,7 @@ pub fn images_dir(csv: &Path) -> PathBuf {
 
 /// The cameras of the recording stored in `csv`: none without an image folder; the folder's own
 /// `frames.csv` (a camera named after the recording), and one camera per subfolder with one.
-pub fn read_cameras(csv: &Path) -> Result<Vec<CameraStream>, LoadError> {
+pub fn read_cameras(csv: &Path) -> Result<Vec<CameraStream>, NativeError> {
     let dir = images_dir(csv);
     if !files::is_dir(&dir) {
         return Ok(Vec::new());
@@ -50,7 +50,7 @@ pub fn read_cameras(csv: &Path) -> Result<Vec<CameraStream>, LoadError> {
         cameras.push(read_camera(&dir, "camera")?);
     }
     let mut subfolders: Vec<PathBuf> = files::read_dir(&dir)
-        .map_err(|e| LoadError::io(&dir, e))?
+        .map_err(|e| NativeError::io(&dir, e))?
         .into_iter()
         .map(|e| e.path)
         .filter(|p| files::is_file(&p.join(FRAMES_FILE)))
@@ -66,10 +66,10 @@ pub fn read_cameras(csv: &Path) -> Result<Vec<CameraStream>, LoadError> {
 }
 
 /// The camera whose frame list is in `dir`.
-fn read_camera(dir: &Path, name: &str) -> Result<CameraStream, LoadError> {
+fn read_camera(dir: &Path, name: &str) -> Result<CameraStream, NativeError> {
     let path = dir.join(FRAMES_FILE);
-    let text = files::read_to_string(&path).map_err(|e| LoadError::io(&path, e))?;
-    let bad = |line: usize, why: String| LoadError::FrameList {
+    let text = files::read_to_string(&path).map_err(|e| NativeError::io(&path, e))?;
+    let bad = |line: usize, why: String| NativeError::FrameList {
         path: path.clone(),
         line,
         why,

@@ -5,6 +5,7 @@
 //! Values are written with Rust's shortest round-trip float formatting, so a write → read cycle
 //! gives back bit-identical numbers.
 
+mod error;
 pub mod images;
 mod problem;
 
@@ -13,9 +14,9 @@ use std::sync::Arc;
 
 use nalgebra::Point2;
 
+pub use self::error::{NativeError, WriteError};
 pub use self::problem::{CSV_HEADER, CsvProblem};
 use super::camera::CameraStream;
-use super::error::{LoadError, WriteError};
 use super::read::read_file;
 use super::{Recording, RecordingSet, Setting};
 use crate::geometry::{Pose2, unwrap_angles};
@@ -54,8 +55,8 @@ pub struct ParsedCsv {
 /// Parses a native trajectory CSV held in memory; `path` is only used in messages.
 ///
 /// Exposed so that fuzzing and tests can feed any byte sequence without touching the disk.
-pub fn parse_csv(bytes: &[u8], path: &Path) -> Result<ParsedCsv, LoadError> {
-    let err = |line: usize, problem: CsvProblem| LoadError::Csv {
+pub fn parse_csv(bytes: &[u8], path: &Path) -> Result<ParsedCsv, NativeError> {
+    let err = |line: usize, problem: CsvProblem| NativeError::Csv {
         path: path.to_path_buf(),
         line,
         problem,
@@ -179,13 +180,13 @@ fn quote(text: &str) -> String {
 /// Parses and checks a `setting.json` held in memory; `path` is only used in messages.
 ///
 /// Unknown keys are kept (in `extra`) and never an error, so files written by newer tools still load.
-pub fn parse_setting(bytes: &[u8], path: &Path) -> Result<Setting, LoadError> {
+pub fn parse_setting(bytes: &[u8], path: &Path) -> Result<Setting, NativeError> {
     let setting: Setting =
-        json_problem::from_file_bytes(bytes).map_err(|problem| LoadError::SettingJson {
+        json_problem::from_file_bytes(bytes).map_err(|problem| NativeError::SettingJson {
             path: path.to_path_buf(),
             problem,
         })?;
-    check_setting(&setting).map_err(|(field, problem)| LoadError::SettingField {
+    check_setting(&setting).map_err(|(field, problem)| NativeError::SettingField {
         path: path.to_path_buf(),
         field,
         problem,
@@ -274,7 +275,7 @@ fn is_plain_csv_name(name: &str) -> bool {
 /// Fails as a whole only when `setting.json` is unusable; a trajectory that cannot be read is returned
 /// as an error beside the set so that one bad file does not hide the good ones. The trajectories are
 /// those listed in `setting.json`, in order; a set that lists none loads every `.csv` in the folder.
-pub fn read_set(dir: &Path) -> Result<(RecordingSet, Vec<LoadError>), LoadError> {
+pub fn read_set(dir: &Path) -> Result<(RecordingSet, Vec<NativeError>), NativeError> {
     read_set_filtered(dir, None)
 }
 
@@ -283,9 +284,9 @@ pub fn read_set(dir: &Path) -> Result<(RecordingSet, Vec<LoadError>), LoadError>
 pub(crate) fn read_set_filtered(
     dir: &Path,
     only: Option<&Path>,
-) -> Result<(RecordingSet, Vec<LoadError>), LoadError> {
+) -> Result<(RecordingSet, Vec<NativeError>), NativeError> {
     let setting_path = dir.join(SETTING_FILE);
-    let bytes = crate::files::read(&setting_path).map_err(|e| LoadError::io(&setting_path, e))?;
+    let bytes = crate::files::read(&setting_path).map_err(|e| NativeError::io(&setting_path, e))?;
     let setting = Arc::new(parse_setting(&bytes, &setting_path)?);
 
     let files: Vec<(PathBuf, Option<usize>)> = if setting.trajectories.is_empty() {
@@ -317,9 +318,9 @@ pub(crate) fn read_set_filtered(
                 Err(e) => errors.push(e),
             },
             Err(e) if e.is_not_found() => {
-                errors.push(LoadError::MissingTrajectory { path });
+                errors.push(NativeError::MissingTrajectory { path });
             }
-            Err(e) => errors.push(e),
+            Err(e) => errors.push(e.into()),
         }
     }
     if let Some(only) = only
@@ -352,7 +353,7 @@ pub(crate) fn read_set_filtered(
 
 /// The cameras of the recording in `csv`; a camera whose frame list is broken is left out and its
 /// error listed with the set's, so that the poses still open.
-fn cameras_of(csv: &Path, errors: &mut Vec<LoadError>) -> Vec<Arc<CameraStream>> {
+fn cameras_of(csv: &Path, errors: &mut Vec<NativeError>) -> Vec<Arc<CameraStream>> {
     match images::read_cameras(csv) {
         Ok(cameras) => cameras.into_iter().map(Arc::new).collect(),
         Err(e) => {
@@ -362,9 +363,9 @@ fn cameras_of(csv: &Path, errors: &mut Vec<LoadError>) -> Vec<Arc<CameraStream>>
     }
 }
 
-fn csv_files_in(dir: &Path) -> Result<Vec<PathBuf>, LoadError> {
+fn csv_files_in(dir: &Path) -> Result<Vec<PathBuf>, NativeError> {
     let mut files = Vec::new();
-    for entry in crate::files::read_dir(dir).map_err(|e| LoadError::io(dir, e))? {
+    for entry in crate::files::read_dir(dir).map_err(|e| NativeError::io(dir, e))? {
         let path = entry.path;
         if path.extension().is_some_and(|e| e == "csv") && !entry.is_dir {
             files.push(path);

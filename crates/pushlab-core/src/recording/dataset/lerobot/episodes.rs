@@ -8,10 +8,10 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use super::super::error::DatasetError;
 use super::super::problem::DatasetProblem;
 use super::parquet_rows::{Wanted, append_file};
 use crate::json_problem::JsonProblem;
-use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 use crate::recording::read::read_file;
 
@@ -44,10 +44,10 @@ pub struct VideoLocation {
 
 /// `meta/episodes.jsonl`: one JSON object a line, with `episode_index` and `length`; sorted by
 /// index.
-pub fn read_jsonl(dir: &Path) -> Result<Vec<Listed>, LoadError> {
+pub fn read_jsonl(dir: &Path) -> Result<Vec<Listed>, DatasetError> {
     let path = dir.join(EPISODES_JSONL);
     let bytes = read_file(&path)?;
-    let fail = |problem| LoadError::Dataset {
+    let fail = |problem| DatasetError::Problem {
         path: path.clone(),
         problem,
     };
@@ -92,10 +92,10 @@ pub fn read_parquet(
     dir: &Path,
     videos: &[String],
     progress: &dyn Progress,
-) -> Result<Vec<Listed>, LoadError> {
+) -> Result<Vec<Listed>, DatasetError> {
     let files = parquet_files(&dir.join(EPISODES_DIR));
     if files.is_empty() {
-        return Err(LoadError::Dataset {
+        return Err(DatasetError::Problem {
             path: dir.join(EPISODES_DIR),
             problem: DatasetProblem::Episodes(
                 "no parquet file, expected LeRobot v3.0's episode metadata \
@@ -137,7 +137,7 @@ pub fn read_parquet(
         for row in 0..rows {
             // Every column holds one value a row: this row's cells, column by column.
             let cells: Vec<f64> = columns.iter().map(|column| column[row]).collect();
-            let bad = |column: usize, expected: &str| LoadError::Dataset {
+            let bad = |column: usize, expected: &str| DatasetError::Problem {
                 path: file.clone(),
                 problem: DatasetProblem::Column {
                     column: names[column].clone(),
@@ -163,7 +163,7 @@ pub fn read_parquet(
                         from_s: seconds(at + 2)?,
                     })
                 })
-                .collect::<Result<_, LoadError>>()?;
+                .collect::<Result<_, DatasetError>>()?;
             listed.push(Listed {
                 index: whole(0)?,
                 length: whole(1)?,
@@ -172,7 +172,7 @@ pub fn read_parquet(
             });
         }
     }
-    sorted(listed).map_err(|problem| LoadError::Dataset {
+    sorted(listed).map_err(|problem| DatasetError::Problem {
         path: dir.join(EPISODES_DIR),
         problem,
     })
@@ -226,8 +226,8 @@ pub struct Runs {
 
 impl Runs {
     /// Adds the `episode_index` values of `file`'s rows, which are the table's rows from `first`.
-    pub fn add(&mut self, file: &Path, first: usize, indexes: &[f64]) -> Result<(), LoadError> {
-        let fail = |problem| LoadError::Dataset {
+    pub fn add(&mut self, file: &Path, first: usize, indexes: &[f64]) -> Result<(), DatasetError> {
+        let fail = |problem| DatasetError::Problem {
             path: file.to_path_buf(),
             problem,
         };
@@ -265,8 +265,8 @@ impl Runs {
         self,
         listed: &[Listed],
         meta: &Path,
-    ) -> Result<Vec<(usize, Range<usize>)>, LoadError> {
-        let fail = |path: &Path, problem| LoadError::Dataset {
+    ) -> Result<Vec<(usize, Range<usize>)>, DatasetError> {
+        let fail = |path: &Path, problem| DatasetError::Problem {
             path: path.to_path_buf(),
             problem,
         };

@@ -7,10 +7,10 @@ use std::path::{Component, Path, PathBuf};
 
 use serde_json::{Map, Value};
 
+use super::super::error::DatasetError;
 use super::super::problem::DatasetProblem;
 use super::super::table::VideoFeature;
 use crate::json_problem::JsonProblem;
-use crate::recording::error::LoadError;
 use crate::recording::read::read_file;
 
 /// Where the metadata is, relative to the dataset's folder.
@@ -120,10 +120,10 @@ pub fn version_of(dir: &Path) -> Option<String> {
 }
 
 /// Reads and checks `dir`'s `meta/info.json`.
-pub fn read(dir: &Path) -> Result<Info, LoadError> {
+pub fn read(dir: &Path) -> Result<Info, DatasetError> {
     let path = dir.join(INFO_FILE);
     let bytes = read_file(&path)?;
-    let fail = |problem| LoadError::Dataset {
+    let fail = |problem| DatasetError::Problem {
         path: path.clone(),
         problem,
     };

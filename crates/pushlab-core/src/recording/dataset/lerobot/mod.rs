@@ -25,9 +25,9 @@ use std::path::{Path, PathBuf};
 use self::episodes::{EPISODES_DIR, EPISODES_JSONL, Listed, Runs, parquet_files, whole_number};
 use self::info::{INFO_FILE, Info, Layout};
 use self::parquet_rows::{Wanted, append_file};
+use super::error::DatasetError;
 use super::problem::DatasetProblem;
 use super::table::{DatasetFormat, DatasetTable, Feature, VideoSpan};
-use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
 pub use self::info::SUPPORTED;
@@ -54,7 +54,7 @@ pub fn bytes(dir: &Path) -> u64 {
 }
 
 /// Reads the dataset's numeric features and its episodes.
-pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadError> {
+pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, DatasetError> {
     let info = info::read(dir)?;
     let wanted: Vec<Wanted> = (info.features.iter())
         .map(|f| Wanted {
@@ -66,7 +66,7 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, LoadErr
         .collect();
     let episode_column = (info.features.iter())
         .position(|f| f.name == EPISODE_INDEX && f.width == 1)
-        .ok_or_else(|| LoadError::Dataset {
+        .ok_or_else(|| DatasetError::Problem {
             path: dir.join(INFO_FILE),
             problem: DatasetProblem::Field {
                 field: format!("features.{EPISODE_INDEX}"),
@@ -135,13 +135,13 @@ struct Reading<'a> {
 
 impl Reading<'_> {
     /// The video file of feature `video` (one of the info's videos) with these template fields.
-    fn video_file(&self, video: &str, fields: &[(&str, usize)]) -> Result<PathBuf, LoadError> {
+    fn video_file(&self, video: &str, fields: &[(&str, usize)]) -> Result<PathBuf, DatasetError> {
         let template = (self.info.videos.iter())
             .find(|v| v.name == video)
             .map(|v| v.path_template.replace("{video_key}", video))
             .unwrap_or_default();
         info::file_in(self.dir, &template, "video_path", fields).map_err(|problem| {
-            LoadError::Dataset {
+            DatasetError::Problem {
                 path: self.dir.join(INFO_FILE),
                 problem,
             }
@@ -149,9 +149,9 @@ impl Reading<'_> {
     }
 
     /// The data file of `data_path` with these template fields.
-    fn data_file(&self, fields: &[(&str, usize)]) -> Result<std::path::PathBuf, LoadError> {
+    fn data_file(&self, fields: &[(&str, usize)]) -> Result<std::path::PathBuf, DatasetError> {
         info::file_in(self.dir, &self.info.data_path, "data_path", fields).map_err(|problem| {
-            LoadError::Dataset {
+            DatasetError::Problem {
                 path: self.dir.join(INFO_FILE),
                 problem,
             }
@@ -159,7 +159,7 @@ impl Reading<'_> {
     }
 
     /// v2.x: each listed episode's own file, holding its rows only, as many as listed.
-    fn file_per_episode(&self, columns: &mut [Vec<f64>]) -> Result<Vec<EpisodeRows>, LoadError> {
+    fn file_per_episode(&self, columns: &mut [Vec<f64>]) -> Result<Vec<EpisodeRows>, DatasetError> {
         let listed = episodes::read_jsonl(self.dir)?;
         let mut episodes = Vec::with_capacity(listed.len());
         let mut first = 0;
@@ -169,7 +169,7 @@ impl Reading<'_> {
                 ("episode_index", index),
             ])?;
             let rows = append_file(&file, self.wanted, columns, self.progress)?;
-            let fail = |problem| LoadError::Dataset {
+            let fail = |problem| DatasetError::Problem {
                 path: file.clone(),
                 problem,
             };
@@ -201,7 +201,7 @@ impl Reading<'_> {
                     let file = self.video_file(&video.name, &[chunk, ("episode_index", index)])?;
                     Ok(VideoSpan { file, from_s: 0.0 })
                 })
-                .collect::<Result<_, LoadError>>()?;
+                .collect::<Result<_, DatasetError>>()?;
             episodes.push(EpisodeRows {
                 rows: first..first + rows,
                 videos,
@@ -213,7 +213,7 @@ impl Reading<'_> {
 
     /// v3.0: the data files the episode metadata names, in order, their rows cut into episodes by
     /// `episode_index`.
-    fn concatenated(&self, columns: &mut [Vec<f64>]) -> Result<Vec<EpisodeRows>, LoadError> {
+    fn concatenated(&self, columns: &mut [Vec<f64>]) -> Result<Vec<EpisodeRows>, DatasetError> {
         let names: Vec<String> = self.info.videos.iter().map(|v| v.name.clone()).collect();
         let listed = episodes::read_parquet(self.dir, &names, self.progress)?;
         let files: BTreeSet<(usize, usize)> = listed.iter().map(|l| l.data_file).collect();
@@ -240,7 +240,7 @@ impl Reading<'_> {
                             from_s: at.from_s,
                         })
                     })
-                    .collect::<Result<_, LoadError>>()?;
+                    .collect::<Result<_, DatasetError>>()?;
                 Ok(EpisodeRows { rows, videos })
             })
             .collect()

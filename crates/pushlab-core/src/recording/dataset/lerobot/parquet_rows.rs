@@ -11,9 +11,9 @@ use parquet::file::reader::{FileReader, Length as _, SerializedFileReader};
 use parquet::record::Field;
 use parquet::schema::types::Type;
 
+use super::super::error::DatasetError;
 use super::super::problem::DatasetProblem;
 use super::parquet_source::ParquetSource;
-use crate::recording::error::LoadError;
 use crate::recording::progress::Progress;
 
 /// Rows between two looks at the cancel flag, within a row group.
@@ -42,7 +42,7 @@ pub fn append_file(
     wanted: &[Wanted],
     into: &mut [Vec<f64>],
     progress: &dyn Progress,
-) -> Result<usize, LoadError> {
+) -> Result<usize, DatasetError> {
     let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         read_columns(path, wanted, into, progress)
     }));
@@ -50,7 +50,7 @@ pub fn append_file(
         let why = (panic.downcast_ref::<String>().map(String::as_str))
             .or_else(|| panic.downcast_ref::<&str>().copied())
             .unwrap_or("corrupt data");
-        Err(LoadError::Dataset {
+        Err(DatasetError::Problem {
             path: path.to_path_buf(),
             problem: DatasetProblem::Parquet(format!("the reader stopped: {why}")),
         })
@@ -62,14 +62,14 @@ fn read_columns(
     wanted: &[Wanted],
     into: &mut [Vec<f64>],
     progress: &dyn Progress,
-) -> Result<usize, LoadError> {
-    let fail = |problem| LoadError::Dataset {
+) -> Result<usize, DatasetError> {
+    let fail = |problem| DatasetError::Problem {
         path: path.to_path_buf(),
         problem,
     };
     let parquet = |e: ParquetError| fail(DatasetProblem::Parquet(e.to_string()));
     let cancelled = || fail(DatasetProblem::Cancelled);
-    let file = ParquetSource::open(path).map_err(|e| LoadError::io(path, e))?;
+    let file = ParquetSource::open(path).map_err(|e| DatasetError::io(path, e))?;
     let size = file.len();
     let reader = SerializedFileReader::new(file).map_err(parquet)?;
     let schema = reader.metadata().file_metadata().schema();
