@@ -73,7 +73,7 @@ fn robot(rate_hz: f64, camera: bool) -> Robot {
             std::thread::sleep(Duration::from_millis(5));
         }
         let image: Vec<u8> = (0..150_000u32)
-            .map(|i| ((i * 2_654_435_761) >> 24) as u8)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8)
             .collect();
         let dt = 1.0 / rate_hz;
         let started = Instant::now();
@@ -324,7 +324,11 @@ fn main() {
     let value =
         |name: &str| (args.iter().position(|a| a == name)).and_then(|i| args.get(i + 1).cloned());
     let rate: f64 = value("--rate").map_or(100.0, |v| v.parse().unwrap());
-    let seconds: f64 = value("--seconds").map_or(10.0, |v| v.parse().unwrap());
+    // `cargo test --all-targets` runs this without `--bench`: a one-second check that both paths
+    // learn and draw frames, not a measurement.
+    let measuring = args.iter().any(|a| a == "--bench");
+    let seconds: f64 =
+        value("--seconds").map_or(if measuring { 10.0 } else { 1.0 }, |v| v.parse().unwrap());
     let camera = args.iter().any(|a| a == "--camera");
     let only = value("--only");
     let dir = std::env::temp_dir().join(format!("pushlab-live-latency-{}", std::process::id()));
@@ -340,6 +344,7 @@ fn main() {
     if only.as_deref() != Some("drawn") {
         let (cpu0, rss0) = usage();
         let (ms, _) = learned(rate, seconds, camera, &dir.join("learned.mcap"));
+        assert!(!ms.is_empty(), "frames were learned");
         let (cpu1, rss1) = usage();
         println!("  learned: {}", summary(ms));
         println!(
@@ -350,6 +355,7 @@ fn main() {
     if only.as_deref() != Some("learned") {
         let (cpu0, rss0) = usage();
         let (learned, drawn) = drawn(rate, seconds, camera, &dir.join("drawn.mcap"));
+        assert!(!drawn.is_empty(), "frames were drawn");
         let (cpu1, rss1) = usage();
         println!("  app, learned on the UI thread: {}", summary(learned));
         println!("  app, drawn: {}", summary(drawn));
