@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::anyhow;
 use clap::Args;
-use pushlab_core::live::{LiveLearner, Refused, Stream};
+use pushlab_core::live::{LiveLearner, Stream};
 use pushlab_core::model_file::ModelFile;
 use pushlab_core::recording::bag::PlanarPose;
 use pushlab_core::recording::bag::SettingSource;
@@ -90,12 +90,8 @@ impl Learning {
             && !self.said_refused
         {
             self.said_refused = true;
-            let why = match refused {
-                Refused::OutOfOrder => "its stamp is not after the one before".to_owned(),
-                Refused::BadValue(why) => why,
-            };
             eprintln!(
-                "warning: a pose left out of learning (and every such pose after it, counted): {why}"
+                "warning: a pose left out of learning (and every such pose after it, counted): {refused}"
             );
         }
     }

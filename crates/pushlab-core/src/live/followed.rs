@@ -59,10 +59,7 @@ impl Followed {
 
     /// "pusher" or "object", for messages.
     pub fn role(&self) -> &'static str {
-        match self.stream {
-            Stream::Pusher => "pusher",
-            Stream::Object => "object",
-        }
+        self.stream.name()
     }
 
     pub fn topic(&self) -> &str {

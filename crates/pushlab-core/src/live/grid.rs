@@ -19,12 +19,24 @@ pub enum Stream {
     Object,
 }
 
+impl Stream {
+    /// "pusher" or "object", for messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stream::Pusher => "pusher",
+            Stream::Object => "object",
+        }
+    }
+}
+
 /// Why a pose that arrived was not put on the grid.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Refused {
     /// Its stamp is not after the stream's previous one (the import drops it too).
+    #[error("its stamp is not after the one before")]
     OutOfOrder,
     /// Not finite, or too far from the origin (the import refuses the whole bag: said by name).
+    #[error("{0}")]
     BadValue(String),
 }
 
@@ -131,11 +143,7 @@ impl LiveGrid {
             pose.stamp_ns
         };
         let base = *self.base_ns.get_or_insert(ns);
-        let topic = match stream {
-            Stream::Pusher => "pusher",
-            Stream::Object => "object",
-        };
-        check_pose(topic, 0, pose.x, pose.y, pose.yaw)
+        check_pose(stream.name(), 0, pose.x, pose.y, pose.yaw)
             .map_err(|problem| Refused::BadValue(problem.to_string()))?;
         let row = [seconds_since(base, ns), pose.x, pose.y, pose.yaw];
         match stream {

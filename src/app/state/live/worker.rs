@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use pushlab_core::live::{LiveGrid, LiveSession, Refused, SessionEvent, Stream, decode_live_image};
+use pushlab_core::live::{LiveGrid, LiveSession, SessionEvent, decode_live_image};
 use pushlab_core::recording::bag::ImageKind;
 
 use crate::app::state::live::{Link, LiveChoice, LiveImage, WorkerLink};
@@ -62,18 +62,10 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
                 Err(why) => {
                     refused += 1;
                     if refused == 1 {
-                        let role = match stream {
-                            Stream::Pusher => "pusher",
-                            Stream::Object => "object",
-                        };
-                        said = Some(match why {
-                            Refused::OutOfOrder => format!(
-                                "a {role} pose left out: its stamp is not after the one before (every such pose after it is counted)"
-                            ),
-                            Refused::BadValue(why) => format!(
-                                "a {role} pose left out: {why} (every such pose after it is counted)"
-                            ),
-                        });
+                        said = Some(format!(
+                            "a {} pose left out: {why} (every such pose after it is counted)",
+                            stream.name()
+                        ));
                     }
                 }
             },
