@@ -195,7 +195,7 @@ fn live_ui(
     dropped: &std::collections::BTreeMap<String, u64>,
     view: &mut CameraView,
 ) {
-    if state.live_ahead().is_none() && state.frame() != state.timeline().last_frame() {
+    if state.frame() != state.timeline().last_frame() {
         ui.weak(
             "Live pictures show at the newest frame (Back to live); the recording keeps every one, \
              shown in step when it is opened as a bag.",

@@ -186,8 +186,8 @@ fn describe(running: &Running) -> String {
     if latest.refused > 0 {
         text += &format!("; {} pose(s) left out", latest.refused);
     }
-    if !latest.gaps.is_empty() {
-        text += &format!("; gaps at frames {:?}", latest.gaps);
+    if !running.gaps.is_empty() {
+        text += &format!("; gaps at frames {:?}", running.gaps);
     }
     match &latest.link {
         Link::Connected { server } => text += &format!("; server: {server}"),

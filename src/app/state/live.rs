@@ -99,24 +99,35 @@ pub enum Link {
     },
 }
 
-/// What the worker hands over; the UI empties it every frame.
+/// What the worker hands over: what is taken once, and what is only the latest.
 #[derive(Debug, Default)]
 pub struct Inbox {
+    pub handed: Handed,
+    pub latest: Latest,
+}
+
+/// What the UI takes out of the inbox every frame.
+#[derive(Debug, Default)]
+pub struct Handed {
     /// Frames made since the UI last looked, in order: never dropped.
     pub frames: Vec<Frame>,
     /// Sentences for the user (a topic withdrawn, a message that does not decode, a reconnect).
     pub said: Vec<String>,
     /// Frames already handed over when the connection came back: where a gap is.
     pub gaps: Vec<usize>,
-    /// The latest of these.
+    /// The newest picture of each camera topic, decoded (latest wins until the UI takes it).
+    pub images: BTreeMap<String, LiveImage>,
+}
+
+/// What the worker says of the session now; the UI copies it every frame.
+#[derive(Clone, Debug, Default)]
+pub struct Latest {
     pub link: Link,
     pub messages: u64,
     /// How late the pusher's and the object's latest poses arrived, seconds.
     pub lag_s: [Option<f64>; 2],
     /// Poses the grid refused (out of order, bad values).
     pub refused: usize,
-    /// The newest picture of each camera topic, decoded, for the UI to take (latest wins).
-    pub images: BTreeMap<String, LiveImage>,
     /// Camera messages per topic that came faster than the UI took them: recorded, not shown.
     pub images_dropped: BTreeMap<String, u64>,
 }
@@ -175,7 +186,9 @@ pub struct Running {
     pub choice: LiveChoice,
     pub link: WorkerLink,
     /// The latest the worker said.
-    pub latest: Inbox,
+    pub latest: Latest,
+    /// Frames already handed over when the connection came back: where the gaps are.
+    pub gaps: Vec<usize>,
     /// Whether the timeline follows the newest frame.
     pub following: bool,
     /// Learning keeps up by learning every n-th frame only, holding θ over the others (1: all).
@@ -354,7 +367,8 @@ impl Live {
         self.session = Some(Running {
             choice,
             link: link.clone(),
-            latest: Inbox::default(),
+            latest: Latest::default(),
+            gaps: Vec::new(),
             following: true,
             every_nth: 1,
             frames: 0,
@@ -376,32 +390,15 @@ impl Live {
 
     /// Empties the inbox: the frames that came, and the sentences to say; the rest is kept as the
     /// latest.
-    pub(super) fn take(&mut self) -> Option<(Vec<Frame>, Vec<String>, Vec<usize>)> {
+    pub(super) fn take(&mut self) -> Option<(Vec<Frame>, Vec<String>)> {
         let running = self.session.as_mut()?;
-        let (frames, said, gaps, link, messages, lag_s, refused, images, dropped) =
-            running.link.with(|inbox| {
-                (
-                    std::mem::take(&mut inbox.frames),
-                    std::mem::take(&mut inbox.said),
-                    std::mem::take(&mut inbox.gaps),
-                    inbox.link.clone(),
-                    inbox.messages,
-                    inbox.lag_s,
-                    inbox.refused,
-                    std::mem::take(&mut inbox.images),
-                    inbox.images_dropped.clone(),
-                )
-            });
-        running.images.extend(images);
-        running.latest.images_dropped = dropped;
-        let latest = &mut running.latest;
-        latest.link = link;
-        latest.messages = messages;
-        latest.lag_s = lag_s;
-        latest.refused = refused;
-        latest.gaps.extend(gaps.iter().copied());
-        running.frames += frames.len();
-        Some((frames, said, gaps))
+        let (handed, latest) =
+            (running.link).with(|inbox| (std::mem::take(&mut inbox.handed), inbox.latest.clone()));
+        running.latest = latest;
+        running.gaps.extend(handed.gaps);
+        running.images.extend(handed.images);
+        running.frames += handed.frames.len();
+        Some((handed.frames, handed.said))
     }
 }
 

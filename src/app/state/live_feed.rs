@@ -149,7 +149,7 @@ impl AppState {
     pub(super) fn poll_live(&mut self) -> bool {
         self.live.poll_listing();
         let listing = self.live.is_listing();
-        let Some((frames, said, _gaps)) = self.live.take() else {
+        let Some((frames, said)) = self.live.take() else {
             return listing;
         };
         if let Some(last) = said.into_iter().last() {
@@ -283,9 +283,8 @@ impl AppState {
 
     /// Shows the newest frame when the timeline follows the live edge.
     fn follow_live_edge(&mut self) {
-        let following = self.live.running().is_some_and(|r| r.following)
-            && self.live.running().map(|r| r.recording) == self.session.selected;
-        if following {
+        // Also as the session ends: the last frames it handed over are shown.
+        if self.follows_live_push() {
             let before = self.timeline.frame();
             self.timeline.apply(TimelineCommand::JumpEnd);
             if self.timeline.frame() != before {
@@ -317,9 +316,13 @@ impl AppState {
 
     /// Whether the timeline follows a live push's newest frame (the plots keep all of it in view).
     pub fn live_following(&self) -> bool {
-        self.live.running().is_some_and(|r| {
-            r.following && self.live.is_live() && self.session.selected == Some(r.recording)
-        })
+        self.follows_live_push() && self.live.is_live()
+    }
+
+    /// Whether the timeline follows the newest frame of the live push shown (running or ended).
+    fn follows_live_push(&self) -> bool {
+        (self.live.running())
+            .is_some_and(|r| r.following && self.session.selected == Some(r.recording))
     }
 
     /// The newest picture of each camera of the live push shown, with the pictures each dropped

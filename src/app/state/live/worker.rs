@@ -20,7 +20,7 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             Ok(session) => session,
             Err(e) => {
                 link.with(|inbox| {
-                    inbox.link = Link::Ended {
+                    inbox.latest.link = Link::Ended {
                         error: Some(e.to_string()),
                         recorded: None,
                     }
@@ -29,7 +29,7 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             }
         };
     link.with(|inbox| {
-        inbox.link = Link::Connected {
+        inbox.latest.link = Link::Connected {
             server: session.server().unwrap_or("unnamed server").to_owned(),
         }
     });
@@ -78,7 +78,9 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
                 let replaced = pending.insert(topic.clone(), (kind, payload));
                 // The one before was never shown: dropped from the display (it is recorded).
                 let dropped = u64::from(replaced.is_some());
-                link.with(|inbox| *inbox.images_dropped.entry(topic).or_default() += dropped);
+                link.with(|inbox| {
+                    *inbox.latest.images_dropped.entry(topic).or_default() += dropped
+                });
             }
             Some(SessionEvent::Said(what)) => said = Some(what),
             Some(SessionEvent::Lost(why)) => {
@@ -108,7 +110,7 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
         }
         let taken: Vec<String> = link.with(|inbox| {
             (pending.keys())
-                .filter(|topic| !inbox.images.contains_key(*topic))
+                .filter(|topic| !inbox.handed.images.contains_key(*topic))
                 .cloned()
                 .collect()
         });
@@ -130,20 +132,20 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
                     image: Err(why),
                 },
             };
-            link.with(|inbox| inbox.images.insert(topic, picture));
+            link.with(|inbox| inbox.handed.images.insert(topic, picture));
         }
         let lag_s = session.followed().each_ref().map(|f| f.lag_s());
         let messages = session.messages();
         link.with(|inbox| {
-            inbox.frames.extend(frames);
-            inbox.said.extend(said);
-            inbox.gaps.extend(gap);
+            inbox.handed.frames.extend(frames);
+            inbox.handed.said.extend(said);
+            inbox.handed.gaps.extend(gap);
             if let Some(l) = new_link {
-                inbox.link = l;
+                inbox.latest.link = l;
             }
-            inbox.messages = messages;
-            inbox.lag_s = lag_s;
-            inbox.refused = refused;
+            inbox.latest.messages = messages;
+            inbox.latest.lag_s = lag_s;
+            inbox.latest.refused = refused;
         });
     }
     let recorded = match session.finish() {
@@ -160,5 +162,5 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             None
         }
     };
-    link.with(|inbox| inbox.link = Link::Ended { error, recorded });
+    link.with(|inbox| inbox.latest.link = Link::Ended { error, recorded });
 }
