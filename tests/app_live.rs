@@ -367,3 +367,122 @@ fn a_live_camera_shows_its_newest_picture_and_counts_those_not_shown() {
     let _ = server.stop();
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A server that goes away for 0.7 s and comes back (the robot's clock running on): the app
+/// connects again by itself, and the frames interpolated across the time away are marked on the
+/// timeline as a gap, said in the strip, hovered for what happened and clicked to jump to; the
+/// recording's import says the same gap.
+#[test]
+fn a_lost_connection_is_a_gap_on_the_timeline() {
+    let (url, stop, logging) = live_robot::restarting_robot();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = common::scratch_dir("app-live-gap");
+    let record = dir.join("gap.mcap");
+    let rate = 50.0;
+    let state = initial_state(&[], Persisted::default());
+    let mut harness = common::harness(pushlab::app::PushlabApp::new(state), 1.0 / 60.0);
+    let send = |harness: &mut egui_kittest::Harness<'_, pushlab::app::PushlabApp>, c| {
+        harness.state_mut().state.apply(Command::Live(c));
+    };
+    send(&mut harness, LiveCommand::OpenForm);
+    send(
+        &mut harness,
+        LiveCommand::Edit(LiveChoice {
+            url,
+            pusher: "/pusher".to_owned(),
+            object: "/object".to_owned(),
+            setting: root.join("sample-data/box1-paper-ur-front/setting.json"),
+            record: record.clone(),
+            rate_hz: Some(rate),
+        }),
+    );
+    send(&mut harness, LiveCommand::Connect);
+    let started = Instant::now();
+    loop {
+        let state = &harness.state().state;
+        let past_gap = (state.live_gaps().first()).map(|g| g.frames.end + 20);
+        if past_gap.is_some_and(|end| frames(state) > end) {
+            break;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(20),
+            "a gap and frames after it: status {:?}",
+            state.status()
+        );
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    harness.get_by_label("Disconnect").click();
+    let started = Instant::now();
+    while harness.query_by_label("ENDED").is_none() {
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "the session ends"
+        );
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    stop.store(true, Ordering::Relaxed);
+    logging.join().unwrap();
+
+    let gaps = harness.state().state.live_gaps().to_vec();
+    assert_eq!(gaps.len(), 1, "{gaps:?}");
+    let gap = &gaps[0];
+    // About a second of frames before it; as many frames across it as the time away at 50 Hz (the
+    // poses stop a little before the loss is seen and start a little after the reconnect).
+    assert!(gap.frames.start > 30, "{gap:?}");
+    let across = gap.frames.len() as f64;
+    assert!(
+        gap.away_s >= 0.7 && (across - gap.away_s * rate).abs() <= 10.0,
+        "{gap:?}: {across} frames for {:.2} s away",
+        gap.away_s
+    );
+    // A tooltip shows once the pointer has rested (egui's delay), in steps of 1/60 s.
+    harness.get_by_label("ENDED").hover();
+    harness.run_steps(120);
+    assert!(
+        harness
+            .query_by_label_contains(&format!(
+                "1 gap(s), frames {}–{} interpolated",
+                gap.frames.start,
+                gap.frames.end - 1
+            ))
+            .is_some(),
+        "the strip's badge says the gap when hovered"
+    );
+
+    // The band: hovered over the gap it says what happened; clicked, the gap's first frame shows.
+    let band = harness.get_by_label("Gaps band").rect();
+    let frames_shown = (harness.state().state.timeline().last_frame() + 1) as f32;
+    let middle = (gap.frames.start + gap.frames.end) as f32 / 2.0;
+    let at = eframe::egui::pos2(
+        band.left() + band.width() * middle / frames_shown,
+        band.center().y,
+    );
+    harness.hover_at(at);
+    harness.run_steps(120);
+    let said = format!("connection lost for {:.1} s", gap.away_s);
+    assert!(
+        harness.query_by_label_contains(&said).is_some(),
+        "the hover says {said:?}"
+    );
+    harness.drag_at(at);
+    harness.drop_at(at);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.frame(), gap.frames.start);
+
+    // The recording's import interpolates across the same gap and says so.
+    use pushlab_core::recording::bag::{ImportOptions, TopicSpec, import};
+    let topic = |t: &str| t.parse::<TopicSpec>().unwrap();
+    let options = ImportOptions {
+        rate_hz: Some(rate),
+        split_gap_s: None,
+    };
+    let imported = import(&record, &topic("/pusher"), &topic("/object"), options).unwrap();
+    let warnings = imported.pushes[0].warnings.join("\n");
+    let longest = format!("longest {:.0}", gap.away_s * 1e3);
+    assert!(
+        warnings.contains("gap(s) over 50 ms") && warnings.contains("interpolated across"),
+        "{warnings}\n(the gap was {longest} ms or so)"
+    );
+}

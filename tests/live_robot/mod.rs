@@ -93,24 +93,25 @@ pub fn json_pose(stamp: u64, x: f64, y: f64) -> String {
 /// A robot holding still, logging the same poses every 10 ms.
 pub fn robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
     robot_with(Box::new(|pusher, object, stop| {
-        log_still(pusher, object, stop, None, &mut 0);
+        log_still(pusher, object, stop, None, Instant::now());
     }))
 }
 
-/// Logs the still poses every 10 ms, message `k` on, until `stop` is set or `until` passes.
+/// Logs the still poses every 10 ms until `stop` is set or `until` passes, stamped with the time
+/// since `origin` (as a robot's clock runs on while its server is away).
 pub fn log_still(
     pusher: &RawChannel,
     object: &RawChannel,
     stop: &AtomicBool,
     until: Option<Instant>,
-    k: &mut u64,
+    origin: Instant,
 ) {
     while !stop.load(Ordering::Relaxed) && until.is_none_or(|u| Instant::now() < u) {
-        let stamp = 1_700_000_000_000_000_000 + *k * 10_000_000;
+        let since = u64::try_from(origin.elapsed().as_nanos()).unwrap();
+        let stamp = 1_700_000_000_000_000_000 + since;
         let at = PartialMetadata::with_log_time(stamp);
         pusher.log_with_meta(json_pose(stamp, 0.25, -0.5).as_bytes(), at);
         object.log_with_meta(&encode_pose_stamped(stamp, "table", 0.125, 0.5, 0.0), at);
-        *k += 1;
         std::thread::sleep(Duration::from_millis(10));
     }
 }
@@ -159,15 +160,15 @@ pub fn restarting_robot() -> (String, Arc<AtomicBool>, std::thread::JoinHandle<(
     let stop = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&stop);
     let logging = std::thread::spawn(move || {
-        let mut k = 0u64;
+        let origin = Instant::now();
         let (context, server, pusher, object) = first;
         let until = Some(Instant::now() + Duration::from_secs(1));
-        log_still(&pusher, &object, &flag, until, &mut k);
+        log_still(&pusher, &object, &flag, until, origin);
         let _ = server.stop();
         drop((pusher, object, context));
         std::thread::sleep(Duration::from_millis(700));
         let (_context, server, pusher, object) = start_robot(port, true);
-        log_still(&pusher, &object, &flag, None, &mut k);
+        log_still(&pusher, &object, &flag, None, origin);
         let _ = server.stop();
     });
     (url, stop, logging)

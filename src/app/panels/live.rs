@@ -187,7 +187,14 @@ fn describe(running: &Running) -> String {
         text += &format!("; {} pose(s) left out", latest.refused);
     }
     if !running.gaps.is_empty() {
-        text += &format!("; gaps at frames {:?}", running.gaps);
+        let spans: Vec<String> = (running.gaps.iter())
+            .map(|g| format!("{}–{}", g.frames.start, g.frames.end.saturating_sub(1)))
+            .collect();
+        text += &format!(
+            "; {} gap(s), frames {} interpolated",
+            running.gaps.len(),
+            spans.join(", ")
+        );
     }
     match &latest.link {
         Link::Connected { server } => text += &format!("; server: {server}"),

@@ -8,6 +8,7 @@ pub mod bag_dialog;
 pub mod browser;
 pub mod camera;
 pub mod dataset_dialog;
+pub mod gap_band;
 pub mod inspector;
 pub mod label_bands;
 pub mod label_schema;

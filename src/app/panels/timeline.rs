@@ -86,10 +86,11 @@ pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
                 super::proposal_band::menu(ui, state, commands);
             });
         });
-        // The label bands, the proposals band and the scrub slider take the whole width.
+        // The label bands, the proposals band, the gaps band and the scrub slider take the whole width.
         let width = (ui.available_width() - 70.0).max(100.0);
         super::label_bands::ui(ui, state, width, commands);
         super::proposal_band::ui(ui, state, width, commands);
+        super::gap_band::ui(ui, state, width, commands);
         let mut frame = timeline.frame();
         ui.spacing_mut().slider_width = width;
         let response = ui.add_enabled(

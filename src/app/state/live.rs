@@ -113,8 +113,8 @@ pub struct Handed {
     pub frames: Vec<Frame>,
     /// Sentences for the user (a topic withdrawn, a message that does not decode, a reconnect).
     pub said: Vec<String>,
-    /// Frames already handed over when the connection came back: where a gap is.
-    pub gaps: Vec<usize>,
+    /// Connections lost and made again, each once its frames are handed over.
+    pub gaps: Vec<Gap>,
     /// The newest picture of each camera topic, decoded (latest wins until the UI takes it).
     pub images: BTreeMap<String, LiveImage>,
 }
@@ -130,6 +130,18 @@ pub struct Latest {
     pub refused: usize,
     /// Camera messages per topic that came faster than the UI took them: recorded, not shown.
     pub images_dropped: BTreeMap<String, u64>,
+}
+
+/// A connection lost and made again: the push's frames over that time are interpolated between the
+/// last poses before and the first after (as the recording's import interpolates them), so the
+/// timeline marks them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Gap {
+    /// The frames interpolated across the gap: from the first frame after the last one made before
+    /// the loss to the first frame made from poses after it.
+    pub frames: std::ops::Range<usize>,
+    /// How long the connection was away, seconds (wall clock).
+    pub away_s: f64,
 }
 
 /// Each live camera's newest picture, and the pictures each dropped from the display.
@@ -187,8 +199,8 @@ pub struct Running {
     pub link: WorkerLink,
     /// The latest the worker said.
     pub latest: Latest,
-    /// Frames already handed over when the connection came back: where the gaps are.
-    pub gaps: Vec<usize>,
+    /// Where the connection was lost and made again.
+    pub gaps: Vec<Gap>,
     /// Whether the timeline follows the newest frame.
     pub following: bool,
     /// Learning keeps up by learning every n-th frame only, holding θ over the others (1: all).

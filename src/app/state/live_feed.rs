@@ -333,6 +333,13 @@ impl AppState {
             .then_some((&running.images, &running.latest.images_dropped))
     }
 
+    /// Where the live push shown lost its connection (running or ended): the timeline marks them.
+    pub fn live_gaps(&self) -> &[super::live::Gap] {
+        (self.live.running())
+            .filter(|r| self.session.selected == Some(r.recording))
+            .map_or(&[], |r| &r.gaps)
+    }
+
     /// The form and the session, for the panels.
     pub fn live(&self) -> &super::live::Live {
         &self.live

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use pushlab_core::live::{LiveGrid, LiveSession, SessionEvent, decode_live_image};
 use pushlab_core::recording::bag::ImageKind;
 
-use crate::app::state::live::{Link, LiveChoice, LiveImage, WorkerLink};
+use crate::app::state::live::{Gap, Link, LiveChoice, LiveImage, WorkerLink};
 
 /// Runs a session with `choice` on a grid at `rate_hz` until the link is stopped or the session
 /// fails; says how it ended in the inbox.
@@ -41,6 +41,8 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
     let mut grid = LiveGrid::new(rate_hz);
     let (mut handed, mut refused, mut said_full) = (0usize, 0usize, false);
     let mut error = None;
+    // A reconnect waiting for its first frames: the frame handed last before it, and how long.
+    let mut open_gap: Option<(usize, f64)> = None;
     while !stop() {
         let event = match session.next(&stop) {
             Ok(event) => event,
@@ -50,7 +52,6 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             }
         };
         let mut said = None;
-        let mut gap = None;
         let mut new_link = None;
         match event {
             Some(SessionEvent::Pose {
@@ -89,10 +90,11 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             }
             Some(SessionEvent::Reconnected { after_s, attempts }) => {
                 said = Some(format!(
-                    "connected again to {} after {after_s:.1} s ({attempts} attempt(s)): a gap in the recording and in the push at frame {handed}",
-                    choice.url
+                    "connected again to {} after {after_s:.1} s ({attempts} attempt(s)): a gap in the recording and in the push after frame {}",
+                    choice.url,
+                    handed.saturating_sub(1)
                 ));
-                gap = Some(handed);
+                open_gap = Some((handed, after_s));
                 new_link = Some(Link::Connected {
                     server: session.server().unwrap_or("unnamed server").to_owned(),
                 });
@@ -100,7 +102,18 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             None => {}
         }
         let frames = grid.take_frames();
+        let before = handed;
         handed += frames.len();
+        let gap = match open_gap {
+            Some((from, away_s)) if handed > before => {
+                open_gap = None;
+                Some(Gap {
+                    frames: from..handed,
+                    away_s,
+                })
+            }
+            _ => None,
+        };
         if grid.is_full() && !said_full {
             said_full = true;
             said = Some(
