@@ -122,7 +122,7 @@ fn a_live_session_learns_what_the_replay_of_its_recording_learns_to_the_bit() {
         for (channel, log_time, payload) in session(&push_rows()) {
             let slot = usize::try_from(channel - 1).unwrap();
             recorder.write(&channels[slot], log_time, &payload).unwrap();
-            let pose = readings[slot].read(&payload).unwrap().unwrap();
+            let pose = readings[slot].read_single(&payload).unwrap().unwrap();
             let stream = [Stream::Pusher, Stream::Object][slot];
             let _ = learner.take(stream, &pose, log_time);
             learner.learn();

@@ -1,12 +1,14 @@
 //! One of the two streams a live session follows, the pusher or the object: its topic (and TF child
 //! frame), the channel it is bound to on the connection now, how its messages are read, its latest
 //! pose and how late that arrived. Bound **by topic name**: a server that restarts may number its
-//! channels differently.
+//! channels differently. A TF child frame is followed through its chain of parents
+//! ([`LiveChain`]), with `/tf_static` read beside its topic.
 
 use super::grid::Stream;
 use super::pose::PoseReading;
 use super::protocol::Channel;
-use crate::recording::bag::PlanarPose;
+use super::tf_chain::LiveChain;
+use crate::recording::bag::{PlanarPose, TF_STATIC};
 
 /// A stream followed (see the module documentation).
 #[derive(Debug)]
@@ -17,6 +19,11 @@ pub struct Followed {
     /// The channel bound to on the connection now, once advertised.
     channel: Option<u64>,
     reading: Option<PoseReading>,
+    /// A TF child frame's chain, kept across reconnects (its links are the robot's, not the
+    /// connection's).
+    chain: Option<LiveChain>,
+    /// The `/tf_static` channel on the connection now, read for a TF child frame's chain.
+    static_channel: Option<u64>,
     latest: Option<PlanarPose>,
     /// Receive time − header stamp of the latest, seconds.
     lag_s: Option<f64>,
@@ -26,12 +33,23 @@ pub struct Followed {
 /// What reading one message of a followed stream gave.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Reading {
-    /// A pose.
-    Pose(PlanarPose),
-    /// A message without the pose asked for (a TF message about other frames).
-    Nothing,
+    /// Its poses (none: a TF message about other frames, or a chain's pose waiting for a link;
+    /// several: poses that waited), and sentences for the user (the chain followed).
+    Poses {
+        poses: Vec<PlanarPose>,
+        said: Vec<String>,
+    },
     /// A message that does not decode: why, said the first time ([`Followed::unreadable`] counts).
     Unreadable { first: bool, why: String },
+}
+
+impl Reading {
+    fn poses(poses: Vec<PlanarPose>) -> Self {
+        Self::Poses {
+            poses,
+            said: Vec::new(),
+        }
+    }
 }
 
 impl Followed {
@@ -47,6 +65,8 @@ impl Followed {
             child,
             channel: None,
             reading: None,
+            chain: None,
+            static_channel: None,
             latest: None,
             lag_s: None,
             unreadable: 0,
@@ -89,24 +109,57 @@ impl Followed {
     /// Binds to the advertised channel of its topic; why it cannot be read, in words.
     pub fn bind(&mut self, channel: &Channel) -> Result<(), String> {
         let reading = PoseReading::for_channel(channel, self.child.as_deref())?;
+        if let PoseReading::Tf { child } = &reading
+            && self.chain.is_none()
+        {
+            self.chain = Some(LiveChain::new(child, self.static_channel.is_some()));
+        }
         self.channel = Some(channel.id);
         self.reading = Some(reading);
         Ok(())
     }
 
-    /// Reads one message of its channel, received at `now_ns` (Unix nanoseconds).
-    pub fn read(&mut self, payload: &[u8], now_ns: u64) -> Reading {
-        let Some(reading) = self.reading.as_ref() else {
-            return Reading::Nothing;
+    /// Reads `/tf_static` on `channel` too when it follows a TF child frame (of another topic).
+    pub fn bind_static(&mut self, channel: &Channel) {
+        if channel.topic != TF_STATIC || self.topic == TF_STATIC || self.child.is_none() {
+            return;
+        }
+        self.static_channel = Some(channel.id);
+        if let Some(chain) = self.chain.as_mut() {
+            chain.expect_static();
+        }
+    }
+
+    /// Whether a message of `channel` is read by this stream (its topic's, or `/tf_static`).
+    pub fn reads(&self, channel: u64) -> bool {
+        self.channel == Some(channel) || self.static_channel == Some(channel)
+    }
+
+    /// Reads one message of `channel` (one it [`reads`](Self::reads)), logged at `log_time_ns`
+    /// and received at `now_ns` (Unix nanoseconds).
+    pub fn read(&mut self, channel: u64, payload: &[u8], log_time_ns: u64, now_ns: u64) -> Reading {
+        let is_static = self.static_channel == Some(channel) && self.channel != Some(channel);
+        let read = match (self.chain.as_mut(), self.reading.as_ref()) {
+            (Some(chain), _) => chain
+                .add(payload, log_time_ns, is_static)
+                .map(|r| (r.poses, r.said)),
+            (None, Some(reading)) => reading
+                .read_single(payload)
+                .map(|pose| (pose.into_iter().collect(), Vec::new())),
+            (None, None) => Ok((Vec::new(), Vec::new())),
         };
-        match reading.read(payload) {
-            Ok(Some(pose)) => {
-                self.lag_s =
-                    (pose.stamp_ns > 0).then_some((now_ns as f64 - pose.stamp_ns as f64) * 1e-9);
-                self.latest = Some(pose);
-                Reading::Pose(pose)
+        match read {
+            Ok((poses, said)) => {
+                if let Some(pose) = poses.last() {
+                    self.lag_s = (pose.stamp_ns > 0)
+                        .then_some((now_ns as f64 - pose.stamp_ns as f64) * 1e-9);
+                    self.latest = Some(*pose);
+                }
+                match said.is_empty() {
+                    true => Reading::poses(poses),
+                    false => Reading::Poses { poses, said },
+                }
             }
-            Ok(None) => Reading::Nothing,
             Err(why) => {
                 self.unreadable += 1;
                 Reading::Unreadable {
@@ -115,5 +168,10 @@ impl Followed {
                 }
             }
         }
+    }
+
+    /// Poses of a TF chain that could not be composed at their time (a link not published then).
+    pub fn dropped(&self) -> usize {
+        self.chain.as_ref().map_or(0, LiveChain::dropped)
     }
 }

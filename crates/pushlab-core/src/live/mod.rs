@@ -19,6 +19,7 @@ pub mod protocol;
 pub mod recorder;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod session;
+pub mod tf_chain;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub use self::client::{LiveClient, LiveError, LiveEvent};

@@ -6,11 +6,11 @@
 //! through the bag reader's
 //! decoders, so that a live session and the bag it is recorded to read the same numbers.
 //!
-//! A TF child frame is taken in its parent's frame as published (one link): a chain of frames is
-//! not composed here yet, unlike a bag's `/tf`.
+//! A TF child frame is read through its chain of parents by [`super::tf_chain::LiveChain`], as a
+//! bag's `/tf` is.
 
 use super::protocol::Channel;
-use crate::recording::bag::{PlanarPose, PoseType, decode_pose, decode_tf, yaw_of};
+use crate::recording::bag::{PlanarPose, PoseType, decode_pose};
 
 /// How a channel's messages are read as a pose.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -55,24 +55,12 @@ impl PoseReading {
         }
     }
 
-    /// The pose in one message; `None` for a TF message without the child frame.
-    pub fn read(&self, payload: &[u8]) -> Result<Option<PlanarPose>, String> {
+    /// The pose in one message of a single-pose type; `None` for a TF frame, which is read through
+    /// its chain ([`super::tf_chain::LiveChain`]).
+    pub fn read_single(&self, payload: &[u8]) -> Result<Option<PlanarPose>, String> {
         match self {
             Self::Single(kind) => decode_pose(*kind, payload).map(Some),
-            Self::Tf { child } => {
-                let mut found = None;
-                decode_tf(payload, |t| {
-                    if t.child == child.as_bytes() {
-                        found = Some(PlanarPose {
-                            stamp_ns: t.stamp_ns,
-                            x: t.translation[0],
-                            y: t.translation[1],
-                            yaw: yaw_of(t.rotation),
-                        });
-                    }
-                })?;
-                Ok(found)
-            }
+            Self::Tf { .. } => Ok(None),
         }
     }
 }
@@ -99,7 +87,7 @@ mod tests {
             PoseReading::for_channel(&channel("cdr", "geometry_msgs/msg/PoseStamped"), None)
                 .expect("readable");
         let pose = reading
-            .read(&encode_pose_stamped(
+            .read_single(&encode_pose_stamped(
                 1_500_000_000,
                 "table",
                 0.25,

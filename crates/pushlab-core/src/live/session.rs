@@ -18,7 +18,7 @@ use super::followed::{Followed, Reading};
 use super::grid::Stream;
 use super::recorder::{RecordError, Recorded, Recorder};
 use crate::recording::bag::{
-    ImageKind, PlanarPose, PoseType, TopicInfo, decode_image_message, decode_tf,
+    ImageKind, PlanarPose, PoseType, TF_STATIC, TopicInfo, decode_image_message, decode_tf,
 };
 use crate::recording::camera::{RgbaImage, decode as decode_image};
 
@@ -220,14 +220,20 @@ impl LiveSession {
                         payload,
                     }));
                 }
-                for f in (self.followed.iter_mut()).filter(|f| f.channel() == Some(channel)) {
-                    match f.read(&payload, now) {
-                        Reading::Pose(pose) => self.queued.push_back(SessionEvent::Pose {
-                            stream: f.stream(),
-                            pose,
-                            log_time_ns,
-                        }),
-                        Reading::Nothing | Reading::Unreadable { first: false, .. } => {}
+                for f in (self.followed.iter_mut()).filter(|f| f.reads(channel)) {
+                    match f.read(channel, &payload, log_time_ns, now) {
+                        Reading::Poses { poses, said } => {
+                            let said = said.into_iter().map(|s| {
+                                SessionEvent::Said(format!("{} {}: {s}", f.role(), f.topic()))
+                            });
+                            self.queued.extend(said);
+                            self.queued.extend(poses.into_iter().map(|pose| SessionEvent::Pose {
+                                stream: f.stream(),
+                                pose,
+                                log_time_ns,
+                            }));
+                        }
+                        Reading::Unreadable { first: false, .. } => {}
                         Reading::Unreadable { first: true, why } => {
                             self.queued.push_back(SessionEvent::Said(format!(
                                 "{} {}: {why} (this and every such message after it left out, counted)",
@@ -242,6 +248,9 @@ impl LiveSession {
             Ok(Some(LiveEvent::Advertised(channels))) => {
                 for c in channels {
                     client.subscribe(c.id)?;
+                    for f in self.followed.iter_mut() {
+                        f.bind_static(&c);
+                    }
                     // A topic advertised again (its node restarted) is followed on its new channel.
                     for f in (self.followed.iter_mut()).filter(|f| f.topic() == c.topic) {
                         if f.channel() != Some(c.id) {
@@ -378,6 +387,9 @@ fn connect(
                 },
             });
         };
+        if let Some(fixed) = client.channel_of(TF_STATIC) {
+            f.bind_static(fixed);
+        }
         f.bind(&channel).map_err(|why| SessionError::Unreadable {
             role: f.role(),
             topic: f.topic().to_owned(),

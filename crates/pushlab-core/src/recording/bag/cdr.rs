@@ -308,6 +308,32 @@ pub fn encode_pose_stamped(stamp_ns: u64, frame_id: &str, x: f64, y: f64, yaw: f
     bytes
 }
 
+/// A little-endian `tf2_msgs/msg/TFMessage` holding `transforms` as rclcpp serialises it: for tests
+/// and benchmarks that publish or write transform trees of their own.
+pub fn encode_tf_message(transforms: &[Transform<'_>]) -> Vec<u8> {
+    let mut body: Vec<u8> = Vec::new();
+    let align = |body: &mut Vec<u8>, to: usize| body.resize(body.len().next_multiple_of(to), 0);
+    body.extend((transforms.len() as u32).to_le_bytes());
+    for t in transforms {
+        align(&mut body, 4);
+        body.extend(((t.stamp_ns / 1_000_000_000) as u32).to_le_bytes());
+        body.extend(((t.stamp_ns % 1_000_000_000) as u32).to_le_bytes());
+        for name in [t.parent, t.child] {
+            align(&mut body, 4);
+            body.extend((name.len() as u32 + 1).to_le_bytes());
+            body.extend(name);
+            body.push(0);
+        }
+        align(&mut body, 8);
+        for v in t.translation.iter().chain(&t.rotation) {
+            body.extend(v.to_le_bytes());
+        }
+    }
+    let mut bytes = vec![0, 1, 0, 0];
+    bytes.extend(body);
+    bytes
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -320,6 +346,49 @@ mod tests {
         assert_eq!(pose.stamp_ns, 2_000_000_005);
         assert_eq!((pose.x, pose.y), (1.0, -2.0));
         assert!((pose.yaw - 0.3).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_tf_message_written_reads_back() {
+        let written = [
+            Transform {
+                stamp_ns: 3_000_000_007,
+                parent: b"world",
+                child: b"base_link",
+                translation: [1.0, 2.0, 3.0],
+                rotation: [0.0, 0.0, 0.6, 0.8],
+            },
+            Transform {
+                stamp_ns: 4_000_000_000,
+                parent: b"base_link",
+                child: b"tool",
+                translation: [-1.0, 0.5, 0.0],
+                rotation: [0.0, 0.0, 0.0, 1.0],
+            },
+        ];
+        let mut read = Vec::new();
+        decode_tf(&encode_tf_message(&written), |t| {
+            read.push((
+                t.stamp_ns,
+                t.parent.to_vec(),
+                t.child.to_vec(),
+                t.translation,
+                t.rotation,
+            ))
+        })
+        .unwrap();
+        let want: Vec<_> = (written.iter())
+            .map(|t| {
+                (
+                    t.stamp_ns,
+                    t.parent.to_vec(),
+                    t.child.to_vec(),
+                    t.translation,
+                    t.rotation,
+                )
+            })
+            .collect();
+        assert_eq!(read, want);
     }
 
     #[test]

@@ -39,7 +39,9 @@ mod topic_info;
 mod topics;
 
 pub use self::as_set::{open, open_with, setting_for};
-pub use self::cdr::{PlanarPose, PoseType, Transform, decode_tf, encode_pose_stamped, yaw_of};
+pub use self::cdr::{
+    PlanarPose, PoseType, Transform, decode_tf, encode_pose_stamped, encode_tf_message, yaw_of,
+};
 pub use self::choice::{BagChoice, SettingSource};
 pub use self::error::BagError;
 pub use self::files::{bag_files, is_bag};
@@ -56,5 +58,6 @@ pub use self::split::{
 };
 pub use self::streams::{BagStreams, FileCut, read_streams, read_streams_bytes};
 pub(crate) use self::streams::{check_pose, seconds_since};
+pub(crate) use self::tf_tree::{interpolate, isometry_of};
 pub use self::topic_info::{BagListing, CameraInfo, MAX_LISTED_FRAMES, TF_STATIC, TopicInfo};
 pub use self::topics::{topics, topics_bytes};

@@ -421,11 +421,7 @@ fn prepare(link: &ChainLink, times: bool) -> Result<Prepared, (Option<usize>, Ba
 
 /// A sample as `parent_from_child`, its rotation normalised; an error when it has no rotation.
 fn isometry(link: &ChainLink, s: &Sample) -> Result<Isometry3<f64>, (Option<usize>, BagProblem)> {
-    let [x, y, z, w] = s.rotation;
-    let q = Quaternion::new(w, x, y, z);
-    let norm = q.norm();
-    let finite = s.translation.iter().all(|v| v.is_finite());
-    if !(finite && norm.is_finite() && norm > 1e-9) {
+    let Some(iso) = isometry_of(s.translation, s.rotation) else {
         return Err((
             Some(s.file),
             BagProblem::BadValue {
@@ -438,16 +434,29 @@ fn isometry(link: &ChainLink, s: &Sample) -> Result<Isometry3<f64>, (Option<usiz
                 ),
             },
         ));
-    }
-    Ok(Isometry3::from_parts(
-        Translation3::from(s.translation),
-        UnitQuaternion::from_quaternion(q),
-    ))
+    };
+    Ok(iso)
+}
+
+/// A transform as published (`[x, y, z, w]` rotation) as an isometry, its rotation normalised;
+/// `None` when a number is not finite or the quaternion has no length. A live session's chains
+/// read transforms by this rule too, so that they compose as an import does.
+pub(crate) fn isometry_of(translation: [f64; 3], rotation: [f64; 4]) -> Option<Isometry3<f64>> {
+    let [x, y, z, w] = rotation;
+    let q = Quaternion::new(w, x, y, z);
+    let norm = q.norm();
+    let finite = translation.iter().all(|v| v.is_finite());
+    (finite && norm.is_finite() && norm > 1e-9).then(|| {
+        Isometry3::from_parts(
+            Translation3::from(translation),
+            UnitQuaternion::from_quaternion(q),
+        )
+    })
 }
 
 /// `parent_from_child` at `ns` from the samples around it (sorted by time): the translation
 /// linearly, the rotation by slerp. `None` outside the samples' span: not extrapolated.
-pub(super) fn interpolate(samples: &[(u64, Isometry3<f64>)], ns: u64) -> Option<Isometry3<f64>> {
+pub(crate) fn interpolate(samples: &[(u64, Isometry3<f64>)], ns: u64) -> Option<Isometry3<f64>> {
     let i = samples.partition_point(|(t, _)| *t <= ns);
     let (before_ns, before) = samples.get(i.checked_sub(1)?)?;
     if *before_ns == ns {
