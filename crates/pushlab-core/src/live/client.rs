@@ -162,6 +162,7 @@ impl LiveClient {
     /// The next event, or `None` when nothing came within the read timeout.
     pub fn next_event(&mut self) -> Result<Option<LiveEvent>, LiveError> {
         loop {
+            acknowledge_at_once(self.socket.get_ref());
             let message = match self.socket.read() {
                 Ok(message) => message,
                 Err(tungstenite::Error::Io(e))
@@ -252,4 +253,19 @@ impl LiveClient {
             why,
         }
     }
+}
+
+/// Asks the kernel to acknowledge what arrives at once rather than after its delayed-ACK timer.
+/// A server that leaves Nagle's algorithm on (the Foxglove SDK's does not set TCP_NODELAY) holds a
+/// small message back until the previous one is acknowledged: with delayed ACKs, tens of
+/// milliseconds at a 1 kHz pose stream. The mode is not sticky (the kernel leaves it on its own), so
+/// it is asked for before every read: one system call per message. Elsewhere than Linux, nothing.
+fn acknowledge_at_once(stream: &TcpStream) {
+    #[cfg(target_os = "linux")]
+    {
+        // A socket that refuses is read as before, with the kernel's delayed ACKs.
+        let _ = socket2::SockRef::from(stream).set_tcp_quickack(true);
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = stream;
 }
