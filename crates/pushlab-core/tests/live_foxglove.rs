@@ -134,7 +134,10 @@ fn the_foxglove_sdks_server_streams_poses_the_client_reads() {
             .find(|(id, _)| *id == channel)
             .expect("ours")
             .1;
-        let got = reading.read_single(&payload).expect("decodes").expect("a pose");
+        let got = reading
+            .read_single(&payload)
+            .expect("decodes")
+            .expect("a pose");
         let k = (got.stamp_ns - pose(0).0) / 50_000_000;
         let (stamp, x, y, yaw) = pose(k);
         assert_eq!(got.stamp_ns, stamp, "the header stamp, not the log time");

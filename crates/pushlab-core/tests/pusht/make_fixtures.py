@@ -23,6 +23,10 @@ unwrapped), the T's eight corner keypoints (`PushTEnv.get_keypoints`) and the ac
   episodes table), v2.1 in H.264 (libx264, crf 23), one file per episode — two codecs a reader
   meets. Encoded by the ffmpeg binary pinned in `imageio-ffmpeg`, single-threaded and bit-exact
   so that the files regenerate identically.
+- `lerobot-v2.1-images/` and `lerobot-v3.0-images/`: the first two episodes as
+  `lerobot/pusht_image` keeps its renders: the `observation.image` feature of dtype `image`, each
+  frame a PNG inside the parquet file (the struct of `bytes` and `path` Hugging Face `datasets`
+  writes), no videos; v3.0 both episodes in one file. PNG by OpenCV.
 - `truth.json`: per episode and frame, the state in float64 straight from pymunk, the local
   keypoints in `get_keypoints`' order, and the body's COM, mass and moment.
 
@@ -42,6 +46,7 @@ import shutil
 
 import subprocess
 
+import cv2
 import imageio_ffmpeg
 import numcodecs
 import numpy as np
@@ -264,12 +269,59 @@ def write_lerobot_v21(path, episodes, with_img):
         json.dump(info("v2.1", episodes, data_path, video_path if with_img else None), out, indent=4)
 
 
-def write_lerobot_v30(path, episodes, with_img):
+IMAGE_EPISODES = 2
+IMAGE_TYPE = pa.struct([("bytes", pa.binary()), ("path", pa.string())])
+
+
+def with_pngs(table, episode):
+    """`table` with the episode's renders as PNG cells of an `image` column, as `datasets` writes."""
+    pngs = []
+    for f in episode["frames"]:
+        bgr = cv2.cvtColor(np.asarray(f["img"], np.uint8), cv2.COLOR_RGB2BGR)
+        ok, png = cv2.imencode(".png", bgr)
+        assert ok
+        pngs.append({"bytes": png.tobytes(), "path": None})
+    return table.append_column(VIDEO, pa.array(pngs, IMAGE_TYPE))
+
+
+def image_feature(meta):
+    meta["features"][VIDEO] = {
+        "dtype": "image",
+        "shape": [96, 96, 3],
+        "names": ["height", "width", "channel"],
+    }
+    return meta
+
+
+def write_lerobot_v21_images(path, episodes):
+    """The first IMAGE_EPISODES episodes with their renders as PNG in their parquet files."""
+    os.makedirs(f"{path}/meta")
+    os.makedirs(f"{path}/data/chunk-000")
+    episodes = episodes[:IMAGE_EPISODES]
+    first = 0
+    with open(f"{path}/meta/episodes.jsonl", "w") as out:
+        for i, episode in enumerate(episodes):
+            table = with_pngs(episode_table(episode, i, first), episode)
+            pq.write_table(table, f"{path}/data/chunk-000/episode_{i:06d}.parquet")
+            first += table.num_rows
+            out.write(json.dumps({"episode_index": i, "tasks": [TASK], "length": table.num_rows}))
+            out.write("\n")
+    with open(f"{path}/meta/tasks.jsonl", "w") as out:
+        out.write(json.dumps({"task_index": 0, "task": TASK}) + "\n")
+    data_path = "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"
+    meta = image_feature(info("v2.1", episodes, data_path, None))
+    with open(f"{path}/meta/info.json", "w") as out:
+        json.dump(meta, out, indent=4)
+
+
+def write_lerobot_v30(path, episodes, with_img, images_in_parquet=False):
     os.makedirs(f"{path}/meta/episodes/chunk-000")
     os.makedirs(f"{path}/data/chunk-000")
     tables, rows, first = [], [], 0
     for i, episode in enumerate(episodes):
         table = episode_table(episode, i, first)
+        if images_in_parquet:
+            table = with_pngs(table, episode)
         tables.append(table)
         rows.append(
             {
@@ -306,6 +358,8 @@ def write_lerobot_v30(path, episodes, with_img):
     data_path = "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"
     video_path = "videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4"
     meta = info("v3.0", episodes, data_path, video_path if with_img else None)
+    if images_in_parquet:
+        image_feature(meta)
     meta.update({"data_files_size_in_mb": 100, "video_files_size_in_mb": 500})
     del meta["total_chunks"], meta["total_videos"]
     with open(f"{path}/meta/info.json", "w") as out:
@@ -333,11 +387,16 @@ def main():
         run_episode(env, rng, i % 8, args.steps, with_img, args.com_px) for i in range(args.episodes)
     ]
 
-    for name in ["replay.zarr", "lerobot-v2.1", "lerobot-v3.0"]:
+    images = ["lerobot-v2.1-images", "lerobot-v3.0-images"]
+    for name in ["replay.zarr", "lerobot-v2.1", "lerobot-v3.0"] + images:
         shutil.rmtree(os.path.join(args.out, name), ignore_errors=True)
     write_zarr(os.path.join(args.out, "replay.zarr"), episodes, with_img)
     write_lerobot_v21(os.path.join(args.out, "lerobot-v2.1"), episodes, with_img)
     write_lerobot_v30(os.path.join(args.out, "lerobot-v3.0"), episodes, with_img)
+    if with_img:
+        write_lerobot_v21_images(os.path.join(args.out, images[0]), episodes)
+        first = episodes[:IMAGE_EPISODES]
+        write_lerobot_v30(os.path.join(args.out, images[1]), first, False, images_in_parquet=True)
 
     env.reset(seed=0)
     if args.com_px is not None:

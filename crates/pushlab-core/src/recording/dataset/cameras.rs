@@ -1,12 +1,14 @@
 //! Each episode's cameras: a replay buffer's image arrays (`data/img`, read from the buffer's
-//! chunks) and a LeRobot dataset's video features (MP4 files decoded by ffmpeg), each frame at the
-//! time of its episode's frame — read only when shown.
+//! chunks), a LeRobot dataset's image features (pictures in its parquet files) and its video
+//! features (MP4 files decoded by ffmpeg), each frame at the time of its episode's frame — read
+//! only when shown.
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::error::DatasetError;
+use super::lerobot::ParquetImages;
 use super::table::{DatasetFormat, DatasetTable};
 use super::zarr_frames::ImageArray;
 use crate::recording::camera::{CameraStream, VideoFrames, find_ffmpeg};
@@ -58,7 +60,18 @@ impl DatasetCameras {
             let stream = CameraStream::new(video.name.clone(), times.clone(), Arc::new(frames));
             Some(Arc::new(stream))
         });
-        images.chain(videos).collect()
+        let pictures = (table.images.iter()).filter_map(|feature| {
+            let span = feature.episodes.get(episode)?;
+            let source = ParquetImages::new(
+                span.file.clone(),
+                feature.name.clone(),
+                span.first_row,
+                rows.len(),
+            );
+            let stream = CameraStream::new(feature.name.clone(), times.clone(), Arc::new(source));
+            Some(Arc::new(stream))
+        });
+        images.chain(pictures).chain(videos).collect()
     }
 }
 

@@ -27,7 +27,9 @@ pub use self::as_set::{episode_indexes, setting_for, to_set};
 pub use self::choice::{Columns, DatasetChoice, ObjectSource};
 pub use self::error::DatasetError;
 pub use self::problem::DatasetProblem;
-pub use self::table::{DatasetFormat, DatasetTable, Feature, VideoFeature, VideoSpan};
+pub use self::table::{
+    DatasetFormat, DatasetTable, Feature, ImageFeature, RowSpan, VideoFeature, VideoSpan,
+};
 use crate::recording::RecordingSet;
 use crate::recording::progress::Progress;
 

@@ -122,6 +122,7 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, Dataset
         times: None,
         cameras,
         videos: Vec::new(),
+        images: Vec::new(),
         notes: Vec::new(),
     })
 }

@@ -57,6 +57,10 @@ pub struct DatasetTable {
     /// A LeRobot dataset's video features (dtype `video`), each one of `cameras` too: where their
     /// MP4 files are, so that a camera can be attached to each episode. Empty for a replay buffer.
     pub videos: Vec<VideoFeature>,
+    /// A LeRobot dataset's image features (dtype `image`: a PNG or JPEG in each row of the parquet
+    /// files, as `lerobot/pusht_image` keeps them), each one of `cameras` too. Empty for a replay
+    /// buffer, whose images are arrays of its own.
+    pub images: Vec<ImageFeature>,
     /// What reading did that loses nothing but a user should know (metadata that disagrees with
     /// the files, which are read): said by `validate` and kept in every episode's notes.
     pub notes: Vec<String>,
@@ -84,6 +88,23 @@ pub struct VideoFeature {
 pub struct VideoSpan {
     pub file: PathBuf,
     pub from_s: f64,
+}
+
+/// A LeRobot image feature: each frame's picture is a cell of its column in the parquet files.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageFeature {
+    /// The feature's name, `observation.image`: its column.
+    pub name: String,
+    /// Where each episode's rows are, in the order of the table's episodes.
+    pub episodes: Vec<RowSpan>,
+}
+
+/// Where one episode's rows are: its parquet file and the row of its first frame in that file (0
+/// where each episode has its own file).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RowSpan {
+    pub file: PathBuf,
+    pub first_row: usize,
 }
 
 impl DatasetTable {

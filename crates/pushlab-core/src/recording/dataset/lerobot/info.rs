@@ -84,6 +84,8 @@ pub struct Info {
     /// Image and video features: (name, what they are).
     pub cameras: Vec<(String, String)>,
     pub videos: Vec<VideoFeature>,
+    /// The image features' names (their pictures are in the parquet files).
+    pub images: Vec<String>,
     /// `total_episodes` and `total_frames` as written, when there: the files are read whatever
     /// they say, and a disagreement is noted ([`Info::disagreements`]).
     pub totals: Vec<(&'static str, Value)>,
@@ -212,6 +214,7 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
         features: Vec::new(),
         cameras: Vec::new(),
         videos: Vec::new(),
+        images: Vec::new(),
         totals: (["total_episodes", "total_frames"].into_iter())
             .filter_map(|key| Some((key, object.get(key)?.clone())))
             .collect(),
@@ -258,10 +261,13 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
                     episodes: Vec::new(),
                 });
             }
-            "image" => info.cameras.push((
-                name.clone(),
-                format!("images {} in parquet", dims.join("×")),
-            )),
+            "image" => {
+                info.cameras.push((
+                    name.clone(),
+                    format!("images {} in parquet", dims.join("×")),
+                ));
+                info.images.push(name.clone());
+            }
             _ => info.features.push(NumericFeature {
                 name: name.clone(),
                 dtype: dtype.to_owned(),
@@ -273,6 +279,7 @@ fn parse(value: &Value) -> Result<Info, DatasetProblem> {
     info.features.sort_by(|a, b| a.name.cmp(&b.name));
     info.cameras.sort();
     info.videos.sort_by(|a, b| a.name.cmp(&b.name));
+    info.images.sort();
     Ok(info)
 }
 

@@ -8,13 +8,15 @@
 //! the metadata), and its `timestamp`, which gives the frames' times.
 //!
 //! Every numeric feature of `info.json` with its shape is read ([`parquet_rows`], through the
-//! parquet crate's record API: no arrow); image and video features are listed as cameras, and each
+//! parquet crate's record API: no arrow); image and video features are listed as cameras — an image
+//! feature's pictures, in the parquet files, read when shown ([`parquet_images`]) — and each
 //! video feature's file and start time for every episode is found ([`super::VideoFeature`]: v2
 //! one file per episode, v3.0 the file and `from_timestamp` its episode metadata gives), so that
 //! the episodes' cameras play its frames (decoded by ffmpeg when shown, `camera::VideoFrames`).
 
 mod episodes;
 mod info;
+mod parquet_images;
 mod parquet_rows;
 mod parquet_source;
 
@@ -27,10 +29,11 @@ use self::info::{INFO_FILE, Info, Layout};
 use self::parquet_rows::{Wanted, append_file};
 use super::error::DatasetError;
 use super::problem::DatasetProblem;
-use super::table::{DatasetFormat, DatasetTable, Feature, VideoSpan};
+use super::table::{DatasetFormat, DatasetTable, Feature, ImageFeature, RowSpan, VideoSpan};
 use crate::recording::progress::Progress;
 
 pub use self::info::SUPPORTED;
+pub(super) use self::parquet_images::ParquetImages;
 
 /// The column that says which episode a row is of.
 const EPISODE_INDEX: &str = "episode_index";
@@ -92,6 +95,12 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, Dataset
             .filter_map(|episode| episode.videos.get(k).cloned())
             .collect();
     }
+    let images = (info.images.iter())
+        .map(|name| ImageFeature {
+            name: name.clone(),
+            episodes: episodes.iter().map(|e| e.data.clone()).collect(),
+        })
+        .collect();
     let episodes: Vec<Range<usize>> = episodes.into_iter().map(|episode| episode.rows).collect();
     let features: Vec<Feature> = (info.features.iter().zip(columns))
         .map(|(feature, values)| Feature {
@@ -113,13 +122,16 @@ pub fn read(dir: &Path, progress: &dyn Progress) -> Result<DatasetTable, Dataset
         times,
         cameras: info.cameras,
         videos,
+        images,
         notes,
     })
 }
 
-/// An episode's rows in the table, and where its frames of each video feature are.
+/// An episode's rows in the table, where they are in the parquet files, and where its frames of
+/// each video feature are.
 struct EpisodeRows {
     rows: Range<usize>,
+    data: RowSpan,
     videos: Vec<VideoSpan>,
 }
 
@@ -204,6 +216,7 @@ impl Reading<'_> {
                 .collect::<Result<_, DatasetError>>()?;
             episodes.push(EpisodeRows {
                 rows: first..first + rows,
+                data: RowSpan { file, first_row: 0 },
                 videos,
             });
             first += rows;
@@ -219,12 +232,23 @@ impl Reading<'_> {
         let files: BTreeSet<(usize, usize)> = listed.iter().map(|l| l.data_file).collect();
         let mut runs = Runs::default();
         let mut first = 0;
+        // Each file read and the table's row its first row became.
+        let mut starts: Vec<(PathBuf, usize)> = Vec::new();
         for (chunk, file) in files {
             let file = self.data_file(&[("chunk_index", chunk), ("file_index", file)])?;
             let rows = append_file(&file, self.wanted, columns, self.progress)?;
             runs.add(&file, first, &columns[self.episode_column][first..])?;
+            starts.push((file, first));
             first += rows;
         }
+        let data_of = |rows: &Range<usize>| {
+            let at = starts.partition_point(|(_, start)| *start <= rows.start);
+            let (file, start) = (starts.get(at.saturating_sub(1)).cloned()).unwrap_or_default();
+            RowSpan {
+                file,
+                first_row: rows.start - start,
+            }
+        };
         let by_index: HashMap<usize, &Listed> = listed.iter().map(|l| (l.index, l)).collect();
         let runs = runs.check(&listed, &self.dir.join(EPISODES_DIR))?;
         (runs.into_iter())
@@ -241,7 +265,8 @@ impl Reading<'_> {
                         })
                     })
                     .collect::<Result<_, DatasetError>>()?;
-                Ok(EpisodeRows { rows, videos })
+                let data = data_of(&rows);
+                Ok(EpisodeRows { rows, data, videos })
             })
             .collect()
     }
