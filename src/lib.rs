@@ -4,5 +4,7 @@
 pub mod app;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod figures;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod render;
 #[cfg(target_arch = "wasm32")]
 pub mod web;

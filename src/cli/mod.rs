@@ -17,6 +17,7 @@ mod labels;
 mod live;
 mod load_bar;
 mod pipe;
+mod render;
 mod simulate;
 mod validate;
 
@@ -61,6 +62,9 @@ enum Command {
     /// Run a list of experiments (a JSON spec) for every model kind and physics only, in parallel,
     /// into one table.
     Suite(experiment::suite::SuiteArgs),
+    /// Play a recording with the model, learning online as the app does, and write the scene as a
+    /// video: GIF, MP4 or WebM.
+    Render(Box<render::RenderArgs>),
 }
 
 /// Parses the command line and runs the chosen command.
@@ -93,6 +97,7 @@ pub fn run() -> ExitCode {
         Some(Command::Train(args)) => exit::exit_code(experiment::train::run(&args)),
         Some(Command::Eval(args)) => exit::exit_code(experiment::eval::run(&args)),
         Some(Command::Suite(args)) => exit::exit_code(experiment::suite::run(&args)),
+        Some(Command::Render(args)) => exit::exit_code(render::run(&args)),
         Some(Command::Simulate(args)) => {
             exit::exit_code(simulate::run(&args).map_err(exit::Failure::from))
         }

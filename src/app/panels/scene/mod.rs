@@ -60,38 +60,34 @@ fn toolbar(ui: &mut egui::Ui, view: &mut SceneView) {
 pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &mut Vec<Command>) {
     toolbar(ui, view);
     let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
+    draw(ui, &response, &painter, state, view, Some(commands));
+    if view.legend_open {
+        legend::ui(ui, legend::area(view.rect), state, commands);
+    }
+}
+
+/// The scene alone, filling `ui`: no toolbar, legend or pointer — a frame of a rendered video
+/// (`crate::render`). The camera fits the whole push, so that the view holds still.
+pub fn picture(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView) {
+    view.mode = CameraMode::FitAll;
+    view.legend_open = false;
+    let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::hover());
+    draw(ui, &response, &painter, state, view, None);
+}
+
+/// The scene in `response`'s rectangle; with `commands`, answering the pointer too.
+fn draw(
+    ui: &egui::Ui,
+    response: &egui::Response,
+    painter: &egui::Painter,
+    state: &AppState,
+    view: &mut SceneView,
+    commands: Option<&mut Vec<Command>>,
+) {
     view.rect = response.rect;
     let painter = painter.with_clip_rect(view.rect);
     painter.rect_filled(view.rect, 0.0, Color32::from_gray(22));
-    if let Some(recording) = state.recording()
-        && let Some(frame) = recording.trajectory.frames.get(state.frame())
-    {
-        let outline = recording.setting.object.outline().ok();
-        let content = Content {
-            pose: frame.object,
-            robot: frame.robot,
-            pusher_radius: recording.setting.pusher_radius,
-            outline: outline.as_ref(),
-            predictions: state.predictions(),
-            gain: state.settings().layers.motion_gain,
-            what_if: state.what_if().filter(|_| state.settings().layers.what_if),
-        };
-        let markers = markers(state, view, &content);
-        let projection = view.projection();
-        interaction::handle(
-            ui,
-            &response,
-            state,
-            view,
-            &projection,
-            &content.pose,
-            &markers,
-            commands,
-        );
-        aim(state, view, &content);
-        let projection = view.projection();
-        draw_layers(&painter, state, view, &projection, &content, &response);
-    } else {
+    let Some(recording) = state.recording() else {
         painter.text(
             view.rect.center(),
             egui::Align2::CENTER_CENTER,
@@ -99,10 +95,38 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &
             egui::FontId::proportional(16.0),
             Color32::GRAY,
         );
+        return;
+    };
+    let Some(frame) = recording.trajectory.frames.get(state.frame()) else {
+        return;
+    };
+    let outline = recording.setting.object.outline().ok();
+    let content = Content {
+        pose: frame.object,
+        robot: frame.robot,
+        pusher_radius: recording.setting.pusher_radius,
+        outline: outline.as_ref(),
+        predictions: state.predictions(),
+        gain: state.settings().layers.motion_gain,
+        what_if: state.what_if().filter(|_| state.settings().layers.what_if),
+    };
+    if let Some(commands) = commands {
+        let markers = markers(state, view, &content);
+        let projection = view.projection();
+        interaction::handle(
+            ui,
+            response,
+            state,
+            view,
+            &projection,
+            &content.pose,
+            &markers,
+            commands,
+        );
     }
-    if view.legend_open {
-        legend::ui(ui, legend::area(view.rect), state, commands);
-    }
+    aim(state, view, &content);
+    let projection = view.projection();
+    draw_layers(&painter, state, view, &projection, &content, response);
 }
 
 /// What is drawn at the frame shown.

@@ -1,0 +1,119 @@
+//! `pushlab render RECORDING --out push.gif|mp4|webm`: the push as a video, learning online as the
+//! app does, with indicatif progress; Ctrl-C stops it and leaves no file.
+
+use std::ops::Range;
+use std::path::PathBuf;
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use pushlab::app::state::Persisted;
+use pushlab::render::{RenderOptions, render};
+
+use super::exit::Failure;
+use super::experiment::args::{OnlineArgs, positive_real};
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The recording: a set's CSV (or a folder: its first push), a bag, a dataset.
+    pub recording: PathBuf,
+    /// The video to write: .gif, .mp4 (H.264) or .webm (VP9); MP4 and WebM need ffmpeg.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// A model file; default: the bundled model.
+    #[arg(long, value_name = "FILE")]
+    pub model: Option<PathBuf>,
+    /// Width and height, pixels.
+    #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = size)]
+    pub size: [usize; 2],
+    /// Frames of video a second.
+    #[arg(long, value_name = "FPS", default_value_t = 30.0, value_parser = positive_real)]
+    pub fps: f64,
+    /// Seconds of the recording a second of video.
+    #[arg(long, value_name = "S", default_value_t = 1.0, value_parser = positive_real)]
+    pub speed: f64,
+    /// The recording's frames to render, `A..B` (B not included); default: all.
+    #[arg(long, value_name = "A..B", value_parser = frame_range)]
+    pub frames: Option<Range<usize>>,
+    /// The scene's layers drawn, by short name, comma-separated (default: the app's): true-now,
+    /// true-target, online, fixed, physics, pure-nn, what-if, com, ellipse, true-com, best-com,
+    /// com-label, contact, robot-path, trails, grid.
+    #[arg(long, value_name = "NAMES")]
+    pub layers: Option<String>,
+    #[command(flatten)]
+    pub online: OnlineArgs,
+}
+
+fn size(text: &str) -> Result<[usize; 2], String> {
+    let parsed = text
+        .split_once('x')
+        .and_then(|(w, h)| Some([w.parse().ok()?, h.parse().ok()?]));
+    match parsed {
+        Some([w, h]) if (16..=7680).contains(&w) && (16..=4320).contains(&h) => Ok([w, h]),
+        _ => Err(format!(
+            "{text}: expected WIDTHxHEIGHT in pixels, 16 to 7680 by 16 to 4320 (1280x720)"
+        )),
+    }
+}
+
+fn frame_range(text: &str) -> Result<Range<usize>, String> {
+    let parsed = text
+        .split_once("..")
+        .and_then(|(a, b)| Some(a.parse().ok()?..b.parse().ok()?));
+    match parsed {
+        Some(range) if !range.is_empty() => Ok(range),
+        _ => Err(format!("{text}: expected frames A..B with A < B (0..200)")),
+    }
+}
+
+pub fn run(args: &RenderArgs) -> Result<(), Failure> {
+    let defaults = Persisted::default();
+    let layers = match &args.layers {
+        Some(names) => defaults
+            .layers
+            .only(names)
+            .map_err(|why| Failure::Usage(anyhow::anyhow!("--layers: {why}")))?,
+        None => defaults.layers.clone(),
+    };
+    let persisted = Persisted {
+        online: args.online.config(),
+        layers,
+        ..defaults
+    };
+    let mut state = pushlab::app::initial_state(std::slice::from_ref(&args.recording), persisted);
+    if state.recording().is_none() {
+        let problems: Vec<&str> = (state.session().problems.iter())
+            .map(|p| p.message.as_str())
+            .collect();
+        return Err(Failure::Failed(anyhow::anyhow!(
+            "{}: no recording opened: {}",
+            args.recording.display(),
+            problems.join("; ")
+        )));
+    }
+    if let Some(model) = &args.model {
+        state.load_model(model)?;
+    }
+    let options = RenderOptions {
+        size: args.size,
+        fps: args.fps,
+        speed: args.speed,
+        frames: args.frames.clone(),
+    };
+    let bar = ProgressBar::new(0);
+    if let Ok(style) = ProgressStyle::with_template(
+        "rendering [{bar:30}] frame {pos}/{len} ({elapsed}, {eta} left)",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    let cancel = super::interrupt::cancel_flag();
+    let written = render(state, &args.out, &options, &mut |done, all| {
+        bar.set_length(all as u64);
+        bar.set_position(done as u64);
+        !cancel.load(std::sync::atomic::Ordering::Relaxed)
+    });
+    bar.finish_and_clear();
+    let written = written?;
+    println!("wrote {}", written.display());
+    Ok(())
+}

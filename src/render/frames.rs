@@ -1,0 +1,111 @@
+//! The frames of a rendered push: the app's state played frame by frame — learning online as the
+//! window does when it plays, by the same run — and each frame's scene laid out by the app's own
+//! scene painter (`panels::scene::picture`) under a caption line, tessellated by egui and painted
+//! into pixels ([`super::raster`]).
+
+use eframe::egui::{self, Color32};
+
+use super::raster::{Canvas, Textures};
+use crate::app::panels::scene::{self, SceneView};
+use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::{AppState, Command};
+
+/// A push being rendered: the state, the scene's view and egui's textures.
+pub struct SceneFrames {
+    ctx: egui::Context,
+    state: AppState,
+    view: SceneView,
+    textures: Textures,
+    size: [usize; 2],
+}
+
+impl SceneFrames {
+    /// Renders the recording `state` shows, at `size` pixels (one pixel a point).
+    pub fn new(state: AppState, size: [usize; 2]) -> Self {
+        let ctx = egui::Context::default();
+        ctx.set_visuals(egui::Visuals::dark());
+        Self {
+            ctx,
+            state,
+            view: SceneView::default(),
+            textures: Textures::default(),
+            size,
+        }
+    }
+
+    pub fn state(&self) -> &AppState {
+        &self.state
+    }
+
+    /// Where a point of the table (metres) was drawn in the last frame, pixels from the top left.
+    pub fn pixel_of(&self, world: nalgebra::Point2<f64>) -> [f32; 2] {
+        let at = self.view.projection().to_screen(world);
+        [at.x, at.y]
+    }
+
+    /// Moves to recording frame `k`: forwards one frame at a time, so that the run learns each
+    /// frame as the window's does while it plays; backwards (or a first jump) by seeking.
+    pub fn show(&mut self, k: usize) {
+        let now = self.state.frame();
+        if k > now && k - now <= 64 {
+            for _ in now..k {
+                self.state
+                    .apply(Command::Timeline(TimelineCommand::Step(1)));
+            }
+        } else if k != now {
+            self.state
+                .apply(Command::Timeline(TimelineCommand::SeekTo(k)));
+        }
+    }
+
+    /// The frame shown, as RGBA bytes row by row.
+    pub fn draw(&mut self) -> Vec<u8> {
+        let [width, height] = self.size;
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(width as f32, height as f32),
+            )),
+            ..egui::RawInput::default()
+        };
+        let (state, view) = (&self.state, &mut self.view);
+        let mut output = self.ctx.run_ui(input, |ui| {
+            egui::Panel::top("caption").show(ui, |ui| {
+                ui.add_space(2.0);
+                ui.label(egui::RichText::new(caption(state)).monospace().size(13.0));
+                ui.add_space(2.0);
+            });
+            egui::CentralPanel::default()
+                .frame(egui::Frame::NONE)
+                .show(ui, |ui| scene::picture(ui, state, view));
+        });
+        self.textures.update(&output.textures_delta);
+        output.textures_delta.clear();
+        let primitives = self.ctx.tessellate(output.shapes, output.pixels_per_point);
+        let mut canvas = Canvas::new(width, height, Color32::from_gray(22));
+        canvas.paint(&primitives, &self.textures, output.pixels_per_point);
+        canvas.rgba()
+    }
+}
+
+/// The caption line: the recording, the frame and its time, θ.
+fn caption(state: &AppState) -> String {
+    let Some(recording) = state.recording() else {
+        return String::new();
+    };
+    let frame = state.frame();
+    let time = (recording.trajectory.frames.get(frame)).map_or(0.0, |f| f.time);
+    let theta = state.theta().map_or(String::new(), |t| {
+        format!(
+            "   θ: COM ({:+.1}, {:+.1}) mm, h {:.1} mm",
+            t.com_offset[0] * 1e3,
+            t.com_offset[1] * 1e3,
+            t.h * 1e3
+        )
+    });
+    format!(
+        "{}   frame {frame} / {}   {time:.2} s{theta}",
+        recording.name,
+        recording.trajectory.len().saturating_sub(1)
+    )
+}

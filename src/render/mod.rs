@@ -1,0 +1,96 @@
+//! A push rendered as a video (`pushlab render`): the recording played with the model, learning
+//! online as the app does (the app's own run, stepped frame by frame), each frame of the video the
+//! app's scene at the recording's frame shown at that time — drawn by the app's painting code,
+//! tessellated by egui and painted on the CPU ([`raster`]) — and written as GIF, MP4 or WebM
+//! ([`video`]).
+
+mod frames;
+mod palette;
+pub mod raster;
+pub mod video;
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+pub use self::frames::SceneFrames;
+use self::video::VideoWriter;
+use crate::app::state::AppState;
+
+/// How a push is rendered.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Width and height, pixels.
+    pub size: [usize; 2],
+    /// Frames of the video a second.
+    pub fps: f64,
+    /// Seconds of the recording a second of video.
+    pub speed: f64,
+    /// The recording's frames to render; `None`: all.
+    pub frames: Option<Range<usize>>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            size: [1280, 720],
+            fps: 30.0,
+            speed: 1.0,
+            frames: None,
+        }
+    }
+}
+
+/// The recording's frame each video frame shows: the last frame at or before the video frame's
+/// time, `speed` seconds of recording a second, from the range's first frame to its last.
+pub fn frames_shown(times: &[f64], range: Range<usize>, fps: f64, speed: f64) -> Vec<usize> {
+    let range = range.start.min(times.len())..range.end.min(times.len());
+    let (Some(&start), Some(&end)) = (times.get(range.start), times.get(range.end.wrapping_sub(1)))
+    else {
+        return Vec::new();
+    };
+    let count = ((end - start) / speed * fps).floor() as usize + 1;
+    let mut shown = Vec::with_capacity(count);
+    let mut k = range.start;
+    for i in 0..count {
+        let t = start + i as f64 * speed / fps;
+        while k + 1 < range.end && times[k + 1] <= t + 1e-9 {
+            k += 1;
+        }
+        shown.push(k);
+    }
+    shown
+}
+
+/// Renders the recording `state` shows to `out`, telling `progress` each frame done (of all) and
+/// stopping, with nothing written, when it says so.
+pub fn render(
+    state: AppState,
+    out: &Path,
+    options: &RenderOptions,
+    progress: &mut dyn FnMut(usize, usize) -> bool,
+) -> anyhow::Result<PathBuf> {
+    let times: Vec<f64> = match state.recording() {
+        Some(recording) => recording.trajectory.frames.iter().map(|f| f.time).collect(),
+        None => anyhow::bail!("no recording to render"),
+    };
+    let range = options.frames.clone().unwrap_or(0..times.len());
+    if range.start >= times.len() || range.is_empty() {
+        anyhow::bail!(
+            "--frames {}..{}: the recording has frames 0..{}",
+            range.start,
+            range.end,
+            times.len()
+        );
+    }
+    let shown = frames_shown(&times, range, options.fps, options.speed);
+    let mut writer = VideoWriter::create(out, options.size, options.fps)?;
+    let mut scene = SceneFrames::new(state, options.size);
+    for (i, &k) in shown.iter().enumerate() {
+        scene.show(k);
+        writer.push(scene.draw())?;
+        if !progress(i + 1, shown.len()) {
+            anyhow::bail!("stopped: nothing written");
+        }
+    }
+    writer.finish()
+}

@@ -1,0 +1,260 @@
+//! `pushlab render` against independent readers of what it wrote: the GIF decoded by the `image`
+//! crate, the MP4 by ffmpeg. The video has the frames asked for at the frame rate asked; in frame
+//! k the pusher's disc is drawn where the recording puts the pusher at that frame's time (its
+//! centroid within 2 px), and the learned COM marker where `pushlab eval --per-frame` puts θ at
+//! that frame. A render stopped midway or refused leaves no file.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod cli_common;
+
+use std::path::{Path, PathBuf};
+
+use cli_common::{pushlab, temp_dir};
+use image::AnimationDecoder;
+use nalgebra::Point2;
+use pushlab::app::initial_state;
+use pushlab::app::state::Persisted;
+use pushlab::render::{RenderOptions, SceneFrames, render};
+
+const SET: &str = "sample-data/box1-paper-ur-front";
+const SIZE: [usize; 2] = [320, 200];
+
+fn recording() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(SET)
+        .join("online_000.csv")
+}
+
+/// The state the render starts from: the recording, the bundled model, only the COM layer.
+fn state() -> pushlab::app::state::AppState {
+    let defaults = Persisted::default();
+    let persisted = Persisted {
+        layers: defaults.layers.only("com").unwrap(),
+        ..defaults
+    };
+    initial_state(&[recording()], persisted)
+}
+
+/// The centroid of the pixels `wanted` picks, pixels from the top left, and how many.
+fn centroid(rgb: &[u8], width: usize, wanted: impl Fn([u8; 3]) -> bool) -> ([f32; 2], usize) {
+    let (mut sx, mut sy, mut n) = (0.0, 0.0, 0);
+    for (i, p) in rgb.chunks_exact(3).enumerate() {
+        if wanted([p[0], p[1], p[2]]) {
+            sx += (i % width) as f32 + 0.5;
+            sy += (i / width) as f32 + 0.5;
+            n += 1;
+        }
+    }
+    ([sx / n.max(1) as f32, sy / n.max(1) as f32], n)
+}
+
+/// The pusher's disc: its yellow ring and its darker yellow fill.
+fn yellow([r, g, b]: [u8; 3]) -> bool {
+    r > 60 && g > 55 && f32::from(b) < 0.6 * f32::from(g) && r.abs_diff(g) < 45
+}
+
+/// The estimated COM's orange dot.
+fn orange([r, g, b]: [u8; 3]) -> bool {
+    r > 215 && (110..190).contains(&g) && b < 90
+}
+
+fn distance(a: [f32; 2], b: [f32; 2]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+/// θ's COM offset at every frame, as `pushlab eval --per-frame` learns it with the bundled model.
+fn eval_com(dir: &Path) -> Vec<[f64; 2]> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let json = dir.join("eval.json");
+    let run = pushlab(&[
+        "eval",
+        "--per-frame",
+        "--model",
+        root.join("assets/default-model.json").to_str().unwrap(),
+        "--offline",
+        root.join(SET).to_str().unwrap(),
+        "--online",
+        recording().to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
+    (report["trajectories"][0]["frames"]
+        .as_array()
+        .unwrap()
+        .iter())
+    .map(|f| {
+        let c = &f["theta"]["com_offset"];
+        [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()]
+    })
+    .collect()
+}
+
+#[test]
+fn a_gif_shows_the_pusher_where_it_was_and_the_com_where_eval_learned_it() {
+    let dir = temp_dir("render", "gif");
+    let out = dir.join("push.gif");
+    let run = pushlab(&[
+        "render",
+        recording().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--size",
+        "320x200",
+        "--fps",
+        "20",
+        "--frames",
+        "10..30",
+        "--layers",
+        "com",
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("wrote "), "{}", run.stdout);
+
+    // 20 frames of a 10 Hz push at 20 frames a second: 2 s, 39 frames (times 1.0 … 2.9 s).
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&out).unwrap(),
+    ))
+    .unwrap();
+    let frames: Vec<image::Frame> = decoder.into_frames().collect::<Result<_, _>>().unwrap();
+    assert_eq!(frames.len(), 39);
+    let (numer, denom) = frames[0].delay().numer_denom_ms();
+    assert_eq!(
+        f64::from(numer) / f64::from(denom),
+        50.0,
+        "20 frames a second"
+    );
+
+    // Where the app's scene puts the table's points in this frame size (it fits the whole push).
+    let mut scene = SceneFrames::new(state(), SIZE);
+    scene.show(10);
+    scene.draw();
+    let trajectory = scene.state().recording().unwrap().trajectory.clone();
+    let com = eval_com(&dir);
+    for (i, frame) in frames.iter().enumerate() {
+        let k = 10 + i / 2;
+        let rgb: Vec<u8> = (frame.buffer().pixels())
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect();
+        let (pusher, n) = centroid(&rgb, SIZE[0], yellow);
+        let want = scene.pixel_of(trajectory.frames[k].robot);
+        assert!(n > 20, "frame {i}: the pusher's disc is drawn");
+        assert!(
+            distance(pusher, want) <= 2.0,
+            "frame {i} (recording frame {k}): the pusher at {pusher:?}, the recording at {want:?}"
+        );
+        let object = trajectory.frames[k].object;
+        let want = scene.pixel_of(object.point_in_world(Point2::from(com[k])));
+        let (marker, n) = centroid(&rgb, SIZE[0], orange);
+        assert!(n > 10, "frame {i}: the COM marker is drawn");
+        assert!(
+            distance(marker, want) <= 2.0,
+            "frame {i} (recording frame {k}): the COM marker at {marker:?}, eval's θ at {want:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_mp4_and_a_webm_hold_the_frames_asked_for() {
+    if pushlab_core::recording::camera::find_ffmpeg().is_err() {
+        eprintln!("skipped: ffmpeg is not on the PATH (apt install ffmpeg)");
+        return;
+    }
+    let dir = temp_dir("render", "mp4");
+    for name in ["push.mp4", "push.webm"] {
+        let out = dir.join(name);
+        let run = pushlab(&[
+            "render",
+            recording().to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--size",
+            "320x200",
+            "--fps",
+            "10",
+            "--frames",
+            "0..25",
+            "--layers",
+            "com",
+        ]);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        // ffmpeg decodes every frame as raw RGB: 25 frames of 320 × 200.
+        let decoded = std::process::Command::new("ffmpeg")
+            .args(["-loglevel", "error", "-i"])
+            .arg(&out)
+            .args(["-f", "rawvideo", "-pix_fmt", "rgb24", "-"])
+            .output()
+            .unwrap();
+        assert!(decoded.status.success());
+        let frame_bytes = SIZE[0] * SIZE[1] * 3;
+        assert_eq!(decoded.stdout.len(), 25 * frame_bytes, "{name}: 25 frames");
+        // The pusher's disc in the last frame is where the recording puts it (lossy, yet within
+        // 2 px).
+        let mut scene = SceneFrames::new(state(), SIZE);
+        scene.show(24);
+        scene.draw();
+        let robot = scene.state().recording().unwrap().trajectory.frames[24].robot;
+        let last = &decoded.stdout[24 * frame_bytes..];
+        let (pusher, _) = centroid(last, SIZE[0], yellow);
+        let want = scene.pixel_of(robot);
+        assert!(
+            distance(pusher, want) <= 2.0,
+            "{name}: {pusher:?} against {want:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_render_stopped_or_refused_leaves_no_file() {
+    let dir = temp_dir("render", "stopped");
+    let out = dir.join("push.gif");
+    let options = RenderOptions {
+        size: SIZE,
+        ..RenderOptions::default()
+    };
+    let error = render(state(), &out, &options, &mut |done, _| done < 5).unwrap_err();
+    assert_eq!(error.to_string(), "stopped: nothing written");
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "nothing left in the folder"
+    );
+    // MP4 without ffmpeg: said, naming the program, and nothing written.
+    let mp4 = dir.join("push.mp4");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["render", recording().to_str().unwrap(), "--out"])
+        .arg(&mp4)
+        .env("PUSHLAB_FFMPEG", dir.join("no-ffmpeg-here"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("ffmpeg") && stderr.contains("no-ffmpeg-here"),
+        "{stderr}"
+    );
+    // An extension that says no format, and a layer that does not exist.
+    let run = pushlab(&["render", recording().to_str().unwrap(), "--out", "push.avi"]);
+    assert!(run.stderr.contains(".gif, .mp4 or .webm"), "{}", run.stderr);
+    let run = pushlab(&[
+        "render",
+        recording().to_str().unwrap(),
+        "--out",
+        "push.gif",
+        "--layers",
+        "com,pusher",
+    ]);
+    assert!(
+        run.stderr
+            .contains("--layers: no layer `pusher`: the layers are"),
+        "{}",
+        run.stderr
+    );
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    assert!(!Path::new("push.gif").exists() && !Path::new("push.avi").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
