@@ -4,7 +4,5 @@
 pub mod app;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod figures;
-#[cfg(not(target_arch = "wasm32"))]
-pub mod render;
 #[cfg(target_arch = "wasm32")]
 pub mod web;

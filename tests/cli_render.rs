@@ -14,8 +14,8 @@ use cli_common::{pushlab, temp_dir};
 use image::AnimationDecoder;
 use nalgebra::Point2;
 use pushlab::app::initial_state;
+use pushlab::app::render::{RenderOptions, SceneFrames, render};
 use pushlab::app::state::Persisted;
-use pushlab::render::{RenderOptions, SceneFrames, render};
 
 const SET: &str = "sample-data/box1-paper-ur-front";
 const SIZE: [usize; 2] = [320, 200];

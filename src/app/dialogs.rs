@@ -119,6 +119,12 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
             .set_file_name("plots.svg")
             .save_file()
             .map(DialogResult::SavePlotsSvg),
+        DialogRequest::SaveVideo => FileDialog::new()
+            .set_title("Export a video of this push")
+            .add_filter("Video", &["mp4", "webm", "gif"])
+            .set_file_name("push.mp4")
+            .save_file()
+            .map(DialogResult::SaveVideo),
         DialogRequest::SaveLossCsv => FileDialog::new()
             .add_filter("CSV", &["csv"])
             .set_file_name("losses.csv")

@@ -16,6 +16,8 @@ pub mod link;
 pub mod panels;
 pub mod platform;
 pub mod projector;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod render;
 pub mod state;
 pub mod view;
 mod workbench;
@@ -119,6 +121,20 @@ impl PushlabApp {
             DialogResult::SavePlotsSvg(path) => self
                 .state
                 .apply(Command::File(FileCommand::ExportPlots(path))),
+            #[cfg(not(target_arch = "wasm32"))]
+            DialogResult::SaveVideo(path) => {
+                // The push as on screen, at the speed it plays, 1280 × 720 at 30 frames a second.
+                let options = render::RenderOptions {
+                    speed: self.state.persisted().speed,
+                    ..render::RenderOptions::default()
+                };
+                match render::work_for(&self.state, path.clone(), options) {
+                    Ok(work) => self.state.start_video_export(path, work),
+                    Err(why) => self.state.apply(Command::Report(why)),
+                }
+            }
+            #[cfg(target_arch = "wasm32")]
+            DialogResult::SaveVideo(_) => {}
             DialogResult::SaveLossCsv(path) => self
                 .state
                 .apply(Command::File(FileCommand::SaveLosses(path))),

@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
+use pushlab::app::render::{RenderOptions, render};
 use pushlab::app::state::Persisted;
-use pushlab::render::{RenderOptions, render};
 
 use super::exit::Failure;
 use super::experiment::args::{OnlineArgs, positive_real};

@@ -128,7 +128,8 @@ pub fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
         | DialogRequest::LoadModel
         | DialogRequest::BagSetting
         // Not offered in a page (the figure's font would double the download).
-        | DialogRequest::SavePlotsSvg => None,
+        | DialogRequest::SavePlotsSvg
+        | DialogRequest::SaveVideo => None,
     };
     if let Some(saved) = saved {
         // The receiver is gone only when the app closed.

@@ -13,6 +13,8 @@ pub enum DialogRequest {
     SavePlots,
     /// The plots as a vector figure (desktop only).
     SavePlotsSvg,
+    /// A video of the push shown: GIF, MP4 or WebM (desktop only).
+    SaveVideo,
     SaveLossCsv,
     LoadModel,
     SaveModel,
@@ -29,6 +31,7 @@ pub enum DialogResult {
     SaveScene(PathBuf),
     SavePlots(PathBuf),
     SavePlotsSvg(PathBuf),
+    SaveVideo(PathBuf),
     SaveLossCsv(PathBuf),
     LoadModel(PathBuf),
     SaveModel(PathBuf),

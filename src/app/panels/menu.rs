@@ -13,7 +13,7 @@ use crate::app::state::demo::DemoCommand;
 use crate::app::state::labels::LabelAction;
 use crate::app::state::landscape::LandscapeCommand;
 use crate::app::state::live::LiveCommand;
-use crate::app::state::{AppState, ChooseAgain, Command};
+use crate::app::state::{AppState, ChooseAgain, Command, FileCommand};
 use crate::app::view::View;
 
 /// The File menu's way back to the form of the bag or dataset shown: its topics or features
@@ -100,6 +100,19 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                         .clicked()
                 {
                     view.dialogs.open(DialogRequest::SavePlotsSvg);
+                }
+                if cfg!(not(target_arch = "wasm32"))
+                    && ui
+                        .add_enabled(
+                            state.recording().is_some() && state.video_export().is_none(),
+                            egui::Button::new("Export video of this push…"),
+                        )
+                        .on_hover_text(
+                            "the scene as it plays, learning online: MP4 or WebM (through ffmpeg) or GIF",
+                        )
+                        .clicked()
+                {
+                    view.dialogs.open(DialogRequest::SaveVideo);
                 }
                 if ui
                     .add_enabled(
@@ -229,6 +242,25 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                             .clicked()
                         {
                             commands.push(Command::Session(SessionCommand::CancelLoading));
+                        }
+                    }
+                    if let Some((path, done)) = state.video_export() {
+                        ui.separator();
+                        let name = path.file_name().map_or_else(
+                            || path.display().to_string(),
+                            |n| n.to_string_lossy().into_owned(),
+                        );
+                        ui.add(
+                            egui::ProgressBar::new(done)
+                                .desired_width(200.0)
+                                .text(format!("writing {name}: {:.0} %", 100.0 * done)),
+                        );
+                        if ui
+                            .small_button("Cancel")
+                            .on_hover_text("stop writing the video; nothing is written")
+                            .clicked()
+                        {
+                            commands.push(Command::File(FileCommand::CancelVideoExport));
                         }
                     }
                     if let Some(status) = state.status() {

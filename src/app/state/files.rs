@@ -41,6 +41,7 @@ impl AppState {
                 ),
                 Err(e) => format!("could not export the plots: {e:#}"),
             },
+            FileCommand::CancelVideoExport => self.cancel_video_export(),
             FileCommand::SaveModel(path) => match self.save_model(&path) {
                 Ok(()) => format!("model saved to {}", path.display()),
                 Err(e) => format!("{e:#}"),

@@ -37,6 +37,7 @@ pub mod session;
 mod start_demo;
 pub mod timeline;
 mod training_choice;
+pub mod video_export;
 mod views;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -125,6 +126,8 @@ pub enum FileCommand {
     ExportLabels(PathBuf, LabelExportFormat),
     /// The plots of the run shown as a figure file (SVG, or PNG by the extension).
     ExportPlots(PathBuf),
+    /// Stop writing the video of the push (nothing is written).
+    CancelVideoExport,
 }
 
 /// The two label export formats.
@@ -293,6 +296,8 @@ pub struct AppState {
     live: Live,
     /// The frames the path overview was made of (a live push's is made again as it grows).
     overview_frames: usize,
+    /// File → Export video of this push…, while it is written.
+    video_export: Option<video_export::VideoExport>,
 }
 
 impl AppState {
@@ -333,6 +338,7 @@ impl AppState {
             learning_ahead: LearningAhead::default(),
             live,
             overview_frames: 0,
+            video_export: None,
         }
     }
 
@@ -476,6 +482,7 @@ impl AppState {
     pub fn advance(&mut self, dt: f64) -> bool {
         self.poll_opening();
         let live = self.poll_live();
+        let video = self.poll_video_export();
         self.proposals.poll();
         if let Some(message) = self.training.poll() {
             self.status = Some(message);
@@ -514,6 +521,7 @@ impl AppState {
             || best_fit
             || learning_ahead
             || live
+            || video
     }
 
     /// A fresh timeline and online run for the selected recording; labeling starts over too (no

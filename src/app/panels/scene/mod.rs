@@ -67,7 +67,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView, commands: &
 }
 
 /// The scene alone, filling `ui`: no toolbar, legend or pointer — a frame of a rendered video
-/// (`crate::render`). The camera fits the whole push, so that the view holds still.
+/// (`crate::app::render`). The camera fits the whole push, so that the view holds still.
 pub fn picture(ui: &mut egui::Ui, state: &AppState, view: &mut SceneView) {
     view.mode = CameraMode::FitAll;
     view.legend_open = false;

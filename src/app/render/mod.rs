@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 pub use self::frames::SceneFrames;
 use self::video::VideoWriter;
 use crate::app::state::AppState;
+use crate::app::state::video_export::VideoWork;
 
 /// How a push is rendered.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,4 +94,29 @@ pub fn render(
         }
     }
     writer.finish()
+}
+
+/// File → Export video of this push…: the work that renders the push `state` shows to `path` with
+/// `options`, as on screen — its settings (layers, online learning) and models — in a state of its
+/// own on the worker; why not, in words.
+pub fn work_for(
+    state: &AppState,
+    path: PathBuf,
+    options: RenderOptions,
+) -> Result<VideoWork, String> {
+    let source = (state.recording())
+        .map(|r| r.source.clone())
+        .ok_or("no push is shown")?;
+    video::Container::of(&path).map_err(|e| format!("{e:#}"))?;
+    let persisted = state.persisted();
+    let models = state.models().clone();
+    Ok(Box::new(move |job| {
+        let mut state = AppState::new(persisted, models);
+        state.open_blocking(&[source]);
+        let mut progress = |done: usize, all: usize| {
+            job.set_progress(done as f32 / all.max(1) as f32);
+            !job.is_cancelled()
+        };
+        Some(render(state, &path, &options, &mut progress).map_err(|e| format!("{e:#}")))
+    }))
 }

@@ -1,0 +1,123 @@
+//! File → Export video of this push…: the render on a worker with the push as on screen (here only
+//! the COM layer, as the user left the legend), a progress bar and Cancel in the status bar; the
+//! file decoded has the frames asked for; Cancel stops it and leaves no file.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::kittest::Queryable;
+use image::AnimationDecoder;
+use pushlab::app::render::{RenderOptions, work_for};
+use pushlab::app::state::{Command, Persisted};
+
+fn options() -> RenderOptions {
+    RenderOptions {
+        size: [160, 100],
+        fps: 10.0,
+        frames: Some(0..30),
+        ..RenderOptions::default()
+    }
+}
+
+#[test]
+fn a_video_of_the_push_is_written_off_the_ui_thread_with_progress_and_cancel() {
+    let dir = common::scratch_dir("export-video");
+    let set = common::sample_dir("box1-paper-ur-front");
+    let mut state =
+        pushlab::app::initial_state(&[set.join("online_000.csv")], Persisted::default());
+    let only_com = state.settings().layers.only("com").unwrap();
+    state.apply(Command::SetLayers(only_com));
+    let mut harness = common::harness(pushlab::app::PushlabApp::new(state), 1.0 / 60.0);
+
+    let gif = dir.join("push.gif");
+    let state = &mut harness.state_mut().state;
+    let work = work_for(state, gif.clone(), options()).unwrap();
+    state.start_video_export(gif.clone(), work);
+    harness.run_steps(1);
+    assert!(
+        harness
+            .query_by_label_contains("writing push.gif")
+            .is_some(),
+        "the status bar's progress bar"
+    );
+    harness.get_by_label("Cancel");
+    let started = Instant::now();
+    while harness.state().state.video_export().is_some() {
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "the video is written"
+        );
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let status = harness
+        .state()
+        .state
+        .status()
+        .unwrap_or_default()
+        .to_owned();
+    assert_eq!(
+        status,
+        format!("wrote the video of the push to {}", gif.display())
+    );
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&gif).unwrap(),
+    ))
+    .unwrap();
+    let frames: Vec<image::Frame> = decoder.into_frames().collect::<Result<_, _>>().unwrap();
+    assert_eq!(
+        frames.len(),
+        30,
+        "30 frames of a 10 Hz push at 10 frames a second"
+    );
+    // As on screen: the COM layer only, so no footprint's blue or white is drawn, and the COM's
+    // orange is.
+    let blue = |p: &image::Rgba<u8>| p[2] > 200 && p[0] < 140;
+    let orange = |p: &image::Rgba<u8>| p[0] > 215 && (110..190).contains(&p[1]) && p[2] < 90;
+    let last = frames.last().unwrap().buffer();
+    assert!(last.pixels().any(orange) && !last.pixels().any(blue));
+
+    // Cancel: the render stops at its next frame and writes nothing.
+    let mp4 = dir.join("stopped.gif");
+    let state = &mut harness.state_mut().state;
+    let work = work_for(
+        state,
+        mp4.clone(),
+        RenderOptions {
+            frames: None,
+            ..options()
+        },
+    )
+    .unwrap();
+    state.start_video_export(mp4.clone(), work);
+    harness.run_steps(1);
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    assert!(harness.state().state.video_export().is_none());
+    let status = harness
+        .state()
+        .state
+        .status()
+        .unwrap_or_default()
+        .to_owned();
+    assert_eq!(
+        status,
+        format!("stopped writing {}: nothing written", mp4.display())
+    );
+    std::thread::sleep(Duration::from_secs(2));
+    assert!(!mp4.exists());
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left.len(), 1, "only the first video: {left:?}");
+    // A name of no video format is said, and nothing starts.
+    let state = &harness.state().state;
+    let refused = work_for(state, dir.join("push.avi"), options())
+        .err()
+        .unwrap();
+    assert!(refused.contains(".gif, .mp4 or .webm"), "{refused}");
+}
