@@ -5,13 +5,14 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use pushlab_core::labels::export as label_export;
 use pushlab_core::labels::pipeline::{key_of, labels_file_beside};
 use pushlab_core::model_file::ModelFile;
 
+use super::video_export::{VideoExport, VideoWork};
 use super::{AppState, FileCommand, LabelExportFormat};
 
 impl AppState {
@@ -41,7 +42,10 @@ impl AppState {
                 ),
                 Err(e) => format!("could not export the plots: {e:#}"),
             },
-            FileCommand::CancelVideoExport => self.cancel_video_export(),
+            FileCommand::CancelVideoExport => match self.video_export.take() {
+                Some(export) => export.cancel(),
+                None => "no video is being written".to_owned(),
+            },
             FileCommand::SaveModel(path) => match self.save_model(&path) {
                 Ok(()) => format!("model saved to {}", path.display()),
                 Err(e) => format!("{e:#}"),
@@ -172,5 +176,39 @@ impl AppState {
         };
         file.save(path)?;
         Ok(())
+    }
+}
+
+/// File → Export video of this push… (`video_export`): started with the work the app's shell
+/// makes, polled every frame, cancelled by [`FileCommand::CancelVideoExport`].
+impl AppState {
+    /// Starts writing a video of the push shown to `path` by `work` off the UI thread; one at a
+    /// time (a second replaces the first, which stops and writes nothing).
+    pub fn start_video_export(&mut self, path: PathBuf, work: VideoWork) {
+        self.status = Some(format!(
+            "writing a video of the push to {}…",
+            path.display()
+        ));
+        self.video_export = Some(VideoExport::start(path, work));
+    }
+
+    /// The video being written and the share done.
+    pub fn video_export(&self) -> Option<(&Path, f32)> {
+        (self.video_export.as_ref()).map(|v| (v.path(), v.progress()))
+    }
+
+    /// Takes the video's end, said on the status line. Returns whether one is still being written.
+    pub(super) fn poll_video_export(&mut self) -> bool {
+        let Some(ended) = self.video_export.as_ref().map(VideoExport::ended) else {
+            return false;
+        };
+        match ended {
+            None => true,
+            Some(said) => {
+                self.status = Some(said);
+                self.video_export = None;
+                false
+            }
+        }
     }
 }
