@@ -72,7 +72,12 @@ impl SceneFrames {
         let mut output = self.ctx.run_ui(input, |ui| {
             egui::Panel::top("caption").show(ui, |ui| {
                 ui.add_space(2.0);
-                ui.label(egui::RichText::new(caption(state)).monospace().size(13.0));
+                // One line at any width: the text scales with the frame (13 points at 720p).
+                let size = (width as f32 / 95.0).clamp(8.0, 20.0);
+                ui.add(
+                    egui::Label::new(egui::RichText::new(caption(state)).monospace().size(size))
+                        .wrap_mode(egui::TextWrapMode::Truncate),
+                );
                 ui.add_space(2.0);
             });
             egui::CentralPanel::default()
@@ -97,14 +102,14 @@ fn caption(state: &AppState) -> String {
     let time = (recording.trajectory.frames.get(frame)).map_or(0.0, |f| f.time);
     let theta = state.theta().map_or(String::new(), |t| {
         format!(
-            "   θ: COM ({:+.1}, {:+.1}) mm, h {:.1} mm",
+            "  θ: COM ({:+.1}, {:+.1}) mm, h {:.1} mm",
             t.com_offset[0] * 1e3,
             t.com_offset[1] * 1e3,
             t.h * 1e3
         )
     });
     format!(
-        "{}   frame {frame} / {}   {time:.2} s{theta}",
+        "{}  frame {frame}/{}  {time:.2} s{theta}",
         recording.name,
         recording.trajectory.len().saturating_sub(1)
     )

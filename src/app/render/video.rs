@@ -237,6 +237,10 @@ fn ffmpeg(
                 "33",
                 "-deadline",
                 "realtime",
+                "-cpu-used",
+                "8",
+                "-row-mt",
+                "1",
             ],
         ),
     };
