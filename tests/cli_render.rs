@@ -128,7 +128,7 @@ fn a_gif_shows_the_pusher_where_it_was_and_the_com_where_eval_learned_it() {
     );
 
     // Where the app's scene puts the table's points in this frame size (it fits the whole push).
-    let mut scene = SceneFrames::new(state(), SIZE);
+    let mut scene = SceneFrames::new(state(), SIZE, false);
     scene.show(10);
     scene.draw();
     let trajectory = scene.state().recording().unwrap().trajectory.clone();
@@ -193,7 +193,7 @@ fn an_mp4_and_a_webm_hold_the_frames_asked_for() {
         assert_eq!(decoded.stdout.len(), 25 * frame_bytes, "{name}: 25 frames");
         // The pusher's disc in the last frame is where the recording puts it (lossy, yet within
         // 2 px).
-        let mut scene = SceneFrames::new(state(), SIZE);
+        let mut scene = SceneFrames::new(state(), SIZE, false);
         scene.show(24);
         scene.draw();
         let robot = scene.state().recording().unwrap().trajectory.frames[24].robot;
@@ -205,6 +205,47 @@ fn an_mp4_and_a_webm_hold_the_frames_asked_for() {
             "{name}: {pusher:?} against {want:?}"
         );
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn with_plots_the_losses_are_drawn_below_the_scene() {
+    let dir = temp_dir("render", "plots");
+    let out = dir.join("plots.gif");
+    let run = pushlab(&[
+        "render",
+        recording().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--size",
+        "640x400",
+        "--fps",
+        "10",
+        "--frames",
+        "0..30",
+        "--layers",
+        "com",
+        "--with-plots",
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&out).unwrap(),
+    ))
+    .unwrap();
+    let frames: Vec<image::Frame> = decoder.into_frames().collect::<Result<_, _>>().unwrap();
+    let last = frames.last().unwrap().buffer();
+    // The fixed loss's blue: only in the plots (the scene draws no fixed footprint with only the
+    // COM layer on), which take the bottom 42 % of the frame.
+    let blue_rows: Vec<u32> = (last.enumerate_pixels())
+        .filter(|(_, _, p)| p[2] > 200 && p[0] < 140 && p[1] > 120)
+        .map(|(_, y, _)| y)
+        .collect();
+    assert!(blue_rows.len() > 20, "the fixed loss is drawn");
+    assert!(
+        blue_rows.iter().all(|&y| y as f32 > 0.55 * 400.0),
+        "below the scene: rows {:?}",
+        blue_rows.iter().min()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -123,9 +123,11 @@ impl PushlabApp {
                 .apply(Command::File(FileCommand::ExportPlots(path))),
             #[cfg(not(target_arch = "wasm32"))]
             DialogResult::SaveVideo(path) => {
-                // The push as on screen, at the speed it plays, 1280 × 720 at 30 frames a second.
+                // The push as on screen — at the speed it plays, with the plots when they are
+                // shown — at 1280 × 720 and 30 frames a second.
                 let options = render::RenderOptions {
                     speed: self.state.persisted().speed,
+                    with_plots: self.view.layout.is_shown(layout::Pane::Plots),
                     ..render::RenderOptions::default()
                 };
                 match render::work_for(&self.state, path.clone(), options) {

@@ -40,6 +40,9 @@ pub struct RenderArgs {
     /// com-label, contact, robot-path, trails, grid.
     #[arg(long, value_name = "NAMES")]
     pub layers: Option<String>,
+    /// The app's loss and θ plots below the scene, growing as the push is learned.
+    #[arg(long)]
+    pub with_plots: bool,
     #[command(flatten)]
     pub online: OnlineArgs,
 }
@@ -99,6 +102,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         fps: args.fps,
         speed: args.speed,
         frames: args.frames.clone(),
+        with_plots: args.with_plots,
     };
     let bar = ProgressBar::new(0);
     if let Ok(style) = ProgressStyle::with_template(

@@ -1,11 +1,13 @@
 //! The frames of a rendered push: the app's state played frame by frame — learning online as the
 //! window does when it plays, by the same run — and each frame's scene laid out by the app's own
-//! scene painter (`panels::scene::picture`) under a caption line, tessellated by egui and painted
-//! into pixels ([`super::raster`]).
+//! scene painter (`panels::scene::picture`) under a caption line, with the app's loss and θ plots
+//! below it when asked (`panels::plots`, as the demo layout shows them), tessellated by egui and
+//! painted into pixels ([`super::raster`]).
 
 use eframe::egui::{self, Color32};
 
 use super::raster::{Canvas, Textures};
+use crate::app::panels::plots;
 use crate::app::panels::scene::{self, SceneView};
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
@@ -17,11 +19,13 @@ pub struct SceneFrames {
     view: SceneView,
     textures: Textures,
     size: [usize; 2],
+    with_plots: bool,
 }
 
 impl SceneFrames {
-    /// Renders the recording `state` shows, at `size` pixels (one pixel a point).
-    pub fn new(state: AppState, size: [usize; 2]) -> Self {
+    /// Renders the recording `state` shows, at `size` pixels (one pixel a point), with the plots
+    /// below the scene or not.
+    pub fn new(state: AppState, size: [usize; 2], with_plots: bool) -> Self {
         let ctx = egui::Context::default();
         ctx.set_visuals(egui::Visuals::dark());
         Self {
@@ -30,6 +34,7 @@ impl SceneFrames {
             view: SceneView::default(),
             textures: Textures::default(),
             size,
+            with_plots,
         }
     }
 
@@ -68,7 +73,7 @@ impl SceneFrames {
             )),
             ..egui::RawInput::default()
         };
-        let (state, view) = (&self.state, &mut self.view);
+        let (state, view, with_plots) = (&self.state, &mut self.view, self.with_plots);
         let mut output = self.ctx.run_ui(input, |ui| {
             egui::Panel::top("caption").show(ui, |ui| {
                 ui.add_space(2.0);
@@ -80,6 +85,12 @@ impl SceneFrames {
                 );
                 ui.add_space(2.0);
             });
+            if with_plots {
+                // The plots' clicks would seek: a picture has none, and what they ask is dropped.
+                egui::Panel::bottom("plots")
+                    .exact_size(0.42 * height as f32)
+                    .show(ui, |ui| plots::ui(ui, state, &mut Vec::new()));
+            }
             egui::CentralPanel::default()
                 .frame(egui::Frame::NONE)
                 .show(ui, |ui| scene::picture(ui, state, view));

@@ -28,6 +28,8 @@ pub struct RenderOptions {
     pub speed: f64,
     /// The recording's frames to render; `None`: all.
     pub frames: Option<Range<usize>>,
+    /// The app's loss and θ plots below the scene.
+    pub with_plots: bool,
 }
 
 impl Default for RenderOptions {
@@ -37,6 +39,7 @@ impl Default for RenderOptions {
             fps: 30.0,
             speed: 1.0,
             frames: None,
+            with_plots: false,
         }
     }
 }
@@ -85,7 +88,7 @@ pub fn render(
     }
     let shown = frames_shown(&times, range, options.fps, options.speed);
     let mut writer = VideoWriter::create(out, options.size, options.fps)?;
-    let mut scene = SceneFrames::new(state, options.size);
+    let mut scene = SceneFrames::new(state, options.size, options.with_plots);
     for (i, &k) in shown.iter().enumerate() {
         scene.show(k);
         writer.push(scene.draw())?;
