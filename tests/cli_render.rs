@@ -249,6 +249,107 @@ fn with_plots_the_losses_are_drawn_below_the_scene() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The COM marker's centroid in the first frame of a GIF rendered at `SIZE` with only the COM
+/// layer on.
+fn first_com_marker(gif: &Path) -> [f32; 2] {
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(gif).unwrap(),
+    ))
+    .unwrap();
+    let first = decoder.into_frames().next().unwrap().unwrap();
+    let rgb: Vec<u8> = (first.buffer().pixels())
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let (at, n) = centroid(&rgb, SIZE[0], orange);
+    assert!(n > 10, "the COM marker is drawn");
+    at
+}
+
+#[test]
+fn carrying_theta_the_render_starts_where_eval_carry_theta_does() {
+    let dir = temp_dir("render", "carry");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let set = root.join(SET);
+    let push = set.join("online_001.csv");
+    let render_to = |out: &Path, carry: bool| {
+        let mut args = vec![
+            "render",
+            push.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--size",
+            "320x200",
+            "--frames",
+            "0..2",
+            "--layers",
+            "com",
+        ];
+        if carry {
+            args.push("--carry-theta");
+        }
+        let run = pushlab(&args);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        run
+    };
+    let carried = dir.join("carried.gif");
+    let run = render_to(&carried, true);
+    // The set's 27 offline pushes and online_000 come before it in its folder.
+    assert!(
+        run.stderr
+            .contains("went on from the θ learned along 28 push(es) before it"),
+        "{}",
+        run.stderr
+    );
+    let fresh = dir.join("fresh.gif");
+    render_to(&fresh, false);
+
+    let json = dir.join("eval.json");
+    let eval = pushlab(&[
+        "eval",
+        "--per-frame",
+        "--carry-theta",
+        "--model",
+        root.join("assets/default-model.json").to_str().unwrap(),
+        "--offline",
+        set.to_str().unwrap(),
+        "--online",
+        set.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(eval.code, 0, "{}", eval.stderr);
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
+    let this = (report["trajectories"].as_array().unwrap().iter())
+        .find(|t| t["source"].as_str().unwrap().ends_with("online_001.csv"))
+        .unwrap();
+    assert_eq!(this["continued"], serde_json::Value::Bool(true));
+    let c = &this["frames"][0]["theta"]["com_offset"];
+    let com = [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()];
+
+    // Where the scene of this push puts the table's points (the camera fits the whole push).
+    let defaults = Persisted::default();
+    let persisted = Persisted {
+        layers: defaults.layers.only("com").unwrap(),
+        ..defaults
+    };
+    let mut scene = SceneFrames::new(initial_state(&[push.clone()], persisted), SIZE, false);
+    scene.show(0);
+    scene.draw();
+    let object = scene.state().recording().unwrap().trajectory.frames[0].object;
+    let want = scene.pixel_of(object.point_in_world(Point2::from(com)));
+    let marker = first_com_marker(&carried);
+    assert!(
+        distance(marker, want) <= 2.0,
+        "carried: the COM marker at {marker:?}, eval --carry-theta's θ at {want:?}"
+    );
+    let marker = first_com_marker(&fresh);
+    assert!(
+        distance(marker, want) > 5.0,
+        "without --carry-theta it starts elsewhere: {marker:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_render_stopped_or_refused_leaves_no_file() {
     let dir = temp_dir("render", "stopped");

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use pushlab::app::render::{RenderOptions, render};
+use pushlab::app::render::{RenderOptions, carry_to, render};
 use pushlab::app::state::Persisted;
 
 use super::exit::Failure;
@@ -43,6 +43,10 @@ pub struct RenderArgs {
     /// The app's loss and θ plots below the scene, growing as the push is learned.
     #[arg(long)]
     pub with_plots: bool,
+    /// Go on from the θ learned along the pushes before RECORDING in its folder (played first, in
+    /// order), as `pushlab eval --carry-theta` goes on from one push to the next.
+    #[arg(long)]
+    pub carry_theta: bool,
     #[command(flatten)]
     pub online: OnlineArgs,
 }
@@ -81,9 +85,16 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     let persisted = Persisted {
         online: args.online.config(),
         layers,
+        carry_theta: args.carry_theta,
         ..defaults
     };
-    let mut state = pushlab::app::initial_state(std::slice::from_ref(&args.recording), persisted);
+    // Carrying θ, the pushes before it in its folder are opened and played first.
+    let open = match args.recording.parent().filter(|_| args.carry_theta) {
+        Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
+        Some(_) => PathBuf::from("."),
+        None => args.recording.clone(),
+    };
+    let mut state = pushlab::app::initial_state(std::slice::from_ref(&open), persisted);
     if state.recording().is_none() {
         let problems: Vec<&str> = (state.session().problems.iter())
             .map(|p| p.message.as_str())
@@ -96,6 +107,10 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     }
     if let Some(model) = &args.model {
         state.load_model(model)?;
+    }
+    if args.carry_theta {
+        let played = carry_to(&mut state, &args.recording)?;
+        eprintln!("--carry-theta: went on from the θ learned along {played} push(es) before it");
     }
     let options = RenderOptions {
         size: args.size,

@@ -14,8 +14,9 @@ use std::path::{Path, PathBuf};
 
 pub use self::frames::SceneFrames;
 use self::video::VideoWriter;
-use crate::app::state::AppState;
+use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::video_export::VideoWork;
+use crate::app::state::{AppState, Command, SessionCommand};
 
 /// How a push is rendered.
 #[derive(Clone, Debug, PartialEq)]
@@ -122,4 +123,26 @@ pub fn work_for(
         };
         Some(render(state, &path, &options, &mut progress).map_err(|e| format!("{e:#}")))
     }))
+}
+
+/// `--carry-theta`: plays every push opened before `recording` (in the order they were opened,
+/// as `pushlab eval --carry-theta` takes its pushes) to its end, learning, and shows `recording`,
+/// whose run then goes on from the θ they ended with — the app's carry θ, which must be on in
+/// `state`. Returns the pushes played; an error when `recording` is not open.
+pub fn carry_to(state: &mut AppState, recording: &Path) -> anyhow::Result<usize> {
+    let same = |a: &Path| a.canonicalize().ok() == recording.canonicalize().ok();
+    let ids: Vec<_> = (state.session().recordings())
+        .map(|(id, r)| (id, same(&r.source), r.trajectory.len()))
+        .collect();
+    let Some(at) = ids.iter().position(|(_, is, _)| *is) else {
+        anyhow::bail!("{} is not among the pushes opened", recording.display());
+    };
+    for &(id, _, frames) in &ids[..at] {
+        state.apply(Command::Session(SessionCommand::Select(id)));
+        for _ in 0..frames {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+    }
+    state.apply(Command::Session(SessionCommand::Select(ids[at].0)));
+    Ok(at)
 }
