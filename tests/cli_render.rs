@@ -332,7 +332,11 @@ fn carrying_theta_the_render_starts_where_eval_carry_theta_does() {
         layers: defaults.layers.only("com").unwrap(),
         ..defaults
     };
-    let mut scene = SceneFrames::new(initial_state(&[push.clone()], persisted), SIZE, false);
+    let mut scene = SceneFrames::new(
+        initial_state(std::slice::from_ref(&push), persisted),
+        SIZE,
+        false,
+    );
     scene.show(0);
     scene.draw();
     let object = scene.state().recording().unwrap().trajectory.frames[0].object;
