@@ -383,6 +383,15 @@ fn a_render_stopped_or_refused_leaves_no_file() {
         stderr.contains("ffmpeg") && stderr.contains("no-ffmpeg-here"),
         "{stderr}"
     );
+    // A folder that does not exist is said before any frame is drawn.
+    let nowhere = dir.join("no-such-folder").join("push.gif");
+    let started = std::time::Instant::now();
+    let error = render(state(), &nowhere, &options, &mut |_, _| true).unwrap_err();
+    assert!(
+        error.to_string().ends_with("no-such-folder does not exist"),
+        "{error}"
+    );
+    assert!(started.elapsed().as_secs() < 30, "said at once");
     // An extension that says no format, and a layer that does not exist.
     let run = pushlab(&["render", recording().to_str().unwrap(), "--out", "push.avi"]);
     assert!(run.stderr.contains(".gif, .mp4 or .webm"), "{}", run.stderr);

@@ -63,6 +63,17 @@ impl VideoWriter {
     /// second between frames: 30 fps plays at 33).
     pub fn create(path: &Path, size: [usize; 2], fps: f64) -> anyhow::Result<Self> {
         let container = Container::of(path)?;
+        // Said before the first frame is drawn, not after the last.
+        let folder = (path.parent())
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        if !folder.is_dir() {
+            bail!(
+                "{}: cannot write: the folder {} does not exist",
+                path.display(),
+                folder.display()
+            );
+        }
         let name = path
             .file_name()
             .map_or_else(|| "video".into(), |n| n.to_string_lossy().into_owned());
