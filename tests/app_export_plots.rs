@@ -1,4 +1,4 @@
-//! File → Export plots as SVG…: the run shown as a vector figure — the losses and θ as the plots
+//! File → Export plots as SVG or PDF…: the run shown as a vector figure — the losses and θ as the plots
 //! panel draws them, each series a polyline over the frames learned, the panels' titles and legends
 //! as text — written atomically; a name of another kind is refused, naming it.
 
@@ -67,14 +67,19 @@ fn the_plots_export_as_an_svg_whose_series_are_lines_and_whose_words_are_text() 
     assert_eq!(count("#FF7F0E", 41), 3, "{lines:?}");
     assert!(count("#1F77B4", 91) >= 2, "{lines:?}");
 
-    // Another kind of file is refused by name, and nothing is written.
+    // A PDF by its name: the same figure, its words as text in the embedded font.
     let pdf = dir.join("plots.pdf");
     state.apply(Command::File(FileCommand::ExportPlots(pdf.clone())));
+    let bytes = std::fs::read(&pdf).expect("the PDF is written");
+    assert!(bytes.starts_with(b"%PDF-1.7") && bytes.ends_with(b"%%EOF\n"));
+    // Another kind of file is refused by name, and nothing is written.
+    let eps = dir.join("plots.eps");
+    state.apply(Command::File(FileCommand::ExportPlots(eps.clone())));
     let said = state.status().unwrap_or_default().to_owned();
     assert!(
-        said.contains("plots.pdf: expected a .png or .svg file name, got .pdf"),
+        said.contains("plots.eps: expected a .png, .svg or .pdf file name, got .eps"),
         "{said}"
     );
-    assert!(!pdf.exists());
+    assert!(!eps.exists());
     std::fs::remove_dir_all(&dir).ok();
 }

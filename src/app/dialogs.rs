@@ -114,8 +114,9 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
         DialogRequest::SaveScene => png("scene.png").map(DialogResult::SaveScene),
         DialogRequest::SavePlots => png("plots.png").map(DialogResult::SavePlots),
         DialogRequest::SavePlotsSvg => FileDialog::new()
-            .set_title("Export the plots as SVG")
+            .set_title("Export the plots as SVG or PDF")
             .add_filter("SVG figure", &["svg"])
+            .add_filter("PDF figure", &["pdf"])
             .set_file_name("plots.svg")
             .save_file()
             .map(DialogResult::SavePlotsSvg),

@@ -1,10 +1,11 @@
-//! Figures drawn with plotters for files — PNG or SVG by the file's extension, text in the font
+//! Figures drawn with plotters for files — PNG, SVG or PDF (`pdf`) by the file's extension, text in the font
 //! shipped in `assets/fonts` so that rendering never depends on the fonts installed on the machine:
 //! `pushlab eval --plot`'s ([`eval`]) and the app's Export plots ([`run`], one run's losses and θ as
 //! its plots panel shows them). What both share is here: the formats, the font, the SVG with the
 //! font embedded, an atomic write.
 
 pub mod eval;
+mod pdf;
 pub mod run;
 
 use std::path::Path;
@@ -45,6 +46,8 @@ pub enum Format {
     Png,
     /// Vector: lines as polylines, text as text in the bundled font, embedded.
     Svg,
+    /// Vector for print: the same, as PDF (`pdf`).
+    Pdf,
 }
 
 impl Format {
@@ -54,8 +57,9 @@ impl Format {
         match extension.as_deref() {
             Some("png") => Ok(Self::Png),
             Some("svg") => Ok(Self::Svg),
+            Some("pdf") => Ok(Self::Pdf),
             other => Err(format!(
-                "{}: expected a .png or .svg file name, got {}",
+                "{}: expected a .png, .svg or .pdf file name, got {}",
                 path.display(),
                 other.map_or_else(|| "no extension".to_owned(), |e| format!(".{e}"))
             )),
@@ -63,7 +67,7 @@ impl Format {
     }
 }
 
-/// Renders `figure` and writes it as its name's extension says (PNG or SVG), atomically: a figure
+/// Renders `figure` and writes it as its name's extension says (PNG, SVG or PDF), atomically: a figure
 /// half written is never left where a paper's build reads it.
 pub fn write(path: &Path, figure: &impl Drawing) -> anyhow::Result<()> {
     let bytes = match Format::of(path).map_err(|e| anyhow!(e))? {
@@ -77,6 +81,11 @@ pub fn write(path: &Path, figure: &impl Drawing) -> anyhow::Result<()> {
             png
         }
         Format::Svg => render_svg(figure)?.into_bytes(),
+        Format::Pdf => {
+            let mut page = pdf::PdfPage::new(figure.size(), FONT_BYTES)?;
+            figure.draw(&(&mut page).into_drawing_area())?;
+            page.file()
+        }
     };
     write_atomically(path, &bytes).with_context(|| format!("cannot write {}", path.display()))
 }
@@ -190,9 +199,10 @@ mod tests {
     #[test]
     fn a_figure_file_is_named_png_or_svg() {
         assert_eq!(Format::of(Path::new("a/fig.SVG")), Ok(Format::Svg));
+        assert_eq!(Format::of(Path::new("fig.pdf")), Ok(Format::Pdf));
         assert_eq!(
-            Format::of(Path::new("fig.pdf")).expect_err("a PDF"),
-            "fig.pdf: expected a .png or .svg file name, got .pdf"
+            Format::of(Path::new("fig.eps")).expect_err("an EPS"),
+            "fig.eps: expected a .png, .svg or .pdf file name, got .eps"
         );
     }
 }

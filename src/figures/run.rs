@@ -1,4 +1,4 @@
-//! One online run as the app's plots panel shows it, for a file (File → Export plots as SVG…): the
+//! One online run as the app's plots panel shows it, for a file (File → Export plots as SVG or PDF…): the
 //! position and rotation losses per step — the fixed model's and online learning's, each with its
 //! trailing moving average over the last [`MOVING_AVERAGE`] steps — and `θ_online` (COM offset x, y
 //! and h, in mm) with its ±2σ band and the true value dashed when the setting knows it. x is

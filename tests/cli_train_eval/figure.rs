@@ -1,6 +1,7 @@
 //! eval's figure as a vector file: `--plot OUT.svg` draws what the PNG shows, with each smoothed
 //! mean as one polyline, the axis labels, captions and legend as text, and the bundled font
-//! carried in the file; a name of another kind is refused before anything runs.
+//! carried in the file; `--plot OUT.pdf` renders (poppler's `pdftoppm`) like the PNG and its words
+//! are text (`pdftotext`); a name of another kind is refused before anything runs.
 
 use super::*;
 
@@ -88,7 +89,7 @@ fn eval_plots_an_svg_whose_series_are_lines_and_whose_words_are_text() {
     ));
 
     // Another kind of file is refused before the model is even loaded.
-    let pdf = dir.join("fig.pdf");
+    let pdf = dir.join("fig.eps");
     let run = pushlab(&[
         "eval",
         "--model",
@@ -101,9 +102,117 @@ fn eval_plots_an_svg_whose_series_are_lines_and_whose_words_are_text() {
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(
         run.stderr
-            .contains("fig.pdf: expected a .png or .svg file name, got .pdf"),
+            .contains("fig.eps: expected a .png, .svg or .pdf file name, got .eps"),
         "{}",
         run.stderr
     );
     assert!(!pdf.exists());
+}
+
+/// The mean of each `block` × `block` square of an RGB image `width` wide, grey levels.
+fn blocks(rgb: &[u8], width: usize, block: usize) -> Vec<f64> {
+    let height = rgb.len() / 3 / width;
+    let mut means = Vec::new();
+    for by in 0..height / block {
+        for bx in 0..width / block {
+            let mut sum = 0.0;
+            for y in by * block..(by + 1) * block {
+                for x in bx * block..(bx + 1) * block {
+                    let at = (y * width + x) * 3;
+                    sum += rgb[at..at + 3].iter().map(|&v| f64::from(v)).sum::<f64>() / 3.0;
+                }
+            }
+            means.push(sum / (block * block) as f64);
+        }
+    }
+    means
+}
+
+#[test]
+fn eval_plots_a_pdf_that_renders_like_the_png_with_its_words_as_text() {
+    let have = |program: &str| {
+        std::process::Command::new(program)
+            .arg("-v")
+            .output()
+            .is_ok()
+    };
+    if !have("pdftoppm") || !have("pdftotext") {
+        eprintln!(
+            "skipped: poppler's pdftoppm and pdftotext are not on the PATH (apt install poppler-utils)"
+        );
+        return;
+    }
+    let dir = temp_dir("figure-pdf");
+    let online = sample("box1-paper-ur-front", "online_000.csv");
+    for name in ["fig.pdf", "fig.png"] {
+        let run = pushlab(&[
+            "eval",
+            "--model",
+            &default_model(),
+            "--online",
+            &online,
+            "--plot",
+            &dir.join(name).display().to_string(),
+        ]);
+        assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    }
+    let pdf = dir.join("fig.pdf");
+    assert!(std::fs::read(&pdf).unwrap().starts_with(b"%PDF-1.7"));
+    // Rendered at 72 dpi a point is a pixel: the PNG's size.
+    let rendered = std::process::Command::new("pdftoppm")
+        .args(["-r", "72", "-png", "-singlefile"])
+        .arg(&pdf)
+        .arg(dir.join("page"))
+        .output()
+        .unwrap();
+    assert!(
+        rendered.status.success(),
+        "{}",
+        String::from_utf8_lossy(&rendered.stderr)
+    );
+    let read = |name: &str| image::open(dir.join(name)).unwrap().to_rgb8();
+    let (page, png) = (read("page.png"), read("fig.png"));
+    assert_eq!(page.dimensions(), png.dimensions());
+    assert_eq!(png.dimensions(), (1000, 400));
+    // Like the PNG: 8 × 8 squares compared, as an eye at a distance would. Anti-aliasing and
+    // kerning differ by a grey level or two on average; a line or a word missing or moved by a few
+    // pixels changes a square by tens of levels.
+    let (a, b) = (
+        blocks(page.as_raw(), 1000, 8),
+        blocks(png.as_raw(), 1000, 8),
+    );
+    let differences: Vec<f64> = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).collect();
+    let mean = differences.iter().sum::<f64>() / differences.len() as f64;
+    let far = differences.iter().filter(|d| **d > 40.0).count();
+    assert!(
+        mean < 3.0 && far < differences.len() / 100,
+        "mean difference {mean:.2} levels, {far} of {} squares over 40",
+        differences.len()
+    );
+    // Text as text, in the embedded font.
+    let words = std::process::Command::new("pdftotext")
+        .arg(&pdf)
+        .arg("-")
+        .output()
+        .unwrap();
+    let words = String::from_utf8_lossy(&words.stdout);
+    for word in [
+        "time step",
+        "online loss",
+        "Fixed",
+        "Online",
+        "mean loss: pos (solid), rot (dashed)",
+    ] {
+        assert!(words.contains(word), "{word:?} in {words}");
+    }
+    let fonts = std::process::Command::new("pdffonts")
+        .arg(&pdf)
+        .output()
+        .unwrap();
+    let fonts = String::from_utf8_lossy(&fonts.stdout);
+    assert!(
+        fonts.contains("LiberationSans") && fonts.contains("yes"),
+        "embedded: {fonts}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -95,8 +95,8 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 }
                 if cfg!(not(target_arch = "wasm32"))
                     && ui
-                        .button("Export plots as SVG…")
-                        .on_hover_text("a vector figure of the losses and θ, text as text")
+                        .button("Export plots as SVG or PDF…")
+                        .on_hover_text("a vector figure of the losses and θ, text as text (by the name: .svg or .pdf)")
                         .clicked()
                 {
                     view.dialogs.open(DialogRequest::SavePlotsSvg);

@@ -71,9 +71,9 @@ pub struct EvalArgs {
     /// online trajectory (what the app shows for the same recording, model and settings).
     #[arg(long, requires = "json")]
     pub per_frame: bool,
-    /// Draw the paper-style figure of the online losses: a PNG, or an SVG (vector, text as text)
-    /// when the name ends in .svg.
-    #[arg(long, value_name = "OUT.png|OUT.svg", value_parser = figure_path)]
+    /// Draw the paper-style figure of the online losses: a PNG, or a vector figure (text as text,
+    /// the font embedded) when the name ends in .svg or .pdf.
+    #[arg(long, value_name = "OUT.png|OUT.svg|OUT.pdf", value_parser = figure_path)]
     pub plot: Option<PathBuf>,
     /// Also evaluate the physics-only model (object outline + Lynch, no network).
     #[arg(long)]
