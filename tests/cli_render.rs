@@ -355,6 +355,58 @@ fn carrying_theta_the_render_starts_where_eval_carry_theta_does() {
 }
 
 #[test]
+fn a_shifted_start_is_where_eval_start_com_shift_starts() {
+    let dir = temp_dir("render", "shift");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = dir.join("shifted.gif");
+    let run = pushlab(&[
+        "render",
+        recording().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--size",
+        "320x200",
+        "--frames",
+        "0..2",
+        "--layers",
+        "com",
+        "--start-com-shift",
+        "0.04,-0.03",
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json = dir.join("eval.json");
+    let eval = pushlab(&[
+        "eval",
+        "--per-frame",
+        "--start-com-shift",
+        "0.04,-0.03",
+        "--model",
+        root.join("assets/default-model.json").to_str().unwrap(),
+        "--online",
+        recording().to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(eval.code, 0, "{}", eval.stderr);
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
+    let c = &report["trajectories"][0]["frames"][0]["theta"]["com_offset"];
+    let com = [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()];
+    let mut scene = SceneFrames::new(state(), SIZE, false);
+    scene.show(0);
+    scene.draw();
+    let object = scene.state().recording().unwrap().trajectory.frames[0].object;
+    let want = scene.pixel_of(object.point_in_world(Point2::from(com)));
+    let unshifted = scene
+        .pixel_of(object.point_in_world(Point2::from(scene.state().theta().unwrap().com_offset)));
+    let marker = first_com_marker(&out);
+    assert!(
+        distance(marker, want) <= 2.0 && distance(want, unshifted) > 5.0,
+        "the COM marker at {marker:?}, eval's shifted θ at {want:?}, unshifted at {unshifted:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn a_render_stopped_or_refused_leaves_no_file() {
     let dir = temp_dir("render", "stopped");
     let out = dir.join("push.gif");

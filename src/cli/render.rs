@@ -11,7 +11,7 @@ use pushlab::app::render::{RenderOptions, carry_to, render};
 use pushlab::app::state::Persisted;
 
 use super::exit::Failure;
-use super::experiment::args::{OnlineArgs, positive_real};
+use super::experiment::args::{OnlineArgs, offset_xy, positive_real};
 
 #[derive(Debug, Args)]
 pub struct RenderArgs {
@@ -47,6 +47,10 @@ pub struct RenderArgs {
     /// order), as `pushlab eval --carry-theta` goes on from one push to the next.
     #[arg(long)]
     pub carry_theta: bool,
+    /// Start believing the COM this far from θ_online(0)'s (object frame, metres, e.g. 0.02,0), as
+    /// `pushlab eval --start-com-shift`: the estimate sliding back to where the data puts it.
+    #[arg(long, value_name = "X,Y", value_parser = offset_xy, allow_hyphen_values = true)]
+    pub start_com_shift: Option<[f64; 2]>,
     #[command(flatten)]
     pub online: OnlineArgs,
 }
@@ -86,6 +90,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         online: args.online.config(),
         layers,
         carry_theta: args.carry_theta,
+        start_com_shift: args.start_com_shift,
         ..defaults
     };
     // Carrying θ, the pushes before it in its folder are opened and played first.

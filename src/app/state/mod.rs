@@ -205,6 +205,9 @@ pub struct Persisted {
     /// Whether selecting another push of the same object goes on from what the one shown learned
     /// (θ and its posterior) instead of from `θ_online(0)`.
     pub carry_theta: bool,
+    /// A push not carried on starts believing the COM this far from `θ_online(0)`'s (object frame,
+    /// metres), as `pushlab eval --start-com-shift`; `pushlab render` sets it, the window does not.
+    pub start_com_shift: Option<[f64; 2]>,
     /// The model trained for each folder of recordings ("Train for these recordings").
     pub folder_models: BTreeMap<PathBuf, PathBuf>,
     /// The browser's filter and sort.
@@ -229,6 +232,7 @@ impl Default for Persisted {
             learn_while_playing: true,
             online: OnlineConfig::default(),
             carry_theta: false,
+            start_com_shift: None,
             folder_models: BTreeMap::new(),
             browser: BrowserView::default(),
             what_if_steps: DEFAULT_WHAT_IF_STEPS,
@@ -559,12 +563,13 @@ impl AppState {
             .as_ref()
             .filter(|p| self.settings.carry_theta && p.carries_to(recording));
         self.run = match self.models.learner_for(recording) {
-            Ok((model, horizon)) => Some(OnlineRun::new(
+            Ok((model, horizon)) => Some(OnlineRun::starting(
                 model,
                 recording,
                 horizon,
                 self.settings.online,
                 from,
+                self.settings.start_com_shift,
             )),
             Err(message) => {
                 self.status = Some(message);

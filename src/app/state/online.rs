@@ -9,6 +9,7 @@
 use std::ops::Deref;
 use std::sync::{Arc, Weak};
 
+use pushlab_core::experiment::evaluate::start_state;
 use pushlab_core::learn::{self, OnlineConfig, OnlineState};
 use pushlab_core::model::{OnlineModel, OnlineParams, OnlineStep, SharedOnlineModel};
 use pushlab_core::recording::Recording;
@@ -37,11 +38,29 @@ impl OnlineRun {
         config: OnlineConfig,
         from: Option<&OnlineRun>,
     ) -> Self {
+        Self::starting(model, recording, horizon, config, from, None)
+    }
+
+    /// [`OnlineRun::new`], a run not carried on starting believing the COM `start_com_shift` from
+    /// `θ_online(0)`'s — where `pushlab eval --start-com-shift` starts (the core's `start_state`).
+    pub fn starting(
+        model: SharedOnlineModel,
+        recording: &Recording,
+        horizon: usize,
+        config: OnlineConfig,
+        from: Option<&OnlineRun>,
+        start_com_shift: Option<[f64; 2]>,
+    ) -> Self {
         let trajectory = Arc::clone(&recording.trajectory);
-        let mut run = match from {
-            Some(from) => {
-                learn::OnlineRun::continuing(model, trajectory, horizon, config, &from.end_state())
-            }
+        let from_state = from.map(OnlineRun::end_state);
+        let start = start_state(
+            model.as_ref(),
+            &config,
+            from_state.as_ref(),
+            start_com_shift,
+        );
+        let mut run = match start {
+            Some(start) => learn::OnlineRun::continuing(model, trajectory, horizon, config, &start),
             None => learn::OnlineRun::new(model, trajectory, horizon, config),
         };
         let plots = RunPlots::new(&mut run);

@@ -182,7 +182,7 @@ impl TrajectoryRun {
         Self::learn_with(physics, used, index, horizon, config, from, start_com_shift)
     }
 
-    /// Either model's online run, starting as [`shifted_start`] says, with the COM found against the
+    /// Either model's online run, starting as [`start_state`] says, with the COM found against the
     /// truth when the setting knows it.
     fn learn_with(
         learner: SharedOnlineModel,
@@ -193,7 +193,7 @@ impl TrajectoryRun {
         from: Option<&OnlineState>,
         start_com_shift: Option<[f64; 2]>,
     ) -> Self {
-        let start = shifted_start(learner.as_ref(), config, from, start_com_shift);
+        let start = start_state(learner.as_ref(), config, from, start_com_shift);
         let run = online_run(learner, used, horizon, config, start.as_ref());
         Self {
             recording: index,
@@ -495,7 +495,7 @@ fn physics_nmse(
 
 /// Where a run starts: from `from` (a push carried on), else believing the COM `shift` from
 /// `θ_online(0)`'s, else (`None`) from `θ_online(0)`.
-fn shifted_start(
+pub fn start_state(
     learner: &dyn OnlineModel,
     config: &OnlineConfig,
     from: Option<&OnlineState>,
