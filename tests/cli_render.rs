@@ -406,6 +406,85 @@ fn a_shifted_start_is_where_eval_start_com_shift_starts() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A push longer than the app learns on the UI thread in one jump (10,000 frames): the render
+/// starting past that point waits for the app's worker, so its first frame shows θ learned up to
+/// there — where `eval --per-frame` has it — not θ_online(0).
+#[test]
+fn a_render_starting_far_into_a_long_push_shows_theta_learned_up_to_there() {
+    let dir = temp_dir("render", "long");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::copy(
+        root.join(SET).join("setting.json"),
+        dir.join("setting.json"),
+    )
+    .unwrap();
+    let mut csv = String::from("time,robot_x,robot_y,object_x,object_y,object_theta\n");
+    for k in 0..10_200 {
+        let t = k as f64 / 10.0;
+        let (x, yaw) = (0.05 * (t / 5.0).sin(), 0.1 * (t / 7.0).sin());
+        csv.push_str(&format!(
+            "{t},{},-0.25,{},0.1,{}\n",
+            x,
+            x + 0.01 * t.cos(),
+            1.6 + yaw
+        ));
+    }
+    let push = dir.join("long_000.csv");
+    std::fs::write(&push, csv).unwrap();
+    let out = dir.join("far.gif");
+    let run = pushlab(&[
+        "render",
+        push.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--size",
+        "320x200",
+        "--fps",
+        "10",
+        "--frames",
+        "10100..10102",
+        "--layers",
+        "com",
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json = dir.join("eval.json");
+    let eval = pushlab(&[
+        "eval",
+        "--per-frame",
+        "--model",
+        root.join("assets/default-model.json").to_str().unwrap(),
+        "--online",
+        push.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(eval.code, 0, "{}", eval.stderr);
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
+    let c = &report["trajectories"][0]["frames"][10_100]["theta"]["com_offset"];
+    let com = [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()];
+    let defaults = Persisted::default();
+    let persisted = Persisted {
+        layers: defaults.layers.only("com").unwrap(),
+        ..defaults
+    };
+    let mut scene = SceneFrames::new(
+        initial_state(std::slice::from_ref(&push), persisted),
+        SIZE,
+        false,
+    );
+    scene.draw();
+    let start = scene.state().theta().unwrap().com_offset;
+    let object = scene.state().recording().unwrap().trajectory.frames[10_100].object;
+    let want = scene.pixel_of(object.point_in_world(Point2::from(com)));
+    let unlearned = scene.pixel_of(object.point_in_world(Point2::from(start)));
+    let marker = first_com_marker(&out);
+    assert!(
+        distance(marker, want) <= 2.0 && distance(want, unlearned) > 5.0,
+        "the COM marker at {marker:?}, eval's θ at frame 10100 at {want:?}, θ_online(0)'s at {unlearned:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_render_stopped_or_refused_leaves_no_file() {
     let dir = temp_dir("render", "stopped");

@@ -48,18 +48,17 @@ impl SceneFrames {
         [at.x, at.y]
     }
 
-    /// Moves to recording frame `k`: forwards one frame at a time, so that the run learns each
-    /// frame as the window's does while it plays; backwards (or a first jump) by seeking.
+    /// Moves to recording frame `k` as the window's timeline does, its run learning the frames
+    /// passed. A jump longer than the app learns on the UI thread is learned on its worker
+    /// (`learning_ahead`); the frame waits for it, so that θ is the one learned up to `k`.
     pub fn show(&mut self, k: usize) {
-        let now = self.state.frame();
-        if k > now && k - now <= 64 {
-            for _ in now..k {
-                self.state
-                    .apply(Command::Timeline(TimelineCommand::Step(1)));
-            }
-        } else if k != now {
+        if k != self.state.frame() {
             self.state
                 .apply(Command::Timeline(TimelineCommand::SeekTo(k)));
+        }
+        while self.state.learning_ahead().is_some() {
+            self.state.advance(0.0);
+            std::thread::sleep(std::time::Duration::from_millis(1));
         }
     }
 
