@@ -7,7 +7,7 @@
 //! its ascent to descent is the style's size), the same anchors, the same quarter turns — so that
 //! the PDF looks like the PNG. One PDF point is one pixel of the PNG.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use ab_glyph::{Font, FontRef};
@@ -35,7 +35,7 @@ pub struct PdfPage {
     font: FontRef<'static>,
     content: String,
     /// The transparencies used, as ExtGState names (`/A<alpha×255>`).
-    alphas: BTreeMap<u8, ()>,
+    alphas: BTreeSet<u8>,
     /// The glyphs used and the character each is.
     glyphs: BTreeMap<u16, char>,
     /// The TrueType file the text is set in, embedded.
@@ -49,7 +49,7 @@ impl PdfPage {
             size,
             font: FontRef::try_from_slice(font_file).map_err(|_| PdfError)?,
             content: String::new(),
-            alphas: BTreeMap::new(),
+            alphas: BTreeSet::new(),
             glyphs: BTreeMap::new(),
             font_file,
         })
@@ -72,7 +72,7 @@ impl PdfPage {
             f64::from(b) / 255.0
         );
         let alpha = (color.alpha.clamp(0.0, 1.0) * 255.0).round() as u8;
-        self.alphas.insert(alpha, ());
+        self.alphas.insert(alpha);
         let _ = writeln!(self.content, "/A{alpha} gs");
     }
 
@@ -109,7 +109,7 @@ impl PdfPage {
         let units = f64::from(self.font.units_per_em().unwrap_or(1000.0));
         let per_mille = |v: f32| (f64::from(v) * 1000.0 / units).round() as i64;
         let mut alphas = String::new();
-        for alpha in self.alphas.keys() {
+        for alpha in &self.alphas {
             let a = f64::from(*alpha) / 255.0;
             let _ = write!(alphas, "/A{alpha} << /CA {a:.4} /ca {a:.4} >> ");
         }
