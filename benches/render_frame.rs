@@ -35,7 +35,7 @@ fn main() {
     let measuring = std::env::args().any(|a| a == "--bench");
     let frames = if measuring { 60 } else { 2 };
 
-    let mut cpu = SceneFrames::new(state(), SIZE, false);
+    let mut cpu = SceneFrames::new(state(), SIZE, false, eframe::egui::Theme::Dark);
     let mut times = Vec::new();
     for k in 0..frames {
         cpu.show(k);

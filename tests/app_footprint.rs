@@ -28,7 +28,7 @@ fn the_t_is_filled_in_its_bar_and_stem_and_not_in_its_notches() {
                 &projection,
                 &outline,
                 &Pose2::new(0.0, 0.0, 0.0),
-                FootprintStyle::MEASURED_NOW,
+                FootprintStyle::measured_now(&pushlab::app::colors::DARK),
             );
         });
     harness.run();

@@ -11,7 +11,7 @@
 //! when past the frame shown: the page seeks there first, then back), `theta` (x,y,h in metres), `opt` (gd or
 //! gauss-newton), `lr`, `speed`, `learn` (0/1), `layers` (the layers that differ from the default,
 //! `name` on or `-name` off), `present` (the presentation layout), `projector` (high contrast,
-//! larger text) and `hide` (controls hidden in a classroom: `browser`, `tools`, `timeline`, `menu`).
+//! larger text), `light` (the light theme) and `hide` (controls hidden in a classroom: `browser`, `tools`, `timeline`, `menu`).
 
 use pushlab_core::learn::Optimizer;
 use pushlab_core::model::OnlineParams;
@@ -41,6 +41,7 @@ pub struct Link {
     pub layers: Vec<(String, bool)>,
     pub present: bool,
     pub projector: bool,
+    pub light: bool,
     pub hide: Vec<String>,
 }
 
@@ -49,6 +50,7 @@ pub struct Link {
 pub struct ViewPart {
     pub present: bool,
     pub projector: bool,
+    pub light: bool,
     pub hide: Vec<String>,
 }
 
@@ -87,6 +89,7 @@ impl Link {
             layers,
             present: view.present,
             projector: view.projector,
+            light: view.light,
             hide: view.hide.clone(),
         }
     }
@@ -139,6 +142,9 @@ impl Link {
         }
         if self.projector {
             parts.push(("projector", "1".to_owned()));
+        }
+        if self.light {
+            parts.push(("light", "1".to_owned()));
         }
         if !self.hide.is_empty() {
             parts.push(("hide", self.hide.join(",")));
@@ -205,6 +211,7 @@ impl Link {
                 }
                 "present" => link.present = flag(&value)?,
                 "projector" => link.projector = flag(&value)?,
+                "light" => link.light = flag(&value)?,
                 "hide" => {
                     for name in value.split(',').filter(|n| !n.is_empty()) {
                         if !HIDEABLE.contains(&name) {
@@ -225,6 +232,7 @@ impl Link {
         ViewPart {
             present: self.present,
             projector: self.projector,
+            light: self.light,
             hide: self.hide.clone(),
         }
     }

@@ -74,7 +74,7 @@ impl PushlabApp {
         keys::handle(ui.ctx(), &self.state, &mut self.view, &mut commands);
         dropped_files(ui.ctx(), &mut commands);
 
-        projector::apply(ui.ctx(), self.view.projector);
+        projector::apply(ui.ctx(), self.view.projector, self.view.light);
         if !self.view.hide_menu {
             panels::menu::top_bar(ui, &self.state, &mut self.view, &mut commands);
         }
@@ -127,6 +127,7 @@ impl PushlabApp {
                 // shown — at 1280 × 720 and 30 frames a second.
                 let options = render::RenderOptions {
                     speed: self.state.persisted().speed,
+                    theme: self::colors::theme_of(ctx),
                     with_plots: self.view.layout.is_shown(layout::Pane::Plots),
                     ..render::RenderOptions::default()
                 };

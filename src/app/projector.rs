@@ -1,6 +1,9 @@
 //! Projector mode: a lecture hall's projector washes out thin grey lines and small text, so the
 //! whole window goes to a light theme with black text, thicker strokes and up to 1.4× zoom.
 //!
+//! Outside projector mode the window is in the dark theme or, asked for (View → Light theme, a
+//! link's `light=1`), egui's light one; the scene's colours follow either (`colors::of`).
+//!
 //! Why the zoom follows the window: many projectors are 1280×800, and at 1.4× that leaves 914
 //! points, where the tools pane and the right of the menu bar were cut off. The zoom is as large as
 //! leaves the layout [`ROOM`] points across, between 1× and [`ZOOM`].
@@ -18,21 +21,21 @@ pub fn zoom_for(native_width: f32) -> f32 {
     (native_width / ROOM).clamp(1.0, ZOOM)
 }
 
-/// Sets the style for projector mode `on` (or back) when it changes, and the zoom to the window's
-/// width while it is on.
-pub fn apply(ctx: &egui::Context, on: bool) {
+/// Sets the style for projector mode `on` (or back to the dark or, with `light`, the light theme)
+/// when it changes, and the zoom to the window's width while it is on.
+pub fn apply(ctx: &egui::Context, on: bool, light: bool) {
     let id = egui::Id::unique("pushlab-projector");
-    let was: bool = ctx.data(|d| d.get_temp(id).unwrap_or(false));
+    let was: (bool, bool) = ctx.data(|d| d.get_temp(id).unwrap_or((false, false)));
     if on {
         let wanted = zoom_for(ctx.content_rect().width() * ctx.zoom_factor());
         if (ctx.zoom_factor() - wanted).abs() > 0.01 {
             ctx.set_zoom_factor(wanted);
         }
     }
-    if was == on {
+    if was == (on, light) {
         return;
     }
-    ctx.data_mut(|d| d.insert_temp(id, on));
+    ctx.data_mut(|d| d.insert_temp(id, (on, light)));
     if on {
         let mut visuals = egui::Visuals::light();
         visuals.override_text_color = Some(egui::Color32::BLACK);
@@ -48,8 +51,14 @@ pub fn apply(ctx: &egui::Context, on: bool) {
         }
         ctx.set_visuals(visuals);
     } else {
-        ctx.set_visuals(egui::Visuals::dark());
-        ctx.set_zoom_factor(1.0);
+        ctx.set_visuals(if light {
+            egui::Visuals::light()
+        } else {
+            egui::Visuals::dark()
+        });
+        if was.0 {
+            ctx.set_zoom_factor(1.0);
+        }
     }
 }
 

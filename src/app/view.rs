@@ -43,6 +43,8 @@ pub struct View {
     pub cameras: CameraView,
     /// High-contrast colours and larger text, for a projector (`projector`).
     pub projector: bool,
+    /// The light theme (on paper, in daylight) rather than the dark one.
+    pub light: bool,
     /// Controls a classroom link hid (`link::HIDEABLE`): the timeline and the menu bar here; the
     /// browser and tools panes are hidden through the layout.
     pub hide_timeline: bool,
@@ -65,6 +67,7 @@ impl View {
         ViewPart {
             present: self.presentation,
             projector: self.projector,
+            light: self.light,
             hide: (hidden.into_iter())
                 .filter(|&(_, hidden)| hidden)
                 .map(|(name, _)| name.to_owned())
@@ -78,6 +81,7 @@ impl View {
         let hidden = |name: &str| part.hide.iter().any(|h| h == name);
         self.presentation = part.present;
         self.projector = part.projector;
+        self.light = part.light;
         if hidden("browser") {
             self.layout.set_shown(Pane::Browser, false);
         }
@@ -103,6 +107,7 @@ impl Default for View {
             presentation: false,
             cameras: CameraView::default(),
             projector: false,
+            light: false,
             hide_timeline: false,
             hide_menu: false,
             page_address: None,

@@ -5,6 +5,7 @@ use std::ops::Range;
 use std::path::PathBuf;
 
 use clap::Args;
+use eframe::egui;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use pushlab::app::render::{RenderOptions, carry_to, render};
@@ -43,6 +44,9 @@ pub struct RenderArgs {
     /// The app's loss and θ plots below the scene, growing as the push is learned.
     #[arg(long)]
     pub with_plots: bool,
+    /// `dark` (the app's screen colours) or `light` (dark strokes on white, for slides and paper).
+    #[arg(long, value_name = "THEME", default_value = "dark", value_parser = theme)]
+    pub theme: egui::Theme,
     /// Go on from the θ learned along the pushes before RECORDING in its folder (played first, in
     /// order), as `pushlab eval --carry-theta` goes on from one push to the next.
     #[arg(long)]
@@ -53,6 +57,14 @@ pub struct RenderArgs {
     pub start_com_shift: Option<[f64; 2]>,
     #[command(flatten)]
     pub online: OnlineArgs,
+}
+
+fn theme(text: &str) -> Result<egui::Theme, String> {
+    match text {
+        "dark" => Ok(egui::Theme::Dark),
+        "light" => Ok(egui::Theme::Light),
+        _ => Err(format!("{text:?}: expected dark or light")),
+    }
 }
 
 fn size(text: &str) -> Result<[usize; 2], String> {
@@ -123,6 +135,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         speed: args.speed,
         frames: args.frames.clone(),
         with_plots: args.with_plots,
+        theme: args.theme,
     };
     let bar = ProgressBar::new(0);
     if let Ok(style) = ProgressStyle::with_template(

@@ -37,6 +37,7 @@ fn a_link_reads_back_as_itself() {
         layers: vec![("trails".to_owned(), false), ("what_if".to_owned(), true)],
         present: true,
         projector: true,
+        light: true,
         hide: vec!["browser".to_owned(), "tools".to_owned()],
     };
     let query = link.to_query();
@@ -112,12 +113,13 @@ fn opening_a_link_shows_the_same_frame_theta_and_losses() {
 
 #[test]
 fn the_view_a_link_asks_for_is_the_view_it_reads_back() {
-    let asked = Link::parse("present=1&projector=1&hide=browser,menu").expect("parses");
+    let asked = Link::parse("present=1&projector=1&light=1&hide=browser,menu").expect("parses");
     let mut view = crate::app::View::default();
     assert_eq!(view.link_part(), ViewPart::default());
     view.follow_link_part(&asked.view());
     assert!(!view.layout.is_shown(crate::app::layout::Pane::Browser));
     assert!(view.layout.is_shown(crate::app::layout::Pane::Tools));
     assert!(view.hide_menu && !view.hide_timeline);
+    assert!(view.light);
     assert_eq!(view.link_part(), asked.view());
 }

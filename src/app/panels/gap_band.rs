@@ -5,6 +5,7 @@
 
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
+use crate::app::colors;
 use crate::app::state::live::Gap;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
@@ -22,7 +23,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, width: f32, commands: &mut Vec<Co
     let (rect, response) = ui.allocate_exact_size(Vec2::new(width, HEIGHT + 4.0), Sense::click());
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Gaps band"));
     let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 2.0, Color32::from_gray(22));
+    painter.rect_filled(rect, 2.0, colors::of(ui.ctx()).band);
     let frames = state.timeline().last_frame() + 1;
     let x_of = |frame: usize| rect.left() + rect.width() * frame as f32 / frames as f32;
     let hover = response.hover_pos();
@@ -43,7 +44,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, width: f32, commands: &mut Vec<Co
     let x = x_of(state.frame()) + 0.5;
     painter.line_segment(
         [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
-        Stroke::new(1.5, Color32::WHITE),
+        Stroke::new(1.5, colors::of(ui.ctx()).cursor),
     );
     let Some(gap) = under_pointer else {
         return;

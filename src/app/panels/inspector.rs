@@ -13,6 +13,7 @@ use crate::app::state::proposals::Status;
 
 /// Draws the inspector.
 pub fn ui(ui: &mut egui::Ui, state: &AppState) {
+    let palette = colors::of(ui.ctx());
     let frame = state.frame();
     let (Some(_), Some(recording)) = (&state.run(), state.recording()) else {
         ui.weak("Select a recording to inspect its frames.");
@@ -62,12 +63,12 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
         let p = &step.prediction.motion;
         let t = &sample.target;
         let f = &fixed.prediction.motion;
-        row_colored(ui, "online Δx, Δy", mm2(p.translation), colors::ONLINE);
-        row_colored(ui, "online Δθ", deg(p.rotation), colors::ONLINE);
-        row_colored(ui, "fixed Δx, Δy", mm2(f.translation), colors::FIXED);
-        row_colored(ui, "fixed Δθ", deg(f.rotation), colors::FIXED);
-        row_colored(ui, "true Δx, Δy", mm2(t.translation), colors::TRUE);
-        row_colored(ui, "true Δθ", deg(t.rotation), colors::TRUE);
+        row_colored(ui, "online Δx, Δy", mm2(p.translation), palette.online);
+        row_colored(ui, "online Δθ", deg(p.rotation), palette.online);
+        row_colored(ui, "fixed Δx, Δy", mm2(f.translation), palette.fixed);
+        row_colored(ui, "fixed Δθ", deg(f.rotation), palette.fixed);
+        row_colored(ui, "true Δx, Δy", mm2(t.translation), palette.truth);
+        row_colored(ui, "true Δθ", deg(t.rotation), palette.truth);
     });
     section(ui, "Losses (normalised)", |ui| {
         let l = &step.loss;
@@ -77,19 +78,19 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState) {
             [l.pos_x, l.pos_y, l.rot]
                 .map(|v| format::loss(v, 4))
                 .join(", "),
-            colors::ONLINE,
+            palette.online,
         );
         row_colored(
             ui,
             "online: total",
             format::loss(l.total(), 4),
-            colors::ONLINE,
+            palette.online,
         );
         row_colored(
             ui,
             "fixed: total",
             format::loss(fixed.loss.total(), 4),
-            colors::FIXED,
+            palette.fixed,
         );
     });
     section(ui, "Gradient of the loss on θ_online", |ui| {

@@ -167,6 +167,7 @@ fn describe(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult) {
 
 /// The heatmap with contours, θ's path, θ now, the lowest cell and the true COM.
 fn com_plot(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult, side: f32) {
+    let palette = colors::of(ui.ctx());
     let landscape = &result.landscape;
     let grid = landscape.grid;
     let mm = |v: f64| v * 1e3;
@@ -213,12 +214,12 @@ fn com_plot(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult, side:
             plot_ui.heatmap(heatmap);
             plot_ui.line(
                 Line::new("θ's path", PlotPoints::new(path))
-                    .color(colors::ONLINE)
+                    .color(palette.online)
                     .width(1.5),
             );
             plot_ui.points(
                 Points::new("θ now", vec![[mm(theta[0]), mm(theta[1])]])
-                    .color(colors::ONLINE)
+                    .color(palette.online)
                     .shape(MarkerShape::Circle)
                     .filled(true)
                     .radius(5.0),
@@ -226,7 +227,7 @@ fn com_plot(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult, side:
             if let Some(([x, y], _)) = minimum {
                 plot_ui.points(
                     Points::new("lowest cell", vec![[mm(x), mm(y)]])
-                        .color(colors::CONTACT)
+                        .color(palette.contact)
                         .shape(MarkerShape::Diamond)
                         .radius(5.0),
                 );
@@ -234,7 +235,7 @@ fn com_plot(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult, side:
             if let Some([x, y]) = truth {
                 plot_ui.points(
                     Points::new("true COM", vec![[mm(x), mm(y)]])
-                        .color(colors::TRUE)
+                        .color(palette.truth)
                         .shape(MarkerShape::Cross)
                         .radius(7.0),
                 );
@@ -244,7 +245,7 @@ fn com_plot(ui: &mut egui::Ui, state: &AppState, result: &LandscapeResult, side:
     // each be a legend-less line of their own.
     let transform = response.transform;
     let painter = ui.painter_at(*transform.frame());
-    let stroke = Stroke::new(1.0, colors::CONTOUR);
+    let stroke = Stroke::new(1.0, palette.contour);
     for contour in &result.contours {
         for [a, b] in &contour.segments {
             let [a, b] =
@@ -274,6 +275,7 @@ fn theta_path(state: &AppState, frame: usize) -> Vec<[f64; 2]> {
 
 /// The mean loss over `h` at θ's COM offset, θ's `h` marked.
 fn h_plot(ui: &mut egui::Ui, result: &LandscapeResult) {
+    let palette = colors::of(ui.ctx());
     let points: Vec<[f64; 2]> = result
         .h_slice
         .iter()
@@ -291,12 +293,12 @@ fn h_plot(ui: &mut egui::Ui, result: &LandscapeResult) {
         .y_axis_label("mean loss")
         .allow_scroll(false)
         .show(ui, |plot_ui| {
-            plot_ui.line(Line::new("loss over h", PlotPoints::new(points)).color(colors::TRUE));
-            plot_ui.vline(VLine::new("θ's h", h).color(colors::ONLINE));
+            plot_ui.line(Line::new("loss over h", PlotPoints::new(points)).color(palette.truth));
+            plot_ui.vline(VLine::new("θ's h", h).color(palette.online));
             if let Some(point) = lowest {
                 plot_ui.points(
                     Points::new("lowest", vec![point])
-                        .color(colors::CONTACT)
+                        .color(palette.contact)
                         .shape(MarkerShape::Diamond)
                         .radius(4.0),
                 );

@@ -131,13 +131,14 @@ fn path_edit(ui: &mut egui::Ui, path: &mut PathBuf) -> egui::Response {
 /// The live session's strip in the timeline bar, when there is one: what the connection is doing,
 /// messages and lateness, Back to live, Disconnect.
 pub fn strip(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let palette = colors::of(ui.ctx());
     let Some(running) = state.live().running() else {
         return;
     };
     let live = state.live().is_live();
     let (badge, color) = match &running.latest.link {
         Link::Connecting => ("CONNECTING", ui.visuals().warn_fg_color),
-        Link::Connected { .. } => ("LIVE", colors::LIVE),
+        Link::Connected { .. } => ("LIVE", palette.live),
         Link::Lost { .. } => ("RECONNECTING", ui.visuals().warn_fg_color),
         Link::Ended { .. } => ("ENDED", ui.visuals().weak_text_color()),
     };

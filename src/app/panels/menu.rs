@@ -181,6 +181,8 @@ pub fn top_bar(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &
                 panes_menu(ui, view);
                 cameras_menu(ui, state, commands);
                 ui.separator();
+                ui.checkbox(&mut view.light, "Light theme")
+                    .on_hover_text("dark strokes on white, as on paper; the colours keep their meaning");
                 ui.checkbox(&mut view.projector, "Projector mode")
                     .on_hover_text("high-contrast colours and larger text, for a lecture hall");
             });

@@ -5,7 +5,7 @@
 //! Each series is drawn as its min/max envelope per pixel column over the visible time (the run's
 //! `plot_points`), so a million-frame recording draws about as many points as a short one.
 
-use eframe::egui::{self, Color32, Id};
+use eframe::egui::{self, Id};
 use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotPoints, PlotUi, VLine};
 
 use super::axes;
@@ -17,6 +17,7 @@ use crate::app::state::{AppState, Command};
 
 /// Draws the plots.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let palette = colors::of(ui.ctx());
     let (Some(run), Some(recording)) = (&state.run(), state.recording()) else {
         ui.centered_and_justified(|ui| ui.weak("Plots appear when a recording is selected"));
         return;
@@ -54,13 +55,13 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                         "Fixed",
                         Series::Fixed(part),
                         Series::FixedAverage(part),
-                        colors::FIXED,
+                        palette.fixed,
                     ),
                     (
                         "Online",
                         Series::Online(part),
                         Series::OnlineAverage(part),
-                        colors::ONLINE,
+                        palette.online,
                     ),
                 ] {
                     plot_ui.line(
@@ -114,13 +115,13 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                         "θ_online",
                         points(run, Series::Theta(index), visible, columns),
                     )
-                    .color(colors::ONLINE)
+                    .color(palette.online)
                     .width(2.0),
                 );
                 if let Some(truth) = truths[index] {
                     plot_ui.hline(
                         HLine::new("true", truth * 1e3)
-                            .color(colors::TRUE)
+                            .color(palette.truth)
                             .style(LineStyle::dashed_loose()),
                     );
                 }
@@ -161,6 +162,7 @@ fn band(
     visible: (f64, f64),
     columns: usize,
 ) {
+    let palette = colors::of(plot_ui.ctx());
     let high = run.plot_points(Series::ThetaHigh(component), visible, columns);
     let low = run.plot_points(Series::ThetaLow(component), visible, columns);
     if high.len() < 2 || low.len() < 2 {
@@ -191,7 +193,7 @@ fn band(
         .unzip();
     plot_ui.add(
         egui_plot::FilledArea::new("±2σ", &xs, &lows, &highs)
-            .fill_color(colors::ONLINE.gamma_multiply(0.18)),
+            .fill_color(palette.online.gamma_multiply(0.18)),
     );
 }
 
@@ -242,7 +244,7 @@ fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static
 fn cursor(plot_ui: &mut egui_plot::PlotUi<'_>, now: f64) {
     plot_ui.vline(
         VLine::new("now", now)
-            .color(Color32::from_gray(200))
+            .color(colors::of(plot_ui.ctx()).cursor)
             .width(1.0),
     );
 }

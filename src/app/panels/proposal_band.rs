@@ -9,6 +9,7 @@ use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 use pushlab_core::labels::LabelSchema;
 
 use super::label_bands::color;
+use crate::app::colors;
 use crate::app::state::proposals::{Pending, ProposalAction, Status};
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
@@ -85,7 +86,7 @@ fn band(
     let (rect, response) = ui.allocate_exact_size(Vec2::new(width, height), Sense::click());
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Proposals band"));
     let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 2.0, Color32::from_gray(22));
+    painter.rect_filled(rect, 2.0, colors::of(ui.ctx()).band);
     let frames = target.frames.max(1);
     let x_of = |frame: usize| rect.left() + rect.width() * frame as f32 / frames as f32;
     let frame_at = |x: f32| {
@@ -129,7 +130,7 @@ fn band(
     let x = x_of(state.frame()) + 0.5;
     painter.line_segment(
         [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
-        Stroke::new(1.5, Color32::WHITE),
+        Stroke::new(1.5, colors::of(ui.ctx()).cursor),
     );
 
     match under_pointer {

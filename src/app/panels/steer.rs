@@ -14,9 +14,10 @@ use crate::app::state::{OnlineCommand, TrainingCommand};
 
 /// Whether the model fits the open recordings; if not, why, and the button that trains one that does.
 fn model_fit(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let palette = colors::of(ui.ctx());
     let training = &state.training();
     if let Some(mismatch) = state.domain_mismatch() {
-        ui.colored_label(colors::WARNING, format!("Warning: {}", mismatch.message));
+        ui.colored_label(palette.warning, format!("Warning: {}", mismatch.message));
     }
     if state.domain_mismatch().is_none() && !training.is_running() {
         return;
@@ -170,6 +171,7 @@ fn best_theta(
 
 /// Draws the steering controls.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
+    let palette = colors::of(ui.ctx());
     let (Some(theta), Some(recording), Some(run)) =
         (state.theta(), state.recording(), &state.run())
     else {
@@ -239,7 +241,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     spread_parts(ui, run, state.frame());
     if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
         ui.colored_label(
-            colors::TRUE,
+            palette.truth,
             format!(
                 "true: COM ({}, {}) mm{}",
                 format::hundredths(com[0] * 1e3),

@@ -13,6 +13,7 @@ use crate::app::state::{AppState, Command};
 
 /// Draws the training panel.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: &mut Vec<Command>) {
+    let palette = colors::of(ui.ctx());
     ui.heading("Train a combined model");
     let running = state.training().is_running();
     ui.label(match state.models().kind() {
@@ -192,10 +193,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             .legend(Legend::default())
             .x_axis_label("epoch")
             .show(ui, |plot_ui| {
-                plot_ui.line(Line::new("train", train).color(colors::ONLINE));
-                plot_ui.line(Line::new("validation", validation).color(colors::FIXED));
+                plot_ui.line(Line::new("train", train).color(palette.online));
+                plot_ui.line(Line::new("validation", validation).color(palette.fixed));
                 if let Some(RunEnd::Trained { report }) = ended {
-                    plot_ui.vline(VLine::new("kept", report.best_epoch as f64).color(colors::TRUE));
+                    plot_ui
+                        .vline(VLine::new("kept", report.best_epoch as f64).color(palette.truth));
                 }
             });
     }

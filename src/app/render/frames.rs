@@ -4,9 +4,10 @@
 //! below it when asked (`panels::plots`, as the demo layout shows them), tessellated by egui and
 //! painted into pixels ([`super::raster`]).
 
-use eframe::egui::{self, Color32};
+use eframe::egui;
 
 use super::raster::{Canvas, Textures};
+use crate::app::colors;
 use crate::app::panels::plots;
 use crate::app::panels::scene::{self, SceneView};
 use crate::app::state::timeline::TimelineCommand;
@@ -25,9 +26,9 @@ pub struct SceneFrames {
 impl SceneFrames {
     /// Renders the recording `state` shows, at `size` pixels (one pixel a point), with the plots
     /// below the scene or not.
-    pub fn new(state: AppState, size: [usize; 2], with_plots: bool) -> Self {
+    pub fn new(state: AppState, size: [usize; 2], with_plots: bool, theme: egui::Theme) -> Self {
         let ctx = egui::Context::default();
-        ctx.set_visuals(egui::Visuals::dark());
+        ctx.set_theme(theme);
         Self {
             ctx,
             state,
@@ -97,7 +98,8 @@ impl SceneFrames {
         self.textures.update(&output.textures_delta);
         output.textures_delta.clear();
         let primitives = self.ctx.tessellate(output.shapes, output.pixels_per_point);
-        let mut canvas = Canvas::new(width, height, Color32::from_gray(22));
+        let background = colors::of(&self.ctx).background;
+        let mut canvas = Canvas::new(width, height, background);
         canvas.paint(&primitives, &self.textures, output.pixels_per_point);
         canvas.rgba()
     }

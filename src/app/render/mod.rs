@@ -12,8 +12,11 @@ pub mod video;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use eframe::egui;
+
 pub use self::frames::SceneFrames;
 use self::video::VideoWriter;
+use crate::app::colors;
 use crate::app::state::timeline::TimelineCommand;
 use crate::app::state::video_export::VideoWork;
 use crate::app::state::{AppState, Command, SessionCommand};
@@ -31,6 +34,8 @@ pub struct RenderOptions {
     pub frames: Option<Range<usize>>,
     /// The app's loss and θ plots below the scene.
     pub with_plots: bool,
+    /// Light (paper, projector) or dark (screen) colours, the app's own for each.
+    pub theme: egui::Theme,
 }
 
 impl Default for RenderOptions {
@@ -41,6 +46,7 @@ impl Default for RenderOptions {
             speed: 1.0,
             frames: None,
             with_plots: false,
+            theme: egui::Theme::Dark,
         }
     }
 }
@@ -88,8 +94,9 @@ pub fn render(
         );
     }
     let shown = frames_shown(&times, range, options.fps, options.speed);
-    let mut writer = VideoWriter::create(out, options.size, options.fps)?;
-    let mut scene = SceneFrames::new(state, options.size, options.with_plots);
+    let palette = colors::of_theme(options.theme);
+    let mut writer = VideoWriter::create(out, options.size, options.fps, palette)?;
+    let mut scene = SceneFrames::new(state, options.size, options.with_plots, options.theme);
     for (i, &k) in shown.iter().enumerate() {
         scene.show(k);
         writer.push(scene.draw())?;

@@ -8,41 +8,52 @@
 
 use std::collections::HashMap;
 
-use crate::app::colors;
+use crate::app::colors::Palette;
 
-/// The scene's background, which the transparent layers are blended over.
-const BACKGROUND: [u8; 3] = [22, 22, 22];
 /// The index left transparent (a pixel like the frame before's).
 pub const TRANSPARENT: u8 = 255;
 
 /// The palette and the entry each colour seen maps to.
-pub struct Palette {
+pub struct GifPalette {
     entries: Vec<[u8; 3]>,
     nearest: HashMap<[u8; 3], u8>,
 }
 
-impl Default for Palette {
-    fn default() -> Self {
+impl GifPalette {
+    /// The palette for frames drawn in `colours`: each exactly, and blended over its background.
+    pub fn for_theme(colours: &Palette) -> Self {
         let themed = [
-            colors::TRUE,
-            colors::ONLINE,
-            colors::FIXED,
-            colors::PURE_NN,
-            colors::PHYSICS,
-            colors::ROBOT,
-            colors::CONTACT,
-            colors::COM_LABEL,
-            colors::LIVE,
-            colors::WARNING,
+            colours.truth,
+            colours.online,
+            colours.fixed,
+            colours.pure_nn,
+            colours.physics,
+            colours.robot,
+            colours.contact,
+            colours.com_label,
+            colours.live,
+            colours.warning,
         ];
+        let [bg_r, bg_g, bg_b, _] = colours.background.to_array();
+        let background = [bg_r, bg_g, bg_b];
         let mut entries: Vec<[u8; 3]> = Vec::with_capacity(255);
         let add = |c: [u8; 3], entries: &mut Vec<[u8; 3]>| {
             if !entries.contains(&c) && entries.len() < 255 {
                 entries.push(c);
             }
         };
+        add(background, &mut entries);
+        for exact in [
+            colours.grid,
+            colours.grid_major,
+            colours.grid_label,
+            colours.muted,
+        ] {
+            let [r, g, b, _] = exact.to_array();
+            add([r, g, b], &mut entries);
+        }
         for grey in [
-            0u8, 22, 27, 40, 55, 60, 80, 100, 120, 140, 160, 180, 200, 220, 230, 255,
+            0u8, 22, 27, 40, 55, 60, 80, 100, 120, 140, 160, 180, 200, 220, 230, 240, 248, 255,
         ] {
             add([grey; 3], &mut entries);
         }
@@ -54,9 +65,9 @@ impl Default for Palette {
                 };
                 add(
                     [
-                        mix(r, BACKGROUND[0]),
-                        mix(g, BACKGROUND[1]),
-                        mix(b, BACKGROUND[2]),
+                        mix(r, background[0]),
+                        mix(g, background[1]),
+                        mix(b, background[2]),
                     ],
                     &mut entries,
                 );
@@ -75,9 +86,7 @@ impl Default for Palette {
             nearest: HashMap::new(),
         }
     }
-}
 
-impl Palette {
     /// The palette as GIF wants it: RGB triples, the transparent entry last.
     pub fn bytes(&self) -> Vec<u8> {
         let mut bytes: Vec<u8> = self.entries.iter().flatten().copied().collect();
@@ -105,29 +114,37 @@ impl Palette {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::colors::{DARK, LIGHT};
 
     #[test]
     fn the_scenes_colours_keep_entries_of_their_own() {
-        let mut palette = Palette::default();
-        assert!(palette.entries.len() <= 255, "one index stays transparent");
-        for colour in [colors::ONLINE, colors::FIXED, colors::ROBOT, colors::TRUE] {
-            let [r, g, b, _] = colour.to_array();
-            let index = palette.index_of([r, g, b]);
-            assert_eq!(
-                palette.entries[usize::from(index)],
-                [r, g, b],
-                "{colour:?} exactly"
+        for colours in [DARK, LIGHT] {
+            let mut palette = GifPalette::for_theme(&colours);
+            assert!(palette.entries.len() <= 255, "one index stays transparent");
+            let rgb = |c: eframe::egui::Color32| {
+                let [r, g, b, _] = c.to_array();
+                [r, g, b]
+            };
+            for colour in [
+                colours.background,
+                colours.online,
+                colours.fixed,
+                colours.robot,
+                colours.truth,
+            ] {
+                let index = palette.index_of(rgb(colour));
+                assert_eq!(
+                    palette.entries[usize::from(index)],
+                    rgb(colour),
+                    "{colour:?} exactly"
+                );
+            }
+            assert_ne!(
+                palette.index_of(rgb(colours.online)),
+                palette.index_of(rgb(colours.robot)),
+                "orange is not yellow"
             );
+            assert_eq!(palette.bytes().len(), 768);
         }
-        let rgb = |c: eframe::egui::Color32| {
-            let [r, g, b, _] = c.to_array();
-            [r, g, b]
-        };
-        assert_ne!(
-            palette.index_of(rgb(colors::ONLINE)),
-            palette.index_of(rgb(colors::ROBOT)),
-            "orange is not yellow"
-        );
-        assert_eq!(palette.bytes().len(), 768);
     }
 }

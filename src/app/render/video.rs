@@ -13,7 +13,8 @@ use std::process::{Child, ChildStdin, Command, Stdio};
 use anyhow::{Context as _, anyhow, bail};
 use gif::{DisposalMethod, Encoder, Frame, Repeat};
 
-use super::palette::{Palette, TRANSPARENT};
+use super::palette::{GifPalette, TRANSPARENT};
+use crate::app::colors;
 
 /// What the output's extension asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,14 +55,20 @@ pub struct VideoWriter {
 enum Inner {
     /// The encoder (made at the first frame), the delay between frames (hundredths of a second)
     /// and the palette.
-    Gif(Option<Box<Encoder<Vec<u8>>>>, u16, Box<Palette>),
+    Gif(Option<Box<Encoder<Vec<u8>>>>, u16, Box<GifPalette>),
     Ffmpeg(Child, ChildStdin),
 }
 
 impl VideoWriter {
     /// Starts `path` at `size` pixels and `fps` frames a second (GIF keeps whole hundredths of a
     /// second between frames: 30 fps plays at 33).
-    pub fn create(path: &Path, size: [usize; 2], fps: f64) -> anyhow::Result<Self> {
+    /// The GIF's palette is made for `colours`, the theme the frames are drawn in.
+    pub fn create(
+        path: &Path,
+        size: [usize; 2],
+        fps: f64,
+        colours: &colors::Palette,
+    ) -> anyhow::Result<Self> {
         let container = Container::of(path)?;
         // Said before the first frame is drawn, not after the last.
         let folder = (path.parent())
@@ -85,7 +92,7 @@ impl VideoWriter {
                     bail!("a GIF is at most 65535 pixels a side");
                 }
                 let delay = (100.0 / fps).round().clamp(1.0, 65535.0) as u16;
-                Inner::Gif(None, delay, Box::default())
+                Inner::Gif(None, delay, Box::new(GifPalette::for_theme(colours)))
             }
             Container::Mp4 | Container::Webm => ffmpeg(container, &temporary, size, fps)?,
         };

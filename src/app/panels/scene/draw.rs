@@ -10,7 +10,7 @@ use pushlab_core::model::{ObjectMotion, Prediction};
 use pushlab_core::trajectory::{Frame, Trajectory};
 
 use super::camera::Projection;
-use crate::app::colors;
+use crate::app::colors::{self, Palette};
 
 /// How a footprint is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,16 +31,21 @@ pub enum FootprintLine {
 }
 
 impl FootprintStyle {
-    /// The measured pose at the frame shown.
-    pub const MEASURED_NOW: Self = Self {
-        color: colors::TRUE,
-        line: FootprintLine::Filled,
-    };
+    /// The measured pose at the frame shown, in `palette`'s colour for the truth.
+    pub const fn measured_now(palette: &Palette) -> Self {
+        Self {
+            color: palette.truth,
+            line: FootprintLine::Filled,
+        }
+    }
+
     /// The measured pose at the target frame.
-    pub const MEASURED_TARGET: Self = Self {
-        color: colors::TRUE,
-        line: FootprintLine::Dashed,
-    };
+    pub const fn measured_target(palette: &Palette) -> Self {
+        Self {
+            color: palette.truth,
+            line: FootprintLine::Dashed,
+        }
+    }
 
     /// A pose predicted by the model of this colour.
     pub const fn predicted(color: Color32) -> Self {
@@ -122,6 +127,7 @@ pub fn what_if(
     rollout: &Rollout,
     trajectory: &Trajectory,
 ) {
+    let palette = colors::of(painter.ctx());
     let steps = rollout.poses.len().max(1) as f32;
     for (i, (_, pose)) in rollout.poses.iter().enumerate() {
         let fade = 0.75 - 0.6 * (i as f32 / steps);
@@ -132,7 +138,7 @@ pub fn what_if(
             .collect();
         painter.add(Shape::closed_line(
             points,
-            Stroke::new(1.0, colors::ONLINE.gamma_multiply(fade)),
+            Stroke::new(1.0, palette.online.gamma_multiply(fade)),
         ));
     }
     if let Some((frame, _)) = rollout.poses.last()
@@ -144,7 +150,7 @@ pub fn what_if(
             outline,
             &recorded.object,
             FootprintStyle {
-                color: colors::TRUE.gamma_multiply(0.6),
+                color: palette.truth.gamma_multiply(0.6),
                 line: FootprintLine::Dashed,
             },
         );
@@ -165,6 +171,7 @@ pub fn com_ellipse(
     axes: [f64; 2],
     angle: f64,
 ) {
+    let palette = colors::of(painter.ctx());
     if !(axes[0].is_finite() && axes[1].is_finite()) {
         return;
     }
@@ -177,8 +184,8 @@ pub fn com_ellipse(
         })
         .collect();
     let screen = |p: &Point2<f64>| projection.to_screen(pose.point_in_world(*p));
-    let fill = colors::ONLINE.gamma_multiply(0.10);
-    let stroke = Stroke::new(1.5, colors::ONLINE.gamma_multiply(0.8));
+    let fill = palette.online.gamma_multiply(0.10);
+    let stroke = Stroke::new(1.5, palette.online.gamma_multiply(0.8));
     let Some(outline) = outline else {
         let points = in_object.iter().map(screen).collect();
         painter.add(Shape::convex_polygon(points, fill, stroke));
@@ -206,7 +213,7 @@ pub fn com_ellipse(
         ));
         return;
     }
-    let outside_stroke = Stroke::new(1.0, colors::ONLINE.gamma_multiply(0.45));
+    let outside_stroke = Stroke::new(1.0, palette.online.gamma_multiply(0.45));
     let n = in_object.len();
     // Start at a change from inside to outside, so that every run of one kind is whole.
     let start = (0..n)
@@ -240,12 +247,13 @@ pub fn exaggerated(pose: &Pose2, motion: &ObjectMotion, gain: f64) -> Pose2 {
 
 /// The pusher disc (at least a few points wide, so a 5 mm rod stays visible).
 pub fn pusher(painter: &egui::Painter, projection: &Projection, centre: Point2<f64>, radius: f64) {
+    let palette = colors::of(painter.ctx());
     let radius = (radius as f32 * projection.scale()).max(3.0);
     painter.circle(
         projection.to_screen(centre),
         radius,
-        colors::ROBOT.gamma_multiply(0.35),
-        Stroke::new(2.0, colors::ROBOT),
+        palette.robot.gamma_multiply(0.35),
+        Stroke::new(2.0, palette.robot),
     );
 }
 
@@ -257,23 +265,25 @@ pub fn contact(
     prediction: &Prediction,
     gain: f64,
 ) {
+    let palette = colors::of(painter.ctx());
     let Some(c) = prediction.contact else {
         return;
     };
     let c_world = pose.point_in_world(Point2::from(c));
     let p = projection.to_screen(c_world);
-    painter.circle_filled(p, 4.0, colors::CONTACT);
+    painter.circle_filled(p, 4.0, palette.contact);
     if let Some(u) = prediction.contact_motion {
         let u_world = pose.vector_in_world(Vector2::new(u[0], u[1])) * gain;
         let tip = projection.to_screen(c_world + u_world);
-        painter.arrow(p, tip - p, Stroke::new(2.0, colors::CONTACT));
+        painter.arrow(p, tip - p, Stroke::new(2.0, palette.contact));
     }
 }
 
 /// The true COM: a cross.
 pub fn true_com(painter: &egui::Painter, at: Pos2) {
+    let palette = colors::of(painter.ctx());
     let s = 7.0;
-    let stroke = Stroke::new(2.0, colors::TRUE);
+    let stroke = Stroke::new(2.0, palette.truth);
     painter.line_segment([at - Vec2::splat(s), at + Vec2::splat(s)], stroke);
     painter.line_segment([at + Vec2::new(-s, s), at + Vec2::new(s, -s)], stroke);
 }
@@ -281,12 +291,14 @@ pub fn true_com(painter: &egui::Painter, at: Pos2) {
 /// The COM of the best θ for the whole push (the Steer tab's): an orange ring, the estimated COM's
 /// colour, hollow so that the estimate can sit inside it.
 pub fn best_com(painter: &egui::Painter, at: Pos2) {
+    let palette = colors::of(painter.ctx());
     painter.circle_stroke(at, 9.0, Stroke::new(3.5, Color32::BLACK));
-    painter.circle_stroke(at, 9.0, Stroke::new(2.0, colors::ONLINE));
+    painter.circle_stroke(at, 9.0, Stroke::new(2.0, palette.online));
 }
 
 /// The COM labelled in the recording's metadata: a diamond, larger while hovered or dragged.
 pub fn com_label(painter: &egui::Painter, at: Pos2, hot: bool) {
+    let palette = colors::of(painter.ctx());
     let s = if hot { 8.0 } else { 6.5 };
     let diamond = vec![
         at + Vec2::new(0.0, -s),
@@ -296,28 +308,30 @@ pub fn com_label(painter: &egui::Painter, at: Pos2, hot: bool) {
     ];
     painter.add(Shape::convex_polygon(
         diamond,
-        colors::COM_LABEL,
+        palette.com_label,
         Stroke::new(1.5, Color32::BLACK),
     ));
 }
 
 /// The COM estimated online: an orange dot, larger while hovered or dragged.
 pub fn estimated_com(painter: &egui::Painter, at: Pos2, hot: bool) {
+    let palette = colors::of(painter.ctx());
     painter.circle(
         at,
         if hot { 7.0 } else { 5.5 },
-        colors::ONLINE,
+        palette.online,
         Stroke::new(1.5, Color32::BLACK),
     );
 }
 
 /// A polyline of world points (the robot's whole path, already thinned).
 pub fn path(painter: &egui::Painter, projection: &Projection, points: &[Point2<f64>]) {
+    let palette = colors::of(painter.ctx());
     if points.len() > 1 {
         let screen = points.iter().map(|p| projection.to_screen(*p)).collect();
         painter.add(Shape::line(
             screen,
-            Stroke::new(1.0, colors::ROBOT.gamma_multiply(0.25)),
+            Stroke::new(1.0, palette.robot.gamma_multiply(0.25)),
         ));
     }
 }
@@ -330,6 +344,7 @@ pub const TRAIL_SEGMENTS: usize = 120;
 /// Fading trails of the robot and the object over the last [`TRAIL_SECONDS`] before `now`, at most
 /// [`TRAIL_SEGMENTS`] segments each (every k-th frame at high rates).
 pub fn trails(painter: &egui::Painter, projection: &Projection, frames: &[Frame], now: usize) {
+    let palette = colors::of(painter.ctx());
     let Some(current) = frames.get(now) else {
         return;
     };
@@ -343,14 +358,14 @@ pub fn trails(painter: &egui::Painter, projection: &Projection, frames: &[Frame]
         let (a, b) = (frames[previous], frames[k]);
         painter.line_segment(
             [projection.to_screen(a.robot), projection.to_screen(b.robot)],
-            Stroke::new(2.5, colors::ROBOT.gamma_multiply(alpha)),
+            Stroke::new(2.5, palette.robot.gamma_multiply(alpha)),
         );
         painter.line_segment(
             [
                 projection.to_screen(a.object.position),
                 projection.to_screen(b.object.position),
             ],
-            Stroke::new(2.0, colors::TRUE.gamma_multiply(alpha * 0.7)),
+            Stroke::new(2.0, palette.truth.gamma_multiply(alpha * 0.7)),
         );
         k = previous;
     }
@@ -359,6 +374,7 @@ pub fn trails(painter: &egui::Painter, projection: &Projection, frames: &[Frame]
 /// A metres grid whose spacing follows the zoom: minor lines 20–200 points apart, every tenth
 /// major and labelled. Drawn over `area` (the whole scene).
 pub fn grid(painter: &egui::Painter, projection: &Projection, area: egui::Rect) {
+    let palette = colors::of(painter.ctx());
     let mut spacing = 1e-3_f64;
     while (spacing as f32) * projection.scale() < 20.0 {
         spacing *= 10.0;
@@ -383,9 +399,9 @@ pub fn grid(painter: &egui::Painter, projection: &Projection, area: egui::Rect) 
             let value = i as f64 * spacing;
             let major = i.rem_euclid(10) == 0;
             let color = if major {
-                colors::GRID_MAJOR
+                palette.grid_major
             } else {
-                colors::GRID
+                palette.grid
             };
             let (a, b) = if axis == 0 {
                 let x = projection.to_screen(Point2::new(value, 0.0)).x;
@@ -412,7 +428,7 @@ pub fn grid(painter: &egui::Painter, projection: &Projection, area: egui::Rect) 
                     align,
                     format_metres(value),
                     label_font.clone(),
-                    colors::GRID_MAJOR.gamma_multiply(1.6),
+                    palette.grid_label,
                 );
             }
         }

@@ -4,7 +4,7 @@
 
 use eframe::egui::{self, Color32, Rect, Vec2};
 
-use crate::app::colors;
+use crate::app::colors::{self, Palette};
 use crate::app::state::layers::Layers;
 use crate::app::state::predictions::PredictionLayer;
 use crate::app::state::{AppState, Command};
@@ -19,7 +19,7 @@ pub fn ui(ui: &mut egui::Ui, area: Rect, state: &AppState, commands: &mut Vec<Co
     let mut edited = layers.clone();
     let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area.shrink(6.0)));
     egui::Frame::popup(child.style())
-        .fill(Color32::from_black_alpha(200))
+        .fill(colors::of(ui.ctx()).legend_fill)
         .show(&mut child, |ui| {
             // A scene shorter than the legend scrolls it rather than cutting its last rows off.
             egui::ScrollArea::vertical()
@@ -35,7 +35,7 @@ pub fn ui(ui: &mut egui::Ui, area: Rect, state: &AppState, commands: &mut Vec<Co
 fn toggles(ui: &mut egui::Ui, state: &AppState, edited: &mut Layers) {
     ui.set_width(WIDTH - 30.0);
     ui.spacing_mut().item_spacing.y = 1.0;
-    for (on, label, color, layer) in entries(edited) {
+    for (on, label, color, layer) in entries(edited, colors::of(ui.ctx())) {
         ui.checkbox(on, egui::RichText::new(label).color(color).small());
         if let Some(note) = layer.and_then(|l| state.layer_note(l)) {
             ui.indent(label, |ui| {
@@ -59,84 +59,84 @@ fn toggles(ui: &mut egui::Ui, state: &AppState, edited: &mut Layers) {
 type Entry<'a> = (&'a mut bool, &'static str, Color32, Option<PredictionLayer>);
 
 /// The toggles in the order the legend lists them.
-fn entries(layers: &mut Layers) -> [Entry<'_>; 15] {
+fn entries<'a>(layers: &'a mut Layers, palette: &Palette) -> [Entry<'a>; 15] {
     use PredictionLayer::{Fixed, Online, Physics, PureNn};
     [
         (
             &mut layers.true_now,
             "True footprint now",
-            colors::TRUE,
+            palette.truth,
             None,
         ),
         (
             &mut layers.true_target,
             "True footprint at target (dashed)",
-            colors::TRUE,
+            palette.truth,
             None,
         ),
         (
             &mut layers.predicted_online,
             "Predicted: online θ",
-            colors::ONLINE,
+            palette.online,
             Some(Online),
         ),
         (
             &mut layers.predicted_fixed,
             "Predicted: fixed θ(0)",
-            colors::FIXED,
+            palette.fixed,
             Some(Fixed),
         ),
         (
             &mut layers.predicted_pure_nn,
             "Predicted: pure NN",
-            colors::PURE_NN,
+            palette.pure_nn,
             Some(PureNn),
         ),
         (
             &mut layers.predicted_physics,
             "Predicted: physics only, online θ",
-            colors::PHYSICS,
+            palette.physics,
             Some(Physics),
         ),
         (
             &mut layers.com_estimated,
             "Estimated COM (drag me)",
-            colors::ONLINE,
+            palette.online,
             None,
         ),
         (
             &mut layers.com_ellipse,
             "COM 95 % ellipse",
-            colors::ONLINE,
+            palette.online,
             None,
         ),
         (
             &mut layers.what_if,
             "What if: k steps ahead (ghosts)",
-            colors::ONLINE,
+            palette.online,
             None,
         ),
-        (&mut layers.com_true, "True COM ×", colors::TRUE, None),
+        (&mut layers.com_true, "True COM ×", palette.truth, None),
         (
             &mut layers.com_best,
             "Best θ's COM, ring (Steer: Find the best θ)",
-            colors::ONLINE,
+            palette.online,
             None,
         ),
         (
             &mut layers.com_label,
             "Labelled COM, diamond (drag me)",
-            colors::COM_LABEL,
+            palette.com_label,
             None,
         ),
         (
             &mut layers.contact,
             "Contact c and u_c",
-            colors::CONTACT,
+            palette.contact,
             None,
         ),
-        (&mut layers.robot_path, "Robot path", colors::ROBOT, None),
-        (&mut layers.trails, "Trails", colors::ROBOT, None),
+        (&mut layers.robot_path, "Robot path", palette.robot, None),
+        (&mut layers.trails, "Trails", palette.robot, None),
     ]
 }
 

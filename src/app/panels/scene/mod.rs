@@ -13,7 +13,7 @@ pub mod interaction;
 pub mod legend;
 mod view;
 
-use eframe::egui::{self, Color32, Sense};
+use eframe::egui::{self, Sense};
 use nalgebra::Point2;
 use pushlab_core::geometry::{Outline, Pose2};
 use pushlab_core::inspect::Rollout;
@@ -22,7 +22,7 @@ use self::camera::{Camera, CameraMode, Projection, WorldBox};
 use self::draw::FootprintStyle;
 use self::interaction::Markers;
 pub use self::view::{Drag, SceneView};
-use crate::app::colors;
+use crate::app::colors::{self, Palette};
 use crate::app::state::predictions::FramePredictions;
 use crate::app::state::{AppState, Command};
 
@@ -86,14 +86,15 @@ fn draw(
 ) {
     view.rect = response.rect;
     let painter = painter.with_clip_rect(view.rect);
-    painter.rect_filled(view.rect, 0.0, Color32::from_gray(22));
+    let palette = colors::of(ui.ctx());
+    painter.rect_filled(view.rect, 0.0, palette.background);
     let Some(recording) = state.recording() else {
         painter.text(
             view.rect.center(),
             egui::Align2::CENTER_CENTER,
             "Open recordings with File > Open, or drop them here",
             egui::FontId::proportional(16.0),
-            Color32::GRAY,
+            palette.muted,
         );
         return;
     };
@@ -143,7 +144,7 @@ struct Content<'a> {
 
 impl Content<'_> {
     /// The footprints drawn at the target frame, each with its style, for the layers switched on.
-    fn targets(&self, state: &AppState) -> Vec<(Pose2, FootprintStyle)> {
+    fn targets(&self, state: &AppState, palette: &Palette) -> Vec<(Pose2, FootprintStyle)> {
         let layers = &state.settings().layers;
         let mut targets = Vec::new();
         // At a live push's newest frame no later frame is known yet: the online model's prediction
@@ -153,19 +154,22 @@ impl Content<'_> {
         {
             let (moved, turned) = self.pose.motion_to(&pose);
             let pose = self.pose.moved_by(moved * self.gain, turned * self.gain);
-            targets.push((pose, FootprintStyle::predicted(colors::ONLINE)));
+            targets.push((pose, FootprintStyle::predicted(palette.online)));
         }
         let Some(p) = &self.predictions else {
             return targets;
         };
         let at = |motion| draw::exaggerated(&self.pose, motion, self.gain);
         if layers.true_target {
-            targets.push((at(&p.sample.target), FootprintStyle::MEASURED_TARGET));
+            targets.push((
+                at(&p.sample.target),
+                FootprintStyle::measured_target(palette),
+            ));
         }
         if layers.predicted_fixed {
             targets.push((
                 at(&p.fixed.prediction.motion),
-                FootprintStyle::predicted(colors::FIXED),
+                FootprintStyle::predicted(palette.fixed),
             ));
         }
         if layers.predicted_physics
@@ -173,7 +177,7 @@ impl Content<'_> {
         {
             targets.push((
                 at(&physics.motion),
-                FootprintStyle::predicted(colors::PHYSICS),
+                FootprintStyle::predicted(palette.physics),
             ));
         }
         if layers.predicted_pure_nn
@@ -181,13 +185,13 @@ impl Content<'_> {
         {
             targets.push((
                 at(&pure_nn.motion),
-                FootprintStyle::predicted(colors::PURE_NN),
+                FootprintStyle::predicted(palette.pure_nn),
             ));
         }
         if layers.predicted_online {
             targets.push((
                 at(&p.online.prediction.motion),
-                FootprintStyle::predicted(colors::ONLINE),
+                FootprintStyle::predicted(palette.online),
             ));
         }
         targets
@@ -237,7 +241,8 @@ fn aim(state: &AppState, view: &mut SceneView, content: &Content<'_>) {
     };
     let disc = WorldBox::around([content.robot]).map(|b| b.grown(content.pusher_radius));
     let mut target = disc.map_or(object, |d| object.union(d));
-    for (pose, _) in content.targets(state) {
+    // Only where the targets are matters here, not their colours.
+    for (pose, _) in content.targets(state, &colors::DARK) {
         if let Some(footprint) = content.footprint_box(&pose) {
             target = target.union(footprint);
         }
@@ -273,6 +278,7 @@ fn draw_layers(
     content: &Content<'_>,
     response: &egui::Response,
 ) {
+    let palette = colors::of(painter.ctx());
     let layers = &state.settings().layers;
     if layers.grid {
         draw::grid(painter, projection, view.rect);
@@ -297,13 +303,13 @@ fn draw_layers(
                 projection,
                 outline,
                 &content.pose,
-                FootprintStyle::MEASURED_NOW,
+                FootprintStyle::measured_now(palette),
             );
         }
         if let (Some(rollout), Some(recording)) = (&content.what_if, state.recording()) {
             draw::what_if(painter, projection, outline, rollout, &recording.trajectory);
         }
-        for (pose, style) in content.targets(state) {
+        for (pose, style) in content.targets(state, palette) {
             draw::footprint(painter, projection, outline, &pose, style);
         }
     }

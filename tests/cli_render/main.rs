@@ -6,11 +6,14 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+#[path = "../cli_common/mod.rs"]
 mod cli_common;
+mod theme;
 
 use std::path::{Path, PathBuf};
 
 use cli_common::{pushlab, temp_dir};
+use eframe::egui::Theme;
 use image::AnimationDecoder;
 use nalgebra::Point2;
 use pushlab::app::initial_state;
@@ -34,6 +37,20 @@ fn state() -> pushlab::app::state::AppState {
         ..defaults
     };
     initial_state(&[recording()], persisted)
+}
+
+/// Every frame of the GIF at `path`, decoded by the `image` crate.
+fn gif_frames(path: &Path) -> Vec<image::Frame> {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let decoder = image::codecs::gif::GifDecoder::new(file).unwrap();
+    decoder.into_frames().collect::<Result<_, _>>().unwrap()
+}
+
+/// A frame's pixels as RGB bytes, row by row.
+fn rgb_of(frame: &image::Frame) -> Vec<u8> {
+    (frame.buffer().pixels())
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect()
 }
 
 /// The centroid of the pixels `wanted` picks, pixels from the top left, and how many.
@@ -114,11 +131,7 @@ fn a_gif_shows_the_pusher_where_it_was_and_the_com_where_eval_learned_it() {
     assert!(run.stdout.contains("wrote "), "{}", run.stdout);
 
     // 20 frames of a 10 Hz push at 20 frames a second: 2 s, 39 frames (times 1.0 … 2.9 s).
-    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-        std::fs::File::open(&out).unwrap(),
-    ))
-    .unwrap();
-    let frames: Vec<image::Frame> = decoder.into_frames().collect::<Result<_, _>>().unwrap();
+    let frames = gif_frames(&out);
     assert_eq!(frames.len(), 39);
     let (numer, denom) = frames[0].delay().numer_denom_ms();
     assert_eq!(
@@ -128,16 +141,14 @@ fn a_gif_shows_the_pusher_where_it_was_and_the_com_where_eval_learned_it() {
     );
 
     // Where the app's scene puts the table's points in this frame size (it fits the whole push).
-    let mut scene = SceneFrames::new(state(), SIZE, false);
+    let mut scene = SceneFrames::new(state(), SIZE, false, Theme::Dark);
     scene.show(10);
     scene.draw();
     let trajectory = scene.state().recording().unwrap().trajectory.clone();
     let com = eval_com(&dir);
     for (i, frame) in frames.iter().enumerate() {
         let k = 10 + i / 2;
-        let rgb: Vec<u8> = (frame.buffer().pixels())
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect();
+        let rgb = rgb_of(frame);
         let (pusher, n) = centroid(&rgb, SIZE[0], yellow);
         let want = scene.pixel_of(trajectory.frames[k].robot);
         assert!(n > 20, "frame {i}: the pusher's disc is drawn");
@@ -193,7 +204,7 @@ fn an_mp4_and_a_webm_hold_the_frames_asked_for() {
         assert_eq!(decoded.stdout.len(), 25 * frame_bytes, "{name}: 25 frames");
         // The pusher's disc in the last frame is where the recording puts it (lossy, yet within
         // 2 px).
-        let mut scene = SceneFrames::new(state(), SIZE, false);
+        let mut scene = SceneFrames::new(state(), SIZE, false, Theme::Dark);
         scene.show(24);
         scene.draw();
         let robot = scene.state().recording().unwrap().trajectory.frames[24].robot;
@@ -228,11 +239,7 @@ fn with_plots_the_losses_are_drawn_below_the_scene() {
         "--with-plots",
     ]);
     assert_eq!(run.code, 0, "{}", run.stderr);
-    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-        std::fs::File::open(&out).unwrap(),
-    ))
-    .unwrap();
-    let frames: Vec<image::Frame> = decoder.into_frames().collect::<Result<_, _>>().unwrap();
+    let frames = gif_frames(&out);
     let last = frames.last().unwrap().buffer();
     // The fixed loss's blue: only in the plots (the scene draws no fixed footprint with only the
     // COM layer on), which take the bottom 42 % of the frame.
@@ -252,15 +259,7 @@ fn with_plots_the_losses_are_drawn_below_the_scene() {
 /// The COM marker's centroid in the first frame of a GIF rendered at `SIZE` with only the COM
 /// layer on.
 fn first_com_marker(gif: &Path) -> [f32; 2] {
-    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-        std::fs::File::open(gif).unwrap(),
-    ))
-    .unwrap();
-    let first = decoder.into_frames().next().unwrap().unwrap();
-    let rgb: Vec<u8> = (first.buffer().pixels())
-        .flat_map(|p| [p[0], p[1], p[2]])
-        .collect();
-    let (at, n) = centroid(&rgb, SIZE[0], orange);
+    let (at, n) = centroid(&rgb_of(&gif_frames(gif)[0]), SIZE[0], orange);
     assert!(n > 10, "the COM marker is drawn");
     at
 }
@@ -336,6 +335,7 @@ fn carrying_theta_the_render_starts_where_eval_carry_theta_does() {
         initial_state(std::slice::from_ref(&push), persisted),
         SIZE,
         false,
+        Theme::Dark,
     );
     scene.show(0);
     scene.draw();
@@ -391,7 +391,7 @@ fn a_shifted_start_is_where_eval_start_com_shift_starts() {
     let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
     let c = &report["trajectories"][0]["frames"][0]["theta"]["com_offset"];
     let com = [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()];
-    let mut scene = SceneFrames::new(state(), SIZE, false);
+    let mut scene = SceneFrames::new(state(), SIZE, false, Theme::Dark);
     scene.show(0);
     scene.draw();
     let object = scene.state().recording().unwrap().trajectory.frames[0].object;
@@ -471,6 +471,7 @@ fn a_render_starting_far_into_a_long_push_shows_theta_learned_up_to_there() {
         initial_state(std::slice::from_ref(&push), persisted),
         SIZE,
         false,
+        Theme::Dark,
     );
     scene.draw();
     let start = scene.state().theta().unwrap().com_offset;
