@@ -8,9 +8,10 @@ mod common;
 
 use std::time::{Duration, Instant};
 
+use eframe::egui::Theme;
 use egui_kittest::kittest::Queryable;
 use image::AnimationDecoder;
-use pushlab::app::render::{RenderOptions, work_for};
+use pushlab::app::render::{RenderOptions, SceneFrames, carry_to, work_for};
 use pushlab::app::state::{Command, Persisted};
 
 fn options() -> RenderOptions {
@@ -120,4 +121,75 @@ fn a_video_of_the_push_is_written_off_the_ui_thread_with_progress_and_cancel() {
         .err()
         .unwrap();
     assert!(refused.contains(".gif, .mp4 or .webm"), "{refused}");
+}
+
+/// The COM marker's centroid (the online orange) in the first frame of `gif`, pixels.
+fn first_com_marker(gif: &std::path::Path) -> [f32; 2] {
+    let file = std::io::BufReader::new(std::fs::File::open(gif).unwrap());
+    let decoder = image::codecs::gif::GifDecoder::new(file).unwrap();
+    let first = decoder.into_frames().next().unwrap().unwrap();
+    let (mut sum, mut n) = ([0.0f32; 2], 0.0f32);
+    for (x, y, p) in first.buffer().enumerate_pixels() {
+        if p[0] > 215 && (110..190).contains(&p[1]) && p[2] < 90 {
+            sum = [sum[0] + x as f32 + 0.5, sum[1] + y as f32 + 0.5];
+            n += 1.0;
+        }
+    }
+    assert!(n > 5.0, "the COM marker is drawn");
+    [sum[0] / n, sum[1] / n]
+}
+
+#[test]
+fn a_push_that_carried_theta_on_is_exported_going_on_from_it() {
+    let dir = common::scratch_dir("export-video-carried");
+    let set = common::sample_dir("box1-paper-ur-front");
+    let pushes = [set.join("online_000.csv"), set.join("online_001.csv")];
+    let defaults = Persisted::default();
+    let persisted = Persisted {
+        layers: defaults.layers.only("com").unwrap(),
+        carry_theta: true,
+        ..defaults
+    };
+    // The window played online_000 to its end, then showed online_001, which went on from there.
+    let mut state = pushlab::app::initial_state(&pushes, persisted);
+    assert_eq!(carry_to(&mut state, &pushes[1]).unwrap(), 1);
+    let run = state.run().unwrap();
+    assert_eq!(run.continued_from(), Some("online_000"));
+    let carried = run.theta_at(0).com_offset;
+    let theta0 = run.theta0().com_offset;
+
+    let gif = dir.join("carried.gif");
+    let options = RenderOptions {
+        size: [480, 300],
+        frames: Some(0..2),
+        ..options()
+    };
+    let work = work_for(&state, gif.clone(), options.clone()).unwrap();
+    state.start_video_export(gif.clone(), work);
+    let started = Instant::now();
+    while state.video_export().is_some() {
+        assert!(started.elapsed() < Duration::from_secs(120));
+        state.advance(0.0);
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(gif.exists(), "{:?}", state.status());
+
+    // Where the scene draws either θ's COM at frame 0 in a frame of this size.
+    let mut scene = SceneFrames::new(state, options.size, false, Theme::Dark);
+    scene.show(0);
+    scene.draw();
+    let object = scene.state().recording().unwrap().trajectory.frames[0].object;
+    let at = |com: [f64; 2]| scene.pixel_of(object.point_in_world(nalgebra::Point2::from(com)));
+    let (want, not) = (at(carried), at(theta0));
+    let drawn = first_com_marker(&gif);
+    let distance =
+        |a: [f32; 2], b: [f32; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+    assert!(
+        distance(want, not) > 4.0,
+        "the carried θ {want:?} is not θ_online(0)'s {not:?}"
+    );
+    assert!(
+        distance(drawn, want) <= 2.0,
+        "the first frame's COM marker at {drawn:?}, the carried θ's at {want:?} (θ_online(0)'s at {not:?})"
+    );
 }

@@ -108,8 +108,8 @@ pub fn render(
 }
 
 /// File → Export video of this push…: the work that renders the push `state` shows to `path` with
-/// `options`, as on screen — its settings (layers, online learning) and models — in a state of its
-/// own on the worker; why not, in words.
+/// `options`, as on screen — its settings (layers, online learning), models, and θ where its run
+/// went on from an earlier push — in a state of its own on the worker; why not, in words.
 pub fn work_for(
     state: &AppState,
     path: PathBuf,
@@ -121,9 +121,13 @@ pub fn work_for(
     video::Container::of(&path).map_err(|e| format!("{e:#}"))?;
     let persisted = state.persisted();
     let models = state.models().clone();
+    let carried = state.run().and_then(|run| run.carried());
     Ok(Box::new(move |job| {
         let mut state = AppState::new(persisted, models);
         state.open_blocking(&[source]);
+        if let Some(carried) = carried {
+            state.go_on_as(carried);
+        }
         let mut progress = |done: usize, all: usize| {
             job.set_progress(done as f32 / all.max(1) as f32);
             !job.is_cancelled()

@@ -10,8 +10,10 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use pushlab_core::labels::export as label_export;
 use pushlab_core::labels::pipeline::{key_of, labels_file_beside};
+use pushlab_core::learn::OnlineState;
 use pushlab_core::model_file::ModelFile;
 
+use super::online::OnlineRun;
 use super::video_export::{VideoExport, VideoWork};
 use super::{AppState, FileCommand, LabelExportFormat};
 
@@ -182,6 +184,24 @@ impl AppState {
 /// File → Export video of this push… (`video_export`): started with the work the app's shell
 /// makes, polled every frame, cancelled by [`FileCommand::CancelVideoExport`].
 impl AppState {
+    /// Runs the push shown again from `carried` (where another state's run started, having gone on
+    /// from an earlier push): what a video export's own state shows when the window's run carried
+    /// θ on, which that state, opening the push alone, could not.
+    pub fn go_on_as(&mut self, carried: (OnlineState, String)) {
+        let Some(recording) = self.session.selected_recording() else {
+            return;
+        };
+        if let Ok((model, horizon)) = self.models.learner_for(recording) {
+            self.run = Some(OnlineRun::again_from(
+                model,
+                recording,
+                horizon,
+                self.settings.online,
+                carried,
+            ));
+        }
+    }
+
     /// Starts writing a video of the push shown to `path` by `work` off the UI thread; one at a
     /// time (a second replaces the first, which stops and writes nothing).
     pub fn start_video_export(&mut self, path: PathBuf, work: VideoWork) {

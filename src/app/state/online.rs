@@ -72,6 +72,32 @@ impl OnlineRun {
         }
     }
 
+    /// The same run again from its start, which went on from `start` (another run's
+    /// [`OnlineRun::carried`]), the push before by name `continued_from`.
+    pub fn again_from(
+        model: SharedOnlineModel,
+        recording: &Recording,
+        horizon: usize,
+        config: OnlineConfig,
+        (start, continued_from): (OnlineState, String),
+    ) -> Self {
+        let trajectory = Arc::clone(&recording.trajectory);
+        let mut run = learn::OnlineRun::continuing(model, trajectory, horizon, config, &start);
+        let plots = RunPlots::new(&mut run);
+        Self {
+            run,
+            plots,
+            recording: recording.clone(),
+            continued_from: Some(continued_from),
+        }
+    }
+
+    /// Where this run started and the push it went on from, when it carried θ on from one.
+    pub fn carried(&self) -> Option<(OnlineState, String)> {
+        let from = self.continued_from.clone()?;
+        Some((*self.run.start_state(), from))
+    }
+
     /// Whether a run on `next` may go on from this one: another recording of the same object.
     pub fn carries_to(&self, next: &Recording) -> bool {
         self.recording.source != next.source && self.recording.same_object_as(next)

@@ -214,7 +214,7 @@ impl Session {
             let same = |s: &RecordingSet| s.dir == set.dir && s.setting.name == set.setting.name;
             let index = match self.sets.iter().position(same) {
                 Some(i) => {
-                    self.sets[i] = set;
+                    self.sets[i] = joined(&self.sets[i], set);
                     i
                 }
                 None => {
@@ -273,6 +273,24 @@ impl Session {
     }
 }
 
+/// A set opened again (`fresh`) joined with what was open of it: each push opened again replaces
+/// its older copy where it was; a push not opened again stays while its file does — files of a
+/// set opened one at a time (`pushlab open a.csv b.csv`, two drops) add up, while a folder opened
+/// again drops the pushes whose files are gone.
+fn joined(open: &RecordingSet, mut fresh: RecordingSet) -> RecordingSet {
+    let mut recordings = Vec::with_capacity(open.recordings.len().max(fresh.recordings.len()));
+    for old in &open.recordings {
+        match fresh.recordings.iter().position(|r| r.source == old.source) {
+            Some(at) => recordings.push(fresh.recordings.remove(at)),
+            None if old.source.is_file() => recordings.push(old.clone()),
+            None => {}
+        }
+    }
+    recordings.append(&mut fresh.recordings);
+    fresh.recordings = recordings;
+    fresh
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -294,6 +312,45 @@ mod tests {
         assert_eq!(session.problems.len(), 1);
         assert_eq!(session.problems[0].path, missing);
         assert!(session.problems[0].message.contains("pushes-42"));
+    }
+
+    #[test]
+    fn files_of_one_set_opened_apart_add_up_and_a_folder_opened_again_drops_deleted_files() {
+        let set = sample_data().join("box1-paper-ur-front");
+        let scratch = std::env::temp_dir().join(format!("pushlab-join-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&scratch);
+        std::fs::create_dir_all(&scratch).expect("a scratch folder");
+        for name in [
+            "setting.json",
+            "online_000.csv",
+            "online_001.csv",
+            "online_002.csv",
+        ] {
+            std::fs::copy(set.join(name), scratch.join(name)).expect("a copy of the sample set");
+        }
+        let names = |session: &Session| -> Vec<String> {
+            (session.recordings())
+                .map(|(_, r)| r.name.clone())
+                .collect()
+        };
+        let mut session = Session::default();
+        // Together, then one more later (a second drop): all three, in the order opened.
+        session.open_blocking(&[
+            scratch.join("online_001.csv"),
+            scratch.join("online_000.csv"),
+        ]);
+        session.open_blocking(&[scratch.join("online_002.csv")]);
+        assert_eq!(names(&session).len(), 3, "{:?}", names(&session));
+        // Opening one again replaces its copy where it was.
+        session.open_blocking(&[scratch.join("online_001.csv")]);
+        assert_eq!(names(&session).len(), 3);
+        // The folder opened again after a file was deleted: that push is gone, the rest stay.
+        std::fs::remove_file(scratch.join("online_000.csv")).expect("the file deleted");
+        session.open_blocking(std::slice::from_ref(&scratch));
+        let mut left = names(&session);
+        left.sort();
+        assert_eq!(left, ["online_001", "online_002"]);
+        let _ = std::fs::remove_dir_all(&scratch);
     }
 
     #[test]

@@ -198,6 +198,13 @@ impl OnlineRun {
         com_misfit_m(self.model.as_ref(), self.config.optimizer)
     }
 
+    /// θ and the posterior the run started from (frame 0): `θ_online(0)` and the prior, or what it
+    /// went on from. [`OnlineRun::continuing`] from it starts the same run again — how the app's
+    /// video export renders a push that carried θ on.
+    pub fn start_state(&self) -> &OnlineState {
+        &self.start
+    }
+
     /// θ and the posterior at the frontier: what [`OnlineRun::continuing`] goes on from.
     pub fn end_state(&self) -> OnlineState {
         self.state(self.frontier())
