@@ -10,6 +10,7 @@ use std::process::Command as Process;
 use pushlab::app::initial_state;
 use pushlab::app::state::timeline::TimelineCommand;
 use pushlab::app::state::{Command, OnlineCommand, Persisted, SessionCommand};
+use pushlab_core::learn::Nmse;
 use pushlab_core::model::FrameLoss;
 use serde_json::Value;
 
@@ -100,7 +101,13 @@ fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
 
     // `pushlab eval` on the same recording and model, default settings.
     let json = dir.join("eval.json");
-    let (_, report) = eval_per_frame(&model, &dir, std::slice::from_ref(&csv), &json, &[]);
+    let (_, report) = eval_per_frame(
+        &model,
+        &dir,
+        std::slice::from_ref(&csv),
+        &json,
+        &["--physics"],
+    );
     let trajectories = report["trajectories"].as_array().expect("trajectories");
     assert_eq!(trajectories.len(), 1);
     let reported = trajectories[0]["frames"]
@@ -123,7 +130,26 @@ fn the_apps_theta_and_losses_at_every_frame_are_pushlab_evals_to_the_bit() {
     // Horizon 10: a sample from frame k ends at k + 10, so those starting in the labelled stretch and
     // those ending in it are held — two stretches of six frames.
     assert_eq!(held, 2 * (BAD_TRACKING.1 - BAD_TRACKING.0));
+    assert_weighed_as_reported(run, &report["physics_trajectories"][0]);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Asserts that physics alone learned beside the app's run as `eval --physics` learned it, and
+/// that the weights and the weighted NMSE are the report's, bit for bit.
+fn assert_weighed_as_reported(run: &pushlab_core::learn::OnlineRun, reported: &Value) {
+    let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
+    let physics = run
+        .physics_beside()
+        .expect("physics alone learns beside the run");
+    let theta = physics.theta_at(physics.frontier());
+    assert_eq!(bits(&reported["h_learned"]), theta.h.to_bits());
+    let weight = run.model_weight().expect("the weights");
+    let weighted = Nmse::of_frames(weight.frames().iter().map(|f| f.loss));
+    assert_eq!(bits(&reported["weighted"]["pos"]), weighted.pos.to_bits());
+    assert_eq!(bits(&reported["weighted"]["rot"]), weighted.rot.to_bits());
+    let end = weight.weight();
+    assert_eq!(bits(&reported["weight_end"]["pos"]), end.pos.to_bits());
+    assert_eq!(bits(&reported["weight_end"]["rot"]), end.rot.to_bits());
 }
 
 #[test]
@@ -159,7 +185,13 @@ fn carrying_theta_to_the_next_push_is_pushlab_eval_carry_theta_to_the_bit() {
 
     let json = dir.join("eval.json");
     let online = [dir.join("online_001.csv"), dir.join("online_002.csv")];
-    let (stdout, report) = eval_per_frame(&model, &dir, &online, &json, &["--carry-theta"]);
+    let (stdout, report) = eval_per_frame(
+        &model,
+        &dir,
+        &online,
+        &json,
+        &["--carry-theta", "--physics"],
+    );
     assert!(
         stdout.contains("--carry-theta: 1 of 2 trajectories went on from the one before them"),
         "{stdout}"
@@ -175,6 +207,8 @@ fn carrying_theta_to_the_next_push_is_pushlab_eval_carry_theta_to_the_bit() {
     for (k, frame) in reported.iter().enumerate() {
         assert_theta_is_reported(frame, run.theta_at(k), k);
     }
+    // The weights went on from the first push's too.
+    assert_weighed_as_reported(run, &report["physics_trajectories"][1]);
 
     // Switched off, the next push starts from θ_online(0) again.
     state.apply(Command::Online(OnlineCommand::SetCarryTheta(false)));

@@ -105,9 +105,9 @@ fn a_suite_prints_one_table_and_gives_the_same_numbers_on_one_worker_and_on_two(
             .iter()
             .find(|l| l.starts_with(row))
             .unwrap_or_else(|| panic!("no row {row}:\n{}", run.stdout));
-        // Two kinds × offline, fixed, online and physics fixed, online: eight pos/rot cells.
+        // Two kinds × offline, fixed, online, physics fixed, online and weighted: nine pos/rot cells.
         let cells = line.split_whitespace().filter(|c| c.contains('/')).count();
-        assert_eq!(cells, 8, "{line}");
+        assert_eq!(cells, 9, "{line}");
     }
     assert!(run.stdout.contains("2 experiment(s) in"), "{}", run.stdout);
     assert!(run.stdout.contains(&format!("wrote {two_s}")));
@@ -530,16 +530,18 @@ fn paper_tables_hold_the_reports_numbers(report: &Path, md: &Path, tex: &Path) {
     let md_lines: Vec<&str> = md.lines().filter(|l| l.starts_with('|')).collect();
     assert_eq!(
         md_lines[0],
-        "| Experiment | contact offline | contact fixed | contact online | paper offline | paper fixed | paper online | physics only fixed | physics only online |"
+        "| Experiment | contact offline | contact fixed | contact online | paper offline | paper fixed | paper online | physics only fixed | physics only online | weighted online |"
     );
     assert_eq!(md_lines.len(), 4, "header, rule, two rows:\n{md}");
     assert!(
-        tex.contains("\\begin{tabular}{lcccccccc}\n\\toprule"),
+        tex.contains("\\begin{tabular}{lccccccccc}\n\\toprule"),
         "{tex}"
     );
-    assert!(tex.contains("\\multicolumn{3}{c}{contact} & \\multicolumn{3}{c}{paper} & \\multicolumn{2}{c}{physics only}"), "{tex}");
+    assert!(tex.contains("\\multicolumn{3}{c}{contact} & \\multicolumn{3}{c}{paper} & \\multicolumn{2}{c}{physics only} & \\multicolumn{1}{c}{weighted}"), "{tex}");
     assert!(
-        tex.contains("\\cmidrule(lr){2-4} \\cmidrule(lr){5-7} \\cmidrule(lr){8-9}"),
+        tex.contains(
+            "\\cmidrule(lr){2-4} \\cmidrule(lr){5-7} \\cmidrule(lr){8-9} \\cmidrule(lr){10-10}"
+        ),
         "{tex}"
     );
     assert!(
@@ -564,7 +566,7 @@ fn paper_tables_hold_the_reports_numbers(report: &Path, md: &Path, tex: &Path) {
         for model in experiment["models"].as_array().unwrap() {
             cells.extend(["offline", "fixed", "online"].map(|k| pair(&model[k])));
         }
-        cells.extend(["fixed", "online"].map(|k| pair(&experiment["physics"][k])));
+        cells.extend(["fixed", "online", "weighted"].map(|k| pair(&experiment["physics"][k])));
         assert_eq!(
             plain(md_lines[2 + i]),
             format!("| {name} | {} |", cells.join(" | ")),
@@ -580,7 +582,9 @@ fn paper_tables_hold_the_reports_numbers(report: &Path, md: &Path, tex: &Path) {
         // The lowest online position NMSE of the row is the bold one.
         let online: Vec<f64> = (experiment["models"].as_array().unwrap().iter())
             .map(|m| m["online"]["pos"].as_f64().unwrap())
-            .chain([experiment["physics"]["online"]["pos"].as_f64().unwrap()])
+            .chain(
+                ["online", "weighted"].map(|k| experiment["physics"][k]["pos"].as_f64().unwrap()),
+            )
             .collect();
         let best = online.iter().copied().fold(f64::INFINITY, f64::min);
         assert!(

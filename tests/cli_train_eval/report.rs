@@ -64,6 +64,7 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
         "Online ",
         "Physics fixed",
         "Physics online",
+        "Weighted",
     ] {
         assert!(
             run.stdout.lines().any(|l| l.starts_with(row)),
@@ -108,7 +109,7 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
         let h_true = t["h_true"].as_f64().unwrap();
         assert!(h_true > 0.05 && h_true < 0.3, "h_true {h_true}");
     }
-    for key in ["offline", "fixed", "online"] {
+    for key in ["offline", "fixed", "online", "weighted"] {
         nmse(&report["physics"][key], key);
     }
     // The physics-only model's COM on the same pushes, its error against the same truth, and the
@@ -132,9 +133,18 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
             "physics-only COM error {error} m"
         );
     }
-    // Each push's physics-only NMSE: the report's row is their mean weighted by the push's samples
-    // (the same frames as the combined model's), and the table prints it beside the combined model's.
-    for key in ["fixed", "online"] {
+    // Each push ends with weights of the combined model between 0 and 1, moved from the prior.
+    for p in physics {
+        for part in ["pos", "rot"] {
+            let w = p["weight_end"][part].as_f64().unwrap();
+            let prior = pushlab_core::learn::WeightConfig::default().prior;
+            assert!(w > 0.0 && w < 1.0 && w != prior, "{part} weight {w}");
+        }
+    }
+    // Each push's physics-only and weighted NMSE: the report's row is their mean weighted by the
+    // push's samples (the same frames as the combined model's), and the table prints it beside the
+    // combined model's.
+    for key in ["fixed", "online", "weighted"] {
         let (mut sum_pos, mut sum_rot, mut samples) = (0.0, 0.0, 0.0);
         for (p, t) in physics.iter().zip(trajectories) {
             nmse(&p[key], key);
@@ -156,7 +166,7 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
         .find(|l| l.starts_with("online trajectory"))
         .unwrap();
     assert!(
-        header.contains("online pos/rot     phys online"),
+        header.contains("online pos/rot     phys online        weighted"),
         "{header}"
     );
     let first = physics[0]["online"]["pos"].as_f64().unwrap();
@@ -200,16 +210,22 @@ fn eval_writes_the_documented_json_and_a_png_and_skips_a_broken_file() {
             assert!((reported - error).abs() < 1e-12, "{kind}: {fit}");
         }
     }
-    // The trajectory table gives each push's best NMSE in a "best θ" column after "phys online".
+    // The trajectory table gives each push's best NMSE in a "best θ" column after "phys online"
+    // and "weighted".
     let header = (run.stdout.lines())
         .find(|l| l.starts_with("online trajectory"))
         .unwrap();
-    assert!(header.contains("phys online          best θ"), "{header}");
+    assert!(
+        header.contains("phys online        weighted          best θ"),
+        "{header}"
+    );
     let (first, phys) = (&trajectories[0], &physics[0]);
     let cells = format!(
-        "{:>7.3}/{:<7.3} {:>7.3}/{:<7.3}",
+        "{:>7.3}/{:<7.3} {:>7.3}/{:<7.3} {:>7.3}/{:<7.3}",
         phys["online"]["pos"].as_f64().unwrap(),
         phys["online"]["rot"].as_f64().unwrap(),
+        phys["weighted"]["pos"].as_f64().unwrap(),
+        phys["weighted"]["rot"].as_f64().unwrap(),
         first["best_fit"]["nmse"]["pos"].as_f64().unwrap(),
         first["best_fit"]["nmse"]["rot"].as_f64().unwrap(),
     );

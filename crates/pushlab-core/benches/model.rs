@@ -7,6 +7,10 @@
 //! - `online_step_gauss_newton`: one Gauss–Newton step with the posterior (contact, box), and
 //!   `online_step_gd_posterior`: the paper's step with the posterior kept beside it, as `pushlab eval`
 //!   and the app run it;
+//! - `online_frame/combined` and `online_frame/weighted`: one frame of a run along a push (the
+//!   paper's gradient descent with the posterior, the fixed run scored up front), alone and with
+//!   the physics-only model learning beside it and the two weighed (`learn::ModelWeight`): what
+//!   the weighting costs a frame;
 //! - `landscape_64`: the loss over a 64 × 64 grid of COM offsets on the last 25 frames (contact, box);
 //! - `best_fit/best_fit_100`: the best θ for a whole push of 100 samples (contact, box);
 //! - `train/train_epoch` (the paper's model) and `train/train_epoch_contact`: one epoch's training,
@@ -19,17 +23,18 @@ use std::sync::{Arc, OnceLock};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::Point2;
 use pushlab_core::experiment::best_fit;
-use pushlab_core::geometry::Outline;
+use pushlab_core::geometry::{Outline, Pose2};
 use pushlab_core::inspect::{ComGrid, com_landscape};
 use pushlab_core::learn::{
-    ContactTrajectory, OnlineConfig, OnlineState, Optimizer, TrainConfig, learn_step_in_place,
-    train_contact, train_paper,
+    ContactTrajectory, ModelWeight, OnlineConfig, OnlineRun, OnlineState, Optimizer, TrainConfig,
+    WeightConfig, learn_step_in_place, train_contact, train_paper,
 };
 use pushlab_core::model::{
-    CombinedModel, ContactGeometry, ObjectMotion, OnlineModel, OnlineParams, Sample, SampleInput,
-    lynch,
+    CombinedModel, ContactGeometry, ObjectMotion, OnlineModel, OnlineParams, PhysicsOnlyModel,
+    Sample, SampleInput, SharedOnlineModel, lynch,
 };
 use pushlab_core::rng::SplitMix64;
+use pushlab_core::trajectory::{Frame, Trajectory};
 
 /// Front-face pushes on a 0.3 × 0.4 m box by a 0.05 m disc, moved by Lynch's model: realistic input
 /// ranges, so that the network's ReLUs are as active as on real data.
@@ -296,11 +301,59 @@ fn train_epoch(c: &mut Criterion) {
     group.finish();
 }
 
+/// A 1,000-frame push at 100 Hz on the 0.3 × 0.4 m box, pushed along +x at its front face while
+/// turning slowly, the disc 2 cm off centre.
+fn box_push() -> Arc<Trajectory> {
+    let frames = (0..1000)
+        .map(|i| {
+            let t = i as f64 * 0.01;
+            let object = Pose2::new(0.05 * t, 0.0, 0.1 * t);
+            let robot = object.point_in_world(Point2::new(-0.2, 0.02));
+            Frame {
+                time: t,
+                robot,
+                object,
+            }
+        })
+        .collect();
+    Arc::new(Trajectory::new(frames))
+}
+
+fn online_frame(c: &mut Criterion) {
+    let learner = &trained().contact_box;
+    let trajectory = box_push();
+    let outline = Outline::rectangle(0.3, 0.4).expect("valid box");
+    let physics = PhysicsOnlyModel::new(outline, 0.05, 0.01, learner.loss_scale());
+    let run = |model: SharedOnlineModel| {
+        OnlineRun::new(model, Arc::clone(&trajectory), 1, OnlineConfig::default())
+    };
+    let mut group = c.benchmark_group("online_frame");
+    group.throughput(Throughput::Elements(trajectory.len() as u64));
+    group.bench_function("combined", |b| {
+        b.iter(|| {
+            let mut run = run(Arc::clone(learner));
+            run.learn_all(&[]);
+            black_box(run.frontier())
+        });
+    });
+    group.bench_function("weighted", |b| {
+        b.iter(|| {
+            let beside = run(Arc::new(physics.clone()));
+            let weight = ModelWeight::new(WeightConfig::default());
+            let mut run = run(Arc::clone(learner)).with_physics_beside(beside, weight);
+            run.learn_all(&[]);
+            black_box(run.frontier())
+        });
+    });
+    group.finish();
+}
+
 criterion_group!(
     benches,
     predict,
     online_step,
     online_step_posterior,
+    online_frame,
     landscape,
     best_fit_100,
     train_epoch

@@ -53,6 +53,7 @@ fn evaluate(
         physics: Some(0.01),
         carry,
         start_com_shift: None,
+        weighting: Default::default(),
     };
     experiment::evaluate(model, None, &[], online, &options)
 }
@@ -152,6 +153,7 @@ fn a_push_can_start_believing_the_com_elsewhere() {
             physics: Some(0.01),
             carry: false,
             start_com_shift: Some(shift),
+            weighting: Default::default(),
         };
         let shifted = experiment::evaluate(&model, None, &[], &online, &options);
         assert_eq!(shifted.trajectories.len(), online.len());

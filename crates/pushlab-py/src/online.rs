@@ -3,7 +3,7 @@
 
 use numpy::{PyArray1, PyArray2};
 use pushlab_core::experiment::TrajectoryRun;
-use pushlab_core::learn::{Nmse, OnlineState};
+use pushlab_core::learn::{ModelWeight, Nmse, OnlineState, WeightConfig};
 use pushlab_core::recording::Recording;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -116,6 +116,56 @@ impl OnlineRun {
     #[getter]
     fn nmse<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         nmse_dict(py, self.run.online_nmse())
+    }
+
+    /// This run (the combined model's) and `physics` (the physics-only run on the same recording,
+    /// `model.physics_online`) weighed online, as `pushlab eval --physics` weighs them
+    /// (`learn::ModelWeight`; `half_life` in seconds, `prior` the combined model's weight before any
+    /// frame): a dict of `nmse` (the physics trajectory's `weighted` in `pushlab eval --json`),
+    /// `weights` (rows `[frame, translation, rotation]`, the combined model's weights each learned
+    /// frame was predicted with) and `weight_end` (`[translation, rotation]` after the last).
+    /// Weights carried from push to push (`eval --carry-theta`) are not offered here.
+    #[pyo3(signature = (physics, *, half_life=WeightConfig::default().half_life_s, prior=WeightConfig::default().prior))]
+    fn weighed_with<'py>(
+        &self,
+        py: Python<'py>,
+        physics: &OnlineRun,
+        half_life: f64,
+        prior: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        if self.physics_only || !physics.physics_only {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "weighed_with: call it on a combined model's run (model.online) with a physics-only \
+                 run (model.physics_online)",
+            ));
+        }
+        if physics.recording.source != self.recording.source {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "weighed_with: the physics-only run is on {}, this run on {}",
+                physics.recording.source.display(),
+                self.recording.source.display()
+            )));
+        }
+        if !(half_life.is_finite() && half_life > 0.0 && (0.0..=1.0).contains(&prior)) {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "weighed_with: half_life must be above 0 seconds and prior from 0 to 1",
+            ));
+        }
+        let mut weight = ModelWeight::new(WeightConfig {
+            half_life_s: half_life,
+            prior,
+        });
+        self.run.run.weigh_against(&physics.run.run, &mut weight);
+        let d = PyDict::new(py);
+        let nmse = Nmse::of_frames(weight.frames().iter().map(|f| f.loss));
+        d.set_item("nmse", nmse_dict(py, nmse)?)?;
+        let weights: Vec<[f64; 3]> = (weight.frames().iter())
+            .map(|f| [f.frame as f64, f.weight.pos, f.weight.rot])
+            .collect();
+        d.set_item("weights", rows(py, &weights)?)?;
+        let end = weight.weight();
+        d.set_item("weight_end", [end.pos, end.rot])?;
+        Ok(d)
     }
 
     /// NMSE of the fixed model over the same frames: the trajectory's `fixed` in `pushlab eval --json`.

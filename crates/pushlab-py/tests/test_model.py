@@ -147,6 +147,29 @@ def test_physics_online_is_eval_physics(model_file, cli, tmp_path, carry):
         model.physics_online(pushlab.load(ONLINE[1])[0], contact_tolerance=-0.01)
 
 
+def test_weighed_with_is_eval_physics_weighted(model_file, cli, tmp_path):
+    report_path = tmp_path / "eval.json"
+    run_cli(
+        cli, "eval", "--model", str(model_file), "--physics", "--offline", *map(str, OFFLINE[:3]),
+        "--online", *map(str, ONLINE[:3]), "--json", str(report_path),
+    )
+    report = json.loads(report_path.read_text())
+    model = pushlab.Model.load(model_file)
+    for recording, expected in zip(pushlab.load(ONLINE[:3]), report["physics_trajectories"]):
+        combined, physics = model.online(recording), model.physics_online(recording)
+        weighted = combined.weighed_with(physics)
+        for key in ("pos", "rot"):
+            assert weighted["nmse"][key] == pytest.approx(expected["weighted"][key], rel=0, abs=1e-12)
+        assert weighted["weight_end"] == pytest.approx(
+            [expected["weight_end"]["pos"], expected["weight_end"]["rot"]], rel=0, abs=1e-12
+        )
+        weights = weighted["weights"]
+        assert weights.shape == (combined.steps, 3)
+        assert ((weights[:, 1:] > 0) & (weights[:, 1:] < 1)).all()
+    with pytest.raises(ValueError, match="weighed_with: call it on a combined model's run"):
+        physics.weighed_with(combined)
+
+
 def test_best_fit_is_eval_best_fit(model_file, cli, tmp_path):
     report_path = tmp_path / "eval.json"
     run_cli(

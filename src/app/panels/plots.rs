@@ -89,14 +89,40 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     });
     ui.add_space(4.0);
     let setting = &recording.setting;
-    ui.columns(3, |cols| {
+    // With physics alone weighed beside the run, a fourth plot: the network's weights.
+    let weights = run.model_weight().is_some();
+    ui.columns(if weights { 4 } else { 3 }, |cols| {
+        if weights && let Some(col) = cols.get_mut(3) {
+            let plot = base_plot("Network's weight", group, row_height, duration)
+                .include_y(0.0)
+                .include_y(1.0)
+                .legend(
+                    Legend::default()
+                        .position(egui_plot::Corner::LeftBottom)
+                        .background_alpha(0.5)
+                        .text_style(egui::TextStyle::Small),
+                );
+            let response = plot.show(col, |plot_ui| {
+                let (visible, columns) = visible(plot_ui, duration, follow);
+                let [pos, rot] = weight_points(run, frames, t0, visible, columns);
+                plot_ui.line(
+                    Line::new("translation", pos)
+                        .color(palette.online)
+                        .width(2.0),
+                );
+                plot_ui.line(Line::new("rotation", rot).color(palette.physics).width(2.0));
+                cursor(plot_ui, now);
+                clicked_x(plot_ui)
+            });
+            seek = seek.or(response.inner);
+        }
         let truths = [
             setting.com_offset.map(|c| c[0]),
             setting.com_offset.map(|c| c[1]),
             setting.h,
         ];
         let theta_ranges = state.theta_ranges();
-        for (index, col) in cols.iter_mut().enumerate() {
+        for (index, col) in cols.iter_mut().take(3).enumerate() {
             let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
             // A COM offset plot spans at least ±1 mm: one that stays put (−1e-16 m) would
             // otherwise be drawn at the scale of its rounding noise. (h's plot includes 0.)
@@ -146,6 +172,32 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         };
         commands.push(Command::Timeline(TimelineCommand::SeekTo(k)));
     }
+}
+
+/// The combined model's weights (translation, rotation) at the frames weighed within `visible`
+/// (seconds since `t0`), about two a pixel column of `columns`.
+fn weight_points(
+    run: &OnlineRun,
+    frames: &[pushlab_core::trajectory::Frame],
+    t0: f64,
+    visible: (f64, f64),
+    columns: usize,
+) -> [Vec<[f64; 2]>; 2] {
+    let Some(weight) = run.model_weight() else {
+        return [Vec::new(), Vec::new()];
+    };
+    let time = |frame: usize| frames.get(frame).map_or(0.0, |f| f.time - t0);
+    let taken = weight.frames();
+    let first = taken.partition_point(|f| time(f.frame) < visible.0);
+    let last = taken.partition_point(|f| time(f.frame) <= visible.1);
+    let step = ((last - first) / (2 * columns.max(1))).max(1);
+    let mut points = [Vec::new(), Vec::new()];
+    for f in taken[first..last].iter().step_by(step) {
+        let t = time(f.frame);
+        points[0].push([t, f.weight.pos]);
+        points[1].push([t, f.weight.rot]);
+    }
+    points
 }
 
 /// Half the smallest span of a COM offset plot's y axis, millimetres.

@@ -80,6 +80,37 @@ fn spread_parts(ui: &mut egui::Ui, run: &learn::OnlineRun, frame: usize) {
     );
 }
 
+/// How much the prediction trusts the combined model and physics alone at the frame shown, when
+/// physics alone learns beside the run: the two weights and, where physics is trusted, why.
+fn model_weights(ui: &mut egui::Ui, run: &learn::OnlineRun, frame: usize) {
+    let Some(weight) = run.model_weight() else {
+        return;
+    };
+    ui.add_space(4.0);
+    ui.heading("Network or physics alone");
+    let w = weight.at(frame);
+    for (part, w) in [("translation", w.pos), ("rotation", w.rot)] {
+        let text = if w >= 0.5 {
+            format!("{part}: trusting the combined model {w:.2}")
+        } else {
+            format!(
+                "{part}: trusting physics {:.2}: the network has predicted this object's {part} \
+                 worse than Lynch's model alone over the last {:.0} s",
+                1.0 - w,
+                2.0 * weight.half_life_s()
+            )
+        };
+        ui.label(text);
+    }
+    ui.label(
+        egui::RichText::new(
+            "The prediction blends the two by these weights: each the chance that its model is the \
+             one predicting this object, from how well each predicted the frames before this one",
+        )
+        .weak(),
+    );
+}
+
 /// The best θ for the whole push shown (`pushlab eval --best-fit`'s): found on request in the
 /// background, then shown beside the online run's with a button that steers θ to it here.
 fn best_theta(
@@ -239,6 +270,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         })));
     }
     spread_parts(ui, run, state.frame());
+    model_weights(ui, run, state.frame());
     if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
         ui.colored_label(
             palette.truth,
@@ -296,6 +328,18 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         .changed()
     {
         commands.push(Command::Online(OnlineCommand::SetCarryTheta(carry)));
+    }
+    let mut weigh = state.settings().weigh_physics;
+    if ui
+        .checkbox(&mut weigh, "Weigh against physics alone")
+        .on_hover_text(
+            "Lynch's model alone learns its own θ beside the network's, and each prediction blends \
+             the two by how well each predicted this object lately (`pushlab eval --physics`'s \
+             weighted row): a network wrong for an object it never saw is trusted less",
+        )
+        .changed()
+    {
+        commands.push(Command::Online(OnlineCommand::SetWeighPhysics(weigh)));
     }
     let mut config = run.config();
     let mut config_changed = false;

@@ -107,6 +107,12 @@ impl AppState {
                 }
             }
             OnlineCommand::SetCarryTheta(on) => self.settings.carry_theta = on,
+            OnlineCommand::SetWeighPhysics(on) => {
+                if self.settings.weigh_physics != on {
+                    self.settings.weigh_physics = on;
+                    self.restart_run_keeping_frame();
+                }
+            }
             OnlineCommand::SetWhatIfSteps(steps) => {
                 self.settings.what_if_steps = steps.clamp(1, MAX_WHAT_IF_STEPS);
             }

@@ -30,6 +30,7 @@ pub mod models;
 pub mod online;
 mod opening;
 pub mod overview;
+mod persisted;
 pub mod predictions;
 pub mod proposals;
 pub mod run_plots;
@@ -40,19 +41,17 @@ mod training_choice;
 pub mod video_export;
 mod views;
 
-use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
 use pushlab_core::domain::DomainMismatch;
 use pushlab_core::learn::{OnlineConfig, TrainConfig};
 use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
-use serde::{Deserialize, Serialize};
 
 use self::background_training::{Training, TrainingChoice};
 use self::bag_import::{BagChooser, BagCommand};
 use self::best_fit::{BestFitCommand, BestFitState};
-use self::browser::{BrowserCommand, BrowserMemory, BrowserView};
+use self::browser::{BrowserCommand, BrowserMemory};
 use self::cameras::{CameraCommand, Cameras};
 use self::dataset_import::{DatasetChooser, DatasetCommand};
 use self::demo::{DemoCommand, Demos};
@@ -62,10 +61,11 @@ use self::labels::{LabelAction, Labeling};
 use self::landscape::{LandscapeCommand, LandscapeState};
 use self::layers::Layers;
 use self::learning_ahead::LearningAhead;
-use self::live::{Live, LiveChoice, LiveCommand};
+use self::live::{Live, LiveCommand};
 use self::models::Models;
 use self::online::OnlineRun;
 use self::overview::PathOverview;
+pub use self::persisted::Persisted;
 use self::proposals::{ProposalAction, ProposalState, ProposalTarget};
 use self::session::{RecordingId, Session};
 use self::timeline::{FrameMove, Timeline, TimelineCommand};
@@ -165,6 +165,9 @@ pub enum OnlineCommand {
     SetConfig(OnlineConfig),
     /// Whether the next push of the same object goes on from what this one learned.
     SetCarryTheta(bool),
+    /// Whether physics alone learns beside the run and the two are weighed (the run starts again,
+    /// learned up to the frame shown).
+    SetWeighPhysics(bool),
     /// How many steps what-if rollouts run ahead.
     SetWhatIfSteps(usize),
     /// Stop learning far ahead on a worker (after a long seek) where it got, keeping what it
@@ -189,58 +192,6 @@ pub enum TrainingCommand {
     TrainForOpenRecordings,
     /// Choose the recordings whose labels (or `setting.json`) put them in the offline split.
     ChooseOfflineLabelled,
-}
-
-/// What survives a restart (eframe persistence).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct Persisted {
-    /// Most recently opened paths, newest first.
-    pub recent: Vec<PathBuf>,
-    pub layers: Layers,
-    pub speed: f64,
-    pub looping: bool,
-    pub learn_while_playing: bool,
-    pub online: OnlineConfig,
-    /// Whether selecting another push of the same object goes on from what the one shown learned
-    /// (θ and its posterior) instead of from `θ_online(0)`.
-    pub carry_theta: bool,
-    /// A push not carried on starts believing the COM this far from `θ_online(0)`'s (object frame,
-    /// metres), as `pushlab eval --start-com-shift`; `pushlab render` sets it, the window does not.
-    pub start_com_shift: Option<[f64; 2]>,
-    /// The model trained for each folder of recordings ("Train for these recordings").
-    pub folder_models: BTreeMap<PathBuf, PathBuf>,
-    /// The browser's filter and sort.
-    pub browser: BrowserView,
-    /// Steps of the what-if rollouts.
-    pub what_if_steps: usize,
-    /// Camera streams the user hid, by name.
-    pub hidden_cameras: BTreeSet<String>,
-    /// The Connect form's choice for each live server connected to, by address.
-    pub live_choices: BTreeMap<String, LiveChoice>,
-    /// The live server connected to last.
-    pub live_url: Option<String>,
-}
-
-impl Default for Persisted {
-    fn default() -> Self {
-        Self {
-            recent: Vec::new(),
-            layers: Layers::default(),
-            speed: 1.0,
-            looping: false,
-            learn_while_playing: true,
-            online: OnlineConfig::default(),
-            carry_theta: false,
-            start_com_shift: None,
-            folder_models: BTreeMap::new(),
-            browser: BrowserView::default(),
-            what_if_steps: DEFAULT_WHAT_IF_STEPS,
-            hidden_cameras: BTreeSet::new(),
-            live_choices: BTreeMap::new(),
-            live_url: None,
-        }
-    }
 }
 
 /// What-if rollouts run this many steps ahead unless the user chooses otherwise.
@@ -566,10 +517,14 @@ impl AppState {
             Ok((model, horizon)) => Some(OnlineRun::starting(
                 model,
                 recording,
-                horizon,
-                self.settings.online,
+                (horizon, self.settings.online),
                 from,
                 self.settings.start_com_shift,
+                // Weighed against physics alone only when a network is learned: physics alone
+                // learning is the run itself.
+                (self.settings.weigh_physics && self.models.kind().is_some())
+                    .then(|| self.physics.clone())
+                    .flatten(),
             )),
             Err(message) => {
                 self.status = Some(message);

@@ -10,8 +10,10 @@ use std::ops::Deref;
 use std::sync::{Arc, Weak};
 
 use pushlab_core::experiment::evaluate::start_state;
-use pushlab_core::learn::{self, OnlineConfig, OnlineState};
-use pushlab_core::model::{OnlineModel, OnlineParams, OnlineStep, SharedOnlineModel};
+use pushlab_core::learn::{self, ModelWeight, OnlineConfig, OnlineState, WeightConfig};
+use pushlab_core::model::{
+    OnlineModel, OnlineParams, OnlineStep, PhysicsOnlyModel, SharedOnlineModel,
+};
 use pushlab_core::recording::Recording;
 use pushlab_core::trajectory::{Frame, Trajectory};
 
@@ -38,31 +40,41 @@ impl OnlineRun {
         config: OnlineConfig,
         from: Option<&OnlineRun>,
     ) -> Self {
-        Self::starting(model, recording, horizon, config, from, None)
+        Self::starting(model, recording, (horizon, config), from, None, None)
     }
 
     /// [`OnlineRun::new`], a run not carried on starting believing the COM `start_com_shift` from
-    /// `θ_online(0)`'s — where `pushlab eval --start-com-shift` starts (the core's `start_state`).
+    /// `θ_online(0)`'s — where `pushlab eval --start-com-shift` starts (the core's `start_state`) —
+    /// and with `physics`, the physics-only model learning beside it and weighed against it
+    /// (starting as `pushlab eval --physics` starts its physics-only run, and carried on with it).
     pub fn starting(
         model: SharedOnlineModel,
         recording: &Recording,
-        horizon: usize,
-        config: OnlineConfig,
+        (horizon, config): (usize, OnlineConfig),
         from: Option<&OnlineRun>,
         start_com_shift: Option<[f64; 2]>,
+        physics: Option<PhysicsOnlyModel>,
     ) -> Self {
-        let trajectory = Arc::clone(&recording.trajectory);
-        let from_state = from.map(OnlineRun::end_state);
-        let start = start_state(
-            model.as_ref(),
-            &config,
-            from_state.as_ref(),
-            start_com_shift,
-        );
-        let mut run = match start {
-            Some(start) => learn::OnlineRun::continuing(model, trajectory, horizon, config, &start),
-            None => learn::OnlineRun::new(model, trajectory, horizon, config),
+        let start_of = |model: SharedOnlineModel, from: Option<&OnlineState>| {
+            let trajectory = Arc::clone(&recording.trajectory);
+            match start_state(model.as_ref(), &config, from, start_com_shift) {
+                Some(start) => {
+                    learn::OnlineRun::continuing(model, trajectory, horizon, config, &start)
+                }
+                None => learn::OnlineRun::new(model, trajectory, horizon, config),
+            }
         };
+        let from_state = from.map(OnlineRun::end_state);
+        let mut run = start_of(model, from_state.as_ref());
+        if let Some(physics) = physics {
+            let carried = from.and_then(|f| f.run.beside_end());
+            let physics_run = start_of(Arc::new(physics), carried.as_ref().map(|(state, _)| state));
+            let weight = carried.map_or_else(
+                || ModelWeight::new(WeightConfig::default()),
+                |(_, weight)| weight,
+            );
+            run = run.with_physics_beside(physics_run, weight);
+        }
         let plots = RunPlots::new(&mut run);
         Self {
             run,

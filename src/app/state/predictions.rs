@@ -29,7 +29,8 @@ pub struct FramePredictions {
     pub online: OnlineStep,
     /// The combined model with `θ_online(0)`, never updated.
     pub fixed: OnlineStep,
-    /// The physics-only model with `θ_online` at this frame.
+    /// The physics-only model with its own θ at this frame when it learns beside the run, else
+    /// with `θ_online`.
     pub physics: Option<Prediction>,
     /// The pure-network baseline, when the model file has one.
     pub pure_nn: Option<Prediction>,
@@ -48,10 +49,11 @@ impl AppState {
             sample,
             online: run.evaluate(frame)?,
             fixed: run.evaluate_fixed(frame)?,
-            physics: self
-                .physics
-                .as_ref()
-                .map(|model| model.predict(&sample.input, &theta)),
+            // With physics alone learning its own θ beside the run, its θ; else the run's.
+            physics: self.physics.as_ref().map(|model| {
+                let own = run.physics_beside().map(|p| p.theta_at(frame));
+                model.predict(&sample.input, &own.unwrap_or(theta))
+            }),
             pure_nn: self
                 .models
                 .pure_nn

@@ -93,6 +93,15 @@ pub fn positive_real(text: &str) -> Result<f64, String> {
     }
 }
 
+/// A weight from 0 to 1.
+pub fn unit_interval(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
+        Ok(_) => Err(format!("must be from 0 to 1, got {text:?}")),
+        Err(_) => Err(format!("expected a number, got {text:?}")),
+    }
+}
+
 /// How θ_online learns along a push: `pushlab eval`'s and `pushlab live`'s options, one definition.
 #[derive(Debug, Args)]
 pub struct OnlineArgs {

@@ -150,7 +150,7 @@ pub fn run(args: &SuiteArgs) -> Result<(), Failure> {
 }
 
 /// One row per experiment; per model kind offline, fixed and online NMSE (pos/rot), then the
-/// physics-only model fixed and online.
+/// physics-only model fixed and online, and the first model weighed with it online.
 fn print_table(spec: &SuiteSpec, results: &[ExperimentResult]) {
     let cell = |n: Option<&Nmse>| match n {
         Some(n) => format!("{:.3}/{:.3}", n.pos, n.rot),
@@ -174,8 +174,11 @@ fn print_table(spec: &SuiteSpec, results: &[ExperimentResult]) {
         ));
     }
     if spec.physics {
-        header.push_str(&format!(" | {:^27}", "physics only"));
-        second.push_str(&format!(" | {:>13} {:>13}", "fixed", "online"));
+        header.push_str(&format!(" | {:^27} | {:^13}", "physics only", "weighted"));
+        second.push_str(&format!(
+            " | {:>13} {:>13} | {:>13}",
+            "fixed", "online", "online"
+        ));
     }
     println!("{header}");
     println!("{second}");
@@ -193,9 +196,10 @@ fn print_table(spec: &SuiteSpec, results: &[ExperimentResult]) {
         if spec.physics {
             let p = r.physics.as_ref();
             line.push_str(&format!(
-                " | {:>13} {:>13}",
+                " | {:>13} {:>13} | {:>13}",
                 cell(p.map(|p| &p.fixed)),
-                cell(p.map(|p| &p.online))
+                cell(p.map(|p| &p.online)),
+                cell(p.and_then(|p| p.weighted.as_ref()))
             ));
         }
         println!("{line}");

@@ -11,7 +11,9 @@ use super::com_truth::{ComSummary, ComTruth};
 use super::data::{Skipped, UsedRecording};
 use crate::geometry::OutlineError;
 use crate::labels::pipeline::{LabelMean, PerLabelMeans, key_of};
-use crate::learn::{Nmse, OnlineConfig, OnlineRun, OnlineState, Posterior};
+use crate::learn::{
+    ModelWeight, Nmse, OnlineConfig, OnlineRun, OnlineState, Posterior, WeightConfig, Weights,
+};
 use crate::model::{
     CombinedModel, FrameLoss, Loss, LossScale, NoOutline, OnlineModel, OnlineParams,
     PhysicsOnlyModel, PureNnModel, Sample, SharedOnlineModel, samples_from_trajectory,
@@ -35,6 +37,9 @@ pub struct EvalOptions {
     /// ([`OnlineState::start_with_com_shift`]); `None`: from `θ_online(0)`. The fixed run still
     /// predicts with `θ_online(0)`.
     pub start_com_shift: Option<[f64; 2]>,
+    /// With the physics-only model: how its online run and the combined model's are weighed into
+    /// the "weighted" prediction (`learn::ModelWeight`).
+    pub weighting: WeightConfig,
 }
 
 /// A trained model bound to one recording's object: `θ_online(0)`, step sizes and predictions for
@@ -258,6 +263,8 @@ pub struct PhysicsNmse {
     pub offline: Option<Nmse>,
     pub fixed: Nmse,
     pub online: Nmse,
+    /// The combined model and this one weighed online, over the pushes both ran on.
+    pub weighted: Option<Nmse>,
 }
 
 /// Mean total loss ℓ per label over the online data ("all" first).
@@ -278,6 +285,11 @@ pub struct PhysicsPush {
     /// combined model loses to Lynch's model alone, push by push.
     pub fixed: Nmse,
     pub online: Nmse,
+    /// The combined model and this one weighed online (`learn::ModelWeight`), over the frames both
+    /// learned from; `None` where the combined model could not run.
+    pub weighted: Option<Nmse>,
+    /// The combined model's weights after the last frame.
+    pub weight_end: Option<Weights>,
     /// `θ_online` after the last frame.
     pub theta_end: OnlineParams,
     /// The final posterior's COM offset covariance (m², object frame).
@@ -394,7 +406,14 @@ pub fn evaluate(
 
     let (physics, physics_pushes) = match options.physics {
         Some(tolerance) => {
-            let (nmse, pushes) = physics_nmse(offline, online, horizon, scale, tolerance, options);
+            let (nmse, pushes) = physics_nmse(
+                (offline, online),
+                &trajectories,
+                horizon,
+                scale,
+                tolerance,
+                options,
+            );
             (Some(nmse), pushes)
         }
         None => (None, Vec::new()),
@@ -443,8 +462,8 @@ fn pure_nn_online(nn: &PureNnModel, runs: &[TrajectoryRun], scale: LossScale) ->
 /// online, one model per recording's own outline and pusher, with where each online push's θ ended.
 /// Recordings with an unusable outline are left out.
 fn physics_nmse(
-    offline: &[UsedRecording],
-    online: &[UsedRecording],
+    (offline, online): (&[UsedRecording], &[UsedRecording]),
+    combined: &[TrajectoryRun],
     horizon: usize,
     scale: LossScale,
     tolerance: f64,
@@ -458,7 +477,9 @@ fn physics_nmse(
         }
     }
     let (mut fixed, mut learned, mut pushes) = (Vec::new(), Vec::new(), Vec::new());
+    let mut weighted = Vec::new();
     let mut previous: Option<TrajectoryRun> = None;
+    let mut previous_weight: Option<ModelWeight> = None;
     for (index, u) in online.iter().enumerate() {
         if let Some(m) = model(u) {
             let carried = carried_from(options.carry, online, index, previous.as_ref());
@@ -473,22 +494,41 @@ fn physics_nmse(
             );
             fixed.extend(run.fixed());
             learned.extend(run.online());
+            // The weight goes on from the push before when θ does.
+            let paired = combined.iter().find(|c| c.recording == index);
+            let weight = paired.map(|c| {
+                let mut weight = match (&carried, &previous_weight) {
+                    (Some(_), Some(before)) => ModelWeight::continuing(before),
+                    _ => ModelWeight::new(options.weighting),
+                };
+                c.run.weigh_against(&run.run, &mut weight);
+                weight
+            });
+            let push_weighted = weight.as_ref().map(|w| {
+                let losses: Vec<FrameLoss> = w.frames().iter().map(|f| f.loss).collect();
+                weighted.extend(losses.iter().copied());
+                Nmse::of_frames(losses)
+            });
             pushes.push(PhysicsPush {
                 recording: index,
                 fixed: run.fixed_nmse(),
                 online: run.online_nmse(),
+                weighted: push_weighted,
+                weight_end: weight.as_ref().map(ModelWeight::weight),
                 theta_end: run.theta_end(),
                 com_covariance: run.posterior_end().com_covariance(),
                 com_truth: run.com_truth,
                 best_fit: None,
             });
             previous = Some(run);
+            previous_weight = weight;
         }
     }
     let nmse = PhysicsNmse {
         offline: (!offline.is_empty()).then(|| Nmse::of(&offline_losses)),
         fixed: Nmse::of_frames(fixed),
         online: Nmse::of_frames(learned),
+        weighted: (!weighted.is_empty()).then(|| Nmse::of_frames(weighted)),
     };
     (nmse, pushes)
 }

@@ -14,7 +14,7 @@ use super::data::{Loaded, Skipped, UsedRecording};
 use super::evaluate::{Evaluation, PhysicsNmse, PhysicsPush, TrajectoryRun};
 use crate::labels::pipeline::LabelMean;
 use crate::learn::uncertainty::ComSpreadParts;
-use crate::learn::{Nmse, OnlineConfig, Optimizer};
+use crate::learn::{Nmse, OnlineConfig, Optimizer, Weights};
 use crate::model::{FrameLoss, ModelKind, OnlineParams};
 
 /// What the numbers were made with, beyond the evaluation itself.
@@ -163,6 +163,12 @@ pub struct PhysicsTrajectoryReport {
     /// `TrajectoryReport` gives them.
     pub fixed: Nmse,
     pub online: Nmse,
+    /// The combined model and this one weighed online (`learn::ModelWeight`), and the combined
+    /// model's weight after the last frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub weighted: Option<Nmse>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub weight_end: Option<Weights>,
     /// `θ_online` at the end of the trajectory: COM − geometric centre, object frame, metres.
     pub com_offset_learned: [f64; 2],
     pub h_learned: f64,
@@ -182,6 +188,8 @@ impl PhysicsTrajectoryReport {
             source: used.source(),
             fixed: p.fixed,
             online: p.online,
+            weighted: p.weighted,
+            weight_end: p.weight_end,
             com_offset_learned: p.theta_end.com_offset,
             h_learned: p.theta_end.h,
             com_offset_cov: p.com_covariance,

@@ -315,6 +315,7 @@ pub fn run_experiment(
             physics: (spec.physics && i == 0).then_some(spec.contact_tolerance),
             carry: spec.carry_theta,
             start_com_shift: None,
+            weighting: Default::default(),
         };
         let evaluation = evaluate(&trained.model, None, &offline.used, &online.used, &options);
         if let Some(physics) = evaluation.physics {

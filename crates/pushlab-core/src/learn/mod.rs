@@ -9,6 +9,7 @@ mod run;
 mod score_batches;
 mod step;
 pub mod uncertainty;
+mod weighting;
 
 pub use config::{OnlineConfig, Optimizer};
 pub use metrics::{Nmse, mean_std_across, moving_average};
@@ -20,3 +21,4 @@ pub use offline::{
 pub use run::{KEYFRAME, MeanLosses, OnlineRun};
 pub use step::{OnlineState, learn_step, learn_step_in_place};
 pub use uncertainty::{Posterior, Spread};
+pub use weighting::{MAX_LOG_ODDS, ModelWeight, WeightConfig, WeightedFrame, Weights};

@@ -19,11 +19,14 @@
 //! after `f`: the future is learned again from there, and [`OnlineRun::take_cut`] tells a view that
 //! keeps derived series (plots) from which frame to redraw.
 
+mod beside;
+
 use std::sync::Arc;
 
 use super::config::OnlineConfig;
 use super::step::{OnlineState, com_misfit_m, learn_step_on};
 use super::uncertainty::{Posterior, Spread};
+use super::weighting::ModelWeight;
 use crate::model::{
     FrameLoss, OnlineParams, OnlineStep, Sample, SharedOnlineModel, sample_at, sample_count,
     sample_is_skipped,
@@ -76,6 +79,17 @@ pub struct OnlineRun {
     totals: MeanLosses,
     /// The earliest frame whose results were dropped since [`OnlineRun::take_cut`] was last called.
     cut: Option<usize>,
+    /// The physics-only model learning beside this run and the weight between them, when asked
+    /// for ([`OnlineRun::with_physics_beside`]).
+    beside: Option<Box<Beside>>,
+}
+
+/// What is kept beside a run: the physics-only model's own run and the weight between the two
+/// (see `beside`).
+#[derive(Clone)]
+struct Beside {
+    physics: OnlineRun,
+    weight: ModelWeight,
 }
 
 impl std::fmt::Debug for OnlineRun {
@@ -153,6 +167,7 @@ impl OnlineRun {
             learned: Vec::new(),
             totals: MeanLosses::default(),
             cut: None,
+            beside: None,
         }
     }
 
@@ -162,6 +177,7 @@ impl OnlineRun {
     /// one made on the whole trajectory at once hold the same bits. The trajectory is copied only if
     /// someone else holds it.
     pub fn extend(&mut self, frames: impl IntoIterator<Item = Frame>) {
+        self.beside_release();
         Arc::make_mut(&mut self.trajectory).frames.extend(frames);
         let theta0 = self.model.theta0();
         for k in self.fixed.len()..sample_count(&self.trajectory, self.horizon) {
@@ -170,6 +186,7 @@ impl OnlineRun {
                     .push(FrameLoss::of(&self.model.loss_at(&sample, &theta0)));
             }
         }
+        self.beside_extended();
     }
 
     /// The model learned with.
@@ -368,6 +385,7 @@ impl OnlineRun {
         }
         self.posterior = self.posterior.with_com_misfit(misfit);
         self.spreads[frame] = Spread::of(&self.posterior);
+        self.beside_config(frame, config);
     }
 
     /// One online update from the sample at `frame` ("Learn this frame"): θ at the frame becomes the
@@ -380,6 +398,7 @@ impl OnlineRun {
         self.checkpoints[frame] = step.theta_after;
         self.spreads[frame] = Spread::of(&self.posterior);
         self.mark_cut(frame);
+        self.beside_learned_this_frame(frame);
         Some(step)
     }
 
@@ -396,6 +415,7 @@ impl OnlineRun {
         self.keyframes = vec![start.posterior];
         self.spreads[0] = Spread::of(&start.posterior);
         self.mark_cut(0);
+        self.beside_reset();
     }
 
     fn mark_cut(&mut self, frame: usize) {
@@ -444,6 +464,7 @@ impl OnlineRun {
                 self.keep_keyframe();
             }
         }
+        self.beside_truncated(frame);
     }
 
     /// The posterior at `frame` (below the frontier): the keyframe before it and the learned frames
@@ -482,6 +503,7 @@ impl OnlineRun {
         self.checkpoints.push(step.theta_after);
         self.spreads.push(Spread::of(&self.posterior));
         self.keep_keyframe();
+        self.beside_learned(frame);
     }
 
     fn add_to_totals(&mut self, frame: usize, online: FrameLoss) {

@@ -9,7 +9,7 @@ use pushlab_core::labels::{LABELS_FILE_NAME, Split};
 use super::*;
 use crate::app::state::models::Models;
 use crate::app::state::timeline::TimelineCommand;
-use crate::app::state::{AppState, Command, Persisted};
+use crate::app::state::{AppState, Command};
 use crate::app::state::{OnlineCommand, TrainingCommand};
 
 /// A private copy of one sample-data set, so tests never write into the repository.
@@ -34,7 +34,7 @@ pub(in crate::app::state) fn copy_of_sample_set(test: &str) -> PathBuf {
 }
 
 fn state_on(dir: &std::path::Path) -> AppState {
-    let mut state = AppState::new(Persisted::default(), Models::default());
+    let mut state = AppState::new(Default::default(), Models::default());
     state.open_blocking(&[dir.to_path_buf()]);
     assert!(state.recording().is_some(), "{:?}", state.session.problems);
     state

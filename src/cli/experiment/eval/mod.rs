@@ -31,12 +31,13 @@ use pushlab_core::experiment::DEFAULT_HORIZON;
 use pushlab_core::experiment::report::{EvalReport, ReportContext};
 use pushlab_core::experiment::{self, EvalOptions, Evaluation, Loaded, UsedRecording};
 use pushlab_core::labels::Split;
+use pushlab_core::learn::WeightConfig;
 use pushlab_core::model::{
     CombinedModel, DEFAULT_CONTACT_TOLERANCE, FrameLoss, ModelKind, PureNnModel,
 };
 use pushlab_core::model_file::ModelFile;
 
-use super::args::{OnlineArgs, TrainingArgs, offset_xy, positive_real};
+use super::args::{OnlineArgs, TrainingArgs, offset_xy, positive_real, unit_interval};
 use super::data;
 use super::train::train_config;
 use super::train_progress::{self, TrainedModels};
@@ -95,6 +96,14 @@ pub struct EvalArgs {
     /// given. On real recordings, whose COM is where θ_online(0) puts it, the one way to see it.
     #[arg(long, value_name = "X,Y", value_parser = offset_xy, allow_hyphen_values = true)]
     pub start_com_shift: Option<[f64; 2]>,
+    /// For --physics: the half-life, seconds, of the evidence that weighs the combined model
+    /// against the physics-only one in the "weighted" column (how far back "predicted better
+    /// lately" looks).
+    #[arg(long, value_name = "S", default_value_t = WeightConfig::default().half_life_s, value_parser = positive_real)]
+    pub weight_half_life: f64,
+    /// For --physics: the combined model's weight before any frame is seen, 0–1.
+    #[arg(long, value_name = "W", default_value_t = WeightConfig::default().prior, value_parser = unit_interval)]
+    pub weight_prior: f64,
     /// Also find, for each online push, the θ_online that fits the whole push best (a grid over
     /// the object, then Levenberg–Marquardt; with --physics for the physics-only model too): what
     /// no online learner with the model can beat on that push. Where the best COM is as far from
@@ -184,6 +193,10 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         physics: args.physics.then_some(args.contact_tolerance),
         carry: args.carry_theta,
         start_com_shift: args.start_com_shift,
+        weighting: WeightConfig {
+            half_life_s: args.weight_half_life,
+            prior: args.weight_prior,
+        },
     };
     let mut evaluation = experiment::evaluate(
         &combined,

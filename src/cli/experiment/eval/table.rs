@@ -44,6 +44,11 @@ pub fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[Used
             Some(&p.online),
             "online (physics only, no network)",
         );
+        row(
+            "Weighted",
+            p.weighted.as_ref(),
+            "online (combined and physics only, weighed online)",
+        );
     }
     println!();
     // With --physics, each push's physics-only online NMSE beside the combined model's.
@@ -51,8 +56,14 @@ pub fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[Used
         let push = (evaluation.physics_pushes.iter()).find(|p| p.recording == recording);
         match (report.physics.is_some(), push) {
             (false, _) => String::new(),
-            (true, Some(p)) => format!(" {:>7.3}/{:<7.3}", p.online.pos, p.online.rot),
-            (true, None) => format!(" {:>15}", "-"),
+            (true, Some(p)) => {
+                let weighted = p.weighted.map_or_else(
+                    || format!(" {:>15}", "-"),
+                    |w| format!(" {:>7.3}/{:<7.3}", w.pos, w.rot),
+                );
+                format!(" {:>7.3}/{:<7.3}{weighted}", p.online.pos, p.online.rot)
+            }
+            (true, None) => format!(" {:>15} {:>15}", "-", "-"),
         }
     };
     // With --best-fit, each push's best θ's NMSE beside them: what no online learner beats.
@@ -68,7 +79,7 @@ pub fn print_tables(report: &EvalReport, evaluation: &Evaluation, online: &[Used
         "fixed pos/rot",
         "online pos/rot",
         if report.physics.is_some() {
-            format!(" {:>15}", "phys online")
+            format!(" {:>15} {:>15}", "phys online", "weighted")
         } else {
             String::new()
         },
