@@ -12,6 +12,7 @@ use eframe::egui::Theme;
 use egui_kittest::kittest::Queryable;
 use image::AnimationDecoder;
 use pushlab::app::render::{RenderOptions, SceneFrames, carry_to, work_for};
+use pushlab::app::state::timeline::TimelineCommand;
 use pushlab::app::state::{Command, Persisted};
 
 fn options() -> RenderOptions {
@@ -157,6 +158,33 @@ fn a_push_that_carried_theta_on_is_exported_going_on_from_it() {
     assert_eq!(run.continued_from(), Some("online_000"));
     let carried = run.theta_at(0).com_offset;
     let theta0 = run.theta0().com_offset;
+
+    // The export's own state, opening the push alone, goes on as the window's run did: θ, and
+    // physics alone beside it with its weights, frame for frame.
+    let with_carry = || Persisted {
+        carry_theta: true,
+        ..Persisted::default()
+    };
+    let mut alone = pushlab::app::initial_state(&pushes[1..], with_carry());
+    let mut window_copy = pushlab::app::initial_state(&pushes, with_carry());
+    assert_eq!(carry_to(&mut window_copy, &pushes[1]).unwrap(), 1);
+    alone.go_on_as(run.carried().expect("carried on"));
+    for state in [&mut alone, &mut window_copy] {
+        for _ in 0..40 {
+            state.apply(Command::Timeline(TimelineCommand::Step(1)));
+        }
+    }
+    let (a, w) = (alone.run().unwrap(), window_copy.run().unwrap());
+    assert_eq!(a.theta_at(40), w.theta_at(40));
+    let beside = |r: &pushlab_core::learn::OnlineRun| r.physics_beside().map(|p| p.theta_at(40));
+    assert!(beside(a).is_some());
+    assert_eq!(beside(a), beside(w));
+    assert_eq!(a.model_weight(), w.model_weight());
+    assert_ne!(
+        a.model_weight().unwrap().frames()[0].weight,
+        pushlab_core::learn::ModelWeight::new(Default::default()).weight(),
+        "the weights went on from the push before"
+    );
 
     let gif = dir.join("carried.gif");
     let options = RenderOptions {

@@ -10,10 +10,9 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use pushlab_core::labels::export as label_export;
 use pushlab_core::labels::pipeline::{key_of, labels_file_beside};
-use pushlab_core::learn::OnlineState;
 use pushlab_core::model_file::ModelFile;
 
-use super::online::OnlineRun;
+use super::online::{Carried, OnlineRun};
 use super::video_export::{VideoExport, VideoWork};
 use super::{AppState, FileCommand, LabelExportFormat};
 
@@ -187,17 +186,18 @@ impl AppState {
     /// Runs the push shown again from `carried` (where another state's run started, having gone on
     /// from an earlier push): what a video export's own state shows when the window's run carried
     /// θ on, which that state, opening the push alone, could not.
-    pub fn go_on_as(&mut self, carried: (OnlineState, String)) {
+    pub fn go_on_as(&mut self, carried: Carried) {
         let Some(recording) = self.session.selected_recording() else {
             return;
         };
         if let Ok((model, horizon)) = self.models.learner_for(recording) {
+            let physics = self.physics_to_weigh();
             self.run = Some(OnlineRun::again_from(
                 model,
                 recording,
-                horizon,
-                self.settings.online,
+                (horizon, self.settings.online),
                 carried,
+                physics,
             ));
         }
     }

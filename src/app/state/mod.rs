@@ -520,11 +520,7 @@ impl AppState {
                 (horizon, self.settings.online),
                 from,
                 self.settings.start_com_shift,
-                // Weighed against physics alone only when a network is learned: physics alone
-                // learning is the run itself.
-                (self.settings.weigh_physics && self.models.kind().is_some())
-                    .then(|| self.physics.clone())
-                    .flatten(),
+                self.physics_to_weigh(),
             )),
             Err(message) => {
                 self.status = Some(message);
@@ -532,6 +528,14 @@ impl AppState {
             }
         };
         (self.proposals).refresh(self.session.selected_recording(), self.run.as_ref());
+    }
+
+    /// The physics-only model to learn beside the run and weigh against it, when that is on and a
+    /// network is learned (physics alone learning is the run itself then).
+    pub(super) fn physics_to_weigh(&self) -> Option<PhysicsOnlyModel> {
+        (self.settings.weigh_physics && self.models.kind().is_some())
+            .then(|| self.physics.clone())
+            .flatten()
     }
 
     /// A fresh online run with the current models (a model trained or loaded), staying at the frame

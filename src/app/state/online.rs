@@ -19,6 +19,15 @@ use pushlab_core::trajectory::{Frame, Trajectory};
 
 use super::run_plots::{RunPlots, Series};
 
+/// Where a run that went on from an earlier push started: θ and the posterior, physics alone's
+/// beside it and the weight, and the push before by name.
+#[derive(Clone, Debug)]
+pub struct Carried {
+    pub from: String,
+    pub start: OnlineState,
+    pub beside: Option<(OnlineState, ModelWeight)>,
+}
+
 /// Online learning along the selected recording, and what the plots draw of it.
 pub struct OnlineRun {
     run: learn::OnlineRun,
@@ -84,30 +93,40 @@ impl OnlineRun {
         }
     }
 
-    /// The same run again from its start, which went on from `start` (another run's
-    /// [`OnlineRun::carried`]), the push before by name `continued_from`.
+    /// The same run again from its start, which went on from an earlier push (another run's
+    /// [`OnlineRun::carried`]); with `physics`, physics alone beside it from where it started there.
     pub fn again_from(
         model: SharedOnlineModel,
         recording: &Recording,
-        horizon: usize,
-        config: OnlineConfig,
-        (start, continued_from): (OnlineState, String),
+        (horizon, config): (usize, OnlineConfig),
+        carried: Carried,
+        physics: Option<PhysicsOnlyModel>,
     ) -> Self {
-        let trajectory = Arc::clone(&recording.trajectory);
-        let mut run = learn::OnlineRun::continuing(model, trajectory, horizon, config, &start);
+        let start_of = |model: SharedOnlineModel, start: &OnlineState| {
+            let trajectory = Arc::clone(&recording.trajectory);
+            learn::OnlineRun::continuing(model, trajectory, horizon, config, start)
+        };
+        let mut run = start_of(model, &carried.start);
+        if let (Some(physics), Some((start, weight))) = (physics, carried.beside) {
+            run = run.with_physics_beside(start_of(Arc::new(physics), &start), weight);
+        }
         let plots = RunPlots::new(&mut run);
         Self {
             run,
             plots,
             recording: recording.clone(),
-            continued_from: Some(continued_from),
+            continued_from: Some(carried.from),
         }
     }
 
-    /// Where this run started and the push it went on from, when it carried θ on from one.
-    pub fn carried(&self) -> Option<(OnlineState, String)> {
-        let from = self.continued_from.clone()?;
-        Some((*self.run.start_state(), from))
+    /// Where this run started, beside it too, and the push it went on from, when it carried θ on
+    /// from one.
+    pub fn carried(&self) -> Option<Carried> {
+        Some(Carried {
+            from: self.continued_from.clone()?,
+            start: *self.run.start_state(),
+            beside: self.run.beside_start(),
+        })
     }
 
     /// Whether a run on `next` may go on from this one: another recording of the same object.

@@ -115,6 +115,16 @@ impl ModelWeight {
         }
     }
 
+    /// A weight starting where this one started (its prior, or what it was carried on from), with
+    /// nothing taken in: what the same push weighed again from its start begins with.
+    pub fn restarted(&self) -> Self {
+        Self {
+            evidence: self.start_evidence,
+            start_evidence: self.start_evidence,
+            ..Self::new(self.config)
+        }
+    }
+
     /// The combined model's weights now: what predicts the next frame.
     pub fn weight(&self) -> Weights {
         let prior = self.config.prior.clamp(1e-6, 1.0 - 1e-6);

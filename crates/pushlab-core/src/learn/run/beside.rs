@@ -73,6 +73,13 @@ impl OnlineRun {
         ))
     }
 
+    /// Where the physics-only run beside this one started, and the weight as it started: what the
+    /// same push run again from its start begins with beside it.
+    pub fn beside_start(&self) -> Option<(OnlineState, ModelWeight)> {
+        let beside = self.beside.as_ref()?;
+        Some((*beside.physics.start_state(), beside.weight.restarted()))
+    }
+
     /// After the run learned `frame`: the physics-only run learns it too, and the weight takes it in.
     pub(super) fn beside_learned(&mut self, frame: usize) {
         let Some(mut beside) = self.beside.take() else {
