@@ -14,6 +14,7 @@ pub mod evaluate;
 pub mod misfit;
 mod push_fits;
 pub mod report;
+mod runs;
 pub mod suite;
 pub mod train;
 pub mod variant;
