@@ -179,6 +179,12 @@ impl OnlineRun {
     pub fn extend(&mut self, frames: impl IntoIterator<Item = Frame>) {
         self.beside_release();
         Arc::make_mut(&mut self.trajectory).frames.extend(frames);
+        self.score_new_samples();
+        self.beside_extended();
+    }
+
+    /// Scores the fixed run on the samples the trajectory completed since it was last scored.
+    fn score_new_samples(&mut self) {
         let theta0 = self.model.theta0();
         for k in self.fixed.len()..sample_count(&self.trajectory, self.horizon) {
             if let Some(sample) = sample_at(&self.trajectory, k, self.horizon) {
@@ -186,7 +192,6 @@ impl OnlineRun {
                     .push(FrameLoss::of(&self.model.loss_at(&sample, &theta0)));
             }
         }
-        self.beside_extended();
     }
 
     /// The model learned with.

@@ -130,11 +130,12 @@ impl OnlineRun {
     }
 
     /// After the trajectory grew (a live push): the physics-only run shares it and scores the
-    /// samples it completes.
+    /// samples it completes. (Through `extend` it would copy the trajectory it shares, a whole
+    /// push's frames for every batch.)
     pub(super) fn beside_extended(&mut self) {
         if let Some(beside) = self.beside.as_mut() {
             beside.physics.trajectory = std::sync::Arc::clone(&self.trajectory);
-            beside.physics.extend(std::iter::empty());
+            beside.physics.score_new_samples();
         }
     }
 }

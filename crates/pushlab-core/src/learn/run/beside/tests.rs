@@ -107,6 +107,19 @@ fn a_run_grown_frame_by_frame_weighs_as_one_made_whole() {
     let mut at_once = beside(&whole);
     at_once.learn_all(&[]);
     assert_eq!(grown.model_weight(), at_once.model_weight());
+    // The physics-only run shares the grown trajectory rather than holding a copy of it.
+    let physics = grown.physics_beside().expect("physics beside");
+    assert!(Arc::ptr_eq(
+        grown.shared_trajectory(),
+        physics.shared_trajectory()
+    ));
+    assert_eq!(
+        physics.fixed(),
+        at_once
+            .physics_beside()
+            .map(OnlineRun::fixed)
+            .unwrap_or_default()
+    );
 }
 
 #[test]
