@@ -31,12 +31,37 @@ fn recording() -> PathBuf {
 
 /// The state the render starts from: the recording, the bundled model, only the COM layer.
 fn state() -> pushlab::app::state::AppState {
+    state_of(&recording())
+}
+
+/// The state a render of `push` starts from: the bundled model, only the COM layer.
+fn state_of(push: &Path) -> pushlab::app::state::AppState {
     let defaults = Persisted::default();
     let persisted = Persisted {
         layers: defaults.layers.only("com").unwrap(),
         ..defaults
     };
-    initial_state(&[recording()], persisted)
+    initial_state(std::slice::from_ref(&push.to_path_buf()), persisted)
+}
+
+/// `pushlab eval --per-frame` with the bundled model and `args` (the pushes, its options), its
+/// report written in `dir`.
+fn eval_report(dir: &Path, args: &[&str]) -> serde_json::Value {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let json = dir.join("eval.json");
+    let model = root.join("assets/default-model.json");
+    let mut all = vec!["eval", "--per-frame", "--model", model.to_str().unwrap()];
+    all.extend(args);
+    all.extend(["--json", json.to_str().unwrap()]);
+    let run = pushlab(&all);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap()
+}
+
+/// θ's COM offset in a report's trajectory frame.
+fn com_of(frame: &serde_json::Value) -> [f64; 2] {
+    let c = &frame["theta"]["com_offset"];
+    [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()]
 }
 
 /// Every frame of the GIF at `path`, decoded by the `image` crate.
@@ -82,30 +107,21 @@ fn distance(a: [f32; 2], b: [f32; 2]) -> f32 {
 
 /// θ's COM offset at every frame, as `pushlab eval --per-frame` learns it with the bundled model.
 fn eval_com(dir: &Path) -> Vec<[f64; 2]> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let json = dir.join("eval.json");
-    let run = pushlab(&[
-        "eval",
-        "--per-frame",
-        "--model",
-        root.join("assets/default-model.json").to_str().unwrap(),
-        "--offline",
-        root.join(SET).to_str().unwrap(),
-        "--online",
-        recording().to_str().unwrap(),
-        "--json",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(run.code, 0, "{}", run.stderr);
-    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
+    let set = Path::new(env!("CARGO_MANIFEST_DIR")).join(SET);
+    let report = eval_report(
+        dir,
+        &[
+            "--offline",
+            set.to_str().unwrap(),
+            "--online",
+            recording().to_str().unwrap(),
+        ],
+    );
     (report["trajectories"][0]["frames"]
         .as_array()
         .unwrap()
         .iter())
-    .map(|f| {
-        let c = &f["theta"]["com_offset"];
-        [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()]
-    })
+    .map(com_of)
     .collect()
 }
 
@@ -302,41 +318,19 @@ fn carrying_theta_the_render_starts_where_eval_carry_theta_does() {
     let fresh = dir.join("fresh.gif");
     render_to(&fresh, false);
 
-    let json = dir.join("eval.json");
-    let eval = pushlab(&[
-        "eval",
-        "--per-frame",
-        "--carry-theta",
-        "--model",
-        root.join("assets/default-model.json").to_str().unwrap(),
-        "--offline",
-        set.to_str().unwrap(),
-        "--online",
-        set.to_str().unwrap(),
-        "--json",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(eval.code, 0, "{}", eval.stderr);
-    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
+    let set_s = set.to_str().unwrap();
+    let report = eval_report(
+        &dir,
+        &["--carry-theta", "--offline", set_s, "--online", set_s],
+    );
     let this = (report["trajectories"].as_array().unwrap().iter())
         .find(|t| t["source"].as_str().unwrap().ends_with("online_001.csv"))
         .unwrap();
     assert_eq!(this["continued"], serde_json::Value::Bool(true));
-    let c = &this["frames"][0]["theta"]["com_offset"];
-    let com = [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()];
+    let com = com_of(&this["frames"][0]);
 
     // Where the scene of this push puts the table's points (the camera fits the whole push).
-    let defaults = Persisted::default();
-    let persisted = Persisted {
-        layers: defaults.layers.only("com").unwrap(),
-        ..defaults
-    };
-    let mut scene = SceneFrames::new(
-        initial_state(std::slice::from_ref(&push), persisted),
-        SIZE,
-        false,
-        Theme::Dark,
-    );
+    let mut scene = SceneFrames::new(state_of(&push), SIZE, false, Theme::Dark);
     scene.show(0);
     scene.draw();
     let object = scene.state().recording().unwrap().trajectory.frames[0].object;
@@ -357,7 +351,6 @@ fn carrying_theta_the_render_starts_where_eval_carry_theta_does() {
 #[test]
 fn a_shifted_start_is_where_eval_start_com_shift_starts() {
     let dir = temp_dir("render", "shift");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = dir.join("shifted.gif");
     let run = pushlab(&[
         "render",
@@ -374,23 +367,16 @@ fn a_shifted_start_is_where_eval_start_com_shift_starts() {
         "0.04,-0.03",
     ]);
     assert_eq!(run.code, 0, "{}", run.stderr);
-    let json = dir.join("eval.json");
-    let eval = pushlab(&[
-        "eval",
-        "--per-frame",
-        "--start-com-shift",
-        "0.04,-0.03",
-        "--model",
-        root.join("assets/default-model.json").to_str().unwrap(),
-        "--online",
-        recording().to_str().unwrap(),
-        "--json",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(eval.code, 0, "{}", eval.stderr);
-    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
-    let c = &report["trajectories"][0]["frames"][0]["theta"]["com_offset"];
-    let com = [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()];
+    let report = eval_report(
+        &dir,
+        &[
+            "--start-com-shift",
+            "0.04,-0.03",
+            "--online",
+            recording().to_str().unwrap(),
+        ],
+    );
+    let com = com_of(&report["trajectories"][0]["frames"][0]);
     let mut scene = SceneFrames::new(state(), SIZE, false, Theme::Dark);
     scene.show(0);
     scene.draw();
@@ -447,32 +433,9 @@ fn a_render_starting_far_into_a_long_push_shows_theta_learned_up_to_there() {
         "com",
     ]);
     assert_eq!(run.code, 0, "{}", run.stderr);
-    let json = dir.join("eval.json");
-    let eval = pushlab(&[
-        "eval",
-        "--per-frame",
-        "--model",
-        root.join("assets/default-model.json").to_str().unwrap(),
-        "--online",
-        push.to_str().unwrap(),
-        "--json",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(eval.code, 0, "{}", eval.stderr);
-    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(json).unwrap()).unwrap();
-    let c = &report["trajectories"][0]["frames"][10_100]["theta"]["com_offset"];
-    let com = [c[0].as_f64().unwrap(), c[1].as_f64().unwrap()];
-    let defaults = Persisted::default();
-    let persisted = Persisted {
-        layers: defaults.layers.only("com").unwrap(),
-        ..defaults
-    };
-    let mut scene = SceneFrames::new(
-        initial_state(std::slice::from_ref(&push), persisted),
-        SIZE,
-        false,
-        Theme::Dark,
-    );
+    let report = eval_report(&dir, &["--online", push.to_str().unwrap()]);
+    let com = com_of(&report["trajectories"][0]["frames"][10_100]);
+    let mut scene = SceneFrames::new(state_of(&push), SIZE, false, Theme::Dark);
     scene.draw();
     let start = scene.state().theta().unwrap().com_offset;
     let object = scene.state().recording().unwrap().trajectory.frames[10_100].object;
