@@ -30,6 +30,8 @@ pub struct Palette {
     pub contact: Color32,
     /// The COM labelled in a recording's metadata.
     pub com_label: Color32,
+    /// The pushes suggested next (the Steer tab's "next push that teaches the most"): arrows.
+    pub suggestion: Color32,
     /// Grid lines.
     pub grid: Color32,
     /// Every tenth grid line.
@@ -63,6 +65,7 @@ pub const DARK: Palette = Palette {
     robot: Color32::from_rgb(240, 210, 70),
     contact: Color32::from_rgb(255, 80, 80),
     com_label: Color32::from_rgb(240, 90, 220),
+    suggestion: Color32::from_rgb(60, 210, 200),
     grid: Color32::from_gray(55),
     grid_major: Color32::from_gray(80),
     grid_label: Color32::from_gray(128),
@@ -87,6 +90,7 @@ pub const LIGHT: Palette = Palette {
     robot: Color32::from_rgb(150, 120, 0),
     contact: Color32::from_rgb(205, 30, 30),
     com_label: Color32::from_rgb(190, 30, 160),
+    suggestion: Color32::from_rgb(0, 125, 125),
     grid: Color32::from_gray(228),
     grid_major: Color32::from_gray(200),
     grid_label: Color32::from_gray(110),
@@ -166,6 +170,7 @@ mod tests {
                 ("robot", palette.robot),
                 ("contact", palette.contact),
                 ("com_label", palette.com_label),
+                ("suggestion", palette.suggestion),
                 ("grid_label", palette.grid_label),
                 ("cursor", palette.cursor),
             ];

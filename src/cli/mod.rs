@@ -16,9 +16,11 @@ mod interrupt;
 mod labels;
 mod live;
 mod load_bar;
+mod model_arg;
 mod pipe;
 mod render;
 mod simulate;
+mod suggest;
 mod validate;
 
 /// Predict and learn how a pushed object moves.
@@ -62,6 +64,9 @@ enum Command {
     /// Run a list of experiments (a JSON spec) for every model kind and physics only, in parallel,
     /// into one table.
     Suite(experiment::suite::SuiteArgs),
+    /// Rank an object's next pushes by how much each is expected to shrink the COM's uncertainty,
+    /// after the pushes already learned; or measure the ranking against random orders.
+    Suggest(Box<suggest::SuggestArgs>),
     /// Play a recording with the model, learning online as the app does, and write the scene as a
     /// video: GIF, MP4 or WebM.
     Render(Box<render::RenderArgs>),
@@ -97,6 +102,7 @@ pub fn run() -> ExitCode {
         Some(Command::Train(args)) => exit::exit_code(experiment::train::run(&args)),
         Some(Command::Eval(args)) => exit::exit_code(experiment::eval::run(&args)),
         Some(Command::Suite(args)) => exit::exit_code(experiment::suite::run(&args)),
+        Some(Command::Suggest(args)) => exit::exit_code(suggest::run(&args)),
         Some(Command::Render(args)) => exit::exit_code(render::run(&args)),
         Some(Command::Simulate(args)) => {
             exit::exit_code(simulate::run(&args).map_err(exit::Failure::from))

@@ -1,6 +1,8 @@
 //! Steering `θ_online`: sliders for the COM offset and `h` (the prediction follows instantly), online
 //! learning by hand ("Learn this frame") or while playing, reset, and the update rule.
 
+mod next_push;
+
 use eframe::egui;
 use pushlab_core::learn::{self, OnlineConfig, Optimizer};
 use pushlab_core::model::OnlineParams;
@@ -423,6 +425,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     }
 
     best_theta(ui, state, recording, commands);
+    next_push::ui(ui, state, commands);
 
     ui.add_space(8.0);
     ui.heading("What if");

@@ -25,6 +25,8 @@ pub struct Layers {
     /// The COM labelled in the recording's metadata (a draggable diamond).
     pub com_label: bool,
     pub contact: bool,
+    /// The best few of the Steer tab's next pushes, as numbered arrows on the object.
+    pub next_pushes: bool,
     pub grid: bool,
     /// Target poses are drawn with their motion from the current pose multiplied by this, so that
     /// millimetre-sized per-frame motions and their errors are visible.
@@ -49,6 +51,7 @@ impl Default for Layers {
             what_if: true,
             com_label: true,
             contact: true,
+            next_pushes: true,
             grid: true,
             motion_gain: 10.0,
         }
@@ -60,7 +63,7 @@ type Switch = fn(&mut Layers) -> &mut bool;
 
 /// Each layer's short name (what `pushlab render --layers` takes) and its switch, in the legend's
 /// order: one table for the parser and its message.
-pub const NAMED: [(&str, Switch); 16] = [
+pub const NAMED: [(&str, Switch); 17] = [
     ("true-now", |l| &mut l.true_now),
     ("true-target", |l| &mut l.true_target),
     ("online", |l| &mut l.predicted_online),
@@ -74,6 +77,7 @@ pub const NAMED: [(&str, Switch); 16] = [
     ("best-com", |l| &mut l.com_best),
     ("com-label", |l| &mut l.com_label),
     ("contact", |l| &mut l.contact),
+    ("next-pushes", |l| &mut l.next_pushes),
     ("robot-path", |l| &mut l.robot_path),
     ("trails", |l| &mut l.trails),
     ("grid", |l| &mut l.grid),

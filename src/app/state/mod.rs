@@ -27,6 +27,7 @@ pub mod live;
 mod live_feed;
 mod model_in_use;
 pub mod models;
+pub mod next_push;
 pub mod online;
 mod opening;
 pub mod overview;
@@ -63,6 +64,7 @@ use self::layers::Layers;
 use self::learning_ahead::LearningAhead;
 use self::live::{Live, LiveCommand};
 use self::models::Models;
+use self::next_push::{NextPushCommand, NextPushState};
 use self::online::OnlineRun;
 use self::overview::PathOverview;
 pub use self::persisted::Persisted;
@@ -95,6 +97,8 @@ pub enum Command {
     Landscape(LandscapeCommand),
     /// The Steer tab's search for the best θ of the recording shown.
     BestFit(BestFitCommand),
+    /// The Steer tab's ranking of the object's next pushes.
+    NextPush(NextPushCommand),
     /// Accept or reject label proposals on the selected recording.
     Proposal(ProposalAction),
     /// The Demos menu (see `demo`).
@@ -233,6 +237,8 @@ pub struct AppState {
     landscape: LandscapeState,
     /// The best θ for the recording shown, and its search in the background.
     best_fit: BestFitState,
+    /// The object's next pushes ranked by what each would teach, and the ranking in the background.
+    next_push: NextPushState,
     /// The Demos menu's presets and the demo running.
     demos: Demos,
     /// ROS 2 bags waiting for their topics to be chosen, and those being opened with a choice.
@@ -284,6 +290,7 @@ impl AppState {
             browsed: BrowserMemory::default(),
             landscape: LandscapeState::default(),
             best_fit: BestFitState::default(),
+            next_push: NextPushState::default(),
             demos: Demos::default(),
             bags: BagChooser::default(),
             datasets: DatasetChooser::default(),
@@ -401,6 +408,12 @@ impl AppState {
                 let skip = self.frames_to_skip();
                 self.best_fit.apply(c, self.run.as_ref(), &skip);
             }
+            Command::NextPush(c) => {
+                let candidates = (self.other_pushes_of_object().into_iter())
+                    .map(|(id, r)| (id, r.clone()))
+                    .collect();
+                self.next_push.apply(c, self.run.as_ref(), candidates);
+            }
             Command::Proposal(action) => {
                 let target = self.label_target();
                 let recording = self.session.selected_recording();
@@ -457,6 +470,7 @@ impl AppState {
         self.remember_losses();
         let landscape = self.update_landscape();
         let best_fit = self.best_fit.poll();
+        let next_push = self.next_push.poll();
         self.learning_ahead_follows_labels();
         let learning_ahead = self.poll_learning_ahead();
         (self.cameras).update(
@@ -474,6 +488,7 @@ impl AppState {
             || self.datasets.listing().is_some()
             || landscape
             || best_fit
+            || next_push
             || learning_ahead
             || live
             || video

@@ -26,6 +26,7 @@ use super::labels::Labeling;
 use super::landscape::LandscapeSource;
 use super::landscape::LandscapeState;
 use super::models::Models;
+use super::next_push::NextPushState;
 use super::online::OnlineRun;
 use super::overview::PathOverview;
 use super::proposals::Pending;
@@ -113,6 +114,26 @@ impl AppState {
     /// The Steer tab's best θ for the recording shown and its search.
     pub fn best_fit(&self) -> &BestFitState {
         &self.best_fit
+    }
+
+    /// The Steer tab's ranking of the next pushes and its work.
+    pub fn next_push(&self) -> &NextPushState {
+        &self.next_push
+    }
+
+    /// The other open pushes of the object shown (`Recording::same_object_as`): the candidates
+    /// the next-push ranking chooses among.
+    pub fn other_pushes_of_object(&self) -> Vec<(RecordingId, &Recording)> {
+        let Some(selected) = self.session.selected else {
+            return Vec::new();
+        };
+        let Some(shown) = self.session.get(selected) else {
+            return Vec::new();
+        };
+        self.session
+            .recordings()
+            .filter(|(id, r)| *id != selected && r.same_object_as(shown))
+            .collect()
     }
 
     /// The Demos menu's presets and the demo running.

@@ -2,13 +2,12 @@
 //! [`LiveLearner`] (the grid a bag import makes, the run `eval` makes), and what the line of each
 //! second says of it: θ, its σ, and the mean online and fixed losses over the frames learned.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::anyhow;
 use clap::Args;
 use pushlab_core::live::{LiveLearner, Stream};
-use pushlab_core::model_file::ModelFile;
 use pushlab_core::recording::bag::PlanarPose;
 use pushlab_core::recording::bag::SettingSource;
 use serde_json::json;
@@ -16,10 +15,7 @@ use serde_json::json;
 use crate::cli::exit::Failure;
 use crate::cli::experiment::args::OnlineArgs;
 use crate::cli::import::rate;
-
-/// The model learned with when `--model` is not given: the app's default, built in.
-const DEFAULT_MODEL: &[u8] = include_bytes!("../../../assets/default-model.json");
-const DEFAULT_MODEL_NAME: &str = "assets/default-model.json";
+use crate::cli::model_arg::load_model;
 
 /// How `pushlab live` learns, if it does.
 #[derive(Debug, Args)]
@@ -187,21 +183,5 @@ impl Learning {
             }),
             "learning_ms": busy.as_secs_f64() * 1e3,
         })
-    }
-}
-
-/// The model file named, or the built-in default; its name for messages.
-fn load_model(path: Option<&Path>) -> Result<(ModelFile, String), Failure> {
-    let failed = |e| Failure::Failed(anyhow!("{e}"));
-    match path {
-        Some(path) => Ok((
-            ModelFile::load(path).map_err(failed)?,
-            path.display().to_string(),
-        )),
-        None => Ok((
-            ModelFile::from_json(&PathBuf::from(DEFAULT_MODEL_NAME), DEFAULT_MODEL)
-                .map_err(failed)?,
-            format!("the default model ({DEFAULT_MODEL_NAME})"),
-        )),
     }
 }

@@ -1,6 +1,6 @@
 //! One experiment pipeline for the CLI and the app: which recordings and frames an experiment uses
 //! ([`data`]), how a model of each kind is trained on them ([`train`]), and how it is evaluated
-//! ([`evaluate`]); [`suite`] runs a list of experiments in parallel into one table; [`report`] is
+//! ([`evaluate`]); [`suggest`] ranks an object's next pushes by what each would teach; [`suite`] runs a list of experiments in parallel into one table; [`report`] is
 //! `pushlab eval`'s JSON report.
 //!
 //! Every rule lives here once — the split of a recording, the samples left out for bad tracking,
@@ -15,6 +15,7 @@ pub mod misfit;
 mod push_fits;
 pub mod report;
 mod runs;
+pub mod suggest;
 pub mod suite;
 pub mod train;
 pub mod variant;

@@ -45,11 +45,15 @@
 //! decorrelate within a batch (batches grow with the push), and the model linear in `θ` near the
 //! estimate.
 
+mod expected;
+
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde::Serialize;
 
 use super::score_batches::{MAX_FACTOR, ScoreBatches};
 use crate::model::{H_MIN, Linearization, OnlineParams};
+
+pub use expected::PushInformation;
 
 /// The prior's standard deviation of every component of `θ_online`, in units of `θ_online(0)`'s `h`
 /// (about a third of the object's size): weak, a COM anywhere on the object is plausible.

@@ -5,7 +5,7 @@
 use eframe::egui::{self, Color32, Pos2, Shape, Stroke, Vec2};
 use nalgebra::{Point2, Vector2};
 use pushlab_core::geometry::{Outline, Pose2};
-use pushlab_core::inspect::Rollout;
+use pushlab_core::inspect::{PushShape, Rollout};
 use pushlab_core::model::{ObjectMotion, Prediction};
 use pushlab_core::trajectory::{Frame, Trajectory};
 
@@ -277,6 +277,38 @@ pub fn contact(
         let tip = projection.to_screen(c_world + u_world);
         painter.arrow(p, tip - p, Stroke::new(2.0, palette.contact));
     }
+}
+
+/// A suggested next push (`rank`, 1 the best): an arrow in the pusher's direction ending where the
+/// pusher would touch the object (`pose`), `length` metres long, numbered at its tail.
+pub fn next_push(
+    painter: &egui::Painter,
+    projection: &Projection,
+    pose: &Pose2,
+    shape: &PushShape,
+    length: f64,
+    rank: usize,
+) {
+    let palette = colors::of(painter.ctx());
+    let contact = pose.point_in_world(Point2::from(shape.contact_in_object));
+    let direction = pose.vector_in_world(Vector2::from(shape.direction_in_object));
+    let tail = projection.to_screen(contact - direction * length);
+    let tip = projection.to_screen(contact);
+    let width = if rank == 1 { 3.0 } else { 2.0 };
+    painter.arrow(
+        tail,
+        tip - tail,
+        Stroke::new(width + 1.5, palette.background),
+    );
+    painter.arrow(tail, tip - tail, Stroke::new(width, palette.suggestion));
+    let away = (tail - tip).normalized() * 10.0;
+    painter.text(
+        tail + away,
+        egui::Align2::CENTER_CENTER,
+        rank.to_string(),
+        egui::FontId::proportional(14.0),
+        palette.suggestion,
+    );
 }
 
 /// The true COM: a cross.

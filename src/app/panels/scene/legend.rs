@@ -59,7 +59,7 @@ fn toggles(ui: &mut egui::Ui, state: &AppState, edited: &mut Layers) {
 type Entry<'a> = (&'a mut bool, &'static str, Color32, Option<PredictionLayer>);
 
 /// The toggles in the order the legend lists them.
-fn entries<'a>(layers: &'a mut Layers, palette: &Palette) -> [Entry<'a>; 15] {
+fn entries<'a>(layers: &'a mut Layers, palette: &Palette) -> [Entry<'a>; 16] {
     use PredictionLayer::{Fixed, Online, Physics, PureNn};
     [
         (
@@ -133,6 +133,12 @@ fn entries<'a>(layers: &'a mut Layers, palette: &Palette) -> [Entry<'a>; 15] {
             &mut layers.contact,
             "Contact c and u_c",
             palette.contact,
+            None,
+        ),
+        (
+            &mut layers.next_pushes,
+            "Next pushes, arrows (Steer: Suggest)",
+            palette.suggestion,
             None,
         ),
         (&mut layers.robot_path, "Robot path", palette.robot, None),

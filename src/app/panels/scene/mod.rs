@@ -23,6 +23,7 @@ use self::draw::FootprintStyle;
 use self::interaction::Markers;
 pub use self::view::{Drag, SceneView};
 use crate::app::colors::{self, Palette};
+use crate::app::state::next_push;
 use crate::app::state::predictions::FramePredictions;
 use crate::app::state::{AppState, Command};
 
@@ -341,6 +342,23 @@ fn draw_layers(
             .pose
             .point_in_world(Point2::from(fit.theta.com_offset));
         draw::best_com(painter, projection.to_screen(at));
+    }
+    if layers.next_pushes
+        && let (Some(run), Some(outline)) = (state.run(), content.outline)
+        && let Some(result) = state.next_push().result_for(run)
+    {
+        // Drawn worst first, so the best lies on top where arrows cross.
+        let best = result.ranking.suggestions.iter().take(next_push::ARROWS);
+        let shown: Vec<_> = best
+            .enumerate()
+            .filter_map(|(i, s)| Some((i, s.shape?)))
+            .collect();
+        for (i, shape) in shown.into_iter().rev() {
+            let length = shape
+                .length_m
+                .clamp(0.3 * outline.size(), 0.8 * outline.size());
+            draw::next_push(painter, projection, &content.pose, &shape, length, i + 1);
+        }
     }
     if layers.com_ellipse
         && let (Some(theta), Some(run)) = (state.theta(), &state.run())
