@@ -186,3 +186,50 @@ fn measuring_orders_without_a_true_com_says_so() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_grid_of_pushes_is_ranked_instead_of_the_recordings() {
+    let set = sample("box1-paper-center-front");
+    let output = suggest(&[
+        set.as_os_str(),
+        "--after".as_ref(),
+        "online_000".as_ref(),
+        "--grid".as_ref(),
+        "--grid-offsets".as_ref(),
+        "0".as_ref(),
+        "--grid-angles".as_ref(),
+        "0".as_ref(),
+    ]);
+    let (stdout, stderr) = (text(&output.stdout), text(&output.stderr));
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("a grid of 4 pushes, 10 cm each at 4.0 cm/s, 10 Hz"),
+        "{stdout}"
+    );
+    let rows: Vec<&str> = stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("rank"))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), 4, "{stdout}");
+    for side in [
+        "front +0.0 cm +0°",
+        "left +0.0 cm +0°",
+        "back +0.0 cm +0°",
+        "right +0.0 cm +0°",
+    ] {
+        assert!(rows.iter().any(|r| r.contains(side)), "{side}: {stdout}");
+    }
+    let output = suggest(&[
+        set.as_os_str(),
+        "--grid".as_ref(),
+        "--grid-offsets".as_ref(),
+        "-1".as_ref(),
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        text(&output.stderr).contains("--grid-offsets -1: an offset is a fraction of the face's"),
+        "{}",
+        text(&output.stderr)
+    );
+}

@@ -10,16 +10,16 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::experiment::suggest::{
-    self, Choice, Criterion, LearnedPush, ObjectPushes, Ranking,
+    self, Choice, Criterion, LearnedPush, ObjectPushes, PushGrid, Ranking,
 };
 use pushlab_core::experiment::{self, UsedRecording};
 use pushlab_core::learn::OnlineConfig;
 use pushlab_core::model::CombinedModel;
-use pushlab_core::recording::Recording;
+use pushlab_core::recording::{PushSide, Recording};
 use serde_json::json;
 
 use crate::cli::exit::Failure;
-use crate::cli::experiment::args::{OnlineArgs, positive};
+use crate::cli::experiment::args::{OnlineArgs, positive, positive_real};
 use crate::cli::model_arg::load_model;
 
 /// The pushes after which `--measure-orders` reports the COM error.
@@ -45,6 +45,43 @@ pub struct SuggestArgs {
     /// COM variance, the expected squared error) or `axis` (the ellipse's longest axis).
     #[arg(long, value_name = "CRITERION", default_value_t = Criterion::default())]
     pub criterion: Criterion,
+    /// Rank a grid of pushes laid out on the object instead of its recordings: every side of
+    /// --grid-sides × --grid-offsets × --grid-angles, each a straight push --grid-length long at the
+    /// recordings' pusher speed and frame rate.
+    #[arg(long)]
+    pub grid: bool,
+    /// The grid's sides.
+    #[arg(
+        long,
+        value_name = "SIDE,...",
+        value_delimiter = ',',
+        default_value = "front,left,back,right",
+        requires = "grid"
+    )]
+    pub grid_sides: Vec<PushSide>,
+    /// The grid's contact offsets, as fractions of each face's half length (−1 to 1).
+    #[arg(
+        long,
+        value_name = "F,...",
+        value_delimiter = ',',
+        default_value = "-0.6,0,0.6",
+        allow_negative_numbers = true,
+        requires = "grid"
+    )]
+    pub grid_offsets: Vec<f64>,
+    /// The grid's push angles from the face's normal, degrees, counter-clockwise positive.
+    #[arg(
+        long,
+        value_name = "DEG,...",
+        value_delimiter = ',',
+        default_value = "-20,0,20",
+        allow_negative_numbers = true,
+        requires = "grid"
+    )]
+    pub grid_angles: Vec<f64>,
+    /// How far each grid push goes once it touches, metres.
+    #[arg(long, value_name = "M", default_value_t = 0.1, value_parser = positive_real, requires = "grid")]
+    pub grid_length: f64,
     /// Print only the best N.
     #[arg(long, value_name = "N", value_parser = positive)]
     pub top: Option<usize>,
@@ -109,7 +146,7 @@ fn rank(
         .copied()
         .filter(|p| !after.contains(p))
         .collect();
-    if candidates.is_empty() {
+    if candidates.is_empty() && !args.grid {
         return Err(Failure::Usage(anyhow!(
             "every push of {} is in --after: nothing left to suggest",
             object.name
@@ -118,12 +155,19 @@ fn rank(
     let failed = |e: suggest::SuggestError| Failure::Failed(anyhow!("{e}"));
     let state =
         suggest::state_after(model, used, &object.pushes, &after, config).map_err(failed)?;
-    let learner = experiment::model_on(model, &used[candidates[0]])
+    let learner = experiment::model_on(model, &used[object.pushes[0]])
         .map_err(|e| Failure::Failed(anyhow!("{e}")))?;
-    let given: Vec<(usize, &Recording)> = candidates
-        .iter()
-        .map(|&p| (p, &used[p].recording))
-        .collect();
+    let grid = match args.grid {
+        true => Some(grid_pushes(args, &used[object.pushes[0]].recording)?),
+        false => None,
+    };
+    let given: Vec<(usize, &Recording)> = match &grid {
+        Some(pushes) => pushes.iter().enumerate().collect(),
+        None => candidates
+            .iter()
+            .map(|&p| (p, &used[p].recording))
+            .collect(),
+    };
     let ranking = suggest::rank(
         learner.as_ref(),
         model.horizon(),
@@ -161,6 +205,46 @@ fn rank(
         write_json(path, &value)?;
     }
     Ok(())
+}
+
+/// The grid of `--grid`'s options on the object of `like`; points that cannot be pushed are said.
+fn grid_pushes(args: &SuggestArgs, like: &Recording) -> Result<Vec<Recording>, Failure> {
+    if let Some(bad) = args
+        .grid_offsets
+        .iter()
+        .find(|f| f.is_nan() || f.abs() >= 1.0)
+    {
+        return Err(Failure::Usage(anyhow!(
+            "--grid-offsets {bad}: an offset is a fraction of the face's half length, between -1 \
+             and 1"
+        )));
+    }
+    let grid = PushGrid {
+        sides: args.grid_sides.clone(),
+        offsets: args.grid_offsets.clone(),
+        angles_deg: args.grid_angles.clone(),
+        length_m: args.grid_length,
+    };
+    let pushes = grid
+        .pushes(like)
+        .map_err(|e| Failure::Failed(anyhow!("the object's outline: {e}")))?;
+    for skipped in &pushes.skipped {
+        eprintln!("grid push left out: {skipped}");
+    }
+    if pushes.pushes.is_empty() {
+        return Err(Failure::Usage(anyhow!(
+            "no push of the grid can be made on {}",
+            like.setting.name
+        )));
+    }
+    println!(
+        "a grid of {} pushes, {:.0} cm each at {:.1} cm/s, {:.0} Hz",
+        pushes.pushes.len(),
+        args.grid_length * 1e2,
+        pushes.speed * 1e2,
+        pushes.rate_hz
+    );
+    Ok(pushes.pushes)
 }
 
 fn criterion_words(criterion: Criterion) -> &'static str {

@@ -51,9 +51,8 @@ fn a_pushs_shape_is_the_offset_and_angle_the_simulator_was_told() {
         )
         .expect("touches");
         let (offset, angle) = (entry.contact_offset.unwrap(), entry.push_angle_deg.unwrap());
-        // Counter-clockwise along the face is to the right of the push: the offset's sign flips.
         assert!(
-            (shape.offset_m + offset).abs() < 0.01,
+            (shape.offset_m - offset).abs() < 0.01,
             "{}: {} vs {offset}",
             recording.name,
             shape.offset_m
@@ -285,4 +284,71 @@ fn each_criterion_reads_the_com_ellipse_as_its_closed_form_whatever_its_turn() {
                 .to_owned()
         )
     );
+}
+
+#[test]
+fn a_grid_lays_out_the_pushes_asked_for_and_after_a_front_push_a_side_one_teaches_most() {
+    use pushlab_core::experiment::suggest::PushGrid;
+    let used = load(&["box1-paper-center-front"], Split::Online);
+    let like = &used[0].recording;
+    let grid = PushGrid {
+        sides: pushlab_core::recording::PushSide::ALL.to_vec(),
+        offsets: vec![-0.5, 0.0, 0.5, 1.5],
+        angles_deg: vec![-20.0, 0.0, 20.0],
+        length_m: 0.1,
+    }
+    .pushes(like)
+    .unwrap();
+    // 4 sides × 3 offsets on the face × 3 angles; the offset beyond the face is said, per angle.
+    assert_eq!(grid.pushes.len(), 36);
+    assert_eq!(grid.skipped.len(), 12, "{:?}", grid.skipped);
+    assert!(
+        grid.skipped[0].contains("is off the front face"),
+        "{}",
+        grid.skipped[0]
+    );
+    let outline = like.setting.object.outline().unwrap();
+    for push in &grid.pushes {
+        assert!(push.same_object_as(like), "{}", push.name);
+        let t = &push.trajectory;
+        let poses: Vec<_> = t.frames.iter().map(|f| f.object).collect();
+        let shape = shape_of(&outline, like.setting.pusher_radius, t, &poses).expect("touches");
+        // The name says the plan: side, offset, angle; the shape reads them off the motion.
+        let words: Vec<&str> = push.name.split(' ').collect();
+        let offset_cm: f64 = words[1].parse().unwrap();
+        let angle: f64 = words[3].trim_end_matches('°').parse().unwrap();
+        assert!(
+            (shape.offset_m * 1e2 - offset_cm).abs() < 0.1,
+            "{}: {shape:?}",
+            push.name
+        );
+        assert!(
+            (shape.angle_rad.to_degrees() - angle).abs() < 0.5,
+            "{}: {shape:?}",
+            push.name
+        );
+        assert!(
+            (shape.length_m - 0.1).abs() < 0.01,
+            "{}: {shape:?}",
+            push.name
+        );
+    }
+    // After one front push, physics alone: the push that teaches most is on the left or right,
+    // the least on the front or back (they see what the front push saw).
+    let physics = experiment::physics_model(like, unit_scale(), DEFAULT_CONTACT_TOLERANCE).unwrap();
+    let config = OnlineConfig {
+        optimizer: Optimizer::GaussNewton,
+        ..OnlineConfig::default()
+    };
+    let state = TrajectoryRun::learn_physics(physics.clone(), &used[0], 0, 1, &config, None, None)
+        .run
+        .end_state();
+    let given: Vec<(usize, &pushlab_core::recording::Recording)> =
+        grid.pushes.iter().enumerate().collect();
+    let ranking = suggest::rank(&physics, 1, &state, &given, Criterion::Area).unwrap();
+    let side = |s: &suggest::Suggestion| s.name.split(' ').next().unwrap().to_owned();
+    let best = side(&ranking.suggestions[0]);
+    let worst = side(ranking.suggestions.last().unwrap());
+    assert!(best == "left" || best == "right", "{ranking:#?}");
+    assert!(worst == "front" || worst == "back", "{ranking:#?}");
 }

@@ -9,8 +9,12 @@
 //! (`learn::Posterior::com_covariance_after`). The candidate leaving the least is suggested first.
 //! Nothing reads a candidate's recorded outcome: what it would teach is the model's own forecast.
 //!
+//! Where no recorded push says where to push next, [`PushGrid`] lays candidates out on the object.
+//!
 //! [`learn_in_order`] is the measurement: an object's pushes learned one after another with θ
 //! carried on, each next push chosen by the ranking, by its reverse or at random.
+
+mod grid;
 
 use std::str::FromStr;
 
@@ -25,6 +29,8 @@ use crate::model::{CombinedModel, NoOutline, OnlineModel};
 use crate::recording::Recording;
 use crate::rng::SplitMix64;
 use crate::slices;
+
+pub use grid::{APPROACH_M, GridPushes, PushGrid};
 
 /// What "the COM's uncertainty" a push should shrink is.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]

@@ -112,7 +112,8 @@ pub struct PushShape {
     pub face: usize,
     /// Where on the outline, object frame, metres.
     pub contact_in_object: [f64; 2],
-    /// Along the face from its middle, metres (counter-clockwise positive).
+    /// Along the face from its middle, metres, positive to the left as the pusher faces it (as
+    /// `setting.json`'s `contact_offset` and `pushlab simulate` count it).
     pub offset_m: f64,
     /// The pusher's direction after the touch against the face's inward normal, radians
     /// (counter-clockwise positive): 0 pushes straight in.
@@ -123,8 +124,9 @@ pub struct PushShape {
     pub length_m: f64,
 }
 
-/// The shape of the push `trajectory` makes on an object of `outline` at `poses` (one per frame),
-/// pushed by a disc of `pusher_radius`; `None` when the disc never comes within [`TOUCH_M`] of it.
+/// The shape of the push `trajectory` makes on an object of `outline` at `poses` (one per frame; the
+/// first is where it rests until touched), pushed by a disc of `pusher_radius`; `None` when the disc
+/// never comes within [`MISS_M`] of where the object rests.
 pub fn shape_of(
     outline: &Outline,
     pusher_radius: f64,
@@ -132,23 +134,25 @@ pub fn shape_of(
     poses: &[Pose2],
 ) -> Option<PushShape> {
     let frames = poses.len().min(trajectory.frames.len());
+    // The object does not move before the pusher touches it, so the touch is found against its
+    // pose at the start: a prediction interpolated between steps of the horizon has it drifting
+    // away before the touch, which would put the touch late.
+    let met = poses.first()?;
     let gap = |i: usize| {
-        let robot_in_object = poses[i].point_in_object(trajectory.frames[i].robot);
+        let robot_in_object = met.point_in_object(trajectory.frames[i].robot);
         outline
             .closest_boundary_point(robot_in_object)
             .signed_distance
             - pusher_radius
     };
-    // A model may hold the pusher a few millimetres off the face while it pushes (the physics-only
-    // model's contact tolerance): the touch is where the gap first comes near its smallest, or near
-    // zero where tracking noise took the smallest below it.
+    // The pusher goes on into where the object was once it moved away, so the gap falls below
+    // zero; a pusher that never came within MISS_M of where it was never touched it. Tracking
+    // noise of millimetres may touch a frame early.
     let closest = (0..frames).map(gap).fold(f64::INFINITY, f64::min);
     if closest.is_nan() || closest > MISS_M {
         return None;
     }
     let touch = (0..frames).find(|&i| gap(i) <= closest.max(0.0) + TOUCH_M)?;
-    // The object as the pusher meets it: at rest, before the touch moved it.
-    let met = &poses[touch.saturating_sub(1)];
     let boundary =
         outline.closest_boundary_point(met.point_in_object(trajectory.frames[touch].robot));
     let vertices = outline.vertices();
@@ -178,7 +182,8 @@ pub fn shape_of(
         touch_frame: touch,
         face: boundary.edge,
         contact_in_object: boundary.point.into(),
-        offset_m: (boundary.point - middle).dot(&along),
+        // Counter-clockwise along the face is to the pusher's right.
+        offset_m: -(boundary.point - middle).dot(&along),
         angle_rad,
         direction_in_object: direction.into(),
         length_m,

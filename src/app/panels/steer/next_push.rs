@@ -80,7 +80,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
                 ui.label(format!("{}.", i + 1));
                 ui.label(&s.name).on_hover_text(match &s.shape {
                     Some(p) => format!(
-                        "face {}, {:+.1} cm from its middle, {:+.0}° from straight in, {:.0} cm long",
+                        "face {}, {:+.1} cm left of its middle, {:+.0}° from straight in, {:.0} cm long",
                         p.face,
                         p.offset_m * 1e2,
                         p.angle_rad.to_degrees(),

@@ -59,8 +59,8 @@ fn a_push_is_described_by_the_face_it_touches_where_and_at_what_angle() {
         (shape.contact_in_object[0] + 0.05).abs() < 1e-9,
         "{shape:?}"
     );
-    // Counter-clockwise, the left face runs downward: 2 cm above its middle is −2 cm along it.
-    assert!((shape.offset_m + 0.02).abs() < 3e-3, "{shape:?}");
+    // Pushed along +x, 2 cm above the face's middle is 2 cm to the pusher's left.
+    assert!((shape.offset_m - 0.02).abs() < 3e-3, "{shape:?}");
     assert!(
         (shape.angle_rad.to_degrees() - 20.0).abs() < 0.5,
         "{shape:?}"

@@ -1,0 +1,117 @@
+//! A grid of pushes laid out on the object, as candidates for the ranking when no recorded push
+//! says where to push next: every side given × contact offset × angle, each a straight push of one
+//! length at the recordings' own pusher speed and frame rate (so its frames weigh as theirs do).
+//!
+//! Each grid push is a recording whose object rests at the origin and whose pusher follows the
+//! simulator's plan of that push (`sim::PushPlan`: the same face point and approach as
+//! `pushlab simulate`); the ranking never reads the object's recorded motion, so a resting object
+//! is all it needs. The pushes keep the object's setting and folder, so they are the same object.
+
+use std::sync::Arc;
+
+use crate::geometry::{OutlineError, Pose2};
+use crate::recording::{PushSide, Recording};
+use crate::sim::PushPlan;
+use crate::sim::path::contact_offsets;
+use crate::trajectory::{Frame, Trajectory};
+
+/// Where each grid push starts: this far before the pusher's disc touches the face, metres.
+pub const APPROACH_M: f64 = 0.01;
+
+/// A grid of pushes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushGrid {
+    /// The sides pushed.
+    pub sides: Vec<PushSide>,
+    /// Contact offsets as fractions of each face's half length, in (−1, 1).
+    pub offsets: Vec<f64>,
+    /// Push angles from the face's normal, degrees, counter-clockwise positive.
+    pub angles_deg: Vec<f64>,
+    /// How far the pusher goes once it touches, metres.
+    pub length_m: f64,
+}
+
+/// The grid's pushes, and those of its points that cannot be pushed (off the face, blocked), each
+/// a sentence.
+#[derive(Clone, Debug)]
+pub struct GridPushes {
+    pub pushes: Vec<Recording>,
+    pub skipped: Vec<String>,
+    /// The frame rate the pushes are sampled at, Hz: the recording's (10 Hz if it has none).
+    pub rate_hz: f64,
+    /// The pusher's speed, m/s: the recording's (3 cm/s if it has none).
+    pub speed: f64,
+}
+
+impl PushGrid {
+    /// The grid's pushes on the object of `like` (a recording of it), at `like`'s frame rate and
+    /// pusher speed.
+    pub fn pushes(&self, like: &Recording) -> Result<GridPushes, OutlineError> {
+        let outline = like.setting.object.outline()?;
+        let rate_hz = positive(like.trajectory.mean_rate_hz()).unwrap_or(10.0);
+        let speed = like
+            .trajectory
+            .pusher_speed()
+            .and_then(positive)
+            .unwrap_or(0.03);
+        let at_rest = Pose2::new(0.0, 0.0, 0.0);
+        let frames = ((APPROACH_M + self.length_m) / speed * rate_hz).ceil() as usize + 1;
+        let mut grid = GridPushes {
+            pushes: Vec::new(),
+            skipped: Vec::new(),
+            rate_hz,
+            speed,
+        };
+        for &side in &self.sides {
+            let offsets = contact_offsets(&outline, side, &self.offsets);
+            for (&fraction, &offset) in self.offsets.iter().zip(&offsets) {
+                for &angle in &self.angles_deg {
+                    let name = format!("{} {:+.1} cm {:+.0}°", side.name(), offset * 1e2, angle);
+                    let plan = PushPlan {
+                        side,
+                        contact_offset: offset,
+                        push_angle_deg: angle,
+                        speed,
+                        curvature: 0.0,
+                        approach: APPROACH_M,
+                    };
+                    let path = match plan.path(&outline, &at_rest, like.setting.pusher_radius) {
+                        Ok(path) => path,
+                        Err(e) => {
+                            grid.skipped
+                                .push(format!("{name} (offset {fraction}): {e}"));
+                            continue;
+                        }
+                    };
+                    let trajectory = Trajectory::new(
+                        (0..frames)
+                            .map(|k| {
+                                let time = k as f64 / rate_hz;
+                                Frame {
+                                    time,
+                                    robot: path.position(time),
+                                    object: at_rest,
+                                }
+                            })
+                            .collect(),
+                    );
+                    grid.pushes.push(Recording {
+                        source: like.source.with_file_name(&name),
+                        name,
+                        setting: Arc::clone(&like.setting),
+                        entry: None,
+                        trajectory: Arc::new(trajectory),
+                        warnings: Vec::new(),
+                        notes: Vec::new(),
+                        cameras: Vec::new(),
+                    });
+                }
+            }
+        }
+        Ok(grid)
+    }
+}
+
+fn positive(x: f64) -> Option<f64> {
+    (x.is_finite() && x > 0.0).then_some(x)
+}
