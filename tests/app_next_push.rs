@@ -121,3 +121,59 @@ fn the_best_next_pushes_are_drawn_as_numbered_arrows_and_listed_in_the_steer_tab
     );
     harness.snapshot("next_pushes");
 }
+
+#[test]
+fn with_no_other_push_open_the_steer_tab_ranks_pushlab_suggests_grid_to_the_bit() {
+    let dir = common::copy_of_sample_set("box1-paper-lr-front", "app-next-push-grid");
+    let csv = dir.join("online_003.csv");
+    let mut state = initial_state(std::slice::from_ref(&csv), Persisted::default());
+    assert!(state.other_pushes_of_object().is_empty());
+    let frames = state.recording().expect("a recording").trajectory.len();
+    for _ in 0..frames {
+        state.apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+    state.apply(Command::NextPush(NextPushCommand::Suggest));
+    let mut waited = 0;
+    while state.advance(0.0)
+        && (state.run()).is_some_and(|run| state.next_push().progress_for(run).is_some())
+    {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        waited += 1;
+        assert!(waited < 3000, "the ranking took over a minute");
+    }
+    let run = state.run().expect("a run");
+    let result = state.next_push().result_for(run).expect("a ranking");
+    assert!(matches!(
+        &result.candidates,
+        pushlab::app::state::next_push::Candidates::Grid { left_out } if left_out.is_empty()
+    ));
+    assert_eq!(
+        result.ranking.suggestions.len(),
+        36,
+        "4 sides × 3 offsets × 3 angles"
+    );
+
+    let json = dir.join("suggest-grid.json");
+    let output = Process::new(env!("CARGO_BIN_EXE_pushlab"))
+        .arg("suggest")
+        .arg(&csv)
+        .args(["--grid", "--after", "online_003", "--json"])
+        .arg(&json)
+        .output()
+        .expect("runs pushlab");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&json).expect("report")).expect("JSON");
+    let reported = report["ranking"]["suggestions"].as_array().expect("a list");
+    assert_eq!(reported.len(), 36);
+    let bits = |v: &Value| v.as_f64().expect("a number").to_bits();
+    for (app, cli) in result.ranking.suggestions.iter().zip(reported) {
+        assert_eq!(cli["name"], Value::from(app.name.as_str()));
+        assert_eq!(bits(&cli["com_std_after_m"]), app.com_std_after_m.to_bits());
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

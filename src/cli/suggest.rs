@@ -50,38 +50,37 @@ pub struct SuggestArgs {
     /// recordings' pusher speed and frame rate.
     #[arg(long)]
     pub grid: bool,
-    /// The grid's sides.
+    /// The grid's sides [default: front,left,back,right].
     #[arg(
         long,
         value_name = "SIDE,...",
         value_delimiter = ',',
-        default_value = "front,left,back,right",
         requires = "grid"
     )]
-    pub grid_sides: Vec<PushSide>,
-    /// The grid's contact offsets, as fractions of each face's half length (−1 to 1).
+    pub grid_sides: Option<Vec<PushSide>>,
+    /// The grid's contact offsets, as fractions of each face's half length (−1 to 1)
+    /// [default: -0.6,0,0.6].
     #[arg(
         long,
         value_name = "F,...",
         value_delimiter = ',',
-        default_value = "-0.6,0,0.6",
         allow_negative_numbers = true,
         requires = "grid"
     )]
-    pub grid_offsets: Vec<f64>,
-    /// The grid's push angles from the face's normal, degrees, counter-clockwise positive.
+    pub grid_offsets: Option<Vec<f64>>,
+    /// The grid's push angles from the face's normal, degrees, counter-clockwise positive
+    /// [default: -20,0,20].
     #[arg(
         long,
         value_name = "DEG,...",
         value_delimiter = ',',
-        default_value = "-20,0,20",
         allow_negative_numbers = true,
         requires = "grid"
     )]
-    pub grid_angles: Vec<f64>,
-    /// How far each grid push goes once it touches, metres.
-    #[arg(long, value_name = "M", default_value_t = 0.1, value_parser = positive_real, requires = "grid")]
-    pub grid_length: f64,
+    pub grid_angles: Option<Vec<f64>>,
+    /// How far each grid push goes once it touches, metres [default: 0.1].
+    #[arg(long, value_name = "M", value_parser = positive_real, requires = "grid")]
+    pub grid_length: Option<f64>,
     /// Print only the best N.
     #[arg(long, value_name = "N", value_parser = positive)]
     pub top: Option<usize>,
@@ -209,22 +208,20 @@ fn rank(
 
 /// The grid of `--grid`'s options on the object of `like`; points that cannot be pushed are said.
 fn grid_pushes(args: &SuggestArgs, like: &Recording) -> Result<Vec<Recording>, Failure> {
-    if let Some(bad) = args
-        .grid_offsets
-        .iter()
-        .find(|f| f.is_nan() || f.abs() >= 1.0)
-    {
+    // The core's grid, with what the options change.
+    let defaults = PushGrid::default();
+    let grid = PushGrid {
+        sides: args.grid_sides.clone().unwrap_or(defaults.sides),
+        offsets: args.grid_offsets.clone().unwrap_or(defaults.offsets),
+        angles_deg: args.grid_angles.clone().unwrap_or(defaults.angles_deg),
+        length_m: args.grid_length.unwrap_or(defaults.length_m),
+    };
+    if let Some(bad) = grid.offsets.iter().find(|f| f.is_nan() || f.abs() >= 1.0) {
         return Err(Failure::Usage(anyhow!(
             "--grid-offsets {bad}: an offset is a fraction of the face's half length, between -1 \
              and 1"
         )));
     }
-    let grid = PushGrid {
-        sides: args.grid_sides.clone(),
-        offsets: args.grid_offsets.clone(),
-        angles_deg: args.grid_angles.clone(),
-        length_m: args.grid_length,
-    };
     let pushes = grid
         .pushes(like)
         .map_err(|e| Failure::Failed(anyhow!("the object's outline: {e}")))?;
@@ -240,7 +237,7 @@ fn grid_pushes(args: &SuggestArgs, like: &Recording) -> Result<Vec<Recording>, F
     println!(
         "a grid of {} pushes, {:.0} cm each at {:.1} cm/s, {:.0} Hz",
         pushes.pushes.len(),
-        args.grid_length * 1e2,
+        grid.length_m * 1e2,
         pushes.speed * 1e2,
         pushes.rate_hz
     );
@@ -268,11 +265,12 @@ fn print_ranking(ranking: &Ranking, top: Option<usize>) {
         .enumerate()
     {
         let shape = match &s.shape {
+            // A rounding's sign ("-0.0") says nothing.
             Some(p) => format!(
                 "{:>4} {:>+6.1} cm {:>+5.0}° {:>4.0} cm",
                 p.face,
-                p.offset_m * 1e2,
-                p.angle_rad.to_degrees(),
+                unsigned_zero(p.offset_m * 1e2, 0.05),
+                unsigned_zero(p.angle_rad.to_degrees(), 0.5),
                 p.length_m * 1e2
             ),
             None => format!("{:>31}", "misses the object"),
@@ -388,6 +386,11 @@ fn measure(
         write_json(path, &value)?;
     }
     Ok(())
+}
+
+/// `x`, or 0 when it would print as zero (below `half_step`), so that no "-0.0" is printed.
+fn unsigned_zero(x: f64, half_step: f64) -> f64 {
+    if x.abs() < half_step { 0.0 } else { x }
 }
 
 /// The `p`-quantile of sorted values (the nearest rank below), `None` when there are none.

@@ -409,9 +409,7 @@ impl AppState {
                 self.best_fit.apply(c, self.run.as_ref(), &skip);
             }
             Command::NextPush(c) => {
-                let candidates = (self.other_pushes_of_object().into_iter())
-                    .map(|(id, r)| (id, r.clone()))
-                    .collect();
+                let candidates = self.pushes_to_rank();
                 self.next_push.apply(c, self.run.as_ref(), candidates);
             }
             Command::Proposal(action) => {

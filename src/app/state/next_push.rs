@@ -3,6 +3,10 @@
 //! learned — pushlab-core's `experiment::suggest::rank`, the ranking `pushlab suggest` prints —
 //! found off the UI thread (a candidate a slice in a page) with progress and cancel.
 //!
+//! The candidates are the object's other open recordings; with none open (one file, a live push),
+//! the core's default grid of pushes laid out on the object (`experiment::suggest::PushGrid`, what
+//! `pushlab suggest --grid` lays out).
+//!
 //! Why in the app: one push leaves the COM's depth along the pushed face unseen, and a researcher
 //! choosing what to push next wants the push that shows it. The ranking belongs to the run and the
 //! frame it was asked at (the posterior there): another model or recording makes it stale and it
@@ -14,7 +18,6 @@ use pushlab_core::recording::Recording;
 
 use super::job::{Job, take_ended};
 use super::online::{OnlineRun, RunIdentity};
-use super::session::RecordingId;
 
 /// How many suggestions the scene draws as arrows.
 pub const ARROWS: usize = 3;
@@ -28,13 +31,23 @@ pub enum NextPushCommand {
     Cancel,
 }
 
+/// What the ranking chooses among.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Candidates {
+    /// The object's other open recordings.
+    Open,
+    /// A grid of pushes laid out on the object (no other recording of it is open); the grid
+    /// points that cannot be pushed, each a sentence.
+    Grid { left_out: Vec<String> },
+}
+
 /// A finished ranking and what it is for.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NextPushResult {
-    /// The ranking; each suggestion's `push` indexes [`NextPushResult::recordings`].
+    /// The ranking; each suggestion's `push` indexes the candidates it was given.
     pub ranking: Ranking,
-    /// The candidates' recordings in the session.
-    pub recordings: Vec<RecordingId>,
+    /// Where the candidates came from.
+    pub candidates: Candidates,
     /// The frame the run had learned up to when it was ranked.
     pub frame: usize,
     run: RunIdentity,
@@ -49,14 +62,15 @@ pub struct NextPushState {
     job: Option<(RunIdentity, Job<Result<NextPushResult, String>>)>,
 }
 
+/// Pushes to rank and where they came from.
+pub struct ToRank {
+    pub pushes: Vec<Recording>,
+    pub from: Candidates,
+}
+
 impl NextPushState {
-    /// Applies a command; `Suggest` ranks `candidates` (the object's other pushes) for `run`.
-    pub fn apply(
-        &mut self,
-        command: NextPushCommand,
-        run: Option<&OnlineRun>,
-        candidates: Vec<(RecordingId, Recording)>,
-    ) {
+    /// Applies a command; `Suggest` ranks `candidates` for `run`.
+    pub fn apply(&mut self, command: NextPushCommand, run: Option<&OnlineRun>, candidates: ToRank) {
         // A ranking replaced or cancelled is dropped, which cancels it.
         self.job = None;
         if let (NextPushCommand::Suggest, Some(run)) = (command, run) {
@@ -102,26 +116,23 @@ impl NextPushState {
         }
     }
 
-    fn start(&mut self, run: &OnlineRun, candidates: Vec<(RecordingId, Recording)>) {
+    fn start(&mut self, run: &OnlineRun, candidates: ToRank) {
         let model = std::sync::Arc::clone(run.model());
         let horizon = run.horizon();
         let state = run.end_state();
         let frame = run.frontier();
         let identity = run.identity();
         let for_job = identity.clone();
+        let ToRank { pushes, from } = candidates;
         let job = Job::spawn_in_slices(move |context| async move {
-            let count = candidates.len().max(1);
+            let count = pushes.len().max(1);
             let done = std::cell::Cell::new(0usize);
             let cancelled = || {
                 context.set_progress(done.get() as f32 / count as f32);
                 done.set(done.get() + 1);
                 context.is_cancelled()
             };
-            let given: Vec<(usize, &Recording)> = candidates
-                .iter()
-                .enumerate()
-                .map(|(i, (_, recording))| (i, recording))
-                .collect();
+            let given: Vec<(usize, &Recording)> = pushes.iter().enumerate().collect();
             let ranked = rank_in_slices(
                 model.as_ref(),
                 horizon,
@@ -134,7 +145,7 @@ impl NextPushState {
             match ranked {
                 Ok(ranking) => Some(Ok(NextPushResult {
                     ranking: ranking?,
-                    recordings: candidates.iter().map(|(id, _)| *id).collect(),
+                    candidates: from,
                     frame,
                     run: for_job,
                 })),

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use pushlab_core::experiment::suggest::PushGrid;
 use pushlab_core::inspect::Rollout;
 use pushlab_core::learn::MeanLosses;
 use pushlab_core::model::OnlineParams;
@@ -26,7 +27,7 @@ use super::labels::Labeling;
 use super::landscape::LandscapeSource;
 use super::landscape::LandscapeState;
 use super::models::Models;
-use super::next_push::NextPushState;
+use super::next_push::{Candidates, NextPushState, ToRank};
 use super::online::OnlineRun;
 use super::overview::PathOverview;
 use super::proposals::Pending;
@@ -134,6 +135,32 @@ impl AppState {
             .recordings()
             .filter(|(id, r)| *id != selected && r.same_object_as(shown))
             .collect()
+    }
+
+    /// What the next-push ranking chooses among: the object's other open pushes, or with none
+    /// open the core's default grid of pushes laid out on the object shown.
+    pub fn pushes_to_rank(&self) -> ToRank {
+        let open = self.other_pushes_of_object();
+        if !open.is_empty() {
+            return ToRank {
+                pushes: open.into_iter().map(|(_, r)| r.clone()).collect(),
+                from: Candidates::Open,
+            };
+        }
+        let grid = (self.session.selected_recording())
+            .and_then(|shown| PushGrid::default().pushes(shown).ok());
+        match grid {
+            Some(grid) => ToRank {
+                pushes: grid.pushes,
+                from: Candidates::Grid {
+                    left_out: grid.skipped,
+                },
+            },
+            None => ToRank {
+                pushes: Vec::new(),
+                from: Candidates::Open,
+            },
+        }
     }
 
     /// The Demos menu's presets and the demo running.

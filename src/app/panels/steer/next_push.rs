@@ -5,7 +5,7 @@
 
 use eframe::egui;
 
-use crate::app::state::next_push::{ARROWS, NextPushCommand};
+use crate::app::state::next_push::{ARROWS, Candidates, NextPushCommand};
 use crate::app::state::{AppState, Command};
 
 /// Rows of the ranking listed.
@@ -33,10 +33,13 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         return;
     }
     let candidates = state.other_pushes_of_object().len();
-    if candidates == 0 {
-        ui.weak("No other push of this object is open to suggest: open its set.");
-        return;
-    }
+    let among = match candidates {
+        0 => "a grid of pushes laid out on the object (every side, at -0.6, 0 and 0.6 of each face's \
+              half length, straight in and 20° either way, 10 cm long), as no other push of it is \
+              open"
+            .to_owned(),
+        n => format!("the object's {n} other open pushes"),
+    };
     let result = ranking.result_for(run);
     let label = if result.is_some() {
         "Suggest again"
@@ -46,11 +49,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     if ui
         .button(label)
         .on_hover_text(format!(
-            "Ranks the object's {candidates} other open pushes by how much each is expected to \
-             shrink the COM's uncertainty after what the run has learned up to now: each played \
-             through the model with today's θ, its frames' information added to the posterior \
-             (the Fisher information; its recorded outcome is never read). The best {ARROWS} are \
-             drawn on the object as arrows"
+            "Ranks {among} by how much each is expected to shrink the COM's uncertainty after \
+             what the run has learned up to now: each played through the model with today's θ, \
+             its frames' information added to the posterior (the Fisher information; its recorded \
+             outcome is never read). The best {ARROWS} are drawn on the object as arrows"
         ))
         .clicked()
     {
@@ -63,6 +65,24 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         return;
     };
     let r = &result.ranking;
+    if let Candidates::Grid { left_out } = &result.candidates {
+        ui.label(
+            egui::RichText::new(format!(
+                "No other push of this object is open: ranked a grid of {} pushes laid out on it",
+                r.suggestions.len()
+            ))
+            .weak(),
+        )
+        .on_hover_text(match left_out.as_slice() {
+            [] => "Every side, at -0.6, 0 and 0.6 of each face's half length, straight in and 20° \
+                   either way, 10 cm long (pushlab suggest --grid)"
+                .to_owned(),
+            left_out => format!(
+                "Left out, as they cannot be pushed: {}",
+                left_out.join("; ")
+            ),
+        });
+    }
     ui.label(
         egui::RichText::new(format!(
             "After frame {}: COM σ {:.1} mm now; the model's misfit, {:.1} mm, is the floor",

@@ -31,6 +31,20 @@ pub struct PushGrid {
     pub length_m: f64,
 }
 
+impl Default for PushGrid {
+    /// Every side, at −0.6, 0 and 0.6 of each face's half length, straight in and 20° either way,
+    /// 10 cm long: 36 pushes, what `pushlab suggest --grid` and the app's Steer tab lay out unless
+    /// told otherwise.
+    fn default() -> Self {
+        Self {
+            sides: PushSide::ALL.to_vec(),
+            offsets: vec![-0.6, 0.0, 0.6],
+            angles_deg: vec![-20.0, 0.0, 20.0],
+            length_m: 0.1,
+        }
+    }
+}
+
 /// The grid's pushes, and those of its points that cannot be pushed (off the face, blocked), each
 /// a sentence.
 #[derive(Clone, Debug)]
