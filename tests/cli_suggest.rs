@@ -21,6 +21,15 @@ fn suggest(args: &[&std::ffi::OsStr]) -> Output {
         .expect("runs pushlab")
 }
 
+/// The ranking's rows: the lines after its header.
+fn ranked_rows(stdout: &str) -> Vec<&str> {
+    stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("rank"))
+        .skip(1)
+        .collect()
+}
+
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
@@ -75,11 +84,7 @@ fn the_ranking_lists_every_other_push_best_first_with_where_it_pushes() {
         stdout.contains("after online_000, online_004: COM σ now"),
         "{stdout}"
     );
-    let rows: Vec<&str> = stdout
-        .lines()
-        .skip_while(|l| !l.starts_with("rank"))
-        .skip(1)
-        .collect();
+    let rows = ranked_rows(&stdout);
     assert_eq!(rows.len(), 5, "{stdout}");
     let sigma = |row: &str| -> f64 {
         let before_mm = row.split(" mm").next().expect("a σ");
@@ -206,11 +211,7 @@ fn a_grid_of_pushes_is_ranked_instead_of_the_recordings() {
         stdout.contains("a grid of 4 pushes, 10 cm each at 4.0 cm/s, 10 Hz"),
         "{stdout}"
     );
-    let rows: Vec<&str> = stdout
-        .lines()
-        .skip_while(|l| !l.starts_with("rank"))
-        .skip(1)
-        .collect();
+    let rows = ranked_rows(&stdout);
     assert_eq!(rows.len(), 4, "{stdout}");
     for side in [
         "front +0.0 cm +0°",

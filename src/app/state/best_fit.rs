@@ -16,7 +16,7 @@ use std::sync::Arc;
 use pushlab_core::experiment::{BEST_FIT_POLLS, BestFit, best_fit_in_slices};
 use pushlab_core::model::samples_kept;
 
-use super::job::{Job, take_ended};
+use super::job::{Job, progress_of, take_ended};
 use super::online::{OnlineRun, RunIdentity};
 
 /// A change to the best-θ search.
@@ -62,11 +62,7 @@ impl BestFitState {
     /// another recording or model, selected since, goes on unseen until it ends or a new search
     /// replaces it).
     pub fn progress_for(&self, run: &OnlineRun) -> Option<f32> {
-        let (_, job) = self
-            .job
-            .as_ref()
-            .filter(|(for_run, _)| *for_run == run.identity())?;
-        Some(job.progress())
+        progress_of(&self.job, &run.identity())
     }
 
     /// Takes a finished search; returns whether one is still running.

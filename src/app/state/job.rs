@@ -139,6 +139,13 @@ pub fn take_ended<K, T>(slot: &mut Option<(K, Job<T>)>) -> Option<(K, Option<T>)
     slot.take().map(|(key, _)| (key, result))
 }
 
+/// The share done of the job kept in `slot` when it is for `key` (`None` when none runs, or the one
+/// running is for something else: a run selected away from goes on unseen).
+pub fn progress_of<K: PartialEq, T>(slot: &Option<(K, Job<T>)>, key: &K) -> Option<f32> {
+    let (_, job) = slot.as_ref().filter(|(for_key, _)| for_key == key)?;
+    Some(job.progress())
+}
+
 impl<T> Drop for Job<T> {
     fn drop(&mut self) {
         self.cancel();

@@ -16,7 +16,7 @@
 use pushlab_core::experiment::suggest::{Criterion, Ranking, rank_in_slices};
 use pushlab_core::recording::Recording;
 
-use super::job::{Job, take_ended};
+use super::job::{Job, progress_of, take_ended};
 use super::online::{OnlineRun, RunIdentity};
 
 /// How many suggestions the scene draws as arrows.
@@ -91,11 +91,7 @@ impl NextPushState {
 
     /// The share done of the ranking under way for `run`, or `None` when none runs for it.
     pub fn progress_for(&self, run: &OnlineRun) -> Option<f32> {
-        let (_, job) = self
-            .job
-            .as_ref()
-            .filter(|(for_run, _)| *for_run == run.identity())?;
-        Some(job.progress())
+        progress_of(&self.job, &run.identity())
     }
 
     /// Takes a finished ranking; returns whether one is still running.
