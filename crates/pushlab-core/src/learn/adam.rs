@@ -15,6 +15,14 @@ pub(crate) struct Adam<T, const I: usize> {
 const BETA1: f64 = 0.9;
 const BETA2: f64 = 0.999;
 const EPSILON: f64 = 1e-8;
+/// A gradient or first moment smaller than this is taken as zero, and a second moment smaller than
+/// its square. Such a weight would move by under `lr · 1e-7` a step (its step is `m / (√v + ε)`, and
+/// ε is 1e-8): below an `f32` weight's rounding unless the weight is itself tiny. Without the flush,
+/// the moments of weights whose gradient is almost always zero (units that are rarely active) decay
+/// geometrically into the subnormal range, where every x86 multiply takes a microcode assist of
+/// about a hundred cycles: on the contact kind, Adam's loop over those moments was half an epoch's
+/// time (`docs/src/performance.md`, issue #51).
+const TINY: f64 = 1e-15;
 
 impl<T: Real, const I: usize> Adam<T, I> {
     /// Fresh state with the learning rate `lr`.
@@ -38,6 +46,8 @@ impl<T: Real, const I: usize> Adam<T, I> {
         let correction2 = 1.0 - BETA2.powi(self.steps);
         let step = T::of(self.lr * correction2.sqrt() / correction1);
         let eps = T::of(EPSILON * correction2.sqrt());
+        let (tiny, tiny_squared) = (T::of(TINY), T::of(TINY * TINY));
+        let flush = |x: T, below: T| if x.abs() < below { T::zero() } else { x };
         let slices = params
             .slices_mut()
             .into_iter()
@@ -46,8 +56,9 @@ impl<T: Real, const I: usize> Adam<T, I> {
             .zip(self.v.slices_mut());
         for (((ps, gs), ms), vs) in slices {
             for (((p, g), m), v) in ps.iter_mut().zip(gs).zip(ms.iter_mut()).zip(vs.iter_mut()) {
-                *m = b1 * *m + one_b1 * *g;
-                *v = b2 * *v + one_b2 * *g * *g;
+                let g = flush(*g, tiny);
+                *m = flush(b1 * *m + one_b1 * g, tiny);
+                *v = flush(b2 * *v + one_b2 * g * g, tiny_squared);
                 *p = *p - step * *m / (v.sqrt() + eps);
             }
         }
@@ -116,5 +127,56 @@ mod tests {
             let expected = if i % 2 == 0 { -0.005 } else { 0.005 };
             assert!((p - expected).abs() < 1e-9, "{i}: {p}");
         }
+    }
+
+    /// Adam as Kingma and Ba write it, in `f32`, without the flush: the reference.
+    fn textbook_step(p: &mut f32, m: &mut f32, v: &mut f32, g: f32, t: i32, lr: f64) {
+        let c1 = 1.0 - BETA1.powi(t);
+        let c2 = 1.0 - BETA2.powi(t);
+        let (b1, b2) = (BETA1 as f32, BETA2 as f32);
+        let (one_b1, one_b2) = ((1.0 - BETA1) as f32, (1.0 - BETA2) as f32);
+        *m = b1 * *m + one_b1 * g;
+        *v = b2 * *v + one_b2 * g * g;
+        let step = (lr * c2.sqrt() / c1) as f32;
+        let eps = (EPSILON * c2.sqrt()) as f32;
+        *p -= step * *m / (v.sqrt() + eps);
+    }
+
+    #[test]
+    fn a_weight_whose_gradient_stops_never_keeps_a_subnormal_moment() {
+        // Three weights: one learning, one whose gradient stops (a unit that fell silent), one
+        // with gradients too small to move it.
+        let mut params = Mlp::<f32>::zeros();
+        let mut grad = Mlp::<f32>::zeros();
+        let mut adam = Adam::new(0.005);
+        let mut textbook = [(0.0f32, 0.0f32, 0.0f32); 3];
+        let mut subnormal_in_textbook = false;
+        for t in 1..=3000 {
+            let gradients = [
+                (t as f32 * 0.37).sin() * 1e-2,
+                if t <= 50 { 1e-3 } else { 0.0 },
+                1e-20,
+            ];
+            for (g, value) in grad.parameters_mut().zip(gradients) {
+                *g = value;
+            }
+            adam.step(&mut params, &grad);
+            for ((p, m, v), g) in textbook.iter_mut().zip(gradients) {
+                textbook_step(p, m, v, g, t, 0.005);
+                subnormal_in_textbook |= m.is_subnormal() || v.is_subnormal();
+            }
+            let mut moments = adam.m.parameters().chain(adam.v.parameters());
+            assert!(moments.all(|x| !x.is_subnormal()), "step {t}");
+            let learned: Vec<f32> = params.parameters().take(3).copied().collect();
+            // The learning weight and the silent one move as the textbook's do; the flush only
+            // cuts the tails the textbook keeps as subnormal numbers.
+            assert_eq!(learned[0].to_bits(), textbook[0].0.to_bits(), "step {t}");
+            assert_eq!(learned[1].to_bits(), textbook[1].0.to_bits(), "step {t}");
+            assert!(learned[2].abs() < 1e-9, "step {t}: {}", learned[2]);
+        }
+        assert!(
+            subnormal_in_textbook,
+            "the test's gradients must drive the textbook's moments subnormal"
+        );
     }
 }
