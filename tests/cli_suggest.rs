@@ -234,3 +234,46 @@ fn a_grid_of_pushes_is_ranked_instead_of_the_recordings() {
         text(&output.stderr)
     );
 }
+
+#[test]
+fn the_columns_line_up_under_their_header_with_mit_files_long_names() {
+    let folder = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push-abs-train");
+    let Ok(entries) = std::fs::read_dir(&folder) else {
+        eprintln!("skipped: {} is absent", folder.display());
+        return;
+    };
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.to_string_lossy().contains("shape=ellip1_"))
+        .collect();
+    files.sort();
+    files.truncate(4);
+    let args: Vec<&std::ffi::OsStr> = files.iter().map(|p| p.as_os_str()).collect();
+    let output = suggest(&args);
+    let stdout = text(&output.stdout);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let header = stdout
+        .lines()
+        .find(|l| l.starts_with("rank"))
+        .expect("a header");
+    // Where each word ends, counted in characters (the header's σ is two bytes).
+    let ends = |line: &str| -> Vec<usize> {
+        let chars: Vec<char> = line.chars().collect();
+        (0..chars.len())
+            .filter(|&i| chars[i] != ' ' && chars.get(i + 1).is_none_or(|c| *c == ' '))
+            .map(|i| i + 1)
+            .collect()
+    };
+    let header_ends = ends(header);
+    let rows = ranked_rows(&stdout);
+    assert_eq!(rows.len(), files.len(), "{stdout}");
+    for row in rows {
+        assert!(row.contains("motion_surface=abs_shape=ellip1_"), "{row}");
+        let row_ends = ends(row);
+        // The rank and the face (an ellipse's faces are numbered) end where their headers do,
+        // after names of 60 characters; the row ends under "shrinks".
+        assert_eq!(row_ends[0], header_ends[0], "{stdout}");
+        assert_eq!(row_ends[2], header_ends[2], "{stdout}");
+        assert_eq!(row_ends.last(), header_ends.last(), "{stdout}");
+    }
+}

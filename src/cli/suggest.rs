@@ -253,17 +253,20 @@ fn criterion_words(criterion: Criterion) -> &'static str {
 }
 
 fn print_ranking(ranking: &Ranking, top: Option<usize>) {
+    let shown = &ranking.suggestions[..ranking.suggestions.len().min(top.unwrap_or(usize::MAX))];
+    // As wide as the longest name shown: an MIT file's name is 60 characters, a set's push 10.
+    let width = shown
+        .iter()
+        .map(|s| s.name.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max("push".len());
     println!(
-        "{:>4}  {:<20} {:>4} {:>9} {:>6} {:>7}  {:>11} {:>8}",
+        "{:>4}  {:<width$} {:>4} {:>9} {:>6} {:>7}  {:>11} {:>8}",
         "rank", "push", "face", "offset", "angle", "length", "COM σ after", "shrinks"
     );
     let now = ranking.com_std_now_m;
-    for (i, s) in ranking
-        .suggestions
-        .iter()
-        .take(top.unwrap_or(usize::MAX))
-        .enumerate()
-    {
+    for (i, s) in shown.iter().enumerate() {
         let shape = match &s.shape {
             // A rounding's sign ("-0.0") says nothing.
             Some(p) => format!(
@@ -281,7 +284,7 @@ fn print_ranking(ranking: &Ranking, top: Option<usize>) {
             0.0
         };
         println!(
-            "{:>4}  {:<20} {shape}  {:>8.1} mm {:>6.0} %",
+            "{:>4}  {:<width$} {shape}  {:>8.1} mm {:>6.0} %",
             i + 1,
             s.name,
             s.com_std_after_m * 1e3,
