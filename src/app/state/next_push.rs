@@ -13,7 +13,7 @@
 //! is not shown; a later frame leaves it shown, with the frame it is for. The scene draws the best
 //! few as arrows on the object.
 
-use pushlab_core::experiment::suggest::{Criterion, Ranking, rank_in_slices};
+use pushlab_core::experiment::suggest::{Criterion, PushGrid, Ranking, rank_in_slices};
 use pushlab_core::recording::Recording;
 
 use super::job::{Job, progress_of, take_ended};
@@ -29,6 +29,12 @@ pub enum NextPushCommand {
     Suggest,
     /// Stop the ranking under way.
     Cancel,
+}
+
+/// The grid of pushes the app ranks when no other push of the object is open: the core's default,
+/// what `pushlab suggest --grid` lays out unless told otherwise.
+pub fn grid() -> PushGrid {
+    PushGrid::default()
 }
 
 /// What the ranking chooses among.

@@ -6,7 +6,6 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use pushlab_core::experiment::suggest::PushGrid;
 use pushlab_core::inspect::Rollout;
 use pushlab_core::learn::MeanLosses;
 use pushlab_core::model::OnlineParams;
@@ -27,7 +26,7 @@ use super::labels::Labeling;
 use super::landscape::LandscapeSource;
 use super::landscape::LandscapeState;
 use super::models::Models;
-use super::next_push::{Candidates, NextPushState, ToRank};
+use super::next_push::{Candidates, NextPushState, ToRank, grid};
 use super::online::OnlineRun;
 use super::overview::PathOverview;
 use super::proposals::Pending;
@@ -147,8 +146,7 @@ impl AppState {
                 from: Candidates::Open,
             };
         }
-        let grid = (self.session.selected_recording())
-            .and_then(|shown| PushGrid::default().pushes(shown).ok());
+        let grid = (self.session.selected_recording()).and_then(|shown| grid().pushes(shown).ok());
         match grid {
             Some(grid) => ToRank {
                 pushes: grid.pushes,

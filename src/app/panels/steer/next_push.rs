@@ -5,7 +5,7 @@
 
 use eframe::egui;
 
-use crate::app::state::next_push::{ARROWS, Candidates, NextPushCommand};
+use crate::app::state::next_push::{ARROWS, Candidates, NextPushCommand, grid};
 use crate::app::state::{AppState, Command};
 
 /// Rows of the ranking listed.
@@ -34,10 +34,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     }
     let candidates = state.other_pushes_of_object().len();
     let among = match candidates {
-        0 => "a grid of pushes laid out on the object (every side, at -0.6, 0 and 0.6 of each face's \
-              half length, straight in and 20° either way, 10 cm long), as no other push of it is \
-              open"
-            .to_owned(),
+        0 => format!(
+            "a grid of pushes laid out on the object ({}), as no other push of it is open",
+            grid()
+        ),
         n => format!("the object's {n} other open pushes"),
     };
     let result = ranking.result_for(run);
@@ -74,9 +74,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             .weak(),
         )
         .on_hover_text(match left_out.as_slice() {
-            [] => "Every side, at -0.6, 0 and 0.6 of each face's half length, straight in and 20° \
-                   either way, 10 cm long (pushlab suggest --grid)"
-                .to_owned(),
+            [] => format!("Laid out: {} (pushlab suggest --grid)", grid()),
             left_out => format!(
                 "Left out, as they cannot be pushed: {}",
                 left_out.join("; ")

@@ -126,6 +126,98 @@ impl PushGrid {
     }
 }
 
+/// The grid in words, as the app says what it ranked: "every side, at -0.6, 0 and 0.6 of each
+/// face's half length, straight in and 20° either way, 10 cm long".
+impl std::fmt::Display for PushGrid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let every_side = PushSide::ALL.iter().all(|s| self.sides.contains(s));
+        let sides = if every_side {
+            "every side".to_owned()
+        } else {
+            let names: Vec<&str> = self.sides.iter().map(|s| s.name()).collect();
+            let plural = if names.len() == 1 { "side" } else { "sides" };
+            format!("the {} {plural}", listed(&names))
+        };
+        let offsets: Vec<String> = self.offsets.iter().map(|&x| number(x)).collect();
+        let mut angles = self.angles_deg.clone();
+        angles.sort_by(f64::total_cmp);
+        let angles = match angles.as_slice() {
+            [zero] if *zero == 0.0 => "straight in".to_owned(),
+            [low, zero, high] if *zero == 0.0 && *high > 0.0 && *low == -*high => {
+                format!("straight in and {}° either way", number(*high))
+            }
+            _ => {
+                let each: Vec<String> = self.angles_deg.iter().map(|&a| number(a)).collect();
+                format!("at {}° from straight in", listed(&each))
+            }
+        };
+        write!(
+            f,
+            "{sides}, at {} of each face's half length, {angles}, {} cm long",
+            listed(&offsets),
+            number(self.length_m * 1e2)
+        )
+    }
+}
+
+/// "a", "a and b", "a, b and c".
+fn listed<S: AsRef<str>>(items: &[S]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.as_ref().to_owned(),
+        [rest @ .., last] => {
+            let rest: Vec<&str> = rest.iter().map(AsRef::as_ref).collect();
+            format!("{} and {}", rest.join(", "), last.as_ref())
+        }
+    }
+}
+
+/// `x` with at most two decimals and no trailing zeros ("0.6", "10", "-20"; no "-0").
+fn number(x: f64) -> String {
+    let text = format!("{:.2}", x + 0.0);
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".to_owned()
+    } else {
+        text.to_owned()
+    }
+}
+
 fn positive(x: f64) -> Option<f64> {
     (x.is_finite() && x > 0.0).then_some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_grid_says_what_it_lays_out() {
+        assert_eq!(
+            PushGrid::default().to_string(),
+            "every side, at -0.6, 0 and 0.6 of each face's half length, straight in and 20° \
+             either way, 10 cm long"
+        );
+        let grid = PushGrid {
+            sides: vec![PushSide::Left],
+            offsets: vec![0.0],
+            angles_deg: vec![0.0],
+            length_m: 0.05,
+        };
+        assert_eq!(
+            grid.to_string(),
+            "the left side, at 0 of each face's half length, straight in, 5 cm long"
+        );
+        let grid = PushGrid {
+            sides: vec![PushSide::Front, PushSide::Back],
+            offsets: vec![-0.25, 0.5],
+            angles_deg: vec![10.0, -5.0],
+            length_m: 0.125,
+        };
+        assert_eq!(
+            grid.to_string(),
+            "the front and back sides, at -0.25 and 0.5 of each face's half length, at 10 and -5° \
+             from straight in, 12.5 cm long"
+        );
+    }
 }
