@@ -7,9 +7,9 @@ mod common;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use pushlab::app::state::Persisted;
 use pushlab::app::state::demo::DemoCommand;
 use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::{Command, Persisted};
 use pushlab::app::{PushlabApp, demo_suite_path, export, initial_state};
 use pushlab_core::experiment::split_of;
 use pushlab_core::experiment::suite::SuiteSpec;
@@ -46,7 +46,8 @@ fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
         harness.get_by_label(&experiment.name).click();
         harness.run_steps(2);
         assert!(harness.state().view.presentation, "{}", experiment.name);
-        let offline = experiment.offline.clone();
+        // A model is trained once for each offline set and kind (the store keeps both kinds).
+        let offline = (experiment.offline.clone(), spec.models_of(experiment)[0]);
         let reused = trained_for.contains(&offline);
         if !reused {
             assert!(
@@ -113,6 +114,68 @@ fn every_preset_opens_its_online_set_and_step_learns_one_frame() {
         assert_ne!(after, before);
         assert!(after.starts_with("After 1 frame learned"), "{after}");
     }
+}
+
+/// The preset that shows the weighting: the paper's network, trained on box1, pushes box2, which it
+/// never saw. Over the first online push the prediction turns to physics alone for the translation,
+/// and the narration says so and why; the weights are the run's (`tests/app_equals_eval.rs`: to
+/// the bit `pushlab eval --physics`'s).
+#[test]
+fn the_papers_network_on_an_object_it_never_saw_turns_to_physics() {
+    let name = "R3a objects, the paper's network";
+    let mut state = initial_state(&[], Persisted::default());
+    state.keep_files_in(Some(common::scratch_dir("demo-trust")));
+    let mut harness = common::harness(PushlabApp::new(state), 0.05);
+    harness.run_steps(2);
+    harness.get_by_label("Demos").click();
+    harness.run_steps(2);
+    harness.get_by_label(name).click();
+    harness.run_steps(2);
+    common::run_until(&mut harness, "the demo's model", |app| {
+        !app.state.training().is_running()
+    });
+    let state = &mut harness.state_mut().state;
+    assert_eq!(
+        state.models().learner_name(),
+        "combined model (paper)",
+        "{:?}",
+        state.status()
+    );
+    let samples = state.run().expect("a run").sample_count();
+    for _ in 0..samples {
+        state.apply(Command::Timeline(TimelineCommand::Step(1)));
+    }
+    harness.run_steps(2);
+    let run = harness.state().state.run().expect("a run");
+    let weight = run.model_weight().expect("weighed against physics alone");
+    let end = weight.at(run.frontier());
+    assert!(
+        end.pos < 0.5,
+        "the translation still trusts the network: {end:?}"
+    );
+    // Physics took over early: most frames' translation trusted it.
+    let physics_frames = (weight.frames().iter())
+        .filter(|f| f.weight.pos < 0.5)
+        .count();
+    assert!(
+        physics_frames * 2 > weight.frames().len(),
+        "{physics_frames} of {} frames",
+        weight.frames().len()
+    );
+    // And the blend predicted the push's translation better than the network did.
+    let frames = weight.frames().len() as f64;
+    let weighted = weight.frames().iter().map(|f| f.loss.pos).sum::<f64>() / frames;
+    let combined = run.mean_losses().expect("frames learned").online_pos;
+    assert!(weighted < combined, "{weighted} against {combined}");
+    let narration = narration_shown(&harness);
+    assert!(
+        narration.contains(&format!(
+            "Trusting physics {:.2} for the translation: the network has predicted this object's \
+             translation worse than Lynch's model alone over the last 4 s.",
+            1.0 - end.pos
+        )),
+        "{narration}"
+    );
 }
 
 #[test]

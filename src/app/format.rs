@@ -29,6 +29,21 @@ pub fn count(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
+/// How much the prediction trusts the combined model or physics alone for one `part` of the motion
+/// ("translation", "rotation"), given the combined model's weight and the seconds its evidence
+/// mostly covers, and why where physics is trusted: the Steer tab's words and the demo narration's.
+pub fn trust(part: &str, combined_weight: f64, window_s: f64) -> String {
+    if combined_weight >= 0.5 {
+        format!("Trusting the combined model {combined_weight:.2} for the {part}")
+    } else {
+        format!(
+            "Trusting physics {:.2} for the {part}: the network has predicted this object's {part} \
+             worse than Lynch's model alone over the last {window_s:.0} s",
+            1.0 - combined_weight
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]

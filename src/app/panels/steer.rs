@@ -92,17 +92,7 @@ fn model_weights(ui: &mut egui::Ui, run: &learn::OnlineRun, frame: usize) {
     ui.heading("Network or physics alone");
     let w = weight.at(frame);
     for (part, w) in [("translation", w.pos), ("rotation", w.rot)] {
-        let text = if w >= 0.5 {
-            format!("{part}: trusting the combined model {w:.2}")
-        } else {
-            format!(
-                "{part}: trusting physics {:.2}: the network has predicted this object's {part} \
-                 worse than Lynch's model alone over the last {:.0} s",
-                1.0 - w,
-                2.0 * weight.half_life_s()
-            )
-        };
-        ui.label(text);
+        ui.label(format::trust(part, w, 2.0 * weight.half_life_s()));
     }
     ui.label(
         egui::RichText::new(

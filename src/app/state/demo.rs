@@ -10,9 +10,10 @@
 use std::path::{Path, PathBuf};
 
 use pushlab_core::experiment::suite::SuiteSpec;
-use pushlab_core::learn::MeanLosses;
+use pushlab_core::learn::{MeanLosses, Weights};
 
 use super::session::RecordingId;
+use crate::app::format;
 
 /// What the Demos menu asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,6 +82,9 @@ pub struct NarrationNumbers {
     pub com_true: Option<[f64; 2]>,
     /// Mean losses over the frames learned so far (`None`: nothing learned yet).
     pub losses: Option<MeanLosses>,
+    /// The combined model's weights against physics alone at the frame learned last, and the
+    /// seconds their evidence mostly covers, when the run weighs the two.
+    pub trust: Option<(Weights, f64)>,
 }
 
 /// One plain sentence on what online learning has done so far.
@@ -125,7 +129,16 @@ pub fn narration(n: &NarrationNumbers) -> String {
         1 => "1 frame".to_owned(),
         k => format!("{k} frames"),
     };
-    format!("After {frames} learned, {com}; {loss}.")
+    let mut text = format!("After {frames} learned, {com}; {loss}.");
+    // Only where physics is trusted: that is what a class should see happen.
+    if let Some((weights, window_s)) = n.trust {
+        for (part, w) in [("translation", weights.pos), ("rotation", weights.rot)] {
+            if w < 0.5 {
+                text += &format!(" {}.", format::trust(part, w, window_s));
+            }
+        }
+    }
+    text
 }
 
 /// The online loss against the fixed model's, in words.
@@ -187,6 +200,7 @@ mod tests {
             com_now: now,
             com_true: truth,
             losses,
+            trust: None,
         })
     }
 
@@ -231,6 +245,29 @@ mod tests {
                 && slightly.contains("15 % above the fixed model's: adapting has not helped"),
             "{slightly}"
         );
+    }
+
+    #[test]
+    fn says_where_the_prediction_trusts_physics_and_why() {
+        let with = |pos, rot| {
+            narration(&NarrationNumbers {
+                com_start: [0.0, 0.0],
+                com_now: [0.0, 0.0],
+                com_true: None,
+                losses: losses(30, 0.3, 0.6),
+                trust: Some((Weights { pos, rot }, 4.0)),
+            })
+        };
+        assert_eq!(
+            with(0.38, 0.7),
+            "After 30 frames learned, the estimated COM has hardly moved (the true COM is not \
+             known); the online loss is now 2× below the fixed model's. Trusting physics 0.62 for \
+             the translation: the network has predicted this object's translation worse than \
+             Lynch's model alone over the last 4 s."
+        );
+        // Where the network is trusted, nothing is added.
+        assert!(with(0.8, 0.9).ends_with("below the fixed model's."));
+        assert_eq!(with(0.1, 0.2).matches("Trusting physics").count(), 2);
     }
 
     #[test]

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pushlab_core::domain::DomainMismatch;
+use pushlab_core::model::ModelKind;
 use pushlab_core::model_file::ModelFile;
 
 use super::AppState;
@@ -118,7 +119,7 @@ impl AppState {
         self.use_model_file(file, source);
     }
 
-    /// Saves a model trained for `folders` in the model store, named after them.
+    /// Saves a model trained for `folders` in the model store, at [`Self::store_path`].
     fn store_for(&self, folders: &[PathBuf], file: &ModelFile) -> Result<PathBuf, String> {
         let store = self
             .model_store
@@ -126,6 +127,17 @@ impl AppState {
             .ok_or("the app has no folder to keep models in")?;
         pushlab_core::files::create_dir_all(store)
             .map_err(|e| format!("cannot create {}: {e}", store.display()))?;
+        let path = (self.store_path(folders, file.combined.kind()))
+            .ok_or("the app has no folder to keep models in")?;
+        file.save(&path).map_err(|e| e.to_string())?;
+        Ok(path)
+    }
+
+    /// Where the model store keeps the model of `kind` trained for `folders`: named after the
+    /// first folder and the kind, and a hash of them all, so that a model of the other kind for
+    /// the same folders is kept beside it.
+    pub(super) fn store_path(&self, folders: &[PathBuf], kind: ModelKind) -> Option<PathBuf> {
+        let store = self.model_store.as_ref()?;
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         folders.hash(&mut hasher);
         let name = folders
@@ -133,9 +145,7 @@ impl AppState {
             .and_then(|f| f.file_name())
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "recordings".to_owned());
-        let path = store.join(format!("{name}-{:016x}.json", hasher.finish()));
-        file.save(&path).map_err(|e| e.to_string())?;
-        Ok(path)
+        Some(store.join(format!("{name}-{kind}-{:016x}.json", hasher.finish())))
     }
 
     /// After recordings were opened: reopens the model remembered for their folders, if any and if

@@ -5,7 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use pushlab_core::experiment::{ModelVariant, split_of};
+use pushlab_core::files;
 use pushlab_core::labels::Split;
+use pushlab_core::model::ModelKind;
 use pushlab_core::model_file::ModelFile;
 
 use super::AppState;
@@ -60,9 +62,9 @@ impl AppState {
         self.settings.learn_while_playing = true;
         self.session.selected = Some(shown);
         self.start_run();
-        let variant =
-            (spec.models.first().copied()).unwrap_or(ModelVariant::Kind(self.training.kind));
-        let remembered = self.demo_model_for(&offline_paths);
+        let variant = (spec.models_of(experiment).first().copied())
+            .unwrap_or(ModelVariant::Kind(self.training.kind));
+        let remembered = self.demo_model_for(&offline_paths, variant.kind());
         let model = match remembered {
             Some((file, path)) => {
                 self.use_model_file(file, path.display().to_string());
@@ -93,16 +95,22 @@ impl AppState {
         Ok(())
     }
 
-    /// The model remembered for all of these folders (one file), if it can be read.
-    fn demo_model_for(&self, folders: &[PathBuf]) -> Option<(ModelFile, PathBuf)> {
-        let path = self.settings.folder_models.get(folders.first()?)?;
-        if folders
-            .iter()
-            .any(|f| self.settings.folder_models.get(f) != Some(path))
-        {
-            return None;
-        }
-        Some((ModelFile::load(path).ok()?, path.clone()))
+    /// A model of `kind` trained before for these folders, if one can be read: the one the model
+    /// store keeps for them and this kind, else the one remembered for all of them if it is of this
+    /// kind. (Two demos may train two kinds on the same folders: the folders remember the newer,
+    /// the store keeps both.)
+    fn demo_model_for(&self, folders: &[PathBuf], kind: ModelKind) -> Option<(ModelFile, PathBuf)> {
+        let stored = self.store_path(folders, kind).filter(|p| files::is_file(p));
+        let remembered = || {
+            let path = self.settings.folder_models.get(folders.first()?)?;
+            let all = (folders.iter()).all(|f| self.settings.folder_models.get(f) == Some(path));
+            all.then(|| path.clone())
+        };
+        [stored, remembered()]
+            .into_iter()
+            .flatten()
+            .filter_map(|path| Some((ModelFile::load(&path).ok()?, path)))
+            .find(|(file, _)| file.combined.kind() == kind)
     }
 
     /// The open recordings under any of `paths` in the split wanted (`None`: any).
@@ -154,6 +162,9 @@ impl AppState {
             com_now: run.theta_at(run.frontier()).com_offset,
             com_true: self.recording().and_then(|r| r.setting.com_offset),
             losses: run.mean_losses(),
+            trust: run
+                .model_weight()
+                .map(|w| (w.at(run.frontier()), 2.0 * w.half_life_s())),
         })
     }
 }

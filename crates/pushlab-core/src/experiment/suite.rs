@@ -12,6 +12,10 @@
 //!       "online": ["sample-data/box1-paper-center-left"] } ] }
 //! ```
 //!
+//! An experiment may compare fewer models than the suite (`"models": ["paper"]`, each one of the
+//! suite's): its first is the one weighed with physics alone, and the one its demo in the app
+//! shows.
+//!
 //! Experiments run in parallel, one per worker thread; each is computed exactly as alone (seeded
 //! training, nothing shared), so the numbers do not depend on the number of workers.
 
@@ -80,6 +84,11 @@ pub struct ExperimentSpec {
     pub online: Vec<String>,
     #[serde(default)]
     pub horizon: Option<usize>,
+    /// The models this experiment compares, when not all of the suite's (each one of them, so
+    /// that the table has its columns): the first is the one weighed with physics alone, and the
+    /// one its demo trains and shows.
+    #[serde(default)]
+    pub models: Option<Vec<ModelVariant>>,
 }
 
 fn one() -> usize {
@@ -167,6 +176,21 @@ impl SuiteSpec {
                     e.name
                 )));
             }
+            if let Some(models) = &e.models {
+                if models.is_empty() {
+                    return Err(invalid(format!(
+                        "experiments[{i}] (\"{}\"): \"models\" is empty: leave it out to compare the suite's",
+                        e.name
+                    )));
+                }
+                if let Some(other) = models.iter().find(|m| !spec.models.contains(m)) {
+                    return Err(invalid(format!(
+                        "experiments[{i}] (\"{}\"): \"models\" names {}, which is not one of the suite's \"models\" (its table has no column for it)",
+                        e.name,
+                        other.name()
+                    )));
+                }
+            }
         }
         Ok(spec)
     }
@@ -174,6 +198,12 @@ impl SuiteSpec {
     /// The horizon `experiment` runs at: its own, else the suite's.
     pub fn horizon_of(&self, experiment: &ExperimentSpec) -> usize {
         experiment.horizon.unwrap_or(self.horizon)
+    }
+
+    /// The models `experiment` compares, in order: its own, else the suite's. The first is weighed
+    /// with physics alone, and is what its demo trains and shows.
+    pub fn models_of<'a>(&'a self, experiment: &'a ExperimentSpec) -> &'a [ModelVariant] {
+        experiment.models.as_deref().unwrap_or(&self.models)
     }
 
     /// The split the recordings of a role (offline or online) must be in to be used: `Some` when the
@@ -285,7 +315,7 @@ pub fn run_experiment(
     if !result.errors.is_empty() {
         return result;
     }
-    for (i, &variant) in spec.models.iter().enumerate() {
+    for (i, &variant) in spec.models_of(experiment).iter().enumerate() {
         let started = Instant::now();
         let config = spec.train_config(experiment, variant);
         let trained =
@@ -425,6 +455,61 @@ pub fn expand(base: &Path, paths: &[String]) -> Vec<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A suite of one experiment on the sample data (paths relative to the repository's
+    /// `experiments/` folder), written to a scratch file; `experiment` is the experiment's JSON
+    /// members after its name and paths.
+    fn one_experiment_suite(file: &str, experiment: &str) -> Result<SuiteSpec, SuiteError> {
+        let dir = std::env::temp_dir().join(format!("pushlab-suite-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("a scratch folder");
+        let path = dir.join(file);
+        let json = format!(
+            r#"{{ "horizon": 10, "split_from_labels": true, "epochs": 1, "models": ["contact", "paper"],
+                "experiments": [ {{ "name": "R3a", "offline": ["../sample-data/box1-paper-center-front"],
+                "online": ["../sample-data/box2-paper-center-front"]{experiment} }} ] }}"#
+        );
+        std::fs::write(&path, json).expect("the suite written");
+        SuiteSpec::load(&path)
+    }
+
+    #[test]
+    fn an_experiment_compares_only_its_own_models_and_weighs_the_first() {
+        let spec = one_experiment_suite("own.json", r#", "models": ["paper"]"#).expect("loads");
+        assert_eq!(
+            spec.models_of(&spec.experiments[0]),
+            [ModelVariant::Kind(ModelKind::Paper)]
+        );
+        let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments");
+        let result = run_experiment(&spec, &spec.experiments[0], &base, &AtomicBool::new(false));
+        assert!(result.errors.is_empty(), "{:?}", result.errors);
+        let models: Vec<ModelVariant> = result.models.iter().map(|m| m.model).collect();
+        assert_eq!(models, [ModelVariant::Kind(ModelKind::Paper)]);
+        let physics = result.physics.expect("physics alone beside it");
+        assert!(physics.weighted.is_some(), "the paper model weighed");
+        // Without its own list, the suite's two.
+        let all = one_experiment_suite("all.json", "").expect("loads");
+        assert_eq!(all.models_of(&all.experiments[0]), all.models.as_slice());
+    }
+
+    #[test]
+    fn an_experiments_models_must_be_some_of_the_suites() {
+        let empty = one_experiment_suite("empty.json", r#", "models": []"#)
+            .expect_err("an empty list is refused");
+        assert!(
+            empty.to_string().ends_with(
+                r#"experiments[0] ("R3a"): "models" is empty: leave it out to compare the suite's"#
+            ),
+            "{empty}"
+        );
+        let other = one_experiment_suite("other.json", r#", "models": ["paper-augmented"]"#)
+            .expect_err("a model the suite has no column for is refused");
+        assert!(
+            other.to_string().ends_with(
+                r#"experiments[0] ("R3a"): "models" names paper-augmented, which is not one of the suite's "models" (its table has no column for it)"#
+            ),
+            "{other}"
+        );
+    }
 
     #[test]
     fn a_model_cancelled_before_its_first_epoch_ended_is_an_error_not_a_row() {
