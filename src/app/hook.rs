@@ -50,6 +50,12 @@ pub struct Shown {
     pub cameras: Vec<ShownCamera>,
     /// The Demos menu's presets, by name (what `command({demo})` takes).
     pub demos: Vec<String>,
+    /// The presentation layout's narration line, as it reads now.
+    pub narration: String,
+    /// The combined model's weight against physics alone for the translation and the rotation at
+    /// the frame shown (the Steer tab's and the *Network's weight* plot's); `null` when the run
+    /// does not weigh them.
+    pub weight: Option<[f64; 2]>,
     /// Frames the page has drawn, and the app's CPU time on the newest (eframe's own figure, ms):
     /// for the guide's performance figures. Only a page fills them.
     pub frames_drawn: Option<u64>,
@@ -152,6 +158,11 @@ pub fn shown(state: &AppState) -> Shown {
         demos: (state.demos().names().into_iter())
             .map(str::to_owned)
             .collect(),
+        narration: state.narration(),
+        weight: run
+            .and_then(|r| r.model_weight())
+            .map(|w| w.at(frame))
+            .map(|w| [w.pos, w.rot]),
         frames_drawn: None,
         frame_cpu_ms: None,
     }
