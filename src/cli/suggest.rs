@@ -10,7 +10,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::atomic_file::write_atomically;
 use pushlab_core::experiment::suggest::{
-    self, Choice, Criterion, GridError, LearnedPush, ObjectPushes, PushGrid, Ranking,
+    self, Choice, Criterion, LearnedPush, ObjectPushes, PushGrid, Ranking,
 };
 use pushlab_core::experiment::{self, UsedRecording};
 use pushlab_core::learn::OnlineConfig;
@@ -216,11 +216,15 @@ fn grid_pushes(args: &SuggestArgs, like: &Recording) -> Result<Vec<Recording>, F
         angles_deg: args.grid_angles.clone().unwrap_or(defaults.angles_deg),
         length_m: args.grid_length.unwrap_or(defaults.length_m),
     };
-    let pushes = grid.pushes(like).map_err(|e| match e {
-        GridError::Outline(_) => Failure::Failed(anyhow!("{e}")),
-        // The error names the grid's field, which is the option's name after `--grid-`.
-        _ => Failure::Usage(anyhow!("--grid-{e}")),
-    })?;
+    if let Some(bad) = grid.offsets.iter().find(|f| f.is_nan() || f.abs() >= 1.0) {
+        return Err(Failure::Usage(anyhow!(
+            "--grid-offsets {bad}: an offset is a fraction of the face's half length, between -1 \
+             and 1"
+        )));
+    }
+    let pushes = grid
+        .pushes(like)
+        .map_err(|e| Failure::Failed(anyhow!("the object's outline: {e}")))?;
     for skipped in &pushes.skipped {
         eprintln!("grid push left out: {skipped}");
     }

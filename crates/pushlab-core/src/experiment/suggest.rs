@@ -30,7 +30,7 @@ use crate::recording::Recording;
 use crate::rng::SplitMix64;
 use crate::slices;
 
-pub use grid::{APPROACH_M, GridError, GridPushes, PushGrid};
+pub use grid::{APPROACH_M, GridPushes, PushGrid};
 
 /// What "the COM's uncertainty" a push should shrink is.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]

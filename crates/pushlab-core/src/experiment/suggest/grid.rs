@@ -57,45 +57,10 @@ pub struct GridPushes {
     pub speed: f64,
 }
 
-/// Why a grid cannot be laid out: a value outside what it means (named by the grid's field), or
-/// the object's outline.
-#[derive(Debug, thiserror::Error)]
-pub enum GridError {
-    #[error("offsets: {0} is not a fraction of the face's half length between -1 and 1")]
-    Offset(f64),
-    #[error("angles: {0}° is not an angle from the face's normal between -90° and 90°")]
-    Angle(f64),
-    #[error("length: {0} m is not a length above 0")]
-    Length(f64),
-    #[error("the object's outline: {0}")]
-    Outline(#[from] OutlineError),
-}
-
 impl PushGrid {
-    /// Whether every value means what its field says: offsets inside the face (−1 to 1, ends
-    /// excluded: the pusher would touch the corner), angles that push into the face (under 90°
-    /// from its normal), a length above zero. The first value that does not, as an error.
-    pub fn check(&self) -> Result<(), GridError> {
-        if let Some(&bad) = self.offsets.iter().find(|f| f.is_nan() || f.abs() >= 1.0) {
-            return Err(GridError::Offset(bad));
-        }
-        if let Some(&bad) = self
-            .angles_deg
-            .iter()
-            .find(|a| a.is_nan() || a.abs() >= 90.0)
-        {
-            return Err(GridError::Angle(bad));
-        }
-        if positive(self.length_m).is_none() {
-            return Err(GridError::Length(self.length_m));
-        }
-        Ok(())
-    }
-
     /// The grid's pushes on the object of `like` (a recording of it), at `like`'s frame rate and
-    /// pusher speed; an error where [`PushGrid::check`] finds one.
-    pub fn pushes(&self, like: &Recording) -> Result<GridPushes, GridError> {
-        self.check()?;
+    /// pusher speed.
+    pub fn pushes(&self, like: &Recording) -> Result<GridPushes, OutlineError> {
         let outline = like.setting.object.outline()?;
         let rate_hz = positive(like.trajectory.mean_rate_hz()).unwrap_or(10.0);
         let speed = like
@@ -225,31 +190,6 @@ fn positive(x: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_grid_with_a_value_outside_its_meaning_names_the_field_and_the_value() {
-        assert!(PushGrid::default().check().is_ok());
-        let with = |change: fn(&mut PushGrid)| {
-            let mut grid = PushGrid::default();
-            change(&mut grid);
-            grid.check().map_err(|e| e.to_string())
-        };
-        assert_eq!(
-            with(|g| g.offsets = vec![0.0, -1.0]),
-            Err("offsets: -1 is not a fraction of the face's half length between -1 and 1".into())
-        );
-        assert!(with(|g| g.offsets = vec![f64::NAN]).is_err());
-        assert!(with(|g| g.offsets = vec![-0.99, 0.99]).is_ok());
-        assert_eq!(
-            with(|g| g.angles_deg = vec![90.0]),
-            Err("angles: 90° is not an angle from the face's normal between -90° and 90°".into())
-        );
-        assert_eq!(
-            with(|g| g.length_m = 0.0),
-            Err("length: 0 m is not a length above 0".into())
-        );
-        assert!(with(|g| g.length_m = f64::INFINITY).is_err());
-    }
 
     #[test]
     fn a_grid_says_what_it_lays_out() {
