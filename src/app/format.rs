@@ -30,9 +30,11 @@ pub fn count(n: usize, one: &str, many: &str) -> String {
 }
 
 /// How much the prediction trusts the combined model or physics alone for one `part` of the motion
-/// ("translation", "rotation"), given the combined model's weight and the seconds its evidence
-/// mostly covers, and why where physics is trusted: the Steer tab's words and the demo narration's.
-pub fn trust(part: &str, combined_weight: f64, window_s: f64) -> String {
+/// ("translation", "rotation"), given the combined model's weight and its evidence's half-life, and
+/// why where physics is trusted: the Steer tab's words and the demo narration's. The words speak of
+/// twice the half-life, the seconds the evidence mostly covers.
+pub fn trust(part: &str, combined_weight: f64, half_life_s: f64) -> String {
+    let window_s = 2.0 * half_life_s;
     if combined_weight >= 0.5 {
         format!("Trusting the combined model {combined_weight:.2} for the {part}")
     } else {

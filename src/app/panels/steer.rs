@@ -92,7 +92,7 @@ fn model_weights(ui: &mut egui::Ui, run: &learn::OnlineRun, frame: usize) {
     ui.heading("Network or physics alone");
     let w = weight.at(frame);
     for (part, w) in [("translation", w.pos), ("rotation", w.rot)] {
-        ui.label(format::trust(part, w, 2.0 * weight.half_life_s()));
+        ui.label(format::trust(part, w, weight.half_life_s()));
     }
     ui.label(
         egui::RichText::new(

@@ -82,8 +82,8 @@ pub struct NarrationNumbers {
     pub com_true: Option<[f64; 2]>,
     /// Mean losses over the frames learned so far (`None`: nothing learned yet).
     pub losses: Option<MeanLosses>,
-    /// The combined model's weights against physics alone at the frame learned last, and the
-    /// seconds their evidence mostly covers, when the run weighs the two.
+    /// The combined model's weights against physics alone at the frame learned last, and their
+    /// evidence's half-life in seconds, when the run weighs the two.
     pub trust: Option<(Weights, f64)>,
 }
 
@@ -131,10 +131,10 @@ pub fn narration(n: &NarrationNumbers) -> String {
     };
     let mut text = format!("After {frames} learned, {com}; {loss}.");
     // Only where physics is trusted: that is what a class should see happen.
-    if let Some((weights, window_s)) = n.trust {
+    if let Some((weights, half_life_s)) = n.trust {
         for (part, w) in [("translation", weights.pos), ("rotation", weights.rot)] {
             if w < 0.5 {
-                text += &format!(" {}.", format::trust(part, w, window_s));
+                text += &format!(" {}.", format::trust(part, w, half_life_s));
             }
         }
     }
@@ -255,7 +255,7 @@ mod tests {
                 com_now: [0.0, 0.0],
                 com_true: None,
                 losses: losses(30, 0.3, 0.6),
-                trust: Some((Weights { pos, rot }, 4.0)),
+                trust: Some((Weights { pos, rot }, 2.0)),
             })
         };
         assert_eq!(

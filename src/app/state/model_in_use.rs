@@ -121,14 +121,12 @@ impl AppState {
 
     /// Saves a model trained for `folders` in the model store, at [`Self::store_path`].
     fn store_for(&self, folders: &[PathBuf], file: &ModelFile) -> Result<PathBuf, String> {
-        let store = self
-            .model_store
-            .as_ref()
-            .ok_or("the app has no folder to keep models in")?;
-        pushlab_core::files::create_dir_all(store)
-            .map_err(|e| format!("cannot create {}: {e}", store.display()))?;
         let path = (self.store_path(folders, file.combined.kind()))
             .ok_or("the app has no folder to keep models in")?;
+        if let Some(store) = path.parent() {
+            pushlab_core::files::create_dir_all(store)
+                .map_err(|e| format!("cannot create {}: {e}", store.display()))?;
+        }
         file.save(&path).map_err(|e| e.to_string())?;
         Ok(path)
     }

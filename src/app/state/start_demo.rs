@@ -164,7 +164,7 @@ impl AppState {
             losses: run.mean_losses(),
             trust: run
                 .model_weight()
-                .map(|w| (w.at(run.frontier()), 2.0 * w.half_life_s())),
+                .map(|w| (w.at(run.frontier()), w.half_life_s())),
         })
     }
 }

@@ -150,7 +150,7 @@ pub fn run(args: &SuiteArgs) -> Result<(), Failure> {
 }
 
 /// One row per experiment; per model kind offline, fixed and online NMSE (pos/rot), then the
-/// physics-only model fixed and online, and the first model weighed with it online.
+/// physics-only model fixed and online, and the experiment's first model weighed with it online.
 fn print_table(spec: &SuiteSpec, results: &[ExperimentResult]) {
     let cell = |n: Option<&Nmse>| match n {
         Some(n) => format!("{:.3}/{:.3}", n.pos, n.rot),

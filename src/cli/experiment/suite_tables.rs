@@ -1,6 +1,6 @@
 //! A suite's results as a paper needs them (`pushlab suite --markdown OUT.md --latex OUT.tex`): the
 //! terminal table's rows and columns — per model offline, fixed and online NMSE, then the
-//! physics-only model's fixed and online, and the first model weighed with it online — as a Markdown table and as a LaTeX `booktabs` tabular.
+//! physics-only model's fixed and online, and the experiment's first model weighed with it online — as a Markdown table and as a LaTeX `booktabs` tabular.
 //! In each row the lowest online position and rotation NMSE (over the models and physics online)
 //! are set in bold; a number that could not be computed is a dash, and the experiment's errors are
 //! listed under the table.
@@ -85,7 +85,7 @@ fn groups(spec: &SuiteSpec) -> Vec<(String, &'static [&'static str])> {
         .collect();
     if spec.physics {
         groups.push(("physics only".to_owned(), &["fixed", "online"][..]));
-        // The first model and physics alone weighed online (`learn::ModelWeight`).
+        // Each experiment's first model and physics alone weighed online (`learn::ModelWeight`).
         groups.push(("weighted".to_owned(), &["online"][..]));
     }
     groups
