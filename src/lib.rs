@@ -6,3 +6,8 @@ pub mod app;
 pub mod figures;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
+
+// A unit test that needs data beside the repository says so and is counted (see the file).
+#[cfg(test)]
+#[path = "../tests/skip.rs"]
+mod skip;

@@ -1,7 +1,7 @@
 //! The recordings browser driven as a user would: type a filter, sort by clicking a column's header,
 //! pick a recording by its name, and see a recording's mean losses once it has been run.
 
-mod common;
+use crate::common;
 
 use eframe::egui;
 use egui_kittest::Harness;

@@ -4,7 +4,7 @@
 //! with its offset; a corrupt image shows an error and the next one plays; a hidden camera stays
 //! hidden after a restart.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::time::Duration;

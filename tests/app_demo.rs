@@ -3,7 +3,7 @@
 //! the background the first time, reused after — in the presentation layout; Step learns one frame
 //! and the narration says something new. A snapshot of the presentation layout.
 
-mod common;
+use crate::common;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};

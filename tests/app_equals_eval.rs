@@ -2,7 +2,7 @@
 //! and the losses at every frame the app plays are those `pushlab eval --json --per-frame` writes, to
 //! the bit — with frames labelled bad tracking held over in both.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command as Process;

@@ -2,7 +2,7 @@
 //! panel draws them, each series a polyline over the frames learned, the panels' titles and legends
 //! as text — written atomically; a name of another kind is refused, naming it.
 
-mod common;
+use crate::common;
 
 use pushlab::app::initial_state;
 use pushlab::app::state::timeline::TimelineCommand;

@@ -2,7 +2,7 @@
 //! while it is open. Each gets a message naming the file; nothing panics and the window keeps
 //! working on what is open.
 
-mod common;
+use crate::common;
 
 use eframe::egui;
 use egui_kittest::Harness;

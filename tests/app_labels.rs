@@ -2,7 +2,8 @@
 //! range with a held key while stepping, undo, redo, save, reopen the folder, and see the same labels.
 //! Every test works on a private copy of one sample-data set, never on the repository's files.
 
-mod common;
+use crate::common;
+use crate::skip;
 
 use std::path::Path;
 
@@ -498,8 +499,8 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
     let dir = common::copy_of_sample_set("box1-paper-center-front", "read-only");
     let before = common::contents(&dir);
     let Some(guard) = common::Unwritable::make(&dir) else {
-        eprintln!(
-            "skipped: neither chmod 555 nor chattr +i stops this process writing into a folder"
+        skip::skip(
+            "a folder this process cannot write (neither chmod 555 nor chattr +i stopped it)",
         );
         return;
     };

@@ -2,7 +2,7 @@
 //! landscape of the frame shown is computed in the background and marks θ there, the lowest cell and
 //! the true COM; it follows the frame; cancel holds until asked again; closing stops it.
 
-mod common;
+use crate::common;
 
 use eframe::egui::Key;
 use egui_kittest::Harness;

@@ -7,8 +7,8 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-mod live_robot;
+use crate::common;
+use crate::live_robot;
 
 use std::path::Path;
 use std::process::Command as Process;

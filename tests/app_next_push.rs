@@ -13,7 +13,7 @@ use pushlab::app::state::timeline::TimelineCommand;
 use pushlab::app::state::{Command, Persisted};
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 /// Steps the recording shown to its last frame, learning each.
 fn play_to_end(state: &mut AppState) {

@@ -4,7 +4,7 @@
 //! and the inspector says why a frame was proposed. Every test works on a private copy of a sample
 //! set.
 
-mod common;
+use crate::common;
 
 use std::ops::Range;
 use std::path::Path;

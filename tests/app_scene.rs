@@ -2,7 +2,7 @@
 //! push plays to its end, zooming keeps following, panning frees the camera, "Fit all" shows the whole
 //! push, and the legend is folded until asked for and never covers the object.
 
-mod common;
+use crate::common;
 
 use eframe::egui;
 use egui_kittest::Harness;

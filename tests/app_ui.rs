@@ -1,7 +1,8 @@
 //! The desktop app driven headlessly through its accessibility tree, as a user would: by the labels of
 //! its buttons and sliders. Each test opens the bundled sample data like `cargo run` does.
 
-mod common;
+use crate::common;
+use crate::skip;
 
 use eframe::egui;
 use egui_kittest::Harness;
@@ -264,11 +265,10 @@ fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_rea
     use pushlab_core::model::ModelKind;
     use pushlab_core::model_file::ModelFile;
 
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
+    let Some(dir) = skip::shared(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), "mit-push")
+    else {
         return;
-    }
+    };
     let loaded = pushlab_core::experiment::load(std::slice::from_ref(&dir), None, 10);
     let no = std::sync::atomic::AtomicBool::new(false);
     let config = TrainConfig {

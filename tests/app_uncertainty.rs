@@ -2,7 +2,7 @@
 //! component and the scene's COM ellipse shrinks from the prior's; choosing Gauss–Newton changes
 //! `θ_online(t)`; the what-if ghosts follow the sliders.
 
-mod common;
+use crate::common;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};

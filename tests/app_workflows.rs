@@ -3,7 +3,7 @@
 //! model files, labels). The native rfd dialogs themselves cannot run headless; these tests call what
 //! each dialog's answer triggers.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

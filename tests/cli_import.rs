@@ -4,7 +4,7 @@
 //! arguments) with their exit codes and messages.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod cli_common;
+use crate::cli_common;
 
 use std::path::{Path, PathBuf};
 

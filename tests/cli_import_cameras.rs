@@ -4,7 +4,7 @@
 //! as PNG with the same pixels; the listing of camera topics; the refusals.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod cli_common;
+use crate::cli_common;
 
 use std::path::{Path, PathBuf};
 

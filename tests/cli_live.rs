@@ -6,8 +6,8 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod cli_common;
-mod live_robot;
+use crate::cli_common;
+use crate::live_robot;
 
 use std::path::Path;
 use std::sync::atomic::Ordering;

@@ -4,11 +4,12 @@
 //! pushes no θ and no loss in the JSON report is ever non-finite.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use crate::skip;
 use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
-mod cli_common;
+use crate::cli_common;
 use cli_common::pushlab;
 
 fn repo(path: &str) -> PathBuf {
@@ -189,11 +190,9 @@ fn finite_at(report: &Value, pointer: &str, what: &str) {
 
 #[test]
 fn eval_reports_a_finite_theta_and_finite_losses_at_lr_10_and_1e6_on_real_mit_pushes() {
-    let dir = repo("../shared/mit-push");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
+    let Some(dir) = skip::shared(&repo(""), "mit-push") else {
         return;
-    }
+    };
     let file = |name: &str| dir.join(name).display().to_string();
     let offline = [
         file("motion_surface=abs_shape=rect1_a=0_v=75_i=2.000_s=0.800_t=0.349.h5"),

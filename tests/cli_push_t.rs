@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod cli_common;
+use crate::cli_common;
 
 use std::path::Path;
 

@@ -2,7 +2,8 @@
 //! `--measure-orders`, the ranking against the worst and random orders with the COM error after
 //! each push.
 
-use std::path::PathBuf;
+use crate::skip;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use serde_json::Value;
@@ -169,11 +170,9 @@ fn measuring_orders_reports_the_com_error_after_each_push_for_ranked_worst_and_r
 #[test]
 fn measuring_orders_without_a_true_com_says_so() {
     // The MIT dataset gives the hexagon no COM.
-    let mit = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push");
-    if !mit.is_dir() {
-        eprintln!("skipped: {} is absent", mit.display());
+    let Some(mit) = skip::shared(Path::new(env!("CARGO_MANIFEST_DIR")), "mit-push") else {
         return;
-    }
+    };
     let output = suggest(&[
         mit.as_os_str(),
         "--object".as_ref(),
@@ -237,11 +236,11 @@ fn a_grid_of_pushes_is_ranked_instead_of_the_recordings() {
 
 #[test]
 fn the_columns_line_up_under_their_header_with_mit_files_long_names() {
-    let folder = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push-abs-train");
-    let Ok(entries) = std::fs::read_dir(&folder) else {
-        eprintln!("skipped: {} is absent", folder.display());
+    let Some(folder) = skip::shared(Path::new(env!("CARGO_MANIFEST_DIR")), "mit-push-abs-train")
+    else {
         return;
     };
+    let entries = std::fs::read_dir(&folder).expect("the folder lists");
     let mut files: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.to_string_lossy().contains("shape=ellip1_"))

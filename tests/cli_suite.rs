@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-mod cli_common;
+use crate::cli_common;
 use cli_common::pushlab;
 
 fn temp_dir(name: &str) -> PathBuf {

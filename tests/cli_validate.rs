@@ -2,6 +2,7 @@
 //! broken file and with wrong arguments; output lines and exit codes.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use crate::skip;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -28,11 +29,9 @@ fn temp_dir(name: &str) -> PathBuf {
 
 #[test]
 fn real_mit_files_validate_with_one_line_each() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
+    let Some(dir) = skip::shared(Path::new(env!("CARGO_MANIFEST_DIR")), "mit-push") else {
         return;
-    }
+    };
     let (code, lines) = validate(&[&dir]);
     assert_eq!(code, 0, "{lines:#?}");
     assert_eq!(lines.len(), 5, "{lines:#?}");

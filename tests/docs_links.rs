@@ -11,7 +11,6 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-#[path = "docs_links/markdown.rs"]
 mod markdown;
 
 use std::collections::{HashMap, HashSet};

@@ -4,6 +4,7 @@
 //! are text (`pdftotext`); a name of another kind is refused before anything runs.
 
 use super::*;
+use crate::skip;
 
 fn default_model() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -137,9 +138,7 @@ fn eval_plots_a_pdf_that_renders_like_the_png_with_its_words_as_text() {
             .is_ok()
     };
     if !have("pdftoppm") || !have("pdftotext") {
-        eprintln!(
-            "skipped: poppler's pdftoppm and pdftotext are not on the PATH (apt install poppler-utils)"
-        );
+        skip::skip("poppler's pdftoppm and pdftotext on the PATH (apt install poppler-utils)");
         return;
     }
     let dir = temp_dir("figure-pdf");

@@ -1,6 +1,7 @@
 //! What eval uses and refuses: exit codes 1 and 2, splits and bad tracking from labels, the real MIT files.
 
 use super::*;
+use crate::skip;
 
 #[test]
 fn nothing_usable_is_exit_1_and_wrong_arguments_exit_2() {
@@ -192,11 +193,9 @@ fn splits_and_bad_tracking_come_from_the_labels_file() {
 
 #[test]
 fn real_mit_files_evaluate() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
+    let Some(dir) = skip::shared(Path::new(env!("CARGO_MANIFEST_DIR")), "mit-push") else {
         return;
-    }
+    };
     let file = |name: &str| dir.join(name).display().to_string();
     let offline = [
         file("motion_surface=abs_shape=rect1_a=0_v=75_i=2.000_s=0.800_t=0.349.h5"),

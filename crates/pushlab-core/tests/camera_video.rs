@@ -8,6 +8,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use crate::skip;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -37,7 +38,7 @@ fn pixels(i: usize) -> Vec<u8> {
 /// that seeking lands between key frames; or none, with a message, without ffmpeg.
 fn video(name: &str) -> Option<PathBuf> {
     let Ok(ffmpeg) = find_ffmpeg() else {
-        eprintln!("skipped: ffmpeg is not on the PATH (apt install ffmpeg)");
+        skip::skip("ffmpeg on the PATH (apt install ffmpeg)");
         return None;
     };
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("camera_video");
@@ -157,7 +158,7 @@ fn without_ffmpeg_each_frame_says_how_to_get_it() {
 #[test]
 fn a_file_ffmpeg_cannot_read_is_an_error_with_ffmpegs_words() {
     if find_ffmpeg().is_err() {
-        eprintln!("skipped: ffmpeg is not on the PATH (apt install ffmpeg)");
+        skip::skip("ffmpeg on the PATH (apt install ffmpeg)");
         return;
     }
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("camera_video");

@@ -4,7 +4,7 @@
 //! (without the batch-means factor it held the truth in 30 % of these pushes), and independent noise
 //! must not widen it.
 
-mod toy;
+use crate::toy;
 
 use nalgebra::Vector3;
 use pushlab_core::model::{ObjectMotion, OnlineParams, Sample, SampleInput};

@@ -2,7 +2,7 @@
 //! and `h`, online adaptation beats the fixed model where the COM moved, training is reproducible and
 //! cancellable, and model files round-trip and refuse what they cannot read.
 
-mod toy;
+use crate::toy;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 

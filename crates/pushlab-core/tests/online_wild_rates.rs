@@ -3,6 +3,7 @@
 //! reported is ever NaN or infinite — checked with learning rates of 10 and 10⁶ on the real MIT
 //! pushes in `../shared/mit-push/` (skipped with a message when absent).
 
+use crate::skip;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -16,13 +17,10 @@ use pushlab_core::model::{DEFAULT_CONTACT_TOLERANCE, ModelKind, OnlineStep, Shar
 const HORIZON: usize = 10;
 
 fn mit_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mit-push");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
-        None
-    }
+    skip::shared(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."),
+        "mit-push",
+    )
 }
 
 /// Every number of a step that a plot, the Inspect tab or a report shows is finite.

@@ -10,7 +10,8 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod pusht_common;
+use crate::pusht_common;
+use crate::skip;
 
 use std::path::{Path, PathBuf};
 
@@ -430,7 +431,7 @@ fn difference(a: &[u8], b: &[u8]) -> f64 {
 #[test]
 fn each_episodes_video_frame_is_the_render_taken_at_its_time() {
     if find_ffmpeg().is_err() {
-        eprintln!("skipped: ffmpeg is not on the PATH (apt install ffmpeg)");
+        skip::skip("ffmpeg on the PATH (apt install ffmpeg)");
         return;
     }
     let replay = open("replay.zarr");

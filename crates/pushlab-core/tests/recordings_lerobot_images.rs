@@ -7,7 +7,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod pusht_common;
+use crate::pusht_common;
 
 use std::path::Path;
 

@@ -2,6 +2,7 @@
 //! synthetic files with known contents and known defects.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use crate::skip;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -11,13 +12,10 @@ use pushlab_core::recording::mit_push::{self, import_bytes, parse_file_name};
 use pushlab_core::recording::{MitError, MitProblem, ObjectShape, load_paths};
 
 fn mit_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mit-push");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is absent (real MIT Push files)", dir.display());
-        None
-    }
+    skip::shared(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."),
+        "mit-push",
+    )
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Push-T datasets written by the real gym-pusht environment (`tests/pusht/make_fixtures.py`):
 //! the imported poses against the environment's own state (`truth.json`, float64 from pymunk).
 
-mod pusht_common;
+use crate::pusht_common;
 
 use std::path::PathBuf;
 

@@ -4,7 +4,7 @@
 //! is known, the loss landscape's minimum against the simulator's COM, and rollouts against the
 //! one-step prediction and the recorded poses.
 
-mod toy;
+use crate::toy;
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;

@@ -96,11 +96,11 @@ fn a_run_puts_its_mean_losses_in_its_row_and_rows_with_losses_sort_first() {
 
 #[test]
 fn mit_files_get_short_names_and_their_parameters_as_columns() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/mit-push-abs-train");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is missing", dir.display());
+    let Some(dir) =
+        crate::skip::shared(Path::new(env!("CARGO_MANIFEST_DIR")), "mit-push-abs-train")
+    else {
         return;
-    }
+    };
     let mut state = state_on(&dir);
     state.apply(Command::Browser(BrowserCommand::SetFilter("hex".into())));
     state.apply(Command::Browser(BrowserCommand::SortBy(Column::Speed)));

@@ -10,8 +10,7 @@ use std::process::Command;
 
 use serde_json::Value;
 
-#[path = "../cli_common/mod.rs"]
-mod cli_common;
+use crate::cli_common;
 mod figure;
 mod inputs;
 mod report;

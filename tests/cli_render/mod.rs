@@ -6,8 +6,8 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-#[path = "../cli_common/mod.rs"]
-mod cli_common;
+use crate::cli_common;
+use crate::skip;
 mod theme;
 
 use std::path::{Path, PathBuf};
@@ -187,7 +187,7 @@ fn a_gif_shows_the_pusher_where_it_was_and_the_com_where_eval_learned_it() {
 #[test]
 fn an_mp4_and_a_webm_hold_the_frames_asked_for() {
     if pushlab_core::recording::camera::find_ffmpeg().is_err() {
-        eprintln!("skipped: ffmpeg is not on the PATH (apt install ffmpeg)");
+        skip::skip("ffmpeg on the PATH (apt install ffmpeg)");
         return;
     }
     let dir = temp_dir("render", "mp4");
