@@ -25,8 +25,8 @@ use std::sync::Arc;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use egui_kittest::Harness;
-use pushlab::app::state::session::RecordingId;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
+use pushlab::app::state::recordings::session::RecordingId;
 use pushlab::app::state::{AppState, Command, Persisted};
 use pushlab::app::state::{OnlineCommand, SessionCommand};
 use pushlab::app::{PushlabApp, initial_state, sample_data_dir};

@@ -29,7 +29,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use foxglove::PartialMetadata;
-use pushlab::app::state::live::{LiveChoice, LiveCommand};
+use pushlab::app::state::sources::live::{LiveChoice, LiveCommand};
 use pushlab::app::state::{Command, Persisted};
 use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::learn::OnlineConfig;

@@ -15,7 +15,7 @@ use egui_kittest::Harness;
 use pushlab::app::initial_state;
 use pushlab::app::panels::scene::{self, SceneView};
 use pushlab::app::render::SceneFrames;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{AppState, Command, Persisted};
 
 const SIZE: [usize; 2] = [1280, 720];

@@ -7,7 +7,7 @@ use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::state::Persisted;
-use pushlab::app::state::browser::Column;
+use pushlab::app::state::recordings::browser::Column;
 use pushlab::app::{PushlabApp, initial_state};
 
 fn app() -> Harness<'static, PushlabApp> {

@@ -12,8 +12,8 @@ use std::time::Duration;
 use common::{copy_of_sample_set, harness};
 use egui_kittest::kittest::Queryable;
 use pushlab::app::state::SessionCommand;
-use pushlab::app::state::cameras::CameraCommand;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::cameras::CameraCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{AppState, Command};
 use pushlab::app::{PushlabApp, initial_state};
 

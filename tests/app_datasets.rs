@@ -12,8 +12,8 @@ use std::path::{Path, PathBuf};
 
 use common::{drop_on_window, harness, run_until, scratch_dir};
 use egui_kittest::kittest::Queryable;
-use pushlab::app::state::dataset_import::DatasetCommand;
-use pushlab::app::state::session::RecordingId;
+use pushlab::app::state::recordings::session::RecordingId;
+use pushlab::app::state::sources::dataset_import::DatasetCommand;
 use pushlab::app::state::{Command, Persisted, SessionCommand};
 use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::recording::dataset::{Columns, ObjectSource, choice};

@@ -7,8 +7,8 @@ use crate::common;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use pushlab::app::state::demo::DemoCommand;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::demos::demo::DemoCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{Command, Persisted};
 use pushlab::app::{PushlabApp, demo_suite_path, export, initial_state};
 use pushlab_core::experiment::split_of;

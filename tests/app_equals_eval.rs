@@ -8,7 +8,7 @@ use std::path::Path;
 use std::process::Command as Process;
 
 use pushlab::app::initial_state;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{Command, OnlineCommand, Persisted, SessionCommand};
 use pushlab_core::learn::Nmse;
 use pushlab_core::model::FrameLoss;
@@ -221,7 +221,7 @@ fn carrying_theta_to_the_next_push_is_pushlab_eval_carry_theta_to_the_bit() {
 
 #[test]
 fn the_steer_tabs_best_theta_is_pushlab_eval_best_fit_to_the_bit_and_steers_there() {
-    use pushlab::app::state::best_fit::BestFitCommand;
+    use pushlab::app::state::learning::best_fit::BestFitCommand;
     let dir = common::copy_of_sample_set(SET, "app-best-fit");
     label_bad_tracking(&dir);
     let csv = dir.join(RECORDING);

@@ -5,7 +5,7 @@
 use crate::common;
 
 use pushlab::app::initial_state;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{Command, FileCommand, Persisted};
 
 #[test]

@@ -12,7 +12,7 @@ use eframe::egui::Theme;
 use egui_kittest::kittest::Queryable;
 use image::AnimationDecoder;
 use pushlab::app::render::{RenderOptions, SceneFrames, carry_to, work_for};
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{Command, Persisted};
 
 fn options() -> RenderOptions {

@@ -12,7 +12,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use nalgebra::Point2;
 use pushlab::app::state::Persisted;
-use pushlab::app::state::browser::Column;
+use pushlab::app::state::recordings::browser::Column;
 use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::labels::{LABELS_FILE_NAME, Split};
 
@@ -517,7 +517,7 @@ fn a_folder_that_cannot_be_written_opens_keeps_labels_in_memory_and_says_where_t
     harness.state_mut().state.autosave_labels(1e6 + 1.0);
     harness.run_steps(1);
     let document = dir.join(LABELS_FILE_NAME);
-    let rescue = pushlab::app::state::labels::rescue_path(&document, &rescue_dir);
+    let rescue = pushlab::app::state::labels::labeling::rescue_path(&document, &rescue_dir);
     let status = common::status(&harness);
     assert!(
         status.starts_with(&format!(

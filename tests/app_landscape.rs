@@ -9,7 +9,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use pushlab::app::PushlabApp;
 use pushlab::app::state::Command;
-use pushlab::app::state::landscape::{LandscapeCommand, LandscapeResult};
+use pushlab::app::state::learning::landscape::{LandscapeCommand, LandscapeResult};
 use pushlab_core::inspect::LandscapeFrames;
 
 /// The landscape computed last.

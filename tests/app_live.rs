@@ -17,8 +17,8 @@ use std::time::{Duration, Instant};
 
 use egui_kittest::kittest::Queryable;
 use pushlab::app::initial_state;
-use pushlab::app::state::live::{Link, LiveChoice, LiveCommand};
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
+use pushlab::app::state::sources::live::{Link, LiveChoice, LiveCommand};
 use pushlab::app::state::{AppState, Command, Persisted};
 use pushlab_core::model::{FrameLoss, OnlineParams};
 

@@ -8,8 +8,8 @@ use std::process::Command as Process;
 
 use pushlab::app::initial_state;
 use pushlab::app::state::AppState;
-use pushlab::app::state::next_push::{Candidates, NextPushCommand, NextPushResult};
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::learning::next_push::{Candidates, NextPushCommand, NextPushResult};
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{Command, Persisted};
 use serde_json::Value;
 

@@ -8,9 +8,9 @@ use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::PushlabApp;
-use pushlab::app::panels::scene::camera::CameraMode;
+use pushlab::app::camera_mode::CameraMode;
 use pushlab::app::state::Command;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab_core::geometry::Pose2;
 
 /// The object's outline at `pose` on the screen, as the scene drew it last frame.

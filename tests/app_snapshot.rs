@@ -18,7 +18,7 @@ fn main_window_after_learning_forty_frames() {
             .state_mut()
             .state
             .apply(pushlab::app::state::Command::Timeline(
-                pushlab::app::state::timeline::TimelineCommand::Step(10),
+                pushlab::app::state::playback::timeline::TimelineCommand::Step(10),
             ));
     }
     harness.run_steps(3);

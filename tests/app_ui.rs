@@ -260,7 +260,7 @@ fn the_layout_holds_still_while_nothing_happens() {
 #[test]
 fn no_model_learns_a_non_finite_theta_or_loss_in_the_app_at_lr_10_and_1e6_on_real_pushes() {
     use pushlab::app::state::Command;
-    use pushlab::app::state::timeline::TimelineCommand;
+    use pushlab::app::state::playback::timeline::TimelineCommand;
     use pushlab_core::learn::{OnlineConfig, TrainConfig};
     use pushlab_core::model::ModelKind;
     use pushlab_core::model_file::ModelFile;

@@ -9,7 +9,7 @@ use egui_kittest::kittest::{NodeT, Queryable};
 use pushlab::app::PushlabApp;
 use pushlab::app::state::Command;
 use pushlab::app::state::OnlineCommand;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab_core::learn::Optimizer;
 use pushlab_core::learn::uncertainty::ComSpreadParts;
 use pushlab_core::model::OnlineParams;

@@ -10,10 +10,10 @@ use serde::{Deserialize, Serialize};
 
 use pushlab_core::model::OnlineParams;
 
-use super::state::best_fit::BestFitCommand;
-use super::state::demo::DemoCommand;
-use super::state::landscape::LandscapeCommand;
-use super::state::timeline::TimelineCommand;
+use super::state::demos::demo::DemoCommand;
+use super::state::learning::best_fit::BestFitCommand;
+use super::state::learning::landscape::LandscapeCommand;
+use super::state::playback::timeline::TimelineCommand;
 use super::state::{AppState, Command, OnlineCommand, SessionCommand, TrainingCommand};
 
 /// What is shown, as `state()` returns it (metres, radians; losses as `[pos, rot]`).

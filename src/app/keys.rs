@@ -7,13 +7,12 @@
 use eframe::egui::{self, Key, KeyboardShortcut, Modifiers};
 use pushlab_core::labels::{LabelKind, LabelSchema};
 
-use crate::app::panels::scene::camera::CameraMode;
-use crate::app::state::labels::{ERASE_HOTKEY, LabelAction};
-use crate::app::state::landscape::LandscapeCommand;
-use crate::app::state::proposals::ProposalAction;
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::camera_mode::CameraMode;
+use crate::app::state::labels::labeling::{ERASE_HOTKEY, LabelAction};
+use crate::app::state::labels::proposals::ProposalAction;
+use crate::app::state::learning::landscape::LandscapeCommand;
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
-use crate::app::view::View;
 
 /// What a fixed binding does.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -191,11 +190,26 @@ pub const BINDINGS: [Binding; 23] = [
     ),
 ];
 
+/// What a key asks of the window's view rather than of the state: the app's shell carries it out
+/// (`View::apply_key`), so that this table names no view and no panel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewChange {
+    ToggleCheatSheet,
+    TogglePresentation,
+    ToggleMenuBar,
+    Camera(CameraMode),
+}
+
 /// Turns this frame's key events into commands, in the order they happened: when a slow frame
 /// collects "→, I" the in point lands after the step, and "I, →" before it. Several presses within
-/// one frame all count. The cheat-sheet's visibility and the camera are view state, changed here
-/// directly; everything else goes out as commands.
-pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
+/// one frame all count. The cheat-sheet's visibility and the camera are view state, asked for as
+/// view changes; everything else goes out as commands.
+pub fn handle(
+    ctx: &egui::Context,
+    state: &AppState,
+    view_changes: &mut Vec<ViewChange>,
+    commands: &mut Vec<Command>,
+) {
     if ctx.egui_wants_keyboard_input() {
         // A widget has the keyboard (typing in the notes, say): no shortcut fires, but a paint key
         // let go must still end its stroke, or the stroke would paint on and swallow the typing.
@@ -251,17 +265,19 @@ pub fn handle(ctx: &egui::Context, state: &AppState, view: &mut View, commands: 
                     KeyAction::RejectProposals => {
                         commands.push(Command::Proposal(ProposalAction::RejectHere));
                     }
-                    KeyAction::ToggleCheatSheet => view.show_shortcuts = !view.show_shortcuts,
+                    KeyAction::ToggleCheatSheet => view_changes.push(ViewChange::ToggleCheatSheet),
                     KeyAction::ToggleLandscape => commands.push(Command::Landscape(
                         LandscapeCommand::Show(!state.landscape().open),
                     )),
-                    KeyAction::TogglePresentation => view.presentation = !view.presentation,
-                    KeyAction::ToggleMenuBar => view.hide_menu = !view.hide_menu,
-                    KeyAction::Camera(mode) => view.scene.mode = mode,
+                    KeyAction::TogglePresentation => {
+                        view_changes.push(ViewChange::TogglePresentation);
+                    }
+                    KeyAction::ToggleMenuBar => view_changes.push(ViewChange::ToggleMenuBar),
+                    KeyAction::Camera(mode) => view_changes.push(ViewChange::Camera(mode)),
                 }
             } else if *key == Key::Questionmark {
                 consumed[index] = true;
-                view.show_shortcuts = !view.show_shortcuts;
+                view_changes.push(ViewChange::ToggleCheatSheet);
             } else if let Some(schema) = schema
                 && !modifiers.command
                 && !modifiers.alt

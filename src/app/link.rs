@@ -16,9 +16,9 @@
 use pushlab_core::learn::Optimizer;
 use pushlab_core::model::OnlineParams;
 
-use super::state::demo::DemoCommand;
-use super::state::layers::Layers;
-use super::state::timeline::TimelineCommand;
+use super::state::demos::demo::DemoCommand;
+use super::state::playback::layers::Layers;
+use super::state::playback::timeline::TimelineCommand;
 use super::state::{AppState, Command, OnlineCommand, SessionCommand};
 
 /// Controls a classroom link may hide.

@@ -4,6 +4,7 @@
 //! one module per panel. Each frame, `App::logic` advances time and learning, `App::ui` draws every
 //! panel, collecting [`state::Command`]s that are applied after the last panel.
 
+pub mod camera_mode;
 pub mod colors;
 pub mod dialogs;
 pub mod export;
@@ -27,8 +28,8 @@ use std::path::PathBuf;
 use eframe::egui;
 
 use self::dialogs::{DialogRequest, DialogResult};
-use self::state::bag_import::BagCommand;
 use self::state::models::Models;
+use self::state::sources::bag_import::BagCommand;
 use self::state::{AppState, Command, FileCommand, Persisted};
 pub use self::view::{SideTab, View};
 use crate::app::state::SessionCommand;
@@ -71,7 +72,11 @@ impl PushlabApp {
     /// through `egui_kittest` exactly as the window does.
     pub fn show(&mut self, ui: &mut egui::Ui) {
         let mut commands = Vec::new();
-        keys::handle(ui.ctx(), &self.state, &mut self.view, &mut commands);
+        let mut view_changes = Vec::new();
+        keys::handle(ui.ctx(), &self.state, &mut view_changes, &mut commands);
+        for change in view_changes {
+            self.view.apply_key(change);
+        }
         dropped_files(ui.ctx(), &mut commands);
 
         projector::apply(ui.ctx(), self.view.projector, self.view.light);

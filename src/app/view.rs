@@ -2,6 +2,7 @@
 //! scene's and the cameras' zoom, the tools' tab, open dialogs, pending screenshots. Panels may
 //! change these directly; everything else they ask for with a command.
 
+use super::keys::ViewChange;
 use std::sync::mpsc::{Receiver, Sender, channel};
 
 use eframe::egui;
@@ -111,6 +112,18 @@ impl Default for View {
             hide_timeline: false,
             hide_menu: false,
             page_address: None,
+        }
+    }
+}
+
+impl View {
+    /// Carries out what a key asked of the view.
+    pub fn apply_key(&mut self, change: ViewChange) {
+        match change {
+            ViewChange::ToggleCheatSheet => self.show_shortcuts = !self.show_shortcuts,
+            ViewChange::TogglePresentation => self.presentation = !self.presentation,
+            ViewChange::ToggleMenuBar => self.hide_menu = !self.hide_menu,
+            ViewChange::Camera(mode) => self.scene.mode = mode,
         }
     }
 }

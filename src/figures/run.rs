@@ -18,7 +18,7 @@ use super::{Chart, Drawing, FIXED, FONT, ONLINE, legend, plot_error, register};
 /// The figure's size, pixels.
 pub const WIDTH: u32 = 1500;
 pub const HEIGHT: u32 = 800;
-/// The app's moving average (`state::run_plots`).
+/// The app's moving average (`state::learning::run_plots`).
 pub const MOVING_AVERAGE: usize = 25;
 
 /// What the figure shows: one run, one value per sample (per frame learned for θ).

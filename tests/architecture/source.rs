@@ -115,7 +115,14 @@ pub fn cut_test_modules(text: &str) -> (Vec<String>, String) {
         out.push_str(&rest[..at]);
         let after = &rest[at + ATTRIBUTE.len()..];
         let trimmed = after.trim_start();
-        let declaration = ["pub(crate) mod ", "pub mod ", "mod "]
+        // Any visibility: `pub`, `pub(crate)`, `pub(super)`, `pub(in path)`.
+        let trimmed = match trimmed.strip_prefix("pub(") {
+            Some(inside) => inside
+                .split_once(')')
+                .map_or(trimmed, |(_, rest)| rest.trim_start()),
+            None => trimmed,
+        };
+        let declaration = ["pub mod ", "mod "]
             .iter()
             .find_map(|keyword| trimmed.strip_prefix(keyword));
         let Some(declaration) = declaration else {
@@ -269,7 +276,10 @@ pub fn code_paths(text: &str) -> Vec<Vec<String>> {
                 break;
             }
         }
-        if path.len() > 1 {
+        // A visibility's path (`pub(in crate::app::state)`) says who may see an item, not what it
+        // uses.
+        let before: String = chars[i.saturating_sub(8)..i].iter().collect();
+        if path.len() > 1 && !before.trim_end().ends_with("(in") {
             paths.push(path);
         }
         i = k.max(i + 1);
@@ -358,5 +368,13 @@ mod tests {
         );
         assert_eq!(names, ["tests"]);
         assert!(!rest.contains("crate::x") && rest.contains("fn b()"));
+        let (names, _) = cut_test_modules("#[cfg(test)]\npub(in crate::app::state) mod tests;");
+        assert_eq!(names, ["tests"], "a test module of any visibility");
+    }
+
+    #[test]
+    fn a_visibilitys_path_is_not_a_use() {
+        let paths = code_paths("pub(in crate::app::state) fn f() { crate::a::b(); }");
+        assert_eq!(paths, [vec!["crate", "a", "b"]]);
     }
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
-use pushlab::app::state::timeline::TimelineCommand;
+use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab::app::state::{Command, Persisted};
 use pushlab::app::{PushlabApp, initial_state};
 

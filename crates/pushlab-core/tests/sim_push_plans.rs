@@ -16,10 +16,10 @@ use pushlab_core::geometry::{Outline, Pose2, PushT};
 use pushlab_core::recording::PushSide;
 use pushlab_core::sim::path::face_extent;
 use pushlab_core::sim::{
-    PlanError, PressureModel, PushPlan, Sampling, SimObject, SplitMix64, lynch_h, simulate_push,
+    NoiseStream, PlanError, PressureModel, PushPlan, Sampling, SimObject, lynch_h, simulate_push,
 };
 
-fn random_outline(rng: &mut SplitMix64) -> Outline {
+fn random_outline(rng: &mut NoiseStream) -> Outline {
     let corners = 3 + (rng.uniform(0.0, 1.0) * 9.0) as usize;
     let (a, b) = (
         0.02 + 0.2 * rng.uniform(0.0, 1.0),
@@ -45,7 +45,7 @@ const SIDES: [PushSide; 4] = [
 ];
 
 /// A random plan on a random side of `outline`, with a random pusher radius and object pose.
-fn random_plan(rng: &mut SplitMix64, outline: &Outline) -> (PushPlan, f64, Pose2) {
+fn random_plan(rng: &mut NoiseStream, outline: &Outline) -> (PushPlan, f64, Pose2) {
     let side = SIDES[(rng.uniform(0.0, 1.0) * 4.0) as usize % 4];
     let (middle, half) = face_extent(outline, side);
     let plan = PushPlan {
@@ -87,7 +87,7 @@ fn assert_starts_clear_and_touches(outline: &Outline, plan: &PushPlan, radius: f
 
 #[test]
 fn every_planned_push_starts_clear_and_touches_its_face_first() {
-    let mut rng = SplitMix64::new(26);
+    let mut rng = NoiseStream::new(26);
     for _ in 0..2000 {
         let outline = random_outline(&mut rng);
         let (plan, radius, pose) = random_plan(&mut rng, &outline);
@@ -98,7 +98,7 @@ fn every_planned_push_starts_clear_and_touches_its_face_first() {
 /// A star-shaped polygon: 5 to 16 vertices at increasing angles (each within its own sector, so no
 /// gap reaches half a turn) and random radii about a point, so nearly always non-convex, and always
 /// simple; moved so that its centroid is the origin, as pushlab's object frame has it.
-fn random_star(rng: &mut SplitMix64) -> Outline {
+fn random_star(rng: &mut NoiseStream) -> Outline {
     let corners = 5 + (rng.uniform(0.0, 1.0) * 12.0) as usize;
     let size = 0.03 + 0.2 * rng.uniform(0.0, 1.0);
     let sector = std::f64::consts::TAU / corners as f64;
@@ -117,7 +117,7 @@ fn random_star(rng: &mut SplitMix64) -> Outline {
 
 #[test]
 fn on_non_convex_outlines_a_push_is_refused_when_blocked_or_starts_clear_and_touches_first() {
-    let mut rng = SplitMix64::new(24);
+    let mut rng = NoiseStream::new(24);
     let (mut checked, mut blocked, mut non_convex) = (0, 0, 0);
     for i in 0..3000 {
         let outline = if i % 10 == 0 {
@@ -147,7 +147,7 @@ fn on_non_convex_outlines_a_push_is_refused_when_blocked_or_starts_clear_and_tou
 
 #[test]
 fn simulated_pushes_on_non_convex_outlines_never_penetrate() {
-    let mut rng = SplitMix64::new(2024);
+    let mut rng = NoiseStream::new(2024);
     let mut simulated = 0;
     while simulated < 60 {
         let outline = if simulated % 4 == 0 {

@@ -9,8 +9,8 @@ use nalgebra::Vector2;
 use pushlab_core::geometry::{Outline, Pose2};
 use pushlab_core::recording::{ObjectShape, PushSide, read_set, write_set};
 use pushlab_core::sim::{
-    NoiseSpec, PressureModel, PushPlan, PushSpec, SampleSpec, Sampling, SetSpec, SimObject,
-    SplitMix64, TrackingNoise, generate_set, lynch_h, read_sample_spec, simulate_push,
+    NoiseSpec, NoiseStream, PressureModel, PushPlan, PushSpec, SampleSpec, Sampling, SetSpec,
+    SimObject, TrackingNoise, generate_set, lynch_h, read_sample_spec, simulate_push,
 };
 
 fn repo_root() -> PathBuf {
@@ -178,7 +178,7 @@ fn tracking_noise_has_the_requested_spread() {
         position_sd: 0.002,
         yaw_sd: 0.01,
     };
-    let mut rng = SplitMix64::new(3);
+    let mut rng = NoiseStream::new(3);
     let push = simulate_push(&object, start, &path, &sampling, Some((&noise, &mut rng))).unwrap();
     let n = push.truth.len() as f64;
     let (mut sx, mut st) = (0.0, 0.0);

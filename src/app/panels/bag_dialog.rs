@@ -1,13 +1,13 @@
 //! The window that opens a ROS 2 bag: the bag's topics, which stream is the pusher and which the
 //! object (pre-selected when their names make it obvious), the object from a `setting.json` or
 //! entered as a box, and how to import. Open tries the choice; it is remembered beside the bag only
-//! once the bag opened (`state::bag_import`).
+//! once the bag opened (`state::sources::bag_import`).
 
 use eframe::egui::{self, RichText};
 use pushlab_core::recording::bag::{ImportOptions, TopicSpec, choice};
 
 use crate::app::dialogs::{DialogRequest, Dialogs};
-use crate::app::state::bag_import::{BagCommand, BagForm, EnteredBox, ObjectSource};
+use crate::app::state::sources::bag_import::{BagCommand, BagForm, EnteredBox, ObjectSource};
 use crate::app::state::{AppState, Command};
 
 /// Draws the form of the first bag waiting for a choice, or says whose topics are being read.

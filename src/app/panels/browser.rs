@@ -1,17 +1,17 @@
 //! The recordings browser: a table of every open recording — short name, the push's parameters (the
 //! MIT file name's, or the native set's), frames, split, and the mean online and fixed loss once it
 //! has been run — with a filter box and a sort by any column (click a header; again to reverse). The
-//! rows, the filter and the sort are the state's (`state::browser`); this panel draws them and sends
+//! rows, the filter and the sort are the state's (`state::recordings::browser`); this panel draws them and sends
 //! commands. Load problems are listed below the table.
 
 use eframe::egui::{self, Color32, RichText};
 use egui_extras::{Column as TableColumn, TableBuilder};
 
 use crate::app::state::SessionCommand;
-use crate::app::state::bag_import::BagCommand;
-use crate::app::state::browser::{BrowserCommand, Column, Row};
-use crate::app::state::dataset_import::DatasetCommand;
-use crate::app::state::session::RecordingId;
+use crate::app::state::recordings::browser::{BrowserCommand, Column, Row};
+use crate::app::state::recordings::session::RecordingId;
+use crate::app::state::sources::bag_import::BagCommand;
+use crate::app::state::sources::dataset_import::DatasetCommand;
 use crate::app::state::{AppState, Command};
 
 /// Height of a table row, points.

@@ -6,7 +6,7 @@
 //! of the frame it last uploaded, kept on screen until the next frame has been decoded, so that
 //! scrubbing never flashes an empty panel.
 //!
-//! [`Cameras::shown`]: crate::app::state::cameras::Cameras::shown
+//! [`Cameras::shown`]: crate::app::state::playback::cameras::Cameras::shown
 
 use std::collections::HashMap;
 
@@ -14,8 +14,8 @@ use eframe::egui::{self, Color32, Pos2, Rect, Vec2};
 use pushlab_core::recording::camera::RgbaImage;
 
 use crate::app::state::AppState;
-use crate::app::state::cameras::CameraFrame;
-use crate::app::state::live::LiveImage;
+use crate::app::state::playback::cameras::CameraFrame;
+use crate::app::state::sources::live::LiveImage;
 
 /// A frame's error, above its image.
 const ERROR_COLOR: Color32 = Color32::from_rgb(255, 110, 90);

@@ -1,12 +1,12 @@
 //! The window that opens a Push-T dataset (a zarr replay buffer or a LeRobot folder): its features,
 //! which is the pusher and how the T is read (pre-selected for Push-T's own layouts), and the scale.
 //! Open tries the choice; it is remembered beside the dataset only once the dataset opened
-//! (`state::dataset_import`).
+//! (`state::sources::dataset_import`).
 
 use eframe::egui;
 use pushlab_core::recording::dataset::{Columns, ObjectSource};
 
-use crate::app::state::dataset_import::{DatasetCommand, DatasetForm};
+use crate::app::state::sources::dataset_import::{DatasetCommand, DatasetForm};
 use crate::app::state::{AppState, Command};
 
 /// Draws the form of the first dataset waiting for a choice, or says which dataset is being read.

@@ -6,8 +6,8 @@
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use crate::app::colors;
-use crate::app::state::live::Gap;
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::playback::timeline::TimelineCommand;
+use crate::app::state::sources::live::Gap;
 use crate::app::state::{AppState, Command};
 
 /// Height of the band, points (as a label band's row).

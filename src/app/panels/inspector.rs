@@ -9,7 +9,7 @@ use std::path::Path;
 use crate::app::colors;
 use crate::app::format;
 use crate::app::state::AppState;
-use crate::app::state::proposals::Status;
+use crate::app::state::labels::proposals::Status;
 
 /// Draws the inspector.
 pub fn ui(ui: &mut egui::Ui, state: &AppState) {

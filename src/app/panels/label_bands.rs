@@ -6,7 +6,7 @@ use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 use pushlab_core::labels::{LabelSchema, RecordingLabels, Rgb};
 
 use crate::app::colors;
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
 /// Height of one band, points.

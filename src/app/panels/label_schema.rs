@@ -7,7 +7,7 @@ use pushlab_core::labels::{self, LabelDef, LabelSchema, Rgb};
 
 use crate::app::keys::is_app_key;
 use crate::app::state::Command;
-use crate::app::state::labels::LabelAction;
+use crate::app::state::labels::labeling::LabelAction;
 
 /// Colours offered to new labels in turn (matplotlib's tab10, which the default schema starts with).
 const NEW_COLOURS: [Rgb; 6] = [

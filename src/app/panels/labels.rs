@@ -4,15 +4,16 @@
 
 use eframe::egui;
 use pushlab_core::labels::{
-    self, LabelKind, LabelSchema, MetaField, RecordingLabels, RecordingMeta, SaveState, Split,
+    self, LabelDocument, LabelKind, LabelSchema, MetaField, RecordingLabels, RecordingMeta,
+    SaveState, Split,
 };
 use pushlab_core::recording::PushSide;
 
 use super::label_bands::color;
 use crate::app::dialogs::{DialogRequest, Dialogs};
 use crate::app::format;
-use crate::app::state::labels::{LabelAction, LabelTarget};
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::labels::labeling::{LabelAction, LabelTarget};
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
 /// Draws the Labels tab.
@@ -34,6 +35,32 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     let Some(document) = state.labels().document(&target.document) else {
         return;
     };
+    save_state(ui, document, &mut act);
+    conflict(ui, document, &mut act);
+    undo_redo(ui, document, &mut act);
+    ui.separator();
+
+    let schema = document.schema();
+    let empty = RecordingLabels::default();
+    let labels = document.recording(&target.recording).unwrap_or(&empty);
+    palette(ui, schema, state.labels().active.as_deref(), &mut act);
+    in_point(ui, state, &mut act);
+    labels_here(ui, labels, state.frame());
+    ui.separator();
+    segment_list(ui, &target, schema, labels, commands);
+    super::label_schema::ui(ui, schema, commands);
+    ui.separator();
+    metadata_form(ui, state, &target, &labels.meta, commands);
+    ui.separator();
+    revert_or_clear(ui, &target, commands);
+    loss_table(ui, state);
+    ui.separator();
+    export(ui, dialogs);
+    ui.small("Press ? for every keyboard shortcut.");
+}
+
+/// Whether the labels file is saved (or why saving failed), and Save now.
+fn save_state(ui: &mut egui::Ui, document: &LabelDocument, act: &mut impl FnMut(LabelAction)) {
     ui.horizontal(|ui| {
         let saved = match document.save_state() {
             SaveState::Saved => "saved".to_owned(),
@@ -49,28 +76,37 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             act(LabelAction::SaveAll);
         }
     });
-    if document.has_conflict() {
-        ui.colored_label(
-            egui::Color32::from_rgb(230, 90, 80),
-            "Another program changed this labels file since pushlab read it.",
-        );
-        ui.horizontal(|ui| {
-            if ui
-                .button("Overwrite it with these labels")
-                .on_hover_text("the other program's changes to the file are lost")
-                .clicked()
-            {
-                act(LabelAction::Overwrite);
-            }
-            if ui
-                .button("Reload it")
-                .on_hover_text("your unsaved edits here are dropped")
-                .clicked()
-            {
-                act(LabelAction::Reload);
-            }
-        });
+}
+
+/// When another program changed the labels file since it was read: overwrite it or reload it.
+fn conflict(ui: &mut egui::Ui, document: &LabelDocument, act: &mut impl FnMut(LabelAction)) {
+    if !document.has_conflict() {
+        return;
     }
+    ui.colored_label(
+        egui::Color32::from_rgb(230, 90, 80),
+        "Another program changed this labels file since pushlab read it.",
+    );
+    ui.horizontal(|ui| {
+        if ui
+            .button("Overwrite it with these labels")
+            .on_hover_text("the other program's changes to the file are lost")
+            .clicked()
+        {
+            act(LabelAction::Overwrite);
+        }
+        if ui
+            .button("Reload it")
+            .on_hover_text("your unsaved edits here are dropped")
+            .clicked()
+        {
+            act(LabelAction::Reload);
+        }
+    });
+}
+
+/// Undo and Redo of the labels file's edits, each naming the edit on hover.
+fn undo_redo(ui: &mut egui::Ui, document: &LabelDocument, act: &mut impl FnMut(LabelAction)) {
     ui.horizontal(|ui| {
         let undo = document.undo_description();
         if ui
@@ -91,13 +127,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             act(LabelAction::Redo);
         }
     });
-    ui.separator();
+}
 
-    let schema = document.schema();
-    let empty = RecordingLabels::default();
-    let labels = document.recording(&target.recording).unwrap_or(&empty);
-    let frame = state.frame();
-    palette(ui, schema, state.labels().active.as_deref(), &mut act);
+/// The in point for in/out painting: where it is, set or clear it, and paint from it to here.
+fn in_point(ui: &mut egui::Ui, state: &AppState, act: &mut impl FnMut(LabelAction)) {
     ui.horizontal(|ui| {
         match state.labels().in_point {
             Some(f) => ui.label(format!("In point: frame {f}")),
@@ -120,6 +153,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             act(LabelAction::PaintFromInPoint);
         }
     });
+}
+
+/// The labels at the frame shown: its segments, then its events.
+fn labels_here(ui: &mut egui::Ui, labels: &RecordingLabels, frame: usize) {
     let here: Vec<String> = labels
         .segments_at(frame)
         .map(|s| s.label.clone())
@@ -136,12 +173,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     } else {
         format!("Frame {frame}: {}", here.join(", "))
     });
-    ui.separator();
-    segment_list(ui, &target, schema, labels, commands);
-    super::label_schema::ui(ui, schema, commands);
-    ui.separator();
-    metadata_form(ui, state, &target, &labels.meta, commands);
-    ui.separator();
+}
+
+/// Revert the recording's labels to how the file had them, or clear them (both undoable).
+fn revert_or_clear(ui: &mut egui::Ui, target: &LabelTarget, commands: &mut Vec<Command>) {
     ui.horizontal(|ui| {
         let recording = target.recording.clone();
         if ui
@@ -165,8 +200,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             )));
         }
     });
-    loss_table(ui, state);
-    ui.separator();
+}
+
+/// Export every label as CSV or as JSON.
+fn export(ui: &mut egui::Ui, dialogs: &mut Dialogs) {
     ui.horizontal(|ui| {
         if ui.button("Export labels as CSV…").clicked() {
             dialogs.open(DialogRequest::ExportLabelsCsv);
@@ -175,7 +212,6 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             dialogs.open(DialogRequest::ExportLabelsJson);
         }
     });
-    ui.small("Press ? for every keyboard shortcut.");
 }
 
 /// The labels of the schema: click a range label to choose it for in/out painting.

@@ -2,7 +2,7 @@
 //! `h` (a heatmap, log scale, with contour lines), θ's path over the push so far, θ now, the lowest
 //! cell and the true COM where the recording knows it; below, the slice over `h` through θ's COM.
 //!
-//! Everything drawn is computed by pushlab-core on a worker thread (`state::landscape`); this panel
+//! Everything drawn is computed by pushlab-core on a worker thread (`state::learning::landscape`); this panel
 //! only maps it to the screen, in millimetres.
 
 use eframe::egui::{self, Stroke};
@@ -11,7 +11,7 @@ use pushlab_core::inspect::LandscapeFrames;
 
 use super::axes;
 use crate::app::colors;
-use crate::app::state::landscape::{DEFAULT_RECENT, LandscapeCommand, LandscapeResult};
+use crate::app::state::learning::landscape::{DEFAULT_RECENT, LandscapeCommand, LandscapeResult};
 use crate::app::state::{AppState, Command};
 
 /// Most points of θ's path drawn (a long run's path is thinned evenly).

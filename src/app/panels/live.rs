@@ -2,12 +2,13 @@
 //! record to), and the timeline's live strip (the connection, messages, how late the poses come,
 //! Back to live, Disconnect). Reads the state's `live` and sends `LiveCommand`s.
 
+use pushlab_core::live::Lag;
 use std::path::PathBuf;
 
 use eframe::egui::{self, RichText};
 
 use crate::app::colors;
-use crate::app::state::live::{Link, LiveCommand, Running};
+use crate::app::state::sources::live::{Link, LiveCommand, Running};
 use crate::app::state::{AppState, Command};
 
 /// Draws the Connect form when it is open.
@@ -172,15 +173,18 @@ pub fn strip(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 /// The session in a sentence.
 fn describe(running: &Running) -> String {
     let latest = &running.latest;
-    let lag = |l: Option<f64>| l.map_or("-".to_owned(), |l| format!("{:.0} ms", l * 1e3));
+    let lag = |l: Option<Lag>| l.map_or("-".to_owned(), |l| format!("{:.0} ms", l.seconds * 1e3));
     let mut text = format!(
         "{} — {} messages, {} frames; poses arrive late by: pusher {}, object {}",
         running.choice.url,
         latest.messages,
         running.frames,
-        lag(latest.lag_s[0]),
-        lag(latest.lag_s[1]),
+        lag(latest.lag[0]),
+        lag(latest.lag[1]),
     );
+    if latest.lag.iter().flatten().any(|l| !l.wall_clock) {
+        text += " (later than each stream's first pose: its stamps are not wall-clock time)";
+    }
     if running.every_nth > 1 {
         text += &format!("; learning every {}th frame to keep up", running.every_nth);
     }

@@ -7,12 +7,13 @@
 
 use eframe::egui::{self, Id};
 use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotPoints, PlotUi, VLine};
+use pushlab_core::recording::Recording;
 
 use super::axes;
-use crate::app::colors;
-use crate::app::state::online::OnlineRun;
-use crate::app::state::run_plots::{LossPart, MOVING_AVERAGE, Series};
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::colors::{self, Palette};
+use crate::app::state::learning::online::OnlineRun;
+use crate::app::state::learning::run_plots::{LossPart, MOVING_AVERAGE, Series};
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
 /// Draws the plots.
@@ -32,145 +33,201 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     // frame.
     let follow = state.live_following();
 
-    let mut seek: Option<f64> = None;
     // Two rows with a little room to spare; the rest is claimed below, so that the content is exactly
     // as tall as the panel. (The panel takes its content's height: content a few points shorter
     // shrank it every frame, a few points taller grew it.)
     let row_height = ((ui.available_height() - 12.0) / 2.0).max(80.0);
-    ui.columns(2, |cols| {
-        for (col, (title, part)) in cols.iter_mut().zip([
-            ("Position loss", LossPart::Pos),
-            ("Rotation loss", LossPart::Rot),
-        ]) {
-            let plot = base_plot(title, group, row_height, duration).legend(
-                Legend::default()
-                    .position(egui_plot::Corner::LeftTop)
-                    .background_alpha(0.5)
-                    .text_style(egui::TextStyle::Small),
-            );
-            let response = plot.show(col, |plot_ui| {
-                let (visible, columns) = visible(plot_ui, duration, follow);
-                for (name, raw, average, color) in [
-                    (
-                        "Fixed",
-                        Series::Fixed(part),
-                        Series::FixedAverage(part),
-                        palette.fixed,
-                    ),
-                    (
-                        "Online",
-                        Series::Online(part),
-                        Series::OnlineAverage(part),
-                        palette.online,
-                    ),
-                ] {
-                    plot_ui.line(
-                        Line::new(
-                            format!("{name} (per step)"),
-                            points(run, raw, visible, columns),
-                        )
-                        .color(color.gamma_multiply(0.35))
-                        .width(1.0),
-                    );
-                    plot_ui.line(
-                        Line::new(
-                            format!("{name} (moving avg {MOVING_AVERAGE})"),
-                            points(run, average, visible, columns),
-                        )
-                        .color(color)
-                        .width(2.0),
-                    );
-                }
-                cursor(plot_ui, now);
-                clicked_x(plot_ui)
-            });
-            seek = seek.or(response.inner);
-        }
-    });
+    let shared = Shared {
+        group,
+        row_height,
+        duration,
+        follow,
+        now,
+    };
+    let mut seek = ui.columns(2, |cols| loss_plots(cols, run, palette, &shared));
     ui.add_space(4.0);
-    let setting = &recording.setting;
     // With physics alone weighed beside the run, a fourth plot: the network's weights.
     let weights = run.model_weight().is_some();
     ui.columns(if weights { 4 } else { 3 }, |cols| {
         if weights && let Some(col) = cols.get_mut(3) {
-            let plot = base_plot("Network's weight", group, row_height, duration)
-                .include_y(0.0)
-                .include_y(1.0)
-                .legend(
-                    Legend::default()
-                        .position(egui_plot::Corner::LeftBottom)
-                        .background_alpha(0.5)
-                        .text_style(egui::TextStyle::Small),
-                );
-            let response = plot.show(col, |plot_ui| {
-                let (visible, columns) = visible(plot_ui, duration, follow);
-                let [pos, rot] = weight_points(run, frames, t0, visible, columns);
-                plot_ui.line(
-                    Line::new("translation", pos)
-                        .color(palette.online)
-                        .width(2.0),
-                );
-                plot_ui.line(Line::new("rotation", rot).color(palette.physics).width(2.0));
-                cursor(plot_ui, now);
-                clicked_x(plot_ui)
-            });
-            seek = seek.or(response.inner);
+            seek = seek.or(weight_plot(col, run, frames, t0, palette, &shared));
         }
-        let truths = [
-            setting.com_offset.map(|c| c[0]),
-            setting.com_offset.map(|c| c[1]),
-            setting.h,
-        ];
-        let theta_ranges = state.theta_ranges();
-        for (index, col) in cols.iter_mut().take(3).enumerate() {
-            let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
-            // A COM offset plot spans at least ±1 mm: one that stays put (−1e-16 m) would
-            // otherwise be drawn at the scale of its rounding noise. (h's plot includes 0.)
-            let plot = base_plot(title, group, row_height, duration);
-            let plot = if index < 2 {
-                plot.include_y(-MIN_COM_HALF_SPAN_MM)
-                    .include_y(MIN_COM_HALF_SPAN_MM)
-            } else {
-                plot
-            };
-            let response = plot.show(col, |plot_ui| {
-                let (visible, columns) = visible(plot_ui, duration, follow);
-                band(plot_ui, run, index, theta_ranges[index], visible, columns);
-                plot_ui.line(
-                    Line::new(
-                        "θ_online",
-                        points(run, Series::Theta(index), visible, columns),
-                    )
-                    .color(palette.online)
-                    .width(2.0),
-                );
-                if let Some(truth) = truths[index] {
-                    plot_ui.hline(
-                        HLine::new("true", truth * 1e3)
-                            .color(palette.truth)
-                            .style(LineStyle::dashed_loose()),
-                    );
-                }
-                cursor(plot_ui, now);
-                clicked_x(plot_ui)
-            });
-            seek = seek.or(response.inner);
-        }
+        seek = seek.or(theta_plots(cols, state, run, recording, palette, &shared));
     });
     ui.allocate_space(egui::vec2(0.0, ui.available_height().max(0.0)));
 
     if let Some(t) = seek {
-        // The frame nearest to the clicked time.
-        let target = t0 + t;
-        let k = frames.partition_point(|f| f.time < target);
-        let k = if k > 0
-            && (k == frames.len() || target - frames[k - 1].time < frames[k].time - target)
-        {
-            k - 1
-        } else {
-            k
-        };
+        let k = nearest_frame(frames, t0 + t);
         commands.push(Command::Timeline(TimelineCommand::SeekTo(k)));
+    }
+}
+
+/// What every plot of the panel shares.
+struct Shared {
+    /// Links the plots' x axes and cursors (per recording).
+    group: Id,
+    row_height: f32,
+    /// The push's duration, seconds: the x axis's span at first.
+    duration: f64,
+    /// Whether the plots follow a live push, keeping all of it in view.
+    follow: bool,
+    /// The time shown, seconds since the first frame: the cursor.
+    now: f64,
+}
+
+/// The loss plots (position, rotation), fixed and online, raw and averaged; returns a click's time.
+fn loss_plots(
+    cols: &mut [egui::Ui],
+    run: &OnlineRun,
+    palette: &Palette,
+    shared: &Shared,
+) -> Option<f64> {
+    let mut seek: Option<f64> = None;
+    for (col, (title, part)) in cols.iter_mut().zip([
+        ("Position loss", LossPart::Pos),
+        ("Rotation loss", LossPart::Rot),
+    ]) {
+        let plot = base_plot(title, shared).legend(
+            Legend::default()
+                .position(egui_plot::Corner::LeftTop)
+                .background_alpha(0.5)
+                .text_style(egui::TextStyle::Small),
+        );
+        let response = plot.show(col, |plot_ui| {
+            let (visible, columns) = visible(plot_ui, shared.duration, shared.follow);
+            for (name, raw, average, color) in [
+                (
+                    "Fixed",
+                    Series::Fixed(part),
+                    Series::FixedAverage(part),
+                    palette.fixed,
+                ),
+                (
+                    "Online",
+                    Series::Online(part),
+                    Series::OnlineAverage(part),
+                    palette.online,
+                ),
+            ] {
+                plot_ui.line(
+                    Line::new(
+                        format!("{name} (per step)"),
+                        points(run, raw, visible, columns),
+                    )
+                    .color(color.gamma_multiply(0.35))
+                    .width(1.0),
+                );
+                plot_ui.line(
+                    Line::new(
+                        format!("{name} (moving avg {MOVING_AVERAGE})"),
+                        points(run, average, visible, columns),
+                    )
+                    .color(color)
+                    .width(2.0),
+                );
+            }
+            cursor(plot_ui, shared.now);
+            clicked_x(plot_ui)
+        });
+        seek = seek.or(response.inner);
+    }
+    seek
+}
+
+/// The network's weight against physics alone, translation and rotation; returns a click's time.
+fn weight_plot(
+    col: &mut egui::Ui,
+    run: &OnlineRun,
+    frames: &[pushlab_core::trajectory::Frame],
+    t0: f64,
+    palette: &Palette,
+    shared: &Shared,
+) -> Option<f64> {
+    let plot = base_plot("Network's weight", shared)
+        .include_y(0.0)
+        .include_y(1.0)
+        .legend(
+            Legend::default()
+                .position(egui_plot::Corner::LeftBottom)
+                .background_alpha(0.5)
+                .text_style(egui::TextStyle::Small),
+        );
+    let response = plot.show(col, |plot_ui| {
+        let (visible, columns) = visible(plot_ui, shared.duration, shared.follow);
+        let [pos, rot] = weight_points(run, frames, t0, visible, columns);
+        plot_ui.line(
+            Line::new("translation", pos)
+                .color(palette.online)
+                .width(2.0),
+        );
+        plot_ui.line(Line::new("rotation", rot).color(palette.physics).width(2.0));
+        cursor(plot_ui, shared.now);
+        clicked_x(plot_ui)
+    });
+    response.inner
+}
+
+/// The `θ_online(t)` plots (COM x, y, h), with ±2σ bands and the truth; returns a click's time.
+fn theta_plots(
+    cols: &mut [egui::Ui],
+    state: &AppState,
+    run: &OnlineRun,
+    recording: &Recording,
+    palette: &Palette,
+    shared: &Shared,
+) -> Option<f64> {
+    let setting = &recording.setting;
+    let truths = [
+        setting.com_offset.map(|c| c[0]),
+        setting.com_offset.map(|c| c[1]),
+        setting.h,
+    ];
+    let theta_ranges = state.theta_ranges();
+    let mut seek: Option<f64> = None;
+    for (index, col) in cols.iter_mut().take(3).enumerate() {
+        let title = ["COM offset x [mm]", "COM offset y [mm]", "h [mm]"][index];
+        // A COM offset plot spans at least ±1 mm: one that stays put (−1e-16 m) would
+        // otherwise be drawn at the scale of its rounding noise. (h's plot includes 0.)
+        let plot = base_plot(title, shared);
+        let plot = if index < 2 {
+            plot.include_y(-MIN_COM_HALF_SPAN_MM)
+                .include_y(MIN_COM_HALF_SPAN_MM)
+        } else {
+            plot
+        };
+        let response = plot.show(col, |plot_ui| {
+            let (visible, columns) = visible(plot_ui, shared.duration, shared.follow);
+            band(plot_ui, run, index, theta_ranges[index], visible, columns);
+            plot_ui.line(
+                Line::new(
+                    "θ_online",
+                    points(run, Series::Theta(index), visible, columns),
+                )
+                .color(palette.online)
+                .width(2.0),
+            );
+            if let Some(truth) = truths[index] {
+                plot_ui.hline(
+                    HLine::new("true", truth * 1e3)
+                        .color(palette.truth)
+                        .style(LineStyle::dashed_loose()),
+                );
+            }
+            cursor(plot_ui, shared.now);
+            clicked_x(plot_ui)
+        });
+        seek = seek.or(response.inner);
+    }
+    seek
+}
+
+/// The frame nearest to `target` (the recording's clock, seconds): where a click in a plot seeks.
+fn nearest_frame(frames: &[pushlab_core::trajectory::Frame], target: f64) -> usize {
+    let k = frames.partition_point(|f| f.time < target);
+    if k > 0 && (k == frames.len() || target - frames[k - 1].time < frames[k].time - target) {
+        k - 1
+    } else {
+        k
     }
 }
 
@@ -277,9 +334,10 @@ fn points(
     run.plot_points(series, visible, columns).into()
 }
 
-fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static> {
+fn base_plot(title: &str, shared: &Shared) -> Plot<'static> {
+    let group = shared.group;
     axes::x_values(axes::y_values(Plot::new((title, group))), " s")
-        .height(height)
+        .height(shared.row_height)
         .link_axis(group, [true, false])
         .link_cursor(group, [true, false])
         .allow_zoom([true, false])
@@ -288,7 +346,7 @@ fn base_plot(title: &str, group: Id, height: f32, duration: f64) -> Plot<'static
         .allow_boxed_zoom(false)
         .y_axis_label(title.to_owned())
         .y_axis_min_width(36.0)
-        .default_x_bounds(0.0, duration)
+        .default_x_bounds(0.0, shared.duration)
         .auto_bounds([false, true])
         .include_y(0.0)
 }

@@ -5,7 +5,7 @@
 
 use eframe::egui;
 
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 use crate::app::state::{OnlineCommand, TrainingCommand};
 use crate::app::view::View;

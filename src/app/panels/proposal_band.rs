@@ -10,8 +10,8 @@ use pushlab_core::labels::LabelSchema;
 
 use super::label_bands::color;
 use crate::app::colors;
-use crate::app::state::proposals::{Pending, ProposalAction, Status};
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::labels::proposals::{Pending, ProposalAction, Status};
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
 /// Height of one row, points (as a label band).

@@ -10,7 +10,8 @@ use pushlab_core::recording::Recording;
 
 use crate::app::colors;
 use crate::app::format;
-use crate::app::state::best_fit::BestFitCommand;
+use crate::app::state::learning::best_fit::BestFitCommand;
+use crate::app::state::learning::online::OnlineRun;
 use crate::app::state::{AppState, Command, MAX_WHAT_IF_STEPS};
 use crate::app::state::{OnlineCommand, TrainingCommand};
 
@@ -194,7 +195,6 @@ fn best_theta(
 
 /// Draws the steering controls.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
-    let palette = colors::of(ui.ctx());
     let (Some(theta), Some(recording), Some(run)) =
         (state.theta(), state.recording(), &state.run())
     else {
@@ -203,6 +203,29 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     };
     ui.label(format!("Learning with: {}", state.models().learner_name()));
     model_fit(ui, state, commands);
+    theta_sliders(ui, state, theta, run, commands);
+    spread_parts(ui, run, state.frame());
+    model_weights(ui, run, state.frame());
+    truth(ui, recording);
+    ui.weak("Or drag the orange COM marker in the scene.");
+
+    online_learning(ui, state, run, commands);
+    optimiser(ui, run, commands);
+    learning_ahead(ui, state, run, commands);
+
+    best_theta(ui, state, recording, commands);
+    next_push::ui(ui, state, commands);
+    what_if(ui, state, recording, commands);
+}
+
+/// The θ_online sliders at the frame shown, each with its ±σ: moving one steers θ here.
+fn theta_sliders(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    theta: OnlineParams,
+    run: &OnlineRun,
+    commands: &mut Vec<Command>,
+) {
     ui.add_space(4.0);
     ui.heading("θ_online at this frame");
     // Slider ranges follow the object: the COM stays within its bounding box, h within its size.
@@ -261,8 +284,11 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             h: mm[2] * 1e-3,
         })));
     }
-    spread_parts(ui, run, state.frame());
-    model_weights(ui, run, state.frame());
+}
+
+/// The true COM and h of the recording, where its setting gives them: what θ is compared with.
+fn truth(ui: &mut egui::Ui, recording: &Recording) {
+    let palette = colors::of(ui.ctx());
     if let (Some(com), h) = (recording.setting.com_offset, recording.setting.h) {
         ui.colored_label(
             palette.truth,
@@ -275,8 +301,15 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             ),
         );
     }
-    ui.weak("Or drag the orange COM marker in the scene.");
+}
 
+/// Online learning: learn this frame or reset; learn while playing, carry θ, weigh against physics.
+fn online_learning(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    run: &OnlineRun,
+    commands: &mut Vec<Command>,
+) {
     ui.add_space(8.0);
     ui.heading("Online learning");
     ui.horizontal(|ui| {
@@ -333,6 +366,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     {
         commands.push(Command::Online(OnlineCommand::SetWeighPhysics(weigh)));
     }
+}
+
+/// The update rule: the optimiser, its steps and learning rate, and a way back to the paper's.
+fn optimiser(ui: &mut egui::Ui, run: &OnlineRun, commands: &mut Vec<Command>) {
     let mut config = run.config();
     let mut config_changed = false;
     // The choices on a line of their own, wrapped: beside the label they ran out of a narrow Tools
@@ -391,6 +428,15 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             OnlineConfig::default(),
         )));
     }
+}
+
+/// Learning ahead's progress to the frame shown (with Cancel), or else how far learning got.
+fn learning_ahead(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    run: &OnlineRun,
+    commands: &mut Vec<Command>,
+) {
     match state.learning_ahead() {
         Some((done, to)) => {
             ui.horizontal(|ui| {
@@ -413,10 +459,15 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
             ui.weak(how_far_learned(run));
         }
     }
+}
 
-    best_theta(ui, state, recording, commands);
-    next_push::ui(ui, state, commands);
-
+/// What if: the model rolled k steps ahead on its own predictions, and how far off it ends.
+fn what_if(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    recording: &Recording,
+    commands: &mut Vec<Command>,
+) {
     ui.add_space(8.0);
     ui.heading("What if");
     let mut steps = state.settings().what_if_steps;

@@ -2,7 +2,7 @@
 
 use eframe::egui;
 
-use crate::app::state::timeline::{MAX_SPEED, MIN_SPEED, TimelineCommand};
+use crate::app::state::playback::timeline::{MAX_SPEED, MIN_SPEED, TimelineCommand};
 use pushlab_core::labels::SaveState;
 
 use crate::app::state::{AppState, Command};

@@ -8,14 +8,27 @@ use pushlab_core::model::ModelKind;
 use crate::app::colors;
 use crate::app::dialogs::{DialogRequest, Dialogs};
 use crate::app::state::TrainingCommand;
-use crate::app::state::background_training::{RunEnd, TrainingChoice, why_it_ended};
+use crate::app::state::models::training::{RunEnd, TrainingChoice, why_it_ended};
 use crate::app::state::{AppState, Command};
 
 /// Draws the training panel.
 pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: &mut Vec<Command>) {
-    let palette = colors::of(ui.ctx());
     ui.heading("Train a combined model");
     let running = state.training().is_running();
+    model_kind(ui, state, running, commands);
+    quick_choices(ui, state, commands);
+    recording_checkboxes(ui, state, commands);
+    training_config(ui, state, running, commands);
+    start_or_cancel(ui, state, running, commands);
+    if running || !state.training().history.is_empty() || state.training().last_end().is_some() {
+        run_progress(ui, state, running);
+    }
+    ui.separator();
+    model_files(ui, state, dialogs);
+}
+
+/// The model in use, and the kind of model training makes (not changed while a run goes on).
+fn model_kind(ui: &mut egui::Ui, state: &AppState, running: bool, commands: &mut Vec<Command>) {
     ui.label(match state.models().kind() {
         Some(kind) => format!("In use: the {kind} model ({})", kind.description()),
         None => "In use: physics only (no trained model)".to_owned(),
@@ -42,6 +55,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
                 .labelled_by(label.id);
         });
     });
+}
+
+/// Which recordings to train on, at a click (all, none, offline, shown), and how many are chosen.
+fn quick_choices(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     ui.label("Recordings to train on (frames labelled bad tracking are left out):");
     // Wrapped: the four buttons are wider than a narrow Tools panel.
     ui.horizontal_wrapped(|ui| {
@@ -83,6 +100,10 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
         ))
         .weak(),
     );
+}
+
+/// A checkbox per recording open, to choose the recordings to train on one by one.
+fn recording_checkboxes(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     // Only the rows in view are laid out: with 5,000 recordings open, laying out every checkbox
     // took 6.5 ms of each frame.
     let row_height = ui.spacing().interact_size.y;
@@ -112,6 +133,15 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
                 }
             },
         );
+}
+
+/// The run's settings: epochs, learning rate, horizon and seed (not changed while a run goes on).
+fn training_config(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    running: bool,
+    commands: &mut Vec<Command>,
+) {
     let mut config = state.training().config;
     ui.add_enabled_ui(!running, |ui| {
         egui::Grid::new("train-config")
@@ -144,6 +174,15 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
     if config != state.training().config {
         commands.push(Command::Training(TrainingCommand::SetConfig(config)));
     }
+}
+
+/// Train, or while a run goes on, Cancel training.
+fn start_or_cancel(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    running: bool,
+    commands: &mut Vec<Command>,
+) {
     ui.horizontal(|ui| {
         if running {
             if ui.button("Cancel training").clicked() {
@@ -160,48 +199,53 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs, commands: 
             commands.push(Command::Training(TrainingCommand::Start));
         }
     });
-    if running || !state.training().history.is_empty() || state.training().last_end().is_some() {
-        let last = state.training().history.last();
-        let ended = state.training().last_end().filter(|_| !running);
-        let (progress, text) = match ended {
-            Some(end) => (1.0, how_it_ended(end)),
-            None => (
-                state.training().progress(),
-                last.map_or("starting…".to_owned(), |p| {
-                    format!(
-                        "epoch {} / {}, train loss {:.4}",
-                        p.epoch, p.epochs, p.train_loss
-                    )
-                }),
-            ),
-        };
-        ui.add(egui::ProgressBar::new(progress).text(text));
-        let train: PlotPoints = state
-            .training()
-            .history
-            .iter()
-            .map(|p| [p.epoch as f64, p.train_loss])
-            .collect();
-        let validation: PlotPoints = state
-            .training()
-            .history
-            .iter()
-            .filter_map(|p| p.validation_loss.map(|v| [p.epoch as f64, v]))
-            .collect();
-        Plot::new("training-loss")
-            .height(150.0)
-            .legend(Legend::default())
-            .x_axis_label("epoch")
-            .show(ui, |plot_ui| {
-                plot_ui.line(Line::new("train", train).color(palette.online));
-                plot_ui.line(Line::new("validation", validation).color(palette.fixed));
-                if let Some(RunEnd::Trained { report }) = ended {
-                    plot_ui
-                        .vline(VLine::new("kept", report.best_epoch as f64).color(palette.truth));
-                }
-            });
-    }
-    ui.separator();
+}
+
+/// How far the run got, or how it ended, and its loss curves (the epoch kept marked).
+fn run_progress(ui: &mut egui::Ui, state: &AppState, running: bool) {
+    let palette = colors::of(ui.ctx());
+    let last = state.training().history.last();
+    let ended = state.training().last_end().filter(|_| !running);
+    let (progress, text) = match ended {
+        Some(end) => (1.0, how_it_ended(end)),
+        None => (
+            state.training().progress(),
+            last.map_or("starting…".to_owned(), |p| {
+                format!(
+                    "epoch {} / {}, train loss {:.4}",
+                    p.epoch, p.epochs, p.train_loss
+                )
+            }),
+        ),
+    };
+    ui.add(egui::ProgressBar::new(progress).text(text));
+    let train: PlotPoints = state
+        .training()
+        .history
+        .iter()
+        .map(|p| [p.epoch as f64, p.train_loss])
+        .collect();
+    let validation: PlotPoints = state
+        .training()
+        .history
+        .iter()
+        .filter_map(|p| p.validation_loss.map(|v| [p.epoch as f64, v]))
+        .collect();
+    Plot::new("training-loss")
+        .height(150.0)
+        .legend(Legend::default())
+        .x_axis_label("epoch")
+        .show(ui, |plot_ui| {
+            plot_ui.line(Line::new("train", train).color(palette.online));
+            plot_ui.line(Line::new("validation", validation).color(palette.fixed));
+            if let Some(RunEnd::Trained { report }) = ended {
+                plot_ui.vline(VLine::new("kept", report.best_epoch as f64).color(palette.truth));
+            }
+        });
+}
+
+/// Loading a model file, or saving the one in use.
+fn model_files(ui: &mut egui::Ui, state: &AppState, dialogs: &mut Dialogs) {
     ui.horizontal(|ui| {
         if ui.button("Load model…").clicked() {
             dialogs.open(DialogRequest::LoadModel);

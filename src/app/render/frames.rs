@@ -10,7 +10,7 @@ use super::raster::{Canvas, Textures};
 use crate::app::colors;
 use crate::app::panels::plots;
 use crate::app::panels::scene::{self, SceneView};
-use crate::app::state::timeline::TimelineCommand;
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command};
 
 /// A push being rendered: the state, the scene's view and egui's textures.

@@ -17,8 +17,8 @@ use eframe::egui;
 pub use self::frames::SceneFrames;
 use self::video::VideoWriter;
 use crate::app::colors;
-use crate::app::state::timeline::TimelineCommand;
-use crate::app::state::video_export::VideoWork;
+use crate::app::state::commands::video_export::VideoWork;
+use crate::app::state::playback::timeline::TimelineCommand;
 use crate::app::state::{AppState, Command, SessionCommand};
 
 /// How a push is rendered.

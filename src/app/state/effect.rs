@@ -8,8 +8,9 @@ use std::path::PathBuf;
 use pushlab_core::recording::bag::BagChoice;
 use pushlab_core::recording::dataset::DatasetChoice;
 
-use super::labels::LabelAction;
-use super::session::{LoadProblem, RecordingId};
+use super::labels::labeling::LabelAction;
+use super::labels::proposals::Asked;
+use super::recordings::session::{LoadProblem, RecordingId};
 
 /// One thing asked of the whole state.
 #[derive(Debug)]
@@ -32,4 +33,14 @@ pub enum Effect {
     Problem(LoadProblem),
     /// An edit of the selected recording's labels at the frame shown.
     Label(LabelAction),
+}
+
+impl Effect {
+    /// What a proposals action asked, in order: the status line first, then the labels edit, whose
+    /// own message (a refusal, a rescue) replaces it.
+    pub fn asked_by_proposals(asked: Asked) -> Vec<Effect> {
+        let mut effects = vec![Effect::Status(asked.status)];
+        effects.extend(asked.edit.map(Effect::Label));
+        effects
+    }
 }

@@ -3,44 +3,24 @@
 //! The panels only read [`AppState`] and push [`Command`]s; [`AppState::apply`] runs them after all
 //! panels are drawn, and [`AppState::advance`] moves time (and online learning) forward.
 
-pub mod background_training;
-pub mod bag_import;
-pub mod best_fit;
-pub mod browser;
-pub mod cameras;
-mod choosing;
-mod commands;
-pub mod dataset_import;
-pub mod demo;
-pub mod effect;
-pub mod envelope;
-mod files;
-mod frame_cache;
-mod job;
-pub mod label_losses;
+// The rooms, one concern each (ARCHITECTURE.md says why this grouping): where recordings come from
+// and which are open, playback, learning, models, labels, demos; then the state's commands and what
+// the panels read across rooms.
+pub mod commands;
+pub mod demos;
 pub mod labels;
-pub mod landscape;
-pub mod layers;
-mod learning;
-mod learning_ahead;
-pub mod live;
-mod live_feed;
-mod model_in_use;
+pub mod learning;
 pub mod models;
-pub mod next_push;
-pub mod online;
-mod opening;
-pub mod overview;
+pub mod playback;
+pub mod recordings;
+pub mod sources;
+pub mod views;
+
+// The few pieces every room shares: work on a worker, what a room's command asks of the others,
+// what survives a restart.
+pub mod effect;
+mod job;
 mod persisted;
-pub mod predictions;
-pub mod proposals;
-pub mod run_plots;
-pub mod session;
-mod start_demo;
-pub mod timeline;
-mod training_choice;
-pub mod video_export;
-mod views;
 
 use std::path::PathBuf;
 
@@ -49,29 +29,29 @@ use pushlab_core::learn::{OnlineConfig, TrainConfig};
 use pushlab_core::model::{ModelKind, OnlineParams, PhysicsOnlyModel};
 use pushlab_core::recording::Recording;
 
-use self::background_training::{Training, TrainingChoice};
-use self::bag_import::{BagChooser, BagCommand};
-use self::best_fit::{BestFitCommand, BestFitState};
-use self::browser::{BrowserCommand, BrowserMemory};
-use self::cameras::{CameraCommand, Cameras};
-use self::dataset_import::{DatasetChooser, DatasetCommand};
-use self::demo::{DemoCommand, Demos};
+use self::demos::demo::{DemoCommand, Demos};
 use self::effect::Effect;
-use self::frame_cache::FrameCache;
-use self::labels::{LabelAction, Labeling};
-use self::landscape::{LandscapeCommand, LandscapeState};
-use self::layers::Layers;
-use self::learning_ahead::LearningAhead;
-use self::live::{Live, LiveCommand};
-use self::models::Models;
-use self::next_push::{NextPushCommand, NextPushState};
-use self::online::OnlineRun;
-use self::overview::PathOverview;
+use self::labels::labeling::{LabelAction, Labeling};
+use self::labels::proposals::{ProposalAction, ProposalState, ProposalTarget};
+use self::learning::ahead::LearningAhead;
+use self::learning::best_fit::{BestFitCommand, BestFitState};
+use self::learning::landscape::{LandscapeCommand, LandscapeState};
+use self::learning::next_push::{NextPushCommand, NextPushState};
+use self::learning::online::OnlineRun;
+use self::models::loaded::Models;
+use self::models::training::{Training, TrainingChoice};
 pub use self::persisted::Persisted;
-use self::proposals::{ProposalAction, ProposalState, ProposalTarget};
-use self::session::{RecordingId, Session};
-use self::timeline::{FrameMove, Timeline, TimelineCommand};
-pub use self::views::ChooseAgain;
+use self::playback::cameras::{CameraCommand, Cameras};
+use self::playback::layers::Layers;
+use self::playback::overview::PathOverview;
+use self::playback::timeline::{FrameMove, Timeline, TimelineCommand};
+use self::recordings::browser::{BrowserCommand, BrowserMemory};
+use self::recordings::session::{RecordingId, Session};
+use self::sources::bag_import::{BagChooser, BagCommand};
+use self::sources::dataset_import::{DatasetChooser, DatasetCommand};
+use self::sources::live::{Live, LiveCommand};
+pub use self::views::across::ChooseAgain;
+use self::views::frame_cache::FrameCache;
 
 /// Everything a panel can ask the app to do: one enum per concern.
 #[derive(Clone, Debug, PartialEq)]
@@ -258,7 +238,7 @@ pub struct AppState {
     /// The frames the path overview was made of (a live push's is made again as it grows).
     overview_frames: usize,
     /// File → Export video of this push…, while it is written.
-    video_export: Option<video_export::VideoExport>,
+    video_export: Option<commands::video_export::VideoExport>,
 }
 
 impl AppState {
@@ -424,8 +404,8 @@ impl AppState {
                     labels: &self.labels,
                     frame: self.timeline.frame(),
                 };
-                let effects = self.proposals.apply(action, on);
-                self.apply_effects(effects);
+                let asked = self.proposals.apply(action, on);
+                self.apply_effects(Effect::asked_by_proposals(asked));
             }
             Command::Demo(c) => self.apply_demo(c),
             Command::Bag(c) => {

@@ -8,9 +8,9 @@ use pushlab_core::learn::OnlineConfig;
 use serde::{Deserialize, Serialize};
 
 use super::DEFAULT_WHAT_IF_STEPS;
-use super::browser::BrowserView;
-use super::layers::Layers;
-use super::live::LiveChoice;
+use super::playback::layers::Layers;
+use super::recordings::browser::BrowserView;
+use super::sources::live::LiveChoice;
 
 /// What survives a restart (eframe persistence).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -14,8 +14,14 @@ pub(super) fn text(followed: &Followed) -> String {
                 p.y,
                 p.yaw.to_degrees(),
                 followed
-                    .lag_s()
-                    .map(|l| format!(" {:.0} ms late", l * 1e3))
+                    .lag()
+                    .map(|l| match l.wall_clock {
+                        true => format!(" {:.0} ms late", l.seconds * 1e3),
+                        false => format!(
+                            " {:.0} ms later than its first (its stamps are not wall-clock time)",
+                            l.seconds * 1e3
+                        ),
+                    })
                     .unwrap_or_default()
             ) + &dropped(followed)
         }
@@ -34,7 +40,9 @@ fn dropped(followed: &Followed) -> String {
 pub(super) fn json(followed: &Followed) -> serde_json::Value {
     match followed.latest() {
         Some(p) => json!({"stamp_ns": p.stamp_ns, "x": p.x, "y": p.y, "yaw": p.yaw,
-                          "lag_s": followed.lag_s(), "unreadable": followed.unreadable(),
+                          "lag_s": followed.lag().map(|l| l.seconds),
+                          "stamps_wall_clock": followed.lag().map(|l| l.wall_clock),
+                          "unreadable": followed.unreadable(),
                           "dropped": followed.dropped()}),
         None => serde_json::Value::Null,
     }

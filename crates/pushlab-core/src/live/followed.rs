@@ -25,9 +25,28 @@ pub struct Followed {
     /// The `/tf_static` channel on the connection now, read for a TF child frame's chain.
     static_channel: Option<u64>,
     latest: Option<PlanarPose>,
-    /// Receive time − header stamp of the latest, seconds.
-    lag_s: Option<f64>,
+    /// How late the latest pose arrived.
+    lag: Option<Lag>,
+    /// Receive time − stamp of the stream's first stamped pose, nanoseconds: where its stamps are
+    /// not wall-clock time, lag is counted from there.
+    first_offset_ns: Option<f64>,
     unreadable: usize,
+}
+
+/// Stamps further than this from the receive clock are not wall-clock time (a recording's clock
+/// replayed, a robot's time since boot): an hour, far beyond any network's delay or clock skew.
+const NOT_WALL_CLOCK_S: f64 = 3600.0;
+
+/// How late a pose arrived. With wall-clock stamps, receive time − stamp. With stamps on another
+/// clock (a replayed recording's, a robot's since boot), that difference is the clocks' distance
+/// (a replay of a 2023 bag read 96 million seconds "late"), so the lag is counted from the stream's
+/// first pose instead: how much later than the first this one arrived, against the time between
+/// their stamps — a link falling behind still shows, a clock offset does not.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lag {
+    pub seconds: f64,
+    /// Whether the stamps are wall-clock time (the lag is receive time − stamp).
+    pub wall_clock: bool,
 }
 
 /// What reading one message of a followed stream gave.
@@ -68,7 +87,8 @@ impl Followed {
             chain: None,
             static_channel: None,
             latest: None,
-            lag_s: None,
+            lag: None,
+            first_offset_ns: None,
             unreadable: 0,
         }
     }
@@ -96,9 +116,9 @@ impl Followed {
         self.latest.as_ref()
     }
 
-    /// How late the latest pose arrived (receive time − its stamp), seconds.
-    pub fn lag_s(&self) -> Option<f64> {
-        self.lag_s
+    /// How late the latest pose arrived (see [`Lag`]).
+    pub fn lag(&self) -> Option<Lag> {
+        self.lag
     }
 
     /// Messages that did not decode.
@@ -151,8 +171,7 @@ impl Followed {
         match read {
             Ok((poses, said)) => {
                 if let Some(pose) = poses.last() {
-                    self.lag_s = (pose.stamp_ns > 0)
-                        .then_some((now_ns as f64 - pose.stamp_ns as f64) * 1e-9);
+                    self.lag = self.lag_of(pose.stamp_ns, now_ns);
                     self.latest = Some(*pose);
                 }
                 match said.is_empty() {
@@ -170,8 +189,71 @@ impl Followed {
         }
     }
 
+    /// The lag of a pose stamped `stamp_ns` received at `now_ns` (see [`Lag`]); none unstamped.
+    fn lag_of(&mut self, stamp_ns: u64, now_ns: u64) -> Option<Lag> {
+        if stamp_ns == 0 {
+            return None;
+        }
+        let offset_ns = now_ns as f64 - stamp_ns as f64;
+        // A stamp before the latest's starts over (a replay looping, a robot restarted).
+        if self.latest.is_some_and(|latest| stamp_ns < latest.stamp_ns) {
+            self.first_offset_ns = None;
+        }
+        let first = *self.first_offset_ns.get_or_insert(offset_ns);
+        let wall_clock = first.abs() * 1e-9 < NOT_WALL_CLOCK_S;
+        let seconds = if wall_clock {
+            offset_ns * 1e-9
+        } else {
+            (offset_ns - first) * 1e-9
+        };
+        Some(Lag {
+            seconds,
+            wall_clock,
+        })
+    }
+
     /// Poses of a TF chain that could not be composed at their time (a link not published then).
     pub fn dropped(&self) -> usize {
         self.chain.as_ref().map_or(0, LiveChain::dropped)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    const NOW: u64 = 1_796_000_000_000_000_000; // December 2026, Unix ns
+
+    fn followed() -> Followed {
+        Followed::new(Stream::Object, "/object")
+    }
+
+    #[test]
+    fn wall_clock_stamps_lag_by_receive_time_minus_stamp() {
+        let mut f = followed();
+        let lag = f.lag_of(NOW - 20_000_000, NOW).unwrap();
+        assert!(lag.wall_clock);
+        assert!((lag.seconds - 0.020).abs() < 1e-9, "{lag:?}");
+    }
+
+    #[test]
+    fn stamps_on_another_clock_lag_from_the_first_pose() {
+        // A 2023 recording replayed now: 96 million seconds between the clocks.
+        let stamp = NOW - 96_294_783_000_000_000;
+        let mut f = followed();
+        let first = f.lag_of(stamp, NOW).unwrap();
+        assert!(!first.wall_clock);
+        assert_eq!(first.seconds, 0.0);
+        // 100 ms of stamps later, received 150 ms later: 50 ms behind the first.
+        let later = f.lag_of(stamp + 100_000_000, NOW + 150_000_000).unwrap();
+        assert!(!later.wall_clock);
+        assert!((later.seconds - 0.050).abs() < 1e-6, "{later:?}");
+    }
+
+    #[test]
+    fn an_unstamped_pose_has_no_lag() {
+        assert_eq!(followed().lag_of(0, NOW), None);
     }
 }

@@ -23,7 +23,7 @@ pub mod tf_chain;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub use self::client::{LiveClient, LiveError, LiveEvent};
-pub use self::followed::Followed;
+pub use self::followed::{Followed, Lag};
 pub use self::grid::{LiveGrid, Refused, Stream};
 pub use self::learner::{AheadScore, LiveLearner, RefusedCounts};
 pub use self::pose::PoseReading;

@@ -369,7 +369,7 @@ fn connect(
         && !stop()
     {
         if let Some(LiveEvent::ServerInfo { name }) = client.next_event()? {
-            server = Some(name);
+            server = named(name);
         }
     }
     for f in followed.iter_mut() {
@@ -426,7 +426,7 @@ pub fn list_topics(
     let mut frames: Vec<(u64, Vec<String>)> = Vec::new();
     while started.elapsed() < listen && !stop() {
         match client.next_event()? {
-            Some(LiveEvent::ServerInfo { name }) => server = Some(name),
+            Some(LiveEvent::ServerInfo { name }) => server = named(name),
             Some(LiveEvent::Advertised(channels)) => {
                 for c in channels {
                     if PoseType::from_schema(&c.schema_name) == Some(PoseType::TfMessage) {
@@ -478,4 +478,9 @@ pub fn list_topics(
         .collect();
     client.close();
     Ok((server, topics))
+}
+/// A server's name as it gave it, or none where it gave an empty one (the Foxglove SDK's server
+/// unless named), so that what says it never prints "( , foxglove.sdk.v1)".
+fn named(name: String) -> Option<String> {
+    (!name.trim().is_empty()).then_some(name)
 }

@@ -168,14 +168,14 @@ pub fn pusher_slider_step(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::noise::SplitMix64;
+    use crate::sim::noise::NoiseStream;
 
     /// Over many random contacts and pushes, the chosen sliding edge is consistent: the pusher's slip
     /// has the sign of the friction force, and the object's contact point follows the pusher's normal
     /// motion exactly.
     #[test]
     fn sliding_solutions_are_consistent_over_random_contacts() {
-        let mut rng = SplitMix64::new(7);
+        let mut rng = NoiseStream::new(7);
         let mut sliding = 0;
         for _ in 0..20_000 {
             let contact = Vector2::new(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));

@@ -21,11 +21,12 @@ pub mod path;
 pub mod pressure;
 pub mod record;
 pub mod spec;
+pub mod stepper;
 pub mod truth;
 pub mod world;
 
 pub use contact::{ContactMode, ObjectStep, lynch_sticking, motion_cone, pusher_slider_step};
-pub use noise::SplitMix64;
+pub use noise::NoiseStream;
 pub use path::{PlanError, PushPlan, PusherPath};
 pub use pressure::{PressureDistribution, PressureError, PressureModel, UnknownPressure, lynch_h};
 pub use record::{
@@ -33,7 +34,7 @@ pub use record::{
 };
 pub use spec::{
     GeneratedSet, NoiseSpec, PushSpec, SampleSpec, SetSpec, SpecError, SpecFileError, generate_set,
-    read_sample_spec,
+    push_noise_seed, read_sample_spec,
 };
 pub use truth::{TRUTH_LABELS_FILE, truth_labels};
 pub use world::{PushWorld, SimObject, WorldError};

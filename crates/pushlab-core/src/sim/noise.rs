@@ -1,18 +1,20 @@
-//! A small seeded random source for tracking noise: SplitMix64 and Box–Muller.
+//! The simulator's tracking noise: the crate's SplitMix64 with Box–Muller normals.
 //!
 //! Written here rather than taken from a crate so that a seed gives the same sample data on every
 //! platform and every future version: the bundled `sample-data/` must be reproducible bit for bit.
 
 /// The crate's SplitMix64 ([`crate::rng::SplitMix64`]) with a Box–Muller generator that hands out both
-/// values of each pair: the sample data's noise stream, kept exactly as it was generated.
+/// values of each pair: the sample data's noise stream, kept exactly as it was generated. Its own
+/// name, not SplitMix64's: its normals are not the crate generator's (which uses one value of each
+/// pair), so the two streams differ for one seed.
 #[derive(Clone, Debug)]
-pub struct SplitMix64 {
+pub struct NoiseStream {
     bits: crate::rng::SplitMix64,
     /// The second normal deviate of the last Box–Muller pair, not yet handed out.
     spare_normal: Option<f64>,
 }
 
-impl SplitMix64 {
+impl NoiseStream {
     /// A generator from a seed; equal seeds give equal sequences.
     pub fn new(seed: u64) -> Self {
         Self {
@@ -58,14 +60,14 @@ mod tests {
     #[test]
     fn splitmix64_matches_the_reference_sequence() {
         // First outputs of the reference C implementation for seed 1234567.
-        let mut rng = SplitMix64::new(1_234_567);
+        let mut rng = NoiseStream::new(1_234_567);
         assert_eq!(rng.next_u64(), 6_457_827_717_110_365_317);
         assert_eq!(rng.next_u64(), 3_203_168_211_198_807_973);
     }
 
     #[test]
     fn normal_deviates_have_zero_mean_and_unit_variance() {
-        let mut rng = SplitMix64::new(42);
+        let mut rng = NoiseStream::new(42);
         let n = 200_000;
         let samples: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
         let mean = samples.iter().sum::<f64>() / n as f64;
@@ -76,8 +78,8 @@ mod tests {
 
     #[test]
     fn equal_seeds_give_equal_noise() {
-        let mut a = SplitMix64::new(9);
-        let mut b = SplitMix64::new(9);
+        let mut a = NoiseStream::new(9);
+        let mut b = NoiseStream::new(9);
         for _ in 0..100 {
             assert_eq!(a.normal().to_bits(), b.normal().to_bits());
         }

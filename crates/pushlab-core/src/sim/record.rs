@@ -1,14 +1,14 @@
 //! Runs one push and samples it like a tracking camera would: at a fixed rate, optionally with
 //! Gaussian noise on every recorded position and yaw.
 
-use nalgebra::Vector2;
-
 use super::SimError;
-use super::noise::SplitMix64;
+use super::noise::NoiseStream;
 use super::path::PusherPath;
-use super::world::{PushWorld, SimObject};
+use super::stepper::PushStepper;
+pub use super::stepper::{FrameContact, TrackingNoise};
+use super::world::SimObject;
 use crate::geometry::Pose2;
-use crate::trajectory::{Frame, Trajectory};
+use crate::trajectory::Trajectory;
 
 /// How often and how long to record, and how finely to integrate in between.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,15 +32,6 @@ impl Default for Sampling {
     }
 }
 
-/// Tracking noise: independent Gaussian errors on each recorded coordinate.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TrackingNoise {
-    /// Standard deviation of the robot's and the object's recorded x and y, metres.
-    pub position_sd: f64,
-    /// Standard deviation of the object's recorded yaw, radians.
-    pub yaw_sd: f64,
-}
-
 /// A simulated push: what a tracker would record, the noise-free truth, and how the contact behaved.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimulatedPush {
@@ -59,33 +50,6 @@ pub struct SimulatedPush {
     pub frame_contacts: Vec<FrameContact>,
 }
 
-/// How the contact behaved over one recorded frame's interval, counted in integration substeps.
-///
-/// Frame `k`'s interval is the time from frame `k` to frame `k + 1` (what follows the frame, as a
-/// sample from frame `k` predicts it); the last frame, which has no interval after it, takes the one
-/// before it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FrameContact {
-    /// Substeps in the interval.
-    pub substeps: u32,
-    /// Substeps in which the pusher pressed on the object (sticking or sliding).
-    pub pressing: u32,
-    /// Pressing substeps in which it slid along the edge.
-    pub sliding: u32,
-}
-
-impl FrameContact {
-    /// Whether the pusher pressed on the object for most of the interval.
-    pub fn in_contact(&self) -> bool {
-        2 * self.pressing > self.substeps
-    }
-
-    /// Whether, while pressing, the contact slid along the edge for most of the time.
-    pub fn slipping(&self) -> bool {
-        2 * self.sliding > self.pressing
-    }
-}
-
 /// Why the sampling parameters are unusable.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SamplingError {
@@ -101,7 +65,7 @@ pub fn simulate_push(
     world_from_object: Pose2,
     path: &PusherPath,
     sampling: &Sampling,
-    noise: Option<(&TrackingNoise, &mut SplitMix64)>,
+    noise: Option<(&TrackingNoise, &mut NoiseStream)>,
 ) -> Result<SimulatedPush, SimError> {
     for (field, value) in [
         ("sample_rate_hz", sampling.rate_hz),
@@ -120,63 +84,39 @@ pub fn simulate_push(
     let dt = 1.0 / sampling.rate_hz;
     let substeps = ((path.speed() * dt / sampling.max_substep).ceil() as usize).max(1);
 
-    let mut world = PushWorld::new(object.clone(), world_from_object, path.position(0.0))?;
+    let mut stepper = PushStepper::new(
+        object.clone(),
+        world_from_object,
+        path.position(0.0),
+        sampling.rate_hz,
+    )?;
+    let mut noise = noise;
+    let mut recorded = Vec::with_capacity(frames);
     let mut truth = Vec::with_capacity(frames);
     let mut frame_contacts = Vec::with_capacity(frames);
-    let (mut pressing, mut sliding, mut total, mut max_overlap) = (0usize, 0usize, 0usize, 0.0f64);
-    for k in 0..frames {
-        let time = k as f64 * dt;
-        if k > 0 {
-            let mut interval = FrameContact::default();
-            for j in 1..=substeps {
-                let t = (k - 1) as f64 * dt + dt * j as f64 / substeps as f64;
-                let report = world.move_pusher_to(path.position(t));
-                total += 1;
-                interval.substeps += 1;
-                max_overlap = max_overlap.max(report.overlap_before_correction);
-                if let Some(mode) = report.mode.filter(|m| *m != super::ContactMode::Separating) {
-                    pressing += 1;
-                    sliding += usize::from(mode.is_sliding());
-                    interval.pressing += 1;
-                    interval.sliding += u32::from(mode.is_sliding());
-                }
-            }
-            // The interval from frame k − 1 to k belongs to frame k − 1.
-            frame_contacts.push(interval);
-        }
-        truth.push(Frame {
-            time,
-            robot: world.pusher(),
-            object: world.world_from_object(),
-        });
+    let first = stepper.first_frame(noise.as_mut().map(|(n, rng)| (*n, &mut **rng)));
+    recorded.push(first.recorded);
+    truth.push(first.truth);
+    for _ in 1..frames {
+        let frame = stepper.step_along(
+            path,
+            substeps,
+            noise.as_mut().map(|(n, rng)| (*n, &mut **rng)),
+        );
+        recorded.push(frame.recorded);
+        truth.push(frame.truth);
+        // The interval from frame k − 1 to k belongs to frame k − 1.
+        frame_contacts.push(frame.contact);
     }
-    let recorded = match noise {
-        Some((noise, rng)) => truth
-            .iter()
-            .map(|f| {
-                let mut jitter = || Vector2::new(rng.normal(), rng.normal()) * noise.position_sd;
-                let robot = f.robot + jitter();
-                let position = f.object.position + jitter();
-                Frame {
-                    time: f.time,
-                    robot,
-                    object: Pose2 {
-                        position,
-                        yaw: f.object.yaw + rng.normal() * noise.yaw_sd,
-                    },
-                }
-            })
-            .collect(),
-        None => truth.clone(),
-    };
     // The last frame has no interval after it: it takes the one before it.
     frame_contacts.push(frame_contacts.last().copied().unwrap_or_default());
+    let counts = stepper.counts();
     Ok(SimulatedPush {
         trajectory: Trajectory::new(recorded),
         truth: Trajectory::new(truth),
-        contact_fraction: ratio(pressing, total),
-        sliding_fraction: ratio(sliding, pressing),
-        max_overlap,
+        contact_fraction: ratio(counts.pressing, counts.substeps),
+        sliding_fraction: ratio(counts.sliding, counts.pressing),
+        max_overlap: counts.max_overlap,
         frame_contacts,
     })
 }

@@ -6,18 +6,19 @@ use crate::json_problem::{self, JsonProblem};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use nalgebra::{Point2, Vector2};
+use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
 use super::SimError;
-use super::noise::SplitMix64;
+use super::noise::NoiseStream;
 use super::path::{PushPlan, contact_offsets};
 use super::pressure::{DEFAULT_RESOLUTION, PressureModel, lynch_h};
 use super::record::{FrameContact, Sampling, TrackingNoise, simulate_push};
+use super::stepper::round_frame;
 use super::world::SimObject;
 use crate::geometry::Pose2;
 use crate::recording::{ObjectShape, PushSide, Setting, TrajectoryEntry};
-use crate::trajectory::{Frame, Trajectory};
+use crate::trajectory::Trajectory;
 
 /// Tracking noise as written in spec files.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -109,6 +110,13 @@ pub struct GeneratedSet {
     pub frame_contacts: Vec<Vec<FrameContact>>,
 }
 
+/// The seed of push `index`'s tracking noise in a set seeded `seed`: one independent stream per
+/// push, so that editing one push leaves the others' noise alone (the sandbox seeds its pushes so
+/// too).
+pub fn push_noise_seed(seed: u64, index: usize) -> u64 {
+    seed ^ (index as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)
+}
+
 /// Generates the set described by `spec`; `progress(done, total)` is called after each push.
 ///
 /// Recorded values are rounded to 1 µm, 1 µrad and 1 ns (see [`GeneratedSet`]).
@@ -141,9 +149,7 @@ pub fn generate_set(
     let mut frame_contacts = Vec::with_capacity(spec.pushes.len());
     let mut counters: BTreeMap<String, usize> = BTreeMap::new();
     for (index, push) in spec.pushes.iter().enumerate() {
-        // One independent stream per push, so that editing one push leaves the others' noise alone.
-        let mut rng =
-            SplitMix64::new(spec.seed ^ (index as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03));
+        let mut rng = NoiseStream::new(push_noise_seed(spec.seed, index));
         let spread = spec.start_position_spread_m;
         let start = Pose2::new(
             rng.uniform(-spread, spread),
@@ -425,21 +431,5 @@ fn lookup<'a, T>(
 /// A recorded trajectory rounded to 1 µm, 1 µrad and 1 ns: far below any tracker's noise, and it
 /// halves the size of the CSV files.
 fn rounded(trajectory: Trajectory) -> Trajectory {
-    // Dividing the rounded integer gives the double nearest to the short decimal, which prints short.
-    let round = |x: f64, per_unit: f64| (x * per_unit).round() / per_unit;
-    Trajectory::new(
-        trajectory
-            .frames
-            .into_iter()
-            .map(|f| Frame {
-                time: round(f.time, 1e9),
-                robot: Point2::new(round(f.robot.x, 1e6), round(f.robot.y, 1e6)),
-                object: Pose2::new(
-                    round(f.object.position.x, 1e6),
-                    round(f.object.position.y, 1e6),
-                    round(f.object.yaw, 1e6),
-                ),
-            })
-            .collect(),
-    )
+    Trajectory::new(trajectory.frames.into_iter().map(round_frame).collect())
 }

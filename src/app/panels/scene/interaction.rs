@@ -7,10 +7,11 @@ use pushlab_core::geometry::Pose2;
 use pushlab_core::labels::MetaField;
 use pushlab_core::model::OnlineParams;
 
-use super::camera::{CameraMode, Projection};
+use super::camera::Projection;
 use super::view::{Drag, SceneView};
+use crate::app::camera_mode::CameraMode;
 use crate::app::state::OnlineCommand;
-use crate::app::state::labels::{LabelAction, LabelTarget};
+use crate::app::state::labels::labeling::{LabelAction, LabelTarget};
 use crate::app::state::{AppState, Command};
 
 /// Pick radius of the COM markers, points.

@@ -5,8 +5,8 @@
 use eframe::egui::{self, Color32, Rect, Vec2};
 
 use crate::app::colors::{self, Palette};
-use crate::app::state::layers::Layers;
-use crate::app::state::predictions::PredictionLayer;
+use crate::app::state::playback::layers::Layers;
+use crate::app::state::playback::predictions::PredictionLayer;
 use crate::app::state::{AppState, Command};
 
 /// Width of the open legend, points; the camera's viewport starts right of it.

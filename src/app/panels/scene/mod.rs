@@ -18,13 +18,14 @@ use nalgebra::Point2;
 use pushlab_core::geometry::{Outline, Pose2};
 use pushlab_core::inspect::Rollout;
 
-use self::camera::{Camera, CameraMode, Projection, WorldBox};
+use self::camera::{Camera, Projection, WorldBox};
 use self::draw::FootprintStyle;
 use self::interaction::Markers;
 pub use self::view::{Drag, SceneView};
+use crate::app::camera_mode::CameraMode;
 use crate::app::colors::{self, Palette};
-use crate::app::state::next_push;
-use crate::app::state::predictions::FramePredictions;
+use crate::app::state::learning::next_push;
+use crate::app::state::playback::predictions::FramePredictions;
 use crate::app::state::{AppState, Command};
 
 /// The camera modes and the legend's fold, above the scene.
@@ -297,23 +298,7 @@ fn draw_layers(
             state.frame(),
         );
     }
-    if let Some(outline) = content.outline {
-        if layers.true_now {
-            draw::footprint(
-                painter,
-                projection,
-                outline,
-                &content.pose,
-                FootprintStyle::measured_now(palette),
-            );
-        }
-        if let (Some(rollout), Some(recording)) = (&content.what_if, state.recording()) {
-            draw::what_if(painter, projection, outline, rollout, &recording.trajectory);
-        }
-        for (pose, style) in content.targets(state, palette) {
-            draw::footprint(painter, projection, outline, &pose, style);
-        }
-    }
+    footprints(painter, state, projection, content, palette);
     draw::pusher(painter, projection, content.robot, content.pusher_radius);
     if layers.contact
         && let Some(p) = &content.predictions
@@ -343,22 +328,8 @@ fn draw_layers(
             .point_in_world(Point2::from(fit.theta.com_offset));
         draw::best_com(painter, projection.to_screen(at));
     }
-    if layers.next_pushes
-        && let (Some(run), Some(outline)) = (state.run(), content.outline)
-        && let Some(result) = state.next_push().result_for(run)
-    {
-        // Drawn worst first, so the best lies on top where arrows cross.
-        let best = result.ranking.suggestions.iter().take(next_push::ARROWS);
-        let shown: Vec<_> = best
-            .enumerate()
-            .filter_map(|(i, s)| Some((i, s.shape?)))
-            .collect();
-        for (i, shape) in shown.into_iter().rev() {
-            let length = shape
-                .length_m
-                .clamp(0.3 * outline.size(), 0.8 * outline.size());
-            draw::next_push(painter, projection, &content.pose, &shape, length, i + 1);
-        }
+    if layers.next_pushes {
+        next_pushes(painter, state, projection, content);
     }
     if layers.com_ellipse
         && let (Some(theta), Some(run)) = (state.theta(), &state.run())
@@ -374,7 +345,70 @@ fn draw_layers(
             angle,
         );
     }
-    // The markers where the user can grab them, highlighted under the pointer.
+    markers_to_grab(painter, state, view, content, response);
+}
+
+/// The object's footprints: where it is now, its what-if rollout, and the targets of the layers on.
+fn footprints(
+    painter: &egui::Painter,
+    state: &AppState,
+    projection: &Projection,
+    content: &Content<'_>,
+    palette: &Palette,
+) {
+    let Some(outline) = content.outline else {
+        return;
+    };
+    if state.settings().layers.true_now {
+        draw::footprint(
+            painter,
+            projection,
+            outline,
+            &content.pose,
+            FootprintStyle::measured_now(palette),
+        );
+    }
+    if let (Some(rollout), Some(recording)) = (&content.what_if, state.recording()) {
+        draw::what_if(painter, projection, outline, rollout, &recording.trajectory);
+    }
+    for (pose, style) in content.targets(state, palette) {
+        draw::footprint(painter, projection, outline, &pose, style);
+    }
+}
+
+/// The next pushes suggested for this object, as arrows on it numbered from the best.
+fn next_pushes(
+    painter: &egui::Painter,
+    state: &AppState,
+    projection: &Projection,
+    content: &Content<'_>,
+) {
+    if let (Some(run), Some(outline)) = (state.run(), content.outline)
+        && let Some(result) = state.next_push().result_for(run)
+    {
+        // Drawn worst first, so the best lies on top where arrows cross.
+        let best = result.ranking.suggestions.iter().take(next_push::ARROWS);
+        let shown: Vec<_> = best
+            .enumerate()
+            .filter_map(|(i, s)| Some((i, s.shape?)))
+            .collect();
+        for (i, shape) in shown.into_iter().rev() {
+            let length = shape
+                .length_m
+                .clamp(0.3 * outline.size(), 0.8 * outline.size());
+            draw::next_push(painter, projection, &content.pose, &shape, length, i + 1);
+        }
+    }
+}
+
+/// The markers where the user can grab them, highlighted under the pointer.
+fn markers_to_grab(
+    painter: &egui::Painter,
+    state: &AppState,
+    view: &SceneView,
+    content: &Content<'_>,
+    response: &egui::Response,
+) {
     let markers = markers(state, view, content);
     let pointer = response.hover_pos();
     if let Some(at) = markers.com_label {

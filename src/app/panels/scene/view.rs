@@ -4,9 +4,10 @@
 
 use eframe::egui::{self, Rect};
 
-use super::camera::{Camera, CameraMode, Projection};
+use super::camera::{Camera, Projection};
 use super::legend;
-use crate::app::state::session::RecordingId;
+use crate::app::camera_mode::CameraMode;
+use crate::app::state::recordings::session::RecordingId;
 
 /// What a drag that started in the scene moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

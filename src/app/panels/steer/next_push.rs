@@ -5,7 +5,7 @@
 
 use eframe::egui;
 
-use crate::app::state::next_push::{ARROWS, Candidates, NextPushCommand, grid};
+use crate::app::state::learning::next_push::{ARROWS, Candidates, NextPushCommand, grid};
 use crate::app::state::{AppState, Command};
 
 /// Rows of the ranking listed.

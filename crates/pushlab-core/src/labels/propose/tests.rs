@@ -8,7 +8,7 @@ use nalgebra::Point2;
 use super::rules::{self, NoiseEstimate};
 use super::*;
 use crate::geometry::Pose2;
-use crate::sim::SplitMix64;
+use crate::sim::NoiseStream;
 use crate::trajectory::Frame;
 
 const RATE_HZ: f64 = 10.0;
@@ -107,7 +107,7 @@ fn a_pusher_at_a_known_distance_is_no_contact_and_its_gap_is_that_distance() {
 /// 30 frames of approach at 1 mm per frame, then 70 frames of pushing at 5 mm per frame in which
 /// the pusher slides along the face at `slide` metres per frame (0: sticking).
 fn approach_then_push(slide: f64, noise: f64, seed: u64) -> Trajectory {
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = NoiseStream::new(seed);
     let mut jitter = move || noise * rng.normal();
     trajectory((0..100usize).map(|k| {
         let pushed = k.saturating_sub(30) as f64;
