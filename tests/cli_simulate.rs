@@ -7,6 +7,9 @@ use crate::cli_common;
 use std::path::PathBuf;
 
 use cli_common::{pushlab, temp_dir};
+use pushlab_core::recording::read_set;
+use pushlab_core::sandbox::mystery::SANDBOX_NOISE;
+use pushlab_core::sandbox::{Mystery, MysteryObject, PointerPath, Sandbox, recorded_pushes};
 
 /// A folder that does not exist yet, in a fresh temporary folder: where `simulate --out` writes.
 fn new_set_dir(name: &str) -> PathBuf {
@@ -104,4 +107,113 @@ fn simulate_names_the_bad_parameter() {
         run(&["--box=-0.3x0.4"], 2).contains("the width '-0.3' is not a number of metres above 0")
     );
     assert!(!dir.exists(), "a refused command wrote files");
+}
+
+/// A drag from the sandbox's start through the box's front face, as the page's hook takes one.
+fn a_drag(seed: u64, noise: bool) -> (pushlab_core::sandbox::Sandbox, PointerPath) {
+    let mystery = Mystery::draw(seed, MysteryObject::Box).unwrap();
+    let sandbox = Sandbox::new(mystery, noise.then_some(SANDBOX_NOISE));
+    let start = sandbox.pusher();
+    let path = PointerPath::from_points(&[
+        [start.x, start.y, 0.0],
+        [start.x + 0.2, start.y - 0.03, 5.0],
+        [start.x + 0.26, start.y - 0.05, 7.0],
+    ])
+    .unwrap();
+    (sandbox, path)
+}
+
+#[test]
+fn a_sandbox_drag_replayed_writes_the_sandboxs_poses_to_the_bit_with_the_truth() {
+    for noise in [false, true] {
+        let (mut sandbox, path) = a_drag(12, noise);
+        let made = recorded_pushes(&sandbox.drag(path.clone()).unwrap());
+        let dir = new_set_dir(if noise { "sandbox-noise" } else { "sandbox" });
+        let drag = dir.with_file_name("drag.csv");
+        std::fs::create_dir_all(dir.parent().unwrap()).unwrap();
+        std::fs::write(&drag, path.to_csv()).unwrap();
+        let mut args = vec![
+            "simulate",
+            "--sandbox",
+            "12",
+            "--object",
+            "box",
+            "--pointer-path",
+            drag.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ];
+        if noise {
+            args.push("--tracking-noise");
+        }
+        let run = pushlab(&args);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        let (set, problems) = read_set(&dir).unwrap();
+        assert!(problems.is_empty(), "{problems:?}");
+        assert_eq!(set.recordings.len(), 1);
+        assert_eq!(*set.recordings[0].trajectory, made[0], "noise {noise}");
+        let truth = sandbox.mystery().hidden.com_offset;
+        assert_eq!(set.setting.com_offset, Some(truth));
+        assert_eq!(set.setting.h, Some(sandbox.mystery().h));
+        // The pusher's path written beside it replays the same push again.
+        let again = dir.with_file_name("again");
+        let pusher_path = dir.join("push_000.pusher-path.csv");
+        let mut args = vec![
+            "simulate",
+            "--sandbox",
+            "12",
+            "--pointer-path",
+            pusher_path.to_str().unwrap(),
+            "--out",
+            again.to_str().unwrap(),
+        ];
+        if noise {
+            args.push("--tracking-noise");
+        }
+        assert_eq!(pushlab(&args).code, 0);
+        assert_eq!(*read_set(&again).unwrap().0.recordings[0].trajectory, made[0]);
+    }
+}
+
+#[test]
+fn a_bad_pointer_path_is_refused_naming_its_line_and_field() {
+    let dir = new_set_dir("sandbox-bad");
+    let drag = dir.with_file_name("drag.csv");
+    std::fs::create_dir_all(dir.parent().unwrap()).unwrap();
+    std::fs::write(&drag, "t,x,y\n0,-0.4,0\n1,oops,0\n").unwrap();
+    let run = pushlab(&[
+        "simulate",
+        "--sandbox",
+        "1",
+        "--pointer-path",
+        drag.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_ne!(run.code, 0);
+    assert!(
+        run.stderr.contains(&format!(
+            "{} line 3: x is 'oops', expected a finite number",
+            drag.display()
+        )),
+        "{}",
+        run.stderr
+    );
+    let run = pushlab(&[
+        "simulate",
+        "--sandbox",
+        "1",
+        "--object",
+        "sphere",
+        "--pointer-path",
+        drag.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        run.stderr
+            .contains("unknown mystery object 'sphere': expected box, t or ellipse"),
+        "{}",
+        run.stderr
+    );
 }

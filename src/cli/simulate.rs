@@ -19,6 +19,10 @@ use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use pushlab_core::geometry::{OutlineError, Pose2, PushT};
 use pushlab_core::labels::file as labels_file;
 use pushlab_core::recording::{BoxSize, ObjectShape, PushSide, ShapePreset, write_set};
+use pushlab_core::sandbox::mystery::SANDBOX_NOISE;
+use pushlab_core::sandbox::{
+    Mystery, MysteryObject, PointerPath, Sandbox, SandboxSet, recorded_pushes,
+};
 use pushlab_core::sim::path::{contact_offsets, spread_fractions};
 use pushlab_core::sim::{
     GeneratedSet, NoiseSpec, PlanError, PressureModel, PushPlan, PushSpec, SetSpec,
@@ -37,6 +41,27 @@ pub struct SimulateArgs {
         "push_angles", "curvature", "speed", "rate", "duration", "approach", "noise_position",
         "noise_yaw", "seed"])]
     pub spec: Option<PathBuf>,
+    /// Push it yourself, replayed: the sandbox's mystery of this seed (its link's `?sandbox=SEED`),
+    /// pushed once from its start by a pusher that follows --pointer-path as the sandbox's pusher
+    /// follows a pointer; writes the push as the sandbox's File → Save does.
+    #[arg(
+        long,
+        value_name = "SEED",
+        requires = "pointer_path",
+        conflicts_with = "spec"
+    )]
+    pub sandbox: Option<u64>,
+    /// The sandbox's object: box, t or ellipse.
+    #[arg(long, default_value = "box", requires = "sandbox")]
+    pub object: String,
+    /// The pointer's path the sandbox's pusher follows: a CSV of `t,x,y` rows (seconds, world
+    /// metres; a saved session's `push_000.pusher-path.csv` replays its first push).
+    #[arg(long, value_name = "CSV", requires = "sandbox")]
+    pub pointer_path: Option<PathBuf>,
+    /// With --sandbox: tracking noise on the poses recorded, the sandbox's (the sample data's 2 mm
+    /// and 0.5°).
+    #[arg(long, requires = "sandbox")]
+    pub tracking_noise: bool,
     /// Replace existing sets in the output folder (stale CSV files of a replaced set are removed).
     #[arg(long)]
     pub overwrite: bool,
@@ -145,6 +170,9 @@ pub struct SimulateArgs {
 
 /// Runs the command.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    if let Some(seed) = args.sandbox {
+        return run_sandbox(args, seed);
+    }
     let specs = match &args.spec {
         Some(path) => read_sample_spec(path)?,
         None => vec![set_spec_from_args(args)?],
@@ -198,6 +226,39 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             dir.display()
         );
     }
+    Ok(())
+}
+
+/// `--sandbox SEED --pointer-path CSV`: the sandbox's push replayed and written as its session is.
+fn run_sandbox(args: &SimulateArgs, seed: u64) -> anyhow::Result<()> {
+    let object: MysteryObject = args
+        .object
+        .parse()
+        .map_err(anyhow::Error::msg)
+        .context("--object")?;
+    let Some(path) = &args.pointer_path else {
+        bail!("--sandbox needs --pointer-path");
+    };
+    if args.out.join("setting.json").exists() && !args.overwrite {
+        bail!(
+            "{} already holds a recording set; pass --overwrite to replace it",
+            args.out.display()
+        );
+    }
+    let pointer = PointerPath::read(path)?;
+    let mystery = Mystery::draw(seed, object).context("--sandbox")?;
+    let noise = args.tracking_noise.then_some(SANDBOX_NOISE);
+    let mut sandbox = Sandbox::new(mystery, noise);
+    let events = sandbox.drag(pointer).context("--pointer-path")?;
+    let set = SandboxSet::of(&sandbox, &recorded_pushes(&events));
+    set.write(&args.out)
+        .with_context(|| format!("writing {}", args.out.display()))?;
+    println!(
+        "sandbox {seed} ({}): 1 push of {} frames -> {}",
+        args.object,
+        set.trajectories.first().map_or(0, |t| t.frames.len()),
+        args.out.display()
+    );
     Ok(())
 }
 

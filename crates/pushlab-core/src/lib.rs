@@ -31,6 +31,7 @@ pub mod pattern;
 mod real;
 pub mod recording;
 pub mod rng;
+pub mod sandbox;
 pub mod sim;
 mod simd;
 pub mod slices;

@@ -34,6 +34,7 @@ mod recordings_mit;
 mod recordings_nasty;
 mod recordings_native;
 mod recordings_pusht;
+mod sandbox;
 mod sim_non_convex;
 mod sim_physics;
 mod sim_push_plans;
