@@ -118,7 +118,7 @@ fn a_live_push_grows_is_learned_as_it_comes_and_replays_to_the_same_theta() {
     );
     assert!(state.run().unwrap().frontier() > 0, "learned as it came");
     assert!(
-        state.live_ahead().is_some(),
+        state.growing_ahead().is_some(),
         "the prediction ahead is drawn at the live edge"
     );
 
@@ -128,7 +128,7 @@ fn a_live_push_grows_is_learned_as_it_comes_and_replays_to_the_same_theta() {
     advance_until(&mut state, "more frames arrive", |s| frames(s) > grown + 10);
     assert_eq!(state.frame(), 5, "scrubbed back, the frame shown stays");
     assert!(
-        state.live_ahead().is_none(),
+        state.growing_ahead().is_none(),
         "no prediction ahead drawn off the edge"
     );
     state.apply(Command::Live(LiveCommand::BackToLive));

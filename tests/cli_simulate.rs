@@ -171,7 +171,10 @@ fn a_sandbox_drag_replayed_writes_the_sandboxs_poses_to_the_bit_with_the_truth()
             args.push("--tracking-noise");
         }
         assert_eq!(pushlab(&args).code, 0);
-        assert_eq!(*read_set(&again).unwrap().0.recordings[0].trajectory, made[0]);
+        assert_eq!(
+            *read_set(&again).unwrap().0.recordings[0].trajectory,
+            made[0]
+        );
     }
 }
 

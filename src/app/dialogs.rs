@@ -154,6 +154,10 @@ fn run_dialog(request: DialogRequest) -> Option<DialogResult> {
             .set_file_name("labels-export.json")
             .save_file()
             .map(|p| DialogResult::ExportLabels(p, LabelExportFormat::Json)),
+        DialogRequest::SaveSandbox => FileDialog::new()
+            .set_title("Save the sandbox's pushes (a recording set, with the truth) into a folder")
+            .pick_folder()
+            .map(DialogResult::SaveSandbox),
         DialogRequest::BagSetting => FileDialog::new()
             .set_title("The bag's setting.json (object, pusher radius)")
             .add_filter("setting", &["json"])

@@ -12,6 +12,7 @@ use crate::app::state::labels::labeling::{ERASE_HOTKEY, LabelAction};
 use crate::app::state::labels::proposals::ProposalAction;
 use crate::app::state::learning::landscape::LandscapeCommand;
 use crate::app::state::playback::timeline::TimelineCommand;
+use crate::app::state::sources::sandbox::SandboxCommand;
 use crate::app::state::{AppState, Command};
 
 /// What a fixed binding does.
@@ -190,6 +191,18 @@ pub const BINDINGS: [Binding; 23] = [
     ),
 ];
 
+/// The keys that steer the sandbox's pusher while its object is shown (they step the timeline
+/// elsewhere), with the direction each pushes toward in the world: read by the handler and the
+/// cheat-sheet.
+pub const STEER_KEYS: [(Key, [f64; 2]); 4] = [
+    (Key::ArrowRight, [1.0, 0.0]),
+    (Key::ArrowLeft, [-1.0, 0.0]),
+    (Key::ArrowUp, [0.0, 1.0]),
+    (Key::ArrowDown, [0.0, -1.0]),
+];
+/// The cheat-sheet's line for [`STEER_KEYS`].
+pub const STEER_HELP: &str = "in Push it yourself: move the pusher (held: it keeps going)";
+
 /// What a key asks of the window's view rather than of the state: the app's shell carries it out
 /// (`View::apply_key`), so that this table names no view and no panel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -222,7 +235,11 @@ pub fn handle(
     }
     let target = state.label_target();
     let schema = target.as_ref().and_then(|t| state.labels().schema_of(t));
+    let steering = state.sandbox_shown();
     ctx.input_mut(|i| {
+        if steering {
+            steer(i, state, commands);
+        }
         let mut held = state.labels().stroke_hotkey().and_then(Key::from_name);
         let mut consumed = vec![false; i.events.len()];
         for (index, event) in i.events.iter().enumerate() {
@@ -236,6 +253,10 @@ pub fn handle(
             else {
                 continue;
             };
+            if steering && STEER_KEYS.iter().any(|(k, _)| k == key) {
+                consumed[index] = true;
+                continue;
+            }
             if !pressed {
                 if held == Some(*key) {
                     commands.push(Command::Label(LabelAction::EndStroke));
@@ -299,6 +320,21 @@ pub fn handle(
             !consumed[index - 1]
         });
     });
+}
+
+/// The sandbox's pusher steered by the arrow keys held now; let go when none is held any more.
+fn steer(input: &egui::InputState, state: &AppState, commands: &mut Vec<Command>) {
+    let mut direction = [0.0, 0.0];
+    for (key, [dx, dy]) in STEER_KEYS {
+        if input.key_down(key) {
+            direction[0] += dx;
+            direction[1] += dy;
+        }
+    }
+    let steering_now = state.sandbox().is_some_and(|s| s.steering());
+    if direction != [0.0, 0.0] || steering_now {
+        commands.push(Command::Sandbox(SandboxCommand::Steer(direction)));
+    }
 }
 
 /// The fixed binding a key press triggers, if any.

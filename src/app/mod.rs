@@ -93,6 +93,7 @@ impl PushlabApp {
         panels::bag_dialog::window(ui.ctx(), &self.state, &mut self.view.dialogs, &mut commands);
         panels::dataset_dialog::window(ui.ctx(), &self.state, &mut commands);
         panels::live::window(ui.ctx(), &self.state, &mut commands);
+        panels::sandbox::window(ui.ctx(), &self.state, &mut self.view.dialogs, &mut commands);
 
         for command in commands {
             self.state.apply(command);
@@ -156,6 +157,9 @@ impl PushlabApp {
             DialogResult::SaveModel(path) => self
                 .state
                 .apply(Command::File(FileCommand::SaveModel(path))),
+            DialogResult::SaveSandbox(dir) => self
+                .state
+                .apply(Command::File(FileCommand::SaveSandbox(dir))),
         }
     }
 

@@ -115,6 +115,8 @@ pub fn show(request: DialogRequest, sender: Sender<Option<DialogResult>>) {
         DialogRequest::SavePlots => Some(DialogResult::SavePlots(download("plots.png"))),
         DialogRequest::SaveLossCsv => Some(DialogResult::SaveLossCsv(download("losses.csv"))),
         DialogRequest::SaveModel => Some(DialogResult::SaveModel(download("model.json"))),
+        // Each file of the set downloads on its own (setting.json, push_000.csv, …).
+        DialogRequest::SaveSandbox => Some(DialogResult::SaveSandbox(download("sandbox"))),
         DialogRequest::ExportLabelsCsv => Some(DialogResult::ExportLabels(
             download("labels.csv"),
             LabelExportFormat::Csv,

@@ -22,6 +22,8 @@ pub enum DialogRequest {
     ExportLabelsJson,
     /// A `setting.json` describing a bag's object.
     BagSetting,
+    /// A folder for the sandbox's pushes, saved as a recording set (a download in a page).
+    SaveSandbox,
 }
 
 /// What a dialog returned (nothing arrives when it was cancelled).
@@ -37,6 +39,7 @@ pub enum DialogResult {
     SaveModel(PathBuf),
     ExportLabels(PathBuf, LabelExportFormat),
     BagSetting(PathBuf),
+    SaveSandbox(PathBuf),
     /// No dialog could be shown (neither the XDG desktop portal nor zenity answered).
     Unavailable(String),
 }

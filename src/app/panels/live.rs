@@ -144,11 +144,15 @@ pub fn strip(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
         Link::Ended { .. } => ("ENDED", ui.visuals().weak_text_color()),
     };
     ui.label(RichText::new(badge).strong().color(color))
-        .on_hover_text(describe(running));
+        .on_hover_text(describe(
+            running,
+            state.growing().map_or(1, |g| g.every_nth),
+        ));
     if live {
         // Always there (greyed at the edge), so that the buttons after it never move under the
         // pointer when the user scrubs back.
-        let at_edge = running.following && state.frame() == state.timeline().last_frame();
+        let following = state.growing().is_some_and(|g| g.following);
+        let at_edge = following && state.frame() == state.timeline().last_frame();
         if ui
             .add_enabled(!at_edge, egui::Button::new("Back to live"))
             .on_hover_text("show the newest frame and follow it")
@@ -171,7 +175,7 @@ pub fn strip(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 }
 
 /// The session in a sentence.
-fn describe(running: &Running) -> String {
+fn describe(running: &Running, every_nth: usize) -> String {
     let latest = &running.latest;
     let lag = |l: Option<Lag>| l.map_or("-".to_owned(), |l| format!("{:.0} ms", l.seconds * 1e3));
     let mut text = format!(
@@ -185,8 +189,8 @@ fn describe(running: &Running) -> String {
     if latest.lag.iter().flatten().any(|l| !l.wall_clock) {
         text += " (later than each stream's first pose: its stamps are not wall-clock time)";
     }
-    if running.every_nth > 1 {
-        text += &format!("; learning every {}th frame to keep up", running.every_nth);
+    if every_nth > 1 {
+        text += &format!("; learning every {every_nth}th frame to keep up");
     }
     if latest.refused > 0 {
         text += &format!("; {} pose(s) left out", latest.refused);

@@ -3,6 +3,7 @@
 
 use eframe::egui;
 
+use super::sandbox;
 use crate::app::dialogs::DialogRequest;
 use crate::app::layout::Pane;
 use crate::app::state::SessionCommand;
@@ -77,6 +78,7 @@ fn file_menu(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mu
         }
     });
     choose_again(ui, state, commands);
+    ui.menu_button("New sandbox", |ui| sandbox::start_menu(ui, state, commands));
     if ui
         .button("Connect to a live robot…")
         .on_hover_text("a Foxglove WebSocket server: learn while the robot pushes")
@@ -357,6 +359,10 @@ fn cameras_menu(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>
 /// The Demos menu: the paper's experiments on the sample data (one click opens a demo in the
 /// presentation layout), and the presentation layout's toggle.
 fn demos_menu(ui: &mut egui::Ui, state: &AppState, view: &mut View, commands: &mut Vec<Command>) {
+    ui.menu_button("Push it yourself", |ui| {
+        sandbox::start_menu(ui, state, commands)
+    });
+    ui.separator();
     if let Err(why) = &state.demos().suite {
         ui.label(format!("no demos: {why}"));
     }

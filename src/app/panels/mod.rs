@@ -19,6 +19,7 @@ pub mod menu;
 pub mod plots;
 pub mod presentation;
 pub mod proposal_band;
+pub mod sandbox;
 pub mod scene;
 pub mod shortcuts;
 pub mod steer;

@@ -31,7 +31,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     let duration = recording.trajectory.duration().max(1e-3);
     // A live push grows: its plots keep all of it in view while the timeline follows its newest
     // frame.
-    let follow = state.live_following();
+    let follow = state.growing_following();
 
     // Two rows with a little room to spare; the rest is claimed below, so that the content is exactly
     // as tall as the panel. (The panel takes its content's height: content a few points shorter

@@ -4,7 +4,7 @@
 use eframe::egui;
 use pushlab_core::labels::LabelSchema;
 
-use crate::app::keys::{BINDINGS, label_hotkey_rows};
+use crate::app::keys::{BINDINGS, STEER_HELP, STEER_KEYS, label_hotkey_rows};
 use crate::app::state::AppState;
 
 /// Draws the cheat-sheet window while `open`.
@@ -31,6 +31,19 @@ pub fn window(ctx: &egui::Context, state: &AppState, open: &mut bool) {
                     }
                     ui.monospace("?");
                     ui.label("show / hide this sheet");
+                    ui.end_row();
+                    // The same text as the bindings' rows (the fonts draw →, not ⏵).
+                    let arrows: Vec<String> = STEER_KEYS
+                        .iter()
+                        .map(|(k, _)| {
+                            ctx.format_shortcut(&egui::KeyboardShortcut::new(
+                                egui::Modifiers::NONE,
+                                *k,
+                            ))
+                        })
+                        .collect();
+                    ui.monospace(arrows.join(" "));
+                    ui.label(STEER_HELP);
                     ui.end_row();
                 });
             ui.separator();

@@ -49,7 +49,9 @@ use self::recordings::browser::{BrowserCommand, BrowserMemory};
 use self::recordings::session::{RecordingId, Session};
 use self::sources::bag_import::{BagChooser, BagCommand};
 use self::sources::dataset_import::{DatasetChooser, DatasetCommand};
+use self::sources::growing::Growing;
 use self::sources::live::{Live, LiveCommand};
+use self::sources::sandbox::{SandboxCommand, SandboxSession};
 pub use self::views::across::ChooseAgain;
 use self::views::frame_cache::FrameCache;
 
@@ -92,6 +94,8 @@ pub enum Command {
     File(FileCommand),
     /// File → Connect to a live robot…: the form and the session (see `live`).
     Live(LiveCommand),
+    /// Push it yourself (see `sources::sandbox`).
+    Sandbox(SandboxCommand),
     /// A message for the status line from outside the state (a dialog that could not be shown,
     /// a screenshot saved).
     Report(String),
@@ -112,6 +116,8 @@ pub enum FileCommand {
     ExportPlots(PathBuf),
     /// Stop writing the video of the push (nothing is written).
     CancelVideoExport,
+    /// The sandbox's pushes as a recording set with the truth, into this folder.
+    SaveSandbox(PathBuf),
 }
 
 /// The two label export formats.
@@ -235,6 +241,10 @@ pub struct AppState {
     learning_ahead: LearningAhead,
     /// The Connect form and the live session (see `live_feed`).
     live: Live,
+    /// The push growing as its frames arrive, whatever feeds it (see `sources::grow`).
+    growing: Option<Growing>,
+    /// Push it yourself: the mystery object and the pushes made on it.
+    sandbox: Option<SandboxSession>,
     /// The frames the path overview was made of (a live push's is made again as it grows).
     overview_frames: usize,
     /// File → Export video of this push…, while it is written.
@@ -279,6 +289,8 @@ impl AppState {
             run_generation: 0,
             learning_ahead: LearningAhead::default(),
             live,
+            growing: None,
+            sandbox: None,
             overview_frames: 0,
             video_export: None,
         }
@@ -371,7 +383,7 @@ impl AppState {
                 if self.timeline.frame() != before {
                     self.frame_moved(before, how);
                 }
-                self.live_timeline_moved();
+                self.growing_timeline_moved();
             }
             Command::Session(c) => self.apply_session(c),
             Command::Online(c) => self.apply_online(c),
@@ -419,6 +431,7 @@ impl AppState {
             Command::Camera(c) => self.cameras.apply(c),
             Command::File(c) => self.apply_file(c),
             Command::Live(c) => self.apply_live(&c),
+            Command::Sandbox(c) => self.apply_sandbox(c),
             Command::Report(message) => self.status = Some(message),
         }
     }
@@ -428,6 +441,7 @@ impl AppState {
     pub fn advance(&mut self, dt: f64) -> bool {
         self.poll_opening();
         let live = self.poll_live();
+        let sandbox = self.poll_sandbox(dt);
         let video = self.poll_video_export();
         self.proposals.poll();
         if let Some(message) = self.training.poll() {
@@ -469,6 +483,7 @@ impl AppState {
             || next_push
             || learning_ahead
             || live
+            || sandbox
             || video
     }
 
@@ -506,15 +521,26 @@ impl AppState {
         let from = previous
             .as_ref()
             .filter(|p| self.settings.carry_theta && p.carries_to(recording));
+        // A sandbox's push goes on from the push before it, whatever was shown meanwhile.
+        let sandbox_start = (self.session.selected).and_then(|id| self.sandbox_carried_for(id));
         self.run = match self.models.learner_for(recording) {
-            Ok((model, horizon)) => Some(OnlineRun::starting(
-                model,
-                recording,
-                (horizon, self.settings.online),
-                from,
-                self.settings.start_com_shift,
-                self.physics_to_weigh(),
-            )),
+            Ok((model, horizon)) => Some(match sandbox_start {
+                Some(carried) => OnlineRun::again_from(
+                    model,
+                    recording,
+                    (horizon, self.settings.online),
+                    carried,
+                    self.physics_to_weigh(),
+                ),
+                None => OnlineRun::starting(
+                    model,
+                    recording,
+                    (horizon, self.settings.online),
+                    from,
+                    self.settings.start_com_shift,
+                    self.physics_to_weigh(),
+                ),
+            }),
             Err(message) => {
                 self.status = Some(message);
                 None

@@ -9,12 +9,14 @@
 //! it is not here: the app grows a sandbox push on the path a live robot's push takes, and
 //! `pushlab simulate --pointer-path` writes a push made here as a recording.
 
+pub mod arrow;
 pub mod mystery;
 pub mod pointer;
 pub mod review;
 pub mod saved;
 pub mod table;
 
+pub use arrow::push_drawn;
 pub use mystery::{Hidden, Mystery, MysteryError, MysteryObject};
 pub use pointer::{PointerPath, PointerPathError, follow};
 pub use review::{PushReview, ScoreCard, Scored, review_push};

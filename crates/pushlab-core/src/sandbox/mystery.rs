@@ -32,7 +32,7 @@ pub const SANDBOX_NOISE: TrackingNoise = TrackingNoise {
     yaw_sd: 0.5 * std::f64::consts::PI / 180.0,
 };
 /// The hidden COM is drawn in a square this far either side of the centre, metres (the sample
-/// data's offsets are 5 cm).
+/// data's offsets are 5 cm), or a fifth of a smaller object's smaller half.
 pub const COM_SPREAD_M: f64 = 0.06;
 /// Metres per pixel of the T (gym-pusht's 120 px bar, 0.4 m wide: the size of the sample data's
 /// boxes).
@@ -47,8 +47,12 @@ pub enum MysteryObject {
     T,
     /// An ellipse 0.3 × 0.45 m (a 48-gon).
     Ellipse,
-    /// The outline of a recording (the one shown): its name and footprint.
-    Outline { name: String, shape: ObjectShape },
+    /// The outline of a recording (the one shown): its name, footprint and pusher.
+    Outline {
+        name: String,
+        shape: ObjectShape,
+        pusher_radius: f64,
+    },
 }
 
 impl MysteryObject {
@@ -79,6 +83,14 @@ impl MysteryObject {
                     .collect(),
             },
             MysteryObject::Outline { shape, .. } => shape.clone(),
+        }
+    }
+
+    /// The pusher's radius: the bundled model's, or the recording's for its outline.
+    pub fn pusher_radius(&self) -> f64 {
+        match self {
+            MysteryObject::Outline { pusher_radius, .. } => *pusher_radius,
+            _ => PUSHER_RADIUS_M,
         }
     }
 }
@@ -150,6 +162,9 @@ impl Mystery {
     /// same seed, the same mystery, on every machine and in the page).
     pub fn draw(seed: u64, object: MysteryObject) -> Result<Self, MysteryError> {
         let outline = object.shape().outline()?;
+        // A small outline (a recording's) gets a spread to its size: a fifth of its smaller half.
+        let (low, high) = outline.bounding_box();
+        let spread = COM_SPREAD_M.min(0.2 * (high.x - low.x).min(high.y - low.y));
         let mut rng = SplitMix64::new(seed);
         let (_, pressure, pusher_friction) = MATERIALS[rng.below(MATERIALS.len())];
         // The COM well inside the outline: drawn again until a disc of a third of the spread about
@@ -157,10 +172,10 @@ impl Mystery {
         let mut com = [0.0; 2];
         for _ in 0..64 {
             let point = Point2::new(
-                (2.0 * rng.uniform() - 1.0) * COM_SPREAD_M,
-                (2.0 * rng.uniform() - 1.0) * COM_SPREAD_M,
+                (2.0 * rng.uniform() - 1.0) * spread,
+                (2.0 * rng.uniform() - 1.0) * spread,
             ) + centroid_of(&outline);
-            if depth_inside(&outline, point) > COM_SPREAD_M / 3.0 {
+            if depth_inside(&outline, point) > spread / 3.0 {
                 com = [point.x, point.y];
                 break;
             }
@@ -199,7 +214,7 @@ impl Mystery {
                 outline,
                 com_offset,
                 h,
-                pusher_radius: PUSHER_RADIUS_M,
+                pusher_radius: object.pusher_radius(),
                 pusher_friction: hidden.pusher_friction,
             },
             object,
@@ -208,14 +223,27 @@ impl Mystery {
         })
     }
 
-    /// The setting a recording of this mystery is saved with: the truth written in (the COM offset,
-    /// `h`, the material), as the simulator writes its sets.
-    pub fn setting(&self) -> Setting {
+    /// The setting while the mystery is hidden: the object, the pusher and the frame rate, and
+    /// the seed and object it was drawn from, nothing of what is hidden (what a student's pushes
+    /// open with, so that no layer or column shows the truth before the reveal).
+    pub fn public_setting(&self) -> Setting {
         let mut setting = Setting::of_object(
             format!("sandbox-{}-{}", self.object.name(), self.seed),
             self.object.shape(),
-            PUSHER_RADIUS_M,
+            self.object.pusher_radius(),
         );
+        setting.sample_rate_hz = Some(RATE_HZ);
+        setting.extra.insert(
+            "sandbox".into(),
+            serde_json::json!({"seed": self.seed, "object": self.object.name()}),
+        );
+        setting
+    }
+
+    /// The setting a recording of this mystery is saved with: the truth written in (the COM offset,
+    /// `h`, the material), as the simulator writes its sets.
+    pub fn setting(&self) -> Setting {
+        let mut setting = self.public_setting();
         let material = MATERIALS
             .iter()
             .find(|(_, p, f)| *p == self.hidden.pressure && *f == self.hidden.pusher_friction)
@@ -224,7 +252,6 @@ impl Mystery {
         setting.pusher_friction = Some(self.hidden.pusher_friction);
         setting.com_offset = Some(self.hidden.com_offset);
         setting.h = Some(self.h);
-        setting.sample_rate_hz = Some(RATE_HZ);
         setting.extra.insert(
             "sandbox".into(),
             serde_json::json!({

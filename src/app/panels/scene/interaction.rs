@@ -8,6 +8,7 @@ use pushlab_core::labels::MetaField;
 use pushlab_core::model::OnlineParams;
 
 use super::camera::Projection;
+use super::sandbox::{self, Grips};
 use super::view::{Drag, SceneView};
 use crate::app::camera_mode::CameraMode;
 use crate::app::state::OnlineCommand;
@@ -56,17 +57,21 @@ pub fn handle(
     view: &mut SceneView,
     projection: &Projection,
     pose: &Pose2,
-    markers: &Markers,
+    (markers, grips): (&Markers, Option<&Grips>),
     commands: &mut Vec<Command>,
 ) {
     // Pick by where the button went down: egui reports the drag only after the pointer has moved a
-    // few points, and a quick drag is past the marker by then.
+    // few points, and a quick drag is past the marker by then. A sandbox's handles come first.
     if response.drag_started()
         && let Some(pointer) = ui
             .input(|i| i.pointer.press_origin())
             .or(response.interact_pointer_pos())
     {
-        view.drag = Some(markers.picked(pointer).unwrap_or(Drag::Pan));
+        let grabbed = grips.and_then(|g| g.grab(pointer, projection));
+        view.drag = Some(match grabbed {
+            Some(grab) => Drag::Sandbox(grab),
+            None => markers.picked(pointer).unwrap_or(Drag::Pan),
+        });
         if view.drag == Some(Drag::ComLabel) {
             commands.push(Command::Label(LabelAction::BeginGroup(
                 "move the COM label".to_owned(),
@@ -93,6 +98,13 @@ pub fn handle(
                     })));
                 }
             }
+            Some(Drag::Sandbox(grab)) => {
+                if let Some(pointer) = response.interact_pointer_pos() {
+                    let world = projection.to_world(pointer);
+                    view.arrow_to = Some(world);
+                    commands.extend(sandbox::dragged(grab, world, pose));
+                }
+            }
             Some(Drag::Pan) | None => {
                 view.camera.pan(response.drag_delta());
                 view.mode = CameraMode::Free;
@@ -103,7 +115,17 @@ pub fn handle(
         if view.drag == Some(Drag::ComLabel) {
             commands.push(Command::Label(LabelAction::EndGroup));
         }
+        if let (Some(Drag::Sandbox(grab)), Some(grips)) = (view.drag, grips) {
+            let world = response
+                .interact_pointer_pos()
+                .map(|p| projection.to_world(p))
+                .or(view.arrow_to);
+            if let Some(world) = world {
+                commands.extend(sandbox::released(state, grab, world, grips));
+            }
+        }
         view.drag = None;
+        view.arrow_to = None;
     }
     if response.hovered() {
         let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));

@@ -11,6 +11,7 @@ pub mod camera;
 pub mod draw;
 pub mod interaction;
 pub mod legend;
+pub mod sandbox;
 mod view;
 
 use eframe::egui::{self, Sense};
@@ -21,6 +22,7 @@ use pushlab_core::inspect::Rollout;
 use self::camera::{Camera, Projection, WorldBox};
 use self::draw::FootprintStyle;
 use self::interaction::Markers;
+use self::sandbox::{Grab, Grips};
 pub use self::view::{Drag, SceneView};
 use crate::app::camera_mode::CameraMode;
 use crate::app::colors::{self, Palette};
@@ -90,7 +92,7 @@ fn draw(
     let painter = painter.with_clip_rect(view.rect);
     let palette = colors::of(ui.ctx());
     painter.rect_filled(view.rect, 0.0, palette.background);
-    let Some(recording) = state.recording() else {
+    let Some((pose, robot, pusher_radius, outline)) = shown_scene(state) else {
         painter.text(
             view.rect.center(),
             egui::Align2::CENTER_CENTER,
@@ -100,14 +102,10 @@ fn draw(
         );
         return;
     };
-    let Some(frame) = recording.trajectory.frames.get(state.frame()) else {
-        return;
-    };
-    let outline = recording.setting.object.outline().ok();
     let content = Content {
-        pose: frame.object,
-        robot: frame.robot,
-        pusher_radius: recording.setting.pusher_radius,
+        pose,
+        robot,
+        pusher_radius,
         outline: outline.as_ref(),
         predictions: state.predictions(),
         gain: state.settings().layers.motion_gain,
@@ -116,6 +114,7 @@ fn draw(
     if let Some(commands) = commands {
         let markers = markers(state, view, &content);
         let projection = view.projection();
+        let grips = Grips::of(state, &projection, &content.pose, content.robot);
         interaction::handle(
             ui,
             response,
@@ -123,13 +122,53 @@ fn draw(
             view,
             &projection,
             &content.pose,
-            &markers,
+            (&markers, grips.as_ref()),
             commands,
         );
     }
     aim(state, view, &content);
     let projection = view.projection();
     draw_layers(&painter, state, view, &projection, &content, response);
+    if let Some(grips) = Grips::of(state, &projection, &content.pose, content.robot) {
+        let arrow = match view.drag {
+            Some(Drag::Sandbox(Grab::Arrow(from))) => view.arrow_to.map(|to| (from, to)),
+            _ => None,
+        };
+        let hot = match view.drag {
+            Some(Drag::Sandbox(grab)) => Some(grab),
+            _ => response
+                .hover_pos()
+                .and_then(|p| grips.grab(p, &projection))
+                .filter(|g| !matches!(g, Grab::Arrow(_))),
+        };
+        sandbox::draw(&painter, state, &projection, &grips, arrow, hot);
+    }
+}
+
+/// What the scene shows: the object's pose, the pusher and its radius, the outline — at the
+/// frame shown of the recording shown, or a sandbox's object resting before its first push.
+fn shown_scene(state: &AppState) -> Option<(Pose2, Point2<f64>, f64, Option<Outline>)> {
+    match state.recording() {
+        Some(recording) => {
+            let frame = recording.trajectory.frames.get(state.frame())?;
+            Some((
+                frame.object,
+                frame.robot,
+                recording.setting.pusher_radius,
+                recording.setting.object.outline().ok(),
+            ))
+        }
+        None => {
+            let sandbox = state.sandbox()?.sandbox();
+            let sim = &sandbox.mystery().sim;
+            Some((
+                sandbox.object_pose(),
+                sandbox.pusher(),
+                sim.pusher_radius,
+                Some(sim.outline.clone()),
+            ))
+        }
+    }
 }
 
 /// What is drawn at the frame shown.
@@ -152,7 +191,7 @@ impl Content<'_> {
         // At a live push's newest frame no later frame is known yet: the online model's prediction
         // a horizon ahead (the pusher keeping its velocity) is drawn instead.
         if layers.predicted_online
-            && let Some((_, pose)) = state.live_ahead()
+            && let Some((_, pose)) = state.growing_ahead()
         {
             let (moved, turned) = self.pose.motion_to(&pose);
             let pose = self.pose.moved_by(moved * self.gain, turned * self.gain);
@@ -223,7 +262,7 @@ fn markers(state: &AppState, view: &SceneView, content: &Content<'_>) -> Markers
     Markers {
         com: state
             .theta()
-            .filter(|_| state.settings().layers.com_estimated)
+            .filter(|_| state.settings().layers.com_estimated && !state.estimate_hidden())
             .map(|t| at(t.com_offset)),
         com_label: com_label.map(at),
     }
@@ -248,6 +287,12 @@ fn aim(state: &AppState, view: &mut SceneView, content: &Content<'_>) {
         if let Some(footprint) = content.footprint_box(&pose) {
             target = target.union(footprint);
         }
+    }
+    // While a student drags a sandbox handle the world holds still under their hand: a camera
+    // that followed the object would move the point the pusher heads for, and it would chase on.
+    if matches!(view.drag, Some(Drag::Sandbox(_))) {
+        view.framed = state.session().selected;
+        return;
     }
     if view.framed != state.session().selected {
         view.framed = state.session().selected;
@@ -332,6 +377,7 @@ fn draw_layers(
         next_pushes(painter, state, projection, content);
     }
     if layers.com_ellipse
+        && !state.estimate_hidden()
         && let (Some(theta), Some(run)) = (state.theta(), &state.run())
     {
         let (axes, angle) = run.spread_at(state.frame()).ellipse_95();

@@ -4,13 +4,16 @@
 
 use eframe::egui::{self, Rect};
 
+use nalgebra::Point2;
+
 use super::camera::{Camera, Projection};
 use super::legend;
+use super::sandbox::Grab;
 use crate::app::camera_mode::CameraMode;
 use crate::app::state::recordings::session::RecordingId;
 
 /// What a drag that started in the scene moves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Drag {
     /// The estimated COM: steers `θ_online` at the frame shown.
     Com,
@@ -18,6 +21,8 @@ pub enum Drag {
     ComLabel,
     /// The view.
     Pan,
+    /// A sandbox's pusher, its guess, or an arrow drawn from its outline.
+    Sandbox(Grab),
 }
 
 /// The scene's view state: the camera and how it moves, the legend, the drag in progress.
@@ -29,6 +34,8 @@ pub struct SceneView {
     pub legend_open: bool,
     /// What the pointer is dragging.
     pub drag: Option<Drag>,
+    /// Where an arrow being drawn on a sandbox's object ends now, world metres.
+    pub arrow_to: Option<Point2<f64>>,
     /// The recording the camera was last framed for; a new selection is framed afresh.
     pub(super) framed: Option<RecordingId>,
     /// Where the scene was drawn last frame, screen points (for PNG export and tests).
@@ -42,6 +49,7 @@ impl Default for SceneView {
             mode: CameraMode::default(),
             legend_open: false,
             drag: None,
+            arrow_to: None,
             framed: None,
             rect: Rect::NOTHING,
         }

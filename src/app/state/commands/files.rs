@@ -51,6 +51,11 @@ impl AppState {
                 Ok(()) => format!("model saved to {}", path.display()),
                 Err(e) => format!("{e:#}"),
             },
+            FileCommand::SaveSandbox(dir) => {
+                // Says what it wrote itself.
+                self.save_sandbox(&dir);
+                return;
+            }
         };
         self.status = Some(message);
     }

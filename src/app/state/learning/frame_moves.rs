@@ -31,11 +31,12 @@ impl AppState {
     /// worker learns, nothing more is learned here; what the frame shown has passed meanwhile is
     /// learned when its copy is back.
     pub(in crate::app::state) fn learn_while_playing(&mut self, from: usize, to: usize) {
-        // A live push learns as its frames arrive (`live_feed`), not as the timeline passes them.
+        // A growing push learns as its frames arrive (`sources::grow`), not as the timeline passes
+        // them.
         if !self.settings.learn_while_playing
             || self.run.is_none()
             || self.learning_ahead.is_running()
-            || (self.live.feeds()).is_some_and(|id| self.session.selected == Some(id))
+            || self.fed_push_shown()
         {
             return;
         }

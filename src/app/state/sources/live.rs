@@ -18,7 +18,6 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use pushlab_core::geometry::Pose2;
 use pushlab_core::recording::camera::RgbaImage;
 use pushlab_core::trajectory::Frame;
 use serde::{Deserialize, Serialize};
@@ -201,17 +200,10 @@ pub struct Running {
     pub latest: Latest,
     /// Where the connection was lost and made again.
     pub gaps: Vec<Gap>,
-    /// Whether the timeline follows the newest frame.
-    pub following: bool,
-    /// Learning keeps up by learning every n-th frame only, holding θ over the others (1: all).
-    pub every_nth: usize,
     /// Frames handed over so far.
     pub frames: usize,
     /// The recording the frames go to.
     pub recording: RecordingId,
-    /// Where the object is predicted to be a horizon after the newest frame, the pusher keeping its
-    /// velocity: drawn in front of the object at the live edge.
-    pub ahead: Option<(usize, Pose2)>,
     /// The newest picture of each camera topic taken from the worker.
     pub images: BTreeMap<String, LiveImage>,
     /// Whether connecting, and how the session ended, were said.
@@ -254,13 +246,6 @@ impl Live {
     /// Whether a session's worker is still running (connected, connecting or reconnecting).
     pub fn is_live(&self) -> bool {
         (self.session.as_ref()).is_some_and(|s| !matches!(s.latest.link, Link::Ended { .. }))
-    }
-
-    /// The recording a running session feeds: its frames arrive, and are learned, as they come.
-    pub fn feeds(&self) -> Option<RecordingId> {
-        (self.session.as_ref())
-            .filter(|_| self.is_live())
-            .map(|s| s.recording)
     }
 
     /// Applies the form's own commands; Connect, Disconnect and Back to live need the whole state
@@ -383,11 +368,8 @@ impl Live {
             link: link.clone(),
             latest: Latest::default(),
             gaps: Vec::new(),
-            following: true,
-            every_nth: 1,
             frames: 0,
             recording,
-            ahead: None,
             images: BTreeMap::new(),
             said_connected: false,
             said_end: false,

@@ -1,28 +1,20 @@
 //! A live session in the whole state: Connect opens a recording that grows as the worker's frames
-//! arrive (`live`), learned online as they come by the run every recording is learned with — the
-//! core's `OnlineRun`, so the session and a replay of its recording give the same θ — with the
-//! timeline following the newest frame until the user scrubs back ("Back to live" returns). When
-//! learning cannot keep up, it learns every n-th frame only and says so, rather than lag.
+//! arrive (`live`), on the one path a growing push takes (`grow`): learned online as they come by
+//! the run every recording is learned with — the core's `OnlineRun`, so the session and a replay of
+//! its recording give the same θ — with the timeline following the newest frame until the user
+//! scrubs back ("Back to live" returns).
 
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use pushlab_core::inspect::ahead;
 use pushlab_core::recording::bag::SettingSource;
 use pushlab_core::recording::{Recording, RecordingSet};
-use pushlab_core::trajectory::{Frame, Trajectory};
+use pushlab_core::trajectory::Trajectory;
 
-use crate::app::platform::Instant;
 use crate::app::state::AppState;
-use crate::app::state::playback::overview::PathOverview;
-use crate::app::state::playback::timeline::{FrameMove, TimelineCommand};
 use crate::app::state::recordings::session::RecordingId;
+use crate::app::state::sources::growing::Feed;
 use crate::app::state::sources::live::{Link, LiveCommand};
-
-/// Learning one batch of frames longer than this is falling behind: learn every other frame more.
-const LEARN_BUDGET_S: f64 = 0.004;
-/// The most frames one is learned of, at the worst.
-const MAX_EVERY_NTH: usize = 64;
 
 impl AppState {
     pub(in crate::app::state) fn apply_live(&mut self, command: &LiveCommand) {
@@ -35,12 +27,7 @@ impl AppState {
                     self.status = Some("ending the live session…".to_owned());
                 }
             }
-            LiveCommand::BackToLive => {
-                if let Some(running) = self.live.running_mut() {
-                    running.following = true;
-                }
-                self.follow_live_edge();
-            }
+            LiveCommand::BackToLive => self.back_to_newest(),
             LiveCommand::OpenForm
             | LiveCommand::Edit(_)
             | LiveCommand::CloseForm
@@ -122,6 +109,7 @@ impl AppState {
         };
         let url = choice.url.clone();
         let link = self.live.start(choice.clone(), id);
+        self.start_growing(id, Feed::Live);
         self.start_live_worker(choice, rate, link);
         self.remember_parameters();
         self.apply_session(crate::app::state::SessionCommand::Select(id));
@@ -177,13 +165,15 @@ impl AppState {
             ));
         }
         if !frames.is_empty() {
-            self.extend_live(frames);
+            self.grow(frames);
         }
+        let mut ended = None;
         if let Some(running) = self.live.running_mut()
             && let Link::Ended { error, recorded } = &running.latest.link
             && !running.said_end
         {
             running.said_end = true;
+            ended = Some(running.recording);
             self.status = Some(match (error, recorded) {
                 (Some(error), _) => format!("the live session ended: {error}"),
                 (None, Some(recorded)) => format!("the live session ended; {recorded}"),
@@ -199,135 +189,12 @@ impl AppState {
                 (self.proposals).refresh(self.session.selected_recording(), self.run.as_ref());
             }
         }
-        self.live.is_live() || listing
-    }
-
-    /// Appends `frames` to the live push, learns from the samples they complete, and follows them
-    /// with the timeline when it is at the live edge.
-    fn extend_live(&mut self, frames: Vec<Frame>) {
-        let Some(running) = self.live.running() else {
-            return;
-        };
-        let id = running.recording;
-        let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
-        let shown = self.session.selected == Some(id);
-        let Some(recording) = (self.session.sets.get_mut(id.set))
-            .and_then(|set| set.recordings.get_mut(id.recording))
-        else {
-            return;
-        };
-        // The trajectory grows in place only when nothing else holds it: the session lets go of its
-        // share while the run (which holds the other) extends it.
-        let mut trajectory = std::mem::replace(
-            &mut recording.trajectory,
-            Arc::new(Trajectory::new(Vec::new())),
-        );
-        let Some(run) = self.run.as_mut().filter(|_| shown) else {
-            Arc::make_mut(&mut trajectory).frames.extend(frames);
-            recording.trajectory = trajectory;
-            return;
-        };
-        drop(trajectory);
-        self.learning_ahead.cancel();
-        recording.trajectory = run.extend(frames);
-        let grown = recording.trajectory.len();
-        if grown < 2_000 || grown >= self.overview_frames + self.overview_frames / 64 {
-            self.overview = PathOverview::of(&recording.trajectory);
-            self.overview_frames = grown;
-        }
-        self.timeline.extend(times);
-        self.learn_live();
-        self.follow_live_edge();
-    }
-
-    /// Learns from every sample the newest frames completed (every n-th when behind), and predicts
-    /// ahead of the newest frame.
-    fn learn_live(&mut self) {
-        let labels_skip = self.frames_to_skip();
-        let (Some(run), Some(running)) = (self.run.as_mut(), self.live.running_mut()) else {
-            return;
-        };
-        let (from, to) = (run.frontier(), run.sample_count());
-        let started = Instant::now();
-        if running.every_nth <= 1 {
-            run.learn_through(from, to, &labels_skip);
-        } else {
-            // θ held over all but every n-th sample: the labels' frames to skip, and the others.
-            let n = running.every_nth;
-            let mut skip = vec![false; to + run.horizon() + 1];
-            for (k, flag) in skip.iter_mut().enumerate() {
-                *flag = labels_skip.get(k).copied().unwrap_or(false) || (k >= from && k % n != 0);
-            }
-            run.learn_through(from, to, &skip);
-        }
-        let took = started.elapsed().as_secs_f64();
-        let before = running.every_nth;
-        if took > LEARN_BUDGET_S {
-            running.every_nth = (running.every_nth * 2).min(MAX_EVERY_NTH);
-        } else if took < LEARN_BUDGET_S / 4.0 && running.every_nth > 1 {
-            running.every_nth /= 2;
-        }
-        let theta = run.theta_at(run.frontier());
-        running.ahead = ahead(
-            run.model().as_ref(),
-            &run.trajectory().frames,
-            run.horizon(),
-            &theta,
-        );
-        if running.every_nth != before {
-            self.status = Some(if running.every_nth > 1 {
-                format!(
-                    "learning falls behind the robot: learning every {}th frame only, θ held between",
-                    running.every_nth
-                )
-            } else {
-                "learning keeps up with the robot again: every frame learned".to_owned()
-            });
-        }
-    }
-
-    /// Shows the newest frame when the timeline follows the live edge.
-    fn follow_live_edge(&mut self) {
-        // Also as the session ends: the last frames it handed over are shown.
-        if self.follows_live_push() {
-            let before = self.timeline.frame();
-            self.timeline.apply(TimelineCommand::JumpEnd);
-            if self.timeline.frame() != before {
-                self.frame_moved(before, FrameMove::Passed);
-            }
-        }
-    }
-
-    /// A timeline command while live: one that leaves the newest frame stops following it.
-    pub(in crate::app::state) fn live_timeline_moved(&mut self) {
-        let at_edge = self.timeline.frame() == self.timeline.last_frame();
-        if let Some(running) = self.live.running_mut()
-            && !at_edge
+        if let Some(id) = ended
+            && self.growing.as_ref().is_some_and(|g| g.recording == id)
         {
-            running.following = false;
+            self.close_growing();
         }
-    }
-
-    /// The object's pose predicted a horizon after the newest frame, when the frame shown is the
-    /// newest of a live push: drawn in front of the object.
-    pub fn live_ahead(&self) -> Option<(usize, pushlab_core::geometry::Pose2)> {
-        let running = self.live.running()?;
-        (self.session.selected == Some(running.recording)
-            && self.live.is_live()
-            && self.timeline.frame() == self.timeline.last_frame())
-        .then_some(running.ahead)
-        .flatten()
-    }
-
-    /// Whether the timeline follows a live push's newest frame (the plots keep all of it in view).
-    pub fn live_following(&self) -> bool {
-        self.follows_live_push() && self.live.is_live()
-    }
-
-    /// Whether the timeline follows the newest frame of the live push shown (running or ended).
-    fn follows_live_push(&self) -> bool {
-        (self.live.running())
-            .is_some_and(|r| r.following && self.session.selected == Some(r.recording))
+        self.live.is_live() || listing
     }
 
     /// The newest picture of each camera of the live push shown, with the pictures each dropped

@@ -5,6 +5,10 @@
 pub mod bag_import;
 pub(super) mod choosing;
 pub mod dataset_import;
+pub(super) mod grow;
+pub mod growing;
 pub mod live;
 pub(super) mod live_feed;
 pub(super) mod opening;
+pub mod sandbox;
+pub(super) mod sandbox_feed;

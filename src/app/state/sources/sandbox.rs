@@ -1,0 +1,117 @@
+//! Push it yourself: the sandbox's own state. The core's sandbox (the mystery object on the table
+//! and the pushes made on it), the set its pushes open as (one recording a push), the student's
+//! guess of the COM, whether the truth is revealed, challenge mode (the model's estimate hidden
+//! until reveal), each push's review and the score card. The pushes grow on the path every growing
+//! push takes (`sources::grow`, `sandbox_feed`).
+
+use pushlab_core::sandbox::{MysteryObject, PushChoice, PushReview, Sandbox, ScoreCard};
+
+use crate::app::state::learning::online::Carried;
+use crate::app::state::recordings::session::RecordingId;
+
+/// What the sandbox is asked.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SandboxCommand {
+    /// A new sandbox: the mystery of `seed` on `object` (`None`: the outline of the recording
+    /// shown), tracking noise or not, the model's estimate hidden until reveal or not.
+    Start {
+        seed: u64,
+        object: Option<MysteryObject>,
+        noise: bool,
+        challenge: bool,
+    },
+    /// The next mystery: the next seed, the same object.
+    NewMystery,
+    /// The pointer holds the pusher at this world point (pressed, or moved while pressed).
+    Hold([f64; 2]),
+    /// The pointer let go at this world point.
+    Release([f64; 2]),
+    /// The arrow keys held steer the pusher this way (world axes; zero: let go).
+    Steer([f64; 2]),
+    /// A whole pointer path at once (`[x, y, t]`, metres and seconds from now), as the page's hook
+    /// and tests drag.
+    Drag(Vec<[f64; 3]>),
+    /// A push chosen on the object, made by the pusher as `pushlab simulate` plans one.
+    Push(PushChoice),
+    /// The student's guess of the COM offset, object frame, metres.
+    Guess([f64; 2]),
+    /// Show the hidden COM and `h`, and the score card.
+    Reveal,
+    /// Hide the model's estimate until reveal (or show it).
+    SetChallenge(bool),
+    /// Leave the sandbox (its pushes stay open).
+    Close,
+}
+
+/// How far ahead of the pusher the arrow keys put the pointer, metres: the pusher heads there at
+/// its speed while they are held.
+pub const STEER_REACH_M: f64 = 0.05;
+
+/// A sandbox session (see the module documentation).
+pub struct SandboxSession {
+    pub(in crate::app::state) sandbox: Sandbox,
+    /// Its pushes' set among the open sets.
+    pub(in crate::app::state) set: usize,
+    /// Each push's recording, in order.
+    pub(in crate::app::state) pushes: Vec<RecordingId>,
+    pub(in crate::app::state) noise: bool,
+    pub(in crate::app::state) guess: Option<[f64; 2]>,
+    pub(in crate::app::state) revealed: bool,
+    pub(in crate::app::state) challenge: bool,
+    /// Whether the arrow keys hold the pusher now.
+    pub(in crate::app::state) steering: bool,
+    /// Each push's review, once it ended (`None` where the ranking could not review it).
+    pub(in crate::app::state) reviews: Vec<Option<PushReview>>,
+    pub(in crate::app::state) score: Option<ScoreCard>,
+    /// The learning each push started from (none for the first: `θ_online(0)`).
+    pub(in crate::app::state) carried: Vec<Option<Carried>>,
+    /// What the last push ended with, for the next to go on from.
+    pub(in crate::app::state) next_start: Option<Carried>,
+}
+
+impl SandboxSession {
+    pub fn sandbox(&self) -> &Sandbox {
+        &self.sandbox
+    }
+
+    /// The recording of each push made or being made.
+    pub fn pushes(&self) -> &[RecordingId] {
+        &self.pushes
+    }
+
+    pub fn guess(&self) -> Option<[f64; 2]> {
+        self.guess
+    }
+
+    pub fn revealed(&self) -> bool {
+        self.revealed
+    }
+
+    pub fn challenge(&self) -> bool {
+        self.challenge
+    }
+
+    pub fn noise(&self) -> bool {
+        self.noise
+    }
+
+    /// The score card, after reveal.
+    pub fn score(&self) -> Option<&ScoreCard> {
+        self.score.as_ref()
+    }
+
+    /// Each push's review, in order, once it ended.
+    pub fn reviews(&self) -> &[Option<PushReview>] {
+        &self.reviews
+    }
+
+    /// Whether the arrow keys hold the pusher now.
+    pub fn steering(&self) -> bool {
+        self.steering
+    }
+
+    /// Whether the model's estimate is hidden now (challenge mode, before reveal).
+    pub fn hides_estimate(&self) -> bool {
+        self.challenge && !self.revealed
+    }
+}
