@@ -27,6 +27,7 @@ fn start(state: &mut AppState, seed: u64, object: MysteryObject, noise: bool, ch
         object: Some(object),
         noise,
         challenge,
+        com: None,
     }));
 }
 
@@ -308,4 +309,41 @@ fn a_new_user_pushes_guesses_and_reveals_from_the_demos_menu() {
     state.apply(Command::Session(SessionCommand::Select(
         state.sandbox().unwrap().pushes()[0],
     )));
+}
+
+#[test]
+fn a_push_growing_on_an_object_the_model_never_saw_is_warned_as_on_replay() {
+    // The 90 × 135 mm box of a live robot with a 5 mm pusher, as issue #67 met it: the bundled
+    // model was trained on 0.3–0.45 m objects and a 175 mm pusher. A growing push takes one path
+    // whatever feeds it; the sandbox feeds this one.
+    let mut state = initial_state(&[], Persisted::default());
+    assert!(state.domain_mismatch().is_none(), "the sample data fits");
+    state.apply(Command::Sandbox(SandboxCommand::Start {
+        seed: 1,
+        object: Some(MysteryObject::Outline {
+            name: "small box".to_owned(),
+            shape: pushlab_core::recording::ObjectShape::Box {
+                width: 0.09,
+                length: 0.135,
+            },
+            pusher_radius: 0.005,
+        }),
+        noise: false,
+        challenge: false,
+        com: None,
+    }));
+    let rest = rest_of(&state);
+    state.apply(Command::Sandbox(SandboxCommand::Hold([
+        rest[0] + 0.2,
+        rest[1],
+    ])));
+    state.advance(0.1);
+    let mismatch = state
+        .domain_mismatch()
+        .expect("warned once the push's setting is known")
+        .message
+        .clone();
+    assert!(mismatch.contains("pusher"), "{mismatch}");
+    let status = state.status().unwrap_or_default();
+    assert_eq!(status, format!("warning: {mismatch}"));
 }

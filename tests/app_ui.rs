@@ -90,6 +90,31 @@ fn opening_the_sample_data_lists_its_recordings_and_selects_the_first() {
 }
 
 #[test]
+fn a_recording_selected_from_elsewhere_is_scrolled_into_sight_in_the_table() {
+    let mut harness = app();
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    // The last row of the table as sorted, far below the rows in sight (only those are built).
+    let last = *state.browser_shown().last().expect("rows");
+    let name = state.session().get(last).expect("open").name.clone();
+    let sibling_count = |h: &Harness<'_, PushlabApp>| h.query_all_by_label(&name).count();
+    let before = sibling_count(&harness);
+    // Selected as a link, a drop or a demo selects it: not by a click in the table.
+    harness
+        .state_mut()
+        .state
+        .apply(pushlab::app::state::Command::Session(
+            SessionCommand::Select(last),
+        ));
+    harness.run_steps(3);
+    assert!(
+        sibling_count(&harness) > before,
+        "{name}, the last of {} rows, is drawn in the table once selected",
+        harness.state().state.browser_shown().len()
+    );
+}
+
+#[test]
 fn play_advances_frames_and_pause_stops_them() {
     let mut harness = app();
     harness.run_steps(1);

@@ -204,7 +204,7 @@ fn the_steer_tab_says_what_the_com_spread_is_made_of() {
     assert!(
         harness
             .query_by_label_contains(&format!(
-                "COM σ at frame 0:\nframes {:.1} mm",
+                "COM σ at frame 0 (mm): frames learned {:.1},",
                 prior.frames_m * 1e3
             ))
             .is_some()
@@ -232,7 +232,8 @@ fn the_steer_tab_says_what_the_com_spread_is_made_of() {
     );
     let shown = |at: &str, parts: ComSpreadParts| {
         format!(
-            "COM σ at {at}:\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
+            "COM σ at {at} (mm): frames learned {:.1},\nmodel misfit {:.1}, estimate still moving \
+             {:.1}",
             parts.frames_m * 1e3,
             parts.misfit_m * 1e3,
             parts.drift_m * 1e3,

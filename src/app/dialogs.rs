@@ -13,6 +13,7 @@ pub use self::request::{DialogRequest, DialogResult, LabelExportFormat};
 pub mod browser;
 #[cfg(target_arch = "wasm32")]
 pub mod fetch;
+pub mod fetched_name;
 mod request;
 
 /// Dialogs in flight.

@@ -6,7 +6,11 @@
 //! show and send. Plain Rust, it is tested on the desktop; `web` only carries it across to
 //! JavaScript.
 
+mod sandbox;
+
 use serde::{Deserialize, Serialize};
+
+pub use self::sandbox::{HookPush, HookSandbox, ShownSandbox, ShownSuggestion, ShownTruth};
 
 use pushlab_core::model::OnlineParams;
 
@@ -60,6 +64,8 @@ pub struct Shown {
     /// for the guide's performance figures. Only a page fills them.
     pub frames_drawn: Option<u64>,
     pub frame_cpu_ms: Option<f32>,
+    /// Push it yourself, while a sandbox is open (`hook::sandbox`).
+    pub sandbox: Option<ShownSandbox>,
 }
 
 /// One camera picture shown (`state().cameras`).
@@ -88,6 +94,14 @@ pub struct HookCommand {
     /// Set at the frame shown (after `seek`).
     pub theta: Option<[f64; 3]>,
     pub play: Option<bool>,
+    /// A new mystery (`hook::sandbox` has these six).
+    pub sandbox: Option<HookSandbox>,
+    pub push: Option<HookPush>,
+    /// A pointer path dragging the pusher, `[x, y, t]`: metres, seconds from now.
+    pub drag: Option<Vec<[f64; 3]>>,
+    pub guess: Option<[f64; 2]>,
+    pub reveal: Option<bool>,
+    pub suggest: Option<bool>,
 }
 
 /// What a hook command becomes: the state's commands, and an address to fetch (only a page can).
@@ -165,6 +179,7 @@ pub fn shown(state: &AppState) -> Shown {
             .map(|w| [w.pos, w.rot]),
         frames_drawn: None,
         frame_cpu_ms: None,
+        sandbox: sandbox::shown(state),
     }
 }
 
@@ -211,6 +226,17 @@ pub fn translate(command: &HookCommand, state: &AppState) -> Result<Translated, 
                 h,
             })));
     }
+    sandbox::translate(
+        sandbox::SandboxFields {
+            sandbox: command.sandbox.as_ref(),
+            push: command.push.as_ref(),
+            drag: command.drag.as_ref(),
+            guess: command.guess,
+            reveal: command.reveal,
+            suggest: command.suggest,
+        },
+        &mut out.commands,
+    )?;
     if let Some(play) = command.play
         && play != state.timeline().playing
     {

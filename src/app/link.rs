@@ -12,13 +12,19 @@
 //! gauss-newton), `lr`, `speed`, `learn` (0/1), `layers` (the layers that differ from the default,
 //! `name` on or `-name` off), `present` (the presentation layout), `projector` (high contrast,
 //! larger text), `light` (the light theme) and `hide` (controls hidden in a classroom: `browser`, `tools`, `timeline`, `menu`).
+//! Push it yourself: `sandbox` (the mystery's seed), `object` (box, t or ellipse), `challenge`
+//! (the model's estimate hidden until reveal) and `com` (a teacher's hidden COM offset, x,y in
+//! metres, in place of the seed's): the whole class gets the same mystery; the pushes a student
+//! makes are theirs and are not in the link.
 
 use pushlab_core::learn::Optimizer;
 use pushlab_core::model::OnlineParams;
+use pushlab_core::sandbox::{Mystery, MysteryObject};
 
 use super::state::demos::demo::DemoCommand;
 use super::state::playback::layers::Layers;
 use super::state::playback::timeline::TimelineCommand;
+use super::state::sources::sandbox::SandboxCommand;
 use super::state::{AppState, Command, OnlineCommand, SessionCommand};
 
 /// Controls a classroom link may hide.
@@ -43,6 +49,11 @@ pub struct Link {
     pub projector: bool,
     pub light: bool,
     pub hide: Vec<String>,
+    /// Push it yourself: the mystery's seed and object, challenge mode, a teacher's COM.
+    pub sandbox: Option<u64>,
+    pub object: Option<String>,
+    pub challenge: bool,
+    pub com: Option<[f64; 2]>,
 }
 
 /// The view's part of a link, which the state does not hold.
@@ -73,6 +84,29 @@ impl Link {
             .filter(|l| !defaults.contains(l))
             .collect();
         let config = state.settings().online;
+        // A sandbox's link is its mystery: its pushes are the student's, not the link's. (A
+        // recording's outline has no name a link can give, so it links as a recording would.)
+        let mystery = (state.sandbox())
+            .filter(|_| state.sandbox_shown())
+            .filter(|s| !matches!(s.sandbox().mystery().object, MysteryObject::Outline { .. }));
+        if let Some(session) = mystery {
+            let m = session.sandbox().mystery();
+            // A teacher's COM is in the link; the seed's own is not (the seed gives it).
+            let drawn = Mystery::draw(m.seed, m.object.clone()).ok();
+            let com = m.hidden.com_offset;
+            return Self {
+                sandbox: Some(m.seed),
+                object: Some(m.object.name().to_owned()),
+                challenge: session.challenge(),
+                com: drawn.filter(|d| d.hidden.com_offset != com).map(|_| com),
+                layers,
+                present: view.present,
+                projector: view.projector,
+                light: view.light,
+                hide: view.hide.clone(),
+                ..Self::default()
+            };
+        }
         Self {
             demo: state.demos().active.as_ref().map(|d| d.name.clone()),
             recording: state.recording().map(super::hook::display_name),
@@ -91,6 +125,7 @@ impl Link {
             projector: view.projector,
             light: view.light,
             hide: view.hide.clone(),
+            ..Self::default()
         }
     }
 
@@ -148,6 +183,18 @@ impl Link {
         }
         if !self.hide.is_empty() {
             parts.push(("hide", self.hide.join(",")));
+        }
+        if let Some(seed) = self.sandbox {
+            parts.push(("sandbox", seed.to_string()));
+        }
+        if let Some(object) = &self.object {
+            parts.push(("object", object.clone()));
+        }
+        if self.challenge {
+            parts.push(("challenge", "1".to_owned()));
+        }
+        if let Some([x, y]) = self.com {
+            parts.push(("com", format!("{x},{y}")));
         }
         parts
             .into_iter()
@@ -218,6 +265,24 @@ impl Link {
                             return Err(bad(&format!("controls among {}", HIDEABLE.join(", "))));
                         }
                         link.hide.push(name.to_owned());
+                    }
+                }
+                "sandbox" => {
+                    link.sandbox = Some(value.parse().map_err(|_| bad("a seed, 0 or more"))?)
+                }
+                "object" => {
+                    value
+                        .parse::<MysteryObject>()
+                        .map_err(|_| bad("box, t or ellipse"))?;
+                    link.object = Some(value.clone());
+                }
+                "challenge" => link.challenge = flag(&value)?,
+                "com" => {
+                    let numbers: Result<Vec<f64>, _> =
+                        value.split(',').map(|v| v.trim().parse::<f64>()).collect();
+                    match numbers.as_deref() {
+                        Ok(&[x, y]) if x.is_finite() && y.is_finite() => link.com = Some([x, y]),
+                        _ => return Err(bad("x,y in metres")),
                     }
                 }
                 "url" => {}
@@ -319,6 +384,19 @@ impl Steps {
 
     fn select(&self, state: &AppState) -> Result<Vec<Command>, String> {
         let mut commands = Vec::new();
+        if self.link.sandbox.is_some() || self.link.object.is_some() {
+            let object = match &self.link.object {
+                Some(name) => name.parse::<MysteryObject>()?,
+                None => MysteryObject::Box,
+            };
+            commands.push(Command::Sandbox(SandboxCommand::Start {
+                seed: self.link.sandbox.unwrap_or(0),
+                object: Some(object),
+                noise: false,
+                challenge: self.link.challenge,
+                com: self.link.com,
+            }));
+        }
         if let Some(name) = &self.link.demo {
             let names = state.demos().names();
             let index = (names.iter().position(|n| n == name))
@@ -363,8 +441,13 @@ fn encode(text: &str) -> String {
     out
 }
 
-/// Reads `%XX` and `+` (a space).
+/// Reads `%XX` and `+` (a space), as a query writes them.
 fn decode(text: &str) -> String {
+    percent_decode(text, true)
+}
+
+/// Reads `%XX` (and `+` as a space when `plus_is_space`: a query's, not a path's).
+pub fn percent_decode(text: &str, plus_is_space: bool) -> String {
     let bytes = text.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
@@ -381,7 +464,7 @@ fn decode(text: &str) -> String {
                     Err(_) => out.push(b'%'),
                 }
             }
-            b'+' => out.push(b' '),
+            b'+' if plus_is_space => out.push(b' '),
             b => out.push(b),
         }
         i += 1;

@@ -357,3 +357,24 @@ test("?url= opens a recording by address, and a refused fetch says which and why
   assert.equal(status, `${missing}: the server answered 404 File not found`);
   await refused.page.close();
 });
+
+test("?url= names a fetched file by its decoded address: an MIT file's = written %3D opens as written =", async (t) => {
+  const name = process.env.PUSHLAB_MIT_SERVED;
+  if (!name) {
+    t.skip("../shared/mit-push/ is absent: no MIT file to serve");
+    return;
+  }
+  const opened = [];
+  for (const spelt of [name, name.replaceAll("=", "%3D")]) {
+    const { page, errors } = await open(`?url=${encodeURIComponent(`${site}fetch-test/${spelt}`)}`);
+    await page.waitForFunction(() => window.pushlab.state().open.length > 324 || window.pushlab.state().error,
+      null, { timeout: 60_000 });
+    const s = await settled(page);
+    assert.equal(s.error, null, `${spelt}: ${s.error}`);
+    opened.push(s.open.slice(324));
+    assert.deepEqual(errors, []);
+    await page.close();
+  }
+  assert.ok(opened[0].length > 0 && opened[0].some((n) => n.includes("rect1")), `opened: ${opened[0]}`);
+  assert.deepEqual(opened[1], opened[0], "both spellings open the same recording");
+});

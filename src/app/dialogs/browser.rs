@@ -208,15 +208,9 @@ pub fn open_urls(urls: Vec<String>) {
             }
         }
         for url in wanted {
-            let name = url
-                .split(['?', '#'])
-                .next()
-                .and_then(|u| u.rsplit('/').next())
-                .filter(|n| !n.is_empty())
-                .unwrap_or("fetched")
-                .to_owned();
-            match fetch::bytes(&url).await {
-                Ok(bytes) => {
+            match fetch::file(&url).await {
+                Ok((bytes, disposition)) => {
+                    let name = super::fetched_name::file_name(&url, disposition.as_deref());
                     TREE.write(&folder.join(&name), bytes);
                     names.push(name);
                 }

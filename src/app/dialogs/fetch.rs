@@ -6,6 +6,12 @@ use wasm_bindgen_futures::JsFuture;
 /// The bytes at `url` (relative to the page or absolute), or why not: the address and the reason
 /// (a network refusal such as CORS, or the HTTP status).
 pub async fn bytes(url: &str) -> Result<Vec<u8>, String> {
+    file(url).await.map(|(bytes, _)| bytes)
+}
+
+/// The bytes at `url` and the response's `Content-Disposition` (the server's name for the file),
+/// or why not, as [`bytes`].
+pub async fn file(url: &str) -> Result<(Vec<u8>, Option<String>), String> {
     let window = web_sys::window().ok_or("no window")?;
     let refused = |why: wasm_bindgen::JsValue| {
         format!(
@@ -29,11 +35,12 @@ pub async fn bytes(url: &str) -> Result<Vec<u8>, String> {
             response.status_text()
         ));
     }
+    let disposition = response.headers().get("content-disposition").ok().flatten();
     let buffer = response
         .array_buffer()
         .map_err(|_| format!("{url}: the response has no body"))?;
     let buffer = JsFuture::from(buffer)
         .await
         .map_err(|_| format!("{url}: the body could not be read"))?;
-    Ok(js_sys::Uint8Array::new(&buffer).to_vec())
+    Ok((js_sys::Uint8Array::new(&buffer).to_vec(), disposition))
 }

@@ -1,3 +1,5 @@
+#![allow(clippy::unwrap_used)]
+
 use super::*;
 use crate::app::hook::shown;
 use crate::app::initial_state;
@@ -39,6 +41,10 @@ fn a_link_reads_back_as_itself() {
         projector: true,
         light: true,
         hide: vec!["browser".to_owned(), "tools".to_owned()],
+        sandbox: Some(7),
+        object: Some("ellipse".to_owned()),
+        challenge: true,
+        com: Some([0.011, -0.002_5]),
     };
     let query = link.to_query();
     assert!(query.starts_with("demo=R2b%20COM&rec=box1-paper-ur-front/online_003&frame=120&"));
@@ -122,4 +128,63 @@ fn the_view_a_link_asks_for_is_the_view_it_reads_back() {
     assert!(view.hide_menu && !view.hide_timeline);
     assert!(view.light);
     assert_eq!(view.link_part(), asked.view());
+}
+
+#[test]
+fn a_sandbox_link_opens_the_same_mystery_and_leaves_the_pushes_out() {
+    use crate::app::state::sources::sandbox::SandboxCommand;
+    use pushlab_core::sandbox::{Mystery, MysteryObject};
+
+    let mut teacher = sample_state();
+    teacher.apply(Command::Sandbox(SandboxCommand::Start {
+        seed: 42,
+        object: Some(MysteryObject::T),
+        noise: false,
+        challenge: true,
+        com: None,
+    }));
+    let rest = teacher.sandbox().unwrap().sandbox().pusher();
+    teacher.apply(Command::Sandbox(SandboxCommand::Drag(vec![
+        [rest.x, rest.y, 0.0],
+        [rest.x + 0.3, rest.y, 8.0],
+    ])));
+    let view = ViewPart {
+        hide: vec!["browser".to_owned(), "tools".to_owned()],
+        ..ViewPart::default()
+    };
+    let query = Link::of(&teacher, &view).to_query();
+    assert_eq!(query, "hide=browser,tools&sandbox=42&object=t&challenge=1");
+
+    let link = Link::parse(&query).unwrap();
+    let mut student = sample_state();
+    follow(&link, &mut student);
+    let opened = student.sandbox().expect("the link opens the sandbox");
+    assert_eq!(
+        opened.sandbox().mystery(),
+        &Mystery::draw(42, MysteryObject::T).unwrap()
+    );
+    assert_eq!(
+        opened.sandbox().mystery(),
+        teacher.sandbox().unwrap().sandbox().mystery()
+    );
+    assert!(opened.challenge() && opened.sandbox().made().is_empty());
+    assert_eq!(link.view().hide, ["browser", "tools"]);
+
+    // A teacher's own hidden COM travels in the link; a bad one is refused by name.
+    let link = Link::parse("sandbox=3&object=box&com=0.02,-0.01").unwrap();
+    let mut class = sample_state();
+    follow(&link, &mut class);
+    let mystery = class.sandbox().unwrap().sandbox().mystery().clone();
+    assert_eq!(mystery.hidden.com_offset, [0.02, -0.01]);
+    assert_eq!(
+        Link::of(&class, &ViewPart::default()).com,
+        Some([0.02, -0.01])
+    );
+    let e = Link::parse("sandbox=3&object=sphere").unwrap_err();
+    assert_eq!(e, "link: object=\"sphere\": expected box, t or ellipse");
+    assert!(
+        Link::parse("sandbox=-1")
+            .unwrap_err()
+            .contains("expected a seed")
+    );
 }

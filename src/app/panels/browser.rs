@@ -54,8 +54,19 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
 }
 
 /// The table; only the rows in view are built (`body.rows` asks for those alone).
+/// A recording selected from elsewhere (a link, a drop, a demo, a sandbox push) is scrolled into
+/// sight once, when the selection changes; a row clicked is in sight already.
 fn table(ui: &mut egui::Ui, state: &AppState, rows: &[RecordingId], commands: &mut Vec<Command>) {
     ui.spacing_mut().item_spacing.x = 4.0;
+    let selected = state.session().selected;
+    let scrolled_id = egui::Id::unique("pushlab-browser-scrolled-to");
+    let scrolled_to: Option<RecordingId> = ui.data(|d| d.get_temp(scrolled_id)).flatten();
+    let scroll_to = (scrolled_to != selected)
+        .then(|| selected.and_then(|id| rows.iter().position(|r| *r == id)))
+        .flatten();
+    if scroll_to.is_some() {
+        ui.data_mut(|d| d.insert_temp(scrolled_id, selected));
+    }
     let mut builder = TableBuilder::new(ui)
         .id_salt("browser-table")
         .striped(true)
@@ -63,6 +74,9 @@ fn table(ui: &mut egui::Ui, state: &AppState, rows: &[RecordingId], commands: &m
         .auto_shrink([false, false])
         .max_scroll_height(f32::INFINITY)
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center));
+    if let Some(index) = scroll_to {
+        builder = builder.scroll_to_row(index, None);
+    }
     let columns = state.browser_columns();
     for &column in columns {
         builder = builder.column(width(column));

@@ -27,6 +27,7 @@ pub fn start_menu(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
             object,
             noise: false,
             challenge: false,
+            com: None,
         }));
     };
     let hover = "an object whose centre of mass is hidden: push it with the mouse and watch the \

@@ -68,7 +68,8 @@ fn spread_parts(ui: &mut egui::Ui, run: &learn::OnlineRun, frame: usize) {
     };
     ui.label(
         egui::RichText::new(format!(
-            "COM σ at {at}:\nframes {:.1} mm, misfit {:.1}, still sliding {:.1}",
+            "COM σ at {at} (mm): frames learned {:.1},\nmodel misfit {:.1}, estimate still moving \
+             {:.1}",
             parts.frames_m * 1e3,
             parts.misfit_m * 1e3,
             parts.drift_m * 1e3,

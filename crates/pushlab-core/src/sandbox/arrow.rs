@@ -8,6 +8,7 @@ use nalgebra::{Point2, Vector2};
 
 use super::table::PushChoice;
 use crate::geometry::{Outline, Pose2, cross};
+use crate::inspect::PushShape;
 use crate::recording::PushSide;
 
 /// Arrows shorter than this are a click, not a push, metres.
@@ -46,6 +47,16 @@ pub fn push_drawn(
         angle_deg: angle,
         length_m: length,
     })
+}
+
+/// The push a ranked suggestion makes, as the sandbox plans one: the arrow from where its pusher
+/// touches the object along the way it goes on, as long as it goes (`shape` in the object's
+/// frame, as the ranking describes it). What a student's "do what the ranking says" pushes, and
+/// the page's hook offers as `state().sandbox.suggested`.
+pub fn push_of_shape(outline: &Outline, shape: &PushShape) -> Option<PushChoice> {
+    let from = Point2::from(shape.contact_in_object);
+    let to = from + Vector2::from(shape.direction_in_object) * shape.length_m;
+    push_drawn(outline, &Pose2::new(0.0, 0.0, 0.0), from, to)
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@ pub mod review;
 pub mod saved;
 pub mod table;
 
-pub use arrow::push_drawn;
+pub use arrow::{push_drawn, push_of_shape};
 pub use mystery::{Hidden, Mystery, MysteryError, MysteryObject};
 pub use pointer::{PointerPath, PointerPathError, follow};
 pub use review::{PushReview, ScoreCard, Scored, review_push};

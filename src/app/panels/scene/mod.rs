@@ -8,7 +8,9 @@
 //! only the camera, which is the view's own, is changed here.
 
 pub mod camera;
+mod content;
 pub mod draw;
+pub mod hover;
 pub mod interaction;
 pub mod legend;
 pub mod sandbox;
@@ -17,9 +19,9 @@ mod view;
 use eframe::egui::{self, Sense};
 use nalgebra::Point2;
 use pushlab_core::geometry::{Outline, Pose2};
-use pushlab_core::inspect::Rollout;
 
 use self::camera::{Camera, Projection, WorldBox};
+use self::content::{Content, Target};
 use self::draw::FootprintStyle;
 use self::interaction::Markers;
 use self::sandbox::{Grab, Grips};
@@ -27,7 +29,6 @@ pub use self::view::{Drag, SceneView};
 use crate::app::camera_mode::CameraMode;
 use crate::app::colors::{self, Palette};
 use crate::app::state::learning::next_push;
-use crate::app::state::playback::predictions::FramePredictions;
 use crate::app::state::{AppState, Command};
 
 /// The camera modes and the legend's fold, above the scene.
@@ -143,6 +144,9 @@ fn draw(
         };
         sandbox::draw(&painter, state, &projection, &grips, arrow, hot);
     }
+    if view.drag.is_none() {
+        hover::say_what_is_under(response, state, &projection, &content);
+    }
 }
 
 /// What the scene shows: the object's pose, the pusher and its radius, the outline — at the
@@ -167,84 +171,6 @@ fn shown_scene(state: &AppState) -> Option<(Pose2, Point2<f64>, f64, Option<Outl
                 sim.pusher_radius,
                 Some(sim.outline.clone()),
             ))
-        }
-    }
-}
-
-/// What is drawn at the frame shown.
-struct Content<'a> {
-    pose: Pose2,
-    robot: Point2<f64>,
-    pusher_radius: f64,
-    outline: Option<&'a Outline>,
-    predictions: Option<FramePredictions>,
-    gain: f64,
-    /// The what-if rollout from this frame, when its layer is on.
-    what_if: Option<&'a Rollout>,
-}
-
-impl Content<'_> {
-    /// The footprints drawn at the target frame, each with its style, for the layers switched on.
-    fn targets(&self, state: &AppState, palette: &Palette) -> Vec<(Pose2, FootprintStyle)> {
-        let layers = &state.settings().layers;
-        let mut targets = Vec::new();
-        // At a live push's newest frame no later frame is known yet: the online model's prediction
-        // a horizon ahead (the pusher keeping its velocity) is drawn instead.
-        if layers.predicted_online
-            && let Some((_, pose)) = state.growing_ahead()
-        {
-            let (moved, turned) = self.pose.motion_to(&pose);
-            let pose = self.pose.moved_by(moved * self.gain, turned * self.gain);
-            targets.push((pose, FootprintStyle::predicted(palette.online)));
-        }
-        let Some(p) = &self.predictions else {
-            return targets;
-        };
-        let at = |motion| draw::exaggerated(&self.pose, motion, self.gain);
-        if layers.true_target {
-            targets.push((
-                at(&p.sample.target),
-                FootprintStyle::measured_target(palette),
-            ));
-        }
-        if layers.predicted_fixed {
-            targets.push((
-                at(&p.fixed.prediction.motion),
-                FootprintStyle::predicted(palette.fixed),
-            ));
-        }
-        if layers.predicted_physics
-            && let Some(physics) = &p.physics
-        {
-            targets.push((
-                at(&physics.motion),
-                FootprintStyle::predicted(palette.physics),
-            ));
-        }
-        if layers.predicted_pure_nn
-            && let Some(pure_nn) = &p.pure_nn
-        {
-            targets.push((
-                at(&pure_nn.motion),
-                FootprintStyle::predicted(palette.pure_nn),
-            ));
-        }
-        if layers.predicted_online {
-            targets.push((
-                at(&p.online.prediction.motion),
-                FootprintStyle::predicted(palette.online),
-            ));
-        }
-        targets
-    }
-
-    /// The box around the object's footprint at `pose` (or a point without an outline).
-    fn footprint_box(&self, pose: &Pose2) -> Option<WorldBox> {
-        match self.outline {
-            Some(outline) => {
-                WorldBox::around(outline.vertices().iter().map(|v| pose.point_in_world(*v)))
-            }
-            None => WorldBox::around([pose.position]),
         }
     }
 }
@@ -283,7 +209,7 @@ fn aim(state: &AppState, view: &mut SceneView, content: &Content<'_>) {
     let disc = WorldBox::around([content.robot]).map(|b| b.grown(content.pusher_radius));
     let mut target = disc.map_or(object, |d| object.union(d));
     // Only where the targets are matters here, not their colours.
-    for (pose, _) in content.targets(state, &colors::DARK) {
+    for Target { pose, .. } in content.targets(state, &colors::DARK) {
         if let Some(footprint) = content.footprint_box(&pose) {
             target = target.union(footprint);
         }
@@ -417,7 +343,7 @@ fn footprints(
     if let (Some(rollout), Some(recording)) = (&content.what_if, state.recording()) {
         draw::what_if(painter, projection, outline, rollout, &recording.trajectory);
     }
-    for (pose, style) in content.targets(state, palette) {
+    for Target { pose, style, .. } in content.targets(state, palette) {
         draw::footprint(painter, projection, outline, &pose, style);
     }
 }

@@ -100,6 +100,11 @@ impl NextPushState {
         progress_of(&self.job, &run.identity())
     }
 
+    /// Whether a ranking is under way.
+    pub fn is_running(&self) -> bool {
+        self.job.is_some()
+    }
+
     /// Takes a finished ranking; returns whether one is still running.
     pub fn poll(&mut self) -> bool {
         match take_ended(&mut self.job) {

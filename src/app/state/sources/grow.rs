@@ -22,11 +22,27 @@ use crate::app::state::sources::growing::{Feed, Growing};
 const LEARN_BUDGET_S: f64 = 0.004;
 /// The most frames one is learned of, at the worst.
 const MAX_EVERY_NTH: usize = 64;
+/// Frames a growing push has when its rate and speed are checked against the model's domain.
+const DOMAIN_FRAMES: usize = 20;
 
 impl AppState {
     /// `recording` starts growing, fed by `feed`.
     pub(in crate::app::state) fn start_growing(&mut self, recording: RecordingId, feed: Feed) {
         self.growing = Some(Growing::new(recording, feed));
+        self.check_growing_domain();
+    }
+
+    /// Whether the model fits the growing push, checked as on opening a recording: once its
+    /// setting is known (the push starts), again once it has frames enough for its rate and speed,
+    /// and when it ends. The status line says a misfit the moment it is found.
+    fn check_growing_domain(&mut self) {
+        let before = self.fit.clone();
+        self.refresh_fit();
+        if let Some(mismatch) = &self.fit
+            && before.as_ref() != Some(mismatch)
+        {
+            self.status = Some(format!("warning: {}", mismatch.message));
+        }
     }
 
     /// No more frames come to the growing push (its session ended, its push was made); it stays
@@ -34,6 +50,7 @@ impl AppState {
     pub(in crate::app::state) fn close_growing(&mut self) {
         if let Some(growing) = &mut self.growing {
             growing.open = false;
+            self.check_growing_domain();
         }
     }
 
@@ -66,6 +83,7 @@ impl AppState {
         self.learning_ahead.cancel();
         recording.trajectory = run.extend(frames);
         let grown = recording.trajectory.len();
+        let checked_at_enough = grown >= DOMAIN_FRAMES && grown - times.len() < DOMAIN_FRAMES;
         if grown < 2_000 || grown >= self.overview_frames + self.overview_frames / 64 {
             self.overview = PathOverview::of(&recording.trajectory);
             self.overview_frames = grown;
@@ -73,6 +91,9 @@ impl AppState {
         self.timeline.extend(times);
         self.learn_grown();
         self.follow_growing_edge();
+        if checked_at_enough {
+            self.check_growing_domain();
+        }
     }
 
     /// Learns from every sample the newest frames completed (every n-th when behind), and predicts

@@ -13,12 +13,14 @@ use crate::app::state::recordings::session::RecordingId;
 #[derive(Clone, Debug, PartialEq)]
 pub enum SandboxCommand {
     /// A new sandbox: the mystery of `seed` on `object` (`None`: the outline of the recording
-    /// shown), tracking noise or not, the model's estimate hidden until reveal or not.
+    /// shown), tracking noise or not, the model's estimate hidden until reveal or not; `com`, a
+    /// teacher's hidden COM offset (object frame, metres) in place of the seed's.
     Start {
         seed: u64,
         object: Option<MysteryObject>,
         noise: bool,
         challenge: bool,
+        com: Option<[f64; 2]>,
     },
     /// The next mystery: the next seed, the same object.
     NewMystery,
@@ -67,6 +69,10 @@ pub struct SandboxSession {
     pub(in crate::app::state) carried: Vec<Option<Carried>>,
     /// What the last push ended with, for the next to go on from.
     pub(in crate::app::state) next_start: Option<Carried>,
+    /// The sandbox's own work on the UI thread in the last frame that made frames, and the
+    /// longest such, ms.
+    pub(in crate::app::state) step_ms: Option<f64>,
+    pub(in crate::app::state) longest_step_ms: f64,
 }
 
 impl SandboxSession {
@@ -108,6 +114,12 @@ impl SandboxSession {
     /// Whether the arrow keys hold the pusher now.
     pub fn steering(&self) -> bool {
         self.steering
+    }
+
+    /// The sandbox's own work on the UI thread (simulate, grow, learn, a push's review) in the last
+    /// frame that made frames, and the longest such since it opened, ms.
+    pub fn step_ms(&self) -> (Option<f64>, f64) {
+        (self.step_ms, self.longest_step_ms)
     }
 
     /// Whether the model's estimate is hidden now (challenge mode, before reveal).

@@ -11,11 +11,12 @@ use nalgebra::{Point2, Vector2};
 use pushlab_core::recording::{Recording, RecordingSet};
 use pushlab_core::sandbox::mystery::SANDBOX_NOISE;
 use pushlab_core::sandbox::{
-    Mystery, MysteryObject, PointerPath, Sandbox, SandboxEvent, SandboxSet, ScoreCard, Scored,
-    review_push,
+    Hidden, Mystery, MysteryObject, PointerPath, Sandbox, SandboxEvent, SandboxSet, ScoreCard,
+    Scored, review_push,
 };
 use pushlab_core::trajectory::{Frame, Trajectory};
 
+use crate::app::platform::Instant;
 use crate::app::state::learning::online::Carried;
 use crate::app::state::recordings::session::RecordingId;
 use crate::app::state::sources::growing::Feed;
@@ -30,13 +31,14 @@ impl AppState {
                 object,
                 noise,
                 challenge,
-            } => self.start_sandbox(seed, object, noise, challenge),
+                com,
+            } => self.start_sandbox(seed, object, noise, challenge, com),
             SandboxCommand::NewMystery => {
                 if let Some(s) = &self.sandbox {
                     let (seed, object) =
                         (s.sandbox.mystery().seed, s.sandbox.mystery().object.clone());
                     let (noise, challenge) = (s.noise, s.challenge);
-                    self.start_sandbox(seed.wrapping_add(1), Some(object), noise, challenge);
+                    self.start_sandbox(seed.wrapping_add(1), Some(object), noise, challenge, None);
                 }
             }
             SandboxCommand::Hold([x, y]) => {
@@ -83,6 +85,7 @@ impl AppState {
         object: Option<MysteryObject>,
         noise: bool,
         challenge: bool,
+        com: Option<[f64; 2]>,
     ) {
         let object = object.unwrap_or_else(|| match self.session.selected_recording() {
             Some(r) => MysteryObject::Outline {
@@ -92,7 +95,18 @@ impl AppState {
             },
             None => MysteryObject::Box,
         });
-        let mystery = match Mystery::draw(seed, object) {
+        let drawn = Mystery::draw(seed, object.clone()).and_then(|drawn| match com {
+            Some(com_offset) => Mystery::with_hidden(
+                seed,
+                object,
+                Hidden {
+                    com_offset,
+                    ..drawn.hidden
+                },
+            ),
+            None => Ok(drawn),
+        });
+        let mystery = match drawn {
             Ok(mystery) => mystery,
             Err(why) => {
                 self.status = Some(format!("no mystery on that object: {why}"));
@@ -128,6 +142,8 @@ impl AppState {
             score: None,
             carried: Vec::new(),
             next_start: None,
+            step_ms: None,
+            longest_step_ms: 0.0,
         });
         self.status = Some(format!(
             "a mystery {name} (seed {seed}): drag the yellow pusher into it, or draw an arrow on \
@@ -171,8 +187,17 @@ impl AppState {
         let Some(s) = &mut self.sandbox else {
             return false;
         };
+        let started = Instant::now();
         let events = s.sandbox.advance(dt);
+        let made = !events.is_empty();
         self.take_sandbox_events(events);
+        // The sandbox's own work this frame (simulate, grow, learn; a push's review at its end),
+        // for the page's and the guide's figures.
+        if made && let Some(s) = &mut self.sandbox {
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            s.step_ms = Some(ms);
+            s.longest_step_ms = s.longest_step_ms.max(ms);
+        }
         self.sandbox
             .as_ref()
             .is_some_and(|s| s.sandbox.is_pushing())

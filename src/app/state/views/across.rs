@@ -44,6 +44,7 @@ impl AppState {
             || self.landscape.is_running()
             || self.proposals.is_running()
             || self.learning_ahead.is_running()
+            || self.next_push.is_running()
     }
 
     /// The persisted settings as they stand (layers, online settings, the browser's view…).
@@ -138,9 +139,11 @@ impl AppState {
 
     /// What the next-push ranking chooses among: the object's other open pushes, or with none
     /// open the core's default grid of pushes laid out on the object shown.
+    /// A sandbox's own pushes are never the candidates: each began where the object lay then,
+    /// and the student's next push starts where it rests now, so the grid is laid out there.
     pub fn pushes_to_rank(&self) -> ToRank {
         let open = self.other_pushes_of_object();
-        if !open.is_empty() {
+        if !open.is_empty() && !self.sandbox_shown() {
             return ToRank {
                 pushes: open.into_iter().map(|(_, r)| r.clone()).collect(),
                 from: Candidates::Open,
