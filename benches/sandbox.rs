@@ -11,7 +11,8 @@
 //!    length, an angle within ±20°, 10 cm: the grid's range, seeded), and the model's COM error
 //!    after each, by median over the seeds.
 //!
-//! Run with `cargo bench -p pushlab --bench sandbox -- [--seeds N]`.
+//! Run with `cargo bench -p pushlab --bench sandbox -- [--seeds N] [--optimizer gd|gauss-newton]`
+//! (the learner: the paper's gradient descent, the app's default, or Gauss–Newton).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -20,6 +21,7 @@ use std::time::{Duration, Instant};
 use pushlab::app::hook::{self, HookCommand, HookPush};
 use pushlab::app::initial_state;
 use pushlab::app::state::{AppState, Persisted};
+use pushlab_core::learn::Optimizer;
 
 fn send(state: &mut AppState, command: &HookCommand) {
     for c in hook::translate(command, state).unwrap().commands {
@@ -83,8 +85,10 @@ impl Uniform {
 }
 
 /// The lesson on one seed: the COM error after each of the four pushes.
-fn lesson(seed: u64, ranked: bool, steps: &mut Steps) -> [f64; 4] {
-    let mut state = initial_state(&[], Persisted::default());
+fn lesson(seed: u64, ranked: bool, optimizer: Optimizer, steps: &mut Steps) -> [f64; 4] {
+    let mut settings = Persisted::default();
+    settings.online.optimizer = optimizer;
+    let mut state = initial_state(&[], settings);
     send(
         &mut state,
         &hook::parse(&format!(
@@ -166,16 +170,23 @@ fn quantile(mut values: Vec<f64>, q: f64) -> f64 {
 
 fn main() {
     let mut seeds = 50u64;
+    let mut optimizer = Optimizer::default();
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         if arg == "--seeds" {
             seeds = args.next().and_then(|s| s.parse().ok()).expect("--seeds N");
+        } else if arg == "--optimizer" {
+            optimizer = (args.next().as_deref())
+                .and_then(Optimizer::from_name)
+                .expect("--optimizer gd|gauss-newton");
         }
     }
     let mut steps = Steps::default();
     let mut by_strategy = Vec::new();
     for ranked in [true, false] {
-        let runs: Vec<[f64; 4]> = (0..seeds).map(|s| lesson(s, ranked, &mut steps)).collect();
+        let runs: Vec<[f64; 4]> = (0..seeds)
+            .map(|s| lesson(s, ranked, optimizer, &mut steps))
+            .collect();
         by_strategy.push((ranked, runs));
     }
     let us = |v: &[f64]| {
@@ -197,7 +208,9 @@ fn main() {
         steps.ending_us.len()
     );
     println!(
-        "median COM error over {seeds} box mysteries, mm (first push straight into the front face):"
+        "median COM error over {seeds} box mysteries, mm, learner {} (first push straight into \
+         the front face):",
+        optimizer.name()
     );
     println!("  pushes            1      2      3      4");
     for (ranked, runs) in &by_strategy {
