@@ -428,9 +428,11 @@ fn a_lost_connection_is_a_gap_on_the_timeline() {
     let gaps = harness.state().state.live_gaps().to_vec();
     assert_eq!(gaps.len(), 1, "{gaps:?}");
     let gap = &gaps[0];
-    // About a second of frames before it; as many frames across it as the time away at 50 Hz (the
-    // poses stop a little before the loss is seen and start a little after the reconnect).
-    assert!(gap.frames.start > 30, "{gap:?}");
+    // Frames before it (about a second's on an idle machine; on a loaded one the app subscribes
+    // later into the robot's first second: 28 seen in CI's run beside other builds); as many
+    // frames across it as the time away at 50 Hz (the poses stop a little before the loss is seen
+    // and start a little after the reconnect).
+    assert!(gap.frames.start > 10, "{gap:?}");
     let across = gap.frames.len() as f64;
     assert!(
         gap.away_s >= 0.7 && (across - gap.away_s * rate).abs() <= 10.0,
