@@ -13,6 +13,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command as Process;
 
+use eframe::egui;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::state::sources::sandbox::SandboxCommand;
 use pushlab::app::state::{AppState, Command, FileCommand, Persisted, SessionCommand};
@@ -346,4 +347,43 @@ fn a_push_growing_on_an_object_the_model_never_saw_is_warned_as_on_replay() {
     assert!(mismatch.contains("pusher"), "{mismatch}");
     let status = state.status().unwrap_or_default();
     assert_eq!(status, format!("warning: {mismatch}"));
+}
+
+#[test]
+fn the_arrow_keys_steer_the_pusher_and_letting_go_stops_it() {
+    let mut harness = common::harness(
+        PushlabApp::new(initial_state(&[], Persisted::default())),
+        0.05,
+    );
+    start(
+        &mut harness.state_mut().state,
+        2,
+        MysteryObject::Box,
+        false,
+        false,
+    );
+    harness.run_steps(2);
+    let pusher = |h: &egui_kittest::Harness<'_, PushlabApp>| rest_of(&h.state().state);
+    let before = pusher(&harness);
+    // Up, away from the box (it lies to the pusher's right): two seconds held at the pusher's
+    // 4 cm/s.
+    harness.key_down(egui::Key::ArrowUp);
+    harness.run_steps(40);
+    let [dx, dy] = [
+        pusher(&harness)[0] - before[0],
+        pusher(&harness)[1] - before[1],
+    ];
+    assert!(dy > 0.04 && dy < 0.1, "moved up {dy} m");
+    assert!(dx.abs() < 1e-9, "and not sideways: {dx}");
+    assert!(harness.state().state.sandbox().unwrap().steering());
+    harness.key_up(egui::Key::ArrowUp);
+    harness.run_steps(2);
+    let let_go = pusher(&harness);
+    harness.run_steps(20);
+    assert_eq!(
+        pusher(&harness),
+        let_go,
+        "let go, the pusher stops where it is"
+    );
+    assert!(!harness.state().state.sandbox().unwrap().steering());
 }
