@@ -22,6 +22,7 @@ use pushlab::app::hook::{self, HookCommand, HookPush};
 use pushlab::app::initial_state;
 use pushlab::app::state::{AppState, Persisted};
 use pushlab_core::learn::Optimizer;
+use pushlab_core::rng::SplitMix64;
 
 fn send(state: &mut AppState, command: &HookCommand) {
     for c in hook::translate(command, state).unwrap().commands {
@@ -71,19 +72,6 @@ fn com_error(state: &AppState) -> f64 {
     (theta.com_offset[0] - truth[0]).hypot(theta.com_offset[1] - truth[1])
 }
 
-/// A seeded stream of numbers in [0, 1) (SplitMix64), for the random pushes.
-struct Uniform(u64);
-
-impl Uniform {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// The lesson on one seed: the COM error after each of the four pushes.
 fn lesson(seed: u64, ranked: bool, optimizer: Optimizer, steps: &mut Steps) -> [f64; 4] {
     let mut settings = Persisted::default();
@@ -111,7 +99,7 @@ fn lesson(seed: u64, ranked: bool, optimizer: Optimizer, steps: &mut Steps) -> [
     );
     finish(&mut state, steps);
     let mut errors = [com_error(&state), 0.0, 0.0, 0.0];
-    let mut random = Uniform(seed ^ 0x5EED);
+    let mut random = SplitMix64::new(seed ^ 0x5EED);
     for error in &mut errors[1..] {
         let next = if ranked {
             send(
@@ -125,7 +113,7 @@ fn lesson(seed: u64, ranked: bool, optimizer: Optimizer, steps: &mut Steps) -> [
             let shown = hook::shown(&state).sandbox.unwrap();
             shown.suggested.first().expect("a suggestion").push.clone()
         } else {
-            let face = ["front", "left", "back", "right"][(random.next() * 4.0) as usize];
+            let face = ["front", "left", "back", "right"][(random.uniform() * 4.0) as usize];
             // The box is 0.3 × 0.4 m: the faces' half lengths.
             let half = if face == "front" || face == "back" {
                 0.2
@@ -134,8 +122,8 @@ fn lesson(seed: u64, ranked: bool, optimizer: Optimizer, steps: &mut Steps) -> [
             };
             HookPush {
                 face: face.into(),
-                offset: (2.0 * random.next() - 1.0) * 0.6 * half,
-                angle: (2.0 * random.next() - 1.0) * 20.0,
+                offset: (2.0 * random.uniform() - 1.0) * 0.6 * half,
+                angle: (2.0 * random.uniform() - 1.0) * 20.0,
                 length: 0.1,
             }
         };

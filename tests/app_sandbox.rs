@@ -16,7 +16,7 @@ use std::process::Command as Process;
 use eframe::egui;
 use egui_kittest::kittest::Queryable;
 use pushlab::app::state::sources::sandbox::SandboxCommand;
-use pushlab::app::state::{AppState, Command, FileCommand, Persisted, SessionCommand};
+use pushlab::app::state::{AppState, Command, FileCommand, Persisted};
 use pushlab::app::{PushlabApp, initial_state};
 use pushlab_core::recording::{PushSide, read_set};
 use pushlab_core::sandbox::{Mystery, MysteryObject, PointerPath, PushChoice};
@@ -305,11 +305,6 @@ fn a_new_user_pushes_guesses_and_reveals_from_the_demos_menu() {
     assert!(harness.query_by_label_contains("Hidden: COM (").is_some());
     assert!(harness.query_by_label("Your guess").is_some());
     assert!(harness.query_by_label_contains("push 1: σ").is_some());
-    // And the session's push is the one selected, among the open recordings.
-    let state = &mut harness.state_mut().state;
-    state.apply(Command::Session(SessionCommand::Select(
-        state.sandbox().unwrap().pushes()[0],
-    )));
 }
 
 #[test]

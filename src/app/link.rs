@@ -19,7 +19,7 @@
 
 use pushlab_core::learn::Optimizer;
 use pushlab_core::model::OnlineParams;
-use pushlab_core::sandbox::{Mystery, MysteryObject};
+use pushlab_core::sandbox::MysteryObject;
 
 use super::state::demos::demo::DemoCommand;
 use super::state::playback::layers::Layers;
@@ -84,6 +84,15 @@ impl Link {
             .filter(|l| !defaults.contains(l))
             .collect();
         let config = state.settings().online;
+        // The view's part and the layers: in every link.
+        let view_part = Self {
+            layers,
+            present: view.present,
+            projector: view.projector,
+            light: view.light,
+            hide: view.hide.clone(),
+            ..Self::default()
+        };
         // A sandbox's link is its mystery: its pushes are the student's, not the link's. (A
         // recording's outline has no name a link can give, so it links as a recording would.)
         let mystery = (state.sandbox())
@@ -91,20 +100,13 @@ impl Link {
             .filter(|s| !matches!(s.sandbox().mystery().object, MysteryObject::Outline { .. }));
         if let Some(session) = mystery {
             let m = session.sandbox().mystery();
-            // A teacher's COM is in the link; the seed's own is not (the seed gives it).
-            let drawn = Mystery::draw(m.seed, m.object.clone()).ok();
-            let com = m.hidden.com_offset;
             return Self {
                 sandbox: Some(m.seed),
                 object: Some(m.object.name().to_owned()),
                 challenge: session.challenge(),
-                com: drawn.filter(|d| d.hidden.com_offset != com).map(|_| com),
-                layers,
-                present: view.present,
-                projector: view.projector,
-                light: view.light,
-                hide: view.hide.clone(),
-                ..Self::default()
+                // A teacher's COM is in the link; the seed's own is not (the seed gives it).
+                com: session.teachers_com(),
+                ..view_part
             };
         }
         Self {
@@ -120,12 +122,7 @@ impl Link {
             lr: Some(config.lr),
             speed: Some(state.timeline().speed),
             learn: Some(state.settings().learn_while_playing),
-            layers,
-            present: view.present,
-            projector: view.projector,
-            light: view.light,
-            hide: view.hide.clone(),
-            ..Self::default()
+            ..view_part
         }
     }
 

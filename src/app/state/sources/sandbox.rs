@@ -57,6 +57,8 @@ pub struct SandboxSession {
     /// Each push's recording, in order.
     pub(in crate::app::state) pushes: Vec<RecordingId>,
     pub(in crate::app::state) noise: bool,
+    /// The hidden COM a teacher gave in place of the seed's, if one did (a link says it again).
+    pub(in crate::app::state) teachers_com: Option<[f64; 2]>,
     pub(in crate::app::state) guess: Option<[f64; 2]>,
     pub(in crate::app::state) revealed: bool,
     pub(in crate::app::state) challenge: bool,
@@ -99,6 +101,11 @@ impl SandboxSession {
 
     pub fn noise(&self) -> bool {
         self.noise
+    }
+
+    /// The hidden COM a teacher gave in place of the seed's, if one did.
+    pub fn teachers_com(&self) -> Option<[f64; 2]> {
+        self.teachers_com
     }
 
     /// The score card, after reveal.

@@ -134,6 +134,7 @@ impl AppState {
             set: self.session.sets.len() - 1,
             pushes: Vec::new(),
             noise,
+            teachers_com: com,
             guess: None,
             revealed: false,
             challenge,
@@ -265,20 +266,17 @@ impl AppState {
             start: run.end_state(),
             beside: run.beside_end(),
         });
-        let review = (self.session.selected == Some(id))
-            .then_some(())
-            .and_then(|()| {
-                let run = self.run.as_ref()?;
-                let recording = self.session.get(id)?;
-                review_push(
-                    run.model().as_ref(),
-                    run.horizon(),
-                    run.start_state(),
-                    push,
-                    recording,
-                )
-                .ok()
-            });
+        let review = self.run.as_ref().filter(|_| shown).and_then(|run| {
+            let recording = self.session.get(id)?;
+            review_push(
+                run.model().as_ref(),
+                run.horizon(),
+                run.start_state(),
+                push,
+                recording,
+            )
+            .ok()
+        });
         if let Some(s) = &mut self.sandbox {
             s.reviews.resize(push + 1, None);
             s.reviews[push] = review;
