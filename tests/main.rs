@@ -29,6 +29,7 @@ mod app_live;
 mod app_next_push;
 mod app_proposals;
 mod app_sandbox;
+mod app_sandbox_goal;
 mod app_scene;
 mod app_snapshot;
 mod app_ui;

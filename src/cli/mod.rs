@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use self::exit::EXIT_USAGE;
 
 mod cameras_out;
+mod control;
 mod exit;
 mod experiment;
 mod import;
@@ -67,6 +68,9 @@ enum Command {
     /// Rank an object's next pushes by how much each is expected to shrink the COM's uncertainty,
     /// after the pushes already learned; or measure the ranking against random orders.
     Suggest(Box<suggest::SuggestArgs>),
+    /// Push the sandbox's mystery object to a goal with a controller that plans with the model
+    /// it learns as it pushes (or θ fixed, physics alone, the true θ).
+    Control(Box<control::ControlArgs>),
     /// Play a recording with the model, learning online as the app does, and write the scene as a
     /// video: GIF, MP4 or WebM.
     Render(Box<render::RenderArgs>),
@@ -103,6 +107,7 @@ pub fn run() -> ExitCode {
         Some(Command::Eval(args)) => exit::exit_code(experiment::eval::run(&args)),
         Some(Command::Suite(args)) => exit::exit_code(experiment::suite::run(&args)),
         Some(Command::Suggest(args)) => exit::exit_code(suggest::run(&args)),
+        Some(Command::Control(args)) => exit::exit_code(control::run(&args)),
         Some(Command::Render(args)) => exit::exit_code(render::run(&args)),
         Some(Command::Simulate(args)) => {
             exit::exit_code(simulate::run(&args).map_err(exit::Failure::from))

@@ -15,6 +15,7 @@
 //! - Frames are named in identifiers: `robot_in_object`, `world_from_object`.
 
 pub mod atomic_file;
+pub mod control;
 pub mod domain;
 pub mod experiment;
 pub mod files;

@@ -20,6 +20,7 @@ pub mod plots;
 pub mod presentation;
 pub mod proposal_band;
 pub mod sandbox;
+pub mod sandbox_goal;
 pub mod scene;
 pub mod shortcuts;
 pub mod steer;

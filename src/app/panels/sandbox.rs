@@ -88,6 +88,8 @@ pub fn window(
             ui.separator();
             pushes_and_estimate(ui, state, session);
             buttons(ui, session, dialogs, commands);
+            ui.separator();
+            super::sandbox_goal::section(ui, session, commands);
             if let Some(score) = session.score() {
                 ui.separator();
                 score_card(ui, score);

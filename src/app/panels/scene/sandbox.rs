@@ -28,6 +28,8 @@ pub struct Grips {
     pub guess: Pos2,
     pub outline: Outline,
     pub pose: Pose2,
+    /// The goal, its centre and its turning knob on screen.
+    pub goal: Option<(Pose2, Pos2, Pos2)>,
 }
 
 /// What a press in the scene grabs, when the sandbox is shown.
@@ -37,6 +39,23 @@ pub enum Grab {
     Guess,
     /// An arrow from this world point on the outline.
     Arrow(Point2<f64>),
+    /// The goal's ghost, moved keeping its yaw.
+    Goal {
+        yaw: f64,
+    },
+    /// The goal's knob, turning it about its centre.
+    GoalTurn {
+        centre: Point2<f64>,
+    },
+}
+
+/// How far beyond the object's extent the goal's knob sits, metres.
+const KNOB_M: f64 = 0.06;
+
+/// The goal's knob, world frame: on the goal's x axis, beyond the outline.
+fn knob(outline: &Outline, goal: &Pose2) -> Point2<f64> {
+    let reach = outline.bounding_box().1.x.max(0.05) + KNOB_M;
+    goal.point_in_world(Point2::new(reach, 0.0))
 }
 
 impl Grips {
@@ -57,6 +76,14 @@ impl Grips {
             pusher: projection.to_screen(robot),
             pusher_radius: (mystery.sim.pusher_radius as f32 * projection.scale()).max(3.0),
             guess: projection.to_screen(pose.point_in_world(guess)),
+            goal: session.goal().map(|g| {
+                let knob = knob(&mystery.sim.outline, &g);
+                (
+                    g,
+                    projection.to_screen(g.position),
+                    projection.to_screen(knob),
+                )
+            }),
             outline: mystery.sim.outline.clone(),
             pose: *pose,
         })
@@ -70,6 +97,16 @@ impl Grips {
         }
         if pointer.distance(self.guess) < GRIP_RADIUS {
             return Some(Grab::Guess);
+        }
+        if let Some((goal, centre, knob)) = self.goal {
+            if pointer.distance(knob) < GRIP_RADIUS {
+                return Some(Grab::GoalTurn {
+                    centre: goal.position,
+                });
+            }
+            if pointer.distance(centre) < GRIP_RADIUS {
+                return Some(Grab::Goal { yaw: goal.yaw });
+            }
         }
         let world = projection.to_world(pointer);
         let boundary = self
@@ -91,6 +128,19 @@ pub fn dragged(grab: Grab, pointer: Point2<f64>, pose: &Pose2) -> Option<Command
             let at = pose.point_in_object(pointer);
             Some(Command::Sandbox(SandboxCommand::Guess([at.x, at.y])))
         }
+        Grab::Goal { yaw } => Some(Command::Sandbox(SandboxCommand::SetGoal([
+            pointer.x, pointer.y, yaw,
+        ]))),
+        Grab::GoalTurn { centre } => {
+            let d = pointer - centre;
+            (d.norm() > 1e-3).then(|| {
+                Command::Sandbox(SandboxCommand::SetGoal([
+                    centre.x,
+                    centre.y,
+                    d.y.atan2(d.x),
+                ]))
+            })
+        }
         Grab::Arrow(_) => None,
     }
 }
@@ -106,7 +156,7 @@ pub fn released(
         Grab::Pusher => Some(Command::Sandbox(SandboxCommand::Release([
             pointer.x, pointer.y,
         ]))),
-        Grab::Guess => None,
+        Grab::Guess | Grab::Goal { .. } | Grab::GoalTurn { .. } => None,
         Grab::Arrow(from) => Some(
             match push_drawn(&grips.outline, &grips.pose, from, pointer) {
                 Some(choice) => Command::Sandbox(SandboxCommand::Push(choice)),
@@ -154,6 +204,7 @@ pub fn draw(
         egui::FontId::proportional(size * 1.4),
         guess_color,
     );
+    goal_and_plan(painter, session, projection, grips, hot);
     if let Some((from, to)) = arrow {
         let (tail, tip) = (projection.to_screen(from), projection.to_screen(to));
         painter.arrow(tail, tip - tail, Stroke::new(4.0, palette.suggestion));
@@ -175,5 +226,90 @@ pub fn draw(
             egui::FontId::proportional(14.0),
             palette.truth,
         );
+    }
+}
+
+/// The goal's ghost with its handles, and while the controller pushes, the object's predicted
+/// arc ahead of it and the pusher's way to its next push.
+fn goal_and_plan(
+    painter: &egui::Painter,
+    session: &crate::app::state::sources::sandbox::SandboxSession,
+    projection: &Projection,
+    grips: &Grips,
+    hot: Option<Grab>,
+) {
+    let palette = colors::of(painter.ctx());
+    let outline_at = |pose: &Pose2| -> Vec<Pos2> {
+        (grips.outline.vertices().iter())
+            .map(|v| projection.to_screen(pose.point_in_world(*v)))
+            .collect()
+    };
+    if let Some((goal, centre, knob)) = grips.goal {
+        let color = palette.suggestion;
+        let mut ring = outline_at(&goal);
+        if let Some(&first) = ring.first() {
+            ring.push(first);
+        }
+        painter.extend(egui::Shape::dashed_line(
+            &ring,
+            Stroke::new(2.0, color),
+            8.0,
+            5.0,
+        ));
+        let grabbed =
+            |g: Grab| hot.is_some_and(|h| std::mem::discriminant(&h) == std::mem::discriminant(&g));
+        let width = |g| if grabbed(g) { 3.5 } else { 2.0 };
+        painter.circle_stroke(
+            centre,
+            9.0,
+            Stroke::new(width(Grab::Goal { yaw: 0.0 }), color),
+        );
+        painter.line_segment([centre, knob], Stroke::new(1.0, color.gamma_multiply(0.6)));
+        let turn = Grab::GoalTurn {
+            centre: goal.position,
+        };
+        painter.circle(
+            knob,
+            7.0,
+            color.gamma_multiply(0.3),
+            Stroke::new(width(turn), color),
+        );
+        painter.text(
+            centre + Vec2::new(12.0, 12.0),
+            egui::Align2::LEFT_TOP,
+            "goal",
+            egui::FontId::proportional(14.0),
+            color,
+        );
+    }
+    let Some(driving) = session.driving() else {
+        return;
+    };
+    let plan = driving.plan();
+    let path: Vec<Pos2> = (plan.predicted.iter())
+        .map(|p| projection.to_screen(p.position))
+        .collect();
+    painter.add(egui::Shape::line(
+        path,
+        Stroke::new(2.5, palette.online.gamma_multiply(0.9)),
+    ));
+    if let Some(end) = plan.predicted.last() {
+        let mut ring = outline_at(end);
+        if let Some(&first) = ring.first() {
+            ring.push(first);
+        }
+        painter.add(egui::Shape::line(
+            ring,
+            Stroke::new(1.5, palette.online.gamma_multiply(0.6)),
+        ));
+    }
+    if plan.way.len() > 1 {
+        let way: Vec<Pos2> = plan.way.iter().map(|p| projection.to_screen(*p)).collect();
+        painter.extend(egui::Shape::dashed_line(
+            &way,
+            Stroke::new(1.5, palette.robot.gamma_multiply(0.7)),
+            6.0,
+            4.0,
+        ));
     }
 }

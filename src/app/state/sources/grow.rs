@@ -100,6 +100,7 @@ impl AppState {
     /// ahead of the newest frame.
     fn learn_grown(&mut self) {
         let labels_skip = self.frames_to_skip();
+        let labels_skip = self.with_frames_away(labels_skip);
         let (Some(run), Some(growing)) = (self.run.as_mut(), self.growing.as_mut()) else {
             return;
         };

@@ -12,3 +12,4 @@ pub(super) mod live_feed;
 pub(super) mod opening;
 pub mod sandbox;
 pub(super) mod sandbox_feed;
+pub(super) mod sandbox_goal;

@@ -4,6 +4,8 @@
 //! until reveal), each push's review and the score card. The pushes grow on the path every growing
 //! push takes (`sources::grow`, `sandbox_feed`).
 
+use pushlab_core::control::{PlanWith, Planner};
+use pushlab_core::geometry::Pose2;
 use pushlab_core::sandbox::{MysteryObject, PushChoice, PushReview, Sandbox, ScoreCard};
 
 use crate::app::state::learning::online::Carried;
@@ -41,8 +43,45 @@ pub enum SandboxCommand {
     Reveal,
     /// Hide the model's estimate until reveal (or show it).
     SetChallenge(bool),
+    /// Where the object should go: its centre `x, y` (metres) and yaw (radians), world frame.
+    SetGoal([f64; 3]),
+    /// What the controller plans with.
+    SetPlanWith(PlanWith),
+    /// The controller pushes the object to the goal (with the model as it learns, or as chosen).
+    PushToGoal,
+    /// The controller lets go where the pusher is.
+    StopPushToGoal,
     /// Leave the sandbox (its pushes stay open).
     Close,
+}
+
+/// The controller pushing the sandbox's object to its goal.
+pub struct Driving {
+    pub(in crate::app::state) planner: Planner,
+    pub(in crate::app::state) plan_with: PlanWith,
+    /// Frames of the growing push planned from so far (a plan per new frame: the control rate is
+    /// the frame rate).
+    pub(in crate::app::state) frames_seen: usize,
+    /// Control steps made, and those the object has stayed within tolerance with the pusher
+    /// holding.
+    pub(in crate::app::state) steps: usize,
+    pub(in crate::app::state) held: usize,
+}
+
+impl Driving {
+    /// The last step's plan: the arc drawn ahead of the object, the pusher's way.
+    pub fn plan(&self) -> &pushlab_core::control::Plan {
+        self.planner.plan()
+    }
+
+    pub fn plan_with(&self) -> PlanWith {
+        self.plan_with
+    }
+
+    /// Seconds of pushing so far.
+    pub fn time_s(&self) -> f64 {
+        self.steps as f64 / pushlab_core::sandbox::mystery::RATE_HZ
+    }
 }
 
 /// How far ahead of the pusher the arrow keys put the pointer, metres: the pusher heads there at
@@ -75,6 +114,12 @@ pub struct SandboxSession {
     /// longest such, ms.
     pub(in crate::app::state) step_ms: Option<f64>,
     pub(in crate::app::state) longest_step_ms: f64,
+    /// Where the object should go (world frame), and what the controller plans with.
+    pub(in crate::app::state) goal: Option<Pose2>,
+    pub(in crate::app::state) plan_with: PlanWith,
+    pub(in crate::app::state) driving: Option<Driving>,
+    /// How the last push to the goal ended: reached, after how many seconds.
+    pub(in crate::app::state) last_drive: Option<(bool, f64, PlanWith)>,
 }
 
 impl SandboxSession {
@@ -127,6 +172,26 @@ impl SandboxSession {
     /// frame that made frames, and the longest such since it opened, ms.
     pub fn step_ms(&self) -> (Option<f64>, f64) {
         (self.step_ms, self.longest_step_ms)
+    }
+
+    /// Where the object should go, world frame.
+    pub fn goal(&self) -> Option<Pose2> {
+        self.goal
+    }
+
+    pub fn plan_with(&self) -> PlanWith {
+        self.plan_with
+    }
+
+    /// The controller, while it pushes.
+    pub fn driving(&self) -> Option<&Driving> {
+        self.driving.as_ref()
+    }
+
+    /// How the last push to the goal ended: reached or stopped, after how many seconds, planned
+    /// with what.
+    pub fn last_drive(&self) -> Option<(bool, f64, PlanWith)> {
+        self.last_drive
     }
 
     /// Whether the model's estimate is hidden now (challenge mode, before reveal).

@@ -73,6 +73,10 @@ impl AppState {
                     s.challenge = on;
                 }
             }
+            SandboxCommand::SetGoal(goal) => self.set_sandbox_goal(goal),
+            SandboxCommand::SetPlanWith(with) => self.set_plan_with(with),
+            SandboxCommand::PushToGoal => self.push_to_goal(),
+            SandboxCommand::StopPushToGoal => self.stop_push_to_goal("stopped"),
             SandboxCommand::Close => self.sandbox = None,
         }
     }
@@ -145,6 +149,10 @@ impl AppState {
             next_start: None,
             step_ms: None,
             longest_step_ms: 0.0,
+            goal: None,
+            plan_with: pushlab_core::control::PlanWith::Online,
+            driving: None,
+            last_drive: None,
         });
         self.status = Some(format!(
             "a mystery {name} (seed {seed}): drag the yellow pusher into it, or draw an arrow on \
@@ -185,10 +193,14 @@ impl AppState {
     /// Time passes for the sandbox: the frames its push makes meanwhile. Returns whether a push is
     /// being made (the app keeps drawing).
     pub(in crate::app::state) fn poll_sandbox(&mut self, dt: f64) -> bool {
+        if self.sandbox.is_none() {
+            return false;
+        }
+        let started = Instant::now();
+        self.drive_sandbox();
         let Some(s) = &mut self.sandbox else {
             return false;
         };
-        let started = Instant::now();
         let events = s.sandbox.advance(dt);
         let made = !events.is_empty();
         self.take_sandbox_events(events);
@@ -201,10 +213,10 @@ impl AppState {
         }
         self.sandbox
             .as_ref()
-            .is_some_and(|s| s.sandbox.is_pushing())
+            .is_some_and(|s| s.sandbox.is_pushing() || s.driving.is_some())
     }
 
-    fn take_sandbox_events(&mut self, events: Vec<SandboxEvent>) {
+    pub(in crate::app::state) fn take_sandbox_events(&mut self, events: Vec<SandboxEvent>) {
         for event in events {
             match event {
                 SandboxEvent::PushStarted { push, first } => self.open_sandbox_push(push, first),

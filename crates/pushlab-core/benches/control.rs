@@ -1,0 +1,236 @@
+//! The controller measured on goal–object pairs in pushlab's simulator (the sandbox's): each pair a
+//! mystery object (hidden COM and `h` from its seed) and a goal drawn 20–40 cm away and up to ±45°
+//! turned; every controller (`online`, `fixed`, `physics`, `truth`) on every pair. Prints the
+//! success rate, the median time and pusher path to the goal, the final errors, and a control
+//! step's cost (percentiles over every step of every run, each run on one core).
+//!
+//! `cargo bench -p pushlab-core --bench control -- --pairs 100 [--object box|t|ellipse]
+//! [--noise] [--threads N] [--csv OUT.csv]`
+
+use std::path::Path;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use pushlab_core::control::goal::draw_goal;
+use pushlab_core::control::{Goal, PlanWith, PlannerConfig, SandboxControl};
+use pushlab_core::geometry::Pose2;
+use pushlab_core::learn::OnlineConfig;
+use pushlab_core::model_file::ModelFile;
+use pushlab_core::sandbox::mystery::SANDBOX_NOISE;
+use pushlab_core::sandbox::{Mystery, MysteryObject};
+
+struct Args {
+    pairs: u64,
+    object: MysteryObject,
+    noise: bool,
+    threads: usize,
+    csv: Option<String>,
+    planner: PlannerConfig,
+}
+
+fn args() -> Args {
+    let mut a = Args {
+        pairs: 100,
+        object: MysteryObject::Box,
+        noise: false,
+        threads: 2,
+        csv: None,
+        planner: PlannerConfig::default(),
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(arg) = it.next() {
+        match arg.as_str() {
+            "--pairs" => a.pairs = it.next().and_then(|v| v.parse().ok()).unwrap_or(a.pairs),
+            "--object" => {
+                a.object = it
+                    .next()
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(MysteryObject::Box)
+            }
+            "--noise" => a.noise = true,
+            "--threads" => a.threads = it.next().and_then(|v| v.parse().ok()).unwrap_or(2),
+            "--csv" => a.csv = it.next(),
+            "--way-weight" => {
+                let v = it.next().and_then(|v| v.parse().ok());
+                a.planner.way_weight = v.unwrap_or(a.planner.way_weight)
+            }
+            "--keep-margin" => {
+                let v = it.next().and_then(|v| v.parse().ok());
+                a.planner.keep_margin_m = v.unwrap_or(a.planner.keep_margin_m)
+            }
+            _ => {} // cargo bench's own flags (--bench)
+        }
+    }
+    a
+}
+
+/// One run's numbers.
+struct Row {
+    pair: u64,
+    with: PlanWith,
+    reached: bool,
+    time_s: f64,
+    path_m: f64,
+    position_m: f64,
+    yaw_deg: f64,
+    step_us: Vec<f64>,
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn percentile(v: &mut [f64], p: f64) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * p).round() as usize]
+}
+
+fn main() {
+    let args = args();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/default-model.json");
+    let model = ModelFile::load(&path).expect("the bundled model").combined;
+    let jobs: Mutex<Vec<(u64, PlanWith)>> = Mutex::new(
+        (1..=args.pairs)
+            .flat_map(|p| PlanWith::ALL.map(|w| (p, w)))
+            .rev()
+            .collect(),
+    );
+    let rows = Mutex::new(Vec::new());
+    let started = Instant::now();
+    std::thread::scope(|s| {
+        for _ in 0..args.threads.max(1) {
+            s.spawn(|| {
+                while let Some((pair, with)) = jobs.lock().expect("jobs").pop() {
+                    let row = run(&model, &args, pair, with);
+                    rows.lock().expect("rows").push(row);
+                }
+            });
+        }
+    });
+    let mut rows = rows.into_inner().expect("rows");
+    rows.sort_by_key(|r| (r.pair, r.with.name()));
+    println!(
+        "{} pairs, {} object, noise {}, {:.0} s",
+        args.pairs,
+        args.object,
+        args.noise,
+        started.elapsed().as_secs_f64()
+    );
+    println!(
+        "| plans with | reached | median time (s) | median pusher path (m) | median final error (mm, °) | step p50 / p99 / max (ms) |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for with in PlanWith::ALL {
+        let mine: Vec<&Row> = rows.iter().filter(|r| r.with == with).collect();
+        let reached = mine.iter().filter(|r| r.reached).count();
+        let mut times: Vec<f64> = mine
+            .iter()
+            .filter(|r| r.reached)
+            .map(|r| r.time_s)
+            .collect();
+        let mut paths: Vec<f64> = mine
+            .iter()
+            .filter(|r| r.reached)
+            .map(|r| r.path_m)
+            .collect();
+        let mut pos: Vec<f64> = mine.iter().map(|r| r.position_m * 1e3).collect();
+        let mut yaw: Vec<f64> = mine.iter().map(|r| r.yaw_deg.abs()).collect();
+        let mut steps: Vec<f64> = mine
+            .iter()
+            .flat_map(|r| r.step_us.iter().copied())
+            .collect();
+        println!(
+            "| {} | {}/{} ({:.0} %) | {:.1} | {:.2} | {:.1}, {:.2} | {:.2} / {:.2} / {:.2} |",
+            with.name(),
+            reached,
+            mine.len(),
+            100.0 * reached as f64 / mine.len().max(1) as f64,
+            median(&mut times),
+            median(&mut paths),
+            median(&mut pos),
+            median(&mut yaw),
+            percentile(&mut steps, 0.5) / 1e3,
+            percentile(&mut steps, 0.99) / 1e3,
+            percentile(&mut steps, 1.0) / 1e3,
+        );
+    }
+    for r in rows
+        .iter()
+        .filter(|r| !r.reached && std::env::var("FAILED").is_ok())
+    {
+        println!(
+            "failed: pair {} {} error {:.1} mm {:.1}°",
+            r.pair,
+            r.with.name(),
+            r.position_m * 1e3,
+            r.yaw_deg
+        );
+    }
+    if let Some(csv) = &args.csv {
+        let mut out = String::from(
+            "pair,plans_with,reached,time_s,pusher_path_m,final_position_m,final_yaw_deg\n",
+        );
+        for r in &rows {
+            out.push_str(&format!(
+                "{},{},{},{:.1},{:.4},{:.5},{:.3}\n",
+                r.pair,
+                r.with.name(),
+                r.reached,
+                r.time_s,
+                r.path_m,
+                r.position_m,
+                r.yaw_deg
+            ));
+        }
+        std::fs::write(csv, out).expect("the CSV written");
+    }
+}
+
+fn run(model: &pushlab_core::model::CombinedModel, args: &Args, pair: u64, with: PlanWith) -> Row {
+    let mystery = Mystery::draw(pair, args.object.clone()).expect("a mystery");
+    let goal = draw_goal(
+        &Pose2::new(0.0, 0.0, 0.0),
+        pair,
+        (0.2, 0.4),
+        45f64.to_radians(),
+    );
+    let noise = args.noise.then_some(SANDBOX_NOISE);
+    let mut control = SandboxControl::new(
+        mystery,
+        noise,
+        model,
+        with,
+        OnlineConfig::default(),
+        Goal::at(goal),
+        PlannerConfig {
+            seed: pair,
+            ..args.planner
+        },
+    )
+    .expect("the controller on the mystery");
+    let mut step_us = Vec::new();
+    while !control.is_done() && control.outcome().time_s < 120.0 {
+        let t = Instant::now();
+        let decision = control.decide();
+        step_us.push(t.elapsed().as_secs_f64() * 1e6);
+        control.carry_out(decision);
+    }
+    let outcome = control.outcome();
+    Row {
+        pair,
+        with,
+        reached: outcome.reached,
+        time_s: outcome.time_s,
+        path_m: outcome.pusher_path_m,
+        position_m: outcome.final_position_error_m,
+        yaw_deg: outcome.final_yaw_error_rad.to_degrees(),
+        step_us,
+    }
+}

@@ -1,0 +1,104 @@
+//! Pushing an object to a goal with the model being learned: model-predictive control whose
+//! predictions are the combined model's with `θ_online` as the online run has it at each step (or
+//! `θ_online(0)` held fixed, the physics-only model learning online, or the true θ where it is
+//! known, to compare). The paper's reason for a push model is planning; this is where pushlab uses
+//! its own.
+//!
+//! The pieces: [`goal`] (the goal pose and when it is reached), [`arc`] (one prediction as the arc
+//! of a push held on its contact), [`sites`] (where a push can start and the pusher's way round
+//! the object), [`planner`] (one control step: the cross-entropy search over pushes),
+//! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes).
+
+pub mod arc;
+pub mod goal;
+pub mod planner;
+pub mod sandbox_run;
+pub mod sites;
+
+pub use goal::{Goal, GoalError};
+pub use planner::{ChosenPush, Phase, Plan, Planner, PlannerConfig};
+pub use sandbox_run::{ControlError, ControlOutcome, ControlStep, Decision, SandboxControl};
+
+use crate::learn::OnlineRun;
+use crate::model::OnlineParams;
+use crate::trajectory::Frame;
+
+/// How far from touching the pusher may be and still be taken as pushing, metres: tracking noise
+/// (the sandbox's 2 mm) and the model's contact tolerance fit well within it.
+pub const AWAY_GAP_M: f64 = 0.01;
+
+/// Which θ the controller plans with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PlanWith {
+    /// The combined model with θ as learned online so far.
+    #[default]
+    Online,
+    /// The combined model with `θ_online(0)`, never learned.
+    Fixed,
+    /// The physics-only model, its θ learned online.
+    Physics,
+    /// The combined model with the true θ (where the truth is known: an upper bound).
+    Truth,
+}
+
+impl PlanWith {
+    pub const ALL: [PlanWith; 4] = [
+        PlanWith::Online,
+        PlanWith::Fixed,
+        PlanWith::Physics,
+        PlanWith::Truth,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            PlanWith::Online => "online",
+            PlanWith::Fixed => "fixed",
+            PlanWith::Physics => "physics",
+            PlanWith::Truth => "truth",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// What a pane says the controller plans with.
+    pub fn description(self) -> &'static str {
+        match self {
+            PlanWith::Online => "the combined model, θ learned online as it pushes",
+            PlanWith::Fixed => "the combined model, θ held at θ_online(0)",
+            PlanWith::Physics => "physics alone (Lynch's model), θ learned online",
+            PlanWith::Truth => "the combined model with the true θ (an upper bound)",
+        }
+    }
+}
+
+/// The θ a control step plans with, from the run learning the push (for `Physics`, the
+/// physics-only model's run): the one rule the app, the CLI and the experiments share.
+pub fn planning_theta(run: &OnlineRun, plan_with: PlanWith, truth: &OnlineParams) -> OnlineParams {
+    match plan_with {
+        PlanWith::Online | PlanWith::Physics => run.theta_at(run.frontier()),
+        PlanWith::Fixed => run.theta0(),
+        PlanWith::Truth => *truth,
+    }
+}
+
+/// Whether the pusher is away from the object in `frame`: farther than [`AWAY_GAP_M`] from
+/// touching it. A controller's pusher spends much of its time going round the object; a sample
+/// it does not touch the object in says nothing about θ, and learning from it walked the
+/// combined model's θ off (its network predicts a little motion without contact, which θ then
+/// bends to cancel: `h` learned at 0.38 m against a true 0.17). The controller's online run holds
+/// θ over such samples, as it holds it over frames labelled bad.
+pub fn is_away(sites: &sites::Sites, frame: &Frame) -> bool {
+    let pusher = frame.object.point_in_object(frame.robot);
+    let gap = sites
+        .outline()
+        .closest_boundary_point(pusher)
+        .signed_distance
+        - sites.pusher_radius();
+    gap > AWAY_GAP_M
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,451 @@
+//! The controller's one step: from the latest object pose and pusher position, with the model and
+//! `θ_online` it is given, the push that brings the object nearest its goal, and where the pusher
+//! goes in the next control step.
+//!
+//! A push is a site on the object, a direction (an angle from the inward normal) and a length. The
+//! model predicts the object's motion once per push (site and direction) and the arc gives every
+//! length of it ([`super::arc`]); a push is worth the nearest the arc comes to the goal, plus what
+//! it costs to get there (the pusher's way round the object, weighed). The cross-entropy method
+//! searches sites and directions: a grid of sites round the object times a fan of directions, then
+//! samples drawn about the best few and narrowed, per mode (a single Gaussian over the whole
+//! perimeter would average two good faces into a corner). The push the pusher is on stays chosen
+//! unless another is better by a margin, so that the pusher does not dither between faces.
+//!
+//! Replanned every control step from the latest pose; deterministic for a seed (its draws come
+//! from its own generator, advanced one stream per step); no allocation per step once its buffers
+//! have grown to their size on the first.
+
+use nalgebra::{Point2, Vector2};
+
+use super::arc::BodyTwist;
+use super::goal::Goal;
+use super::sites::{APPROACH_M, Site, Sites, along_path};
+use crate::geometry::{Outline, Pose2};
+use crate::model::{OnlineModel, OnlineParams, SampleInput};
+use crate::rng::SplitMix64;
+
+/// How the planner searches (see the module documentation); the defaults are what the measured
+/// table in the guide used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlannerConfig {
+    /// Sites in the first grid, evenly round the pushable perimeter.
+    pub sites: usize,
+    /// Directions per site in the first grid, evenly across ±`max_angle_rad`.
+    pub angles: usize,
+    pub max_angle_rad: f64,
+    /// The longest push weighed, metres of pusher travel, and how many lengths along it.
+    pub reach_m: f64,
+    pub lengths: usize,
+    /// Modes refined, rounds of refinement, and samples per mode and round.
+    pub elites: usize,
+    pub rounds: usize,
+    pub samples: usize,
+    /// Metres of goal distance a metre of the pusher's way to a push is worth.
+    pub way_weight: f64,
+    /// Metres of goal distance a metre of pushing is worth (shorter pushes when equal).
+    pub push_weight: f64,
+    /// How much better another push must be to be taken over the one the pusher is on, metres.
+    pub keep_margin_m: f64,
+    /// A push must bring the object this much nearer the goal to be made where one that does
+    /// is found, metres: a push that gains nothing, repeated because moving elsewhere costs its
+    /// way, walks the object off (seen: 4 m past a goal 12 mm away).
+    pub least_gain_m: f64,
+    /// The seed of the planner's draws.
+    pub seed: u64,
+}
+
+impl Default for PlannerConfig {
+    fn default() -> Self {
+        Self {
+            sites: 32,
+            angles: 7,
+            max_angle_rad: 35f64.to_radians(),
+            reach_m: 0.12,
+            lengths: 30,
+            elites: 3,
+            rounds: 2,
+            samples: 12,
+            way_weight: 0.15,
+            push_weight: 0.02,
+            keep_margin_m: 0.005,
+            least_gain_m: 0.001,
+            seed: 0,
+        }
+    }
+}
+
+/// What the controller is doing this step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// The pusher pushes (or closes the last centimetres to the object along the push).
+    Pushing,
+    /// The pusher goes to where its next push starts, round the object.
+    Moving,
+    /// The object is at the goal: the pusher holds still.
+    Holding,
+}
+
+impl Phase {
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Pushing => "pushing",
+            Phase::Moving => "moving",
+            Phase::Holding => "holding",
+        }
+    }
+}
+
+/// The push chosen: where, which way, how far, and what it was judged to give.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChosenPush {
+    pub site: Site,
+    /// Radians from the inward normal, counter-clockwise positive.
+    pub angle: f64,
+    /// Metres of pushing to the arc's nearest point to the goal.
+    pub length_m: f64,
+    /// The planner's distance to the goal at that point (see [`Goal::distance`]), metres.
+    pub expected_distance_m: f64,
+    /// Metres of the pusher's way to the push's start.
+    pub way_m: f64,
+}
+
+/// One control step's decision, for the pusher and for whoever draws or logs it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Plan {
+    pub phase: Option<Phase>,
+    /// Where the pusher should be at the end of this step, world frame.
+    pub target: Point2<f64>,
+    pub push: Option<ChosenPush>,
+    /// The object's predicted poses along the chosen push (world), from now to its end.
+    pub predicted: Vec<Pose2>,
+    /// The pusher's way to the push's start (world), when moving.
+    pub way: Vec<Point2<f64>>,
+    /// Model predictions made this step.
+    pub predictions: usize,
+}
+
+/// A push weighed.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    along: f64,
+    angle: f64,
+    /// At the site the pusher is at (no way round to it).
+    here: bool,
+    cost: f64,
+    length_m: f64,
+    distance_m: f64,
+    way_m: f64,
+}
+
+/// What a candidate is weighed against, fixed for a step.
+struct Weighing<'a, M: ?Sized> {
+    model: &'a M,
+    theta: &'a OnlineParams,
+    object: Pose2,
+    pusher_in_object: Point2<f64>,
+    /// The pusher's gap to the site it is at, if any.
+    here_gap: Option<f64>,
+    travel_per_prediction: f64,
+    /// The planner's distance to the goal now.
+    distance_now: f64,
+}
+
+/// Added to the cost of a push that gains less than the least gain: any push that gains wins
+/// over it, and among those that do not, the nearest to the goal.
+const NO_GAIN_COST: f64 = 1e3;
+
+/// The controller (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct Planner {
+    sites: Sites,
+    goal: Goal,
+    config: PlannerConfig,
+    /// Metres the pusher moves in one control step.
+    step_m: f64,
+    /// Metres of pusher travel the model predicts over (its horizon at the pusher's speed).
+    travel_per_prediction: f64,
+    rng: SplitMix64,
+    steps: u64,
+    /// The push being moved to, as `(along, angle)`: kept unless beaten by the margin.
+    kept: Option<(f64, f64)>,
+    candidates: Vec<Candidate>,
+    way: Vec<Point2<f64>>,
+    plan: Plan,
+}
+
+impl Planner {
+    /// A planner for an object of `outline` pushed by a disc of `pusher_radius` that moves `step_m`
+    /// per control step, to `goal`, with a model that predicts over `travel_per_prediction` metres
+    /// of pusher travel.
+    pub fn new(
+        outline: &Outline,
+        pusher_radius: f64,
+        goal: Goal,
+        step_m: f64,
+        travel_per_prediction: f64,
+        config: PlannerConfig,
+    ) -> Self {
+        let capacity = config.sites * config.angles
+            + config.angles
+            + 1
+            + config.elites * config.rounds * config.samples;
+        Self {
+            sites: Sites::new(outline, pusher_radius),
+            goal,
+            step_m,
+            travel_per_prediction,
+            rng: SplitMix64::new(config.seed),
+            steps: 0,
+            kept: None,
+            candidates: Vec::with_capacity(capacity),
+            way: Vec::with_capacity(64),
+            plan: Plan {
+                predicted: Vec::with_capacity(config.lengths + 1),
+                way: Vec::with_capacity(64),
+                ..Plan::default()
+            },
+            config,
+        }
+    }
+
+    pub fn goal(&self) -> &Goal {
+        &self.goal
+    }
+
+    /// A new goal; the push being moved to is forgotten.
+    pub fn set_goal(&mut self, goal: Goal) {
+        self.goal = goal;
+        self.kept = None;
+    }
+
+    pub fn sites(&self) -> &Sites {
+        &self.sites
+    }
+
+    /// The last step's plan.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// One control step: the object at `object`, the pusher at `pusher` (world), the model and
+    /// `θ_online` to plan with.
+    pub fn step<M: OnlineModel + ?Sized>(
+        &mut self,
+        object: &Pose2,
+        pusher: Point2<f64>,
+        model: &M,
+        theta: &OnlineParams,
+    ) -> &Plan {
+        self.steps += 1;
+        self.rng = SplitMix64::new(self.config.seed ^ self.steps.wrapping_mul(0x9E37_79B9));
+        self.plan.predicted.clear();
+        self.plan.way.clear();
+        self.plan.predictions = 0;
+        if self.goal.is_within(object) {
+            self.kept = None;
+            self.plan.phase = Some(Phase::Holding);
+            self.plan.target = pusher;
+            self.plan.push = None;
+            self.plan.predicted.push(*object);
+            return &self.plan;
+        }
+        let pusher_in_object = object.point_in_object(pusher);
+        let here = self.sites.site_near(pusher_in_object, APPROACH_M + 0.01);
+        let weighing = Weighing {
+            model,
+            theta,
+            object: *object,
+            pusher_in_object,
+            here_gap: here.map(|(_, gap)| gap),
+            travel_per_prediction: self.travel_per_prediction,
+            distance_now: self.goal.distance(object),
+        };
+        let best = self.search(&weighing, here.map(|(site, _)| site));
+        self.act(&weighing, best);
+        &self.plan
+    }
+
+    /// The best push: the grid, the kept push, then the modes refined.
+    fn search<M: OnlineModel + ?Sized>(
+        &mut self,
+        w: &Weighing<'_, M>,
+        here: Option<Site>,
+    ) -> Option<Candidate> {
+        self.candidates.clear();
+        let c = self.config;
+        let angle_at = |k: usize| {
+            if c.angles <= 1 {
+                0.0
+            } else {
+                -c.max_angle_rad + 2.0 * c.max_angle_rad * k as f64 / (c.angles - 1) as f64
+            }
+        };
+        if let Some(site) = here {
+            for k in 0..c.angles {
+                let cand = self.weigh(w, site.along, angle_at(k), true);
+                self.candidates.extend(cand);
+            }
+        }
+        let perimeter = self.sites.perimeter();
+        for i in 0..c.sites {
+            let along = (i as f64 + 0.5) * perimeter / c.sites as f64;
+            for k in 0..c.angles {
+                let cand = self.weigh(w, along, angle_at(k), false);
+                self.candidates.extend(cand);
+            }
+        }
+        if let Some((along, angle)) = self.kept
+            && let Some(mut cand) = self.weigh(w, along, angle, false)
+        {
+            cand.cost -= c.keep_margin_m;
+            self.candidates.push(cand);
+        }
+        let elites = c.elites.min(self.candidates.len()).min(8);
+        if elites == 0 {
+            return None;
+        }
+        let by_cost = |a: &Candidate, b: &Candidate| a.cost.total_cmp(&b.cost);
+        self.candidates.select_nth_unstable_by(elites - 1, by_cost);
+        let mut modes = [None; 8];
+        for (slot, cand) in modes.iter_mut().zip(&self.candidates[..elites]) {
+            *slot = Some(*cand);
+        }
+        let mut spread = (
+            0.5 * perimeter / c.sites as f64,
+            c.max_angle_rad / c.angles.max(2) as f64,
+        );
+        for _ in 0..c.rounds {
+            for mode in modes.iter_mut().flatten() {
+                let centre = *mode;
+                for _ in 0..c.samples {
+                    let along = if centre.here {
+                        centre.along
+                    } else {
+                        centre.along + spread.0 * self.rng.normal()
+                    };
+                    let angle = (centre.angle + spread.1 * self.rng.normal())
+                        .clamp(-c.max_angle_rad, c.max_angle_rad);
+                    if let Some(cand) = self.weigh(w, along, angle, centre.here)
+                        && cand.cost < mode.cost
+                    {
+                        *mode = cand;
+                    }
+                }
+            }
+            spread = (0.5 * spread.0, 0.5 * spread.1);
+        }
+        modes.into_iter().flatten().min_by(by_cost)
+    }
+
+    /// A push weighed: the model's prediction at its site and direction, the arc's nearest
+    /// approach to the goal, and the way to it.
+    fn weigh<M: OnlineModel + ?Sized>(
+        &mut self,
+        w: &Weighing<'_, M>,
+        along: f64,
+        angle: f64,
+        here: bool,
+    ) -> Option<Candidate> {
+        let site = self.sites.site_at(along)?;
+        let direction = Sites::push_direction(&site, angle);
+        let input = SampleInput {
+            robot_in_object: self.sites.touching(&site).coords.into(),
+            robot_motion_in_object: (direction * w.travel_per_prediction).into(),
+        };
+        let motion = w.model.predict(&input, w.theta).motion;
+        self.plan.predictions += 1;
+        let twist = BodyTwist::of_motion(
+            Vector2::from(motion.translation),
+            motion.rotation,
+            w.travel_per_prediction,
+        );
+        let c = self.config;
+        let mut best = (f64::INFINITY, 0.0, f64::INFINITY);
+        for k in 1..=c.lengths {
+            let length = c.reach_m * (k as f64 / c.lengths as f64).powi(2);
+            let distance = self.goal.distance(&twist.pose_after(&w.object, length));
+            let cost = distance + c.push_weight * length;
+            if cost < best.0 {
+                best = (cost, length, distance);
+            }
+        }
+        let way_m = match (here, w.here_gap) {
+            (true, Some(gap)) => gap,
+            _ => {
+                let start = self.sites.approach(&site, direction);
+                self.sites.way(w.pusher_in_object, start, &mut self.way) + APPROACH_M
+            }
+        };
+        let gains = best.2 < w.distance_now - c.least_gain_m;
+        let cost = if gains {
+            best.0 + c.way_weight * way_m
+        } else {
+            NO_GAIN_COST + best.2
+        };
+        best.0.is_finite().then_some(Candidate {
+            along: site.along,
+            angle,
+            here,
+            cost,
+            length_m: best.1,
+            distance_m: best.2,
+            way_m,
+        })
+    }
+
+    /// The chosen push made into this step's target, with its arc and way for drawing.
+    fn act<M: OnlineModel + ?Sized>(&mut self, w: &Weighing<'_, M>, best: Option<Candidate>) {
+        let Some(best) = best else {
+            self.plan.phase = Some(Phase::Holding);
+            self.plan.target = w.object.point_in_world(w.pusher_in_object);
+            self.plan.push = None;
+            return;
+        };
+        let Some(site) = self.sites.site_at(best.along) else {
+            return;
+        };
+        let direction = Sites::push_direction(&site, best.angle);
+        let start = self.sites.approach(&site, direction);
+        let at_start = (start - w.pusher_in_object).norm() <= 0.5 * self.step_m;
+        let target_in_object = if best.here || at_start {
+            self.kept = None;
+            self.plan.phase = Some(Phase::Pushing);
+            w.pusher_in_object + direction * self.step_m
+        } else {
+            self.kept = Some((best.along, best.angle));
+            self.plan.phase = Some(Phase::Moving);
+            self.sites.way(w.pusher_in_object, start, &mut self.way);
+            let object = w.object;
+            self.plan
+                .way
+                .extend(self.way.iter().map(|p| object.point_in_world(*p)));
+            along_path(&self.way, self.step_m).unwrap_or(start)
+        };
+        self.plan.target = w.object.point_in_world(target_in_object);
+        self.plan.push = Some(ChosenPush {
+            site,
+            angle: best.angle,
+            length_m: best.length_m,
+            expected_distance_m: best.distance_m,
+            way_m: best.way_m,
+        });
+        // The arc drawn ahead: the prediction again at the chosen push.
+        let input = SampleInput {
+            robot_in_object: self.sites.touching(&site).coords.into(),
+            robot_motion_in_object: (direction * w.travel_per_prediction).into(),
+        };
+        let motion = w.model.predict(&input, w.theta).motion;
+        let twist = BodyTwist::of_motion(
+            Vector2::from(motion.translation),
+            motion.rotation,
+            w.travel_per_prediction,
+        );
+        let pieces = self.config.lengths;
+        for k in 0..=pieces {
+            let length = best.length_m * k as f64 / pieces as f64;
+            self.plan
+                .predicted
+                .push(twist.pose_after(&w.object, length));
+        }
+    }
+}

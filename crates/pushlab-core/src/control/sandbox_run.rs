@@ -1,0 +1,290 @@
+//! The controller pushing the sandbox's mystery object to a goal, headless: each control step
+//! reads the newest tracked frame, plans with the model as the run has learned it so far, moves the
+//! pusher's target, and lets the sandbox make the frame; the frame is learned by the core's online
+//! run, the one every recording is learned with. What `pushlab control --sandbox`, the experiments
+//! and the tests run; the app drives the same planner from its own sandbox feed.
+
+use std::sync::Arc;
+
+use nalgebra::Point2;
+
+use super::goal::{DEFAULT_HOLD_STEPS, Goal, GoalError};
+use super::planner::{Phase, Planner, PlannerConfig};
+use super::{PlanWith, planning_theta};
+use crate::experiment::geometry_of;
+use crate::geometry::Pose2;
+use crate::learn::{OnlineConfig, OnlineRun};
+use crate::model::{CombinedModel, DEFAULT_CONTACT_TOLERANCE, OnlineParams, PhysicsOnlyModel};
+use crate::sandbox::mystery::{PUSHER_SPEED, RATE_HZ};
+use crate::sandbox::{Mystery, Sandbox, SandboxEvent};
+use crate::sim::TrackingNoise;
+use crate::trajectory::{Frame, Trajectory};
+
+/// The longest a run may take before it is called failed, seconds.
+pub const DEFAULT_TIME_LIMIT_S: f64 = 120.0;
+
+/// Why a control run cannot start.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ControlError {
+    #[error("the model cannot be set on the mystery object: {0}")]
+    Model(String),
+    #[error("the mystery object's outline: {0}")]
+    Outline(String),
+}
+
+/// One control step, as `--json` prints it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ControlStep {
+    pub step: usize,
+    pub time_s: f64,
+    /// The object's tracked pose the step planned from.
+    pub object: Pose2,
+    pub pusher: [f64; 2],
+    /// The pusher's target sent this step.
+    pub target: [f64; 2],
+    pub phase: &'static str,
+    /// θ the step planned with.
+    pub theta: OnlineParams,
+    pub position_error_m: f64,
+    pub yaw_error_rad: f64,
+    /// Model predictions the planner made.
+    pub predictions: usize,
+}
+
+/// What a control step decided, before it is carried out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Decision {
+    pub object: Pose2,
+    pub pusher: Point2<f64>,
+    pub theta: OnlineParams,
+    pub target: Point2<f64>,
+    pub phase: Phase,
+    pub predictions: usize,
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ControlOutcome {
+    pub reached: bool,
+    /// Seconds from the first step to the goal held (or to the time limit).
+    pub time_s: f64,
+    /// Metres the pusher moved.
+    pub pusher_path_m: f64,
+    /// The object's true pose's error at the end.
+    pub final_position_error_m: f64,
+    pub final_yaw_error_rad: f64,
+    pub steps: usize,
+    /// θ the run had learned at the end.
+    pub theta_end: OnlineParams,
+}
+
+/// The sandbox, its online run and the planner (see the module documentation).
+pub struct SandboxControl {
+    sandbox: Sandbox,
+    run: OnlineRun,
+    planner: Planner,
+    plan_with: PlanWith,
+    truth: OnlineParams,
+    /// Control steps the object has stayed within tolerance, the pusher holding.
+    held: usize,
+    steps: usize,
+    pusher_path_m: f64,
+    last_pusher: Point2<f64>,
+    /// The newest frame planned from (before the first push: the object at rest, untracked).
+    newest: Option<Frame>,
+    /// Per frame, whether the pusher was away from the object (see [`super::is_away`]): the run
+    /// holds θ over samples that start or end there.
+    away: Vec<bool>,
+}
+
+impl SandboxControl {
+    /// The controller on `mystery`, planning with `model` as `plan_with` says, learning by
+    /// `config`, to `goal`; `noise` on the poses it is given.
+    pub fn new(
+        mystery: Mystery,
+        noise: Option<TrackingNoise>,
+        model: &CombinedModel,
+        plan_with: PlanWith,
+        config: OnlineConfig,
+        goal: Goal,
+        planner: PlannerConfig,
+    ) -> Result<Self, ControlError> {
+        let setting = mystery.public_setting();
+        let outline = setting
+            .object
+            .outline()
+            .map_err(|e| ControlError::Outline(e.to_string()))?;
+        let learner: crate::model::SharedOnlineModel = match plan_with {
+            PlanWith::Physics => Arc::new(PhysicsOnlyModel::new(
+                outline.clone(),
+                setting.pusher_radius,
+                DEFAULT_CONTACT_TOLERANCE,
+                model.loss_scale(),
+            )),
+            _ => {
+                let geometry = geometry_of(&setting);
+                model
+                    .on_object(geometry.as_ref().ok())
+                    .map_err(|e| ControlError::Model(e.to_string()))?
+            }
+        };
+        let horizon = model.horizon();
+        let run = OnlineRun::new(
+            learner,
+            Arc::new(Trajectory::new(Vec::new())),
+            horizon,
+            config,
+        );
+        let step_m = PUSHER_SPEED / RATE_HZ;
+        let planner = Planner::new(
+            &outline,
+            setting.pusher_radius,
+            goal,
+            step_m,
+            step_m * horizon as f64,
+            planner,
+        );
+        let truth = OnlineParams {
+            com_offset: mystery.hidden.com_offset,
+            h: mystery.h,
+        };
+        let sandbox = Sandbox::new(mystery, noise);
+        let last_pusher = sandbox.pusher();
+        Ok(Self {
+            sandbox,
+            run,
+            planner,
+            plan_with,
+            truth,
+            held: 0,
+            steps: 0,
+            pusher_path_m: 0.0,
+            last_pusher,
+            newest: None,
+            away: Vec::new(),
+        })
+    }
+
+    pub fn sandbox(&self) -> &Sandbox {
+        &self.sandbox
+    }
+
+    pub fn run(&self) -> &OnlineRun {
+        &self.run
+    }
+
+    pub fn planner(&self) -> &Planner {
+        &self.planner
+    }
+
+    /// Whether the goal is reached and held.
+    pub fn is_done(&self) -> bool {
+        self.held >= DEFAULT_HOLD_STEPS
+    }
+
+    /// One control step: plan from the newest frame ([`SandboxControl::decide`]), then move the
+    /// pusher's target, make the frame and learn it ([`SandboxControl::carry_out`]).
+    pub fn step(&mut self) -> ControlStep {
+        let decision = self.decide();
+        self.carry_out(decision)
+    }
+
+    /// The planning half of a step (what a control step's cost is measured on).
+    pub fn decide(&mut self) -> Decision {
+        let (object, pusher) = match &self.newest {
+            Some(f) => (f.object, f.robot),
+            None => (self.sandbox.object_pose(), self.sandbox.pusher()),
+        };
+        let theta = planning_theta(&self.run, self.plan_with, &self.truth);
+        let model = Arc::clone(self.run.model());
+        let plan = self.planner.step(&object, pusher, model.as_ref(), &theta);
+        Decision {
+            object,
+            pusher,
+            theta,
+            target: plan.target,
+            phase: plan.phase.unwrap_or(Phase::Holding),
+            predictions: plan.predictions,
+        }
+    }
+
+    /// The acting half of a step: the pusher's target held, the frame made and learned.
+    pub fn carry_out(&mut self, d: Decision) -> ControlStep {
+        if d.phase == Phase::Holding {
+            self.held += 1;
+        } else {
+            self.held = 0;
+        }
+        let mut events = self.sandbox.hold(d.target);
+        events.extend(self.sandbox.advance(1.0 / RATE_HZ));
+        self.take(events);
+        let now = self.sandbox.pusher();
+        self.pusher_path_m += (now - self.last_pusher).norm();
+        self.last_pusher = now;
+        let error = self.planner.goal().error(&d.object);
+        let step = ControlStep {
+            step: self.steps,
+            time_s: self.steps as f64 / RATE_HZ,
+            object: d.object,
+            pusher: [d.pusher.x, d.pusher.y],
+            target: [d.target.x, d.target.y],
+            phase: d.phase.name(),
+            theta: d.theta,
+            position_error_m: error.position_m,
+            yaw_error_rad: error.yaw_rad,
+            predictions: d.predictions,
+        };
+        self.steps += 1;
+        step
+    }
+
+    /// Steps until the goal is held or `time_limit_s` has passed; each step handed to `each`.
+    pub fn run_to_goal(
+        &mut self,
+        time_limit_s: f64,
+        mut each: impl FnMut(&ControlStep),
+    ) -> ControlOutcome {
+        let limit = (time_limit_s * RATE_HZ).ceil() as usize;
+        while !self.is_done() && self.steps < limit {
+            let step = self.step();
+            each(&step);
+        }
+        self.outcome()
+    }
+
+    /// How the run stands: reached or not, its time, path and the true pose's error.
+    pub fn outcome(&self) -> ControlOutcome {
+        let GoalError {
+            position_m,
+            yaw_rad,
+        } = self.planner.goal().error(&self.sandbox.object_pose());
+        ControlOutcome {
+            reached: self.is_done(),
+            time_s: self.steps as f64 / RATE_HZ,
+            pusher_path_m: self.pusher_path_m,
+            final_position_error_m: position_m,
+            final_yaw_error_rad: yaw_rad,
+            steps: self.steps,
+            theta_end: self.run.theta_at(self.run.frontier()),
+        }
+    }
+
+    /// The sandbox's frames onto the run, learned.
+    fn take(&mut self, events: Vec<SandboxEvent>) {
+        for event in events {
+            let frames = match event {
+                SandboxEvent::PushStarted { first, .. } => vec![first],
+                SandboxEvent::Frames { frames, .. } => frames,
+                SandboxEvent::PushEnded { .. } => continue,
+            };
+            self.newest = frames.last().copied().or(self.newest);
+            let sites = self.planner.sites();
+            self.away
+                .extend(frames.iter().map(|f| super::is_away(sites, f)));
+            self.run.extend(frames);
+        }
+        let from = self.run.frontier();
+        self.run
+            .learn_through(from, self.run.sample_count(), &self.away);
+    }
+}

@@ -1,0 +1,148 @@
+//! Push to goal in the sandbox, in the app's state: the controller pushes the mystery object to
+//! a goal the student placed, planning with the model as the push's run learns it, and says when
+//! the goal is reached; the same goal with θ held fixed is a different run; the CLI's controller
+//! (`pushlab control --sandbox`) on the same mystery and goal reaches it too.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use pushlab::app::initial_state;
+use pushlab::app::state::sources::sandbox::SandboxCommand;
+use pushlab::app::state::{AppState, Command, Persisted};
+use pushlab_core::control::PlanWith;
+use pushlab_core::geometry::wrap_angle;
+use pushlab_core::sandbox::MysteryObject;
+use serde_json::Value;
+
+const GOAL: [f64; 3] = [0.25, 0.1, 0.4];
+
+fn sandbox_with_goal(seed: u64, with: PlanWith) -> AppState {
+    let mut state = initial_state(&[], Persisted::default());
+    state.apply(Command::Sandbox(SandboxCommand::Start {
+        seed,
+        object: Some(MysteryObject::Box),
+        noise: false,
+        challenge: false,
+        com: None,
+    }));
+    state.apply(Command::Sandbox(SandboxCommand::SetGoal(GOAL)));
+    state.apply(Command::Sandbox(SandboxCommand::SetPlanWith(with)));
+    state
+}
+
+/// Lets the app's frames pass (a tenth of a second each) until the controller lets go.
+fn until_the_controller_stops(state: &mut AppState) -> usize {
+    state.apply(Command::Sandbox(SandboxCommand::PushToGoal));
+    for frame in 0..1_500 {
+        state.advance(0.1);
+        if state.sandbox().unwrap().driving().is_none() {
+            return frame;
+        }
+    }
+    panic!("the controller never stopped: {:?}", state.status());
+}
+
+#[test]
+fn the_controller_pushes_the_mystery_to_the_goal_learning_as_it_goes() {
+    let mut state = sandbox_with_goal(4, PlanWith::Online);
+    until_the_controller_stops(&mut state);
+    let session = state.sandbox().unwrap();
+    let (reached, time_s, with) = session.last_drive().expect("how it went");
+    assert!(reached, "{:?}", state.status());
+    assert_eq!(with, PlanWith::Online);
+    assert!(time_s > 5.0 && time_s < 120.0, "{time_s}");
+    let pose = session.sandbox().object_pose();
+    let (dx, dy) = (pose.position.x - GOAL[0], pose.position.y - GOAL[1]);
+    assert!((dx * dx + dy * dy).sqrt() <= 0.0105, "{pose:?}");
+    assert!(
+        wrap_angle(pose.yaw - GOAL[2]).abs() <= 3.05f64.to_radians(),
+        "{pose:?}"
+    );
+    let status = state.status().unwrap_or_default();
+    assert!(status.contains("the goal is reached"), "{status}");
+    // It learned as it pushed: θ moved from θ_online(0).
+    let run = state.run().expect("the push's run");
+    assert_ne!(run.theta_at(run.frontier()), run.theta0());
+}
+
+#[test]
+fn moving_the_goal_stops_the_controller_and_a_goal_is_needed_first() {
+    let mut state = initial_state(&[], Persisted::default());
+    state.apply(Command::Sandbox(SandboxCommand::Start {
+        seed: 4,
+        object: Some(MysteryObject::Box),
+        noise: false,
+        challenge: false,
+        com: None,
+    }));
+    state.apply(Command::Sandbox(SandboxCommand::PushToGoal));
+    assert!(state.sandbox().unwrap().driving().is_none());
+    assert!(
+        state
+            .status()
+            .unwrap_or_default()
+            .contains("place the goal first")
+    );
+    state.apply(Command::Sandbox(SandboxCommand::SetGoal(GOAL)));
+    state.apply(Command::Sandbox(SandboxCommand::PushToGoal));
+    for _ in 0..30 {
+        state.advance(0.1);
+    }
+    let session = state.sandbox().unwrap();
+    assert!(session.driving().is_some());
+    assert!(
+        !session.driving().unwrap().plan().predicted.is_empty(),
+        "the arc ahead is drawn"
+    );
+    state.apply(Command::Sandbox(SandboxCommand::SetGoal([0.0, 0.4, 0.0])));
+    let session = state.sandbox().unwrap();
+    assert!(session.driving().is_none());
+    assert_eq!(session.last_drive().map(|d| d.0), Some(false));
+    assert!(
+        state
+            .status()
+            .unwrap_or_default()
+            .contains("the goal moved")
+    );
+}
+
+#[test]
+fn the_cli_controller_reaches_the_goal_and_prints_a_line_per_step() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args([
+            "control",
+            "--sandbox",
+            "4",
+            "--goal",
+            "0.25,0.1,0.4",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines: Vec<Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let last = lines.last().unwrap();
+    assert_eq!(last["outcome"]["reached"], true, "{last}");
+    assert!(last["outcome"]["final_position_error_m"].as_f64().unwrap() <= 0.0105);
+    let steps = &lines[..lines.len() - 1];
+    assert_eq!(
+        steps.len() as u64,
+        last["outcome"]["steps"].as_u64().unwrap()
+    );
+    assert!(steps.iter().all(|l| l["step"]["theta"]["h"].is_number()));
+    // A bad goal is refused by name, with the usage exit code.
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["control", "--sandbox", "4", "--goal", "0.25,north,0.4"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("Y 'north' is not a finite number"), "{err}");
+}
