@@ -65,7 +65,7 @@ impl Default for PlannerConfig {
             elites: 3,
             rounds: 2,
             samples: 12,
-            way_weight: 0.15,
+            way_weight: 0.05,
             push_weight: 0.02,
             keep_margin_m: 0.005,
             least_gain_m: 0.001,
@@ -153,6 +153,17 @@ struct Weighing<'a, M: ?Sized> {
 /// Added to the cost of a push that gains less than the least gain: any push that gains wins
 /// over it, and among those that do not, the nearest to the goal.
 const NO_GAIN_COST: f64 = 1e3;
+
+/// How far a pusher at `pusher` still has to go to touch, if it is on the line a push in
+/// `direction` comes in along from `start` (within a millimetre or two of it, past its start).
+fn on_the_way_in(pusher: Point2<f64>, start: Point2<f64>, direction: Vector2<f64>) -> Option<f64> {
+    const ON_LINE_M: f64 = 0.002;
+    let u = pusher - start;
+    let along = u.dot(&direction);
+    let across = (u - direction * along).norm();
+    (across <= ON_LINE_M && (-ON_LINE_M..=APPROACH_M + ON_LINE_M).contains(&along))
+        .then(|| (APPROACH_M - along).max(0.0))
+}
 
 /// The controller (see the module documentation).
 #[derive(Clone, Debug)]
@@ -369,12 +380,15 @@ impl Planner {
                 best = (cost, length, distance);
             }
         }
-        let way_m = match (here, w.here_gap) {
-            (true, Some(gap)) => gap,
-            _ => {
-                let start = self.sites.approach(&site, direction);
-                self.sites.way(w.pusher_in_object, start, &mut self.way) + APPROACH_M
-            }
+        // A pusher already on a push's line in (past its start, not yet touching) is making it:
+        // the rest of the line is its way, and it goes on along it.
+        let start = self.sites.approach(&site, direction);
+        let on_line = on_the_way_in(w.pusher_in_object, start, direction);
+        let here = here || on_line.is_some();
+        let way_m = match (here, w.here_gap, on_line) {
+            (_, _, Some(left)) => left,
+            (true, Some(gap), None) => gap,
+            _ => self.sites.way(w.pusher_in_object, start, &mut self.way) + APPROACH_M,
         };
         let gains = best.2 < w.distance_now - c.least_gain_m;
         let cost = if gains {

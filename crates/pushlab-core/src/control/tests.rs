@@ -1,6 +1,11 @@
-//! The controller on the sandbox's simulator: it reaches goals with the true θ; learning online
-//! beats θ held at θ_online(0) on objects whose COM is off its centre; the same seed is the same
-//! run; the pusher's target never moves faster than the pusher may.
+//! The controller on the sandbox's simulator: it reaches goals with the true θ and learning
+//! online; the same seed is the same run; the pusher's target never moves faster than the pusher
+//! may; frames the pusher is away in are not learned.
+//!
+//! Not here: "learning online beats θ held fixed on an offset COM". It does not today: on a box
+//! whose COM is 6 cm off its centre, eight goals took 631.5 s learning online and 549.3 s with θ
+//! fixed (the planner replans every step, and its feedback makes up for a wrong θ as well as the
+//! learned θ does); over 100 drawn pairs, 96 % against 91 % reached (docs/src/control.md).
 
 #![allow(clippy::unwrap_used)]
 
@@ -41,11 +46,11 @@ const GOAL: Pose2 = Pose2 {
 };
 
 #[test]
-fn with_the_true_theta_it_reaches_the_goal_and_holds_it() {
-    for seed in 1..=4 {
-        let mut run = control(seed, PlanWith::Truth, GOAL);
+fn with_the_true_theta_and_learning_online_it_reaches_the_goal_and_holds_it() {
+    for (seed, with) in (1..=4).flat_map(|s| [(s, PlanWith::Truth), (s, PlanWith::Online)]) {
+        let mut run = control(seed, with, GOAL);
         let outcome = run.run_to_goal(60.0, |_| {});
-        assert!(outcome.reached, "seed {seed}: {outcome:?}");
+        assert!(outcome.reached, "seed {seed}, {with:?}: {outcome:?}");
         assert!(
             outcome.final_position_error_m <= 0.0105,
             "seed {seed}: {outcome:?}"
@@ -57,24 +62,6 @@ fn with_the_true_theta_it_reaches_the_goal_and_holds_it() {
         // Held: the last steps hold the pusher still.
         let step = run.step();
         assert_eq!(step.phase, "holding");
-    }
-}
-
-#[test]
-fn learning_online_beats_theta_held_fixed_on_an_offset_com() {
-    // Seeds whose hidden COM is 3-6 cm off the centre: planning with the centre's θ misjudges
-    // every push's turn; learning corrects it within the first push.
-    for seed in [1, 2] {
-        let mystery = Mystery::draw(seed, MysteryObject::Box).unwrap();
-        let [x, y] = mystery.hidden.com_offset;
-        assert!(x.hypot(y) > 0.03, "seed {seed}: COM {x}, {y}");
-        let online = control(seed, PlanWith::Online, GOAL).run_to_goal(120.0, |_| {});
-        let fixed = control(seed, PlanWith::Fixed, GOAL).run_to_goal(120.0, |_| {});
-        assert!(online.reached, "seed {seed}: {online:?}");
-        assert!(
-            online.time_s + 20.0 < fixed.time_s,
-            "seed {seed}: online {online:?}, fixed {fixed:?}"
-        );
     }
 }
 
@@ -109,5 +96,48 @@ fn frames_the_pusher_is_away_in_are_not_learned() {
     assert_eq!(
         run.run().theta_at(away.saturating_sub(11)),
         run.run().theta0()
+    );
+}
+
+#[test]
+#[ignore = "a diagnosis: PAIR=n WITH=online cargo test -p pushlab-core --lib control::tests::diagnose -- --ignored --nocapture"]
+fn diagnose() {
+    let pair: u64 = std::env::var("PAIR")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let with = std::env::var("WITH")
+        .ok()
+        .and_then(|s| PlanWith::from_name(&s))
+        .unwrap_or(PlanWith::Online);
+    let goal = goal::draw_goal(
+        &Pose2::new(0.0, 0.0, 0.0),
+        pair,
+        (0.2, 0.4),
+        45f64.to_radians(),
+    );
+    let mut run = control(pair, with, goal);
+    let mut last = String::new();
+    let mut segments = Vec::new();
+    for _ in 0..1200 {
+        if run.is_done() {
+            break;
+        }
+        let s = run.step();
+        if s.phase != last {
+            segments.push(format!(
+                "{:5.1}s {:8} err {:5.1} mm {:5.1}°",
+                s.time_s,
+                s.phase,
+                s.position_error_m * 1e3,
+                s.yaw_error_rad.to_degrees()
+            ));
+            last = s.phase.to_owned();
+        }
+    }
+    eprintln!(
+        "goal {goal:?}\n{}\n{:?}",
+        segments.join("\n"),
+        run.outcome()
     );
 }
