@@ -1,7 +1,8 @@
 //! Push to goal in the sandbox, in the app's state: the controller pushes the mystery object to
 //! a goal the student placed, planning with the model as the push's run learns it, and says when
 //! the goal is reached; the same goal with θ held fixed is a different run; the CLI's controller
-//! (`pushlab control --sandbox`) on the same mystery and goal reaches it too.
+//! (`pushlab control --sandbox`) on the same mystery and goal reaches it too; `--pipe` answers
+//! each line of poses from another program with a target no further than a step of the pusher.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -145,4 +146,66 @@ fn the_cli_controller_reaches_the_goal_and_prints_a_line_per_step() {
     assert_eq!(bad.status.code(), Some(2));
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(err.contains("Y 'north' is not a finite number"), "{err}");
+}
+
+#[test]
+fn the_pipe_answers_each_line_of_poses_with_a_target_and_names_a_bad_line() {
+    use std::io::Write;
+    let setting = std::env::temp_dir().join(format!("pushlab-pipe-{}.json", std::process::id()));
+    std::fs::write(
+        &setting,
+        r#"{"name": "pipe", "object": {"shape": "box", "width": 0.3, "length": 0.4},
+            "pusher_radius": 0.175, "sample_rate_hz": 10.0, "trajectories": []}"#,
+    )
+    .unwrap();
+    let run = |input: &str| {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
+            .args(["control", "--pipe", "--setting"])
+            .arg(&setting)
+            .args(["--goal", "0.25,0.1,0.4"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(input.as_bytes())
+            .unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let lines: String = (0..5)
+        .map(|k| {
+            format!(
+                "{{\"t\": {}, \"pusher\": [{}, 0.0], \"object\": [0.0, 0.0, 0.0]}}\n",
+                k as f64 * 0.1,
+                -0.375 + 0.004 * k as f64
+            )
+        })
+        .collect();
+    let out = run(&lines);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let answers: Vec<Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(answers.len(), 5);
+    for (k, a) in answers.iter().enumerate() {
+        let target = &a["step"]["target"];
+        let (tx, ty) = (target[0].as_f64().unwrap(), target[1].as_f64().unwrap());
+        let px = -0.375 + 0.004 * k as f64;
+        assert!(((tx - px).powi(2) + ty * ty).sqrt() <= 0.004 + 1e-9, "{a}");
+        assert_eq!(a["done"], false);
+    }
+    let bad = run("{\"t\": 0.0, \"pusher\": [0.0]}\n");
+    assert_eq!(bad.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("standard input, line 1: expected"), "{err}");
+    std::fs::remove_file(&setting).ok();
 }

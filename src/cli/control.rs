@@ -3,6 +3,11 @@
 //! `--json`, a line per control step (the pose, θ, the goal error, the pusher's target) and a last
 //! line with the outcome; else a progress bar and the outcome. Exit 0 when the goal is reached
 //! and held, 1 when the time limit passes first.
+//!
+//! `pushlab control --pipe --setting S.json --goal X,Y,YAW`: the controller on poses from another
+//! program (a physics engine, a tracker), a JSON line each control step on standard input,
+//! `{"t": s, "pusher": [x, y], "object": [x, y, yaw]}`, answered by a line with the pusher's
+//! target (`control::PoseControl`: live input's grid and learner). It sends nothing to a robot.
 
 use anyhow::anyhow;
 use clap::Args;
@@ -21,8 +26,28 @@ use crate::cli::model_arg::load_model;
 pub struct ControlArgs {
     /// The sandbox's mystery of this seed (its link's `?sandbox=SEED`): the object pushed, its
     /// COM and `h` hidden from the controller.
-    #[arg(long, value_name = "SEED")]
-    pub sandbox: u64,
+    #[arg(
+        long,
+        value_name = "SEED",
+        required_unless_present = "pipe",
+        conflicts_with = "pipe"
+    )]
+    pub sandbox: Option<u64>,
+    /// Poses from another program on standard input, a JSON line each control step
+    /// (`{"t": s, "pusher": [x, y], "object": [x, y, yaw]}`), each answered on standard output
+    /// with the pusher's target; the object and pusher are --setting's.
+    #[arg(long, requires = "setting")]
+    pub pipe: bool,
+    /// With --pipe: the object's and pusher's setting.json (its com_offset and h, if it has them,
+    /// are what --theta truth plans with).
+    #[arg(long, value_name = "SETTING.json")]
+    pub setting: Option<std::path::PathBuf>,
+    /// With --pipe: control steps a second (the poses' rate).
+    #[arg(long, default_value_t = 10.0)]
+    pub rate: f64,
+    /// With --pipe: the pusher's speed, m/s: no target is further than a step of it.
+    #[arg(long, default_value_t = 0.04)]
+    pub speed: f64,
     /// The sandbox's object: box, t or ellipse.
     #[arg(long, default_value = "box")]
     pub object: String,
@@ -87,7 +112,10 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
         )));
     }
     let (model, _) = load_model(args.model.as_deref())?;
-    let mystery = Mystery::draw(args.sandbox, object).map_err(|e| anyhow!("{e}"))?;
+    let Some(seed) = args.sandbox else {
+        return run_pipe(args, &model.combined, goal, plan_with);
+    };
+    let mystery = Mystery::draw(seed, object).map_err(|e| anyhow!("{e}"))?;
     let mut control = SandboxControl::new(
         mystery,
         args.noise.then_some(SANDBOX_NOISE),
@@ -96,7 +124,7 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
         OnlineConfig::default(),
         Goal::at(goal),
         PlannerConfig {
-            seed: args.sandbox,
+            seed,
             ..PlannerConfig::default()
         },
     )
@@ -134,21 +162,28 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
             json!({ "outcome": outcome, "plans_with": plan_with.name() })
         );
     } else {
+        let mystery = control.sandbox().mystery();
         println!(
-            "{} with {} in {:.1} s: pusher moved {:.2} m, final error {:.1} mm and {:.2}°; θ learned: COM offset ({:.1}, {:.1}) mm, h {:.1} mm",
+            "goal {} in {:.1} s (planned with {}): the pusher moved {:.2} m; final error {:.1} mm, {:.2}°",
             if outcome.reached {
                 "reached"
             } else {
                 "not reached"
             },
-            plan_with.description(),
             outcome.time_s,
+            plan_with.description(),
             outcome.pusher_path_m,
             outcome.final_position_error_m * 1e3,
             outcome.final_yaw_error_rad.to_degrees(),
+        );
+        println!(
+            "θ learned: COM offset ({:.1}, {:.1}) mm, h {:.1} mm; hidden: COM offset ({:.1}, {:.1}) mm, h {:.1} mm",
             outcome.theta_end.com_offset[0] * 1e3,
             outcome.theta_end.com_offset[1] * 1e3,
             outcome.theta_end.h * 1e3,
+            mystery.hidden.com_offset[0] * 1e3,
+            mystery.hidden.com_offset[1] * 1e3,
+            mystery.h * 1e3,
         );
     }
     if outcome.reached {
@@ -159,4 +194,72 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
             args.time_limit
         )))
     }
+}
+
+/// One line of poses on standard input.
+#[derive(serde::Deserialize)]
+struct PoseLine {
+    t: f64,
+    pusher: [f64; 2],
+    object: [f64; 3],
+}
+
+/// `--pipe`: poses in, targets out, until the goal is held or the input ends.
+fn run_pipe(
+    args: &ControlArgs,
+    model: &pushlab_core::model::CombinedModel,
+    goal: Pose2,
+    plan_with: PlanWith,
+) -> Result<(), Failure> {
+    use std::io::{BufRead, Write};
+    let usage = |e: String| Failure::Usage(anyhow!(e));
+    let Some(path) = &args.setting else {
+        return Err(usage("--pipe needs --setting SETTING.json".into()));
+    };
+    for (name, value) in [("--rate", args.rate), ("--speed", args.speed)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(usage(format!("{name} {value}: expected a positive number")));
+        }
+    }
+    let setting = pushlab_core::recording::bag::SettingSource::File(path.clone())
+        .resolve()
+        .map_err(|e| Failure::Failed(anyhow!("{e}")))?;
+    let mut control = pushlab_core::control::PoseControl::new(
+        model,
+        &setting,
+        plan_with,
+        OnlineConfig::default(),
+        Goal::at(goal),
+        PlannerConfig::default(),
+        args.rate,
+        args.speed,
+    )
+    .map_err(|e| usage(format!("{}: {e}", path.display())))?;
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    for (n, line) in std::io::stdin().lock().lines().enumerate() {
+        let line = line.map_err(|e| anyhow!("standard input: {e}"))?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let poses: PoseLine = serde_json::from_str(&line).map_err(|e| {
+            anyhow!(
+                "standard input, line {}: expected {{\"t\": s, \"pusher\": [x, y], \"object\": [x, y, yaw]}}: {e}",
+                n + 1
+            )
+        })?;
+        let [x, y, yaw] = poses.object;
+        let step = control.step(
+            poses.t,
+            nalgebra::Point2::new(poses.pusher[0], poses.pusher[1]),
+            Pose2::new(x, y, yaw),
+        );
+        let done = control.is_done();
+        let written =
+            writeln!(out, "{}", json!({ "step": step, "done": done })).and_then(|()| out.flush());
+        if written.is_err() || done {
+            break;
+        }
+    }
+    Ok(())
 }

@@ -7,14 +7,17 @@
 //! The pieces: [`goal`] (the goal pose and when it is reached), [`arc`] (one prediction as the arc
 //! of a push held on its contact), [`sites`] (where a push can start and the pusher's way round
 //! the object), [`planner`] (one control step: the cross-entropy search over pushes),
-//! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes).
+//! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes),
+//! [`external`] (the controller on poses from outside, learned by live input's grid and learner).
 
 pub mod arc;
+pub mod external;
 pub mod goal;
 pub mod planner;
 pub mod sandbox_run;
 pub mod sites;
 
+pub use external::PoseControl;
 pub use goal::{Goal, GoalError};
 pub use planner::{ChosenPush, Phase, Plan, Planner, PlannerConfig};
 pub use sandbox_run::{ControlError, ControlOutcome, ControlStep, Decision, SandboxControl};

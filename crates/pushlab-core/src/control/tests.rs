@@ -141,3 +141,62 @@ fn diagnose() {
         run.outcome()
     );
 }
+
+#[test]
+fn poses_from_outside_reach_the_goal_through_live_inputs_grid_and_learner() {
+    // The sandbox's simulator as the outside engine: its poses in, the targets out.
+    let mystery = Mystery::draw(4, MysteryObject::Box).unwrap();
+    let setting = mystery.setting();
+    let mut sandbox = crate::sandbox::Sandbox::new(mystery, None);
+    let mut control = PoseControl::new(
+        &model(),
+        &setting,
+        PlanWith::Online,
+        OnlineConfig::default(),
+        Goal::at(GOAL),
+        PlannerConfig::default(),
+        RATE_HZ,
+        PUSHER_SPEED,
+    )
+    .unwrap();
+    let mut steps = 0;
+    while !control.is_done() && steps < 1200 {
+        let step = control.step(
+            steps as f64 / RATE_HZ,
+            sandbox.pusher(),
+            sandbox.object_pose(),
+        );
+        sandbox.hold(nalgebra::Point2::new(step.target[0], step.target[1]));
+        sandbox.advance(1.0 / RATE_HZ);
+        steps += 1;
+    }
+    assert!(control.is_done(), "not reached in {steps} steps");
+    assert!(Goal::at(GOAL).is_within(&sandbox.object_pose()));
+    // Learned as it went, on the grid's frames, with θ held while the pusher was away.
+    let run = control.learner().run();
+    assert!(
+        run.trajectory().len() + 2 >= steps,
+        "{} frames",
+        run.trajectory().len()
+    );
+    assert_ne!(run.theta_at(run.frontier()), run.theta0());
+}
+
+#[test]
+fn the_true_theta_from_outside_needs_the_settings_truth() {
+    let mystery = Mystery::draw(4, MysteryObject::Box).unwrap();
+    let refused = PoseControl::new(
+        &model(),
+        &mystery.public_setting(),
+        PlanWith::Truth,
+        OnlineConfig::default(),
+        Goal::at(GOAL),
+        PlannerConfig::default(),
+        RATE_HZ,
+        PUSHER_SPEED,
+    );
+    let Err(why) = refused else {
+        panic!("planned with a truth it does not have")
+    };
+    assert!(why.to_string().contains("com_offset and h"), "{why}");
+}

@@ -58,6 +58,8 @@ pub struct LiveLearner {
     /// Sums over the predictions scored: count, then distance and |yaw error| of the model's and of
     /// the baseline's.
     scored: (usize, [f64; 4]),
+    /// Per frame, whether θ is held over it (empty while none is).
+    held: Vec<bool>,
 }
 
 impl LiveLearner {
@@ -72,19 +74,36 @@ impl LiveLearner {
     ) -> Result<Self, NoOutline> {
         let geometry = geometry_of(setting);
         let learner = model.on_object(geometry.as_ref().ok())?;
+        Ok(Self::with_learner(
+            learner,
+            model.horizon(),
+            config,
+            rate_hz,
+        ))
+    }
+
+    /// Learning with `learner` (a model already set on the object: the physics-only model, for
+    /// one) at `horizon`, on a grid at `rate_hz`.
+    pub fn with_learner(
+        learner: crate::model::SharedOnlineModel,
+        horizon: usize,
+        config: OnlineConfig,
+        rate_hz: f64,
+    ) -> Self {
         let run = OnlineRun::new(
             learner,
             Arc::new(Trajectory::new(Vec::new())),
-            model.horizon(),
+            horizon,
             config,
         );
-        Ok(Self {
+        Self {
             grid: LiveGrid::new(rate_hz),
             run,
             refused: RefusedCounts::default(),
             pending: VecDeque::new(),
             scored: (0, [0.0; 4]),
-        })
+            held: Vec::new(),
+        }
     }
 
     /// Takes one pose of `stream` (see [`LiveGrid::push`]); a refused pose is counted and its reason
@@ -108,13 +127,25 @@ impl LiveLearner {
     /// Puts the frames that became final on the run and learns from every sample they complete;
     /// returns how many frames arrived.
     pub fn learn(&mut self) -> usize {
+        self.learn_holding(|_| false)
+    }
+
+    /// [`LiveLearner::learn`], holding θ over samples that start or end on a frame `held` flags
+    /// (a controller's frames with the pusher away from the object), as the run holds it over
+    /// frames labelled bad.
+    pub fn learn_holding(&mut self, held: impl Fn(&crate::trajectory::Frame) -> bool) -> usize {
         let frames = self.grid.take_frames();
         let arrived = frames.len();
         if arrived > 0 {
             let first = self.run.trajectory().len();
+            if !self.held.is_empty() || frames.iter().any(&held) {
+                self.held.resize(first, false);
+                self.held.extend(frames.iter().map(&held));
+            }
             self.run.extend(frames);
             let from = self.run.frontier();
-            self.run.learn_through(from, self.run.sample_count(), &[]);
+            self.run
+                .learn_through(from, self.run.sample_count(), &self.held);
             self.predict_ahead(first);
         }
         arrived

@@ -1,0 +1,157 @@
+//! The controller on poses from outside: a physics engine pushlab did not write, or a robot's
+//! tracker. Each control step takes the pusher's and the object's poses as they are now, puts them
+//! on live input's grid and learns the frames that became final by the live learner (the core
+//! `OnlineRun`, as `pushlab live` learns), then plans from the poses just taken with the θ the
+//! run has; the pusher's target is for whoever moves the pusher. `pushlab control --pipe` runs it
+//! over standard input and output, which is how the MuJoCo measurement drives it.
+
+use std::sync::Arc;
+
+use nalgebra::Point2;
+
+use super::goal::{DEFAULT_HOLD_STEPS, Goal};
+use super::planner::{Phase, Planner, PlannerConfig};
+use super::sandbox_run::{ControlError, ControlStep};
+use super::{PlanWith, is_away, planning_theta};
+use crate::experiment::geometry_of;
+use crate::geometry::Pose2;
+use crate::learn::OnlineConfig;
+use crate::live::LiveLearner;
+use crate::live::grid::Stream;
+use crate::model::{CombinedModel, DEFAULT_CONTACT_TOLERANCE, OnlineParams, PhysicsOnlyModel};
+use crate::recording::Setting;
+use crate::recording::bag::PlanarPose;
+
+/// The controller fed poses from outside (see the module documentation).
+pub struct PoseControl {
+    learner: LiveLearner,
+    planner: Planner,
+    plan_with: PlanWith,
+    truth: Option<OnlineParams>,
+    held: usize,
+    steps: usize,
+}
+
+impl PoseControl {
+    /// The controller for the object and pusher of `setting` (whose COM offset and `h`, when it
+    /// has them, are the truth `PlanWith::Truth` plans with), poses coming at `rate_hz`, the
+    /// pusher moving at most `pusher_speed` m/s.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        model: &CombinedModel,
+        setting: &Setting,
+        plan_with: PlanWith,
+        config: OnlineConfig,
+        goal: Goal,
+        planner: PlannerConfig,
+        rate_hz: f64,
+        pusher_speed: f64,
+    ) -> Result<Self, ControlError> {
+        let outline =
+            (setting.object.outline()).map_err(|e| ControlError::Outline(e.to_string()))?;
+        let truth = match (setting.com_offset, setting.h) {
+            (Some(com_offset), Some(h)) => Some(OnlineParams { com_offset, h }),
+            _ => None,
+        };
+        if plan_with == PlanWith::Truth && truth.is_none() {
+            return Err(ControlError::Model(
+                "planning with the true θ needs the setting's com_offset and h".into(),
+            ));
+        }
+        let learner = match plan_with {
+            PlanWith::Physics => LiveLearner::with_learner(
+                Arc::new(PhysicsOnlyModel::new(
+                    outline.clone(),
+                    setting.pusher_radius,
+                    DEFAULT_CONTACT_TOLERANCE,
+                    model.loss_scale(),
+                )),
+                model.horizon(),
+                config,
+                rate_hz,
+            ),
+            _ => {
+                let geometry = geometry_of(setting);
+                let learner = model
+                    .on_object(geometry.as_ref().ok())
+                    .map_err(|e| ControlError::Model(e.to_string()))?;
+                LiveLearner::with_learner(learner, model.horizon(), config, rate_hz)
+            }
+        };
+        let step_m = pusher_speed / rate_hz;
+        let planner = Planner::new(
+            &outline,
+            setting.pusher_radius,
+            goal,
+            step_m,
+            step_m * model.horizon() as f64,
+            planner,
+        );
+        Ok(Self {
+            learner,
+            planner,
+            plan_with,
+            truth,
+            held: 0,
+            steps: 0,
+        })
+    }
+
+    /// Whether the goal is reached and held.
+    pub fn is_done(&self) -> bool {
+        self.held >= DEFAULT_HOLD_STEPS
+    }
+
+    pub fn learner(&self) -> &LiveLearner {
+        &self.learner
+    }
+
+    /// One control step on the poses at `time_s`: learned from as they become frames, planned
+    /// from as they are.
+    pub fn step(&mut self, time_s: f64, pusher: Point2<f64>, object: Pose2) -> ControlStep {
+        let stamp_ns = (time_s.max(0.0) * 1e9).round() as u64;
+        let pose = |x, y, yaw| PlanarPose {
+            stamp_ns,
+            x,
+            y,
+            yaw,
+        };
+        // A pose refused (out of order, not finite) is counted by the learner and planned past.
+        let _ = self
+            .learner
+            .take(Stream::Pusher, &pose(pusher.x, pusher.y, 0.0), stamp_ns);
+        let _ = self.learner.take(
+            Stream::Object,
+            &pose(object.position.x, object.position.y, object.yaw),
+            stamp_ns,
+        );
+        let sites = self.planner.sites();
+        self.learner.learn_holding(|f| is_away(sites, f));
+        let run = self.learner.run();
+        let theta = planning_theta(run, self.plan_with, &self.truth.unwrap_or(run.theta0()));
+        let model = Arc::clone(run.model());
+        let plan = self.planner.step(&object, pusher, model.as_ref(), &theta);
+        let phase = plan.phase.unwrap_or(Phase::Holding);
+        let (target, predictions) = (plan.target, plan.predictions);
+        self.held = if phase == Phase::Holding {
+            self.held + 1
+        } else {
+            0
+        };
+        let error = self.planner.goal().error(&object);
+        let step = ControlStep {
+            step: self.steps,
+            time_s,
+            object,
+            pusher: [pusher.x, pusher.y],
+            target: [target.x, target.y],
+            phase: phase.name(),
+            theta,
+            position_error_m: error.position_m,
+            yaw_error_rad: error.yaw_rad,
+            predictions,
+        };
+        self.steps += 1;
+        step
+    }
+}

@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""The controller's figure: the share of goals reached by each time, per controller, from the CSV
+`cargo bench -p pushlab-core --bench control -- --csv OUT.csv` writes. Standard library only, so it
+runs wherever the bench does.
+
+    python3 experiments/control/figure.py experiments/control/box.csv docs/src/images/control-box.svg
+"""
+
+import csv
+import sys
+
+COLOURS = {"online": "#1f77b4", "fixed": "#d62728", "physics": "#2ca02c", "truth": "#7f7f7f"}
+LABELS = {
+    "online": "learning online",
+    "fixed": "θ fixed at θ(0)",
+    "physics": "physics alone, learning",
+    "truth": "the true θ",
+}
+W, H, LEFT, BOTTOM, TOP, RIGHT = 720, 380, 60, 50, 20, 250
+LIMIT_S = 120.0
+
+
+def main(source: str, out: str) -> None:
+    rows = list(csv.DictReader(open(source, newline="")))
+    plot_w, plot_h = W - LEFT - RIGHT, H - TOP - BOTTOM
+
+    def x(t: float) -> float:
+        return LEFT + plot_w * t / LIMIT_S
+
+    def y(share: float) -> float:
+        return TOP + plot_h * (1.0 - share)
+
+    parts = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" '
+        f'font-family="sans-serif" font-size="12">',
+        f'<rect width="{W}" height="{H}" fill="white"/>',
+    ]
+    for k in range(0, 11, 2):
+        share = k / 10
+        parts.append(f'<line x1="{LEFT}" x2="{LEFT + plot_w}" y1="{y(share):.1f}" '
+                     f'y2="{y(share):.1f}" stroke="#ddd"/>')
+        parts.append(f'<text x="{LEFT - 6}" y="{y(share) + 4:.1f}" text-anchor="end">'
+                     f'{int(share * 100)} %</text>')
+    for t in range(0, int(LIMIT_S) + 1, 20):
+        parts.append(f'<text x="{x(t):.1f}" y="{TOP + plot_h + 16}" text-anchor="middle">{t}</text>')
+    parts.append(f'<text x="{LEFT + plot_w / 2}" y="{H - 10}" text-anchor="middle">'
+                 f'seconds from the first step</text>')
+    parts.append(f'<text x="14" y="{TOP + plot_h / 2}" text-anchor="middle" '
+                 f'transform="rotate(-90 14 {TOP + plot_h / 2})">goals reached and held</text>')
+    parts.append(f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" '
+                 f'fill="none" stroke="#333"/>')
+    for n, (name, colour) in enumerate(COLOURS.items()):
+        runs = [r for r in rows if r["plans_with"] == name]
+        if not runs:
+            continue
+        times = sorted(float(r["time_s"]) for r in runs if r["reached"] == "true")
+        points = [(0.0, 0.0)]
+        for k, t in enumerate(times, start=1):
+            points.append((t, (k - 1) / len(runs)))
+            points.append((t, k / len(runs)))
+        points.append((LIMIT_S, len(times) / len(runs)))
+        path = " ".join(f"{x(t):.1f},{y(s):.1f}" for t, s in points)
+        parts.append(f'<polyline points="{path}" fill="none" stroke="{colour}" stroke-width="2"/>')
+        ly = TOP + 14 + 20 * n
+        parts.append(f'<line x1="{LEFT + plot_w + 12}" x2="{LEFT + plot_w + 32}" y1="{ly - 4}" '
+                     f'y2="{ly - 4}" stroke="{colour}" stroke-width="2"/>')
+        parts.append(f'<text x="{LEFT + plot_w + 36}" y="{ly}">{LABELS[name]} '
+                     f'({len(times)}/{len(runs)})</text>')
+    parts.append("</svg>")
+    with open(out, "w") as f:
+        f.write("\n".join(parts) + "\n")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit("usage: figure.py RUNS.csv OUT.svg")
+    main(sys.argv[1], sys.argv[2])

@@ -1,0 +1,177 @@
+#!/usr/bin/env python3
+"""The controller measured in MuJoCo, an engine pushlab did not write: a box whose COM is hidden
+(drawn within 5 cm of its centre) rests on a grid of small spheres with Coulomb friction (the model
+of experiments/mujoco-pushes/generate.py, at the bundled model's size: a 0.3 x 0.4 m box, a 175 mm
+pusher); a goal is drawn 20-40 cm away in any direction and turned up to 45 degrees. Each control
+step (10 Hz) MuJoCo's poses go to `pushlab control --pipe` on a line, and the pusher's target it
+answers is followed kinematically at most 4 cm/s for the next 0.1 s (100 MuJoCo steps of 1 ms).
+Every controller (online, fixed, physics, truth) on every pair; a CSV like the bench's.
+
+Usage: mujoco_control.py OUT.csv [--pairs 100] [--first 31] [--jobs 2] [--pushlab PATH]
+
+The true h (for `--theta truth`) is what generate.py calls h: the pressure-weighted mean distance
+of the support from the COM, from MuJoCo's normal forces at rest.
+"""
+
+import argparse
+import concurrent.futures
+import csv
+import json
+import math
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+import mujoco
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "mujoco-pushes"))
+from generate import model_xml, outline_of, support_points, yaw_of  # noqa: E402
+
+SPEC = {
+    "timestep_s": 0.001,
+    "pusher_radius": 0.175,
+    "pusher_friction": 0.45,
+    "floor_friction": 0.35,
+    "object_height": 0.02,
+    "object_mass_kg": 0.6,
+    "support_sphere_radius": 0.002,
+    "support_grid": 11,
+}
+RATE_HZ, SPEED, LIMIT_S, HOLD_STEPS = 10.0, 0.04, 120.0, 5
+WITH = ["online", "fixed", "physics", "truth"]
+
+
+def draw_pair(seed):
+    rng = random.Random(seed)
+    com = [rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05)]
+    d, a = rng.uniform(0.2, 0.4), rng.uniform(0, 2 * math.pi)
+    goal = [d * math.cos(a), d * math.sin(a), math.radians(rng.uniform(-45, 45))]
+    return com, goal
+
+
+def settle(model, data, pusher_at):
+    """The box settled on its supports, the pusher parked; the true h from the normal forces."""
+    jp, jv = model.joint("px").qposadr[0], model.joint("px").dofadr[0]
+    data.qpos[0:7] = [0, 0, 0, 1, 0, 0, 0]
+    for _ in range(300):
+        data.qpos[jp:jp + 2] = pusher_at
+        data.qvel[jv:jv + 2] = 0
+        mujoco.mj_step(model, data)
+    mujoco.mj_forward(model, data)
+    body, floor = model.body("object").id, model.geom("floor").id
+    f6, forces, points = np.zeros(6), [], []
+    rot, origin = data.xmat[body].reshape(3, 3), data.xpos[body]
+    for i in range(data.ncon):
+        con = data.contact[i]
+        if floor in (con.geom1, con.geom2):
+            mujoco.mj_contactForce(model, data, i, f6)
+            forces.append(f6[0])
+            points.append((rot.T @ (con.pos - origin))[:2])
+    return np.array(forces), np.array(points)
+
+
+def run(pushlab, pair, with_):
+    com, goal = draw_pair(pair)
+    vertices = outline_of({"name": "box", "box": [0.3, 0.4]})
+    supports = support_points(vertices, SPEC["support_grid"], 0.01)
+    model = mujoco.MjModel.from_xml_string(model_xml(SPEC, vertices, supports, com))
+    data = mujoco.MjData(model)
+    pusher = np.array([-0.15 - 0.175 - 0.05, 0.0])
+    forces, points = settle(model, data, pusher)
+    h = float((forces * np.linalg.norm(points - np.array(com), axis=1)).sum() / forces.sum())
+    setting = {
+        "name": f"mujoco-control-{pair}",
+        "object": {"shape": "box", "width": 0.3, "length": 0.4},
+        "pusher_radius": SPEC["pusher_radius"],
+        "com_offset": com,
+        "h": h,
+        "sample_rate_hz": RATE_HZ,
+        "trajectories": [],
+    }
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "setting.json")
+        with open(path, "w") as f:
+            json.dump(setting, f)
+        proc = subprocess.Popen(
+            [pushlab, "control", "--pipe", "--setting", path, "--theta", with_,
+             "--goal", ",".join(f"{g:.6f}" for g in goal)],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
+        outcome = drive(proc, model, data, goal)
+        proc.stdin.close()
+        proc.wait()
+    return {"pair": pair, "plans_with": with_, "com_offset_m": math.hypot(*com), **outcome}
+
+
+def drive(proc, model, data, goal):
+    jp, jv = model.joint("px").qposadr[0], model.joint("px").dofadr[0]
+    body = model.body("object").id
+    dt, sub = SPEC["timestep_s"], int(round(1 / RATE_HZ / SPEC["timestep_s"]))
+    pusher = data.qpos[jp:jp + 2].copy()
+    path, reached, steps = 0.0, False, 0
+    while steps < LIMIT_S * RATE_HZ:
+        obj = [float(data.xpos[body][0]), float(data.xpos[body][1]), yaw_of(data.xquat[body])]
+        line = {"t": steps / RATE_HZ, "pusher": [float(pusher[0]), float(pusher[1])], "object": obj}
+        proc.stdin.write(json.dumps(line) + "\n")
+        proc.stdin.flush()
+        answer = json.loads(proc.stdout.readline())
+        steps += 1
+        if answer["done"]:
+            reached = True
+            break
+        target = np.array(answer["step"]["target"])
+        move = target - pusher
+        dist = float(np.linalg.norm(move))
+        if dist > SPEED / RATE_HZ:
+            move *= SPEED / RATE_HZ / dist
+        velocity = move * RATE_HZ
+        start = pusher.copy()
+        for k in range(1, sub + 1):
+            data.qpos[jp:jp + 2] = start + move * (k / sub)
+            data.qvel[jv:jv + 2] = velocity
+            mujoco.mj_step(model, data)
+        path += float(np.linalg.norm(move))
+        pusher = start + move
+    x, y, yaw = float(data.xpos[body][0]), float(data.xpos[body][1]), yaw_of(data.xquat[body])
+    yaw_err = (goal[2] - yaw + math.pi) % (2 * math.pi) - math.pi
+    return {"reached": reached, "time_s": steps / RATE_HZ, "pusher_path_m": path,
+            "final_position_m": math.hypot(goal[0] - x, goal[1] - y),
+            "final_yaw_deg": math.degrees(yaw_err)}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("out")
+    parser.add_argument("--pairs", type=int, default=100)
+    parser.add_argument("--first", type=int, default=31)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--pushlab", default=os.environ.get("PUSHLAB", "target/release/pushlab"))
+    args = parser.parse_args()
+    jobs = [(p, w) for p in range(args.first, args.first + args.pairs) for w in WITH]
+    rows = []
+    with concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
+        for row in pool.map(run, [args.pushlab] * len(jobs), *zip(*jobs)):
+            rows.append(row)
+            print(json.dumps(row), flush=True)
+    with open(args.out, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"| plans with | reached | median time (s) | median pusher path (m) | "
+          f"median final error (mm, °) |")
+    print("|---|---|---|---|---|")
+    for name in WITH:
+        mine = [r for r in rows if r["plans_with"] == name]
+        ok = [r for r in mine if r["reached"]]
+        med = lambda v: float(np.median(v)) if v else float("nan")  # noqa: E731
+        print(f"| {name} | {len(ok)}/{len(mine)} | {med([r['time_s'] for r in ok]):.1f} | "
+              f"{med([r['pusher_path_m'] for r in ok]):.2f} | "
+              f"{1e3 * med([r['final_position_m'] for r in mine]):.1f}, "
+              f"{med([abs(r['final_yaw_deg']) for r in mine]):.2f} |")
+
+
+if __name__ == "__main__":
+    main()
