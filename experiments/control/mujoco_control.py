@@ -8,6 +8,10 @@ answers is followed kinematically at most 4 cm/s for the next 0.1 s (100 MuJoCo 
 Every controller (online, fixed, physics, truth) on every pair; a CSV like the bench's.
 
 Usage: mujoco_control.py OUT.csv [--pairs 100] [--first 31] [--jobs 2] [--pushlab PATH]
+       mujoco_control.py --table OUT.csv     (the summary of a CSV written, whole or cut short)
+
+Each run is written to OUT.csv as it ends, so a run cut short leaves the pairs it finished; the
+summary counts only pairs every controller finished.
 
 The true h (for `--theta truth`) is what generate.py calls h: the pressure-weighted mean distance
 of the support from the COM, from MuJoCo's normal forces at rest.
@@ -142,7 +146,33 @@ def drive(proc, model, data, goal):
             "final_yaw_deg": math.degrees(yaw_err)}
 
 
+FIELDS = ["pair", "plans_with", "com_offset_m", "reached", "time_s", "pusher_path_m",
+          "final_position_m", "final_yaw_deg"]
+
+
+def table(rows):
+    """The summary over the pairs every controller finished."""
+    done = {p for p in {r["pair"] for r in rows}
+            if {r["plans_with"] for r in rows if r["pair"] == p} == set(WITH)}
+    rows = [r for r in rows if r["pair"] in done]
+    print(f"{len(done)} pairs")
+    print("| plans with | reached | median time (s) | median pusher path (m) | "
+          "median final error (mm, °) |")
+    print("|---|---|---|---|---|")
+    med = lambda v: float(np.median(v)) if v else float("nan")  # noqa: E731
+    for name in WITH:
+        mine = [r for r in rows if r["plans_with"] == name]
+        ok = [r for r in mine if str(r["reached"]).lower() == "true"]
+        print(f"| {name} | {len(ok)}/{len(mine)} | {med([float(r['time_s']) for r in ok]):.1f} | "
+              f"{med([float(r['pusher_path_m']) for r in ok]):.2f} | "
+              f"{1e3 * med([float(r['final_position_m']) for r in mine]):.1f}, "
+              f"{med([abs(float(r['final_yaw_deg'])) for r in mine]):.2f} |")
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--table":
+        table(list(csv.DictReader(open(sys.argv[2], newline=""))))
+        return
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("out")
     parser.add_argument("--pairs", type=int, default=100)
@@ -152,25 +182,16 @@ def main():
     args = parser.parse_args()
     jobs = [(p, w) for p in range(args.first, args.first + args.pairs) for w in WITH]
     rows = []
-    with concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
+    with open(args.out, "w", newline="") as f, \
+            concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
+        out = csv.DictWriter(f, fieldnames=FIELDS)
+        out.writeheader()
         for row in pool.map(run, [args.pushlab] * len(jobs), *zip(*jobs)):
             rows.append(row)
+            out.writerow(row)
+            f.flush()
             print(json.dumps(row), flush=True)
-    with open(args.out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    print(f"| plans with | reached | median time (s) | median pusher path (m) | "
-          f"median final error (mm, °) |")
-    print("|---|---|---|---|---|")
-    for name in WITH:
-        mine = [r for r in rows if r["plans_with"] == name]
-        ok = [r for r in mine if r["reached"]]
-        med = lambda v: float(np.median(v)) if v else float("nan")  # noqa: E731
-        print(f"| {name} | {len(ok)}/{len(mine)} | {med([r['time_s'] for r in ok]):.1f} | "
-              f"{med([r['pusher_path_m'] for r in ok]):.2f} | "
-              f"{1e3 * med([r['final_position_m'] for r in mine]):.1f}, "
-              f"{med([abs(r['final_yaw_deg']) for r in mine]):.2f} |")
+    table(rows)
 
 
 if __name__ == "__main__":
