@@ -13,12 +13,11 @@ use super::goal::{DEFAULT_HOLD_STEPS, Goal};
 use super::planner::{Phase, Planner, PlannerConfig};
 use super::sandbox_run::{ControlError, ControlStep};
 use super::{PlanWith, is_away, planning_theta};
-use crate::experiment::geometry_of;
 use crate::geometry::Pose2;
 use crate::learn::OnlineConfig;
 use crate::live::LiveLearner;
 use crate::live::grid::Stream;
-use crate::model::{CombinedModel, DEFAULT_CONTACT_TOLERANCE, OnlineParams, PhysicsOnlyModel};
+use crate::model::{CombinedModel, OnlineParams};
 use crate::recording::Setting;
 use crate::recording::bag::PlanarPose;
 
@@ -58,26 +57,12 @@ impl PoseControl {
                 "planning with the true θ needs the setting's com_offset and h".into(),
             ));
         }
-        let learner = match plan_with {
-            PlanWith::Physics => LiveLearner::with_learner(
-                Arc::new(PhysicsOnlyModel::new(
-                    outline.clone(),
-                    setting.pusher_radius,
-                    DEFAULT_CONTACT_TOLERANCE,
-                    model.loss_scale(),
-                )),
-                model.horizon(),
-                config,
-                rate_hz,
-            ),
-            _ => {
-                let geometry = geometry_of(setting);
-                let learner = model
-                    .on_object(geometry.as_ref().ok())
-                    .map_err(|e| ControlError::Model(e.to_string()))?;
-                LiveLearner::with_learner(learner, model.horizon(), config, rate_hz)
-            }
-        };
+        let learner = LiveLearner::with_learner(
+            super::learner_for(model, setting, plan_with)?,
+            model.horizon(),
+            config,
+            rate_hz,
+        );
         let step_m = pusher_speed / rate_hz;
         let planner = Planner::new(
             &outline,

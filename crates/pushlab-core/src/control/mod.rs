@@ -77,6 +77,34 @@ impl PlanWith {
     }
 }
 
+/// The model a controller's online run learns with on the object of `setting`: the physics-only
+/// model for `PlanWith::Physics` (its losses scaled as the combined model's), else the combined
+/// model set on the object by the evaluation's rule.
+pub fn learner_for(
+    model: &crate::model::CombinedModel,
+    setting: &crate::recording::Setting,
+    plan_with: PlanWith,
+) -> Result<crate::model::SharedOnlineModel, ControlError> {
+    match plan_with {
+        PlanWith::Physics => {
+            let outline =
+                (setting.object.outline()).map_err(|e| ControlError::Outline(e.to_string()))?;
+            Ok(std::sync::Arc::new(crate::model::PhysicsOnlyModel::new(
+                outline,
+                setting.pusher_radius,
+                crate::model::DEFAULT_CONTACT_TOLERANCE,
+                model.loss_scale(),
+            )))
+        }
+        _ => {
+            let geometry = crate::experiment::geometry_of(setting);
+            model
+                .on_object(geometry.as_ref().ok())
+                .map_err(|e| ControlError::Model(e.to_string()))
+        }
+    }
+}
+
 /// The θ a control step plans with, from the run learning the push (for `Physics`, the
 /// physics-only model's run): the one rule the app, the CLI and the experiments share.
 pub fn planning_theta(run: &OnlineRun, plan_with: PlanWith, truth: &OnlineParams) -> OnlineParams {

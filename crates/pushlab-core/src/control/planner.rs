@@ -348,6 +348,26 @@ impl Planner {
         modes.into_iter().flatten().min_by(by_cost)
     }
 
+    /// The model's prediction for a push at `site` in `direction`, as the arc's twist (one
+    /// prediction: what weighing a push and drawing the chosen one share).
+    fn twist_of<M: OnlineModel + ?Sized>(
+        &self,
+        w: &Weighing<'_, M>,
+        site: &Site,
+        direction: Vector2<f64>,
+    ) -> BodyTwist {
+        let input = SampleInput {
+            robot_in_object: self.sites.touching(site).coords.into(),
+            robot_motion_in_object: (direction * w.travel_per_prediction).into(),
+        };
+        let motion = w.model.predict(&input, w.theta).motion;
+        BodyTwist::of_motion(
+            Vector2::from(motion.translation),
+            motion.rotation,
+            w.travel_per_prediction,
+        )
+    }
+
     /// A push weighed: the model's prediction at its site and direction, the arc's nearest
     /// approach to the goal, and the way to it.
     fn weigh<M: OnlineModel + ?Sized>(
@@ -359,17 +379,8 @@ impl Planner {
     ) -> Option<Candidate> {
         let site = self.sites.site_at(along)?;
         let direction = Sites::push_direction(&site, angle);
-        let input = SampleInput {
-            robot_in_object: self.sites.touching(&site).coords.into(),
-            robot_motion_in_object: (direction * w.travel_per_prediction).into(),
-        };
-        let motion = w.model.predict(&input, w.theta).motion;
+        let twist = self.twist_of(w, &site, direction);
         self.plan.predictions += 1;
-        let twist = BodyTwist::of_motion(
-            Vector2::from(motion.translation),
-            motion.rotation,
-            w.travel_per_prediction,
-        );
         let c = self.config;
         let mut best = (f64::INFINITY, 0.0, f64::INFINITY);
         for k in 1..=c.lengths {
@@ -444,16 +455,7 @@ impl Planner {
             way_m: best.way_m,
         });
         // The arc drawn ahead: the prediction again at the chosen push.
-        let input = SampleInput {
-            robot_in_object: self.sites.touching(&site).coords.into(),
-            robot_motion_in_object: (direction * w.travel_per_prediction).into(),
-        };
-        let motion = w.model.predict(&input, w.theta).motion;
-        let twist = BodyTwist::of_motion(
-            Vector2::from(motion.translation),
-            motion.rotation,
-            w.travel_per_prediction,
-        );
+        let twist = self.twist_of(w, &site, direction);
         let pieces = self.config.lengths;
         for k in 0..=pieces {
             let length = best.length_m * k as f64 / pieces as f64;

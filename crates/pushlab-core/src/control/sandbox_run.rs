@@ -11,10 +11,9 @@ use nalgebra::Point2;
 use super::goal::{DEFAULT_HOLD_STEPS, Goal, GoalError};
 use super::planner::{Phase, Planner, PlannerConfig};
 use super::{PlanWith, planning_theta};
-use crate::experiment::geometry_of;
 use crate::geometry::Pose2;
 use crate::learn::{OnlineConfig, OnlineRun};
-use crate::model::{CombinedModel, DEFAULT_CONTACT_TOLERANCE, OnlineParams, PhysicsOnlyModel};
+use crate::model::{CombinedModel, OnlineParams};
 use crate::sandbox::mystery::{PUSHER_SPEED, RATE_HZ};
 use crate::sandbox::{Mystery, Sandbox, SandboxEvent};
 use crate::sim::TrackingNoise;
@@ -114,20 +113,7 @@ impl SandboxControl {
             .object
             .outline()
             .map_err(|e| ControlError::Outline(e.to_string()))?;
-        let learner: crate::model::SharedOnlineModel = match plan_with {
-            PlanWith::Physics => Arc::new(PhysicsOnlyModel::new(
-                outline.clone(),
-                setting.pusher_radius,
-                DEFAULT_CONTACT_TOLERANCE,
-                model.loss_scale(),
-            )),
-            _ => {
-                let geometry = geometry_of(&setting);
-                model
-                    .on_object(geometry.as_ref().ok())
-                    .map_err(|e| ControlError::Model(e.to_string()))?
-            }
-        };
+        let learner = super::learner_for(model, &setting, plan_with)?;
         let horizon = model.horizon();
         let run = OnlineRun::new(
             learner,
