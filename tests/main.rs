@@ -11,6 +11,7 @@
 mod cli_common;
 mod common;
 mod live_robot;
+mod sandbox_robot;
 mod skip;
 
 mod app_bags;
@@ -36,6 +37,7 @@ mod app_ui;
 mod app_uncertainty;
 mod app_workflows;
 mod architecture;
+mod cli_control_robot;
 mod cli_import;
 mod cli_import_cameras;
 mod cli_label_proposals;

@@ -78,7 +78,9 @@ def settle(model, data, pusher_at):
     return np.array(forces), np.array(points)
 
 
-def run(pushlab, pair, with_):
+def world(pair, name):
+    """The pair's MuJoCo box (its COM hidden), settled, the pusher parked before it; its setting
+    (with the true COM and h, for --theta truth) and its goal."""
     com, goal = draw_pair(pair)
     vertices = outline_of({"name": "box", "box": [0.3, 0.4]})
     supports = support_points(vertices, SPEC["support_grid"], 0.01)
@@ -88,7 +90,7 @@ def run(pushlab, pair, with_):
     forces, points = settle(model, data, pusher)
     h = float((forces * np.linalg.norm(points - np.array(com), axis=1)).sum() / forces.sum())
     setting = {
-        "name": f"mujoco-control-{pair}",
+        "name": f"{name}-{pair}",
         "object": {"shape": "box", "width": 0.3, "length": 0.4},
         "pusher_radius": SPEC["pusher_radius"],
         "com_offset": com,
@@ -96,6 +98,11 @@ def run(pushlab, pair, with_):
         "sample_rate_hz": RATE_HZ,
         "trajectories": [],
     }
+    return model, data, pusher, setting, goal, com
+
+
+def run(pushlab, pair, with_):
+    model, data, _, setting, goal, com = world(pair, "mujoco-control")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "setting.json")
         with open(path, "w") as f:

@@ -5,6 +5,8 @@
 
 // What the files share.
 mod pusht_common;
+#[path = "../../../tests/sandbox_robot/mod.rs"]
+mod sandbox_robot;
 #[path = "../../../tests/skip.rs"]
 mod skip;
 mod toy;
@@ -15,6 +17,7 @@ mod carry_theta;
 mod com_misfit;
 mod correlated_errors;
 mod datasets_fuzz_seeds;
+mod drive_foxglove;
 mod experiment_load_all;
 mod labels_sample_data;
 mod learning;

@@ -12,7 +12,7 @@ use nalgebra::Point2;
 use super::goal::{DEFAULT_HOLD_STEPS, Goal};
 use super::planner::{Phase, Planner, PlannerConfig};
 use super::sandbox_run::{ControlError, ControlStep};
-use super::{PlanWith, is_away, planning_theta};
+use super::{Pacing, PlanWith, is_away, planning_theta};
 use crate::geometry::Pose2;
 use crate::learn::OnlineConfig;
 use crate::live::LiveLearner;
@@ -33,9 +33,8 @@ pub struct PoseControl {
 
 impl PoseControl {
     /// The controller for the object and pusher of `setting` (whose COM offset and `h`, when it
-    /// has them, are the truth `PlanWith::Truth` plans with), poses coming at `rate_hz`, the
-    /// pusher moving at most `pusher_speed` m/s.
-    #[allow(clippy::too_many_arguments)]
+    /// has them, are the truth `PlanWith::Truth` plans with), paced by `pacing`: the learner's
+    /// grid at its `grid_hz`, a target no further than a step of the pusher.
     pub fn new(
         model: &CombinedModel,
         setting: &Setting,
@@ -43,8 +42,7 @@ impl PoseControl {
         config: OnlineConfig,
         goal: Goal,
         planner: PlannerConfig,
-        rate_hz: f64,
-        pusher_speed: f64,
+        pacing: Pacing,
     ) -> Result<Self, ControlError> {
         let outline =
             (setting.object.outline()).map_err(|e| ControlError::Outline(e.to_string()))?;
@@ -61,15 +59,14 @@ impl PoseControl {
             super::learner_for(model, setting, plan_with)?,
             model.horizon(),
             config,
-            rate_hz,
+            pacing.grid_hz,
         );
-        let step_m = pusher_speed / rate_hz;
-        let planner = Planner::new(
+        let planner = Planner::paced(
             &outline,
             setting.pusher_radius,
             goal,
-            step_m,
-            step_m * model.horizon() as f64,
+            pacing,
+            model.horizon(),
             planner,
         );
         Ok(Self {
@@ -91,8 +88,12 @@ impl PoseControl {
         &self.learner
     }
 
-    /// One control step on the poses at `time_s`: learned from as they become frames, planned
-    /// from as they are.
+    pub fn planner(&self) -> &Planner {
+        &self.planner
+    }
+
+    /// One control step on the poses at `time_s`, taken and planned from at once (a caller that
+    /// gets both poses each step: `--pipe`).
     pub fn step(&mut self, time_s: f64, pusher: Point2<f64>, object: Pose2) -> ControlStep {
         let stamp_ns = (time_s.max(0.0) * 1e9).round() as u64;
         let pose = |x, y, yaw| PlanarPose {
@@ -101,15 +102,22 @@ impl PoseControl {
             y,
             yaw,
         };
-        // A pose refused (out of order, not finite) is counted by the learner and planned past.
-        let _ = self
-            .learner
-            .take(Stream::Pusher, &pose(pusher.x, pusher.y, 0.0), stamp_ns);
-        let _ = self.learner.take(
-            Stream::Object,
-            &pose(object.position.x, object.position.y, object.yaw),
-            stamp_ns,
-        );
+        self.take(Stream::Pusher, &pose(pusher.x, pusher.y, 0.0), stamp_ns);
+        let object_pose = pose(object.position.x, object.position.y, object.yaw);
+        self.take(Stream::Object, &object_pose, stamp_ns);
+        self.plan(time_s, pusher, object)
+    }
+
+    /// A pose as it arrives, at the log time it has (a robot's streams, each at its own rate):
+    /// put on the grid, learned from once its frame is final. A pose refused (out of order, not
+    /// finite) is counted by the learner and planned past.
+    pub fn take(&mut self, stream: Stream, pose: &PlanarPose, log_time_ns: u64) {
+        let _ = self.learner.take(stream, pose, log_time_ns);
+    }
+
+    /// Plans a control step from the poses as they are at `time_s` (seconds since the control
+    /// began), with the θ the run has after learning the frames that became final.
+    pub fn plan(&mut self, time_s: f64, pusher: Point2<f64>, object: Pose2) -> ControlStep {
         let sites = self.planner.sites();
         self.learner.learn_holding(|f| is_away(sites, f));
         let run = self.learner.run();

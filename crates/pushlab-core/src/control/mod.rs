@@ -8,9 +8,11 @@
 //! of a push held on its contact), [`sites`] (where a push can start and the pusher's way round
 //! the object), [`planner`] (one control step: the cross-entropy search over pushes),
 //! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes),
-//! [`external`] (the controller on poses from outside, learned by live input's grid and learner).
+//! [`external`] (the controller on poses from outside, learned by live input's grid and learner),
+//! [`drive`] (that controller driving a robot through its Foxglove server, behind a safety gate).
 
 pub mod arc;
+pub mod drive;
 pub mod external;
 pub mod goal;
 pub mod planner;
@@ -25,6 +27,39 @@ pub use sandbox_run::{ControlError, ControlOutcome, ControlStep, Decision, Sandb
 use crate::learn::OnlineRun;
 use crate::model::OnlineParams;
 use crate::trajectory::Frame;
+
+/// How fast a controller acts: the pusher's top speed, control steps a second, and the rate of
+/// the grid the model predicts on (a robot may be steered faster than the model's frames come).
+/// The one place a step's length and a prediction's travel are worked out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pacing {
+    /// Metres a second.
+    pub pusher_speed: f64,
+    pub control_hz: f64,
+    pub grid_hz: f64,
+}
+
+impl Pacing {
+    /// The sandbox's: its pusher's speed, a control step per frame.
+    pub fn sandbox() -> Self {
+        use crate::sandbox::mystery::{PUSHER_SPEED, RATE_HZ};
+        Self {
+            pusher_speed: PUSHER_SPEED,
+            control_hz: RATE_HZ,
+            grid_hz: RATE_HZ,
+        }
+    }
+
+    /// The farthest the pusher's target may be from the pusher, metres: a control step's travel.
+    pub fn step_m(&self) -> f64 {
+        self.pusher_speed / self.control_hz
+    }
+
+    /// How far the pusher travels over one prediction of a model of `horizon` grid frames.
+    pub fn travel_per_prediction(&self, horizon: usize) -> f64 {
+        self.pusher_speed / self.grid_hz * horizon as f64
+    }
+}
 
 /// How far from touching the pusher may be and still be taken as pushing, metres: tracking noise
 /// (the sandbox's 2 mm) and the model's contact tolerance fit well within it.

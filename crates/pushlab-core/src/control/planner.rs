@@ -185,6 +185,25 @@ pub struct Planner {
 }
 
 impl Planner {
+    /// A planner paced by `pacing` for a model of `horizon` frames (see [`super::Pacing`]).
+    pub fn paced(
+        outline: &Outline,
+        pusher_radius: f64,
+        goal: Goal,
+        pacing: super::Pacing,
+        horizon: usize,
+        config: PlannerConfig,
+    ) -> Self {
+        Self::new(
+            outline,
+            pusher_radius,
+            goal,
+            pacing.step_m(),
+            pacing.travel_per_prediction(horizon),
+            config,
+        )
+    }
+
     /// A planner for an object of `outline` pushed by a disc of `pusher_radius` that moves `step_m`
     /// per control step, to `goal`, with a model that predicts over `travel_per_prediction` metres
     /// of pusher travel.

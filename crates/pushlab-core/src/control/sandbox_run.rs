@@ -14,7 +14,7 @@ use super::{PlanWith, planning_theta};
 use crate::geometry::Pose2;
 use crate::learn::{OnlineConfig, OnlineRun};
 use crate::model::{CombinedModel, OnlineParams};
-use crate::sandbox::mystery::{PUSHER_SPEED, RATE_HZ};
+use crate::sandbox::mystery::RATE_HZ;
 use crate::sandbox::{Mystery, Sandbox, SandboxEvent};
 use crate::sim::TrackingNoise;
 use crate::trajectory::{Frame, Trajectory};
@@ -121,13 +121,12 @@ impl SandboxControl {
             horizon,
             config,
         );
-        let step_m = PUSHER_SPEED / RATE_HZ;
-        let planner = Planner::new(
+        let planner = Planner::paced(
             &outline,
             setting.pusher_radius,
             goal,
-            step_m,
-            step_m * horizon as f64,
+            super::Pacing::sandbox(),
+            horizon,
             planner,
         );
         let truth = OnlineParams {

@@ -155,8 +155,7 @@ fn poses_from_outside_reach_the_goal_through_live_inputs_grid_and_learner() {
         OnlineConfig::default(),
         Goal::at(GOAL),
         PlannerConfig::default(),
-        RATE_HZ,
-        PUSHER_SPEED,
+        crate::control::Pacing::sandbox(),
     )
     .unwrap();
     let mut steps = 0;
@@ -192,8 +191,7 @@ fn the_true_theta_from_outside_needs_the_settings_truth() {
         OnlineConfig::default(),
         Goal::at(GOAL),
         PlannerConfig::default(),
-        RATE_HZ,
-        PUSHER_SPEED,
+        crate::control::Pacing::sandbox(),
     );
     let Err(why) = refused else {
         panic!("planned with a truth it does not have")

@@ -12,7 +12,7 @@ use tungstenite::client::IntoClientRequest;
 use tungstenite::http::HeaderValue;
 use tungstenite::{Message, WebSocket};
 
-use super::protocol::{self, Channel, SUBPROTOCOLS, ServerBinary, ServerText};
+use super::protocol::{self, Channel, ClientChannel, SUBPROTOCOLS, ServerBinary, ServerText};
 
 /// Why a live connection failed; each names the server's address.
 #[derive(Debug, thiserror::Error)]
@@ -62,6 +62,17 @@ pub struct LiveClient {
     /// Subscription id → channel id.
     subscriptions: BTreeMap<u32, u64>,
     next_subscription: u32,
+    /// What the server's `serverInfo` said it can do and which message encodings it takes from
+    /// clients (`None` until it came).
+    offers: Option<ServerOffers>,
+}
+
+/// What a server's `serverInfo` says it supports.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ServerOffers {
+    pub capabilities: Vec<String>,
+    /// Message encodings the server takes from a client that publishes.
+    pub supported_encodings: Vec<String>,
 }
 
 impl LiveClient {
@@ -119,7 +130,14 @@ impl LiveClient {
             channels: BTreeMap::new(),
             subscriptions: BTreeMap::new(),
             next_subscription: 1,
+            offers: None,
         })
+    }
+
+    /// How long a read waits at most from now on (a controller reads more often than a viewer).
+    pub fn set_read_timeout(&mut self, timeout: Duration) -> Result<(), LiveError> {
+        (self.socket.get_ref().set_read_timeout(Some(timeout)))
+            .map_err(|e| self.closed(e.to_string()))
     }
 
     /// The server's address, as given.
@@ -145,6 +163,25 @@ impl LiveClient {
     /// The first advertised channel of a topic.
     pub fn channel_of(&self, topic: &str) -> Option<&Channel> {
         self.channels.values().find(|c| c.topic == topic)
+    }
+
+    /// What the server said it supports, once its `serverInfo` came (the first message).
+    pub fn offers(&self) -> Option<&ServerOffers> {
+        self.offers.as_ref()
+    }
+
+    /// Advertises a channel of the client's own, to publish on (the server must offer
+    /// [`protocol::CLIENT_PUBLISH`]: the caller checks [`Self::offers`]).
+    pub fn advertise(&mut self, channel: &ClientChannel) -> Result<(), LiveError> {
+        self.send(protocol::client_advertise(std::slice::from_ref(channel)))
+    }
+
+    /// Publishes a message on a channel the client advertised.
+    pub fn publish(&mut self, channel: u32, payload: &[u8]) -> Result<(), LiveError> {
+        let bytes = protocol::client_message_data(channel, payload);
+        self.socket
+            .send(Message::binary(bytes))
+            .map_err(|e| self.closed(e.to_string()))
     }
 
     /// Subscribes to a channel; its messages then come as [`LiveEvent::Message`].
@@ -199,7 +236,18 @@ impl LiveClient {
     fn on_text(&mut self, text: &str) -> Result<Option<LiveEvent>, LiveError> {
         let message = protocol::parse_text(text).map_err(|why| self.protocol(why))?;
         Ok(match message {
-            ServerText::ServerInfo { name, .. } => Some(LiveEvent::ServerInfo { name }),
+            ServerText::ServerInfo {
+                name,
+                capabilities,
+                supported_encodings,
+                ..
+            } => {
+                self.offers = Some(ServerOffers {
+                    capabilities,
+                    supported_encodings,
+                });
+                Some(LiveEvent::ServerInfo { name })
+            }
             ServerText::Advertise { channels } => {
                 for c in &channels {
                     self.channels.insert(c.id, c.clone());

@@ -6,10 +6,13 @@
 //! every message received is written to ([`recorder`]), a session with both streams followed by
 //! topic name through reconnects ([`session`], [`followed`]: what the CLI and the app run), and learning as the frames arrive: the two
 //! streams on the bag import's grid ([`grid`]) learned from by the core online run ([`learner`]),
-//! so that the session and the replay of its recording agree to the bit.
+//! so that the session and the replay of its recording agree to the bit. A controller driving the
+//! robot sends the pusher's target back by client publish ([`command`]).
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod client;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod command;
 pub mod followed;
 pub mod grid;
 pub mod learner;
@@ -22,7 +25,9 @@ pub mod session;
 pub mod tf_chain;
 
 #[cfg(not(target_arch = "wasm32"))]
-pub use self::client::{LiveClient, LiveError, LiveEvent};
+pub use self::client::{LiveClient, LiveError, LiveEvent, ServerOffers};
+#[cfg(not(target_arch = "wasm32"))]
+pub use self::command::{CommandEncoding, CommandRefused, CommandTopic};
 pub use self::followed::{Followed, Lag};
 pub use self::grid::{LiveGrid, Refused, Stream};
 pub use self::learner::{AheadScore, LiveLearner, RefusedCounts};

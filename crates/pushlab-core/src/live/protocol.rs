@@ -141,6 +141,47 @@ pub fn unsubscribe(subscriptions: &[u32]) -> String {
     json!({"op": "unsubscribe", "subscriptionIds": subscriptions}).to_string()
 }
 
+/// What a server must list in `serverInfo`'s capabilities for a client to publish to it.
+pub const CLIENT_PUBLISH: &str = "clientPublish";
+
+/// A channel a client advertises to publish on (the spec's client `advertise`): the client's own
+/// id, the topic, the message encoding, and the schema by name, encoding and text.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ClientChannel {
+    pub id: u32,
+    pub topic: String,
+    pub encoding: String,
+    pub schema_name: String,
+    pub schema_encoding: String,
+    pub schema: String,
+}
+
+/// The client's `advertise` message for `channels`.
+pub fn client_advertise(channels: &[ClientChannel]) -> String {
+    let list: Vec<_> = (channels.iter())
+        .map(|c| {
+            json!({"id": c.id, "topic": c.topic, "encoding": c.encoding,
+                   "schemaName": c.schema_name, "schemaEncoding": c.schema_encoding,
+                   "schema": c.schema})
+        })
+        .collect();
+    json!({"op": "advertise", "channels": list}).to_string()
+}
+
+/// The client's `unadvertise` message for its channel ids.
+pub fn client_unadvertise(channel_ids: &[u32]) -> String {
+    json!({"op": "unadvertise", "channelIds": channel_ids}).to_string()
+}
+
+/// The client's binary Message Data (opcode 1): its channel id, then the payload.
+pub fn client_message_data(channel: u32, payload: &[u8]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(5 + payload.len());
+    bytes.push(1);
+    bytes.extend(channel.to_le_bytes());
+    bytes.extend(payload);
+    bytes
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,5 +252,38 @@ mod tests {
         assert_eq!(value["op"], "subscribe");
         assert_eq!(value["subscriptions"][1]["channelId"], 9);
         assert_eq!(value["subscriptions"][1]["id"], 2);
+    }
+
+    #[test]
+    fn a_client_channel_is_advertised_and_published_to_as_the_spec_writes_it() {
+        let channel = ClientChannel {
+            id: 3,
+            topic: "/pusher_target".into(),
+            encoding: "cdr".into(),
+            schema_name: "geometry_msgs/msg/PoseStamped".into(),
+            schema_encoding: "ros2msg".into(),
+            schema: "std_msgs/Header header\ngeometry_msgs/Pose pose".into(),
+        };
+        let value: serde_json::Value =
+            serde_json::from_str(&client_advertise(&[channel])).expect("JSON");
+        assert_eq!(value["op"], "advertise");
+        let c = &value["channels"][0];
+        assert_eq!(
+            (
+                c["id"].as_u64(),
+                c["topic"].as_str(),
+                c["encoding"].as_str()
+            ),
+            (Some(3), Some("/pusher_target"), Some("cdr"))
+        );
+        assert_eq!(c["schemaName"], "geometry_msgs/msg/PoseStamped");
+        assert_eq!(c["schemaEncoding"], "ros2msg");
+        let value: serde_json::Value =
+            serde_json::from_str(&client_unadvertise(&[3])).expect("JSON");
+        assert_eq!(value["channelIds"][0], 3);
+        assert_eq!(
+            client_message_data(0x0403_0201, b"xy"),
+            [1, 1, 2, 3, 4, b'x', b'y']
+        );
     }
 }

@@ -9,6 +9,8 @@
 //! Blocking, on the caller's thread (a worker's in the app); every wait asks `stop` at least every
 //! [`READ_TIMEOUT`].
 
+mod commands;
+
 use std::collections::VecDeque;
 use std::path::Path;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -39,6 +41,9 @@ pub enum SessionError {
     Live(#[from] LiveError),
     #[error(transparent)]
     Record(#[from] RecordError),
+    /// The server cannot take the commands a controller would send it.
+    #[error(transparent)]
+    Refused(#[from] super::command::CommandRefused),
     /// A topic asked for that the server did not advertise in time.
     #[error("{url}: no topic {topic} advertised within {} s; the server's topics: {topics}", ADVERTISE_WAIT.as_secs())]
     NotAdvertised {
@@ -98,6 +103,11 @@ pub struct LiveSession {
     queued: VecDeque<SessionEvent>,
     /// Whether camera messages are handed out too.
     images: bool,
+    /// The topic the pusher's target is sent on, once advertised (again on each reconnect).
+    command: Option<super::command::CommandTopic>,
+    commands_sent: u64,
+    /// How long a read waits at most, when not [`READ_TIMEOUT`].
+    read_timeout: Option<Duration>,
 }
 
 /// Unix time now, nanoseconds: what a pose's lag is measured against.
@@ -135,6 +145,9 @@ impl LiveSession {
             lost_at: None,
             queued: VecDeque::new(),
             images: false,
+            command: None,
+            commands_sent: 0,
+            read_timeout: None,
         })
     }
 
@@ -142,6 +155,16 @@ impl LiveSession {
     /// panel; `pushlab live` only records them).
     pub fn show_images(&mut self) {
         self.images = true;
+    }
+
+    /// Reads wait at most `timeout` from now on, on this connection and the next ones: a
+    /// controller must look at its clock more often than [`READ_TIMEOUT`].
+    pub fn read_at_most(&mut self, timeout: Duration) -> Result<(), SessionError> {
+        self.read_timeout = Some(timeout);
+        if let Some(client) = self.client.as_mut() {
+            client.set_read_timeout(timeout)?;
+        }
+        Ok(())
     }
 
     /// The server's address.
@@ -321,6 +344,11 @@ impl LiveSession {
                     self.client = Some(client);
                     self.server = server.or(self.server.take());
                     self.lost_at = None;
+                    if let (Some(timeout), Some(client)) = (self.read_timeout, self.client.as_mut())
+                    {
+                        client.set_read_timeout(timeout)?;
+                    }
+                    self.advertise_command_again()?;
                     return Ok(Some(SessionEvent::Reconnected {
                         after_s: lost_at.elapsed().as_secs_f64(),
                         attempts,

@@ -11,11 +11,10 @@ use std::sync::Arc;
 use nalgebra::Point2;
 use pushlab_core::control::goal::DEFAULT_HOLD_STEPS;
 use pushlab_core::control::{
-    Goal, Phase, PlanWith, Planner, PlannerConfig, is_away, planning_theta,
+    Goal, Pacing, Phase, PlanWith, Planner, PlannerConfig, is_away, planning_theta,
 };
 use pushlab_core::geometry::Pose2;
 use pushlab_core::model::OnlineParams;
-use pushlab_core::sandbox::mystery::{PUSHER_SPEED, RATE_HZ};
 
 use crate::app::state::AppState;
 use crate::app::state::sources::growing::Feed;
@@ -54,13 +53,12 @@ impl AppState {
         let plan_with = s.plan_with;
         let mystery = s.sandbox.mystery();
         let horizon = self.models.horizon();
-        let step_m = PUSHER_SPEED / RATE_HZ;
-        let planner = Planner::new(
+        let planner = Planner::paced(
             &mystery.sim.outline,
             mystery.sim.pusher_radius,
             Goal::at(goal),
-            step_m,
-            step_m * horizon as f64,
+            Pacing::sandbox(),
+            horizon,
             PlannerConfig {
                 seed: mystery.seed,
                 ..PlannerConfig::default()
