@@ -17,6 +17,7 @@ mod skip;
 mod app_bags;
 mod app_browser;
 mod app_camera;
+mod app_controller_here;
 mod app_datasets;
 mod app_demo;
 mod app_equals_eval;

@@ -37,8 +37,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "A..B", value_parser = frame_range)]
     pub frames: Option<Range<usize>>,
     /// The scene's layers drawn, by short name, comma-separated (default: the app's): true-now,
-    /// true-target, online, fixed, physics, pure-nn, what-if, com, ellipse, true-com, best-com,
-    /// com-label, contact, robot-path, trails, grid.
+    /// true-target, online, fixed, physics, pure-nn, what-if, controller, com, ellipse, true-com,
+    /// best-com, com-label, contact, next-pushes, robot-path, trails, grid.
     #[arg(long, value_name = "NAMES")]
     pub layers: Option<String>,
     /// The app's loss and θ plots below the scene, growing as the push is learned.
@@ -153,4 +153,29 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     let written = written?;
     println!("wrote {}", written.display());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::{Args, Command};
+
+    use super::RenderArgs;
+    use pushlab::app::state::playback::layers::NAMED;
+
+    #[test]
+    fn the_help_lists_every_layer_by_its_short_name() {
+        let command = RenderArgs::augment_args(Command::new("render"));
+        let help = command
+            .get_arguments()
+            .find(|a| a.get_id() == "layers")
+            .and_then(|a| a.get_help())
+            .map(|h| h.to_string().replace('\n', " "))
+            .unwrap_or_default();
+        for (name, _) in NAMED {
+            assert!(
+                help.contains(&format!(" {name},")) || help.ends_with(&format!(" {name}")),
+                "--layers' help lacks {name}: {help}"
+            );
+        }
+    }
 }

@@ -1,6 +1,7 @@
 //! Steering `θ_online`: sliders for the COM offset and `h` (the prediction follows instantly), online
 //! learning by hand ("Learn this frame") or while playing, reset, and the update rule.
 
+mod controller_here;
 mod next_push;
 
 use eframe::egui;
@@ -217,6 +218,7 @@ pub fn ui(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     best_theta(ui, state, recording, commands);
     next_push::ui(ui, state, commands);
     what_if(ui, state, recording, commands);
+    controller_here::ui(ui, state, commands);
 }
 
 /// The θ_online sliders at the frame shown, each with its ±σ: moving one steers θ here.

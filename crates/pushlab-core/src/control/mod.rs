@@ -9,13 +9,15 @@
 //! the object), [`planner`] (one control step: the cross-entropy search over pushes),
 //! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes),
 //! [`external`] (the controller on poses from outside, learned by live input's grid and learner),
-//! [`drive`] (that controller driving a robot through its Foxglove server, behind a safety gate).
+//! [`drive`] (that controller driving a robot through its Foxglove server, behind a safety gate),
+//! [`replay`] (what the controller would do at a frame of a recorded push).
 
 pub mod arc;
 pub mod drive;
 pub mod external;
 pub mod goal;
 pub mod planner;
+pub mod replay;
 pub mod sandbox_run;
 pub mod sites;
 

@@ -59,7 +59,7 @@ fn toggles(ui: &mut egui::Ui, state: &AppState, edited: &mut Layers) {
 type Entry<'a> = (&'a mut bool, &'static str, Color32, Option<PredictionLayer>);
 
 /// The toggles in the order the legend lists them.
-fn entries<'a>(layers: &'a mut Layers, palette: &Palette) -> [Entry<'a>; 16] {
+fn entries<'a>(layers: &'a mut Layers, palette: &Palette) -> [Entry<'a>; 17] {
     use PredictionLayer::{Fixed, Online, Physics, PureNn};
     [
         (
@@ -114,6 +114,12 @@ fn entries<'a>(layers: &'a mut Layers, palette: &Palette) -> [Entry<'a>; 16] {
             &mut layers.what_if,
             "What if: k steps ahead (ghosts)",
             palette.online,
+            None,
+        ),
+        (
+            &mut layers.controller,
+            "What would the controller do here (to where the push ends)",
+            palette.suggestion,
             None,
         ),
         (&mut layers.com_true, "True COM ×", palette.truth, None),

@@ -13,6 +13,7 @@ pub mod draw;
 pub mod hover;
 pub mod interaction;
 pub mod legend;
+mod plan;
 pub mod sandbox;
 mod view;
 
@@ -342,6 +343,16 @@ fn footprints(
     }
     if let (Some(rollout), Some(recording)) = (&content.what_if, state.recording()) {
         draw::what_if(painter, projection, outline, rollout, &recording.trajectory);
+    }
+    if let Some((goal, step)) = state.controller_here() {
+        plan::goal(
+            painter,
+            projection,
+            outline,
+            &goal.pose,
+            "where the push ends",
+        );
+        plan::plan(painter, projection, outline, step);
     }
     for Target { pose, style, .. } in content.targets(state, palette) {
         draw::footprint(painter, projection, outline, &pose, style);

@@ -238,24 +238,9 @@ fn goal_and_plan(
     grips: &Grips,
     hot: Option<Grab>,
 ) {
-    let palette = colors::of(painter.ctx());
-    let outline_at = |pose: &Pose2| -> Vec<Pos2> {
-        (grips.outline.vertices().iter())
-            .map(|v| projection.to_screen(pose.point_in_world(*v)))
-            .collect()
-    };
     if let Some((goal, centre, knob)) = grips.goal {
-        let color = palette.suggestion;
-        let mut ring = outline_at(&goal);
-        if let Some(&first) = ring.first() {
-            ring.push(first);
-        }
-        painter.extend(egui::Shape::dashed_line(
-            &ring,
-            Stroke::new(2.0, color),
-            8.0,
-            5.0,
-        ));
+        let color = colors::of(painter.ctx()).suggestion;
+        super::plan::goal(painter, projection, &grips.outline, &goal, "goal");
         let grabbed =
             |g: Grab| hot.is_some_and(|h| std::mem::discriminant(&h) == std::mem::discriminant(&g));
         let width = |g| if grabbed(g) { 3.5 } else { 2.0 };
@@ -274,42 +259,9 @@ fn goal_and_plan(
             color.gamma_multiply(0.3),
             Stroke::new(width(turn), color),
         );
-        painter.text(
-            centre + Vec2::new(12.0, 12.0),
-            egui::Align2::LEFT_TOP,
-            "goal",
-            egui::FontId::proportional(14.0),
-            color,
-        );
     }
     let Some(driving) = session.driving() else {
         return;
     };
-    let plan = driving.plan();
-    let path: Vec<Pos2> = (plan.predicted.iter())
-        .map(|p| projection.to_screen(p.position))
-        .collect();
-    painter.add(egui::Shape::line(
-        path,
-        Stroke::new(2.5, palette.online.gamma_multiply(0.9)),
-    ));
-    if let Some(end) = plan.predicted.last() {
-        let mut ring = outline_at(end);
-        if let Some(&first) = ring.first() {
-            ring.push(first);
-        }
-        painter.add(egui::Shape::line(
-            ring,
-            Stroke::new(1.5, palette.online.gamma_multiply(0.6)),
-        ));
-    }
-    if plan.way.len() > 1 {
-        let way: Vec<Pos2> = plan.way.iter().map(|p| projection.to_screen(*p)).collect();
-        painter.extend(egui::Shape::dashed_line(
-            &way,
-            Stroke::new(1.5, palette.robot.gamma_multiply(0.7)),
-            6.0,
-            4.0,
-        ));
-    }
+    super::plan::plan(painter, projection, &grips.outline, driving.plan());
 }

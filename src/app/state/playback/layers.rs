@@ -24,6 +24,9 @@ pub struct Layers {
     pub what_if: bool,
     /// The COM labelled in the recording's metadata (a draggable diamond).
     pub com_label: bool,
+    /// What the controller would do from the frame shown, toward where the push ends (its
+    /// planned arc and the pusher's way); off by default: it plans at every frame moved.
+    pub controller: bool,
     pub contact: bool,
     /// The best few of the Steer tab's next pushes, as numbered arrows on the object.
     pub next_pushes: bool,
@@ -50,6 +53,7 @@ impl Default for Layers {
             com_ellipse: true,
             what_if: true,
             com_label: true,
+            controller: false,
             contact: true,
             next_pushes: true,
             grid: true,
@@ -63,7 +67,7 @@ type Switch = fn(&mut Layers) -> &mut bool;
 
 /// Each layer's short name (what `pushlab render --layers` takes) and its switch, in the legend's
 /// order: one table for the parser and its message.
-pub const NAMED: [(&str, Switch); 17] = [
+pub const NAMED: [(&str, Switch); 18] = [
     ("true-now", |l| &mut l.true_now),
     ("true-target", |l| &mut l.true_target),
     ("online", |l| &mut l.predicted_online),
@@ -71,6 +75,7 @@ pub const NAMED: [(&str, Switch); 17] = [
     ("physics", |l| &mut l.predicted_physics),
     ("pure-nn", |l| &mut l.predicted_pure_nn),
     ("what-if", |l| &mut l.what_if),
+    ("controller", |l| &mut l.controller),
     ("com", |l| &mut l.com_estimated),
     ("ellipse", |l| &mut l.com_ellipse),
     ("true-com", |l| &mut l.com_true),

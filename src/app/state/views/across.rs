@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use pushlab_core::control::{Goal, Plan};
 use pushlab_core::inspect::Rollout;
 use pushlab_core::learn::MeanLosses;
 use pushlab_core::model::OnlineParams;
@@ -217,6 +218,13 @@ impl AppState {
         self.frame_cache.what_if()
     }
 
+    /// What the controller would do from the frame shown, toward where the push ends, with θ at
+    /// this frame (the core's `control::replay`), with its goal: while the scene's layer is on.
+    /// Planned once per frame and θ (see `frame_cache`).
+    pub fn controller_here(&self) -> Option<&(Goal, Plan)> {
+        self.frame_cache.controller()
+    }
+
     /// One flag per frame of the selected recording: labelled "skip in training" (bad tracking).
     /// Shared, so that learning reads it without copying; computed once per labels edit.
     pub fn frames_to_skip(&mut self) -> Arc<[bool]> {
@@ -228,6 +236,15 @@ impl AppState {
     pub(in crate::app::state) fn refresh_frame_cache(&mut self) {
         let (frame, steps) = (self.frame(), self.settings.what_if_steps);
         (self.frame_cache).refresh_what_if(self.run.as_ref(), self.run_generation, frame, steps);
+        // The sandbox has a controller of its own (Push to goal); this one is for replays.
+        let replay = self.settings.layers.controller && !self.sandbox_shown();
+        let controller = self.run.as_ref().filter(|_| replay);
+        let recording = self.session.selected_recording();
+        let shape = || {
+            let setting = &recording?.setting;
+            Some((setting.object.outline().ok()?, setting.pusher_radius))
+        };
+        (self.frame_cache).refresh_controller(controller, shape, self.run_generation, frame);
         (self.browsed).refresh_shown(&self.session, &self.labels, &self.settings.browser);
     }
 

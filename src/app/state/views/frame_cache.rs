@@ -1,6 +1,7 @@
 //! What several panels read each frame, computed once per change rather than once per reader: the
-//! what-if rollout (the scene, the Inspect and the Steer tabs all show it) and the skip mask
-//! (one flag per frame of the recording, which learning while playing consults every frame moved).
+//! what-if rollout (the scene, the Inspect and the Steer tabs all show it), the controller's step
+//! from the frame shown (the scene draws it, the Steer tab says it) and the skip mask (one flag per
+//! frame of the recording, which learning while playing consults every frame moved).
 //!
 //! Each is kept with the key it was computed for and computed again only when the key changes —
 //! another frame, θ, step count or run for the rollout; another recording or labels edit for the
@@ -9,6 +10,9 @@
 
 use std::sync::Arc;
 
+use pushlab_core::control::replay::ReplayedPush;
+use pushlab_core::control::{Goal, Plan};
+use pushlab_core::geometry::Outline;
 use pushlab_core::inspect::{Rollout, rollout};
 use pushlab_core::model::OnlineParams;
 
@@ -19,6 +23,8 @@ use crate::app::state::learning::online::OnlineRun;
 #[derive(Default)]
 pub struct FrameCache {
     what_if: Option<(WhatIfKey, Rollout)>,
+    /// The controller's step from the frame (`None` inside: the push has no pace to plan at).
+    controller: Option<(ControllerKey, Option<(Goal, Plan)>)>,
     skip: Option<(SkipKey, Arc<[bool]>)>,
 }
 
@@ -29,6 +35,14 @@ struct WhatIfKey {
     frame: usize,
     theta: OnlineParams,
     steps: usize,
+}
+
+/// What the controller's step is planned for: the run, the frame and θ there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ControllerKey {
+    run: u64,
+    frame: usize,
+    theta: OnlineParams,
 }
 
 type SkipKey = (Option<LabelTarget>, Option<u64>);
@@ -76,6 +90,46 @@ impl FrameCache {
             &key.theta,
         );
         self.what_if = Some((key, rollout));
+    }
+
+    /// The controller's step last planned by [`FrameCache::refresh_controller`], with its goal.
+    pub fn controller(&self) -> Option<&(Goal, Plan)> {
+        self.controller.as_ref().and_then(|(_, plan)| plan.as_ref())
+    }
+
+    /// What the controller would do from `frame` of the run's push (the core's
+    /// `control::replay`), on the object and pusher `shape` gives (its outline and radius, asked
+    /// only when the step is planned again); forgotten with no run (the layer off, or none).
+    pub fn refresh_controller(
+        &mut self,
+        run: Option<&OnlineRun>,
+        shape: impl FnOnce() -> Option<(Outline, f64)>,
+        generation: u64,
+        frame: usize,
+    ) {
+        let Some(run) = run else {
+            self.controller = None;
+            return;
+        };
+        let key = ControllerKey {
+            run: generation,
+            frame,
+            theta: run.theta_at(frame),
+        };
+        if self.controller.as_ref().is_some_and(|(k, _)| *k == key) {
+            return;
+        }
+        let plan = shape().and_then(|(outline, pusher_radius)| {
+            let push = ReplayedPush {
+                trajectory: run.trajectory(),
+                outline: &outline,
+                pusher_radius,
+                model: run.model().as_ref(),
+                horizon: run.horizon(),
+            };
+            push.plan_at(frame, &key.theta)
+        });
+        self.controller = Some((key, plan));
     }
 
     /// One flag per frame of `target`'s recording: labelled "skip in training" (bad tracking).
