@@ -9,12 +9,14 @@
 //! - [`recording`]: `pushlab.load` and `pushlab.Recording`;
 //! - [`labels`]: `pushlab.Labels`, a folder's labels file as the core's document;
 //! - [`model`]: `pushlab.Model` (load, train, save, predict) and [`online`]: its online runs;
-//! - [`simulate`]: `pushlab.simulate`, recording sets with a known COM and `h`.
+//! - [`simulate`]: `pushlab.simulate`, recording sets with a known COM and `h`;
+//! - [`control`]: `pushlab.Controller`, push to goal on poses a script gives.
 
 // PyO3 hands each argument over as an owned value it extracted from Python (a `PathBuf` from a str
 // or path-like, a `Vec` from a list), so Python-facing functions take them by value.
 #![allow(clippy::needless_pass_by_value)]
 
+mod control;
 mod convert;
 mod error;
 mod labels;
@@ -28,6 +30,8 @@ use pyo3::prelude::*;
 /// pushlab's core from Python: recordings, labels, the combined push model and its online learning.
 #[pymodule(name = "_native")]
 mod native {
+    #[pymodule_export]
+    use super::control::Controller;
     #[pymodule_export]
     use super::error::PushlabError;
     #[pymodule_export]

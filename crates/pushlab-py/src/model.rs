@@ -33,6 +33,13 @@ pub struct Model {
     file: ModelFile,
 }
 
+impl Model {
+    /// The model file, for the package's other classes (the controller).
+    pub(crate) fn file(&self) -> &ModelFile {
+        &self.file
+    }
+}
+
 #[pymethods]
 impl Model {
     /// Reads a model file (`pushlab train --out`, the app's Save model); every rule a model file

@@ -8,6 +8,7 @@ pushlab's own message, which names the file and the field.
 """
 
 from ._native import (
+    Controller,
     Labels,
     Model,
     OnlineRun,
@@ -20,6 +21,7 @@ from ._native import (
 )
 
 __all__ = [
+    "Controller",
     "Labels",
     "Model",
     "OnlineRun",

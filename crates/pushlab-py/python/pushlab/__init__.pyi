@@ -231,3 +231,28 @@ def simulate(
     spec: Union[Dict[str, Any], _Path], *, out: Optional[_Path] = None, truth_labels: bool = False
 ) -> List[Recording]:
     """Recording sets from pushlab's simulator, with their true COM offset and h in the setting."""
+
+class Controller:
+    """Push to goal on poses a script gives: pushlab's controller (what `pushlab control --pipe`
+    runs), learning θ from the poses as it goes."""
+
+    def __init__(
+        self,
+        model: Model,
+        setting: Union[Dict[str, Any], _Path],
+        goal: Tuple[float, float, float],
+        *,
+        theta: str = "online",
+        rate: float = 10.0,
+        speed: float = 0.04,
+    ) -> None: ...
+    def step(
+        self, t: float, pusher: Tuple[float, float], object: Tuple[float, float, float]
+    ) -> Dict[str, Any]:
+        """One control step on the poses at time t: its `target`, `phase`, `theta`, errors, …"""
+    @property
+    def done(self) -> bool:
+        """Whether the goal is reached and held."""
+    @property
+    def theta(self) -> List[float]:
+        """θ as learned so far, [com_x, com_y, h] in metres."""

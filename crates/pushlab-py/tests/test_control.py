@@ -1,0 +1,67 @@
+"""pushlab.Controller is `pushlab control --pipe`: the same poses give the same targets, to the bit;
+bad arguments are refused with their name."""
+
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import pushlab
+
+from conftest import REPO
+
+SETTING = {
+    "name": "pipe",
+    "object": {"shape": "box", "width": 0.3, "length": 0.4},
+    "pusher_radius": 0.175,
+    "sample_rate_hz": 10.0,
+    "trajectories": [],
+}
+GOAL = (0.25, 0.1, 0.4)
+
+
+def poses(steps):
+    """The pusher walking in to the object's back face and on, the object moving a little: each
+    step's time, pusher and object."""
+    for k in range(steps):
+        pusher = (-0.40 + 0.004 * k, 0.01)
+        shift = max(0.0, 0.004 * k - 0.03)
+        yield k / 10.0, pusher, (shift, 0.0, 0.02 * shift)
+
+
+def test_the_controller_gives_the_clis_targets(cli: Path, tmp_path: Path):
+    setting = tmp_path / "setting.json"
+    setting.write_text(json.dumps(SETTING))
+    model = pushlab.Model.load(REPO / "assets" / "default-model.json")
+    controller = pushlab.Controller(model, setting, GOAL)
+    lines = [json.dumps({"t": t, "pusher": list(p), "object": list(o)}) for t, p, o in poses(30)]
+    done = subprocess.run(
+        [str(cli), "control", "--pipe", "--setting", str(setting), "--goal", "0.25,0.1,0.4"],
+        input="\n".join(lines) + "\n", capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    cli_steps = [json.loads(line)["step"] for line in done.stdout.splitlines()]
+    assert len(cli_steps) == 30
+    for (t, p, o), expected in zip(poses(30), cli_steps):
+        step = controller.step(t, p, o)
+        assert step["target"] == expected["target"]
+        assert step["phase"] == expected["phase"]
+        assert step["theta"] == expected["theta"]
+    assert not controller.done
+    # A setting given as a dict is the same setting.
+    again = pushlab.Controller(model, SETTING, GOAL)
+    t, p, o = next(poses(1))
+    assert again.step(t, p, o)["target"] == cli_steps[0]["target"]
+    assert len(controller.theta) == 3
+
+
+def test_bad_arguments_are_refused_by_name():
+    model = pushlab.Model.load(REPO / "assets" / "default-model.json")
+    with pytest.raises(ValueError, match="theta 'learned': expected online, fixed, physics or truth"):
+        pushlab.Controller(model, SETTING, GOAL, theta="learned")
+    with pytest.raises(ValueError, match="speed -1: expected a positive number"):
+        pushlab.Controller(model, SETTING, GOAL, speed=-1)
+    with pytest.raises(ValueError, match="com_offset and h"):
+        pushlab.Controller(model, SETTING, GOAL, theta="truth")
+    with pytest.raises(Exception, match="setting"):
+        pushlab.Controller(model, {"name": "no object"}, GOAL)
