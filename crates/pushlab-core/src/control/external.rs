@@ -9,9 +9,9 @@ use std::sync::Arc;
 
 use nalgebra::Point2;
 
-use super::goal::{DEFAULT_HOLD_STEPS, Goal};
+use super::goal::Goal;
 use super::planner::{Phase, Planner, PlannerConfig};
-use super::sandbox_run::{ControlError, ControlStep};
+use super::sandbox_run::{ControlError, ControlStep, Decision, Progress};
 use super::{Pacing, PlanWith, is_away, planning_theta};
 use crate::geometry::Pose2;
 use crate::learn::OnlineConfig;
@@ -27,8 +27,7 @@ pub struct PoseControl {
     planner: Planner,
     plan_with: PlanWith,
     truth: Option<OnlineParams>,
-    held: usize,
-    steps: usize,
+    progress: Progress,
 }
 
 impl PoseControl {
@@ -74,14 +73,13 @@ impl PoseControl {
             planner,
             plan_with,
             truth,
-            held: 0,
-            steps: 0,
+            progress: Progress::default(),
         })
     }
 
     /// Whether the goal is reached and held.
     pub fn is_done(&self) -> bool {
-        self.held >= DEFAULT_HOLD_STEPS
+        self.progress.is_done()
     }
 
     pub fn learner(&self) -> &LiveLearner {
@@ -124,27 +122,14 @@ impl PoseControl {
         let theta = planning_theta(run, self.plan_with, &self.truth.unwrap_or(run.theta0()));
         let model = Arc::clone(run.model());
         let plan = self.planner.step(&object, pusher, model.as_ref(), &theta);
-        let phase = plan.phase.unwrap_or(Phase::Holding);
-        let (target, predictions) = (plan.target, plan.predictions);
-        self.held = if phase == Phase::Holding {
-            self.held + 1
-        } else {
-            0
-        };
-        let error = self.planner.goal().error(&object);
-        let step = ControlStep {
-            step: self.steps,
-            time_s,
+        let decision = Decision {
             object,
-            pusher: [pusher.x, pusher.y],
-            target: [target.x, target.y],
-            phase: phase.name(),
+            pusher,
             theta,
-            position_error_m: error.position_m,
-            yaw_error_rad: error.yaw_rad,
-            predictions,
+            target: plan.target,
+            phase: plan.phase.unwrap_or(Phase::Holding),
+            predictions: plan.predictions,
         };
-        self.steps += 1;
-        step
+        self.progress.record(&decision, time_s, self.planner.goal())
     }
 }

@@ -61,6 +61,49 @@ pub struct Decision {
     pub predictions: usize,
 }
 
+/// A controller's count of its steps and of those it has held the goal in a row: what numbers a
+/// [`ControlStep`] and says when the goal is reached and held. One for the sandbox's controller
+/// and for the one on poses from outside.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Progress {
+    steps: usize,
+    held: usize,
+}
+
+impl Progress {
+    /// The step `d` decided at `time_s`, counted, with its error from `goal`.
+    pub(super) fn record(&mut self, d: &Decision, time_s: f64, goal: &Goal) -> ControlStep {
+        self.held = match d.phase {
+            Phase::Holding => self.held + 1,
+            _ => 0,
+        };
+        let error = goal.error(&d.object);
+        let step = ControlStep {
+            step: self.steps,
+            time_s,
+            object: d.object,
+            pusher: [d.pusher.x, d.pusher.y],
+            target: [d.target.x, d.target.y],
+            phase: d.phase.name(),
+            theta: d.theta,
+            position_error_m: error.position_m,
+            yaw_error_rad: error.yaw_rad,
+            predictions: d.predictions,
+        };
+        self.steps += 1;
+        step
+    }
+
+    pub(super) fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// Whether the goal is reached and held.
+    pub(super) fn is_done(&self) -> bool {
+        self.held >= DEFAULT_HOLD_STEPS
+    }
+}
+
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ControlOutcome {
@@ -84,9 +127,7 @@ pub struct SandboxControl {
     planner: Planner,
     plan_with: PlanWith,
     truth: OnlineParams,
-    /// Control steps the object has stayed within tolerance, the pusher holding.
-    held: usize,
-    steps: usize,
+    progress: Progress,
     pusher_path_m: f64,
     last_pusher: Point2<f64>,
     /// The newest frame planned from (before the first push: the object at rest, untracked).
@@ -141,8 +182,7 @@ impl SandboxControl {
             planner,
             plan_with,
             truth,
-            held: 0,
-            steps: 0,
+            progress: Progress::default(),
             pusher_path_m: 0.0,
             last_pusher,
             newest: None,
@@ -164,7 +204,7 @@ impl SandboxControl {
 
     /// Whether the goal is reached and held.
     pub fn is_done(&self) -> bool {
-        self.held >= DEFAULT_HOLD_STEPS
+        self.progress.is_done()
     }
 
     /// One control step: plan from the newest frame ([`SandboxControl::decide`]), then move the
@@ -195,32 +235,14 @@ impl SandboxControl {
 
     /// The acting half of a step: the pusher's target held, the frame made and learned.
     pub fn carry_out(&mut self, d: Decision) -> ControlStep {
-        if d.phase == Phase::Holding {
-            self.held += 1;
-        } else {
-            self.held = 0;
-        }
         let mut events = self.sandbox.hold(d.target);
         events.extend(self.sandbox.advance(1.0 / RATE_HZ));
         self.take(events);
         let now = self.sandbox.pusher();
         self.pusher_path_m += (now - self.last_pusher).norm();
         self.last_pusher = now;
-        let error = self.planner.goal().error(&d.object);
-        let step = ControlStep {
-            step: self.steps,
-            time_s: self.steps as f64 / RATE_HZ,
-            object: d.object,
-            pusher: [d.pusher.x, d.pusher.y],
-            target: [d.target.x, d.target.y],
-            phase: d.phase.name(),
-            theta: d.theta,
-            position_error_m: error.position_m,
-            yaw_error_rad: error.yaw_rad,
-            predictions: d.predictions,
-        };
-        self.steps += 1;
-        step
+        let time_s = self.progress.steps() as f64 / RATE_HZ;
+        self.progress.record(&d, time_s, self.planner.goal())
     }
 
     /// Steps until the goal is held or `time_limit_s` has passed; each step handed to `each`.
@@ -230,7 +252,7 @@ impl SandboxControl {
         mut each: impl FnMut(&ControlStep),
     ) -> ControlOutcome {
         let limit = (time_limit_s * RATE_HZ).ceil() as usize;
-        while !self.is_done() && self.steps < limit {
+        while !self.is_done() && self.progress.steps() < limit {
             let step = self.step();
             each(&step);
         }
@@ -245,11 +267,11 @@ impl SandboxControl {
         } = self.planner.goal().error(&self.sandbox.object_pose());
         ControlOutcome {
             reached: self.is_done(),
-            time_s: self.steps as f64 / RATE_HZ,
+            time_s: self.progress.steps() as f64 / RATE_HZ,
             pusher_path_m: self.pusher_path_m,
             final_position_error_m: position_m,
             final_yaw_error_rad: yaw_rad,
-            steps: self.steps,
+            steps: self.progress.steps(),
             theta_end: self.run.theta_at(self.run.frontier()),
         }
     }

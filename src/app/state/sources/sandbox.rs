@@ -66,6 +66,10 @@ pub struct Driving {
     /// holding.
     pub(in crate::app::state) steps: usize,
     pub(in crate::app::state) held: usize,
+    /// Per frame of the driven push (its run's generation first), whether the pusher was away
+    /// from the object: kept as the frames arrive, so that each learning batch tests only the new
+    /// frames.
+    pub(in crate::app::state) away: (u64, Vec<bool>),
 }
 
 impl Driving {

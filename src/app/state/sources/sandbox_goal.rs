@@ -71,6 +71,7 @@ impl AppState {
                 frames_seen: 0,
                 steps: 0,
                 held: 0,
+                away: (self.run_generation, Vec::new()),
             });
             s.last_drive = None;
         }
@@ -194,18 +195,25 @@ impl AppState {
     }
 
     /// `skip` with the frames where the pusher is away from the object flagged too, while the
-    /// controller drives the growing push.
-    pub(in crate::app::state) fn with_frames_away(&self, skip: Arc<[bool]>) -> Arc<[bool]> {
-        let driven = self.sandbox.as_ref().and_then(|s| s.driving.as_ref());
+    /// controller drives the growing push. The flags are kept as the frames arrive: each batch
+    /// tests only the frames new since the last.
+    pub(in crate::app::state) fn with_frames_away(&mut self, skip: Arc<[bool]>) -> Arc<[bool]> {
+        let generation = self.run_generation;
+        let driven = self.sandbox.as_mut().and_then(|s| s.driving.as_mut());
         let (Some(driving), Some(run)) = (driven, self.run.as_ref()) else {
             return skip;
         };
+        let frames = &run.trajectory().frames;
+        let (kept_for, away) = &mut driving.away;
+        if *kept_for != generation || away.len() > frames.len() {
+            *kept_for = generation;
+            away.clear();
+        }
         let sites = driving.planner.sites();
-        run.trajectory()
-            .frames
-            .iter()
-            .enumerate()
-            .map(|(k, f)| skip.get(k).copied().unwrap_or(false) || is_away(sites, f))
+        let new = frames[away.len()..].iter().map(|f| is_away(sites, f));
+        away.extend(new);
+        (away.iter().enumerate())
+            .map(|(k, &a)| a || skip.get(k).copied().unwrap_or(false))
             .collect()
     }
 }
