@@ -84,7 +84,7 @@ pub fn write(path: &Path, figure: &impl Drawing) -> anyhow::Result<()> {
         Format::Pdf => {
             let mut page = pdf::PdfPage::new(figure.size(), FONT_BYTES)?;
             figure.draw(&(&mut page).into_drawing_area())?;
-            page.file()
+            page.file()?
         }
     };
     write_atomically(path, &bytes).with_context(|| format!("cannot write {}", path.display()))

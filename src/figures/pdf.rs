@@ -1,7 +1,9 @@
 //! Figures as PDF: a plotters backend that writes what the figure draws as PDF operators — lines,
-//! polylines and polygons as paths, text as text in the bundled font, embedded (a CID font over the
-//! TrueType file, compressed, with a ToUnicode map so that the words can be searched and copied).
-//! plotters has no PDF backend, and converting the SVG would take a renderer's worth of crates.
+//! polylines and polygons as paths, text as text in the given font, embedded as a subset of the
+//! glyphs used (a CID font over the TrueType subset, compressed, with a ToUnicode map so that the
+//! words can be searched and copied). The file's objects are written by `pdf-writer`, the subset by
+//! `subsetter`. plotters has no PDF backend, and converting the SVG would take a renderer's worth of
+//! crates.
 //!
 //! The text is placed as plotters' bitmap backend places it — the same size (the font scaled so that
 //! its ascent to descent is the style's size), the same anchors, the same quarter turns — so that
@@ -11,11 +13,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use ab_glyph::{Font, FontRef};
+use pdf_writer::types::{CidFontType, FontFlags, SystemInfo, UnicodeCmap};
+use pdf_writer::{Filter, Name, Pdf, Rect, Ref, Str};
 use plotters::prelude::DrawingBackend;
 use plotters_backend::text_anchor::{HPos, VPos};
 use plotters_backend::{
     BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind, FontTransform,
 };
+use subsetter::GlyphRemapper;
 
 /// Why drawing failed: the bundled font did not read (it always does).
 #[derive(Debug)]
@@ -103,105 +108,148 @@ impl PdfPage {
             .sum()
     }
 
-    /// The whole file: the page, its content, the font and the cross-reference table.
-    pub fn file(self) -> Vec<u8> {
+    /// The whole file, written by `pdf-writer`: the page, its content, and the font subset to
+    /// the glyphs the text uses (`subsetter`), with its widths, its metrics read from the font
+    /// file, and a ToUnicode map so that the words can be searched and copied. The content names
+    /// glyphs by their ids in the whole font; a CIDToGIDMap takes each to its id in the subset.
+    pub fn file(self) -> Result<Vec<u8>, PdfError> {
         let (w, h) = self.size;
-        let units = f64::from(self.font.units_per_em().unwrap_or(1000.0));
-        let per_mille = |v: f32| (f64::from(v) * 1000.0 / units).round() as i64;
-        let mut alphas = String::new();
-        for alpha in &self.alphas {
-            let a = f64::from(*alpha) / 255.0;
-            let _ = write!(alphas, "/A{alpha} << /CA {a:.4} /ca {a:.4} >> ");
+        let units = self.font.units_per_em().unwrap_or(1000.0);
+        let per_mille = |v: f32| v * 1000.0 / units;
+        let mut remapper = GlyphRemapper::new();
+        for &glyph in self.glyphs.keys() {
+            remapper.remap(glyph);
         }
-        let mut widths = String::new();
-        let mut unicode = String::new();
+        let subset = subsetter::subset(self.font_file, 0, &remapper).map_err(|_| PdfError)?;
+        let metrics = skrifa::FontRef::new(self.font_file)
+            .map(|f| {
+                skrifa::MetadataProvider::metrics(
+                    &f,
+                    skrifa::instance::Size::unscaled(),
+                    skrifa::instance::LocationRef::default(),
+                )
+            })
+            .map_err(|_| PdfError)?;
+
+        let [
+            catalog,
+            pages,
+            page,
+            content,
+            type0,
+            cid,
+            descriptor,
+            font_file,
+            to_unicode,
+            gid_map,
+        ] = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10].map(Ref::new);
+        let mut pdf = Pdf::new();
+        pdf.catalog(catalog).pages(pages);
+        pdf.pages(pages).kids([page]).count(1);
+        let mut alpha_ids = Vec::new();
+        for (k, alpha) in self.alphas.iter().enumerate() {
+            alpha_ids.push((*alpha, Ref::new(11 + k as i32)));
+        }
+        {
+            let mut p = pdf.page(page);
+            p.parent(pages)
+                .media_box(Rect::new(0.0, 0.0, w as f32, h as f32))
+                .contents(content);
+            let mut resources = p.resources();
+            resources.fonts().pair(Name(b"F1"), type0);
+            let mut states = resources.ext_g_states();
+            for (alpha, id) in &alpha_ids {
+                states.pair(Name(format!("A{alpha}").as_bytes()), *id);
+            }
+        }
+        for (alpha, id) in &alpha_ids {
+            let a = f32::from(*alpha) / 255.0;
+            pdf.ext_graphics(*id)
+                .stroking_alpha(a)
+                .non_stroking_alpha(a);
+        }
+        let deflate = |bytes: &[u8]| miniz_oxide::deflate::compress_to_vec_zlib(bytes, 6);
+        pdf.stream(content, &deflate(self.content.as_bytes()))
+            .filter(Filter::FlateDecode);
+
+        pdf.type0_font(type0)
+            .base_font(Name(FONT_NAME))
+            .encoding_predefined(Name(b"Identity-H"))
+            .descendant_font(cid)
+            .to_unicode(to_unicode);
+        {
+            let mut font = pdf.cid_font(cid);
+            font.subtype(CidFontType::Type2)
+                .base_font(Name(FONT_NAME))
+                .system_info(SystemInfo {
+                    registry: Str(b"Adobe"),
+                    ordering: Str(b"Identity"),
+                    supplement: 0,
+                })
+                .font_descriptor(descriptor)
+                .default_width(1000.0)
+                .cid_to_gid_map_stream(gid_map);
+            let mut widths = font.widths();
+            for &glyph in self.glyphs.keys() {
+                let advance = self.font.h_advance_unscaled(ab_glyph::GlyphId(glyph));
+                widths.consecutive(glyph, [per_mille(advance)]);
+            }
+        }
+        let bbox = metrics
+            .bounds
+            .map_or(Rect::new(0.0, 0.0, 1000.0, 1000.0), |b| {
+                Rect::new(
+                    per_mille(b.x_min),
+                    per_mille(b.y_min),
+                    per_mille(b.x_max),
+                    per_mille(b.y_max),
+                )
+            });
+        pdf.font_descriptor(descriptor)
+            .name(Name(FONT_NAME))
+            .flags(FontFlags::NON_SYMBOLIC)
+            .bbox(bbox)
+            .italic_angle(0.0)
+            .ascent(per_mille(metrics.ascent))
+            .descent(per_mille(metrics.descent))
+            .cap_height(per_mille(metrics.cap_height.unwrap_or(metrics.ascent)))
+            .stem_v(80.0)
+            .font_file2(font_file);
+        pdf.stream(font_file, &deflate(&subset))
+            .filter(Filter::FlateDecode)
+            .pair(Name(b"Length1"), subset.len() as i32);
+
+        // The CIDToGIDMap: for each glyph id of the whole font up to the largest used, two bytes
+        // of its id in the subset (0, the missing glyph, for those not used).
+        let last = self.glyphs.keys().next_back().copied().unwrap_or(0);
+        let mut map = vec![0u8; 2 * (usize::from(last) + 1)];
+        for &glyph in self.glyphs.keys() {
+            let new = remapper.get(glyph).unwrap_or(0);
+            map[2 * usize::from(glyph)..2 * usize::from(glyph) + 2]
+                .copy_from_slice(&new.to_be_bytes());
+        }
+        pdf.stream(gid_map, &deflate(&map))
+            .filter(Filter::FlateDecode);
+
+        let mut cmap = UnicodeCmap::new(
+            Name(b"Adobe-Identity-UCS"),
+            SystemInfo {
+                registry: Str(b"Adobe"),
+                ordering: Str(b"UCS"),
+                supplement: 0,
+            },
+        );
         for (&glyph, &c) in &self.glyphs {
-            let advance = self.font.h_advance_unscaled(ab_glyph::GlyphId(glyph));
-            let _ = write!(widths, "{glyph} [{}] ", per_mille(advance));
-            let mut utf16 = [0u16; 2];
-            let units: String = (c.encode_utf16(&mut utf16).iter())
-                .map(|u| format!("{u:04X}"))
-                .collect();
-            let _ = writeln!(unicode, "<{glyph:04X}> <{units}>");
+            cmap.pair(glyph, c);
         }
-        let to_unicode = format!(
-            "/CIDInit /ProcSet findresource begin 12 dict begin begincmap\n\
-             /CIDSystemInfo << /Registry (Adobe) /Ordering (UCS) /Supplement 0 >> def\n\
-             /CMapName /Adobe-Identity-UCS def /CMapType 2 def\n\
-             1 begincodespacerange <0000> <FFFF> endcodespacerange\n\
-             {} beginbfchar\n{unicode}endbfchar\n\
-             endcmap CMapName currentdict /CMap defineresource pop end end\n",
-            self.glyphs.len()
-        );
-        let (ascent, descent) = (self.font.ascent_unscaled(), self.font.descent_unscaled());
-        let mut objects: Vec<Vec<u8>> = vec![
-            b"<< /Type /Catalog /Pages 2 0 R >>".to_vec(),
-            b"<< /Type /Pages /Kids [3 0 R] /Count 1 >>".to_vec(),
-            format!(
-                "<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {w} {h}] /Contents 4 0 R \
-                 /Resources << /Font << /F1 5 0 R >> /ExtGState << {alphas}>> >> >>"
-            )
-            .into_bytes(),
-            stream("", self.content.as_bytes()),
-            b"<< /Type /Font /Subtype /Type0 /BaseFont /LiberationSans /Encoding /Identity-H \
-               /DescendantFonts [6 0 R] /ToUnicode 9 0 R >>"
-                .to_vec(),
-            format!(
-                "<< /Type /Font /Subtype /CIDFontType2 /BaseFont /LiberationSans \
-                 /CIDSystemInfo << /Registry (Adobe) /Ordering (Identity) /Supplement 0 >> \
-                 /FontDescriptor 7 0 R /CIDToGIDMap /Identity /DW 1000 /W [{widths}] >>"
-            )
-            .into_bytes(),
-            format!(
-                "<< /Type /FontDescriptor /FontName /LiberationSans /Flags 32 \
-                 /FontBBox [-544 -303 1302 980] /ItalicAngle 0 /Ascent {} /Descent {} \
-                 /CapHeight 729 /StemV 80 /FontFile2 8 0 R >>",
-                per_mille(ascent),
-                per_mille(descent)
-            )
-            .into_bytes(),
-            stream(
-                &format!("/Length1 {}", self.font_file.len()),
-                self.font_file,
-            ),
-            stream("", to_unicode.as_bytes()),
-        ];
-        let mut file = b"%PDF-1.7\n%\xE2\xE3\xCF\xD3\n".to_vec();
-        let mut offsets = Vec::with_capacity(objects.len());
-        for (i, object) in objects.iter_mut().enumerate() {
-            offsets.push(file.len());
-            file.extend(format!("{} 0 obj\n", i + 1).as_bytes());
-            file.append(object);
-            file.extend(b"\nendobj\n");
-        }
-        let xref = file.len();
-        file.extend(format!("xref\n0 {}\n0000000000 65535 f \n", offsets.len() + 1).as_bytes());
-        for offset in offsets {
-            file.extend(format!("{offset:010} 00000 n \n").as_bytes());
-        }
-        file.extend(
-            format!(
-                "trailer\n<< /Size {} /Root 1 0 R >>\nstartxref\n{xref}\n%%EOF\n",
-                objects.len() + 1
-            )
-            .as_bytes(),
-        );
-        file
+        pdf.cmap(to_unicode, &deflate(cmap.finish().as_slice()))
+            .filter(Filter::FlateDecode);
+        Ok(pdf.finish())
     }
 }
 
-/// A stream object, its bytes compressed (zlib, FlateDecode).
-fn stream(extra: &str, bytes: &[u8]) -> Vec<u8> {
-    let compressed = miniz_oxide::deflate::compress_to_vec_zlib(bytes, 6);
-    let mut object = format!(
-        "<< /Length {} /Filter /FlateDecode {extra} >>\nstream\n",
-        compressed.len()
-    )
-    .into_bytes();
-    object.extend(compressed);
-    object.extend(b"\nendstream");
-    object
-}
+/// The embedded font's PDF name: a subset is marked by six capitals and a plus before its name.
+const FONT_NAME: &[u8] = b"PUSHLB+LiberationSans";
 
 impl DrawingBackend for &mut PdfPage {
     type ErrorType = PdfError;
