@@ -15,8 +15,9 @@ fn nothing_usable_is_exit_1_and_wrong_arguments_exit_2() {
     ));
     assert_eq!(run.code, 1, "{}\n{}", run.stdout, run.stderr);
     assert!(
-        run.stderr
-            .contains("nothing usable in --offline: no recording could be used (1 skipped)"),
+        run.stderr.contains(&format!(
+            "nothing usable in --offline: no recording could be used (1 skipped: {missing}: cannot read"
+        )),
         "{}",
         run.stderr
     );

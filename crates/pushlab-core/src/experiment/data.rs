@@ -171,8 +171,14 @@ impl Loaded {
     pub fn why_nothing(&self, horizon: usize) -> String {
         let mut parts = Vec::new();
         let unreadable = self.skipped.len() - self.too_short;
-        if unreadable > 0 {
-            parts.push(format!("{unreadable} skipped"));
+        // The unreadable come first (`drop_short` adds the short ones after them): the first is
+        // named, so that a wrong path says which path it was.
+        if let Some(first) = self.skipped.first().filter(|_| unreadable > 0) {
+            let more = match unreadable {
+                1 => String::new(),
+                n => format!("; {} more", n - 1),
+            };
+            parts.push(format!("{unreadable} skipped: {}{more}", first.message()));
         }
         if self.too_short > 0 {
             parts.push(format!(
