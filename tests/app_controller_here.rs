@@ -7,7 +7,7 @@ use egui_kittest::kittest::Queryable;
 use pushlab::app::state::Command;
 use pushlab::app::state::playback::timeline::TimelineCommand;
 use pushlab_core::control::Phase;
-use pushlab_core::control::replay::ReplayedPush;
+use pushlab_core::control::replay::{ReplayedPush, replay_pacing};
 
 use crate::common;
 
@@ -37,6 +37,7 @@ fn the_layer_plans_the_cores_step_from_the_frame_shown_and_steer_says_it() {
         pusher_radius: recording.setting.pusher_radius,
         model: run.model().as_ref(),
         horizon: run.horizon(),
+        pacing: replay_pacing(run.trajectory()).expect("a pace"),
     };
     let theta = run.theta_at(frame);
     assert_ne!(theta, run.theta_at(0), "θ as learned by frame 12");

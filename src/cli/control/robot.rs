@@ -10,13 +10,12 @@ use nalgebra::Point2;
 use pushlab_core::control::PlanWith;
 use pushlab_core::control::drive::{Command, Drive, DriveConfig, DriveEvent, Halt, Workspace};
 use pushlab_core::geometry::Pose2;
-use pushlab_core::live::SessionError;
 use pushlab_core::model_file::ModelFile;
 use serde_json::json;
 
 use super::args::ControlArgs;
 use crate::cli::exit::Failure;
-use crate::cli::interrupt;
+use crate::cli::{interrupt, live};
 
 /// `X0,Y0,X1,Y1` as a workspace, or what is wrong with it.
 fn parse_workspace(text: &str) -> Result<Workspace, String> {
@@ -32,16 +31,6 @@ fn parse_workspace(text: &str) -> Result<Workspace, String> {
     };
     Workspace::new(Point2::new(*x0, *y0), Point2::new(*x1, *y1))
         .map_err(|e| format!("--workspace '{text}': {e}"))
-}
-
-/// A robot's session error as the CLI says it: a topic that cannot be read is the command line's.
-fn failure(error: SessionError) -> Failure {
-    match error {
-        SessionError::Unreadable { role, topic, why } => {
-            Failure::Usage(anyhow!("--{role} {topic}: {why}"))
-        }
-        error => Failure::Failed(error.into()),
-    }
 }
 
 /// Runs the controller on the robot at `url`.
@@ -94,7 +83,7 @@ pub(super) fn run_robot(
     interrupt::cancel_flag();
     let (drive, encoding) =
         Drive::open(config, control, &interrupt::cancelled).map_err(|e| match e {
-            pushlab_core::control::drive::DriveError::Session(e) => failure(e),
+            pushlab_core::control::drive::DriveError::Session(e) => live::failure(e),
         })?;
     let said = if robot.arm {
         format!(
@@ -131,7 +120,7 @@ pub(super) fn run_robot(
     let end = drive
         .run(&interrupt::cancelled, &mut || None, &mut each)
         .map_err(|e| match e {
-            pushlab_core::control::drive::DriveError::Session(e) => failure(e),
+            pushlab_core::control::drive::DriveError::Session(e) => live::failure(e),
         })?;
     bar.finish_and_clear();
     let recorded = end.recorded.as_ref().map(|r| {

@@ -51,8 +51,9 @@ pub struct LiveArgs {
     pub learning: LearningArgs,
 }
 
-/// A session's error as the CLI says it: a topic that cannot be read is the command line's fault.
-fn failure(error: SessionError) -> Failure {
+/// A session's error as the CLI says it: a topic that cannot be read is the command line's fault
+/// (`pushlab live` and `pushlab control ws://…` both run a session).
+pub(super) fn failure(error: SessionError) -> Failure {
     match error {
         SessionError::Unreadable { role, topic, why } => {
             Failure::Usage(anyhow!("--{role} {topic}: {why}"))

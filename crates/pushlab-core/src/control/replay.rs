@@ -15,13 +15,15 @@ use crate::model::{OnlineModel, OnlineParams};
 use crate::trajectory::Trajectory;
 
 /// A recorded push seen by the controller: the object's outline and the pusher's radius, the
-/// model the run learns with (its horizon, in frames).
+/// model the run learns with (its horizon, in frames), and the push's pace ([`replay_pacing`]:
+/// measured over the whole push, so a caller planning frame after frame measures it once).
 pub struct ReplayedPush<'a, M: OnlineModel + ?Sized> {
     pub trajectory: &'a Trajectory,
     pub outline: &'a Outline,
     pub pusher_radius: f64,
     pub model: &'a M,
     pub horizon: usize,
+    pub pacing: Pacing,
 }
 
 /// Where a replayed push's controller is sent: the object's pose at the push's last frame, with
@@ -44,11 +46,10 @@ pub fn replay_pacing(trajectory: &Trajectory) -> Option<Pacing> {
 
 impl<M: OnlineModel + ?Sized> ReplayedPush<'_, M> {
     /// The controller's step from `frame` with `theta` (the run's at that frame), toward where
-    /// the push ended; `None` past the push's end or for a push without a pace.
+    /// the push ended; `None` past the push's end.
     pub fn plan_at(&self, frame: usize, theta: &OnlineParams) -> Option<(Goal, Plan)> {
         let f = self.trajectory.frames.get(frame)?;
         let goal = replay_goal(self.trajectory)?;
-        let pacing = replay_pacing(self.trajectory)?;
         let config = PlannerConfig {
             seed: frame as u64,
             ..PlannerConfig::default()
@@ -57,7 +58,7 @@ impl<M: OnlineModel + ?Sized> ReplayedPush<'_, M> {
             self.outline,
             self.pusher_radius,
             goal,
-            pacing,
+            self.pacing,
             self.horizon,
             config,
         );
@@ -92,13 +93,14 @@ mod tests {
             pusher_radius: set.setting.pusher_radius,
             model: learner.as_ref(),
             horizon: model.combined.horizon(),
+            pacing: replay_pacing(&recording.trajectory).unwrap(),
         };
         let theta = learner.theta0();
         let (goal, plan) = push.plan_at(0, &theta).unwrap();
         let last = recording.trajectory.frames.last().unwrap().object;
         assert_eq!(goal.pose, last);
         // The step is a step of the recording's own pusher, no longer.
-        let pacing = replay_pacing(&recording.trajectory).unwrap();
+        let pacing = push.pacing;
         let first = &recording.trajectory.frames[0];
         let moved = (plan.target - first.robot).norm();
         assert!(moved <= pacing.step_m() + 1e-9, "{moved} m");

@@ -10,8 +10,8 @@
 
 use std::sync::Arc;
 
-use pushlab_core::control::replay::ReplayedPush;
-use pushlab_core::control::{Goal, Plan};
+use pushlab_core::control::replay::{ReplayedPush, replay_pacing};
+use pushlab_core::control::{Goal, Pacing, Plan};
 use pushlab_core::geometry::Outline;
 use pushlab_core::inspect::{Rollout, rollout};
 use pushlab_core::model::OnlineParams;
@@ -25,6 +25,8 @@ pub struct FrameCache {
     what_if: Option<(WhatIfKey, Rollout)>,
     /// The controller's step from the frame (`None` inside: the push has no pace to plan at).
     controller: Option<(ControllerKey, Option<(Goal, Plan)>)>,
+    /// The pace of the run's push, measured once per run (it reads every frame of the push).
+    replay_pace: Option<(u64, Option<Pacing>)>,
     skip: Option<(SkipKey, Arc<[bool]>)>,
 }
 
@@ -119,13 +121,18 @@ impl FrameCache {
         if self.controller.as_ref().is_some_and(|(k, _)| *k == key) {
             return;
         }
-        let plan = shape().and_then(|(outline, pusher_radius)| {
+        if self.replay_pace.is_none_or(|(run, _)| run != generation) {
+            self.replay_pace = Some((generation, replay_pacing(run.trajectory())));
+        }
+        let pacing = self.replay_pace.and_then(|(_, pace)| pace);
+        let plan = (pacing.zip(shape())).and_then(|(pacing, (outline, pusher_radius))| {
             let push = ReplayedPush {
                 trajectory: run.trajectory(),
                 outline: &outline,
                 pusher_radius,
                 model: run.model().as_ref(),
                 horizon: run.horizon(),
+                pacing,
             };
             push.plan_at(frame, &key.theta)
         });
