@@ -56,10 +56,6 @@ impl Workspace {
         }
     }
 
-    pub fn contains(&self, p: Point2<f64>) -> bool {
-        (self.min[0]..=self.max[0]).contains(&p.x) && (self.min[1]..=self.max[1]).contains(&p.y)
-    }
-
     fn clamp(&self, p: Point2<f64>) -> Point2<f64> {
         Point2::new(
             p.x.clamp(self.min[0], self.max[0]),

@@ -131,26 +131,6 @@ impl Drive {
         ))
     }
 
-    pub fn session(&self) -> &LiveSession {
-        &self.session
-    }
-
-    pub fn control(&self) -> &PoseControl {
-        &self.control
-    }
-
-    /// Whether the gate lets targets out now.
-    pub fn is_armed(&self) -> bool {
-        self.gate
-            .as_ref()
-            .map_or(self.arm_asked, SafetyGate::is_armed)
-    }
-
-    /// The workspace targets are kept in, once known.
-    pub fn workspace(&self) -> Option<Workspace> {
-        self.gate.as_ref().map(|g| g.limits().workspace)
-    }
-
     /// Runs until the goal is held, `stop` says so (the user's interrupt), the time limit passes,
     /// the poses go stale or the link drops; `user` is asked for the user's actions between
     /// events, and each event goes to `each`.
