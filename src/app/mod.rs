@@ -278,6 +278,7 @@ pub fn initial_state(paths: &[PathBuf], persisted: Persisted) -> AppState {
 /// Opens the app window; returns when it is closed.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn run(paths: Vec<PathBuf>) -> anyhow::Result<()> {
+    platform::return_large_blocks_when_freed();
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("pushlab")

@@ -137,3 +137,28 @@ mod backend {
         QUEUE.with(|queue| !queue.borrow().is_empty())
     }
 }
+
+/// Makes large blocks the app frees go back to the system, on Linux with glibc; called once, before
+/// the window opens.
+///
+/// glibc serves a request of 128 kB or more from its own mapping, returned on free, but raises that
+/// threshold to the size of each such block freed, up to 32 MB. A recording's work makes many
+/// vectors of a few MB, one slot per frame (loading, the proposals, the fixed runs), on worker
+/// threads; once the threshold has risen they come from the workers' arenas, and an arena keeps
+/// what is freed. The million-frame push (`pushlab simulate --pushes 1 --rate 250 --duration 4000`)
+/// played in 460 MB, 124 MB of it freed memory held by one worker's arena. A fixed threshold of
+/// 4 MB keeps the rise from happening: blocks that large are mapped and unmapped whole (292–328 MB,
+/// the same push; `docs/src/performance.md`). Smaller blocks, the per-frame work, are untouched.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[allow(unsafe_code)]
+pub fn return_large_blocks_when_freed() {
+    const THRESHOLD: libc::c_int = 4 << 20;
+    // SAFETY: `mallopt` only sets an allocator parameter; glibc takes its own lock for it.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, THRESHOLD);
+    }
+}
+
+/// Other allocators return large blocks without being asked.
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+pub fn return_large_blocks_when_freed() {}
