@@ -378,3 +378,29 @@ test("?url= names a fetched file by its decoded address: an MIT file's = written
   assert.ok(opened[0].length > 0 && opened[0].some((n) => n.includes("rect1")), `opened: ${opened[0]}`);
   assert.deepEqual(opened[1], opened[0], "both spellings open the same recording");
 });
+
+test("an MIT file learned to its end in the page ends at pushlab eval's θ and losses, to the bit", async (t) => {
+  const name = process.env.PUSHLAB_MIT_SERVED;
+  if (!name) {
+    t.skip("../shared/mit-push/ is absent: no MIT file to serve");
+    return;
+  }
+  // Real poses turn through every angle: the page's sin and cos must be eval's, not the browser's
+  // or glibc's (pushlab_core::math).
+  const expected = JSON.parse(readFileSync(process.env.PUSHLAB_EVAL_JSON, "utf8")).mit_check;
+  const { page, errors } = await open(`?url=${encodeURIComponent(`${site}fetch-test/${name}`)}`);
+  await page.waitForFunction(() => window.pushlab.state().open.length > 324 || window.pushlab.state().error,
+    null, { timeout: 60_000 });
+  await settled(page);
+  assert.match((await state(page)).recording ?? "", /rect1/, "the MIT file is shown");
+  await command(page, { learn: true });
+  await command(page, { seek: expected.frame + 1 });
+  await settled(page);
+  await command(page, { seek: expected.frame });
+  const s = await settled(page);
+  assert.equal(s.frame, expected.frame);
+  assert.deepEqual(s.theta, expected.theta, "theta");
+  assert.deepEqual(s.online_loss, expected.online, "online loss");
+  assert.deepEqual(errors, []);
+  await page.close();
+});

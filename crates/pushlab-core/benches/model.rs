@@ -16,6 +16,10 @@
 //! - `train/train_epoch` (the paper's model) and `train/train_epoch_contact`: one epoch's training,
 //!   with the training's one-off work; `train/train_5_epochs_contact` gives an epoch's cost beyond it.
 
+// The platform's sin, cos and hypot are fine for synthetic inputs here; the core's own calls
+// go through pushlab_core::math (its clippy.toml).
+#![allow(clippy::disallowed_methods)]
+
 use std::hint::black_box;
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, OnceLock};

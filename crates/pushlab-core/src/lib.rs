@@ -13,6 +13,10 @@
 //! - The **COM offset** is `COM − geometric centre`, in the object frame. The paper's `v` is its
 //!   negative (`v = centre − COM`); this crate never exposes `v`.
 //! - Frames are named in identifiers: `robot_in_object`, `world_from_object`.
+//! - `sin`, `atan2`, `exp` and their kin come from [`math`], the same bits on every target; tests
+//!   may check against the platform's.
+
+#![cfg_attr(test, allow(clippy::disallowed_methods))]
 
 pub mod atomic_file;
 pub mod control;
@@ -25,6 +29,7 @@ pub mod json_problem;
 pub mod labels;
 pub mod learn;
 pub mod live;
+pub mod math;
 pub mod model;
 pub mod model_file;
 mod parallel;

@@ -14,6 +14,8 @@ pub trait Real: Float + Default + Debug + Send + Sync + 'static {
     fn of(x: f64) -> Self;
     /// Converts to `f64` (exact).
     fn as_f64(self) -> f64;
+    /// `(sin, cos)` with the same bits on every target (`crate::math::sin_cos`).
+    fn sin_cos_everywhere(self) -> (Self, Self);
 }
 
 impl Real for f32 {
@@ -25,6 +27,10 @@ impl Real for f32 {
     fn as_f64(self) -> f64 {
         f64::from(self)
     }
+    #[inline]
+    fn sin_cos_everywhere(self) -> (Self, Self) {
+        libm::sincosf(self)
+    }
 }
 
 impl Real for f64 {
@@ -35,5 +41,9 @@ impl Real for f64 {
     #[inline(always)]
     fn as_f64(self) -> f64 {
         self
+    }
+    #[inline]
+    fn sin_cos_everywhere(self) -> (Self, Self) {
+        libm::sincos(self)
     }
 }

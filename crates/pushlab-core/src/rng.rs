@@ -1,6 +1,8 @@
 //! A small seeded random number generator, so that results are bit-identical for a seed on every
 //! machine and every version of pushlab (no dependency whose stream could change under us).
 
+use crate::math;
+
 /// SplitMix64 (Steele, Lea and Flood 2014): 64-bit state, passes BigCrush, trivially seedable.
 #[derive(Clone, Debug)]
 pub struct SplitMix64 {
@@ -32,7 +34,7 @@ impl SplitMix64 {
         // 1 − u lies in (0, 1], so the logarithm is finite.
         let u1 = 1.0 - self.uniform();
         let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+        (-2.0 * math::ln(u1)).sqrt() * math::cos(2.0 * std::f64::consts::PI * u2)
     }
 
     /// A uniform index in `0..n` (n > 0), unbiased by rejection.

@@ -5,6 +5,7 @@
 //! One prediction then gives the whole arc in closed form, where a rollout would predict at every
 //! step: what lets the planner weigh hundreds of pushes within a control step.
 
+use crate::math;
 use nalgebra::Vector2;
 
 use crate::geometry::Pose2;
@@ -54,7 +55,7 @@ fn arc(angle: f64) -> nalgebra::Matrix2<f64> {
     let (a, b) = if angle.abs() < STRAIGHT_RAD {
         (1.0, angle / 2.0)
     } else {
-        (angle.sin() / angle, (1.0 - angle.cos()) / angle)
+        (math::sin(angle) / angle, (1.0 - math::cos(angle)) / angle)
     };
     nalgebra::Matrix2::new(a, -b, b, a)
 }

@@ -2,6 +2,7 @@
 //! a position and a yaw tolerance (10 mm and 3° unless said), held still for a while.
 
 use crate::geometry::{Pose2, wrap_angle};
+use crate::math;
 
 /// Within 10 mm unless told.
 pub const DEFAULT_POSITION_TOLERANCE_M: f64 = 0.010;
@@ -73,8 +74,8 @@ pub fn draw_goal(start: &Pose2, seed: u64, distance_m: (f64, f64), max_turn_rad:
     let direction = std::f64::consts::TAU * rng.uniform();
     let turn = max_turn_rad * (2.0 * rng.uniform() - 1.0);
     Pose2::new(
-        start.position.x + distance * direction.cos(),
-        start.position.y + distance * direction.sin(),
+        start.position.x + distance * math::cos(direction),
+        start.position.y + distance * math::sin(direction),
         start.yaw + turn,
     )
 }

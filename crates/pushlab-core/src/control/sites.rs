@@ -4,6 +4,7 @@
 //! for a pusher moving from one face to another. Everything in the object's frame, where it does
 //! not change as the object moves.
 
+use crate::math;
 use nalgebra::{Point2, Vector2};
 
 use crate::geometry::{Outline, cross, rotate};
@@ -242,7 +243,7 @@ pub fn along_path(path: &[Point2<f64>], step: f64) -> Option<Point2<f64>> {
 
 /// The angle turned from `u` to `v`, counter-clockwise positive.
 fn turn(u: Vector2<f64>, v: Vector2<f64>) -> f64 {
-    cross(u, v).atan2(u.dot(&v))
+    math::atan2(cross(u, v), u.dot(&v))
 }
 
 /// Whether the hull edge from vertex `i` to vertex `j` runs along the outline: the outline goes

@@ -14,6 +14,7 @@
 //! Levenberg–Marquardt on the residuals from its best three cells and from `θ_online(0)` finds its
 //! floor. The loss is `Σ r²` of the linearisation's residuals, the same `ℓ` as every run's.
 
+use crate::math;
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
@@ -101,7 +102,10 @@ impl BestFitSummary {
 impl BestFit {
     /// Distance of its COM from `truth` (a COM offset), metres.
     pub fn com_error_m(&self, truth: [f64; 2]) -> f64 {
-        (self.theta.com_offset[0] - truth[0]).hypot(self.theta.com_offset[1] - truth[1])
+        math::hypot(
+            self.theta.com_offset[0] - truth[0],
+            self.theta.com_offset[1] - truth[1],
+        )
     }
 }
 

@@ -3,6 +3,7 @@
 //! the 95 % ellipse of the posterior holds the truth. The calibration and optimiser table of the
 //! guide (`docs/src/model.md`) is these numbers, from `pushlab eval`.
 
+use crate::math;
 use serde::Serialize;
 
 use crate::learn::{OnlineRun, Posterior};
@@ -37,7 +38,7 @@ impl ComTruth {
     /// posterior) against `truth`.
     pub fn of(com_after: &[[f64; 2]], posterior: &Posterior, truth: [f64; 2]) -> Option<Self> {
         let end = *com_after.last()?;
-        let distance = |com: [f64; 2]| (com[0] - truth[0]).hypot(com[1] - truth[1]);
+        let distance = |com: [f64; 2]| math::hypot(com[0] - truth[0], com[1] - truth[1]);
         let error_m = distance(end);
         // Walk back from the end while the estimate after each frame is near.
         let settled_from = com_after

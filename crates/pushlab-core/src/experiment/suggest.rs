@@ -16,6 +16,7 @@
 
 mod grid;
 
+use crate::math;
 use std::str::FromStr;
 
 use serde::Serialize;
@@ -62,7 +63,9 @@ impl Criterion {
                 .sqrt(),
             Self::Axis => {
                 let half_gap = (c[0][0] - c[1][1]) / 2.0;
-                (half_trace + half_gap.hypot(c[0][1])).max(0.0).sqrt()
+                (half_trace + math::hypot(half_gap, c[0][1]))
+                    .max(0.0)
+                    .sqrt()
             }
         }
     }

@@ -16,6 +16,7 @@ pub use polygon::cross;
 pub use preset::{PRESET_NAMES, PUSH_T, PushT};
 pub use rigid_fit::{RigidFit, fit_rigid};
 
+use crate::math;
 use std::f64::consts::PI;
 
 use nalgebra::{Isometry2, Point2, Vector2};
@@ -90,7 +91,7 @@ impl Pose2 {
 
 /// Rotates a vector by `angle` radians counter-clockwise.
 pub fn rotate(v: Vector2<f64>, angle: f64) -> Vector2<f64> {
-    let (s, c) = angle.sin_cos();
+    let (s, c) = math::sin_cos(angle);
     Vector2::new(c * v.x - s * v.y, s * v.x + c * v.y)
 }
 

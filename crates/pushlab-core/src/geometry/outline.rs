@@ -1,5 +1,6 @@
 //! An object's footprint: a simple polygon, counter-clockwise, convex or not.
 
+use crate::math;
 use std::f64::consts::PI;
 
 use nalgebra::{Point2, Vector2};
@@ -142,7 +143,10 @@ impl Outline {
         let vertices = (0..segments)
             .map(|i| {
                 let a = 2.0 * PI * i as f64 / segments as f64;
-                Point2::new(centre.x + semi_x * a.cos(), centre.y + semi_y * a.sin())
+                Point2::new(
+                    centre.x + semi_x * math::cos(a),
+                    centre.y + semi_y * math::sin(a),
+                )
             })
             .collect();
         Self::new(vertices)

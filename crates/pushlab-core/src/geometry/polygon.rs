@@ -5,6 +5,7 @@
 //! Edge `i` runs from vertex `i` to vertex `i + 1` (the last edge back to vertex 0), as everywhere in
 //! pushlab's messages.
 
+use crate::math;
 use nalgebra::{Point2, Vector2};
 
 /// The z component of the cross product of two planar vectors.
@@ -54,7 +55,7 @@ fn winding_of_turns(vertices: &[Point2<f64>]) -> f64 {
         .map(|i| {
             let (a, b, c) = (vertices[i], vertices[(i + 1) % n], vertices[(i + 2) % n]);
             let (u, v) = (b - a, c - b);
-            cross(u, v).atan2(u.dot(&v))
+            math::atan2(cross(u, v), u.dot(&v))
         })
         .sum();
     total / std::f64::consts::TAU

@@ -3,6 +3,7 @@
 //! records an object as keypoints (Push-T's eight corners of the T) becomes a pose this way, and the
 //! residual says how well the keypoints fit the outline.
 
+use crate::math;
 use nalgebra::{Point2, Vector2};
 
 use super::{Pose2, rotate};
@@ -35,7 +36,7 @@ pub fn fit_rigid(local: &[Point2<f64>], seen: &[Point2<f64>]) -> Option<RigidFit
     if !(dot.is_finite() && cross.is_finite()) || (dot == 0.0 && cross == 0.0) {
         return None;
     }
-    let yaw = cross.atan2(dot);
+    let yaw = math::atan2(cross, dot);
     let origin = seen_mean - rotate(local_mean, yaw);
     let pose = Pose2::new(origin.x, origin.y, yaw);
     let squared: f64 = (local.iter().zip(seen))

@@ -9,6 +9,7 @@
 //! (`learn::Posterior::com_covariance_after`). Nothing here reads the object's recorded motion
 //! after the push's first frame.
 
+use crate::math;
 use nalgebra::Vector2;
 
 use super::rollout::rollout;
@@ -177,7 +178,10 @@ pub fn shape_of(
         .unwrap_or(-boundary.normal);
     let direction = ahead.normalize();
     let inward = -boundary.normal;
-    let angle_rad = (inward.x * direction.y - inward.y * direction.x).atan2(inward.dot(&direction));
+    let angle_rad = math::atan2(
+        inward.x * direction.y - inward.y * direction.x,
+        inward.dot(&direction),
+    );
     Some(PushShape {
         touch_frame: touch,
         face: boundary.edge,

@@ -47,6 +47,7 @@
 
 mod expected;
 
+use crate::math;
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde::Serialize;
 
@@ -520,7 +521,7 @@ pub fn ellipse_95(c: [[f64; 2]; 2]) -> ([f64; 2], f64) {
     let mean = (a + d) / 2.0;
     let spread = (((a - d) / 2.0).powi(2) + b * b).sqrt();
     let (major, minor) = ((mean + spread).max(0.0), (mean - spread).max(0.0));
-    let angle = 0.5 * (2.0 * b).atan2(a - d);
+    let angle = 0.5 * math::atan2(2.0 * b, a - d);
     (
         [(CHI2_2DOF_95 * major).sqrt(), (CHI2_2DOF_95 * minor).sqrt()],
         angle,

@@ -26,6 +26,7 @@
 //! (`OnlineRun::weigh_against` takes them in), so a rewound run recomputes its weights from the
 //! frames that stay.
 
+use crate::math;
 use serde::{Deserialize, Serialize};
 
 use crate::model::{FrameLoss, Loss, ObjectMotion};
@@ -129,8 +130,8 @@ impl ModelWeight {
     pub fn weight(&self) -> Weights {
         let prior = self.config.prior.clamp(1e-6, 1.0 - 1e-6);
         let of = |evidence: f64| {
-            let log_odds = (prior / (1.0 - prior)).ln() + evidence;
-            1.0 / (1.0 + (-log_odds.clamp(-MAX_LOG_ODDS, MAX_LOG_ODDS)).exp())
+            let log_odds = math::ln(prior / (1.0 - prior)) + evidence;
+            1.0 / (1.0 + math::exp(-log_odds.clamp(-MAX_LOG_ODDS, MAX_LOG_ODDS)))
         };
         Weights {
             pos: of(self.evidence[0]),
@@ -182,7 +183,7 @@ impl ModelWeight {
         let dt = self
             .last_time
             .map_or(EVIDENCE_UNIT_S, |t| (time - t).max(0.0));
-        let forget = 0.5f64.powf(dt / self.config.half_life_s.max(1e-9));
+        let forget = math::powf(0.5f64, dt / self.config.half_life_s.max(1e-9));
         let (c, p) = (
             Loss::of(combined, truth, scale),
             Loss::of(physics, truth, scale),

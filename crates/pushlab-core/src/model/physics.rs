@@ -8,6 +8,7 @@
 //! `Δω = (cx·ΔCOM_y − cy·ΔCOM_x)/h²`,
 //! with the contact point `c` relative to the COM and its motion `u_c`, both in the object frame.
 
+use crate::math;
 use crate::real::Real;
 use crate::simd::{MulAdd, Unfused};
 
@@ -145,7 +146,7 @@ pub(crate) fn lynch_backward_cached<T: Real, A: MulAdd>(
 /// `Δp = ΔCOM − (R(Δω) − I)·com_offset` (the paper writes `+ (R − I)v` with `v = −com_offset`).
 #[inline(always)]
 pub fn centre_motion<T: Real>(com: &ComMotion<T>, com_offset: [T; 2]) -> [T; 2] {
-    centre_motion_rotated::<T, Unfused>(com, com.rotation.sin_cos(), com_offset)
+    centre_motion_rotated::<T, Unfused>(com, math::sin_cos(com.rotation), com_offset)
 }
 
 /// [`centre_motion`] with `(sin Δω, cos Δω)` given, so that the backward pass can reuse them.
@@ -174,7 +175,7 @@ pub fn centre_motion_backward<T: Real>(
     d_rotation: T,
 ) -> (ComMotion<T>, [T; 2]) {
     centre_motion_backward_rotated::<T, Unfused>(
-        com.rotation.sin_cos(),
+        math::sin_cos(com.rotation),
         com_offset,
         d_centre,
         d_rotation,

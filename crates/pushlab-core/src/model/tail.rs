@@ -10,6 +10,7 @@ use super::physics::{
     lynch_backward_cached, lynch_forward,
 };
 use super::{ObjectMotion, Prediction};
+use crate::math;
 use crate::real::Real;
 use crate::simd::MulAdd;
 
@@ -49,7 +50,7 @@ impl<T: Real> TailPass<T> {
         self.contact = contact;
         self.contact_motion = contact_motion;
         (self.com, self.lynch) = lynch_forward::<T, A>(contact, contact_motion, theta[2]);
-        self.rotation_sin_cos = self.com.rotation.sin_cos();
+        self.rotation_sin_cos = math::sin_cos(self.com.rotation);
         self.centre =
             centre_motion_rotated::<T, A>(&self.com, self.rotation_sin_cos, [theta[0], theta[1]]);
     }

@@ -4,6 +4,7 @@
 //! the press best, the offset along that face from its middle (positive to the pusher's left, as
 //! `setting.json`'s `contact_offset`), the arrow's angle from that inward normal, and its length.
 
+use crate::math;
 use nalgebra::{Point2, Vector2};
 
 use super::table::PushChoice;
@@ -40,7 +41,7 @@ pub fn push_drawn(
     let [x, y] = face.push_direction();
     let across = Vector2::new(-y, x);
     let offset = (boundary.point.coords - outline.centroid().coords).dot(&across);
-    let angle = cross(inward, arrow).atan2(inward.dot(&arrow)).to_degrees();
+    let angle = math::atan2(cross(inward, arrow), inward.dot(&arrow)).to_degrees();
     (angle.abs() < 85.0).then_some(PushChoice {
         face,
         offset_m: offset,

@@ -9,6 +9,7 @@
 //! either of the sample data's, and `h` what that pressure gives about that COM (Lynch's `h`, the
 //! simulator's rule).
 
+use crate::math;
 use std::fmt;
 use std::str::FromStr;
 
@@ -78,7 +79,7 @@ impl MysteryObject {
                 vertices: (0..48)
                     .map(|k| {
                         let a = std::f64::consts::TAU * k as f64 / 48.0;
-                        [0.15 * a.cos(), 0.225 * a.sin()]
+                        [0.15 * math::cos(a), 0.225 * math::sin(a)]
                     })
                     .collect(),
             },

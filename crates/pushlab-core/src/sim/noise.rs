@@ -3,6 +3,8 @@
 //! Written here rather than taken from a crate so that a seed gives the same sample data on every
 //! platform and every future version: the bundled `sample-data/` must be reproducible bit for bit.
 
+use crate::math;
+
 /// The crate's SplitMix64 ([`crate::rng::SplitMix64`]) with a Box–Muller generator that hands out both
 /// values of each pair: the sample data's noise stream, kept exactly as it was generated. Its own
 /// name, not SplitMix64's: its normals are not the crate generator's (which uses one value of each
@@ -46,10 +48,10 @@ impl NoiseStream {
         // 1 − u lies in (0, 1], so the logarithm is finite.
         let u1 = 1.0 - self.next_f64();
         let u2 = self.next_f64();
-        let radius = (-2.0 * u1.ln()).sqrt();
+        let radius = (-2.0 * math::ln(u1)).sqrt();
         let angle = 2.0 * std::f64::consts::PI * u2;
-        self.spare_normal = Some(radius * angle.sin());
-        radius * angle.cos()
+        self.spare_normal = Some(radius * math::sin(angle));
+        radius * math::cos(angle)
     }
 }
 

@@ -1,6 +1,7 @@
 //! The pusher's commanded path: where its centre is at every time (the pusher is position-controlled
 //! and follows it exactly), and how a push "from this contact point at this angle" becomes one.
 
+use crate::math;
 use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
@@ -45,7 +46,10 @@ impl PusherPath {
                 let (along, across) = if turn.abs() < 1e-9 {
                     (s, 0.5 * curvature * s * s)
                 } else {
-                    (turn.sin() / curvature, (1.0 - turn.cos()) / curvature)
+                    (
+                        math::sin(turn) / curvature,
+                        (1.0 - math::cos(turn)) / curvature,
+                    )
                 };
                 start + rotate(Vector2::new(along, across), heading)
             }
@@ -165,7 +169,7 @@ impl PushPlan {
         } else {
             PusherPath::Arc {
                 start,
-                heading: direction.y.atan2(direction.x),
+                heading: math::atan2(direction.y, direction.x),
                 speed: self.speed,
                 curvature: self.curvature,
             }

@@ -10,6 +10,7 @@
 //! material's base distribution by `exp(g·r)` with the `g` that puts its centroid on the COM: the
 //! smallest change, in the relative-entropy sense, that keeps every pressure positive.
 
+use crate::math;
 use nalgebra::{Matrix2, Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
@@ -340,9 +341,9 @@ fn log_sum_exp(weights: &[f64], offsets: &[Vector2<f64>], g: Vector2<f64>) -> f6
     let sum: f64 = weights
         .iter()
         .zip(offsets)
-        .map(|(w, d)| w * (g.dot(d) - max).exp())
+        .map(|(w, d)| w * math::exp(g.dot(d) - max))
         .sum();
-    max + sum.ln()
+    max + math::ln(sum)
 }
 
 fn tilted_weights(weights: &[f64], offsets: &[Vector2<f64>], g: Vector2<f64>) -> Vec<f64> {
@@ -350,7 +351,7 @@ fn tilted_weights(weights: &[f64], offsets: &[Vector2<f64>], g: Vector2<f64>) ->
     let mut tilted: Vec<f64> = weights
         .iter()
         .zip(offsets)
-        .map(|(w, d)| w * (g.dot(d) - max).exp())
+        .map(|(w, d)| w * math::exp(g.dot(d) - max))
         .collect();
     let total: f64 = tilted.iter().sum();
     tilted.iter_mut().for_each(|w| *w /= total);

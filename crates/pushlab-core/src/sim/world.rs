@@ -14,6 +14,7 @@
 //! quasi-static solution (whose friction at both faces at once would decide whether the object only
 //! translates with the pusher). Frame truths report the face pushed last.
 
+use crate::math;
 use nalgebra::{Point2, Vector2};
 
 use super::contact::{ContactMode, ObjectStep, pusher_slider_step};
@@ -262,7 +263,7 @@ fn apply_twist(pose: &Pose2, step: &ObjectStep) -> Pose2 {
     let (a, b) = if w.abs() < 1e-9 {
         (1.0 - w * w / 6.0, w / 2.0)
     } else {
-        (w.sin() / w, (1.0 - w.cos()) / w)
+        (math::sin(w) / w, (1.0 - math::cos(w)) / w)
     };
     let v = step.com_motion;
     let translation = Vector2::new(a * v.x - b * v.y, b * v.x + a * v.y);

@@ -6,6 +6,7 @@
 //! simulator's truth), so that the same rules serve a 10 Hz camera with 2 mm noise and a 250 Hz
 //! motion-capture system with a tenth of a millimetre.
 
+use crate::math;
 use nalgebra::{Point2, Vector2};
 
 use crate::geometry::{Outline, wrap_angle};
@@ -205,7 +206,7 @@ pub(super) fn drift_in_run(
     yaw_sd: f64,
 ) -> Vec<Drift> {
     let frames = &trajectory.frames;
-    let sd = position_sd.hypot(pusher_radius * yaw_sd);
+    let sd = math::hypot(position_sd, pusher_radius * yaw_sd);
     run.clone()
         .map(|k| {
             let window = k.saturating_sub(half).max(run.start)..(k + half + 1).min(run.end);
@@ -405,7 +406,7 @@ pub(super) fn normal_cdf(z: f64) -> f64 {
         * (0.254_829_592
             + t * (-0.284_496_736
                 + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
-    let erf = 1.0 - poly * (-x * x).exp();
+    let erf = 1.0 - poly * math::exp(-x * x);
     if z >= 0.0 {
         0.5 * (1.0 + erf)
     } else {

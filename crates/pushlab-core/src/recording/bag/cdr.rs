@@ -7,6 +7,8 @@
 //! a string is a `u32` length that includes the terminating NUL, then the bytes; a sequence is a
 //! `u32` count, then the elements.
 
+use crate::math;
+
 /// The message types pushlab reads, by their ROS 2 type name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PoseType {
@@ -207,7 +209,7 @@ impl<'a> Cdr<'a> {
 
 /// The rotation about z of a quaternion `[x, y, z, w]` (not necessarily normalised), in (−π, π].
 pub fn yaw_of([x, y, z, w]: [f64; 4]) -> f64 {
-    (2.0 * (w * z + x * y)).atan2(w * w + x * x - y * y - z * z)
+    math::atan2(2.0 * (w * z + x * y), w * w + x * x - y * y - z * z)
 }
 
 /// Reads a pose from a CDR message of a header-carrying single-pose type (not
@@ -299,7 +301,7 @@ pub fn encode_pose_stamped(stamp_ns: u64, frame_id: &str, x: f64, y: f64, yaw: f
     body.extend(frame_id.as_bytes());
     body.push(0);
     body.resize(body.len().next_multiple_of(8), 0);
-    let (s, c) = (yaw / 2.0).sin_cos();
+    let (s, c) = math::sin_cos(yaw / 2.0);
     for v in [x, y, 0.0, 0.0, 0.0, s, c] {
         body.extend(v.to_le_bytes());
     }
