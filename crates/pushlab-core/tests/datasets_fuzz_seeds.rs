@@ -12,44 +12,13 @@
 #[path = "../../../fuzz/src/datasets.rs"]
 mod datasets;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::Path;
 
 use datasets::{FixtureCopy, LEROBOT, ZARR, as_input, fixture_files};
 use pushlab_core::recording::NoProgress;
 use pushlab_core::recording::dataset::{self, blosc};
 
-/// The system allocator, noting the largest allocation each thread asks for.
-struct NotingLargest;
-
-thread_local! {
-    static LARGEST: Cell<usize> = const { Cell::new(0) };
-}
-
-#[allow(unsafe_code)]
-// SAFETY: every call is passed on to the system allocator unchanged.
-unsafe impl GlobalAlloc for NotingLargest {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = LARGEST.try_with(|largest| largest.set(largest.get().max(layout.size())));
-        // SAFETY: the caller's contract, passed on.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        let _ = LARGEST.try_with(|largest| largest.set(largest.get().max(layout.size())));
-        // SAFETY: the caller's contract, passed on.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: the caller's contract, passed on.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: NotingLargest = NotingLargest;
+use crate::allocations;
 
 /// The fixture's episodes.
 const EPISODES: usize = 8;
@@ -138,10 +107,10 @@ fn a_blosc_block_size_past_the_chunk_allocates_no_more_than_the_chunk() {
     let frame = &input[input.iter().position(|&b| b == b'\n').unwrap() + 1..];
     assert_eq!(frame[4..8], 512u32.to_le_bytes());
     assert_eq!(frame[8..12], 0xBCBC_BC00u32.to_le_bytes());
-    LARGEST.with(|largest| largest.set(0));
+    allocations::forget_largest();
     let refusal = blosc::decompress(frame, 512).unwrap_err().to_string();
     assert!(refusal.starts_with("blosc: "), "{refusal}");
-    let largest = LARGEST.with(Cell::get);
+    let largest = allocations::largest_on_this_thread();
     assert!(largest <= 4096, "an allocation of {largest} bytes");
 }
 

@@ -8,6 +8,7 @@
 #![allow(clippy::disallowed_methods)]
 
 // What the files share.
+mod allocations;
 mod pusht_common;
 #[path = "../../../tests/sandbox_robot/mod.rs"]
 mod sandbox_robot;
@@ -15,10 +16,15 @@ mod sandbox_robot;
 mod skip;
 mod toy;
 
+/// Notes each thread's allocations: how many, and the largest (`allocations`).
+#[global_allocator]
+static ALLOCATOR: allocations::Noting = allocations::Noting;
+
 mod bag_choice;
 mod camera_video;
 mod carry_theta;
 mod com_misfit;
+mod control_allocations;
 mod correlated_errors;
 mod datasets_fuzz_seeds;
 mod drive_foxglove;
