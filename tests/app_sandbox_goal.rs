@@ -209,3 +209,27 @@ fn the_pipe_answers_each_line_of_poses_with_a_target_and_names_a_bad_line() {
     assert!(err.contains("standard input, line 1: expected"), "{err}");
     std::fs::remove_file(&setting).ok();
 }
+
+#[test]
+fn the_weighted_prediction_plans_with_the_weighting_and_needs_it_on() {
+    use pushlab::app::state::OnlineCommand;
+    let mut state = sandbox_with_goal(4, PlanWith::Weighted);
+    until_the_controller_stops(&mut state);
+    let (reached, _, with) = state.sandbox().unwrap().last_drive().expect("how it went");
+    assert!(reached, "{:?}", state.status());
+    assert_eq!(with, PlanWith::Weighted);
+    // Both runs learned as it pushed, and the weights moved from their prior.
+    let run = state.run().expect("the push's run");
+    let physics = run.physics_beside().expect("physics alone beside");
+    assert_ne!(physics.theta_at(physics.frontier()), physics.theta0());
+    assert!(run.model_weight().unwrap().frames().len() > 10);
+
+    let mut state = sandbox_with_goal(4, PlanWith::Weighted);
+    state.apply(Command::Online(OnlineCommand::SetWeighPhysics(false)));
+    until_the_controller_stops(&mut state);
+    let status = state.status().unwrap_or_default();
+    assert!(
+        status.contains("the weighted prediction plan with the physics run beside"),
+        "{status}"
+    );
+}

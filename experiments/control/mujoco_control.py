@@ -5,9 +5,11 @@ of experiments/mujoco-pushes/generate.py, at the bundled model's size: a 0.3 x 0
 pusher); a goal is drawn 20-40 cm away in any direction and turned up to 45 degrees. Each control
 step (10 Hz) MuJoCo's poses go to `pushlab control --pipe` on a line, and the pusher's target it
 answers is followed kinematically at most 4 cm/s for the next 0.1 s (100 MuJoCo steps of 1 ms).
-Every controller (online, fixed, physics, truth) on every pair; a CSV like the bench's.
+Every controller (online, fixed, physics, truth, weighted; `--with` some) on every pair; a CSV
+like the bench's.
 
 Usage: mujoco_control.py OUT.csv [--pairs 100] [--first 31] [--jobs 2] [--pushlab PATH]
+                         [--with online,weighted]
        mujoco_control.py --table OUT.csv     (the summary of a CSV written, whole or cut short)
 
 Each run is written to OUT.csv as it ends, so a run cut short leaves the pairs it finished; the
@@ -46,7 +48,7 @@ SPEC = {
     "support_grid": 11,
 }
 RATE_HZ, SPEED, LIMIT_S, HOLD_STEPS = 10.0, 0.04, 120.0, 5
-WITH = ["online", "fixed", "physics", "truth"]
+WITH = ["online", "fixed", "physics", "truth", "weighted"]
 
 
 def draw_pair(seed):
@@ -158,16 +160,17 @@ FIELDS = ["pair", "plans_with", "com_offset_m", "reached", "time_s", "pusher_pat
 
 
 def table(rows):
-    """The summary over the pairs every controller finished."""
+    """The summary over the pairs every controller in the rows finished."""
+    ran = [w for w in WITH if any(r["plans_with"] == w for r in rows)]
     done = {p for p in {r["pair"] for r in rows}
-            if {r["plans_with"] for r in rows if r["pair"] == p} == set(WITH)}
+            if {r["plans_with"] for r in rows if r["pair"] == p} == set(ran)}
     rows = [r for r in rows if r["pair"] in done]
     print(f"{len(done)} pairs")
     print("| plans with | reached | median time (s) | median pusher path (m) | "
           "median final error (mm, °) |")
     print("|---|---|---|---|---|")
     med = lambda v: float(np.median(v)) if v else float("nan")  # noqa: E731
-    for name in WITH:
+    for name in ran:
         mine = [r for r in rows if r["plans_with"] == name]
         ok = [r for r in mine if str(r["reached"]).lower() == "true"]
         print(f"| {name} | {len(ok)}/{len(mine)} | {med([float(r['time_s']) for r in ok]):.1f} | "
@@ -186,8 +189,14 @@ def main():
     parser.add_argument("--first", type=int, default=31)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--pushlab", default=os.environ.get("PUSHLAB", "target/release/pushlab"))
+    parser.add_argument("--with", dest="plans_with", default=",".join(WITH),
+                        help="the controllers run, comma-separated (default: all)")
     args = parser.parse_args()
-    jobs = [(p, w) for p in range(args.first, args.first + args.pairs) for w in WITH]
+    chosen = args.plans_with.split(",")
+    unknown = [w for w in chosen if w not in WITH]
+    if unknown:
+        parser.error(f"--with {','.join(unknown)}: expected some of {', '.join(WITH)}")
+    jobs = [(p, w) for p in range(args.first, args.first + args.pairs) for w in chosen]
     rows = []
     with open(args.out, "w", newline="") as f, \
             concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:

@@ -5,7 +5,8 @@
 //! step's cost (percentiles over every step of every run, each run on one core).
 //!
 //! `cargo bench -p pushlab-core --bench control -- --pairs 100 [--first 31]
-//! [--object box|t|ellipse] [--noise] [--threads N] [--csv OUT.csv] [--way-weight W]`
+//! [--object box|t|ellipse] [--noise] [--threads N] [--csv OUT.csv] [--way-weight W]
+//! [--with online,weighted]`
 //!
 //! The planner's weights were chosen on pairs 1-30 (`--first 1 --pairs 30`); the guide's table is
 //! of pairs 31-130, which tuning never saw.
@@ -36,6 +37,8 @@ struct Args {
     threads: usize,
     csv: Option<String>,
     planner: PlannerConfig,
+    /// The controllers run (`--with online,weighted`); all by default.
+    with: Vec<PlanWith>,
 }
 
 fn args() -> Args {
@@ -47,6 +50,7 @@ fn args() -> Args {
         threads: 2,
         csv: None,
         planner: PlannerConfig::default(),
+        with: PlanWith::ALL.to_vec(),
     };
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
@@ -62,6 +66,10 @@ fn args() -> Args {
             "--first" => a.first = it.next().and_then(|v| v.parse().ok()).unwrap_or(a.first),
             "--threads" => a.threads = it.next().and_then(|v| v.parse().ok()).unwrap_or(2),
             "--csv" => a.csv = it.next(),
+            "--with" => {
+                let names = it.next().unwrap_or_default();
+                a.with = names.split(',').filter_map(PlanWith::from_name).collect();
+            }
             "--way-weight" => {
                 let v = it.next().and_then(|v| v.parse().ok());
                 a.planner.way_weight = v.unwrap_or(a.planner.way_weight)
@@ -111,7 +119,7 @@ fn main() {
     let model = ModelFile::load(&path).expect("the bundled model").combined;
     let jobs: Mutex<Vec<(u64, PlanWith)>> = Mutex::new(
         (args.first..args.first + args.pairs)
-            .flat_map(|p| PlanWith::ALL.map(|w| (p, w)))
+            .flat_map(|p| args.with.iter().map(move |&w| (p, w)))
             .rev()
             .collect(),
     );
@@ -142,7 +150,7 @@ fn main() {
         "| plans with | reached | median time (s) | median pusher path (m) | median final error (mm, °) | step p50 / p99 / max (ms) |"
     );
     println!("|---|---|---|---|---|---|");
-    for with in PlanWith::ALL {
+    for &with in &args.with {
         let mine: Vec<&Row> = rows.iter().filter(|r| r.with == with).collect();
         let reached = mine.iter().filter(|r| r.reached).count();
         let mut times: Vec<f64> = mine

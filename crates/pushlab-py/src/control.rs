@@ -45,7 +45,8 @@ impl Controller {
         };
         let plan_with = PlanWith::from_name(theta).ok_or_else(|| {
             PyValueError::new_err(format!(
-                "theta '{theta}': expected online, fixed, physics or truth"
+                "theta '{theta}': expected {}",
+                PlanWith::expected()
             ))
         })?;
         for (name, value) in [("rate", rate), ("speed", speed)] {

@@ -57,7 +57,7 @@ def test_the_controller_gives_the_clis_targets(cli: Path, tmp_path: Path):
 
 def test_bad_arguments_are_refused_by_name():
     model = pushlab.Model.load(REPO / "assets" / "default-model.json")
-    with pytest.raises(ValueError, match="theta 'learned': expected online, fixed, physics or truth"):
+    with pytest.raises(ValueError, match="theta 'learned': expected online, fixed, physics, truth or weighted"):
         pushlab.Controller(model, SETTING, GOAL, theta="learned")
     with pytest.raises(ValueError, match="speed -1: expected a positive number"):
         pushlab.Controller(model, SETTING, GOAL, speed=-1)

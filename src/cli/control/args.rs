@@ -53,7 +53,8 @@ pub struct ControlArgs {
     #[arg(long, value_name = "X,Y,YAW", allow_hyphen_values = true)]
     pub goal: String,
     /// What the controller plans with: online (θ learned as it pushes), fixed (θ_online(0)),
-    /// physics (Lynch's model alone, θ learned) or truth (the hidden θ: an upper bound).
+    /// physics (Lynch's model alone, θ learned), truth (the hidden θ: an upper bound) or weighted
+    /// (the combined model and physics alone, each learning, mixed by the weighting's weights).
     #[arg(long, default_value = "online")]
     pub theta: String,
     /// The model (default: the app's, assets/default-model.json).

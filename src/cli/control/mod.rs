@@ -35,8 +35,9 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
     let goal = args::parse_goal(&args.goal).map_err(usage)?;
     let plan_with = PlanWith::from_name(&args.theta).ok_or_else(|| {
         usage(format!(
-            "--theta '{}': expected online, fixed, physics or truth",
-            args.theta
+            "--theta '{}': expected {}",
+            args.theta,
+            PlanWith::expected()
         ))
     })?;
     if !(args.time_limit.is_finite() && args.time_limit > 0.0) {

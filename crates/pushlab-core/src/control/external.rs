@@ -5,14 +5,12 @@
 //! run has; the pusher's target is for whoever moves the pusher. `pushlab control --pipe` runs it
 //! over standard input and output, which is how the MuJoCo measurement drives it.
 
-use std::sync::Arc;
-
 use nalgebra::Point2;
 
 use super::goal::Goal;
-use super::planner::{Phase, Planner, PlannerConfig};
+use super::planner::{Planner, PlannerConfig};
 use super::sandbox_run::{ControlError, ControlStep, Decision, Progress};
-use super::{Pacing, PlanWith, is_away, planning_theta};
+use super::{Pacing, PlanWith, is_away};
 use crate::geometry::Pose2;
 use crate::learn::OnlineConfig;
 use crate::live::LiveLearner;
@@ -54,10 +52,8 @@ impl PoseControl {
                 "planning with the true θ needs the setting's com_offset and h".into(),
             ));
         }
-        let learner = LiveLearner::with_learner(
-            super::learner_for(model, setting, plan_with)?,
-            model.horizon(),
-            config,
+        let learner = LiveLearner::with_run(
+            super::run_for(model, setting, plan_with, config)?,
             pacing.grid_hz,
         );
         let planner = Planner::paced(
@@ -119,17 +115,14 @@ impl PoseControl {
         let sites = self.planner.sites();
         self.learner.learn_holding(|f| is_away(sites, f));
         let run = self.learner.run();
-        let theta = planning_theta(run, self.plan_with, &self.truth.unwrap_or(run.theta0()));
-        let model = Arc::clone(run.model());
-        let plan = self.planner.step(&object, pusher, model.as_ref(), &theta);
-        let decision = Decision {
+        let truth = self.truth.unwrap_or(run.theta0());
+        let decision = Decision::plan(
+            &mut self.planner,
+            run,
+            (self.plan_with, &truth),
             object,
             pusher,
-            theta,
-            target: plan.target,
-            phase: plan.phase.unwrap_or(Phase::Holding),
-            predictions: plan.predictions,
-        };
+        );
         self.progress.record(&decision, time_s, self.planner.goal())
     }
 }

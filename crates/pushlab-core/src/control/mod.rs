@@ -1,12 +1,13 @@
 //! Pushing an object to a goal with the model being learned: model-predictive control whose
 //! predictions are the combined model's with `θ_online` as the online run has it at each step (or
-//! `θ_online(0)` held fixed, the physics-only model learning online, or the true θ where it is
-//! known, to compare). The paper's reason for a push model is planning; this is where pushlab uses
+//! `θ_online(0)` held fixed, the physics-only model learning online, the weighted prediction of
+//! the two, or the true θ where it is known, to compare). The paper's reason for a push model is planning; this is where pushlab uses
 //! its own.
 //!
 //! The pieces: [`goal`] (the goal pose and when it is reached), [`arc`] (one prediction as the arc
 //! of a push held on its contact), [`sites`] (where a push can start and the pusher's way round
-//! the object), [`planner`] (one control step: the cross-entropy search over pushes),
+//! the object), [`planner`] (one control step: the cross-entropy search over pushes), [`predict`]
+//! (what it predicts a push with: one model at one θ, or the weighted prediction),
 //! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes),
 //! [`external`] (the controller on poses from outside, learned by live input's grid and learner),
 //! [`drive`] (that controller driving a robot through its Foxglove server, behind a safety gate),
@@ -17,6 +18,7 @@ pub mod drive;
 pub mod external;
 pub mod goal;
 pub mod planner;
+pub mod predict;
 pub mod replay;
 pub mod sandbox_run;
 pub mod sites;
@@ -24,6 +26,7 @@ pub mod sites;
 pub use external::PoseControl;
 pub use goal::{Goal, GoalError};
 pub use planner::{ChosenPush, Phase, Plan, Planner, PlannerConfig};
+pub use predict::{AtTheta, Predict, Weighted, WeightedThetas};
 pub use sandbox_run::{ControlError, ControlOutcome, ControlStep, Decision, SandboxControl};
 
 use crate::learn::OnlineRun;
@@ -80,14 +83,18 @@ pub enum PlanWith {
     Physics,
     /// The combined model with the true θ (where the truth is known: an upper bound).
     Truth,
+    /// The weighted prediction: the combined model and physics alone, each learning its θ
+    /// online, mixed by the weights the weighting finds as it pushes.
+    Weighted,
 }
 
 impl PlanWith {
-    pub const ALL: [PlanWith; 4] = [
+    pub const ALL: [PlanWith; 5] = [
         PlanWith::Online,
         PlanWith::Fixed,
         PlanWith::Physics,
         PlanWith::Truth,
+        PlanWith::Weighted,
     ];
 
     pub fn name(self) -> &'static str {
@@ -96,11 +103,19 @@ impl PlanWith {
             PlanWith::Fixed => "fixed",
             PlanWith::Physics => "physics",
             PlanWith::Truth => "truth",
+            PlanWith::Weighted => "weighted",
         }
     }
 
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// The names [`PlanWith::from_name`] takes, for a refusal: "online, fixed, … or weighted".
+    pub fn expected() -> String {
+        let names = Self::ALL.map(Self::name);
+        let (last, rest) = names.split_last().unwrap_or((&"", &[]));
+        format!("{} or {last}", rest.join(", "))
     }
 
     /// What a pane says the controller plans with.
@@ -110,6 +125,10 @@ impl PlanWith {
             PlanWith::Fixed => "the combined model, θ held at θ_online(0)",
             PlanWith::Physics => "physics alone (Lynch's model), θ learned online",
             PlanWith::Truth => "the combined model with the true θ (an upper bound)",
+            PlanWith::Weighted => {
+                "the weighted prediction: the combined model and physics alone, each θ learned \
+                 online, mixed by their weights"
+            }
         }
     }
 }
@@ -146,10 +165,52 @@ pub fn learner_for(
 /// physics-only model's run): the one rule the app, the CLI and the experiments share.
 pub fn planning_theta(run: &OnlineRun, plan_with: PlanWith, truth: &OnlineParams) -> OnlineParams {
     match plan_with {
-        PlanWith::Online | PlanWith::Physics => run.theta_at(run.frontier()),
+        PlanWith::Online | PlanWith::Physics | PlanWith::Weighted => run.theta_at(run.frontier()),
         PlanWith::Fixed => run.theta0(),
         PlanWith::Truth => *truth,
     }
+}
+
+/// The online run a controller learns in, on a push not begun, for `plan_with`: with
+/// [`learner_for`]'s model, and for the weighted prediction with physics alone learning beside it
+/// and the weighting between them, as the app's run has them when the weighting is on.
+pub fn run_for(
+    model: &crate::model::CombinedModel,
+    setting: &crate::recording::Setting,
+    plan_with: PlanWith,
+    config: crate::learn::OnlineConfig,
+) -> Result<OnlineRun, ControlError> {
+    let empty = || std::sync::Arc::new(crate::trajectory::Trajectory::new(Vec::new()));
+    let horizon = model.horizon();
+    let learner = learner_for(model, setting, plan_with)?;
+    let run = OnlineRun::new(learner, empty(), horizon, config);
+    if plan_with != PlanWith::Weighted {
+        return Ok(run);
+    }
+    let physics = learner_for(model, setting, PlanWith::Physics)?;
+    let beside = OnlineRun::new(physics, empty(), horizon, config);
+    let weight = crate::learn::ModelWeight::new(crate::learn::WeightConfig::default());
+    Ok(run.with_physics_beside(beside, weight))
+}
+
+/// One control step of `planner` from `object` and `pusher`, predicting as `plan_with` says with
+/// what `run` has learned (θ from [`planning_theta`]; for the weighted prediction, both runs' θ
+/// and the weights): the one rule the sandbox's controller and the one on poses from outside
+/// share. `None` for the weighted prediction of a run without physics alone beside it.
+pub fn plan_step<'p>(
+    planner: &'p mut Planner,
+    run: &OnlineRun,
+    plan_with: PlanWith,
+    truth: &OnlineParams,
+    (object, pusher): (&crate::geometry::Pose2, nalgebra::Point2<f64>),
+) -> Option<&'p Plan> {
+    if plan_with == PlanWith::Weighted {
+        let thetas = WeightedThetas::of(run)?;
+        let predict = Weighted::of(run, &thetas)?;
+        return Some(planner.step_predicting(object, pusher, &predict));
+    }
+    let theta = planning_theta(run, plan_with, truth);
+    Some(planner.step(object, pusher, run.model().as_ref(), &theta))
 }
 
 /// Whether the pusher is away from the object in `frame`: farther than [`AWAY_GAP_M`] from

@@ -19,6 +19,7 @@ use nalgebra::{Point2, Vector2};
 
 use super::arc::BodyTwist;
 use super::goal::Goal;
+use super::predict::{AtTheta, Predict};
 use super::sites::{APPROACH_M, Site, Sites, along_path};
 use crate::geometry::{Outline, Pose2};
 use crate::model::{OnlineModel, OnlineParams, SampleInput};
@@ -138,9 +139,8 @@ struct Candidate {
 }
 
 /// What a candidate is weighed against, fixed for a step.
-struct Weighing<'a, M: ?Sized> {
-    model: &'a M,
-    theta: &'a OnlineParams,
+struct Weighing<'a, P: ?Sized> {
+    predict: &'a P,
     object: Pose2,
     pusher_in_object: Point2<f64>,
     /// The pusher's gap to the site it is at, if any.
@@ -266,6 +266,17 @@ impl Planner {
         model: &M,
         theta: &OnlineParams,
     ) -> &Plan {
+        self.step_predicting(object, pusher, &AtTheta { model, theta })
+    }
+
+    /// One control step as [`Planner::step`], predicting pushes with `predict` (one model at one
+    /// θ, or the weighted prediction).
+    pub fn step_predicting<P: Predict + ?Sized>(
+        &mut self,
+        object: &Pose2,
+        pusher: Point2<f64>,
+        predict: &P,
+    ) -> &Plan {
         self.steps += 1;
         self.rng = SplitMix64::new(self.config.seed ^ self.steps.wrapping_mul(0x9E37_79B9));
         self.plan.predicted.clear();
@@ -282,8 +293,7 @@ impl Planner {
         let pusher_in_object = object.point_in_object(pusher);
         let here = self.sites.site_near(pusher_in_object, APPROACH_M + 0.01);
         let weighing = Weighing {
-            model,
-            theta,
+            predict,
             object: *object,
             pusher_in_object,
             here_gap: here.map(|(_, gap)| gap),
@@ -296,9 +306,9 @@ impl Planner {
     }
 
     /// The best push: the grid, the kept push, then the modes refined.
-    fn search<M: OnlineModel + ?Sized>(
+    fn search<P: Predict + ?Sized>(
         &mut self,
-        w: &Weighing<'_, M>,
+        w: &Weighing<'_, P>,
         here: Option<Site>,
     ) -> Option<Candidate> {
         self.candidates.clear();
@@ -369,9 +379,9 @@ impl Planner {
 
     /// The model's prediction for a push at `site` in `direction`, as the arc's twist (one
     /// prediction: what weighing a push and drawing the chosen one share).
-    fn twist_of<M: OnlineModel + ?Sized>(
+    fn twist_of<P: Predict + ?Sized>(
         &self,
-        w: &Weighing<'_, M>,
+        w: &Weighing<'_, P>,
         site: &Site,
         direction: Vector2<f64>,
     ) -> BodyTwist {
@@ -379,7 +389,7 @@ impl Planner {
             robot_in_object: self.sites.touching(site).coords.into(),
             robot_motion_in_object: (direction * w.travel_per_prediction).into(),
         };
-        let motion = w.model.predict(&input, w.theta).motion;
+        let motion = w.predict.motion(&input);
         BodyTwist::of_motion(
             Vector2::from(motion.translation),
             motion.rotation,
@@ -389,9 +399,9 @@ impl Planner {
 
     /// A push weighed: the model's prediction at its site and direction, the arc's nearest
     /// approach to the goal, and the way to it.
-    fn weigh<M: OnlineModel + ?Sized>(
+    fn weigh<P: Predict + ?Sized>(
         &mut self,
-        w: &Weighing<'_, M>,
+        w: &Weighing<'_, P>,
         along: f64,
         angle: f64,
         here: bool,
@@ -438,7 +448,7 @@ impl Planner {
     }
 
     /// The chosen push made into this step's target, with its arc and way for drawing.
-    fn act<M: OnlineModel + ?Sized>(&mut self, w: &Weighing<'_, M>, best: Option<Candidate>) {
+    fn act<P: Predict + ?Sized>(&mut self, w: &Weighing<'_, P>, best: Option<Candidate>) {
         let Some(best) = best else {
             self.plan.phase = Some(Phase::Holding);
             self.plan.target = w.object.point_in_world(w.pusher_in_object);

@@ -4,20 +4,18 @@
 //! run, the one every recording is learned with. What `pushlab control --sandbox`, the experiments
 //! and the tests run; the app drives the same planner from its own sandbox feed.
 
-use std::sync::Arc;
-
 use nalgebra::Point2;
 
 use super::goal::{DEFAULT_HOLD_STEPS, Goal, GoalError};
 use super::planner::{Phase, Planner, PlannerConfig};
-use super::{PlanWith, planning_theta};
+use super::{PlanWith, plan_step, planning_theta};
 use crate::geometry::Pose2;
 use crate::learn::{OnlineConfig, OnlineRun};
 use crate::model::{CombinedModel, OnlineParams};
 use crate::sandbox::mystery::RATE_HZ;
 use crate::sandbox::{Mystery, Sandbox, SandboxEvent};
 use crate::sim::TrackingNoise;
-use crate::trajectory::{Frame, Trajectory};
+use crate::trajectory::Frame;
 
 /// The longest a run may take before it is called failed, seconds.
 pub const DEFAULT_TIME_LIMIT_S: f64 = 120.0;
@@ -59,6 +57,38 @@ pub struct Decision {
     pub target: Point2<f64>,
     pub phase: Phase,
     pub predictions: usize,
+}
+
+impl Decision {
+    /// A control step's decision: [`plan_step`] from `object` and `pusher` with what `run` has
+    /// learned, and the θ it planned with ([`planning_theta`]). Where nothing can be planned the
+    /// pusher holds (not reached: [`super::run_for`] gives the weighted prediction its physics
+    /// run).
+    pub fn plan(
+        planner: &mut Planner,
+        run: &OnlineRun,
+        (plan_with, truth): (PlanWith, &OnlineParams),
+        object: Pose2,
+        pusher: Point2<f64>,
+    ) -> Self {
+        let theta = planning_theta(run, plan_with, truth);
+        let planned = plan_step(planner, run, plan_with, truth, (&object, pusher));
+        let (target, phase, predictions) = planned.map_or((pusher, Phase::Holding, 0), |plan| {
+            (
+                plan.target,
+                plan.phase.unwrap_or(Phase::Holding),
+                plan.predictions,
+            )
+        });
+        Self {
+            object,
+            pusher,
+            theta,
+            target,
+            phase,
+            predictions,
+        }
+    }
 }
 
 /// A controller's count of its steps and of those it has held the goal in a row: what numbers a
@@ -154,14 +184,8 @@ impl SandboxControl {
             .object
             .outline()
             .map_err(|e| ControlError::Outline(e.to_string()))?;
-        let learner = super::learner_for(model, &setting, plan_with)?;
         let horizon = model.horizon();
-        let run = OnlineRun::new(
-            learner,
-            Arc::new(Trajectory::new(Vec::new())),
-            horizon,
-            config,
-        );
+        let run = super::run_for(model, &setting, plan_with, config)?;
         let planner = Planner::paced(
             &outline,
             setting.pusher_radius,
@@ -220,17 +244,13 @@ impl SandboxControl {
             Some(f) => (f.object, f.robot),
             None => (self.sandbox.object_pose(), self.sandbox.pusher()),
         };
-        let theta = planning_theta(&self.run, self.plan_with, &self.truth);
-        let model = Arc::clone(self.run.model());
-        let plan = self.planner.step(&object, pusher, model.as_ref(), &theta);
-        Decision {
+        Decision::plan(
+            &mut self.planner,
+            &self.run,
+            (self.plan_with, &self.truth),
             object,
             pusher,
-            theta,
-            target: plan.target,
-            phase: plan.phase.unwrap_or(Phase::Holding),
-            predictions: plan.predictions,
-        }
+        )
     }
 
     /// The acting half of a step: the pusher's target held, the frame made and learned.

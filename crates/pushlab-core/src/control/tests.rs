@@ -198,3 +198,54 @@ fn the_true_theta_from_outside_needs_the_settings_truth() {
     };
     assert!(why.to_string().contains("com_offset and h"), "{why}");
 }
+
+#[test]
+fn the_weighted_prediction_mixes_both_learned_runs_by_their_weights_and_reaches_goals() {
+    let mut run = control(2, PlanWith::Weighted, GOAL);
+    for _ in 0..80 {
+        run.step();
+    }
+    let learned = run.run();
+    let physics = learned
+        .physics_beside()
+        .expect("physics alone learns beside");
+    let thetas = WeightedThetas::of(learned).unwrap();
+    assert_ne!(thetas.physics, physics.theta0(), "physics alone learned");
+    let weighted = Weighted::of(learned, &thetas).unwrap();
+    let w = weighted.weights();
+    assert!(
+        w.pos > 0.0 && w.pos < 1.0 && w.rot > 0.0 && w.rot < 1.0,
+        "{w:?}"
+    );
+    let input = crate::model::SampleInput {
+        robot_in_object: [-0.2, 0.03],
+        robot_motion_in_object: [0.004, 0.001],
+    };
+    let c = learned.model().predict(&input, &thetas.combined).motion;
+    let p = physics.model().predict(&input, &thetas.physics).motion;
+    let m = weighted.motion(&input);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + b.abs());
+    assert!(close(
+        m.translation[0],
+        w.pos * c.translation[0] + (1.0 - w.pos) * p.translation[0]
+    ));
+    assert!(close(
+        m.translation[1],
+        w.pos * c.translation[1] + (1.0 - w.pos) * p.translation[1]
+    ));
+    assert!(close(
+        m.rotation,
+        w.rot * c.rotation + (1.0 - w.rot) * p.rotation
+    ));
+    // It is what the controller plans with: the same pairs, planned otherwise, go otherwise.
+    let log = |with| {
+        let mut run = control(2, with, GOAL);
+        (0..120).map(|_| run.step().target).collect::<Vec<_>>()
+    };
+    assert_ne!(log(PlanWith::Weighted), log(PlanWith::Online));
+    for seed in 1..=3 {
+        let mut run = control(seed, PlanWith::Weighted, GOAL);
+        let outcome = run.run_to_goal(60.0, |_| {});
+        assert!(outcome.reached, "seed {seed}: {outcome:?}");
+    }
+}

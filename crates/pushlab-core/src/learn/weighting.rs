@@ -66,6 +66,21 @@ pub struct Weights {
     pub rot: f64,
 }
 
+impl Weights {
+    /// The weighted prediction: the combined model's and the physics-only model's motions mixed
+    /// by these weights. What the weighting scores, and what a controller plans with.
+    pub fn blend(&self, combined: &ObjectMotion, physics: &ObjectMotion) -> ObjectMotion {
+        let mix = |w: f64, c: f64, p: f64| w * c + (1.0 - w) * p;
+        ObjectMotion {
+            translation: [
+                mix(self.pos, combined.translation[0], physics.translation[0]),
+                mix(self.pos, combined.translation[1], physics.translation[1]),
+            ],
+            rotation: mix(self.rot, combined.rotation, physics.rotation),
+        }
+    }
+}
+
 /// One frame of the weighted run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct WeightedFrame {
@@ -171,14 +186,7 @@ impl ModelWeight {
         scale: &crate::model::LossScale,
     ) -> WeightedFrame {
         let weight = self.weight();
-        let blend = |w: f64, c: f64, p: f64| w * c + (1.0 - w) * p;
-        let blended = ObjectMotion {
-            translation: [
-                blend(weight.pos, combined.translation[0], physics.translation[0]),
-                blend(weight.pos, combined.translation[1], physics.translation[1]),
-            ],
-            rotation: blend(weight.rot, combined.rotation, physics.rotation),
-        };
+        let blended = weight.blend(combined, physics);
         let loss = FrameLoss::of(&Loss::of(&blended, truth, scale));
         let dt = self
             .last_time

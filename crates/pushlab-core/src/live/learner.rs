@@ -96,6 +96,12 @@ impl LiveLearner {
             horizon,
             config,
         );
+        Self::with_run(run, rate_hz)
+    }
+
+    /// Learning in `run` (on a push not begun: a controller's, with physics alone beside it for
+    /// the weighted prediction), on a grid at `rate_hz`.
+    pub fn with_run(run: OnlineRun, rate_hz: f64) -> Self {
         Self {
             grid: LiveGrid::new(rate_hz),
             run,

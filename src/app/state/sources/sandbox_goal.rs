@@ -11,7 +11,7 @@ use std::sync::Arc;
 use nalgebra::Point2;
 use pushlab_core::control::goal::DEFAULT_HOLD_STEPS;
 use pushlab_core::control::{
-    Goal, Pacing, Phase, PlanWith, Planner, PlannerConfig, is_away, planning_theta,
+    Goal, Pacing, Phase, PlanWith, Planner, PlannerConfig, is_away, plan_step,
 };
 use pushlab_core::geometry::Pose2;
 use pushlab_core::model::OnlineParams;
@@ -120,30 +120,40 @@ impl AppState {
             h: mystery.h,
         };
         let plan_with = driving.plan_with;
-        let chosen = match (run, plan_with) {
-            (Some(run), PlanWith::Physics) => run
-                .physics_beside()
-                .map(|p| (Arc::clone(p.model()), planning_theta(p, plan_with, &truth))),
-            (Some(run), _) => Some((
-                Arc::clone(run.model()),
-                planning_theta(run, plan_with, &truth),
-            )),
-            (None, _) => self.sandbox_start_model(plan_with, &truth),
+        // The first step, before the push's run exists, plans with the combined model (or physics
+        // alone's start) at its starting θ; the weighted prediction's weights come with the run.
+        let start = match run {
+            Some(_) => None,
+            None => match self.sandbox_start_model(plan_with, &truth) {
+                Some(start) => Some(start),
+                None => return self.cannot_plan(),
+            },
         };
-        let Some((model, theta)) = chosen else {
-            self.stop_push_to_goal(
-                "cannot plan: physics alone plans with the physics run beside the model's (turn \
-                 on the weighting), and the first step needs a trained model",
-            );
-            return;
+        // Physics alone is the app's physics run beside the model's.
+        let planned_in = match (run, plan_with) {
+            (Some(run), PlanWith::Physics) => run.physics_beside(),
+            (run, _) => run.map(|r| &**r),
         };
         let Some(s) = &mut self.sandbox else { return };
         let Some(driving) = &mut s.driving else {
             return;
         };
-        let plan = driving
-            .planner
-            .step(&object, pusher, model.as_ref(), &theta);
+        let plan = match (planned_in, &start) {
+            (_, Some((model, theta))) => {
+                Some(driving.planner.step(&object, pusher, model.as_ref(), theta))
+            }
+            (Some(run), None) => plan_step(
+                &mut driving.planner,
+                run,
+                plan_with,
+                &truth,
+                (&object, pusher),
+            ),
+            (None, None) => None,
+        };
+        let Some(plan) = plan else {
+            return self.cannot_plan();
+        };
         let (target, phase) = (plan.target, plan.phase);
         driving.frames_seen = frames;
         driving.steps += 1;
@@ -167,6 +177,14 @@ impl AppState {
         self.take_sandbox_events(events);
     }
 
+    /// The push to goal stops: what it plans with is not there.
+    fn cannot_plan(&mut self) {
+        self.stop_push_to_goal(
+            "cannot plan: physics alone and the weighted prediction plan with the physics run \
+             beside the model's (turn on the weighting), and the first step needs a trained model",
+        );
+    }
+
     /// The model and θ to plan the first step with, before the push's run exists: the model on
     /// the mystery at `θ_online(0)` (or the truth), or the carried θ of the last push.
     fn sandbox_start_model(
@@ -185,7 +203,7 @@ impl AppState {
             .ok()?;
         let theta = match plan_with {
             PlanWith::Truth => *truth,
-            PlanWith::Online | PlanWith::Physics => s
+            PlanWith::Online | PlanWith::Physics | PlanWith::Weighted => s
                 .next_start
                 .as_ref()
                 .map_or(model.theta0(), |c| c.start.theta),

@@ -1,0 +1,79 @@
+//! What the planner predicts a push with: one model at one θ, or the weighted prediction — the
+//! combined model and physics alone, each at the θ it has learned, mixed by the weights the
+//! weighting has found (`learn::Weights::blend`, the rule the weighted run is scored by). The
+//! planner asks only for a push's motion, so it plans with either the same way.
+
+use crate::learn::{OnlineRun, Weights};
+use crate::model::{ObjectMotion, OnlineModel, OnlineParams, SampleInput};
+
+/// A push's motion, predicted.
+pub trait Predict {
+    fn motion(&self, input: &SampleInput) -> ObjectMotion;
+}
+
+/// One model at one θ.
+pub struct AtTheta<'a, M: ?Sized> {
+    pub model: &'a M,
+    pub theta: &'a OnlineParams,
+}
+
+impl<M: OnlineModel + ?Sized> Predict for AtTheta<'_, M> {
+    fn motion(&self, input: &SampleInput) -> ObjectMotion {
+        self.model.predict(input, self.theta).motion
+    }
+}
+
+/// The weighted prediction of a run that learns with physics alone beside it.
+pub struct Weighted<'a> {
+    combined: AtTheta<'a, dyn OnlineModel + Send + Sync>,
+    physics: AtTheta<'a, dyn OnlineModel + Send + Sync>,
+    weights: Weights,
+}
+
+/// The θs a weighted prediction is made at: the run's and the physics run's, as learned so far.
+pub struct WeightedThetas {
+    pub combined: OnlineParams,
+    pub physics: OnlineParams,
+}
+
+impl WeightedThetas {
+    /// `run`'s θ and its physics run's at their frontiers; `None` without a physics run beside.
+    pub fn of(run: &OnlineRun) -> Option<Self> {
+        let physics = run.physics_beside()?;
+        Some(Self {
+            combined: run.theta_at(run.frontier()),
+            physics: physics.theta_at(physics.frontier()),
+        })
+    }
+}
+
+impl<'a> Weighted<'a> {
+    /// `run`'s weighted prediction at `thetas`; `None` unless physics alone runs beside it.
+    pub fn of(run: &'a OnlineRun, thetas: &'a WeightedThetas) -> Option<Self> {
+        let physics = run.physics_beside()?;
+        let weights = run.model_weight()?.weight();
+        Some(Self {
+            combined: AtTheta {
+                model: run.model().as_ref(),
+                theta: &thetas.combined,
+            },
+            physics: AtTheta {
+                model: physics.model().as_ref(),
+                theta: &thetas.physics,
+            },
+            weights,
+        })
+    }
+
+    pub fn weights(&self) -> Weights {
+        self.weights
+    }
+}
+
+impl Predict for Weighted<'_> {
+    fn motion(&self, input: &SampleInput) -> ObjectMotion {
+        let combined = self.combined.motion(input);
+        let physics = self.physics.motion(input);
+        self.weights.blend(&combined, &physics)
+    }
+}
