@@ -1,8 +1,8 @@
 //! Pushing an object to a goal with the model being learned: model-predictive control whose
 //! predictions are the combined model's with `θ_online` as the online run has it at each step (or
 //! `θ_online(0)` held fixed, the physics-only model learning online, the weighted prediction of
-//! the two, or the true θ where it is known, to compare). The paper's reason for a push model is planning; this is where pushlab uses
-//! its own.
+//! the two, or the true θ where it is known, to compare). The paper's reason for a push model is
+//! planning; this is where pushlab uses its own.
 //!
 //! The pieces: [`goal`] (the goal pose and when it is reached), [`arc`] (one prediction as the arc
 //! of a push held on its contact), [`sites`] (where a push can start and the pusher's way round
@@ -26,7 +26,7 @@ pub mod sites;
 pub use external::PoseControl;
 pub use goal::{Goal, GoalError};
 pub use planner::{ChosenPush, Phase, Plan, Planner, PlannerConfig};
-pub use predict::{AtTheta, Predict, Weighted, WeightedThetas};
+pub use predict::{AtTheta, Predict, Weighted};
 pub use sandbox_run::{ControlError, ControlOutcome, ControlStep, Decision, SandboxControl};
 
 use crate::learn::OnlineRun;
@@ -205,8 +205,7 @@ pub fn plan_step<'p>(
     (object, pusher): (&crate::geometry::Pose2, nalgebra::Point2<f64>),
 ) -> Option<&'p Plan> {
     if plan_with == PlanWith::Weighted {
-        let thetas = WeightedThetas::of(run)?;
-        let predict = Weighted::of(run, &thetas)?;
+        let predict = Weighted::of(run)?;
         return Some(planner.step_predicting(object, pusher, &predict));
     }
     let theta = planning_theta(run, plan_with, truth);

@@ -266,7 +266,14 @@ impl Planner {
         model: &M,
         theta: &OnlineParams,
     ) -> &Plan {
-        self.step_predicting(object, pusher, &AtTheta { model, theta })
+        self.step_predicting(
+            object,
+            pusher,
+            &AtTheta {
+                model,
+                theta: *theta,
+            },
+        )
     }
 
     /// One control step as [`Planner::step`], predicting pushes with `predict` (one model at one

@@ -14,12 +14,12 @@ pub trait Predict {
 /// One model at one θ.
 pub struct AtTheta<'a, M: ?Sized> {
     pub model: &'a M,
-    pub theta: &'a OnlineParams,
+    pub theta: OnlineParams,
 }
 
 impl<M: OnlineModel + ?Sized> Predict for AtTheta<'_, M> {
     fn motion(&self, input: &SampleInput) -> ObjectMotion {
-        self.model.predict(input, self.theta).motion
+        self.model.predict(input, &self.theta).motion
     }
 }
 
@@ -30,36 +30,20 @@ pub struct Weighted<'a> {
     weights: Weights,
 }
 
-/// The θs a weighted prediction is made at: the run's and the physics run's, as learned so far.
-pub struct WeightedThetas {
-    pub combined: OnlineParams,
-    pub physics: OnlineParams,
-}
-
-impl WeightedThetas {
-    /// `run`'s θ and its physics run's at their frontiers; `None` without a physics run beside.
-    pub fn of(run: &OnlineRun) -> Option<Self> {
-        let physics = run.physics_beside()?;
-        Some(Self {
-            combined: run.theta_at(run.frontier()),
-            physics: physics.theta_at(physics.frontier()),
-        })
-    }
-}
-
 impl<'a> Weighted<'a> {
-    /// `run`'s weighted prediction at `thetas`; `None` unless physics alone runs beside it.
-    pub fn of(run: &'a OnlineRun, thetas: &'a WeightedThetas) -> Option<Self> {
+    /// `run`'s weighted prediction, both runs at the θ they have learned so far; `None` unless
+    /// physics alone runs beside it.
+    pub fn of(run: &'a OnlineRun) -> Option<Self> {
         let physics = run.physics_beside()?;
         let weights = run.model_weight()?.weight();
         Some(Self {
             combined: AtTheta {
                 model: run.model().as_ref(),
-                theta: &thetas.combined,
+                theta: run.theta_at(run.frontier()),
             },
             physics: AtTheta {
                 model: physics.model().as_ref(),
-                theta: &thetas.physics,
+                theta: physics.theta_at(physics.frontier()),
             },
             weights,
         })
@@ -67,6 +51,11 @@ impl<'a> Weighted<'a> {
 
     pub fn weights(&self) -> Weights {
         self.weights
+    }
+
+    /// The combined model's θ and physics alone's, as predicted with.
+    pub fn thetas(&self) -> [OnlineParams; 2] {
+        [self.combined.theta, self.physics.theta]
     }
 }
 

@@ -209,9 +209,11 @@ fn the_weighted_prediction_mixes_both_learned_runs_by_their_weights_and_reaches_
     let physics = learned
         .physics_beside()
         .expect("physics alone learns beside");
-    let thetas = WeightedThetas::of(learned).unwrap();
-    assert_ne!(thetas.physics, physics.theta0(), "physics alone learned");
-    let weighted = Weighted::of(learned, &thetas).unwrap();
+    let weighted = Weighted::of(learned).unwrap();
+    let [combined_theta, physics_theta] = weighted.thetas();
+    assert_eq!(combined_theta, learned.theta_at(learned.frontier()));
+    assert_eq!(physics_theta, physics.theta_at(physics.frontier()));
+    assert_ne!(physics_theta, physics.theta0(), "physics alone learned");
     let w = weighted.weights();
     assert!(
         w.pos > 0.0 && w.pos < 1.0 && w.rot > 0.0 && w.rot < 1.0,
@@ -221,8 +223,8 @@ fn the_weighted_prediction_mixes_both_learned_runs_by_their_weights_and_reaches_
         robot_in_object: [-0.2, 0.03],
         robot_motion_in_object: [0.004, 0.001],
     };
-    let c = learned.model().predict(&input, &thetas.combined).motion;
-    let p = physics.model().predict(&input, &thetas.physics).motion;
+    let c = learned.model().predict(&input, &combined_theta).motion;
+    let p = physics.model().predict(&input, &physics_theta).motion;
     let m = weighted.motion(&input);
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + b.abs());
     assert!(close(
