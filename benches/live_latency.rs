@@ -242,6 +242,7 @@ fn drawn(rate_hz: f64, seconds: f64, camera: bool, record: &Path) -> (Vec<f64>, 
         setting: setting_path(),
         record: record.to_path_buf(),
         rate_hz: Some(rate_hz),
+        ..LiveChoice::default()
     })));
     state.apply(Command::Live(LiveCommand::Connect));
     let timings: Arc<Mutex<(Vec<f64>, Vec<f64>)>> = Arc::default();

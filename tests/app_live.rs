@@ -296,6 +296,7 @@ fn a_live_camera_shows_its_newest_picture_and_counts_those_not_shown() {
         setting: root.join("sample-data/box1-paper-ur-front/setting.json"),
         record: record.clone(),
         rate_hz: Some(10.0),
+        ..LiveChoice::default()
     })));
     state.apply(Command::Live(LiveCommand::Connect));
     let started = Instant::now();
@@ -394,6 +395,7 @@ fn a_lost_connection_is_a_gap_on_the_timeline() {
             setting: root.join("sample-data/box1-paper-ur-front/setting.json"),
             record: record.clone(),
             rate_hz: Some(rate),
+            ..LiveChoice::default()
         }),
     );
     send(&mut harness, LiveCommand::Connect);

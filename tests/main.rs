@@ -28,6 +28,7 @@ mod app_footprint;
 mod app_labels;
 mod app_landscape;
 mod app_live;
+mod app_live_drive;
 mod app_next_push;
 mod app_proposals;
 mod app_sandbox;

@@ -11,9 +11,14 @@ The pairs are mujoco_control.py's (the same seeds draw the same COM and goal), s
 set beside the one `--pipe` made in lock-step: here the poses and the targets cross a socket
 asynchronously, as with a robot.
 
+`--serve PAIR` runs one pair's robot until Ctrl-C on ws://127.0.0.1:PORT for a person to drive
+from the app (File → Connect to a live robot…, Drive): it writes the object's setting.json and
+prints the goal to type in.
+
 Usage: mujoco_foxglove.py OUT.csv [--pairs 20] [--first 31] [--theta online] [--jobs 2]
                           [--pushlab PATH]
        mujoco_foxglove.py --table OUT.csv
+       mujoco_foxglove.py --serve PAIR [--port 8765] [--setting-out setting.json]
 """
 
 import argparse
@@ -76,16 +81,42 @@ class Commands(ServerListener):
             self.received += 1
 
 
-def run(pushlab, pair, with_):
-    model, data, pusher, setting, goal, com = world(pair, "mujoco-foxglove")
+def robot_server(port):
+    """The robot's Foxglove server on `port` (0: any): the command listener, the server, and the
+    pusher's and the object's pose channels (which hold the context they log in: a context
+    dropped closes its channels)."""
     commands = Commands()
     context = foxglove.Context()
     server = foxglove.start_server(
-        name="mujoco robot", port=0, capabilities=[Capability.ClientPublish],
+        name="mujoco robot", port=port, capabilities=[Capability.ClientPublish],
         server_listener=commands, supported_encodings=["cdr"], context=context)
     schema = foxglove.Schema(name=POSE_STAMPED, encoding="ros2msg", data=b"")
     channels = [foxglove.Channel(t, schema=schema, message_encoding="cdr", context=context)
                 for t in ("/pusher", "/object")]
+    return commands, server, (context, channels)
+
+
+def serve(pair, port, setting_out):
+    """One pair's robot until Ctrl-C, for a person driving it from the app."""
+    model, data, pusher, setting, goal, com = world(pair, "mujoco-foxglove")
+    commands, server, (_context, channels) = robot_server(port)
+    with open(setting_out, "w") as f:
+        json.dump(setting, f)
+    print(f"ws://127.0.0.1:{server.port}: pair {pair}, the setting in {setting_out}; "
+          f"the goal x {goal[0]:.4f} m, y {goal[1]:.4f} m, yaw {math.degrees(goal[2]):.1f}°; "
+          f"Ctrl-C ends", flush=True)
+    try:
+        simulate(lambda: True, model, data, pusher, channels, commands)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        server.stop()
+    print(f"{commands.received} target(s) received")
+
+
+def run(pushlab, pair, with_):
+    model, data, pusher, setting, goal, com = world(pair, "mujoco-foxglove")
+    commands, server, (_context, channels) = robot_server(0)
     try:
         with tempfile.TemporaryDirectory() as tmp:
             path = os.path.join(tmp, "setting.json")
@@ -100,7 +131,8 @@ def run(pushlab, pair, with_):
             lines = []
             reader = threading.Thread(target=lambda: lines.extend(proc.stdout), daemon=True)
             reader.start()
-            path_m = simulate(proc, model, data, pusher, channels, commands)
+            path_m = simulate(lambda: proc.poll() is None, model, data, pusher, channels,
+                              commands)
             reader.join()
     finally:
         server.stop()
@@ -118,14 +150,14 @@ def run(pushlab, pair, with_):
             "received": commands.received}
 
 
-def simulate(proc, model, data, pusher, channels, commands):
-    """MuJoCo in real time until pushlab ends: the pusher following the newest target, the poses
-    published every 20 ms. The pusher's path, metres."""
+def simulate(running, model, data, pusher, channels, commands):
+    """MuJoCo in real time while `running()` (until pushlab ends): the pusher following the newest
+    target, the poses published every 20 ms. The pusher's path, metres."""
     jp, jv = model.joint("px").qposadr[0], model.joint("px").dofadr[0]
     body = model.body("object").id
     dt = SPEC["timestep_s"]
     started, sim_t, next_publish, path = time.monotonic(), 0.0, 0.0, 0.0
-    while proc.poll() is None:
+    while running():
         wall = time.monotonic() - started
         while sim_t < wall:
             with commands.lock:
@@ -167,6 +199,14 @@ def table(rows):
 def main():
     if len(sys.argv) == 3 and sys.argv[1] == "--table":
         table(list(csv.DictReader(open(sys.argv[2], newline=""))))
+        return
+    if len(sys.argv) >= 3 and sys.argv[1] == "--serve":
+        parser = argparse.ArgumentParser(description="one pair's robot, for the app to drive")
+        parser.add_argument("--serve", type=int, required=True, metavar="PAIR")
+        parser.add_argument("--port", type=int, default=8765)
+        parser.add_argument("--setting-out", default="setting.json")
+        args = parser.parse_args()
+        serve(args.serve, args.port, args.setting_out)
         return
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("out")

@@ -102,6 +102,8 @@ pub fn window(ctx: &egui::Context, state: &AppState, commands: &mut Vec<Command>
                 }
                 ui.end_row();
             });
+            ui.separator();
+            super::live_drive::form_section(ui, &mut choice.drive);
             ui.horizontal(|ui| {
                 if ui.button("Connect").clicked() {
                     send(LiveCommand::Connect);

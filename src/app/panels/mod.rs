@@ -15,6 +15,7 @@ pub mod label_schema;
 pub mod labels;
 pub mod landscape;
 pub mod live;
+pub mod live_drive;
 pub mod menu;
 pub mod plots;
 pub mod presentation;

@@ -16,6 +16,7 @@ pub fn bottom_bar(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Comman
         ui.add_space(4.0);
         ui.horizontal(|ui| {
             super::live::strip(ui, state, commands);
+            super::live_drive::strip(ui, state, commands);
             ui.add_enabled_ui(!timeline.is_empty(), |ui| {
                 if ui
                     .button("Start")

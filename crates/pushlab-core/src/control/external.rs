@@ -43,10 +43,7 @@ impl PoseControl {
     ) -> Result<Self, ControlError> {
         let outline =
             (setting.object.outline()).map_err(|e| ControlError::Outline(e.to_string()))?;
-        let truth = match (setting.com_offset, setting.h) {
-            (Some(com_offset), Some(h)) => Some(OnlineParams { com_offset, h }),
-            _ => None,
-        };
+        let truth = super::truth_of(setting);
         if plan_with == PlanWith::Truth && truth.is_none() {
             return Err(ControlError::Model(
                 "planning with the true θ needs the setting's com_offset and h".into(),

@@ -71,7 +71,9 @@ impl Pacing {
 pub const AWAY_GAP_M: f64 = 0.01;
 
 /// Which θ the controller plans with.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum PlanWith {
     /// The combined model with θ as learned online so far.
@@ -130,6 +132,15 @@ impl PlanWith {
                  online, mixed by their weights"
             }
         }
+    }
+}
+
+/// The true θ of the object of `setting`, where the setting gives its COM offset and `h` (a
+/// simulated object's): what `PlanWith::Truth` plans with, refused where it is `None`.
+pub fn truth_of(setting: &crate::recording::Setting) -> Option<OnlineParams> {
+    match (setting.com_offset, setting.h) {
+        (Some(com_offset), Some(h)) => Some(OnlineParams { com_offset, h }),
+        _ => None,
     }
 }
 

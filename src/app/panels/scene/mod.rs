@@ -354,6 +354,13 @@ fn footprints(
         );
         plan::plan(painter, projection, outline, step);
     }
+    if let Some(drive) = state.live_drive_shown() {
+        let driving = drive.driving();
+        plan::goal(painter, projection, outline, &driving.goal().pose, "goal");
+        if driving.has_planned() {
+            plan::plan(painter, projection, outline, driving.plan());
+        }
+    }
     for Target { pose, style, .. } in content.targets(state, palette) {
         draw::footprint(painter, projection, outline, &pose, style);
     }

@@ -7,6 +7,7 @@
 
 use std::sync::Arc;
 
+use pushlab_core::control::is_away;
 use pushlab_core::geometry::Pose2;
 use pushlab_core::inspect::ahead;
 use pushlab_core::trajectory::{Frame, Trajectory};
@@ -207,5 +208,34 @@ impl AppState {
     /// The growing push, for the panels (the live strip, the sandbox's pane).
     pub fn growing(&self) -> Option<&Growing> {
         self.growing.as_ref()
+    }
+}
+
+impl AppState {
+    /// `skip` with the frames where the pusher is away from the object flagged too, while the
+    /// controller drives the growing push. The flags are kept as the frames arrive: each batch
+    /// tests only the frames new since the last.
+    pub(in crate::app::state) fn with_frames_away(&mut self, skip: Arc<[bool]>) -> Arc<[bool]> {
+        let generation = self.run_generation;
+        // The sandbox's controller, or a robot's: never both (a robot's push is not the sandbox's).
+        let driving = match self.sandbox.as_mut().and_then(|s| s.driving.as_mut()) {
+            Some(driving) => Some(driving),
+            None => self.live.driving_mut(),
+        };
+        let (Some(driving), Some(run)) = (driving, self.run.as_ref()) else {
+            return skip;
+        };
+        let frames = &run.trajectory().frames;
+        let (kept_for, away) = &mut driving.away;
+        if *kept_for != generation || away.len() > frames.len() {
+            *kept_for = generation;
+            away.clear();
+        }
+        let sites = driving.planner.sites();
+        let new = frames[away.len()..].iter().map(|f| is_away(sites, f));
+        away.extend(new);
+        (away.iter().enumerate())
+            .map(|(k, &a)| a || skip.get(k).copied().unwrap_or(false))
+            .collect()
     }
 }

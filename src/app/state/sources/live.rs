@@ -11,6 +11,8 @@
 //! timeline following the live edge) is `live_feed`'s.
 
 #[cfg(not(target_arch = "wasm32"))]
+mod commanding;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod worker;
 
 use std::collections::BTreeMap;
@@ -24,6 +26,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::app::state::job::{Job, take_ended};
 use crate::app::state::recordings::session::RecordingId;
+use crate::app::state::sources::driving::Driving;
+pub use crate::app::state::sources::live_drive::{
+    DriveChoice, DriveCommand, DriveStatus, LiveDrive, ToWorker,
+};
 use pushlab_core::recording::bag::{TopicInfo, TopicSpec, choice};
 
 /// What the form asks for; remembered per server address once a session with it started.
@@ -41,6 +47,9 @@ pub struct LiveChoice {
     pub record: PathBuf,
     /// The grid's rate, Hz; `None`: the rate the model was trained at.
     pub rate_hz: Option<f64>,
+    /// Whether, and how, the controller drives the robot (boxed: most sessions only watch, and
+    /// every form edit carries the choice).
+    pub drive: Box<DriveChoice>,
 }
 
 /// The form being filled in, with why the last Connect failed.
@@ -77,6 +86,8 @@ pub enum LiveCommand {
     Disconnect,
     /// Show the newest frame again and follow it (after scrubbing back while live).
     BackToLive,
+    /// The drive's buttons (a session connected with Drive on).
+    Drive(DriveCommand),
 }
 
 /// The connection as the worker last said it.
@@ -103,6 +114,8 @@ pub enum Link {
 pub struct Inbox {
     pub handed: Handed,
     pub latest: Latest,
+    /// What the UI hands the worker: the drive's targets and the user's asks.
+    pub to_worker: ToWorker,
 }
 
 /// What the UI takes out of the inbox every frame.
@@ -129,6 +142,8 @@ pub struct Latest {
     pub refused: usize,
     /// Camera messages per topic that came faster than the UI took them: recorded, not shown.
     pub images_dropped: BTreeMap<String, u64>,
+    /// The drive, when the session drives the robot.
+    pub drive: Option<DriveStatus>,
 }
 
 /// A connection lost and made again: the push's frames over that time are interpolated between the
@@ -209,6 +224,8 @@ pub struct Running {
     /// Whether connecting, and how the session ended, were said.
     pub said_connected: bool,
     pub said_end: bool,
+    /// The controller driving the robot, when Drive was on.
+    pub drive: Option<LiveDrive>,
 }
 
 impl Live {
@@ -241,6 +258,13 @@ impl Live {
 
     pub(in crate::app::state) fn running_mut(&mut self) -> Option<&mut Running> {
         self.session.as_mut()
+    }
+
+    /// The controller driving the robot, while the session runs.
+    pub(in crate::app::state) fn driving_mut(&mut self) -> Option<&mut Driving> {
+        (self.session.as_mut())
+            .and_then(|s| s.drive.as_mut())
+            .map(|d| &mut d.driving)
     }
 
     /// Whether a session's worker is still running (connected, connecting or reconnecting).
@@ -288,7 +312,10 @@ impl Live {
                 self.listing = None;
             }
             LiveCommand::ListTopics => self.list_topics(),
-            LiveCommand::Connect | LiveCommand::Disconnect | LiveCommand::BackToLive => {}
+            LiveCommand::Connect
+            | LiveCommand::Disconnect
+            | LiveCommand::BackToLive
+            | LiveCommand::Drive(_) => {}
         }
     }
 
@@ -357,6 +384,7 @@ impl Live {
         &mut self,
         choice: LiveChoice,
         recording: RecordingId,
+        drive: Option<LiveDrive>,
     ) -> WorkerLink {
         self.stop();
         self.form = None;
@@ -373,6 +401,7 @@ impl Live {
             images: BTreeMap::new(),
             said_connected: false,
             said_end: false,
+            drive,
         });
         link
     }
@@ -463,6 +492,7 @@ mod tests {
             setting: dir.join("setting.json"),
             record: dir.join("push.mcap"),
             rate_hz: Some(100.0),
+            drive: Box::default(),
         };
         let mut live = Live::new(
             BTreeMap::from([(robot.url.clone(), robot.clone())]),

@@ -28,6 +28,7 @@ impl AppState {
                 }
             }
             LiveCommand::BackToLive => self.back_to_newest(),
+            LiveCommand::Drive(command) => self.apply_drive(*command),
             LiveCommand::OpenForm
             | LiveCommand::Edit(_)
             | LiveCommand::CloseForm
@@ -72,12 +73,23 @@ impl AppState {
                         "the model in use does not say the one frame rate it was trained at: enter the grid's rate".to_owned()
                     })?,
             };
-            Ok((setting, rate))
+            let drive = match choice.drive.on {
+                true => Some(super::live_drive::prepare(
+                    &choice.drive,
+                    &setting,
+                    self.models.combined.as_ref(),
+                    rate,
+                    self.run_generation,
+                )?),
+                false => None,
+            };
+            Ok((setting, rate, drive))
         })();
-        let (setting, rate) = match checked {
+        let (setting, rate, drive) = match checked {
             Ok(ok) => ok,
             Err(why) => return self.live.refuse(why),
         };
+        let (drive, setup) = drive.unzip();
         // The push is named after its recording, which is where it can be opened again later.
         let source = if choice.record.as_os_str().is_empty() {
             PathBuf::from(format!("live {}", choice.url))
@@ -108,9 +120,9 @@ impl AppState {
             recording: 0,
         };
         let url = choice.url.clone();
-        let link = self.live.start(choice.clone(), id);
+        let link = self.live.start(choice.clone(), id, drive);
         self.start_growing(id, Feed::Live);
-        self.start_live_worker(choice, rate, link);
+        self.start_live_worker(choice, rate, setup, link);
         self.remember_parameters();
         self.apply_session(crate::app::state::SessionCommand::Select(id));
         self.status = Some(format!("connecting to {url}…"));
@@ -121,10 +133,11 @@ impl AppState {
         &self,
         choice: crate::app::state::sources::live::LiveChoice,
         rate: f64,
+        drive: Option<super::live_drive::DriveSetup>,
         link: crate::app::state::sources::live::WorkerLink,
     ) {
         crate::app::platform::spawn(move || {
-            crate::app::state::sources::live::worker::run(&choice, rate, &link)
+            crate::app::state::sources::live::worker::run(&choice, rate, drive.as_ref(), &link)
         });
     }
 
@@ -133,6 +146,7 @@ impl AppState {
         &self,
         _: crate::app::state::sources::live::LiveChoice,
         _: f64,
+        _: Option<super::live_drive::DriveSetup>,
         _: crate::app::state::sources::live::WorkerLink,
     ) {
     }
@@ -166,6 +180,7 @@ impl AppState {
         }
         if !frames.is_empty() {
             self.grow(frames);
+            self.drive_live();
         }
         let mut ended = None;
         if let Some(running) = self.live.running_mut()

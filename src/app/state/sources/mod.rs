@@ -5,9 +5,12 @@
 pub mod bag_import;
 pub(super) mod choosing;
 pub mod dataset_import;
+pub mod driving;
 pub(super) mod grow;
 pub mod growing;
 pub mod live;
+pub mod live_drive;
+pub(super) mod live_drive_steps;
 pub(super) mod live_feed;
 pub(super) mod opening;
 pub mod sandbox;

@@ -4,12 +4,13 @@
 //! until reveal), each push's review and the score card. The pushes grow on the path every growing
 //! push takes (`sources::grow`, `sandbox_feed`).
 
-use pushlab_core::control::{PlanWith, Planner};
+use pushlab_core::control::PlanWith;
 use pushlab_core::geometry::Pose2;
 use pushlab_core::sandbox::{MysteryObject, PushChoice, PushReview, Sandbox, ScoreCard};
 
 use crate::app::state::learning::online::Carried;
 use crate::app::state::recordings::session::RecordingId;
+pub use crate::app::state::sources::driving::Driving;
 
 /// What the sandbox is asked.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,39 +54,6 @@ pub enum SandboxCommand {
     StopPushToGoal,
     /// Leave the sandbox (its pushes stay open).
     Close,
-}
-
-/// The controller pushing the sandbox's object to its goal.
-pub struct Driving {
-    pub(in crate::app::state) planner: Planner,
-    pub(in crate::app::state) plan_with: PlanWith,
-    /// Frames of the growing push planned from so far (a plan per new frame: the control rate is
-    /// the frame rate).
-    pub(in crate::app::state) frames_seen: usize,
-    /// Control steps made, and those the object has stayed within tolerance with the pusher
-    /// holding.
-    pub(in crate::app::state) steps: usize,
-    pub(in crate::app::state) held: usize,
-    /// Per frame of the driven push (its run's generation first), whether the pusher was away
-    /// from the object: kept as the frames arrive, so that each learning batch tests only the new
-    /// frames.
-    pub(in crate::app::state) away: (u64, Vec<bool>),
-}
-
-impl Driving {
-    /// The last step's plan: the arc drawn ahead of the object, the pusher's way.
-    pub fn plan(&self) -> &pushlab_core::control::Plan {
-        self.planner.plan()
-    }
-
-    pub fn plan_with(&self) -> PlanWith {
-        self.plan_with
-    }
-
-    /// Seconds of pushing so far.
-    pub fn time_s(&self) -> f64 {
-        self.steps as f64 / pushlab_core::sandbox::mystery::RATE_HZ
-    }
 }
 
 /// How far ahead of the pusher the arrow keys put the pointer, metres: the pusher heads there at

@@ -6,13 +6,8 @@
 //! frames where the pusher is away from the object are held over (`control::is_away`), as the
 //! CLI's controller holds them.
 
-use std::sync::Arc;
-
 use nalgebra::Point2;
-use pushlab_core::control::goal::DEFAULT_HOLD_STEPS;
-use pushlab_core::control::{
-    Goal, Pacing, Phase, PlanWith, Planner, PlannerConfig, is_away, plan_step,
-};
+use pushlab_core::control::{Goal, Pacing, PlanWith, Planner, PlannerConfig, plan_step};
 use pushlab_core::geometry::Pose2;
 use pushlab_core::model::OnlineParams;
 
@@ -65,14 +60,12 @@ impl AppState {
             },
         );
         if let Some(s) = &mut self.sandbox {
-            s.driving = Some(Driving {
+            s.driving = Some(Driving::new(
                 planner,
                 plan_with,
-                frames_seen: 0,
-                steps: 0,
-                held: 0,
-                away: (self.run_generation, Vec::new()),
-            });
+                pushlab_core::sandbox::mystery::RATE_HZ,
+                self.run_generation,
+            ));
             s.last_drive = None;
         }
         self.status = Some(format!(
@@ -155,14 +148,7 @@ impl AppState {
             return self.cannot_plan();
         };
         let (target, phase) = (plan.target, plan.phase);
-        driving.frames_seen = frames;
-        driving.steps += 1;
-        driving.held = if phase == Some(Phase::Holding) {
-            driving.held + 1
-        } else {
-            0
-        };
-        if driving.held >= DEFAULT_HOLD_STEPS {
+        if driving.count(frames, phase) {
             let time_s = driving.time_s();
             s.last_drive = Some((true, time_s, plan_with));
             s.driving = None;
@@ -210,28 +196,5 @@ impl AppState {
             PlanWith::Fixed => model.theta0(),
         };
         Some((model, theta))
-    }
-
-    /// `skip` with the frames where the pusher is away from the object flagged too, while the
-    /// controller drives the growing push. The flags are kept as the frames arrive: each batch
-    /// tests only the frames new since the last.
-    pub(in crate::app::state) fn with_frames_away(&mut self, skip: Arc<[bool]>) -> Arc<[bool]> {
-        let generation = self.run_generation;
-        let driven = self.sandbox.as_mut().and_then(|s| s.driving.as_mut());
-        let (Some(driving), Some(run)) = (driven, self.run.as_ref()) else {
-            return skip;
-        };
-        let frames = &run.trajectory().frames;
-        let (kept_for, away) = &mut driving.away;
-        if *kept_for != generation || away.len() > frames.len() {
-            *kept_for = generation;
-            away.clear();
-        }
-        let sites = driving.planner.sites();
-        let new = frames[away.len()..].iter().map(|f| is_away(sites, f));
-        away.extend(new);
-        (away.iter().enumerate())
-            .map(|(k, &a)| a || skip.get(k).copied().unwrap_or(false))
-            .collect()
     }
 }

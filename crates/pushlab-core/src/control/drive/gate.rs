@@ -80,6 +80,9 @@ pub struct Limits {
 pub enum Halt {
     /// No pose of a stream for longer than [`STALE_AFTER`].
     Stale,
+    /// No new target from the planner for a grid frame past [`STALE_AFTER`] (a planner on another
+    /// thread stopped: the app's window frozen).
+    PlanStale,
     Paused,
     Disarmed,
     /// The user's interrupt (Ctrl-C).
@@ -97,6 +100,7 @@ impl Halt {
     pub fn describe(self) -> &'static str {
         match self {
             Halt::Stale => "the poses went stale (none for 200 ms)",
+            Halt::PlanStale => "the plan went stale (no new target for a grid frame and 200 ms)",
             Halt::Paused => "paused",
             Halt::Disarmed => "disarmed",
             Halt::Interrupted => "interrupted (Ctrl-C)",

@@ -6,16 +6,11 @@ use std::time::{Duration, Instant};
 
 use nalgebra::Point2;
 
-use super::gate::{Command, Halt, Limits, SafetyGate, Workspace};
+use super::commander::{Commander, CommanderConfig, Gated, UserAction};
+use super::gate::{Command, Halt, Workspace};
 use crate::control::{ControlStep, Pacing, PoseControl};
-use crate::geometry::Pose2;
-use crate::live::grid::Stream;
 use crate::live::{CommandEncoding, LiveSession, Recorded, SessionError, SessionEvent};
-use crate::recording::bag::PlanarPose;
 
-/// How far the workspace taken from the first poses reaches past them and the goal, beyond the
-/// object's own size, metres: room to go round the object, not to wander.
-pub const WORKSPACE_MARGIN_M: f64 = 0.15;
 /// How long a lost link is waited for, to send the hold once it is back.
 const HOLD_AFTER_LOSS: Duration = Duration::from_secs(2);
 
@@ -40,21 +35,14 @@ pub struct DriveConfig {
     pub frame_id: String,
     /// A new MCAP file every message received and sent goes into.
     pub record: Option<PathBuf>,
-    /// `None`: the box around the first poses and the goal (see [`WORKSPACE_MARGIN_M`]).
+    /// `None`: the box around the first poses and the goal (see
+    /// [`super::WORKSPACE_MARGIN_M`]).
     pub workspace: Option<Workspace>,
     pub pacing: Pacing,
     /// Armed from the start (`--arm`); else nothing is sent until [`UserAction::Arm`].
     pub arm: bool,
     /// Seconds before the drive ends unreached.
     pub time_limit_s: f64,
-}
-
-/// What the user does while the loop runs (the app's buttons).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum UserAction {
-    Arm,
-    Pause,
-    Disarm,
 }
 
 /// What happened, one thing at a time, for the caller to show.
@@ -90,10 +78,7 @@ pub struct Drive {
     session: LiveSession,
     control: PoseControl,
     config: DriveConfig,
-    gate: Option<SafetyGate>,
-    arm_asked: bool,
-    /// The newest pose of each stream (pusher, object) and when it arrived.
-    latest: [Option<(PlanarPose, Instant)>; 2],
+    commander: Commander,
     steps: usize,
 }
 
@@ -116,15 +101,19 @@ impl Drive {
         let encoding = session.advertise_command(&config.command_topic, &config.frame_id)?;
         // Half a control step: the clock is looked at often enough to keep the rate.
         session.read_at_most(Duration::from_secs_f64(0.5 / config.pacing.control_hz))?;
-        let arm_asked = config.arm;
+        let commander = Commander::new(CommanderConfig {
+            pacing: config.pacing,
+            workspace: config.workspace,
+            goal: control.planner().goal().pose.position,
+            object_reach: CommanderConfig::reach_of(control.planner().sites().outline()),
+            arm: config.arm,
+        });
         Ok((
             Self {
                 session,
                 control,
                 config,
-                gate: None,
-                arm_asked,
-                latest: [None, None],
+                commander,
                 steps: 0,
             },
             encoding,
@@ -150,16 +139,8 @@ impl Drive {
             if started.elapsed().as_secs_f64() >= self.config.time_limit_s {
                 break self.halt(Halt::TimeLimit, each)?;
             }
-            match user() {
-                Some(UserAction::Arm) => self.arm(),
-                Some(UserAction::Pause) => {
-                    self.halt(Halt::Paused, each)?;
-                }
-                Some(UserAction::Disarm) => {
-                    self.halt(Halt::Disarmed, each)?;
-                    self.arm_asked = false;
-                }
-                None => {}
+            if let Some((why, hold)) = user().and_then(|a| self.commander.act(a)) {
+                self.say_halt(why, hold, each)?;
             }
             match self.session.next(stop)? {
                 Some(SessionEvent::Pose {
@@ -168,11 +149,7 @@ impl Drive {
                     log_time_ns,
                 }) => {
                     self.control.take(stream, &pose, log_time_ns);
-                    let slot = match stream {
-                        Stream::Pusher => 0,
-                        Stream::Object => 1,
-                    };
-                    self.latest[slot] = Some((pose, Instant::now()));
+                    self.commander.take(stream, &pose, Instant::now());
                 }
                 Some(SessionEvent::Said(what)) => each(DriveEvent::Said(what)),
                 Some(SessionEvent::Lost(why)) => {
@@ -193,7 +170,7 @@ impl Drive {
             if self.step(started, each)? {
                 break self.halt(Halt::Reached, each)?;
             }
-            if let Some(Halt::Stale) = self.gate.as_ref().and_then(SafetyGate::halted) {
+            if let Some(Halt::Stale) = self.commander.halted() {
                 break Halt::Stale;
             }
         };
@@ -207,13 +184,6 @@ impl Drive {
         })
     }
 
-    fn arm(&mut self) {
-        self.arm_asked = true;
-        if let Some(gate) = self.gate.as_mut() {
-            gate.arm();
-        }
-    }
-
     /// One control step, once both streams have a pose: plan, gate, send. Whether the goal is
     /// now held.
     fn step(
@@ -221,91 +191,67 @@ impl Drive {
         started: Instant,
         each: &mut dyn FnMut(DriveEvent),
     ) -> Result<bool, DriveError> {
-        let [Some((pusher, pusher_at)), Some((object, object_at))] = self.latest else {
+        let Some((pusher, object)) = self.commander.poses() else {
             return Ok(false);
         };
-        let pusher_at_now = Point2::new(pusher.x, pusher.y);
-        let object_pose = Pose2::new(object.x, object.y, object.yaw);
-        if self.gate.is_none() {
-            self.open_gate(pusher_at_now, &object_pose, each);
-        }
-        let step = self
-            .control
-            .plan(started.elapsed().as_secs_f64(), pusher_at_now, object_pose);
+        let step = (self.control).plan(started.elapsed().as_secs_f64(), pusher, object);
         self.steps += 1;
-        let Some(gate) = self.gate.as_mut() else {
-            return Ok(false);
-        };
         let planned = Point2::new(step.target[0], step.target[1]);
-        let command = gate.command(
-            planned,
-            pusher_at_now,
-            pusher_at.elapsed(),
-            object_at.elapsed(),
-        );
-        match (command, gate.halted()) {
-            (Some(hold @ Command::Hold { .. }), Some(why)) => {
-                let sent = self.session.send_command(hold.point())?;
+        let now = Instant::now();
+        let gated = self
+            .commander
+            .command(Some((planned, now)), now, &mut |said| {
+                each(DriveEvent::Said(said))
+            });
+        match gated {
+            Gated::Halted { why, hold } => {
                 each(DriveEvent::Step {
                     step,
                     command: None,
                     sent: false,
                 });
-                each(DriveEvent::Halted {
-                    why,
-                    hold: Some(hold),
-                    sent,
-                });
+                self.say_halt(why, hold, each)?;
                 Ok(false)
             }
-            (command, _) => {
-                let sent = match command {
-                    Some(c) => self.session.send_command(c.point())?,
-                    None => false,
-                };
+            Gated::Send(command) => {
+                let sent = self.session.send_command(command.point())?;
                 each(DriveEvent::Step {
                     step,
-                    command,
+                    command: Some(command),
                     sent,
+                });
+                Ok(self.control.is_done())
+            }
+            Gated::Nothing => {
+                each(DriveEvent::Step {
+                    step,
+                    command: None,
+                    sent: false,
                 });
                 Ok(self.control.is_done())
             }
         }
     }
 
-    /// The gate, once the first poses give the workspace (unless it was given).
-    fn open_gate(&mut self, pusher: Point2<f64>, object: &Pose2, each: &mut dyn FnMut(DriveEvent)) {
-        let workspace = self.config.workspace.unwrap_or_else(|| {
-            let (low, high) = self.control.planner().sites().outline().bounding_box();
-            let reach = (high - low).norm() / 2.0 + WORKSPACE_MARGIN_M;
-            let goal = self.control.planner().goal().pose.position;
-            let w = Workspace::around(&[pusher, object.position, goal], reach);
-            each(DriveEvent::Said(format!(
-                "workspace: x {:.3} to {:.3} m, y {:.3} to {:.3} m (around the first poses and the goal; --workspace sets it)",
-                w.min[0], w.max[0], w.min[1], w.max[1]
-            )));
-            w
-        });
-        let mut gate = SafetyGate::new(Limits {
-            speed: self.config.pacing.pusher_speed,
-            control_hz: self.config.pacing.control_hz,
-            workspace,
-        });
-        if self.arm_asked {
-            gate.arm();
-        }
-        self.gate = Some(gate);
-    }
-
-    /// The gate halted for `why`: its one hold sent, said. `why` again, to end the loop with.
-    fn halt(&mut self, why: Halt, each: &mut dyn FnMut(DriveEvent)) -> Result<Halt, DriveError> {
-        let pusher = self.latest[0].map(|(p, _)| Point2::new(p.x, p.y));
-        let hold = self.gate.as_mut().and_then(|g| g.halt(why, pusher));
+    /// The commander halted for `why`: its one hold (if any) sent, and said.
+    fn say_halt(
+        &mut self,
+        why: Halt,
+        hold: Option<Command>,
+        each: &mut dyn FnMut(DriveEvent),
+    ) -> Result<(), DriveError> {
         let sent = match hold {
             Some(c) => self.session.send_command(c.point())?,
             None => false,
         };
         each(DriveEvent::Halted { why, hold, sent });
+        Ok(())
+    }
+
+    /// The gate halted for `why`: its one hold sent, said. `why` again, to end the loop with.
+    fn halt(&mut self, why: Halt, each: &mut dyn FnMut(DriveEvent)) -> Result<Halt, DriveError> {
+        let hold = self.commander.halt(why);
+        self.say_halt(why, hold, each)?;
         Ok(why)
     }
 
@@ -316,11 +262,7 @@ impl Drive {
         stop: &dyn Fn() -> bool,
         each: &mut dyn FnMut(DriveEvent),
     ) -> Result<Halt, DriveError> {
-        let pusher = self.latest[0].map(|(p, _)| Point2::new(p.x, p.y));
-        let hold = self
-            .gate
-            .as_mut()
-            .and_then(|g| g.halt(Halt::LinkLost, pusher));
+        let hold = self.commander.halt(Halt::LinkLost);
         let mut sent = false;
         if let Some(hold) = hold {
             let lost = Instant::now();

@@ -8,11 +8,13 @@ use std::sync::Arc;
 use pushlab_core::live::{LiveGrid, LiveSession, SessionEvent, decode_live_image};
 use pushlab_core::recording::bag::ImageKind;
 
+use super::commanding::Commanding;
 use crate::app::state::sources::live::{Gap, Link, LiveChoice, LiveImage, WorkerLink};
+use crate::app::state::sources::live_drive::DriveSetup;
 
 /// Runs a session with `choice` on a grid at `rate_hz` until the link is stopped or the session
-/// fails; says how it ended in the inbox.
-pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
+/// fails, driving the robot as `drive` says if it is given; says how it ended in the inbox.
+pub fn run(choice: &LiveChoice, rate_hz: f64, drive: Option<&DriveSetup>, link: &WorkerLink) {
     let stop = || link.stopped();
     let record = (!choice.record.as_os_str().is_empty()).then_some(choice.record.as_path());
     let mut session =
@@ -34,6 +36,18 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
         }
     });
     session.show_images();
+    let mut commanding = match drive.map(|setup| Commanding::open(&mut session, setup)) {
+        Some(Ok(commanding)) => Some(commanding),
+        Some(Err(why)) => {
+            let status = Commanding::refused(&why);
+            link.with(|inbox| {
+                inbox.handed.said.extend(status.refused.clone());
+                inbox.latest.drive = Some(status);
+            });
+            None
+        }
+        None => None,
+    };
     // The newest camera message of each topic not yet decoded: decoded only once the UI took the
     // picture before it, so a camera faster than the window costs one decode per picture shown.
     let mut pending: BTreeMap<String, (ImageKind, Vec<u8>)> = BTreeMap::new();
@@ -59,7 +73,11 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
                 pose,
                 log_time_ns,
             }) => match grid.push(stream, &pose, log_time_ns) {
-                Ok(()) => {}
+                Ok(()) => {
+                    if let Some(c) = commanding.as_mut() {
+                        c.take(stream, &pose);
+                    }
+                }
                 Err(why) => {
                     refused += 1;
                     if refused == 1 {
@@ -87,6 +105,9 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             Some(SessionEvent::Lost(why)) => {
                 said = Some(format!("{why}; connecting again"));
                 new_link = Some(Link::Lost { why });
+                if let Some(c) = commanding.as_mut() {
+                    c.lost();
+                }
             }
             Some(SessionEvent::Reconnected { after_s, attempts }) => {
                 said = Some(format!(
@@ -95,11 +116,22 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
                     handed.saturating_sub(1)
                 ));
                 open_gap = Some((handed, after_s));
+                if let Some(Err(e)) = commanding.as_mut().map(|c| c.reconnected(&mut session)) {
+                    error = Some(e.to_string());
+                    break;
+                }
                 new_link = Some(Link::Connected {
                     server: session.server().unwrap_or("unnamed server").to_owned(),
                 });
             }
             None => {}
+        }
+        let mut drive_said = Vec::new();
+        if let Some(Err(e)) =
+            (commanding.as_mut()).map(|c| c.tick(&mut session, link, &mut drive_said))
+        {
+            error = Some(e.to_string());
+            break;
         }
         let frames = grid.take_frames();
         let before = handed;
@@ -152,6 +184,7 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
         link.with(|inbox| {
             inbox.handed.frames.extend(frames);
             inbox.handed.said.extend(said);
+            inbox.handed.said.extend(drive_said);
             inbox.handed.gaps.extend(gap);
             if let Some(l) = new_link {
                 inbox.latest.link = l;
@@ -160,6 +193,9 @@ pub fn run(choice: &LiveChoice, rate_hz: f64, link: &WorkerLink) {
             inbox.latest.lag = lag;
             inbox.latest.refused = refused;
         });
+    }
+    if let Some(c) = commanding.as_mut() {
+        c.finish(&mut session, link);
     }
     let recorded = match session.finish() {
         Ok(recorded) => recorded.map(|r| {

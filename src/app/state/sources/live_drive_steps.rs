@@ -1,0 +1,137 @@
+//! Drive's control steps on the UI thread (see `live_drive`): a step per new frame of the live
+//! push shown, planned with the run the app learns it with, the target handed to the worker
+//! stamped; the drive's buttons passed to the worker's commander.
+
+use nalgebra::Point2;
+use pushlab_core::control::drive::Halt;
+use pushlab_core::control::{PlanWith, plan_step};
+
+use crate::app::platform::Instant;
+use crate::app::state::AppState;
+use crate::app::state::sources::growing::Feed;
+use crate::app::state::sources::live_drive::{DriveCommand, LiveDrive, WorkerAsk};
+
+impl AppState {
+    /// The drive of the live push shown, for the scene to draw its goal and plan.
+    pub fn live_drive_shown(&self) -> Option<&LiveDrive> {
+        let running = self.live.running()?;
+        (self.session.selected == Some(running.recording))
+            .then_some(running.drive.as_ref())
+            .flatten()
+    }
+
+    /// The drive's buttons: passed to the worker's commander.
+    pub(in crate::app::state) fn apply_drive(&mut self, command: DriveCommand) {
+        let Some(running) = self.live.running_mut() else {
+            return;
+        };
+        let Some(drive) = running.drive.as_mut() else {
+            return;
+        };
+        let ask = match command {
+            DriveCommand::Arm => {
+                drive.reached = false;
+                drive.driving.held = 0;
+                WorkerAsk::Arm
+            }
+            DriveCommand::Pause => WorkerAsk::Halt(Halt::Paused),
+            DriveCommand::Disarm => WorkerAsk::Halt(Halt::Disarmed),
+        };
+        running.link.with(|inbox| inbox.to_worker.asks.push(ask));
+        self.status = Some(match command {
+            DriveCommand::Arm => format!(
+                "ARMED: the controller's targets go to the robot, planned with {}",
+                drive.driving.plan_with.description()
+            ),
+            DriveCommand::Pause => "paused: the pusher is held where it is".to_owned(),
+            DriveCommand::Disarm => "disarmed: nothing is sent to the robot".to_owned(),
+        });
+    }
+
+    /// A control step per new frame of the live push shown: planned with its run, the target
+    /// handed to the worker. The goal held still ends the drive with the worker's one hold.
+    pub(in crate::app::state) fn drive_live(&mut self) {
+        let Some(running) = self.live.running() else {
+            return;
+        };
+        if (running.latest.drive.as_ref()).is_some_and(|d| d.refused.is_some()) {
+            // The server cannot be driven: the session watches, nothing is planned.
+            if let Some(running) = self.live.running_mut() {
+                running.drive = None;
+            }
+            return;
+        }
+        let Some(drive) = running.drive.as_ref().filter(|d| !d.reached) else {
+            return;
+        };
+        let recording = running.recording;
+        let growing = (self.growing.as_ref())
+            .is_some_and(|g| g.feed == Feed::Live && g.open && g.recording == recording);
+        let Some(run) = self
+            .run
+            .as_ref()
+            .filter(|_| growing && self.session.selected == Some(recording))
+        else {
+            return;
+        };
+        let frames = run.trajectory().len();
+        let Some(last) = run.trajectory().frames.last() else {
+            return;
+        };
+        if frames <= drive.driving.frames_seen {
+            return;
+        }
+        let (object, pusher) = (last.object, last.robot);
+        let plan_with = drive.driving.plan_with;
+        let truth = drive.truth.unwrap_or(run.theta0());
+        let run = match plan_with {
+            PlanWith::Physics => run.physics_beside(),
+            _ => Some(&**run),
+        };
+        let Some(running) = self.live.running_mut() else {
+            return;
+        };
+        let Some(drive) = running.drive.as_mut() else {
+            return;
+        };
+        let driving = &mut drive.driving;
+        let plan = run.and_then(|run| {
+            plan_step(
+                &mut driving.planner,
+                run,
+                plan_with,
+                &truth,
+                (&object, pusher),
+            )
+        });
+        let Some(plan) = plan else {
+            running.drive = None;
+            running.link.with(|inbox| {
+                (inbox.to_worker.asks).push(WorkerAsk::Halt(Halt::Disarmed));
+            });
+            self.status = Some(
+                "the drive stopped: physics alone and the weighted prediction plan with the \
+                 physics run beside the model's (turn on the weighting)"
+                    .to_owned(),
+            );
+            return;
+        };
+        let (target, phase) = (Point2::new(plan.target.x, plan.target.y), plan.phase);
+        let reached = driving.count(frames, phase);
+        let time_s = driving.time_s();
+        running.link.with(|inbox| {
+            let to = &mut inbox.to_worker;
+            match reached {
+                true => to.asks.push(WorkerAsk::Halt(Halt::Reached)),
+                false => to.target = Some((target, Instant::now())),
+            }
+        });
+        if reached {
+            drive.reached = true;
+            self.status = Some(format!(
+                "the goal is reached and held in {time_s:.1} s, planned with {}: the pusher is held",
+                plan_with.description()
+            ));
+        }
+    }
+}
