@@ -10,7 +10,9 @@ mod sandbox;
 
 use serde::{Deserialize, Serialize};
 
-pub use self::sandbox::{HookPush, HookSandbox, ShownSandbox, ShownSuggestion, ShownTruth};
+pub use self::sandbox::{
+    HookPush, HookSandbox, ShownDrive, ShownSandbox, ShownSuggestion, ShownTruth,
+};
 
 use pushlab_core::model::OnlineParams;
 
@@ -94,7 +96,7 @@ pub struct HookCommand {
     /// Set at the frame shown (after `seek`).
     pub theta: Option<[f64; 3]>,
     pub play: Option<bool>,
-    /// A new mystery (`hook::sandbox` has these six).
+    /// A new mystery (`hook::sandbox` has these nine).
     pub sandbox: Option<HookSandbox>,
     pub push: Option<HookPush>,
     /// A pointer path dragging the pusher, `[x, y, t]`: metres, seconds from now.
@@ -102,6 +104,11 @@ pub struct HookCommand {
     pub guess: Option<[f64; 2]>,
     pub reveal: Option<bool>,
     pub suggest: Option<bool>,
+    /// Push to goal: the goal `[x, y, yaw]` (world metres and radians), what the controller
+    /// plans with (`online`, `fixed`, `physics`, `truth` or `weighted`), and start (true) or stop.
+    pub goal: Option<[f64; 3]>,
+    pub plan_with: Option<String>,
+    pub push_to_goal: Option<bool>,
 }
 
 /// What a hook command becomes: the state's commands, and an address to fetch (only a page can).
@@ -234,6 +241,9 @@ pub fn translate(command: &HookCommand, state: &AppState) -> Result<Translated, 
             guess: command.guess,
             reveal: command.reveal,
             suggest: command.suggest,
+            goal: command.goal,
+            plan_with: command.plan_with.as_deref(),
+            push_to_goal: command.push_to_goal,
         },
         &mut out.commands,
     )?;

@@ -118,3 +118,45 @@ test("a classroom link opens the CLI's mystery; suggested pushes bring the model
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test("Push to goal in the page: the controller learns as it pushes the mystery and reaches the goal", async () => {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto(site + "?sandbox=4&object=box&hide=browser");
+  const opened = await settled(page);
+  const [x, y, yaw] = opened.sandbox.object_pose;
+  const goal = [x + 0.08, y, yaw];
+  await command(page, { goal, plan_with: "online", push_to_goal: true });
+  // The page applies a command at its next frame.
+  await page.waitForFunction(() => window.pushlab.state()?.sandbox?.goal, null,
+    { timeout: 10_000, polling: 20 });
+  const started = await state(page);
+  assert.deepEqual(started.sandbox.goal, goal);
+  assert.equal(started.sandbox.plan_with, "online");
+  assert.equal(started.sandbox.driving, true, `pushing to the goal: ${started.status}`);
+  await page.waitForFunction(() => {
+    const s = window.pushlab.state();
+    return s && s.sandbox && !s.sandbox.driving && s.sandbox.last_drive;
+  }, null, { timeout: 120_000, polling: 50 });
+  const ended = await state(page);
+  const drive = ended.sandbox.last_drive;
+  assert.equal(drive.reached, true, `the goal is reached: ${ended.status}`);
+  assert.equal(drive.plan_with, "online");
+  const [ox, oy, oyaw] = ended.sandbox.object_pose;
+  assert.ok(Math.hypot(ox - goal[0], oy - goal[1]) < 0.01, `at the goal: ${ended.sandbox.object_pose}`);
+  assert.ok(Math.abs(oyaw - goal[2]) < (3 * Math.PI) / 180, `turned to the goal: ${oyaw} vs ${goal[2]}`);
+  // Learned as it pushed: θ at the push's last frame is not its first frame's, θ_online(0).
+  await command(page, { seek: 0 });
+  const first = (await settled(page)).theta;
+  await command(page, { seek: ended.frames - 1 });
+  const last = (await settled(page)).theta;
+  assert.notDeepEqual(last, first, `θ learned: ${last} from ${first}`);
+  console.log(`push to goal in the page, seed 4: reached in ${drive.time_s.toFixed(1)} s; ` +
+    `the sandbox's own work per frame (planning included): longest ${ended.sandbox.longest_step_ms.toFixed(1)} ms`);
+  assert.ok(ended.sandbox.longest_step_ms < 100,
+    `no frame held over 100 ms by the sandbox's own work: ${ended.sandbox.longest_step_ms} ms`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

@@ -1,10 +1,12 @@
 //! The sandbox through the page's hook: `command({sandbox: {seed, object}})`, `{push: {face,
 //! offset, angle, length}}`, `{drag: [[x, y, t], …]}`, `{guess: [x, y]}`, `{reveal: true}`,
-//! `{suggest: true}`, and what `state().sandbox` shows. A class's script and the browser tests
+//! `{suggest: true}`, Push to goal's `{goal: [x, y, yaw]}`, `{plan_with: "online"}` and
+//! `{push_to_goal: true}` (false stops it), and what `state().sandbox` shows. A class's script and the browser tests
 //! push the mystery as a student does, through the same commands the scene's handles send.
 
 use serde::{Deserialize, Serialize};
 
+use pushlab_core::control::PlanWith;
 use pushlab_core::recording::PushSide;
 use pushlab_core::sandbox::{MysteryObject, PushChoice, ScoreCard, push_of_shape};
 
@@ -93,6 +95,21 @@ pub struct ShownSandbox {
     /// grow, learn; a push's review at its end), and the longest since it opened, ms.
     pub step_ms: Option<f64>,
     pub longest_step_ms: f64,
+    /// Push to goal: the goal `[x, y, yaw]` (world), what the controller plans with, whether it
+    /// is pushing now, and how its last push to the goal ended.
+    pub goal: Option<[f64; 3]>,
+    pub plan_with: String,
+    pub driving: bool,
+    pub last_drive: Option<ShownDrive>,
+}
+
+/// How a push to the goal ended.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ShownDrive {
+    pub reached: bool,
+    /// Seconds of pushing.
+    pub time_s: f64,
+    pub plan_with: String,
 }
 
 /// What `state().sandbox` shows, while there is a sandbox.
@@ -120,6 +137,16 @@ pub fn shown(state: &AppState) -> Option<ShownSandbox> {
         suggested: suggested(state),
         step_ms: session.step_ms().0,
         longest_step_ms: session.step_ms().1,
+        goal: session.goal().map(|g| [g.position.x, g.position.y, g.yaw]),
+        plan_with: session.plan_with().name().to_owned(),
+        driving: session.driving().is_some(),
+        last_drive: session
+            .last_drive()
+            .map(|(reached, time_s, with)| ShownDrive {
+                reached,
+                time_s,
+                plan_with: with.name().to_owned(),
+            }),
     })
 }
 
@@ -156,6 +183,9 @@ pub struct SandboxFields<'a> {
     pub reveal: Option<bool>,
     /// Rank the next push from where learning stands (the Steer tab's Suggest the next push).
     pub suggest: Option<bool>,
+    pub goal: Option<[f64; 3]>,
+    pub plan_with: Option<&'a str>,
+    pub push_to_goal: Option<bool>,
 }
 
 /// Turns the sandbox's fields into the commands the sandbox's window and handles send.
@@ -207,6 +237,28 @@ pub fn translate(fields: SandboxFields<'_>, out: &mut Vec<Command>) -> Result<()
     }
     if fields.suggest == Some(true) {
         out.push(Command::NextPush(NextPushCommand::Suggest));
+    }
+    if let Some(goal) = fields.goal {
+        if !goal.iter().all(|v| v.is_finite()) {
+            return Err(
+                "pushlab.command: goal must be [x, y, yaw], finite metres and radians".into(),
+            );
+        }
+        out.push(Command::Sandbox(SandboxCommand::SetGoal(goal)));
+    }
+    if let Some(name) = fields.plan_with {
+        let with = PlanWith::from_name(name).ok_or_else(|| {
+            format!(
+                "pushlab.command: plan_with {name:?}: expected {}",
+                PlanWith::expected()
+            )
+        })?;
+        out.push(Command::Sandbox(SandboxCommand::SetPlanWith(with)));
+    }
+    match fields.push_to_goal {
+        Some(true) => out.push(Command::Sandbox(SandboxCommand::PushToGoal)),
+        Some(false) => out.push(Command::Sandbox(SandboxCommand::StopPushToGoal)),
+        None => {}
     }
     Ok(())
 }
@@ -321,5 +373,47 @@ mod tests {
         );
         let e = send(&mut state, r#"{"push": {"face": "front"}}"#).unwrap_err();
         assert!(e.contains("missing field `offset`"), "{e}");
+        let e = send(&mut state, r#"{"plan_with": "magic"}"#).unwrap_err();
+        assert!(
+            e.contains(r#"plan_with "magic": expected online, fixed, physics, truth or weighted"#),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_hook_pushes_the_mystery_to_a_goal_and_says_how_it_went() {
+        let mut state = initial_state(&[], Default::default());
+        send(&mut state, r#"{"sandbox": {"seed": 4, "object": "box"}}"#).unwrap();
+        let [x, y, yaw] = shown_all(&state).sandbox.unwrap().object_pose;
+        let goal = [x + 0.08, y, yaw];
+        send(
+            &mut state,
+            &format!(r#"{{"goal": {goal:?}, "plan_with": "fixed", "push_to_goal": true}}"#),
+        )
+        .unwrap();
+        let shown = shown_all(&state).sandbox.unwrap();
+        assert_eq!(shown.goal, Some(goal));
+        assert_eq!(shown.plan_with, "fixed");
+        assert!(shown.driving);
+        for _ in 0..3000 {
+            state.advance(0.1);
+            if state.sandbox().unwrap().driving().is_none() {
+                break;
+            }
+        }
+        let shown = shown_all(&state).sandbox.unwrap();
+        let drive = shown.last_drive.expect("the push to the goal ended");
+        assert!(drive.reached, "{drive:?}: {:?}", state.status());
+        assert_eq!(drive.plan_with, "fixed");
+        assert!(!shown.driving);
+        let [ox, oy, oyaw] = shown.object_pose;
+        assert!(
+            (ox - goal[0]).hypot(oy - goal[1]) < 0.01 && (oyaw - goal[2]).abs() < 3f64.to_radians(),
+            "the object {:?} at the goal {goal:?}",
+            shown.object_pose
+        );
+        // Stopping a push to the goal that is not running changes nothing.
+        send(&mut state, r#"{"push_to_goal": false}"#).unwrap();
+        assert_eq!(shown_all(&state).sandbox.unwrap().last_drive, Some(drive));
     }
 }
