@@ -27,6 +27,7 @@ import csv
 import json
 import math
 import os
+import signal
 import struct
 import subprocess
 import sys
@@ -105,13 +106,15 @@ def serve(pair, port, setting_out):
     print(f"ws://127.0.0.1:{server.port}: pair {pair}, the setting in {setting_out}; "
           f"the goal x {goal[0]:.4f} m, y {goal[1]:.4f} m, yaw {math.degrees(goal[2]):.1f}°; "
           f"Ctrl-C ends", flush=True)
+    # The SDK's server holds Python's own Ctrl-C handling off: a flag the loop looks at instead.
+    stopped = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stopped.set())
     try:
-        simulate(lambda: True, model, data, pusher, channels, commands)
-    except KeyboardInterrupt:
-        pass
+        simulate(lambda: not stopped.is_set(), model, data, pusher, channels, commands)
     finally:
         server.stop()
-    print(f"{commands.received} target(s) received")
+    print(f"{commands.received} target(s) received", flush=True)
 
 
 def run(pushlab, pair, with_):
