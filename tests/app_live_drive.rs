@@ -138,6 +138,16 @@ fn armed_from_the_dialog_the_app_drives_the_robot_to_the_goal_and_records_both_w
     );
     let status = state.status().unwrap_or_default().to_owned();
     assert!(status.contains("the goal is reached and held"), "{status}");
+    // Its time is counted from Arm, not from Connect: the half second watched before is not in it.
+    let time_s: f64 = (status.split(" in ").nth(1))
+        .and_then(|rest| rest.split(" s from Arm").next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{status}"));
+    let frames = state.recording().unwrap().trajectory.len() as f64;
+    assert!(
+        time_s > 1.0 && time_s < frames / 10.0 - 0.4,
+        "{time_s} s from Arm, of {frames} frames at 10 Hz"
+    );
     advance_for(&mut state, Duration::from_millis(400));
     let sent = targets(&robot);
     let status = drive(&state);

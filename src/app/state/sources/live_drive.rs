@@ -108,6 +108,9 @@ pub struct LiveDrive {
     pub(in crate::app::state) truth: Option<OnlineParams>,
     /// The goal reached and held: planning stopped until armed again.
     pub(in crate::app::state) reached: bool,
+    /// The drive's time when it was first armed: its time to the goal is counted from there,
+    /// not from Connect.
+    pub(in crate::app::state) armed_at_s: Option<f64>,
 }
 
 impl std::fmt::Debug for LiveDrive {
@@ -189,6 +192,7 @@ pub(in crate::app::state) fn prepare(
         driving: Driving::new(planner, choice.plan_with, grid_hz, generation),
         truth,
         reached: false,
+        armed_at_s: None,
     };
     Ok((drive, setup))
 }

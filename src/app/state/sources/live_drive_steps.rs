@@ -32,6 +32,7 @@ impl AppState {
             DriveCommand::Arm => {
                 drive.reached = false;
                 drive.driving.held = 0;
+                drive.armed_at_s.get_or_insert(drive.driving.time_s());
                 WorkerAsk::Arm
             }
             DriveCommand::Pause => WorkerAsk::Halt(Halt::Paused),
@@ -118,7 +119,7 @@ impl AppState {
         };
         let (target, phase) = (Point2::new(plan.target.x, plan.target.y), plan.phase);
         let reached = driving.count(frames, phase);
-        let time_s = driving.time_s();
+        let time_s = driving.time_s() - drive.armed_at_s.unwrap_or(0.0);
         running.link.with(|inbox| {
             let to = &mut inbox.to_worker;
             match reached {
@@ -129,7 +130,8 @@ impl AppState {
         if reached {
             drive.reached = true;
             self.status = Some(format!(
-                "the goal is reached and held in {time_s:.1} s, planned with {}: the pusher is held",
+                "the goal is reached and held in {time_s:.1} s from Arm, planned with {}: the \
+                 pusher is held",
                 plan_with.description()
             ));
         }
