@@ -1,8 +1,8 @@
 //! `pushlab control ws://…` against a robot that takes commands (the Foxglove SDK's server running
 //! the sandbox's simulator, `sandbox_robot`): armed, it drives the box to the goal, prints a JSON
 //! line per control step and a halt with the hold sent, records both ways, and exits 0; the
-//! robot received exactly what it says it sent. Missing topics and a workspace without an area
-//! are refused with the usage exit code.
+//! robot received exactly what it says it sent. Missing topics, a workspace without an area and
+//! a pose filter that follows nothing are refused with the usage exit code.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -112,6 +112,14 @@ fn a_robot_needs_its_topics_and_a_workspace_with_an_area() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("--workspace '0,0,1,0'") && err.contains("has no area"),
+        "{err}"
+    );
+    // A pose filter that would follow nothing is refused before anything connects.
+    let out = run(&["--command", "/t", "--track", "0,0.1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--track") && err.contains("expected 0 < ALPHA ≤ 1 and 0 ≤ BETA < 1"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).unwrap();

@@ -6,10 +6,11 @@
 //!
 //! `cargo bench -p pushlab-core --bench control -- --pairs 100 [--first 31]
 //! [--object box|t|ellipse] [--noise] [--threads N] [--csv OUT.csv] [--way-weight W]
-//! [--with online,weighted]`
+//! [--with online,weighted] [--track ALPHA,BETA]`
 //!
 //! The planner's weights were chosen on pairs 1-30 (`--first 1 --pairs 30`); the guide's table is
-//! of pairs 31-130, which tuning never saw.
+//! of pairs 31-130, which tuning never saw. `--track` plans from poses filtered for tracking
+//! noise (`control::track`).
 
 // The platform's sin, cos and hypot are fine for distances here; the core's own calls
 // go through pushlab_core::math (its clippy.toml).
@@ -73,6 +74,13 @@ fn args() -> Args {
             "--way-weight" => {
                 let v = it.next().and_then(|v| v.parse().ok());
                 a.planner.way_weight = v.unwrap_or(a.planner.way_weight)
+            }
+            "--track" => {
+                let text = it.next().unwrap_or_default();
+                match pushlab_core::control::track::TrackConfig::parse(&text) {
+                    Ok(track) => a.planner.track = Some(track),
+                    Err(why) => panic!("--track {why}"),
+                }
             }
             "--keep-margin" => {
                 let v = it.next().and_then(|v| v.parse().ok());
@@ -138,12 +146,13 @@ fn main() {
     let mut rows = rows.into_inner().expect("rows");
     rows.sort_by_key(|r| (r.pair, r.with.name()));
     println!(
-        "{} pairs (seeds {}-{}), {} object, noise {}, {:.0} s",
+        "{} pairs (seeds {}-{}), {} object, noise {}, track {:?}, {:.0} s",
         args.pairs,
         args.first,
         args.first + args.pairs - 1,
         args.object,
         args.noise,
+        args.planner.track,
         started.elapsed().as_secs_f64()
     );
     println!(

@@ -63,6 +63,11 @@ pub struct ControlArgs {
     /// Tracking noise on the poses the controller is given (the sandbox's: 2 mm, 0.5°).
     #[arg(long)]
     pub noise: bool,
+    /// Plan from poses filtered for tracking noise: an alpha–beta filter, ALPHA of each residual
+    /// into the pose and BETA into its rate per step (0.5,0.1 was chosen on noisy poses; it costs
+    /// goals on clean ones: see the guide).
+    #[arg(long, value_name = "ALPHA,BETA", value_parser = pushlab_core::control::track::TrackConfig::parse)]
+    pub track: Option<pushlab_core::control::track::TrackConfig>,
     /// Seconds before the run is called failed.
     #[arg(long, default_value_t = pushlab_core::control::sandbox_run::DEFAULT_TIME_LIMIT_S)]
     pub time_limit: f64,
@@ -163,7 +168,10 @@ pub(super) fn pose_control(
         plan_with,
         pushlab_core::learn::OnlineConfig::default(),
         pushlab_core::control::Goal::at(goal),
-        pushlab_core::control::PlannerConfig::default(),
+        pushlab_core::control::PlannerConfig {
+            track: args.track,
+            ..pushlab_core::control::PlannerConfig::default()
+        },
         pacing,
     )
     .map_err(|e| Failure::Usage(anyhow!("{}: {e}", path.display())))?;

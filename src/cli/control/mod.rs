@@ -66,6 +66,7 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
         Goal::at(goal),
         PlannerConfig {
             seed,
+            track: args.track,
             ..PlannerConfig::default()
         },
     )

@@ -11,7 +11,8 @@
 //! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes),
 //! [`external`] (the controller on poses from outside, learned by live input's grid and learner),
 //! [`drive`] (that controller driving a robot through its Foxglove server, behind a safety gate),
-//! [`replay`] (what the controller would do at a frame of a recorded push).
+//! [`replay`] (what the controller would do at a frame of a recorded push), [`track`] (a filter
+//! on the poses planned from, for tracking noise).
 
 pub mod arc;
 pub mod drive;
@@ -22,6 +23,7 @@ pub mod predict;
 pub mod replay;
 pub mod sandbox_run;
 pub mod sites;
+pub mod track;
 
 pub use external::PoseControl;
 pub use goal::{Goal, GoalError};

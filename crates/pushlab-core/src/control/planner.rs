@@ -53,6 +53,9 @@ pub struct PlannerConfig {
     pub least_gain_m: f64,
     /// The seed of the planner's draws.
     pub seed: u64,
+    /// A filter on the poses it plans from, for tracking noise ([`super::track`]); `None`: the
+    /// poses as given.
+    pub track: Option<super::track::TrackConfig>,
 }
 
 impl Default for PlannerConfig {
@@ -71,6 +74,7 @@ impl Default for PlannerConfig {
             keep_margin_m: 0.005,
             least_gain_m: 0.001,
             seed: 0,
+            track: None,
         }
     }
 }
@@ -182,6 +186,7 @@ pub struct Planner {
     candidates: Vec<Candidate>,
     way: Vec<Point2<f64>>,
     plan: Plan,
+    track: Option<super::track::PoseTrack>,
 }
 
 impl Planner {
@@ -234,6 +239,7 @@ impl Planner {
                 way: Vec::with_capacity(64),
                 ..Plan::default()
             },
+            track: config.track.map(super::track::PoseTrack::new),
             config,
         }
     }
@@ -289,6 +295,11 @@ impl Planner {
         self.plan.predicted.clear();
         self.plan.way.clear();
         self.plan.predictions = 0;
+        let (tracked, pusher) = match self.track.as_mut() {
+            Some(track) => track.update(object, pusher),
+            None => (*object, pusher),
+        };
+        let object = &tracked;
         if self.goal.is_within(object) {
             self.kept = None;
             self.plan.phase = Some(Phase::Holding);
