@@ -490,3 +490,44 @@ fn a_lost_connection_is_a_gap_on_the_timeline() {
         "{warnings}\n(the gap was {longest} ms or so)"
     );
 }
+
+/// List topics against a server that offers no pose stream (its node not started): the form says
+/// so, rather than leaving the click to look as if it did nothing.
+#[test]
+fn listing_a_server_with_no_pose_stream_says_so_on_the_form() {
+    let context = foxglove::Context::new();
+    let server = foxglove::WebSocketServer::new()
+        .name("an empty robot")
+        .bind("127.0.0.1", 0)
+        .context(&context)
+        .start_blocking()
+        .expect("the SDK's server starts");
+    let url = format!("ws://127.0.0.1:{}", server.port());
+    let state = initial_state(&[], Persisted::default());
+    let mut harness = common::harness(pushlab::app::PushlabApp::new(state), 1.0 / 60.0);
+    let send = |harness: &mut egui_kittest::Harness<'_, pushlab::app::PushlabApp>, c| {
+        harness.state_mut().state.apply(Command::Live(c));
+    };
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness.get_by_label("Connect to a live robot…").click();
+    harness.run_steps(2);
+    send(
+        &mut harness,
+        LiveCommand::Edit(LiveChoice {
+            url,
+            ..LiveChoice::default()
+        }),
+    );
+    harness.run_steps(2);
+    harness.get_by_label("List topics").click();
+    let started = Instant::now();
+    while (harness.state().state.live().form()).is_none_or(|f| f.streams.is_none()) {
+        assert!(started.elapsed() < Duration::from_secs(10), "listed");
+        harness.run_steps(1);
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    harness.run_steps(2);
+    harness.get_by_label_contains("the server offers no pose stream");
+    let _ = server.stop();
+}

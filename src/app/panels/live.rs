@@ -56,10 +56,23 @@ pub fn window(ctx: &egui::Context, state: &AppState, commands: &mut Vec<Command>
                     }
                 });
                 ui.end_row();
-                if let Some(Err(why)) = &form.streams {
-                    ui.label("");
-                    ui.colored_label(ui.visuals().error_fg_color, why);
-                    ui.end_row();
+                match &form.streams {
+                    Some(Err(why)) => {
+                        ui.label("");
+                        ui.colored_label(ui.visuals().error_fg_color, why);
+                        ui.end_row();
+                    }
+                    // Listed, and nothing to follow: said, so the click is not taken for nothing.
+                    Some(Ok(streams)) if streams.is_empty() => {
+                        ui.label("");
+                        ui.colored_label(
+                            ui.visuals().warn_fg_color,
+                            "the server offers no pose stream (PoseStamped, TFMessage, Odometry, \
+                             Pose2D, a JSON pose or foxglove.PoseInFrame): is its node running?",
+                        );
+                        ui.end_row();
+                    }
+                    _ => {}
                 }
                 for (label, id, value) in [
                     ("Pusher topic", "live-pusher", &mut choice.pusher),
