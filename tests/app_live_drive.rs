@@ -277,3 +277,37 @@ fn a_server_without_client_publish_is_refused_by_name_and_the_session_watches_on
     assert!(targets(&robot).is_empty());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The strip as a user sees it: NOT ARMED and its Arm button, then ARMED with Pause, then HELD
+/// after Pause, each button clicked in the window.
+#[test]
+fn the_strips_buttons_arm_and_pause_the_drive_in_the_window() {
+    use egui_kittest::kittest::Queryable;
+
+    let robot = start(PLAIN);
+    let dir = common::scratch_dir("app-live-drive-strip");
+    let state = connected(&robot, &dir, None);
+    let mut harness = common::harness(pushlab::app::PushlabApp::new(state), 1.0 / 60.0);
+    let run_for = |harness: &mut egui_kittest::Harness<'_, pushlab::app::PushlabApp>, ms| {
+        let started = Instant::now();
+        while started.elapsed() < Duration::from_millis(ms) {
+            harness.run_steps(1);
+            std::thread::sleep(Duration::from_millis(16));
+        }
+    };
+    run_for(&mut harness, 300);
+    harness.get_by_label("NOT ARMED");
+    assert!(targets(&robot).is_empty());
+    harness.get_by_label("Arm").click();
+    run_for(&mut harness, 600);
+    harness.get_by_label("ARMED");
+    assert!(
+        !targets(&robot).is_empty(),
+        "armed from the window: targets sent"
+    );
+    harness.get_by_label("Pause").click();
+    run_for(&mut harness, 400);
+    harness.get_by_label("HELD");
+    assert_eq!(drive(&harness.state().state).halted, Some(Halt::Paused));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

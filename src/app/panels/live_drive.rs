@@ -85,30 +85,32 @@ pub fn strip(ui: &mut egui::Ui, state: &AppState, commands: &mut Vec<Command>) {
     let Some(running) = state.live().running() else {
         return;
     };
-    let Some(drive) = &running.drive else {
+    if running.drive.is_none() {
         if let Some(why) = (running.latest.drive.as_ref()).and_then(|d| d.refused.as_ref()) {
             ui.colored_label(ui.visuals().warn_fg_color, "NOT DRIVING")
                 .on_hover_text(why);
         }
         return;
-    };
+    }
     let status = running.latest.drive.clone().unwrap_or_default();
     if let Some(why) = &status.refused {
         ui.colored_label(ui.visuals().warn_fg_color, "NOT DRIVING")
             .on_hover_text(why);
         return;
     }
+    // One word in the strip, so that the timeline's buttons after it keep their room; why it
+    // holds is in the tooltip (and was said on the status line).
     let (badge, color) = match (status.armed, status.halted) {
-        (_, Some(why)) => (
-            format!("HELD: {}", why.describe()),
-            ui.visuals().warn_fg_color,
-        ),
-        (true, None) if drive.reached() => ("GOAL REACHED".to_owned(), ui.visuals().text_color()),
-        (true, None) => ("ARMED".to_owned(), ui.visuals().error_fg_color),
-        (false, None) => ("NOT ARMED".to_owned(), ui.visuals().weak_text_color()),
+        (_, Some(_)) => ("HELD", ui.visuals().warn_fg_color),
+        (true, None) => ("ARMED", ui.visuals().error_fg_color),
+        (false, None) => ("NOT ARMED", ui.visuals().weak_text_color()),
     };
+    let mut hover = describe(running, &status);
+    if let Some(why) = status.halted {
+        hover = format!("held: {}; {hover}", why.describe());
+    }
     ui.label(RichText::new(badge).strong().color(color))
-        .on_hover_text(describe(running, &status));
+        .on_hover_text(hover);
     let live = state.live().is_live();
     let mut send = |c| commands.push(Command::Live(LiveCommand::Drive(c)));
     if !status.armed || status.halted.is_some() {
