@@ -103,15 +103,19 @@ impl Domain {
         recordings: impl IntoIterator<Item = &'a Recording>,
     ) -> Option<DomainMismatch> {
         let measures: Vec<Measures> = recordings.into_iter().map(Measures::of).collect();
-        let inside = |value: f64, [lo, hi]: [f64; 2]| value >= lo / SLACK && value <= hi * SLACK;
+        // A quantity a recording cannot measure yet (the frame rate and speed of a live push of
+        // fewer than two frames) says nothing about the domain, as `range` leaves it out: counted
+        // as outside, it made a warning that named no quantity ("trained on ; … have ").
+        let inside = |value: f64, [lo, hi]: [f64; 2]| {
+            !(value.is_finite() && value > 0.0) || (value >= lo / SLACK && value <= hi * SLACK)
+        };
         let outside: Vec<&Measures> = measures
             .iter()
             .filter(|m| {
                 !(m.object_size.is_none_or(|s| inside(s, self.object_size))
                     && inside(m.pusher_radius, self.pusher_radius)
                     && inside(m.sample_rate_hz, self.sample_rate_hz)
-                    && (m.pusher_speed == 0.0
-                        || self.pusher_speed.is_none_or(|r| inside(m.pusher_speed, r))))
+                    && self.pusher_speed.is_none_or(|r| inside(m.pusher_speed, r)))
             })
             .collect();
         if outside.is_empty() {
@@ -275,6 +279,23 @@ mod tests {
             "the model was trained on objects of 0.40–0.55 m, a pusher radius of 87.5 mm, frames at 10 Hz; \
              1 of 2 recording(s) here have objects of 0.10 m, a pusher radius of 4.8 mm, frames at 250 Hz: \
              its predictions there are extrapolations (train a model for them)"
+        );
+    }
+
+    #[test]
+    fn a_push_too_short_to_measure_is_not_called_outside() {
+        let domain = Domain::of(&[recording(0.4, 0.05, 10.0, 0.04)], 1).unwrap();
+        let mut live = recording(0.4, 0.05, 10.0, 0.04);
+        live.trajectory = Arc::new(Trajectory::new(live.trajectory.frames[..1].to_vec()));
+        assert_eq!(live.trajectory.mean_rate_hz(), 0.0);
+        assert_eq!(domain.mismatch([&live]), None);
+        // Too short to measure, but on a 0.1 m object: outside, for its size alone.
+        let mut small = recording(0.1, 0.05, 10.0, 0.04);
+        small.trajectory = Arc::new(Trajectory::new(Vec::new()));
+        let message = domain.mismatch([&small]).unwrap().message;
+        assert!(
+            message.starts_with("the model was trained on objects of 0.40 m; 1 of 1 recording(s) here have objects of 0.10 m:"),
+            "{message}"
         );
     }
 
