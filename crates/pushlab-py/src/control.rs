@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 
+use pushlab_core::control::track::TrackConfig;
 use pushlab_core::control::{Goal, Pacing, PlanWith, PlannerConfig, PoseControl};
 use pushlab_core::geometry::Pose2;
 use pushlab_core::learn::OnlineConfig;
@@ -22,6 +23,8 @@ use crate::model::Model;
 /// model alone, θ learned) or "truth" (the setting's com_offset and h). `rate` is control steps a
 /// second (and the grid's rate), `speed` the pusher's top speed in m/s: no target is further from
 /// the pusher than a step of it. `setting` is a setting.json's fields as a dict, or its path.
+/// `track=(alpha, beta)` plans from poses filtered for tracking noise, as the CLI's `--track` does
+/// (0.5, 0.1 was chosen on noisy poses; it costs goals on clean ones); off by default.
 #[pyclass(module = "pushlab", name = "Controller")]
 pub struct Controller {
     control: PoseControl,
@@ -30,7 +33,7 @@ pub struct Controller {
 #[pymethods]
 impl Controller {
     #[new]
-    #[pyo3(signature = (model, setting, goal, *, theta="online", rate=10.0, speed=0.04))]
+    #[pyo3(signature = (model, setting, goal, *, theta="online", rate=10.0, speed=0.04, track=None))]
     fn new(
         model: &Model,
         setting: &Bound<'_, PyAny>,
@@ -38,6 +41,7 @@ impl Controller {
         theta: &str,
         rate: f64,
         speed: f64,
+        track: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let setting: Setting = match setting.extract::<PathBuf>() {
             Ok(path) => SettingSource::File(path).resolve().map_err(error)?,
@@ -56,6 +60,12 @@ impl Controller {
                 )));
             }
         }
+        let track = track
+            .map(|(alpha, beta)| {
+                TrackConfig::new(alpha, beta)
+                    .map_err(|e| PyValueError::new_err(format!("track ({alpha}, {beta}): {e}")))
+            })
+            .transpose()?;
         let (x, y, yaw) = goal;
         let control = PoseControl::new(
             &model.file().combined,
@@ -63,7 +73,10 @@ impl Controller {
             plan_with,
             OnlineConfig::default(),
             Goal::at(Pose2::new(x, y, yaw)),
-            PlannerConfig::default(),
+            PlannerConfig {
+                track,
+                ..PlannerConfig::default()
+            },
             Pacing {
                 pusher_speed: speed,
                 control_hz: rate,

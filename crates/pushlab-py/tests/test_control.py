@@ -55,12 +55,41 @@ def test_the_controller_gives_the_clis_targets(cli: Path, tmp_path: Path):
     assert len(controller.theta) == 3
 
 
+def noisy_poses(steps):
+    """poses() with a few millimetres of tracking noise, fixed, so a filter has something to do."""
+    for k, (t, pusher, (x, y, yaw)) in enumerate(poses(steps)):
+        wobble = 0.003 * ((k * 7) % 5 - 2) / 2
+        yield t, (pusher[0] - wobble, pusher[1] + wobble), (x + wobble, y - wobble, yaw + wobble)
+
+
+def test_a_filtered_controller_gives_the_clis_filtered_targets(cli: Path, tmp_path: Path):
+    setting = tmp_path / "setting.json"
+    setting.write_text(json.dumps(SETTING))
+    model = pushlab.Model.load(REPO / "assets" / "default-model.json")
+    lines = [json.dumps({"t": t, "pusher": list(p), "object": list(o)}) for t, p, o in noisy_poses(30)]
+
+    def cli_targets(*extra):
+        done = subprocess.run(
+            [str(cli), "control", "--pipe", "--setting", str(setting), "--goal", "0.25,0.1,0.4",
+             *extra], input="\n".join(lines) + "\n", capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        return [json.loads(line)["step"]["target"] for line in done.stdout.splitlines()]
+
+    filtered, raw = cli_targets("--track", "0.5,0.1"), cli_targets()
+    assert filtered != raw, "the filter changed no target: the test would not see it ignored"
+    controller = pushlab.Controller(model, setting, GOAL, track=(0.5, 0.1))
+    ours = [controller.step(t, p, o)["target"] for t, p, o in noisy_poses(30)]
+    assert ours == filtered
+
+
 def test_bad_arguments_are_refused_by_name():
     model = pushlab.Model.load(REPO / "assets" / "default-model.json")
     with pytest.raises(ValueError, match="theta 'learned': expected online, fixed, physics, truth or weighted"):
         pushlab.Controller(model, SETTING, GOAL, theta="learned")
     with pytest.raises(ValueError, match="speed -1: expected a positive number"):
         pushlab.Controller(model, SETTING, GOAL, speed=-1)
+    with pytest.raises(ValueError, match=r"track \(1.5, 0.1\): expected 0 < ALPHA ≤ 1 and 0 ≤ BETA < 1"):
+        pushlab.Controller(model, SETTING, GOAL, track=(1.5, 0.1))
     with pytest.raises(ValueError, match="com_offset and h"):
         pushlab.Controller(model, SETTING, GOAL, theta="truth")
     with pytest.raises(Exception, match="setting"):

@@ -25,6 +25,15 @@ pub struct TrackConfig {
 }
 
 impl TrackConfig {
+    /// The filter following `alpha` of each residual into the pose and `beta` into its rate, or
+    /// what is wrong with them (the one rule the CLI's `--track` and Python's `track=` check).
+    pub fn new(alpha: f64, beta: f64) -> Result<Self, String> {
+        if !(alpha > 0.0 && alpha <= 1.0 && (0.0..1.0).contains(&beta)) {
+            return Err("expected 0 < ALPHA ≤ 1 and 0 ≤ BETA < 1".to_owned());
+        }
+        Ok(Self { alpha, beta })
+    }
+
     /// `ALPHA,BETA`, or what is wrong with it.
     pub fn parse(text: &str) -> Result<Self, String> {
         let values: Vec<f64> = (text.split(','))
@@ -34,14 +43,7 @@ impl TrackConfig {
         let [alpha, beta] = values.as_slice() else {
             return Err(format!("'{text}': expected ALPHA,BETA, two numbers"));
         };
-        let config = Self {
-            alpha: *alpha,
-            beta: *beta,
-        };
-        if !(config.alpha > 0.0 && config.alpha <= 1.0 && config.beta >= 0.0 && config.beta < 1.0) {
-            return Err(format!("'{text}': expected 0 < ALPHA ≤ 1 and 0 ≤ BETA < 1"));
-        }
-        Ok(config)
+        Self::new(*alpha, *beta).map_err(|e| format!("'{text}': {e}"))
     }
 }
 
