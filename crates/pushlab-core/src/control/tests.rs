@@ -252,19 +252,19 @@ fn the_weighted_prediction_mixes_both_learned_runs_by_their_weights_and_reaches_
     }
 }
 
-/// Pair 115 of the bench (`benches/control.rs`), with the sandbox's tracking noise (2 mm, 0.5°) on
-/// every pose: planned from the raw poses, the box is still 15 mm off after 120 s; from the poses
-/// filtered by `track` (the alpha–beta filter at 0.5, 0.1), it is reached in 22.1 s.
+/// Pair 17 of the bench (`benches/control.rs`), with the sandbox's tracking noise (2 mm, 0.5°) on
+/// every pose: planned from the raw poses, the box is still 22 mm off after 120 s; from the poses
+/// filtered by `track` (the alpha–beta filter at 0.5, 0.1), it is reached in 56.6 s.
 #[test]
 fn planning_from_filtered_poses_reaches_a_goal_that_noisy_poses_miss() {
     let goal = goal::draw_goal(
         &Pose2::new(0.0, 0.0, 0.0),
-        115,
+        17,
         (0.2, 0.4),
         45f64.to_radians(),
     );
     let run = |track| {
-        let mystery = Mystery::draw(115, MysteryObject::Box).unwrap();
+        let mystery = Mystery::draw(17, MysteryObject::Box).unwrap();
         let mut control = SandboxControl::new(
             mystery,
             Some(crate::sandbox::mystery::SANDBOX_NOISE),
@@ -273,7 +273,7 @@ fn planning_from_filtered_poses_reaches_a_goal_that_noisy_poses_miss() {
             OnlineConfig::default(),
             Goal::at(goal),
             PlannerConfig {
-                seed: 115,
+                seed: 17,
                 track,
                 ..PlannerConfig::default()
             },
@@ -288,5 +288,72 @@ fn planning_from_filtered_poses_reaches_a_goal_that_noisy_poses_miss() {
         beta: 0.1,
     }));
     assert!(filtered.reached, "{filtered:?}");
-    assert!((filtered.time_s - 22.1).abs() < 0.05, "{filtered:?}");
+    assert!((filtered.time_s - 56.6).abs() < 0.05, "{filtered:?}");
+}
+
+/// MuJoCo's pair 73 at 70 s, learning online (`experiments/control/mujoco_control.py`): the box
+/// 10.3 mm from its goal, the pusher a few centimetres from its back face. The planner chose a
+/// push, went to its start and began it, and the next step weighed the line in afresh against
+/// every other push and went elsewhere: in and out of the approach, never touching, until the
+/// 120 s limit. A push begun is kept until it touches; here the box does not move until then.
+#[test]
+fn a_push_begun_is_carried_in_to_the_object_not_abandoned_on_its_way_in() {
+    let setting = crate::recording::Setting::of_object(
+        "MuJoCo's pair 73",
+        crate::recording::ObjectShape::Box {
+            width: 0.3,
+            length: 0.4,
+        },
+        0.175,
+    );
+    let outline = setting.object.outline().unwrap();
+    let combined = model();
+    // The model as `--pipe` plans with it: on the setting's object.
+    let model = learner_for(&combined, &setting, PlanWith::Online).unwrap();
+    let goal = Goal::at(Pose2::new(
+        -0.30346608306917755,
+        0.07596493992436402,
+        0.13624547050102592,
+    ));
+    let theta = crate::model::OnlineParams {
+        com_offset: [0.003963284660130739, 0.003992623183876276],
+        h: 0.13563020527362823,
+    };
+    let object = Pose2::new(-0.30223174710577083, 0.065774195338507, 0.13631277260131375);
+    let pacing = Pacing {
+        pusher_speed: 0.04,
+        control_hz: 10.0,
+        grid_hz: 10.0,
+    };
+    let mut planner = Planner::paced(
+        &outline,
+        0.175,
+        goal,
+        pacing,
+        combined.horizon(),
+        PlannerConfig::default(),
+    );
+    let mut pusher = nalgebra::Point2::new(0.06241370039879296, -0.04148283680784727);
+    let gap = |planner: &Planner, pusher| {
+        let p = object.point_in_object(pusher);
+        planner
+            .sites()
+            .outline()
+            .closest_boundary_point(p)
+            .signed_distance
+            - 0.175
+    };
+    let mut phases = String::new();
+    for _ in 0..100 {
+        if gap(&planner, pusher) <= 5e-4 {
+            return;
+        }
+        let plan = planner.step(&object, pusher, model.as_ref(), &theta);
+        phases.push(plan.phase.map_or('-', |p| p.name().chars().next().unwrap()));
+        pusher = plan.target;
+    }
+    panic!(
+        "not touching after 10 s, {:.1} mm away; phases {phases}",
+        gap(&planner, pusher) * 1e3
+    );
 }
