@@ -9,12 +9,19 @@ runs wherever the bench does.
 import csv
 import sys
 
-COLOURS = {"online": "#1f77b4", "fixed": "#d62728", "physics": "#2ca02c", "truth": "#7f7f7f"}
+COLOURS = {
+    "online": "#1f77b4",
+    "fixed": "#d62728",
+    "physics": "#2ca02c",
+    "truth": "#7f7f7f",
+    "weighted": "#9467bd",
+}
 LABELS = {
     "online": "learning online",
     "fixed": "θ fixed at θ(0)",
     "physics": "physics alone, learning",
     "truth": "the true θ",
+    "weighted": "the weighted prediction",
 }
 W, H, LEFT, BOTTOM, TOP, RIGHT = 720, 380, 60, 50, 20, 250
 LIMIT_S = 120.0
@@ -53,7 +60,7 @@ def main(source: str, out: str) -> None:
         runs = [r for r in rows if r["plans_with"] == name]
         if not runs:
             continue
-        times = sorted(float(r["time_s"]) for r in runs if r["reached"] == "true")
+        times = sorted(float(r["time_s"]) for r in runs if r["reached"].lower() == "true")
         points = [(0.0, 0.0)]
         for k, t in enumerate(times, start=1):
             points.append((t, (k - 1) / len(runs)))
