@@ -60,10 +60,16 @@ impl Measures {
     }
 }
 
-/// Smallest and largest of the finite, positive values.
+/// Whether a recording measured the quantity: a frame rate or speed of 0 is a push too short to
+/// measure (fewer than two frames), not a push at 0 Hz.
+fn is_measured(value: f64) -> bool {
+    value.is_finite() && value > 0.0
+}
+
+/// Smallest and largest of the measured values.
 fn range(values: impl Iterator<Item = f64>) -> Option<[f64; 2]> {
     values
-        .filter(|v| v.is_finite() && *v > 0.0)
+        .filter(|v| is_measured(*v))
         .fold(None, |acc, v| match acc {
             None => Some([v, v]),
             Some([lo, hi]) => Some([lo.min(v), hi.max(v)]),
@@ -107,7 +113,7 @@ impl Domain {
         // fewer than two frames) says nothing about the domain, as `range` leaves it out: counted
         // as outside, it made a warning that named no quantity ("trained on ; … have ").
         let inside = |value: f64, [lo, hi]: [f64; 2]| {
-            !(value.is_finite() && value > 0.0) || (value >= lo / SLACK && value <= hi * SLACK)
+            !is_measured(value) || (value >= lo / SLACK && value <= hi * SLACK)
         };
         let outside: Vec<&Measures> = measures
             .iter()

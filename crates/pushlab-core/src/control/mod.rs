@@ -232,13 +232,7 @@ pub fn plan_step<'p>(
 /// reach their goal without; with Gauss–Newton, `h` was learned at 0.38 m against a true 0.17. The controller's online
 /// run holds θ over such samples, as it holds it over frames labelled bad.
 pub fn is_away(sites: &sites::Sites, frame: &Frame) -> bool {
-    let pusher = frame.object.point_in_object(frame.robot);
-    let gap = sites
-        .outline()
-        .closest_boundary_point(pusher)
-        .signed_distance
-        - sites.pusher_radius();
-    gap > AWAY_GAP_M
+    sites.gap(frame.object.point_in_object(frame.robot)) > AWAY_GAP_M
 }
 
 #[cfg(test)]

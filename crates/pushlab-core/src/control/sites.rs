@@ -117,6 +117,15 @@ impl Sites {
         &self.outline
     }
 
+    /// How far a pusher centred at `pusher_in_object` is from touching the object (negative: it
+    /// overlaps it), metres.
+    pub fn gap(&self, pusher_in_object: Point2<f64>) -> f64 {
+        self.outline
+            .closest_boundary_point(pusher_in_object)
+            .signed_distance
+            - self.pusher_radius
+    }
+
     /// The site `along` metres round the pushable perimeter (taken round it modulo its length).
     pub fn site_at(&self, along: f64) -> Option<Site> {
         if !(self.perimeter > 0.0 && along.is_finite()) {

@@ -334,15 +334,7 @@ fn a_push_begun_is_carried_in_to_the_object_not_abandoned_on_its_way_in() {
         PlannerConfig::default(),
     );
     let mut pusher = nalgebra::Point2::new(0.06241370039879296, -0.04148283680784727);
-    let gap = |planner: &Planner, pusher| {
-        let p = object.point_in_object(pusher);
-        planner
-            .sites()
-            .outline()
-            .closest_boundary_point(p)
-            .signed_distance
-            - 0.175
-    };
+    let gap = |planner: &Planner, pusher| planner.sites().gap(object.point_in_object(pusher));
     let mut phases = String::new();
     for _ in 0..100 {
         if gap(&planner, pusher) <= 5e-4 {
