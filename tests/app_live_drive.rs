@@ -3,7 +3,8 @@
 //! its own run of the live push and its worker sends through the core's commander: nothing before
 //! Arm, the goal reached with one hold, and every message both ways in the MCAP. A window that
 //! stops planning, Pause and Disconnect each send one hold and nothing after; a server without
-//! client publish is refused by name and the session watches on.
+//! client publish is refused by name and the session watches on. The goal dragged in the scene
+//! moves it and pauses an armed drive; one off the workspace is refused.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -11,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
+use eframe::egui;
 use nalgebra::Point2;
 use pushlab::app::initial_state;
 use pushlab::app::state::sources::live::{
@@ -309,5 +311,93 @@ fn the_strips_buttons_arm_and_pause_the_drive_in_the_window() {
     run_for(&mut harness, 400);
     harness.get_by_label("HELD");
     assert_eq!(drive(&harness.state().state).halted, Some(Halt::Paused));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Presses at `from`, drags to `to` in steps, and lets go, as a hand on the scene does.
+fn drag(
+    harness: &mut egui_kittest::Harness<'_, pushlab::app::PushlabApp>,
+    from: egui::Pos2,
+    to: egui::Pos2,
+) {
+    let button = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::default(),
+    };
+    harness.event(egui::Event::PointerMoved(from));
+    harness.run_steps(1);
+    harness.event(button(from, true));
+    harness.run_steps(1);
+    for i in 1..=10 {
+        harness.event(egui::Event::PointerMoved(
+            from + (to - from) * (i as f32 / 10.0),
+        ));
+        harness.run_steps(1);
+    }
+    harness.event(button(to, false));
+    harness.run_steps(1);
+}
+
+/// The goal's ghost dragged in the scene: the planner heads for where it was let go, the form's
+/// choice remembers it, and the armed drive pauses with one hold (re-aiming a pushing robot is
+/// the user's to confirm with Arm). A goal where the box would leave the workspace is refused
+/// and said, the goal left where it was.
+#[test]
+fn dragging_the_goals_ghost_moves_the_drives_goal_and_pauses_an_armed_drive() {
+    let robot = start(PLAIN);
+    let dir = common::scratch_dir("app-live-drive-goal");
+    let mut state = connected(&robot, &dir, None);
+    state.apply(Command::Live(LiveCommand::Drive(DriveCommand::Arm)));
+    advance_until(&mut state, "targets sent", Duration::from_secs(20), |_| {
+        targets(&robot).len() >= 3
+    });
+    let mut harness = common::harness(pushlab::app::PushlabApp::new(state), 1.0 / 60.0);
+    harness.run_steps(2);
+    let projection = harness.state().view.scene.projection();
+    let (from, to) = (Point2::new(0.07, 0.0), Point2::new(0.07, 0.05));
+    drag(
+        &mut harness,
+        projection.to_screen(from),
+        projection.to_screen(to),
+    );
+    std::thread::sleep(Duration::from_millis(200));
+    harness.run_steps(1);
+    let state = &harness.state().state;
+    let goal = state.live_drive_shown().unwrap().driving().goal().pose;
+    assert!(
+        (goal.position - to).norm() < 0.003 && goal.yaw == 0.0,
+        "the goal went where it was let go: {goal:?}"
+    );
+    let choice = &state.live().running().unwrap().choice.drive;
+    assert!((Point2::new(choice.goal[0], choice.goal[1]) - to).norm() < 0.003);
+    assert_eq!(
+        drive(state).halted,
+        Some(Halt::Paused),
+        "{:?}",
+        drive(state)
+    );
+    let sent = targets(&robot);
+    assert!(is_hold_at_pusher(&robot, *sent.last().unwrap()));
+    let said = state.status().unwrap_or_default().to_owned();
+    assert!(
+        said.starts_with("the goal moved to (0.07")
+            && said.ends_with(": paused, the pusher held; Arm to push to it"),
+        "{said}"
+    );
+
+    // Far off the table the box would leave the workspace: refused, said, the goal kept.
+    let state = &mut harness.state_mut().state;
+    state.apply(Command::Live(LiveCommand::Drive(DriveCommand::SetGoal([
+        3.0, 0.05, 0.0,
+    ]))));
+    let said = state.status().unwrap_or_default().to_owned();
+    assert!(
+        said.starts_with("the goal was not moved to (3.000 m, 0.050 m): the object there would leave the workspace"),
+        "{said}"
+    );
+    let goal = state.live_drive_shown().unwrap().driving().goal().pose;
+    assert!((goal.position - to).norm() < 0.003);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -8,6 +8,8 @@ use pushlab_core::labels::MetaField;
 use pushlab_core::model::OnlineParams;
 
 use super::camera::Projection;
+use super::drive_goal;
+use super::goal_handles::GoalHandles;
 use super::sandbox::{self, Grips};
 use super::view::{Drag, SceneView};
 use crate::app::camera_mode::CameraMode;
@@ -57,7 +59,7 @@ pub fn handle(
     view: &mut SceneView,
     projection: &Projection,
     pose: &Pose2,
-    (markers, grips): (&Markers, Option<&Grips>),
+    (markers, grips, drive_goal): (&Markers, Option<&Grips>, Option<&GoalHandles>),
     commands: &mut Vec<Command>,
 ) {
     // Pick by where the button went down: egui reports the drag only after the pointer has moved a
@@ -67,11 +69,19 @@ pub fn handle(
             .input(|i| i.pointer.press_origin())
             .or(response.interact_pointer_pos())
     {
-        let grabbed = grips.and_then(|g| g.grab(pointer, projection));
-        view.drag = Some(match grabbed {
-            Some(grab) => Drag::Sandbox(grab),
-            None => markers.picked(pointer).unwrap_or(Drag::Pan),
+        let grabbed = (grips
+            .and_then(|g| g.grab(pointer, projection))
+            .map(Drag::Sandbox))
+        .or_else(|| {
+            drive_goal
+                .and_then(|h| h.grab(pointer))
+                .map(Drag::DriveGoal)
         });
+        view.drag = Some(
+            grabbed
+                .or_else(|| markers.picked(pointer))
+                .unwrap_or(Drag::Pan),
+        );
         if view.drag == Some(Drag::ComLabel) {
             commands.push(Command::Label(LabelAction::BeginGroup(
                 "move the COM label".to_owned(),
@@ -103,6 +113,11 @@ pub fn handle(
                     let world = projection.to_world(pointer);
                     view.arrow_to = Some(world);
                     commands.extend(sandbox::dragged(grab, world, pose));
+                }
+            }
+            Some(Drag::DriveGoal(grab)) => {
+                if let Some(pointer) = response.interact_pointer_pos() {
+                    commands.extend(drive_goal::dragged(grab, projection.to_world(pointer)));
                 }
             }
             Some(Drag::Pan) | None => {

@@ -10,6 +10,8 @@
 pub mod camera;
 mod content;
 pub mod draw;
+mod drive_goal;
+mod goal_handles;
 pub mod hover;
 pub mod interaction;
 pub mod legend;
@@ -117,6 +119,7 @@ fn draw(
         let markers = markers(state, view, &content);
         let projection = view.projection();
         let grips = Grips::of(state, &projection, &content.pose, content.robot);
+        let drive_goal = (content.outline).and_then(|o| drive_goal::handles(state, &projection, o));
         interaction::handle(
             ui,
             response,
@@ -124,7 +127,7 @@ fn draw(
             view,
             &projection,
             &content.pose,
-            (&markers, grips.as_ref()),
+            (&markers, grips.as_ref(), drive_goal.as_ref()),
             commands,
         );
     }
@@ -144,6 +147,9 @@ fn draw(
                 .filter(|g| !matches!(g, Grab::Arrow(_))),
         };
         sandbox::draw(&painter, state, &projection, &grips, arrow, hot);
+    }
+    if let Some(outline) = content.outline {
+        drive_goal::draw(&painter, state, &projection, outline, view, response);
     }
     if view.drag.is_none() {
         hover::say_what_is_under(response, state, &projection, &content);
@@ -217,7 +223,7 @@ fn aim(state: &AppState, view: &mut SceneView, content: &Content<'_>) {
     }
     // While a student drags a sandbox handle the world holds still under their hand: a camera
     // that followed the object would move the point the pusher heads for, and it would chase on.
-    if matches!(view.drag, Some(Drag::Sandbox(_))) {
+    if matches!(view.drag, Some(Drag::Sandbox(_) | Drag::DriveGoal(_))) {
         view.framed = state.session().selected;
         return;
     }
@@ -356,7 +362,6 @@ fn footprints(
     }
     if let Some(drive) = state.live_drive_shown() {
         let driving = drive.driving();
-        plan::goal(painter, projection, outline, &driving.goal().pose, "goal");
         if driving.has_planned() {
             plan::plan(painter, projection, outline, driving.plan());
         }

@@ -10,12 +10,12 @@ use pushlab_core::geometry::{Outline, Pose2};
 use pushlab_core::sandbox::push_drawn;
 
 use super::camera::Projection;
+pub use super::goal_handles::GRIP_RADIUS;
+use super::goal_handles::{GoalGrab, GoalHandles};
 use crate::app::colors;
 use crate::app::state::sources::sandbox::SandboxCommand;
 use crate::app::state::{AppState, Command};
 
-/// How near a press must be to a handle to grab it, points: a fingertip's reach.
-pub const GRIP_RADIUS: f32 = 22.0;
 /// How near the outline a press starts an arrow, points.
 pub const OUTLINE_REACH: f32 = 18.0;
 
@@ -28,8 +28,8 @@ pub struct Grips {
     pub guess: Pos2,
     pub outline: Outline,
     pub pose: Pose2,
-    /// The goal, its centre and its turning knob on screen.
-    pub goal: Option<(Pose2, Pos2, Pos2)>,
+    /// The goal's ghost and its handles.
+    pub goal: Option<GoalHandles>,
 }
 
 /// What a press in the scene grabs, when the sandbox is shown.
@@ -39,23 +39,8 @@ pub enum Grab {
     Guess,
     /// An arrow from this world point on the outline.
     Arrow(Point2<f64>),
-    /// The goal's ghost, moved keeping its yaw.
-    Goal {
-        yaw: f64,
-    },
-    /// The goal's knob, turning it about its centre.
-    GoalTurn {
-        centre: Point2<f64>,
-    },
-}
-
-/// How far beyond the object's extent the goal's knob sits, metres.
-const KNOB_M: f64 = 0.06;
-
-/// The goal's knob, world frame: on the goal's x axis, beyond the outline.
-fn knob(outline: &Outline, goal: &Pose2) -> Point2<f64> {
-    let reach = outline.bounding_box().1.x.max(0.05) + KNOB_M;
-    goal.point_in_world(Point2::new(reach, 0.0))
+    /// The goal's ghost or its knob.
+    Goal(GoalGrab),
 }
 
 impl Grips {
@@ -76,14 +61,7 @@ impl Grips {
             pusher: projection.to_screen(robot),
             pusher_radius: (mystery.sim.pusher_radius as f32 * projection.scale()).max(3.0),
             guess: projection.to_screen(pose.point_in_world(guess)),
-            goal: session.goal().map(|g| {
-                let knob = knob(&mystery.sim.outline, &g);
-                (
-                    g,
-                    projection.to_screen(g.position),
-                    projection.to_screen(knob),
-                )
-            }),
+            goal: (session.goal()).map(|g| GoalHandles::of(&mystery.sim.outline, g, projection)),
             outline: mystery.sim.outline.clone(),
             pose: *pose,
         })
@@ -98,15 +76,8 @@ impl Grips {
         if pointer.distance(self.guess) < GRIP_RADIUS {
             return Some(Grab::Guess);
         }
-        if let Some((goal, centre, knob)) = self.goal {
-            if pointer.distance(knob) < GRIP_RADIUS {
-                return Some(Grab::GoalTurn {
-                    centre: goal.position,
-                });
-            }
-            if pointer.distance(centre) < GRIP_RADIUS {
-                return Some(Grab::Goal { yaw: goal.yaw });
-            }
+        if let Some(grab) = self.goal.and_then(|g| g.grab(pointer)) {
+            return Some(Grab::Goal(grab));
         }
         let world = projection.to_world(pointer);
         let boundary = self
@@ -128,18 +99,8 @@ pub fn dragged(grab: Grab, pointer: Point2<f64>, pose: &Pose2) -> Option<Command
             let at = pose.point_in_object(pointer);
             Some(Command::Sandbox(SandboxCommand::Guess([at.x, at.y])))
         }
-        Grab::Goal { yaw } => Some(Command::Sandbox(SandboxCommand::SetGoal([
-            pointer.x, pointer.y, yaw,
-        ]))),
-        Grab::GoalTurn { centre } => {
-            let d = pointer - centre;
-            (d.norm() > 1e-3).then(|| {
-                Command::Sandbox(SandboxCommand::SetGoal([
-                    centre.x,
-                    centre.y,
-                    d.y.atan2(d.x),
-                ]))
-            })
+        Grab::Goal(grab) => {
+            (grab.dragged_to(pointer)).map(|goal| Command::Sandbox(SandboxCommand::SetGoal(goal)))
         }
         Grab::Arrow(_) => None,
     }
@@ -156,7 +117,7 @@ pub fn released(
         Grab::Pusher => Some(Command::Sandbox(SandboxCommand::Release([
             pointer.x, pointer.y,
         ]))),
-        Grab::Guess | Grab::Goal { .. } | Grab::GoalTurn { .. } => None,
+        Grab::Guess | Grab::Goal(_) => None,
         Grab::Arrow(from) => Some(
             match push_drawn(&grips.outline, &grips.pose, from, pointer) {
                 Some(choice) => Command::Sandbox(SandboxCommand::Push(choice)),
@@ -238,27 +199,12 @@ fn goal_and_plan(
     grips: &Grips,
     hot: Option<Grab>,
 ) {
-    if let Some((goal, centre, knob)) = grips.goal {
-        let color = colors::of(painter.ctx()).suggestion;
-        super::plan::goal(painter, projection, &grips.outline, &goal, "goal");
-        let grabbed =
-            |g: Grab| hot.is_some_and(|h| std::mem::discriminant(&h) == std::mem::discriminant(&g));
-        let width = |g| if grabbed(g) { 3.5 } else { 2.0 };
-        painter.circle_stroke(
-            centre,
-            9.0,
-            Stroke::new(width(Grab::Goal { yaw: 0.0 }), color),
-        );
-        painter.line_segment([centre, knob], Stroke::new(1.0, color.gamma_multiply(0.6)));
-        let turn = Grab::GoalTurn {
-            centre: goal.position,
+    if let Some(handles) = grips.goal {
+        let hot = match hot {
+            Some(Grab::Goal(grab)) => Some(grab),
+            _ => None,
         };
-        painter.circle(
-            knob,
-            7.0,
-            color.gamma_multiply(0.3),
-            Stroke::new(width(turn), color),
-        );
+        handles.draw(painter, projection, &grips.outline, "goal", hot);
     }
     let Some(driving) = session.driving() else {
         return;

@@ -7,6 +7,7 @@ use eframe::egui::{self, Rect};
 use nalgebra::Point2;
 
 use super::camera::{Camera, Projection};
+use super::goal_handles::GoalGrab;
 use super::legend;
 use super::sandbox::Grab;
 use crate::app::camera_mode::CameraMode;
@@ -23,6 +24,8 @@ pub enum Drag {
     Pan,
     /// A sandbox's pusher, its guess, or an arrow drawn from its outline.
     Sandbox(Grab),
+    /// A robot's Drive goal: its ghost or its knob.
+    DriveGoal(GoalGrab),
 }
 
 /// The scene's view state: the camera and how it moves, the legend, the drag in progress.

@@ -379,6 +379,11 @@ impl Live {
         }
     }
 
+    /// `choice` remembered for its server, as changed while the session runs (a goal moved).
+    pub(in crate::app::state) fn remember(&mut self, choice: LiveChoice) {
+        self.remembered.insert(choice.url.clone(), choice);
+    }
+
     /// A session starts with `choice`: the form closes and the choice is remembered for its server.
     pub(in crate::app::state) fn start(
         &mut self,

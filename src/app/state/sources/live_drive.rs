@@ -54,7 +54,7 @@ impl Default for DriveChoice {
 }
 
 /// What the drive's buttons ask.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DriveCommand {
     /// Send the controller's targets from the next control step on.
     Arm,
@@ -62,6 +62,9 @@ pub enum DriveCommand {
     Pause,
     /// As Pause, and forget the arming.
     Disarm,
+    /// A new goal (`x, y, yaw`, the pose streams' frame), dragged in the scene: kept only where
+    /// the object fits the workspace; an armed drive pauses, to go on toward it at Arm.
+    SetGoal([f64; 3]),
 }
 
 /// What the UI asks of the worker's commander.
@@ -111,6 +114,8 @@ pub struct LiveDrive {
     /// The drive's time when it was first armed: its time to the goal is counted from there,
     /// not from Connect.
     pub(in crate::app::state) armed_at_s: Option<f64>,
+    /// How far the object reaches from its centre: a goal moved must keep it in the workspace.
+    pub(in crate::app::state) object_reach: f64,
 }
 
 impl std::fmt::Debug for LiveDrive {
@@ -193,6 +198,7 @@ pub(in crate::app::state) fn prepare(
         truth,
         reached: false,
         armed_at_s: None,
+        object_reach: CommanderConfig::reach_of(&outline),
     };
     Ok((drive, setup))
 }

@@ -4,7 +4,8 @@
 
 use nalgebra::Point2;
 use pushlab_core::control::drive::Halt;
-use pushlab_core::control::{PlanWith, plan_step};
+use pushlab_core::control::{Goal, PlanWith, plan_step};
+use pushlab_core::geometry::Pose2;
 
 use crate::app::platform::Instant;
 use crate::app::state::AppState;
@@ -28,6 +29,10 @@ impl AppState {
         let Some(drive) = running.drive.as_mut() else {
             return;
         };
+        if let DriveCommand::SetGoal(goal) = command {
+            self.move_drive_goal(goal);
+            return;
+        }
         let ask = match command {
             DriveCommand::Arm => {
                 drive.reached = false;
@@ -37,6 +42,7 @@ impl AppState {
             }
             DriveCommand::Pause => WorkerAsk::Halt(Halt::Paused),
             DriveCommand::Disarm => WorkerAsk::Halt(Halt::Disarmed),
+            DriveCommand::SetGoal(_) => return,
         };
         running.link.with(|inbox| inbox.to_worker.asks.push(ask));
         self.status = Some(match command {
@@ -46,7 +52,52 @@ impl AppState {
             ),
             DriveCommand::Pause => "paused: the pusher is held where it is".to_owned(),
             DriveCommand::Disarm => "disarmed: nothing is sent to the robot".to_owned(),
+            DriveCommand::SetGoal(_) => return,
         });
+    }
+
+    /// The goal dragged to `x, y, yaw`: refused (and said) where the object would not fit the
+    /// workspace the targets are kept in; else the planner heads for it, the form's choice
+    /// remembers it, and an armed drive pauses with one hold. Re-aiming a robot that is pushing
+    /// is the user's to confirm with Arm, as the sandbox's run stops when its goal moves.
+    fn move_drive_goal(&mut self, [x, y, yaw]: [f64; 3]) {
+        let Some(running) = self.live.running_mut() else {
+            return;
+        };
+        let Some(drive) = running.drive.as_mut() else {
+            return;
+        };
+        if !(x.is_finite() && y.is_finite() && yaw.is_finite()) {
+            return;
+        }
+        let status = running.latest.drive.clone().unwrap_or_default();
+        if let Some(w) = status.workspace
+            && !w.fits(Point2::new(x, y), drive.object_reach)
+        {
+            self.status = Some(format!(
+                "the goal was not moved to ({x:.3} m, {y:.3} m): the object there would leave the \
+                 workspace the pusher's targets are kept in (x {:.3} to {:.3} m, y {:.3} to {:.3} m)",
+                w.min[0], w.max[0], w.min[1], w.max[1]
+            ));
+            return;
+        }
+        (drive.driving.planner).set_goal(Goal::at(Pose2::new(x, y, yaw)));
+        drive.reached = false;
+        drive.driving.held = 0;
+        drive.armed_at_s = None;
+        running.choice.drive.goal = [x, y, yaw];
+        let sending = status.armed && status.halted.is_none();
+        if sending {
+            (running.link).with(|inbox| inbox.to_worker.asks.push(WorkerAsk::Halt(Halt::Paused)));
+        }
+        let choice = running.choice.clone();
+        self.live.remember(choice);
+        let at = format!("({x:.3} m, {y:.3} m, {:.0}°)", yaw.to_degrees());
+        let paused = match sending || status.halted == Some(Halt::Paused) {
+            true => ": paused, the pusher held",
+            false => "",
+        };
+        self.status = Some(format!("the goal moved to {at}{paused}; Arm to push to it"));
     }
 
     /// A control step per new frame of the live push shown: planned with its run, the target

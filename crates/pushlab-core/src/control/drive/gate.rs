@@ -56,6 +56,15 @@ impl Workspace {
         }
     }
 
+    /// Whether an object reaching `reach` from its centre at `centre` lies inside the box, turned
+    /// any way: where a goal may be moved to once the box is taken (the pusher is kept in it).
+    pub fn fits(&self, centre: Point2<f64>, reach: f64) -> bool {
+        (0..2).all(|i| {
+            let c = centre[i];
+            c.is_finite() && c - reach >= self.min[i] && c + reach <= self.max[i]
+        })
+    }
+
     fn clamp(&self, p: Point2<f64>) -> Point2<f64> {
         Point2::new(
             p.x.clamp(self.min[0], self.max[0]),
@@ -352,5 +361,15 @@ mod tests {
         let w = Workspace::new(at(1.0, 1.0), at(-1.0, 0.0)).unwrap();
         assert_eq!((w.min, w.max), ([-1.0, 0.0], [1.0, 1.0]));
         assert!(Workspace::new(at(f64::NAN, 0.0), at(1.0, 1.0)).is_err());
+    }
+
+    #[test]
+    fn an_object_fits_the_box_only_with_its_whole_reach_inside() {
+        let w = Workspace::new(Point2::new(-0.5, -0.2), Point2::new(0.5, 0.4)).unwrap();
+        assert!(w.fits(Point2::new(0.0, 0.1), 0.25));
+        assert!(w.fits(Point2::new(0.25, 0.15), 0.25), "touching two sides");
+        assert!(!w.fits(Point2::new(0.3, 0.1), 0.25), "past x's end");
+        assert!(!w.fits(Point2::new(0.0, -0.1), 0.25), "past y's start");
+        assert!(!w.fits(Point2::new(f64::NAN, 0.1), 0.25));
     }
 }
