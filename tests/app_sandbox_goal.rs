@@ -2,7 +2,8 @@
 //! a goal the student placed, planning with the model as the push's run learns it, and says when
 //! the goal is reached; the same goal with θ held fixed is a different run; the CLI's controller
 //! (`pushlab control --sandbox`) on the same mystery and goal reaches it too; `--pipe` answers
-//! each line of poses from another program with a target no further than a step of the pusher.
+//! each line of poses from another program with a target no further than a step of the pusher;
+//! the CLI's controller takes the learner's options.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -146,6 +147,53 @@ fn the_cli_controller_reaches_the_goal_and_prints_a_line_per_step() {
     assert_eq!(bad.status.code(), Some(2));
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(err.contains("Y 'north' is not a finite number"), "{err}");
+}
+
+/// `pushlab control --sandbox 4 --goal …` with `extra`: its JSON lines, the outcome last.
+fn control_lines(extra: &[&str]) -> Vec<Value> {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args([
+            "control",
+            "--sandbox",
+            "4",
+            "--goal",
+            "0.25,0.1,0.4",
+            "--json",
+        ])
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (String::from_utf8_lossy(&out.stdout).lines())
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+/// The learner's options, as `pushlab eval` and `live` take them: `--steps 0` learns nothing and
+/// so plans as θ fixed does, target for target; `--optimizer gauss-newton` learns another θ.
+#[test]
+fn the_cli_controller_takes_the_learners_options() {
+    let targets = |lines: &[Value]| -> Vec<Value> {
+        let steps = &lines[..lines.len() - 1];
+        steps.iter().map(|l| l["step"]["target"].clone()).collect()
+    };
+    let theta_end = |lines: &[Value]| lines.last().unwrap()["outcome"]["theta_end"].clone();
+    let still = control_lines(&["--steps", "0"]);
+    let fixed = control_lines(&["--theta", "fixed"]);
+    assert_eq!(targets(&still), targets(&fixed));
+    assert_eq!(
+        theta_end(&still)["com_offset"],
+        serde_json::json!([0.0, 0.0]),
+        "--steps 0 left θ at θ_online(0)"
+    );
+    let gd = control_lines(&[]);
+    let gauss_newton = control_lines(&["--optimizer", "gauss-newton"]);
+    assert_ne!(theta_end(&gd), theta_end(&gauss_newton));
+    assert_ne!(theta_end(&gauss_newton), theta_end(&still));
 }
 
 #[test]

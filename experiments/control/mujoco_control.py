@@ -9,7 +9,7 @@ Every controller (online, fixed, physics, truth, weighted; `--with` some) on eve
 like the bench's.
 
 Usage: mujoco_control.py OUT.csv [--pairs 100] [--first 31] [--jobs 2] [--pushlab PATH]
-                         [--with online,weighted]
+                         [--with online,weighted] [--optimizer gd|gauss-newton]
        mujoco_control.py --table OUT.csv     (the summary of a CSV written, whole or cut short)
 
 Each run is written to OUT.csv as it ends, so a run cut short leaves the pairs it finished; the
@@ -103,7 +103,7 @@ def world(pair, name):
     return model, data, pusher, setting, goal, com
 
 
-def run(pushlab, pair, with_):
+def run(pushlab, pair, with_, optimizer="gd"):
     model, data, _, setting, goal, com = world(pair, "mujoco-control")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "setting.json")
@@ -111,7 +111,7 @@ def run(pushlab, pair, with_):
             json.dump(setting, f)
         proc = subprocess.Popen(
             [pushlab, "control", "--pipe", "--setting", path, "--theta", with_,
-             "--goal", ",".join(f"{g:.6f}" for g in goal)],
+             "--optimizer", optimizer, "--goal", ",".join(f"{g:.6f}" for g in goal)],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
         outcome = drive(proc, model, data, goal)
         proc.stdin.close()
@@ -191,6 +191,8 @@ def main():
     parser.add_argument("--pushlab", default=os.environ.get("PUSHLAB", "target/release/pushlab"))
     parser.add_argument("--with", dest="plans_with", default=",".join(WITH),
                         help="the controllers run, comma-separated (default: all)")
+    parser.add_argument("--optimizer", choices=["gd", "gauss-newton"], default="gd",
+                        help="how θ learns as it pushes (pushlab control --optimizer)")
     args = parser.parse_args()
     chosen = args.plans_with.split(",")
     unknown = [w for w in chosen if w not in WITH]
@@ -202,7 +204,8 @@ def main():
             concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
         out = csv.DictWriter(f, fieldnames=FIELDS)
         out.writeheader()
-        for row in pool.map(run, [args.pushlab] * len(jobs), *zip(*jobs)):
+        for row in pool.map(run, [args.pushlab] * len(jobs), *zip(*jobs),
+                                [args.optimizer] * len(jobs)):
             rows.append(row)
             out.writerow(row)
             f.flush()

@@ -10,6 +10,7 @@ use pushlab_core::recording::bag::SettingSource;
 use std::path::PathBuf;
 
 use crate::cli::exit::Failure;
+use crate::cli::experiment::args::OnlineArgs;
 
 #[derive(Debug, Args)]
 pub struct ControlArgs {
@@ -68,6 +69,9 @@ pub struct ControlArgs {
     /// goals on clean ones: see the guide).
     #[arg(long, value_name = "ALPHA,BETA", value_parser = pushlab_core::control::track::TrackConfig::parse)]
     pub track: Option<pushlab_core::control::track::TrackConfig>,
+    /// How θ learns as it pushes (the run's learner, as `pushlab eval` and `pushlab live` take it).
+    #[command(flatten)]
+    pub online: OnlineArgs,
     /// Seconds before the run is called failed.
     #[arg(long, default_value_t = pushlab_core::control::sandbox_run::DEFAULT_TIME_LIMIT_S)]
     pub time_limit: f64,
@@ -166,7 +170,7 @@ pub(super) fn pose_control(
         model,
         &setting,
         plan_with,
-        pushlab_core::learn::OnlineConfig::default(),
+        args.online.config(),
         pushlab_core::control::Goal::at(goal),
         pushlab_core::control::PlannerConfig {
             track: args.track,

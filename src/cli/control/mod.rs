@@ -22,7 +22,6 @@ pub use self::args::ControlArgs;
 use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushlab_core::control::{Goal, PlanWith, PlannerConfig, SandboxControl};
-use pushlab_core::learn::OnlineConfig;
 use pushlab_core::sandbox::mystery::SANDBOX_NOISE;
 use pushlab_core::sandbox::{Mystery, MysteryObject};
 use serde_json::json;
@@ -62,7 +61,7 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
         args.noise.then_some(SANDBOX_NOISE),
         &model.combined,
         plan_with,
-        OnlineConfig::default(),
+        args.online.config(),
         Goal::at(goal),
         PlannerConfig {
             seed,
