@@ -20,9 +20,8 @@ use std::path::Path;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use pushlab_core::control::goal::draw_goal;
+use pushlab_core::control::goal::pair_goal;
 use pushlab_core::control::{Goal, PlanWith, PlannerConfig, SandboxControl};
-use pushlab_core::geometry::Pose2;
 use pushlab_core::learn::OnlineConfig;
 use pushlab_core::model_file::ModelFile;
 use pushlab_core::sandbox::mystery::SANDBOX_NOISE;
@@ -228,12 +227,7 @@ fn main() {
 
 fn run(model: &pushlab_core::model::CombinedModel, args: &Args, pair: u64, with: PlanWith) -> Row {
     let mystery = Mystery::draw(pair, args.object.clone()).expect("a mystery");
-    let goal = draw_goal(
-        &Pose2::new(0.0, 0.0, 0.0),
-        pair,
-        (0.2, 0.4),
-        45f64.to_radians(),
-    );
+    let goal = pair_goal(pair);
     let noise = args.noise.then_some(SANDBOX_NOISE);
     let mut control = SandboxControl::new(
         mystery,

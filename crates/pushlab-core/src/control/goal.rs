@@ -66,6 +66,17 @@ impl Goal {
     }
 }
 
+/// The goal of the measured pair `seed` (the bench's, its tests' and the sandbox mystery of that
+/// seed): from the origin, 20–40 cm away, turned up to ±45°.
+pub fn pair_goal(seed: u64) -> Pose2 {
+    draw_goal(
+        &Pose2::new(0.0, 0.0, 0.0),
+        seed,
+        (0.2, 0.4),
+        std::f64::consts::FRAC_PI_4,
+    )
+}
+
 /// A goal drawn for a measured pair: `distance_m` uniform in the range given, in any direction
 /// from `start`, its yaw within ±`max_turn_rad` of the start's (the 20–40 cm and ±45°).
 pub fn draw_goal(start: &Pose2, seed: u64, distance_m: (f64, f64), max_turn_rad: f64) -> Pose2 {

@@ -2,10 +2,8 @@
 //! online; the same seed is the same run; the pusher's target never moves faster than the pusher
 //! may; frames the pusher is away in are not learned.
 //!
-//! Not here: "learning online beats θ held fixed on an offset COM". It does not today: on a box
-//! whose COM is 6 cm off its centre, eight goals took 631.5 s learning online and 549.3 s with θ
-//! fixed (the planner replans every step, and its feedback makes up for a wrong θ as well as the
-//! learned θ does); over 100 drawn pairs, 96 % against 91 % reached (docs/src/control.md).
+//! Learning online against θ held fixed on an offset COM is measured on pairs past the bench's
+//! (see the test); it reaches the goals sooner, not always more of them.
 
 #![allow(clippy::unwrap_used)]
 
@@ -110,12 +108,7 @@ fn diagnose() {
         .ok()
         .and_then(|s| PlanWith::from_name(&s))
         .unwrap_or(PlanWith::Online);
-    let goal = goal::draw_goal(
-        &Pose2::new(0.0, 0.0, 0.0),
-        pair,
-        (0.2, 0.4),
-        45f64.to_radians(),
-    );
+    let goal = goal::pair_goal(pair);
     let mut run = control(pair, with, goal);
     let mut last = String::new();
     let mut segments = Vec::new();
@@ -257,12 +250,7 @@ fn the_weighted_prediction_mixes_both_learned_runs_by_their_weights_and_reaches_
 /// filtered by `track` (the alpha–beta filter at 0.5, 0.1), it is reached in 56.6 s.
 #[test]
 fn planning_from_filtered_poses_reaches_a_goal_that_noisy_poses_miss() {
-    let goal = goal::draw_goal(
-        &Pose2::new(0.0, 0.0, 0.0),
-        17,
-        (0.2, 0.4),
-        45f64.to_radians(),
-    );
+    let goal = goal::pair_goal(17);
     let run = |track| {
         let mystery = Mystery::draw(17, MysteryObject::Box).unwrap();
         let mut control = SandboxControl::new(
@@ -347,5 +335,43 @@ fn a_push_begun_is_carried_in_to_the_object_not_abandoned_on_its_way_in() {
     panic!(
         "not touching after 10 s, {:.1} mm away; phases {phases}",
         gap(&planner, pusher) * 1e3
+    );
+}
+
+/// Learning online against θ held at θ_online(0) on boxes whose hidden COM is at least 4 cm off
+/// their centre: the first ten such pairs from seed 131, past the bench's 31–130 (so neither the
+/// pairs the planner was weighed on nor those its table measured). Learning online reaches at
+/// least as many goals, and sooner over all, a miss counted at the 120 s limit. Measured on
+/// all 65 such pairs of 131–230 (`--first 131 --with online,fixed`): 60 goals each, a mean of
+/// 59.3 s against 63.9 s; from 5 cm, 40 against 43 of 44 goals, 60.6 s against 63.0 s. So the
+/// claim tested is "sooner", not "more".
+#[test]
+fn on_an_offset_com_learning_online_reaches_the_goals_sooner_than_theta_fixed() {
+    let pairs: Vec<u64> = (131..)
+        .filter(|&seed| {
+            let [x, y] = (Mystery::draw(seed, MysteryObject::Box).unwrap())
+                .hidden
+                .com_offset;
+            x.hypot(y) >= 0.04
+        })
+        .take(10)
+        .collect();
+    let over_the_pairs = |with| {
+        let runs = pairs.iter().map(|&seed| {
+            let outcome = control(seed, with, goal::pair_goal(seed)).run_to_goal(120.0, |_| {});
+            (usize::from(outcome.reached), outcome.time_s)
+        });
+        runs.fold((0, 0.0), |(n, t), (reached, time_s)| {
+            (n + reached, t + time_s)
+        })
+    };
+    let (online, fixed) = (
+        over_the_pairs(PlanWith::Online),
+        over_the_pairs(PlanWith::Fixed),
+    );
+    assert!(online.0 >= fixed.0, "goals: {online:?} against {fixed:?}");
+    assert!(
+        online.1 < fixed.1,
+        "time over pairs {pairs:?}: {online:?} against {fixed:?}"
     );
 }
