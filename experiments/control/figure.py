@@ -1,13 +1,17 @@
 #!/usr/bin/env python3
 """The controller's figure: the share of goals reached by each time, per controller, from the CSV
-`cargo bench -p pushlab-core --bench control -- --csv OUT.csv` writes. Standard library only, so it
-runs wherever the bench does.
+`cargo bench -p pushlab-core --bench control -- --csv OUT.csv` and mujoco_control.py write (one or
+more, their rows together: controllers measured in separate runs on the same pairs). Standard
+library only, so it runs wherever the bench does.
 
     python3 experiments/control/figure.py experiments/control/box.csv docs/src/images/control-box.svg
+
+With `--limit 240` (runs measured with a 240 s limit) the time axis runs to 240 s, and a dashed
+line marks the tables' 120 s.
 """
 
+import argparse
 import csv
-import sys
 
 COLOURS = {
     "online": "#1f77b4",
@@ -24,15 +28,15 @@ LABELS = {
     "weighted": "the weighted prediction",
 }
 W, H, LEFT, BOTTOM, TOP, RIGHT = 720, 380, 60, 50, 20, 250
-LIMIT_S = 120.0
+TABLE_LIMIT_S = 120.0
 
 
-def main(source: str, out: str) -> None:
-    rows = list(csv.DictReader(open(source, newline="")))
+def main(sources: list, out: str, limit_s: float = TABLE_LIMIT_S) -> None:
+    rows = [r for source in sources for r in csv.DictReader(open(source, newline=""))]
     plot_w, plot_h = W - LEFT - RIGHT, H - TOP - BOTTOM
 
     def x(t: float) -> float:
-        return LEFT + plot_w * t / LIMIT_S
+        return LEFT + plot_w * t / limit_s
 
     def y(share: float) -> float:
         return TOP + plot_h * (1.0 - share)
@@ -48,7 +52,7 @@ def main(source: str, out: str) -> None:
                      f'y2="{y(share):.1f}" stroke="#ddd"/>')
         parts.append(f'<text x="{LEFT - 6}" y="{y(share) + 4:.1f}" text-anchor="end">'
                      f'{int(share * 100)} %</text>')
-    for t in range(0, int(LIMIT_S) + 1, 20):
+    for t in range(0, int(limit_s) + 1, 20 if limit_s <= 120 else 40):
         parts.append(f'<text x="{x(t):.1f}" y="{TOP + plot_h + 16}" text-anchor="middle">{t}</text>')
     parts.append(f'<text x="{LEFT + plot_w / 2}" y="{H - 10}" text-anchor="middle">'
                  f'seconds from the first step</text>')
@@ -56,6 +60,11 @@ def main(source: str, out: str) -> None:
                  f'transform="rotate(-90 14 {TOP + plot_h / 2})">goals reached and held</text>')
     parts.append(f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" '
                  f'fill="none" stroke="#333"/>')
+    if limit_s > TABLE_LIMIT_S:
+        at = x(TABLE_LIMIT_S)
+        parts.append(f'<line x1="{at:.1f}" x2="{at:.1f}" y1="{TOP}" y2="{TOP + plot_h}" '
+                     f'stroke="#333" stroke-dasharray="4 3"/>')
+        parts.append(f'<text x="{at + 4:.1f}" y="{TOP + plot_h - 6}">the tables\' limit</text>')
     for n, (name, colour) in enumerate(COLOURS.items()):
         runs = [r for r in rows if r["plans_with"] == name]
         if not runs:
@@ -65,7 +74,7 @@ def main(source: str, out: str) -> None:
         for k, t in enumerate(times, start=1):
             points.append((t, (k - 1) / len(runs)))
             points.append((t, k / len(runs)))
-        points.append((LIMIT_S, len(times) / len(runs)))
+        points.append((limit_s, len(times) / len(runs)))
         path = " ".join(f"{x(t):.1f},{y(s):.1f}" for t, s in points)
         parts.append(f'<polyline points="{path}" fill="none" stroke="{colour}" stroke-width="2"/>')
         ly = TOP + 14 + 20 * n
@@ -79,6 +88,11 @@ def main(source: str, out: str) -> None:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit("usage: figure.py RUNS.csv OUT.svg")
-    main(sys.argv[1], sys.argv[2])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("files", nargs="+", metavar="RUNS.csv [MORE.csv ...] OUT.svg")
+    parser.add_argument("--limit", type=float, default=TABLE_LIMIT_S,
+                        help="the runs' time limit, seconds: the time axis's end (default 120)")
+    args = parser.parse_args()
+    if len(args.files) < 2:
+        parser.error("expected one CSV or more, then the SVG to write")
+    main(args.files[:-1], args.files[-1], args.limit)

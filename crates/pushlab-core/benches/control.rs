@@ -6,7 +6,7 @@
 //!
 //! `cargo bench -p pushlab-core --bench control -- --pairs 100 [--first 31]
 //! [--object box|t|ellipse] [--noise] [--threads N] [--csv OUT.csv] [--way-weight W]
-//! [--with online,weighted] [--track ALPHA,BETA]`
+//! [--with online,weighted] [--track ALPHA,BETA] [--time-limit 120]`
 //!
 //! The planner's weights were chosen on pairs 1-30 (`--first 1 --pairs 30`); the guide's table is
 //! of pairs 31-130, which tuning never saw. `--track` plans from poses filtered for tracking
@@ -39,6 +39,8 @@ struct Args {
     planner: PlannerConfig,
     /// The controllers run (`--with online,weighted`); all by default.
     with: Vec<PlanWith>,
+    /// Seconds before a run is called failed.
+    time_limit_s: f64,
 }
 
 fn args() -> Args {
@@ -51,6 +53,7 @@ fn args() -> Args {
         csv: None,
         planner: PlannerConfig::default(),
         with: PlanWith::ALL.to_vec(),
+        time_limit_s: 120.0,
     };
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
@@ -66,6 +69,9 @@ fn args() -> Args {
             "--first" => a.first = it.next().and_then(|v| v.parse().ok()).unwrap_or(a.first),
             "--threads" => a.threads = it.next().and_then(|v| v.parse().ok()).unwrap_or(2),
             "--csv" => a.csv = it.next(),
+            "--time-limit" => {
+                a.time_limit_s = (it.next().and_then(|v| v.parse().ok())).unwrap_or(a.time_limit_s)
+            }
             "--with" => {
                 let names = it.next().unwrap_or_default();
                 a.with = names.split(',').filter_map(PlanWith::from_name).collect();
@@ -243,7 +249,7 @@ fn run(model: &pushlab_core::model::CombinedModel, args: &Args, pair: u64, with:
     )
     .expect("the controller on the mystery");
     let mut step_us = Vec::new();
-    while !control.is_done() && control.outcome().time_s < 120.0 {
+    while !control.is_done() && control.outcome().time_s < args.time_limit_s {
         let t = Instant::now();
         let decision = control.decide();
         step_us.push(t.elapsed().as_secs_f64() * 1e6);
