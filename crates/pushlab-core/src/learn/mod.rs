@@ -21,4 +21,4 @@ pub use offline::{
 pub use run::{KEYFRAME, MeanLosses, OnlineRun};
 pub use step::{OnlineState, learn_step, learn_step_in_place};
 pub use uncertainty::{Posterior, PushInformation, Spread};
-pub use weighting::{MAX_LOG_ODDS, ModelWeight, WeightConfig, WeightedFrame, Weights};
+pub use weighting::{FrameTime, MAX_LOG_ODDS, ModelWeight, WeightConfig, WeightedFrame, Weights};

@@ -37,6 +37,26 @@ pub const MAX_LOG_ODDS: f64 = 6.0;
 /// The time one frame's evidence is counted per, seconds.
 const EVIDENCE_UNIT_S: f64 = 0.1;
 
+/// When a frame taken in was, and the frame before it in its trajectory (`None`: not known, or
+/// the first): forgetting spans the time since the last frame taken in, and the frame's own
+/// evidence counts for its own interval only.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameTime {
+    pub time: f64,
+    pub previous: Option<f64>,
+}
+
+impl From<f64> for FrameTime {
+    /// A frame of a trajectory whose every frame is taken in: its interval is the time since the
+    /// last one.
+    fn from(time: f64) -> Self {
+        Self {
+            time,
+            previous: None,
+        }
+    }
+}
+
 /// How the two models are weighed.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WeightConfig {
@@ -173,13 +193,13 @@ impl ModelWeight {
         &self.frames
     }
 
-    /// Takes in the sample of `frame` at `time` (seconds): predicts it with the weight now, then
+    /// Takes in the sample of `frame` at `when` (seconds): predicts it with the weight now, then
     /// weighs the two models by how each predicted it. `combined` and `physics` are the two
     /// models' predictions, `truth` the motion measured, each model's loss normalised as the runs'.
     pub fn take(
         &mut self,
         frame: usize,
-        time: f64,
+        when: impl Into<FrameTime>,
         combined: &ObjectMotion,
         physics: &ObjectMotion,
         truth: &ObjectMotion,
@@ -188,10 +208,14 @@ impl ModelWeight {
         let weight = self.weight();
         let blended = weight.blend(combined, physics);
         let loss = FrameLoss::of(&Loss::of(&blended, truth, scale));
+        let FrameTime { time, previous } = when.into();
         let dt = self
             .last_time
             .map_or(EVIDENCE_UNIT_S, |t| (time - t).max(0.0));
         let forget = math::powf(0.5f64, dt / self.config.half_life_s.max(1e-9));
+        // The frame's evidence counts for its own interval: after frames not taken in (θ held
+        // there), `dt` spans them, and one frame would otherwise count for the whole gap.
+        let counted = previous.map_or(dt, |p| dt.min((time - p).max(0.0)));
         let (c, p) = (
             Loss::of(combined, truth, scale),
             Loss::of(physics, truth, scale),
@@ -202,7 +226,8 @@ impl ModelWeight {
         ];
         let limit = MAX_LOG_ODDS * 2.0;
         for (evidence, ratio) in self.evidence.iter_mut().zip(ratios) {
-            *evidence = (forget * *evidence + ratio * dt / EVIDENCE_UNIT_S).clamp(-limit, limit);
+            *evidence =
+                (forget * *evidence + ratio * counted / EVIDENCE_UNIT_S).clamp(-limit, limit);
         }
         self.last_time = Some(time);
         let taken = WeightedFrame {

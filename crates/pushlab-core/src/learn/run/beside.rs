@@ -31,8 +31,12 @@ impl OnlineRun {
             let p = physics
                 .model
                 .predict(&sample.input, &physics.theta_at(frame));
-            let time = self.trajectory.frames[frame].time;
-            weight.take(frame, time, &c.motion, &p.motion, &sample.target, &scale);
+            let frames = &self.trajectory.frames;
+            let when = crate::learn::FrameTime {
+                time: frames[frame].time,
+                previous: frame.checked_sub(1).map(|b| frames[b].time),
+            };
+            weight.take(frame, when, &c.motion, &p.motion, &sample.target, &scale);
         }
     }
 

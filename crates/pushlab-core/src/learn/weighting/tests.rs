@@ -159,3 +159,40 @@ fn rewinding_forgets_the_frames_from_there_and_taking_them_again_gives_the_same_
         ModelWeight::new(WeightConfig::default()).weight()
     );
 }
+
+/// Frames not taken in (θ held over them: a controller's pusher going round the object, frames
+/// labelled bad) leave a gap before the next frame taken in. The evidence before the gap is
+/// forgotten over it, and the next frame counts for its own tenth of a second, not for the gap:
+/// counted for the gap, one frame after 10 s away pinned the weight at its limit.
+#[test]
+fn a_frame_after_frames_not_taken_in_counts_for_its_own_interval() {
+    let mut weight = ModelWeight::new(WeightConfig::default());
+    for k in 0..10 {
+        weight.take(
+            k,
+            k as f64 * 0.1,
+            &motion(0.0),
+            &motion(0.01),
+            &motion(0.0),
+            &SCALE,
+        );
+    }
+    let before = weight.evidence[0];
+    // Frames 10-108 held; frame 109, 10 s on, favours physics by one σ.
+    let when = FrameTime {
+        time: 10.9,
+        previous: Some(10.8),
+    };
+    weight.take(109, when, &motion(0.01), &motion(0.0), &motion(0.0), &SCALE);
+    let forget = 0.5f64.powf(10.0 / WeightConfig::default().half_life_s);
+    let expected = forget * before - 0.5;
+    assert!(
+        (weight.evidence[0] - expected).abs() < 1e-12,
+        "{} against {expected}",
+        weight.evidence[0]
+    );
+    assert!(
+        weight.weight().pos > 0.5,
+        "one frame does not overturn the prior"
+    );
+}
