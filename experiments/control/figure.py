@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The controller's figure: the share of goals reached by each time, per controller, from the CSV
 `cargo bench -p pushlab-core --bench control -- --csv OUT.csv` and mujoco_control.py write (one or
-more, their rows together: controllers measured in separate runs on the same pairs). Standard
-library only, so it runs wherever the bench does.
+more, their rows together: controllers measured in separate runs on the same pairs; a later file's
+row for a pair and controller replaces an earlier one's, as a miss run again with a longer limit
+does). Standard library only, so it runs wherever the bench does.
 
     python3 experiments/control/figure.py experiments/control/box.csv docs/src/images/control-box.svg
 
@@ -32,7 +33,11 @@ TABLE_LIMIT_S = 120.0
 
 
 def main(sources: list, out: str, limit_s: float = TABLE_LIMIT_S) -> None:
-    rows = [r for source in sources for r in csv.DictReader(open(source, newline=""))]
+    runs = {}
+    for source in sources:
+        for r in csv.DictReader(open(source, newline="")):
+            runs[(r["pair"], r["plans_with"])] = r
+    rows = list(runs.values())
     plot_w, plot_h = W - LEFT - RIGHT, H - TOP - BOTTOM
 
     def x(t: float) -> float:

@@ -16,7 +16,11 @@
 //! `ℓ_pos,x + ℓ_pos,y` for the translation, `ℓ_rot` for the rotation), counted
 //! per tenth of a second rather than per frame so that a 250 Hz push is not 25 times surer than a
 //! 10 Hz one, and forgotten with a half-life in seconds so that the weight follows the push as it
-//! changes. The log-odds start at the prior and are kept within ±[`MAX_LOG_ODDS`] so that the
+//! changes. Both count the time of the frames taken in: where θ was held over frames (labelled
+//! bad, or a controller's pusher away from the object), nothing was seen, so nothing is learned or
+//! forgotten over them. Counted over the gap, the first frame after a controller went round the
+//! object stood for the whole time away and pinned the weight to one model (2026-12-04: measured
+//! in `docs/src/control.md`). The log-odds start at the prior and are kept within ±[`MAX_LOG_ODDS`] so that the
 //! losing model can come back within a few half-lives. The blended prediction's squared error is
 //! never above the weighted mean of the two models' (it is convex), which is what keeps the
 //! average near the better of the two.
@@ -38,8 +42,8 @@ pub const MAX_LOG_ODDS: f64 = 6.0;
 const EVIDENCE_UNIT_S: f64 = 0.1;
 
 /// When a frame taken in was, and the frame before it in its trajectory (`None`: not known, or
-/// the first): forgetting spans the time since the last frame taken in, and the frame's own
-/// evidence counts for its own interval only.
+/// the first): the frame's evidence counts, and the evidence before it is forgotten, over its own
+/// interval only, not over frames before it that were not taken in.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameTime {
     pub time: f64,
@@ -212,10 +216,9 @@ impl ModelWeight {
         let dt = self
             .last_time
             .map_or(EVIDENCE_UNIT_S, |t| (time - t).max(0.0));
-        let forget = math::powf(0.5f64, dt / self.config.half_life_s.max(1e-9));
-        // The frame's evidence counts for its own interval: after frames not taken in (θ held
-        // there), `dt` spans them, and one frame would otherwise count for the whole gap.
+        // The frame's own interval: after frames not taken in, `dt` spans them too.
         let counted = previous.map_or(dt, |p| dt.min((time - p).max(0.0)));
+        let forget = math::powf(0.5f64, counted / self.config.half_life_s.max(1e-9));
         let (c, p) = (
             Loss::of(combined, truth, scale),
             Loss::of(physics, truth, scale),

@@ -161,9 +161,9 @@ fn rewinding_forgets_the_frames_from_there_and_taking_them_again_gives_the_same_
 }
 
 /// Frames not taken in (θ held over them: a controller's pusher going round the object, frames
-/// labelled bad) leave a gap before the next frame taken in. The evidence before the gap is
-/// forgotten over it, and the next frame counts for its own tenth of a second, not for the gap:
-/// counted for the gap, one frame after 10 s away pinned the weight at its limit.
+/// labelled bad) leave a gap before the next frame taken in. Nothing was seen over the gap: the
+/// evidence before it is carried over, and the next frame counts for its own tenth of a second.
+/// Counted for the gap, one frame after 10 s away pinned the weight at its limit.
 #[test]
 fn a_frame_after_frames_not_taken_in_counts_for_its_own_interval() {
     let mut weight = ModelWeight::new(WeightConfig::default());
@@ -184,7 +184,7 @@ fn a_frame_after_frames_not_taken_in_counts_for_its_own_interval() {
         previous: Some(10.8),
     };
     weight.take(109, when, &motion(0.01), &motion(0.0), &motion(0.0), &SCALE);
-    let forget = 0.5f64.powf(10.0 / WeightConfig::default().half_life_s);
+    let forget = 0.5f64.powf(0.1 / WeightConfig::default().half_life_s);
     let expected = forget * before - 0.5;
     assert!(
         (weight.evidence[0] - expected).abs() < 1e-12,
