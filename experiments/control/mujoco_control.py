@@ -10,6 +10,7 @@ like the bench's.
 
 Usage: mujoco_control.py OUT.csv [--pairs 100] [--first 31] [--jobs 2] [--pushlab PATH]
                          [--with online,weighted] [--optimizer gd|gauss-newton]
+                         [--time-limit 120] [--only 34,39]
        mujoco_control.py --table OUT.csv     (the summary of a CSV written, whole or cut short)
 
 Each run is written to OUT.csv as it ends, so a run cut short leaves the pairs it finished; the
@@ -103,7 +104,7 @@ def world(pair, name):
     return model, data, pusher, setting, goal, com
 
 
-def run(pushlab, pair, with_, optimizer="gd"):
+def run(pushlab, pair, with_, optimizer="gd", limit_s=LIMIT_S):
     model, data, _, setting, goal, com = world(pair, "mujoco-control")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "setting.json")
@@ -113,19 +114,19 @@ def run(pushlab, pair, with_, optimizer="gd"):
             [pushlab, "control", "--pipe", "--setting", path, "--theta", with_,
              "--optimizer", optimizer, "--goal", ",".join(f"{g:.6f}" for g in goal)],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
-        outcome = drive(proc, model, data, goal)
+        outcome = drive(proc, model, data, goal, limit_s)
         proc.stdin.close()
         proc.wait()
     return {"pair": pair, "plans_with": with_, "com_offset_m": math.hypot(*com), **outcome}
 
 
-def drive(proc, model, data, goal):
+def drive(proc, model, data, goal, limit_s=LIMIT_S):
     jp, jv = model.joint("px").qposadr[0], model.joint("px").dofadr[0]
     body = model.body("object").id
     dt, sub = SPEC["timestep_s"], int(round(1 / RATE_HZ / SPEC["timestep_s"]))
     pusher = data.qpos[jp:jp + 2].copy()
     path, reached, steps = 0.0, False, 0
-    while steps < LIMIT_S * RATE_HZ:
+    while steps < limit_s * RATE_HZ:
         obj = [float(data.xpos[body][0]), float(data.xpos[body][1]), yaw_of(data.xquat[body])]
         line = {"t": steps / RATE_HZ, "pusher": [float(pusher[0]), float(pusher[1])], "object": obj}
         proc.stdin.write(json.dumps(line) + "\n")
@@ -193,19 +194,25 @@ def main():
                         help="the controllers run, comma-separated (default: all)")
     parser.add_argument("--optimizer", choices=["gd", "gauss-newton"], default="gd",
                         help="how θ learns as it pushes (pushlab control --optimizer)")
+    parser.add_argument("--time-limit", type=float, default=LIMIT_S,
+                        help="seconds before a run is called failed (default: 120)")
+    parser.add_argument("--only", help="only these pairs, comma-separated (of --first, --pairs)")
     args = parser.parse_args()
     chosen = args.plans_with.split(",")
     unknown = [w for w in chosen if w not in WITH]
     if unknown:
         parser.error(f"--with {','.join(unknown)}: expected some of {', '.join(WITH)}")
-    jobs = [(p, w) for p in range(args.first, args.first + args.pairs) for w in chosen]
+    pairs = range(args.first, args.first + args.pairs)
+    if args.only:
+        pairs = [int(p) for p in args.only.split(",")]
+    jobs = [(p, w) for p in pairs for w in chosen]
     rows = []
     with open(args.out, "w", newline="") as f, \
             concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
         out = csv.DictWriter(f, fieldnames=FIELDS)
         out.writeheader()
         for row in pool.map(run, [args.pushlab] * len(jobs), *zip(*jobs),
-                                [args.optimizer] * len(jobs)):
+                                [args.optimizer] * len(jobs), [args.time_limit] * len(jobs)):
             rows.append(row)
             out.writerow(row)
             f.flush()
