@@ -107,48 +107,6 @@ fn moving_the_goal_stops_the_controller_and_a_goal_is_needed_first() {
     );
 }
 
-#[test]
-fn the_cli_controller_reaches_the_goal_and_prints_a_line_per_step() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args([
-            "control",
-            "--sandbox",
-            "4",
-            "--goal",
-            "0.25,0.1,0.4",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let lines: Vec<Value> = stdout
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
-    let last = lines.last().unwrap();
-    assert_eq!(last["outcome"]["reached"], true, "{last}");
-    assert!(last["outcome"]["final_position_error_m"].as_f64().unwrap() <= 0.0105);
-    let steps = &lines[..lines.len() - 1];
-    assert_eq!(
-        steps.len() as u64,
-        last["outcome"]["steps"].as_u64().unwrap()
-    );
-    assert!(steps.iter().all(|l| l["step"]["theta"]["h"].is_number()));
-    // A bad goal is refused by name, with the usage exit code.
-    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
-        .args(["control", "--sandbox", "4", "--goal", "0.25,north,0.4"])
-        .output()
-        .unwrap();
-    assert_eq!(bad.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&bad.stderr);
-    assert!(err.contains("Y 'north' is not a finite number"), "{err}");
-}
-
 /// `pushlab control --sandbox 4 --goal …` with `extra`: its JSON lines, the outcome last.
 fn control_lines(extra: &[&str]) -> Vec<Value> {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
@@ -171,6 +129,28 @@ fn control_lines(extra: &[&str]) -> Vec<Value> {
     (String::from_utf8_lossy(&out.stdout).lines())
         .map(|l| serde_json::from_str(l).unwrap())
         .collect()
+}
+
+#[test]
+fn the_cli_controller_reaches_the_goal_and_prints_a_line_per_step() {
+    let lines = control_lines(&[]);
+    let last = lines.last().unwrap();
+    assert_eq!(last["outcome"]["reached"], true, "{last}");
+    assert!(last["outcome"]["final_position_error_m"].as_f64().unwrap() <= 0.0105);
+    let steps = &lines[..lines.len() - 1];
+    assert_eq!(
+        steps.len() as u64,
+        last["outcome"]["steps"].as_u64().unwrap()
+    );
+    assert!(steps.iter().all(|l| l["step"]["theta"]["h"].is_number()));
+    // A bad goal is refused by name, with the usage exit code.
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_pushlab"))
+        .args(["control", "--sandbox", "4", "--goal", "0.25,north,0.4"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("Y 'north' is not a finite number"), "{err}");
 }
 
 /// The learner's options, as `pushlab eval` and `live` take them: `--steps 0` learns nothing and
