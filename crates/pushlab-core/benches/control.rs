@@ -58,43 +58,62 @@ fn args() -> Args {
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
         match arg.as_str() {
-            "--pairs" => a.pairs = it.next().and_then(|v| v.parse().ok()).unwrap_or(a.pairs),
-            "--object" => {
-                a.object = it
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    .unwrap_or(MysteryObject::Box)
-            }
+            "--pairs" => a.pairs = value(&mut it, &arg, "a count of pairs"),
+            "--object" => a.object = value(&mut it, &arg, "box, t or ellipse"),
             "--noise" => a.noise = true,
-            "--first" => a.first = it.next().and_then(|v| v.parse().ok()).unwrap_or(a.first),
-            "--threads" => a.threads = it.next().and_then(|v| v.parse().ok()).unwrap_or(2),
-            "--csv" => a.csv = it.next(),
-            "--time-limit" => {
-                a.time_limit_s = (it.next().and_then(|v| v.parse().ok())).unwrap_or(a.time_limit_s)
-            }
+            "--first" => a.first = value(&mut it, &arg, "the first pair's seed"),
+            "--threads" => a.threads = value(&mut it, &arg, "a count of threads"),
+            "--csv" => a.csv = Some(value(&mut it, &arg, "a file to write")),
+            "--time-limit" => a.time_limit_s = value(&mut it, &arg, "seconds"),
             "--with" => {
-                let names = it.next().unwrap_or_default();
-                a.with = names.split(',').filter_map(PlanWith::from_name).collect();
+                let names: String = value(&mut it, &arg, "controllers, comma-separated");
+                a.with = (names.split(','))
+                    .map(|n| {
+                        PlanWith::from_name(n).unwrap_or_else(|| {
+                            refuse(&format!(
+                                "--with: '{n}' is none of {}",
+                                PlanWith::expected()
+                            ))
+                        })
+                    })
+                    .collect();
             }
-            "--way-weight" => {
-                let v = it.next().and_then(|v| v.parse().ok());
-                a.planner.way_weight = v.unwrap_or(a.planner.way_weight)
-            }
+            "--way-weight" => a.planner.way_weight = value(&mut it, &arg, "metres per metre"),
             "--track" => {
-                let text = it.next().unwrap_or_default();
+                let text: String = value(&mut it, &arg, "ALPHA,BETA");
                 match pushlab_core::control::track::TrackConfig::parse(&text) {
                     Ok(track) => a.planner.track = Some(track),
-                    Err(why) => panic!("--track {why}"),
+                    Err(why) => refuse(&format!("--track {why}")),
                 }
             }
-            "--keep-margin" => {
-                let v = it.next().and_then(|v| v.parse().ok());
-                a.planner.keep_margin_m = v.unwrap_or(a.planner.keep_margin_m)
+            "--keep-margin" => a.planner.keep_margin_m = value(&mut it, &arg, "metres"),
+            "--help" | "-h" => {
+                println!("{USAGE}");
+                std::process::exit(0);
             }
-            _ => {} // cargo bench's own flags (--bench)
+            "--bench" => {} // cargo bench's own flag
+            other => refuse(&format!("unknown argument '{other}'")),
         }
     }
     a
+}
+
+const USAGE: &str = "cargo bench -p pushlab-core --bench control -- --pairs 100 [--first 31] \
+[--object box|t|ellipse] [--noise] [--threads N] [--csv OUT.csv] [--way-weight W] \
+[--with online,weighted] [--track ALPHA,BETA] [--time-limit 120] [--keep-margin M]";
+
+/// Says what is wrong with the arguments, with the usage, and exits 2: a typo must not measure
+/// something else.
+fn refuse(why: &str) -> ! {
+    eprintln!("control bench: {why}\nusage: {USAGE}");
+    std::process::exit(2)
+}
+
+/// The value after `flag`, parsed, or a refusal naming what was expected.
+fn value<T: std::str::FromStr>(it: &mut impl Iterator<Item = String>, flag: &str, what: &str) -> T {
+    let text = it.next().unwrap_or_default();
+    text.parse()
+        .unwrap_or_else(|_| refuse(&format!("{flag} '{text}': expected {what}")))
 }
 
 /// One run's numbers.
