@@ -196,7 +196,7 @@ def main():
                         help="how θ learns as it pushes (pushlab control --optimizer)")
     parser.add_argument("--time-limit", type=float, default=LIMIT_S,
                         help="seconds before a run is called failed (default: 120)")
-    parser.add_argument("--only", help="only these pairs, comma-separated (of --first, --pairs)")
+    parser.add_argument("--only", help="only these pairs, comma-separated (instead of --first and --pairs)")
     args = parser.parse_args()
     chosen = args.plans_with.split(",")
     unknown = [w for w in chosen if w not in WITH]

@@ -20,8 +20,8 @@
 //! bad, or a controller's pusher away from the object), nothing was seen, so nothing is learned or
 //! forgotten over them. Counted over the gap, the first frame after a controller went round the
 //! object stood for the whole time away and pinned the weight to one model (2026-12-04: measured
-//! in `docs/src/control.md`). The log-odds start at the prior and are kept within ±[`MAX_LOG_ODDS`] so that the
-//! losing model can come back within a few half-lives. The blended prediction's squared error is
+//! in `docs/src/control.md`). The log-odds start at the prior and are kept within
+//! ±[`MAX_LOG_ODDS`] so that the losing model can come back within a few half-lives. The blended prediction's squared error is
 //! never above the weighted mean of the two models' (it is convex), which is what keeps the
 //! average near the better of the two.
 //!

@@ -10,7 +10,7 @@ use pushlab_core::geometry::{Outline, Pose2};
 use pushlab_core::sandbox::push_drawn;
 
 use super::camera::Projection;
-pub use super::goal_handles::GRIP_RADIUS;
+use super::goal_handles::GRIP_RADIUS;
 use super::goal_handles::{GoalGrab, GoalHandles};
 use crate::app::colors;
 use crate::app::state::sources::sandbox::SandboxCommand;

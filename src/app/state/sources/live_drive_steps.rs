@@ -21,7 +21,7 @@ impl AppState {
             .flatten()
     }
 
-    /// The drive's buttons: passed to the worker's commander.
+    /// The drive's buttons, passed to the worker's commander, and a goal dragged in the scene.
     pub(in crate::app::state) fn apply_drive(&mut self, command: DriveCommand) {
         let Some(running) = self.live.running_mut() else {
             return;
@@ -29,31 +29,29 @@ impl AppState {
         let Some(drive) = running.drive.as_mut() else {
             return;
         };
-        if let DriveCommand::SetGoal(goal) = command {
-            self.move_drive_goal(goal);
-            return;
-        }
-        let ask = match command {
+        let (ask, said) = match command {
             DriveCommand::Arm => {
                 drive.reached = false;
                 drive.driving.held = 0;
                 drive.armed_at_s.get_or_insert(drive.driving.time_s());
-                WorkerAsk::Arm
+                let said = format!(
+                    "ARMED: the controller's targets go to the robot, planned with {}",
+                    drive.driving.plan_with.description()
+                );
+                (WorkerAsk::Arm, said)
             }
-            DriveCommand::Pause => WorkerAsk::Halt(Halt::Paused),
-            DriveCommand::Disarm => WorkerAsk::Halt(Halt::Disarmed),
-            DriveCommand::SetGoal(_) => return,
+            DriveCommand::Pause => (
+                WorkerAsk::Halt(Halt::Paused),
+                "paused: the pusher is held where it is".to_owned(),
+            ),
+            DriveCommand::Disarm => (
+                WorkerAsk::Halt(Halt::Disarmed),
+                "disarmed: nothing is sent to the robot".to_owned(),
+            ),
+            DriveCommand::SetGoal(goal) => return self.move_drive_goal(goal),
         };
         running.link.with(|inbox| inbox.to_worker.asks.push(ask));
-        self.status = Some(match command {
-            DriveCommand::Arm => format!(
-                "ARMED: the controller's targets go to the robot, planned with {}",
-                drive.driving.plan_with.description()
-            ),
-            DriveCommand::Pause => "paused: the pusher is held where it is".to_owned(),
-            DriveCommand::Disarm => "disarmed: nothing is sent to the robot".to_owned(),
-            DriveCommand::SetGoal(_) => return,
-        });
+        self.status = Some(said);
     }
 
     /// The goal dragged to `x, y, yaw`: refused (and said) where the object would not fit the

@@ -98,19 +98,19 @@ fn the_blend_is_never_worse_than_the_weighted_mean_of_the_two() {
     }
 }
 
+/// `frames` at 10 Hz in which the combined model predicts exactly and physics is off by one σ
+/// in x.
+fn combined_exact(weight: &mut ModelWeight, frames: std::ops::Range<usize>) {
+    for k in frames {
+        let (exact, off) = (motion(0.0), motion(0.01));
+        weight.take(k, k as f64 * 0.1, &exact, &off, &exact, &SCALE);
+    }
+}
+
 #[test]
 fn a_model_that_stops_predicting_well_loses_its_weight_within_seconds() {
     let mut weight = ModelWeight::new(WeightConfig::default());
-    for k in 0..30 {
-        weight.take(
-            k,
-            k as f64 * 0.1,
-            &motion(0.0),
-            &motion(0.01),
-            &motion(0.0),
-            &SCALE,
-        );
-    }
+    combined_exact(&mut weight, 0..30);
     assert!(weight.weight().pos > 0.95);
     // Now the combined model is off by two σ and physics exact.
     let mut k = 30;
@@ -167,16 +167,7 @@ fn rewinding_forgets_the_frames_from_there_and_taking_them_again_gives_the_same_
 #[test]
 fn a_frame_after_frames_not_taken_in_counts_for_its_own_interval() {
     let mut weight = ModelWeight::new(WeightConfig::default());
-    for k in 0..10 {
-        weight.take(
-            k,
-            k as f64 * 0.1,
-            &motion(0.0),
-            &motion(0.01),
-            &motion(0.0),
-            &SCALE,
-        );
-    }
+    combined_exact(&mut weight, 0..10);
     let before = weight.evidence[0];
     // Frames 10-108 held; frame 109, 10 s on, favours physics by one σ.
     let when = FrameTime {
