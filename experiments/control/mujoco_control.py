@@ -3,13 +3,15 @@
 (drawn within 5 cm of its centre) rests on a grid of small spheres with Coulomb friction (the model
 of experiments/mujoco-pushes/generate.py, at the bundled model's size: a 0.3 x 0.4 m box, a 175 mm
 pusher); a goal is drawn 20-40 cm away in any direction and turned up to 45 degrees. Each control
-step (10 Hz) MuJoCo's poses go to `pushlab control --pipe` on a line, and the pusher's target it
-answers is followed kinematically at most 4 cm/s for the next 0.1 s (100 MuJoCo steps of 1 ms).
-Every controller (online, fixed, physics, truth, weighted; `--with` some) on every pair; a CSV
-like the bench's.
+step (10 Hz) MuJoCo's poses go to pushlab's Python package (`pushlab.Controller`, built with
+maturin and installed in the environment: see the README), and the pusher's target it answers is
+followed kinematically at most 4 cm/s for the next 0.1 s (100 MuJoCo steps of 1 ms). With
+`--pushlab PATH` they go on a line to `PATH control --pipe` instead, which gives the same targets
+to the bit. Every controller (online, fixed, physics, truth, weighted; `--with` some) on every
+pair; a CSV like the bench's.
 
 Usage: mujoco_control.py OUT.csv [--pairs 100] [--first 31] [--jobs 2] [--pushlab PATH]
-                         [--with online,weighted] [--optimizer gd|gauss-newton]
+                         [--with online,weighted] [--optimizer gd|gauss-newton] [--lookahead]
                          [--time-limit 120] [--only 34,39]
        mujoco_control.py --table OUT.csv     (the summary of a CSV written, whole or cut short)
 
@@ -104,23 +106,52 @@ def world(pair, name):
     return model, data, pusher, setting, goal, com
 
 
-def run(pushlab, pair, with_, optimizer="gd", limit_s=LIMIT_S):
+MODEL = os.path.join(HERE, "..", "..", "assets", "default-model.json")
+
+
+def run(pushlab, pair, with_, optimizer="gd", limit_s=LIMIT_S, lookahead=False):
+    """One pair with one controller: through `pushlab.Controller`, or `pushlab control --pipe`
+    where `pushlab` is the CLI's path."""
     model, data, _, setting, goal, com = world(pair, "mujoco-control")
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "setting.json")
-        with open(path, "w") as f:
-            json.dump(setting, f)
-        proc = subprocess.Popen(
-            [pushlab, "control", "--pipe", "--setting", path, "--theta", with_,
-             "--optimizer", optimizer, "--goal", ",".join(f"{g:.6f}" for g in goal)],
-            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
-        outcome = drive(proc, model, data, goal, limit_s)
-        proc.stdin.close()
-        proc.wait()
+    if pushlab is None:
+        import pushlab as package
+        # The goal as the pipe's --goal gives it (six decimals): both ways plan for one goal.
+        planned = tuple(float(f"{g:.6f}") for g in goal)
+        controller = package.Controller(package.Model.load(MODEL), setting, planned,
+                                        theta=with_, rate=RATE_HZ, speed=SPEED,
+                                        optimizer=optimizer, lookahead=lookahead)
+
+        def step(line):
+            answer = controller.step(line["t"], tuple(line["pusher"]), tuple(line["object"]))
+            return answer, controller.done
+
+        outcome = drive(step, model, data, goal, limit_s)
+    else:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "setting.json")
+            with open(path, "w") as f:
+                json.dump(setting, f)
+            proc = subprocess.Popen(
+                [pushlab, "control", "--pipe", "--setting", path, "--theta", with_,
+                 "--optimizer", optimizer, "--goal", ",".join(f"{g:.6f}" for g in goal),
+                 *(["--lookahead"] if lookahead else [])],
+                stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
+
+            def step(line):
+                proc.stdin.write(json.dumps(line) + "\n")
+                proc.stdin.flush()
+                answer = json.loads(proc.stdout.readline())
+                return answer["step"], answer["done"]
+
+            outcome = drive(step, model, data, goal, limit_s)
+            proc.stdin.close()
+            proc.wait()
     return {"pair": pair, "plans_with": with_, "com_offset_m": math.hypot(*com), **outcome}
 
 
-def drive(proc, model, data, goal, limit_s=LIMIT_S):
+def drive(step, model, data, goal, limit_s=LIMIT_S):
+    """Runs a pair to its goal or the limit; `step(line)` is one control step on the poses
+    (`{"t", "pusher", "object"}`): the step's answer and whether the goal is reached and held."""
     jp, jv = model.joint("px").qposadr[0], model.joint("px").dofadr[0]
     body = model.body("object").id
     dt, sub = SPEC["timestep_s"], int(round(1 / RATE_HZ / SPEC["timestep_s"]))
@@ -129,14 +160,12 @@ def drive(proc, model, data, goal, limit_s=LIMIT_S):
     while steps < limit_s * RATE_HZ:
         obj = [float(data.xpos[body][0]), float(data.xpos[body][1]), yaw_of(data.xquat[body])]
         line = {"t": steps / RATE_HZ, "pusher": [float(pusher[0]), float(pusher[1])], "object": obj}
-        proc.stdin.write(json.dumps(line) + "\n")
-        proc.stdin.flush()
-        answer = json.loads(proc.stdout.readline())
+        answer, done = step(line)
         steps += 1
-        if answer["done"]:
+        if done:
             reached = True
             break
-        target = np.array(answer["step"]["target"])
+        target = np.array(answer["target"])
         move = target - pusher
         dist = float(np.linalg.norm(move))
         if dist > SPEED / RATE_HZ:
@@ -189,11 +218,14 @@ def main():
     parser.add_argument("--pairs", type=int, default=100)
     parser.add_argument("--first", type=int, default=31)
     parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--pushlab", default=os.environ.get("PUSHLAB", "target/release/pushlab"))
+    parser.add_argument("--pushlab", default=os.environ.get("PUSHLAB"),
+                        help="drive this CLI's `control --pipe` instead of pushlab.Controller")
     parser.add_argument("--with", dest="plans_with", default=",".join(WITH),
                         help="the controllers run, comma-separated (default: all)")
     parser.add_argument("--optimizer", choices=["gd", "gauss-newton"], default="gd",
                         help="how θ learns as it pushes (pushlab control --optimizer)")
+    parser.add_argument("--lookahead", action="store_true",
+                        help="weigh the best pushes as the first of two (pushlab control --lookahead)")
     parser.add_argument("--time-limit", type=float, default=LIMIT_S,
                         help="seconds before a run is called failed (default: 120)")
     parser.add_argument("--only", help="only these pairs, comma-separated (instead of --first and --pairs)")
@@ -205,6 +237,12 @@ def main():
     pairs = range(args.first, args.first + args.pairs)
     if args.only:
         pairs = [int(p) for p in args.only.split(",")]
+    if args.pushlab is None:
+        try:
+            import pushlab  # noqa: F401
+        except ImportError:
+            parser.error("no pushlab package in this environment: build and install it (see "
+                         "experiments/control/README.md), or give --pushlab target/debug/pushlab")
     jobs = [(p, w) for p in pairs for w in chosen]
     rows = []
     with open(args.out, "w", newline="") as f, \
@@ -212,7 +250,8 @@ def main():
         out = csv.DictWriter(f, fieldnames=FIELDS)
         out.writeheader()
         for row in pool.map(run, [args.pushlab] * len(jobs), *zip(*jobs),
-                                [args.optimizer] * len(jobs), [args.time_limit] * len(jobs)):
+                                [args.optimizer] * len(jobs), [args.time_limit] * len(jobs),
+                                [args.lookahead] * len(jobs)):
             rows.append(row)
             out.writerow(row)
             f.flush()

@@ -6,11 +6,15 @@
 //!
 //! `cargo bench -p pushlab-core --bench control -- --pairs 100 [--first 31]
 //! [--object box|t|ellipse] [--noise] [--threads N] [--csv OUT.csv] [--way-weight W]
-//! [--with online,weighted] [--track ALPHA,BETA] [--time-limit 120]`
+//! [--with online,weighted] [--track ALPHA,BETA] [--time-limit 120] [--lookahead]
+//! [--planner-seed K]`
 //!
 //! The planner's weights were chosen on pairs 1-30 (`--first 1 --pairs 30`); the guide's table is
 //! of pairs 31-130, which tuning never saw. `--track` plans from poses filtered for tracking
-//! noise (`control::track`).
+//! noise (`control::track`); `--lookahead` weighs the best pushes as the first of two
+//! (`control::lookahead`, measured and left off); `--planner-seed K` draws the planner's samples
+//! from another stream (the object and goal stay the pair's): the table's spread from the planner's
+//! own randomness.
 
 // The platform's sin, cos and hypot are fine for distances here; the core's own calls
 // go through pushlab_core::math (its clippy.toml).
@@ -41,6 +45,9 @@ struct Args {
     with: Vec<PlanWith>,
     /// Seconds before a run is called failed.
     time_limit_s: f64,
+    /// Added to each pair's seed for the planner's draws only (the object and goal stay the
+    /// pair's): how much the planner's own randomness moves the table.
+    planner_seed: u64,
 }
 
 fn args() -> Args {
@@ -54,6 +61,7 @@ fn args() -> Args {
         planner: PlannerConfig::default(),
         with: PlanWith::ALL.to_vec(),
         time_limit_s: 120.0,
+        planner_seed: 0,
     };
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
@@ -87,6 +95,8 @@ fn args() -> Args {
                 }
             }
             "--keep-margin" => a.planner.keep_margin_m = value(&mut it, &arg, "metres"),
+            "--lookahead" => a.planner.lookahead = true,
+            "--planner-seed" => a.planner_seed = value(&mut it, &arg, "a seed"),
             "--help" | "-h" => {
                 println!("{USAGE}");
                 std::process::exit(0);
@@ -100,7 +110,7 @@ fn args() -> Args {
 
 const USAGE: &str = "cargo bench -p pushlab-core --bench control -- --pairs 100 [--first 31] \
 [--object box|t|ellipse] [--noise] [--threads N] [--csv OUT.csv] [--way-weight W] \
-[--with online,weighted] [--track ALPHA,BETA] [--time-limit 120] [--keep-margin M]";
+[--with online,weighted] [--track ALPHA,BETA] [--time-limit 120] [--keep-margin M] [--lookahead] [--planner-seed K]";
 
 /// Says what is wrong with the arguments, with the usage, and exits 2: a typo must not measure
 /// something else.
@@ -262,7 +272,7 @@ fn run(model: &pushlab_core::model::CombinedModel, args: &Args, pair: u64, with:
         OnlineConfig::default(),
         Goal::at(goal),
         PlannerConfig {
-            seed: pair,
+            seed: pair.wrapping_add(args.planner_seed << 32),
             ..args.planner
         },
     )

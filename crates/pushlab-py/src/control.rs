@@ -8,7 +8,6 @@ use std::path::PathBuf;
 use pushlab_core::control::track::TrackConfig;
 use pushlab_core::control::{Goal, Pacing, PlanWith, PlannerConfig, PoseControl};
 use pushlab_core::geometry::Pose2;
-use pushlab_core::learn::OnlineConfig;
 use pushlab_core::recording::Setting;
 use pushlab_core::recording::bag::SettingSource;
 use pyo3::exceptions::PyValueError;
@@ -16,7 +15,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{from_python, theta_row, to_python};
 use crate::error::error;
-use crate::model::Model;
+use crate::model::{Model, online_config};
 
 /// A controller pushing the setting's object to `goal` with `model`, planning with θ as `theta`
 /// says: "online" (learned as it pushes, the default), "fixed" (θ_online(0)), "physics" (Lynch's
@@ -25,6 +24,9 @@ use crate::model::Model;
 /// the pusher than a step of it. `setting` is a setting.json's fields as a dict, or its path.
 /// `track=(alpha, beta)` plans from poses filtered for tracking noise, as the CLI's `--track` does
 /// (0.5, 0.1 was chosen on noisy poses; it costs goals on clean ones); off by default.
+/// `optimizer`, `steps` and `lr` are how θ learns as it pushes (the CLI's `--optimizer`, `--steps`,
+/// `--lr`); `lookahead=True` weighs the best pushes as the first of two (`--lookahead`: measured
+/// and left off, see the guide).
 #[pyclass(module = "pushlab", name = "Controller")]
 pub struct Controller {
     control: PoseControl,
@@ -33,7 +35,8 @@ pub struct Controller {
 #[pymethods]
 impl Controller {
     #[new]
-    #[pyo3(signature = (model, setting, goal, *, theta="online", rate=10.0, speed=0.04, track=None))]
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (model, setting, goal, *, theta="online", rate=10.0, speed=0.04, track=None, optimizer="gd", steps=5, lr=0.005, lookahead=false))]
     fn new(
         model: &Model,
         setting: &Bound<'_, PyAny>,
@@ -42,7 +45,12 @@ impl Controller {
         rate: f64,
         speed: f64,
         track: Option<(f64, f64)>,
+        optimizer: &str,
+        steps: usize,
+        lr: f64,
+        lookahead: bool,
     ) -> PyResult<Self> {
+        let online = online_config(optimizer, steps, lr)?;
         let setting: Setting = match setting.extract::<PathBuf>() {
             Ok(path) => SettingSource::File(path).resolve().map_err(error)?,
             Err(_) => from_python(setting, "setting")?,
@@ -71,10 +79,11 @@ impl Controller {
             &model.file().combined,
             &setting,
             plan_with,
-            OnlineConfig::default(),
+            online,
             Goal::at(Pose2::new(x, y, yaw)),
             PlannerConfig {
                 track,
+                lookahead,
                 ..PlannerConfig::default()
             },
             Pacing {

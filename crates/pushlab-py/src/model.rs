@@ -379,7 +379,7 @@ impl Model {
 }
 
 /// The online update rule from Python's arguments, a bad one refused with the argument named.
-fn online_config(optimizer: &str, steps: usize, lr: f64) -> PyResult<OnlineConfig> {
+pub(crate) fn online_config(optimizer: &str, steps: usize, lr: f64) -> PyResult<OnlineConfig> {
     let optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
         PyValueError::new_err(format!(
             "optimizer: expected \"gd\" or \"gauss-newton\", got {optimizer:?}"

@@ -82,10 +82,54 @@ def test_a_filtered_controller_gives_the_clis_filtered_targets(cli: Path, tmp_pa
     assert ours == filtered
 
 
+def sandbox_poses(cli: Path):
+    """Poses of a real push: the sandbox's mystery 3 pushed for 8 s by the CLI's controller, each
+    step's time, pusher and object (poses() pass through the object, so nothing is learned)."""
+    done = subprocess.run([str(cli), "control", "--sandbox", "3", "--goal", "0.25,0.1,0.4",
+                           "--json", "--time-limit", "8"], capture_output=True, text=True)
+    assert "not reached within 8 s" in done.stderr, done.stderr
+    steps = [json.loads(line).get("step", {}) for line in done.stdout.splitlines()]
+    return [(s["time_s"], tuple(s["pusher"]), (*s["object"]["position"], s["object"]["yaw"]))
+            for s in steps if "pusher" in s]
+
+
+def test_the_learners_options_and_the_lookahead_give_the_clis_targets(cli: Path, tmp_path: Path):
+    poses = sandbox_poses(cli)
+    assert len(poses) == 80
+    setting = tmp_path / "setting.json"
+    setting.write_text(json.dumps(SETTING))
+    model = pushlab.Model.load(REPO / "assets" / "default-model.json")
+    lines = [json.dumps({"t": t, "pusher": list(p), "object": list(o)}) for t, p, o in poses]
+
+    def cli_steps(*extra):
+        done = subprocess.run(
+            [str(cli), "control", "--pipe", "--setting", str(setting), "--goal", "0.25,0.1,0.4",
+             *extra], input="\n".join(lines) + "\n", capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        return [json.loads(line)["step"] for line in done.stdout.splitlines()]
+
+    def ours(**options):
+        controller = pushlab.Controller(model, setting, GOAL, **options)
+        return [controller.step(t, p, o) for t, p, o in poses]
+
+    plain = cli_steps()
+    learner = cli_steps("--optimizer", "gauss-newton", "--steps", "3", "--lr", "0.01")
+    lookahead = cli_steps("--lookahead")
+    # Each option changes what the CLI does, so a keyword the package ignored would show.
+    assert [s["theta"] for s in learner] != [s["theta"] for s in plain]
+    assert [s["target"] for s in lookahead] != [s["target"] for s in plain]
+    mine = ours(optimizer="gauss-newton", steps=3, lr=0.01)
+    assert [(s["target"], s["theta"]) for s in mine] == [(s["target"], s["theta"]) for s in learner]
+    mine = ours(lookahead=True)
+    assert [s["target"] for s in mine] == [s["target"] for s in lookahead]
+
+
 def test_bad_arguments_are_refused_by_name():
     model = pushlab.Model.load(REPO / "assets" / "default-model.json")
     with pytest.raises(ValueError, match="theta 'learned': expected online, fixed, physics, truth or weighted"):
         pushlab.Controller(model, SETTING, GOAL, theta="learned")
+    with pytest.raises(ValueError, match='optimizer: expected "gd" or "gauss-newton", got "adam"'):
+        pushlab.Controller(model, SETTING, GOAL, optimizer="adam")
     with pytest.raises(ValueError, match="speed -1: expected a positive number"):
         pushlab.Controller(model, SETTING, GOAL, speed=-1)
     with pytest.raises(ValueError, match=r"track \(1.5, 0.1\): expected 0 < ALPHA ≤ 1 and 0 ≤ BETA < 1"):

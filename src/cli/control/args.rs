@@ -69,6 +69,10 @@ pub struct ControlArgs {
     /// goals on clean ones: see the guide).
     #[arg(long, value_name = "ALPHA,BETA", value_parser = pushlab_core::control::track::TrackConfig::parse)]
     pub track: Option<pushlab_core::control::track::TrackConfig>,
+    /// Weigh the best pushes as the first of two, with the push each sets up (off: measured, it
+    /// moved goals between controllers more than it added; see the guide).
+    #[arg(long)]
+    pub lookahead: bool,
     /// How θ learns as it pushes (the run's learner, as `pushlab eval` and `pushlab live` take it).
     #[command(flatten)]
     pub online: OnlineArgs,
@@ -174,6 +178,7 @@ pub(super) fn pose_control(
         pushlab_core::control::Goal::at(goal),
         pushlab_core::control::PlannerConfig {
             track: args.track,
+            lookahead: args.lookahead,
             ..pushlab_core::control::PlannerConfig::default()
         },
         pacing,

@@ -66,6 +66,7 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
         PlannerConfig {
             seed,
             track: args.track,
+            lookahead: args.lookahead,
             ..PlannerConfig::default()
         },
     )

@@ -6,8 +6,9 @@
 //!
 //! The pieces: [`goal`] (the goal pose and when it is reached), [`arc`] (one prediction as the arc
 //! of a push held on its contact), [`sites`] (where a push can start and the pusher's way round
-//! the object), [`planner`] (one control step: the cross-entropy search over pushes), [`predict`]
-//! (what it predicts a push with: one model at one θ, or the weighted prediction),
+//! the object), [`planner`] (one control step: the cross-entropy search over pushes, and a
+//! lookahead that weighs the best as the first of two, measured and left off), [`predict`] (what
+//! it predicts a push with: one model at one θ, or the weighted prediction),
 //! [`sandbox_run`] (the controller on the sandbox's simulated object, learning as it pushes),
 //! [`external`] (the controller on poses from outside, learned by live input's grid and learner),
 //! [`drive`] (that controller driving a robot through its Foxglove server, behind a safety gate),
@@ -27,7 +28,7 @@ pub mod track;
 
 pub use external::PoseControl;
 pub use goal::{Goal, GoalError};
-pub use planner::{ChosenPush, Phase, Plan, Planner, PlannerConfig};
+pub use planner::{ChosenPush, Phase, Plan, Planner, PlannerConfig, SecondPush};
 pub use predict::{AtTheta, Predict, Weighted};
 pub use sandbox_run::{ControlError, ControlOutcome, ControlStep, Decision, SandboxControl};
 
