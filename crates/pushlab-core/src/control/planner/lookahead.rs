@@ -17,10 +17,8 @@
 
 use nalgebra::Point2;
 
-use super::{Candidate, Next, Planner, Weighing};
 use crate::control::arc::BodyTwist;
-use crate::control::predict::Predict;
-use crate::control::sites::{APPROACH_M, Site, Sites};
+use crate::control::sites::{APPROACH_M, Sites};
 use crate::geometry::Pose2;
 
 /// The ways from the grid's sites (the pusher touching there, as a push leaves it) to the start
@@ -163,80 +161,6 @@ impl Follow<'_> {
     }
 }
 
-/// The planner's side of it: a push weighed as the first of two, and the second's site.
-impl Planner {
-    /// `first` weighed as the first of two pushes ([`super::lookahead`]): itself where going
-    /// on from it, at its length or half of it, is worth no more.
-    pub(super) fn two_pushes<P: Predict + ?Sized>(
-        &mut self,
-        w: &Weighing<'_, P>,
-        first: &Candidate,
-    ) -> (Candidate, Next) {
-        let c = self.config;
-        let Some(site) = self.sites.site_at(first.along) else {
-            return (*first, None);
-        };
-        let twist = self.twist_of(w, &site, Sites::push_direction(&site, first.angle));
-        // The margin the kept push was given, given again.
-        let margin = match self.kept {
-            Some(kept) if kept.along == first.along && kept.angle == first.angle => c.keep_margin_m,
-            _ => 0.0,
-        };
-        self.here_twists.clear();
-        for k in 0..c.angles {
-            let direction = Sites::push_direction(&site, c.angle_at(k));
-            let twist = self.twist_of(w, &site, direction);
-            self.here_twists.push(twist);
-        }
-        self.plan.predictions += c.angles + 1;
-        let follow = Follow {
-            grid: &self.grid_twists,
-            here: &self.here_twists,
-            ways: &self.ways,
-            from: self.ways.nearest_site(first.along, self.sites.perimeter()),
-            reach_m: c.reach_m,
-            lengths: c.follow_lengths,
-            way_weight: c.way_weight,
-            push_weight: c.push_weight,
-        };
-        let goal = self.goal;
-        let mut best = (*first, None);
-        for length in [first.length_m, 0.5 * first.length_m] {
-            let pose = twist.pose_after(&w.object, length);
-            let onward = follow.best_from(&pose, |p| goal.distance(p));
-            if onward.distance_m >= w.distance_now - c.least_gain_m {
-                continue;
-            }
-            let cost = c.way_weight * first.way_m + c.push_weight * length + onward.cost - margin;
-            if cost < best.0.cost {
-                best = (
-                    Candidate {
-                        cost,
-                        length_m: length,
-                        distance_m: onward.distance_m,
-                        ..*first
-                    },
-                    onward.then,
-                );
-            }
-        }
-        best
-    }
-
-    /// The site and direction of the push after `first`'s site.
-    pub(super) fn then_push(&self, first: &Site, then: Then) -> Option<(Site, f64)> {
-        let c = &self.config;
-        match then {
-            Then::Here(k) => Some((*first, c.angle_at(k))),
-            Then::Grid(push) => {
-                let (i, k) = (push / c.angles.max(1), push % c.angles.max(1));
-                let along = (i as f64 + 0.5) * self.sites.perimeter() / c.sites as f64;
-                Some((self.sites.site_at(along)?, c.angle_at(k)))
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -245,7 +169,7 @@ mod tests {
 
     use super::*;
     use crate::control::goal::Goal;
-    use crate::control::planner::PlannerConfig;
+    use crate::control::planner::{Planner, PlannerConfig};
     use crate::control::predict::Predict;
     use crate::geometry::Outline;
     use crate::model::{ObjectMotion, SampleInput};

@@ -19,6 +19,7 @@ use nalgebra::{Point2, Vector2};
 
 mod lookahead;
 mod plan;
+mod two_pushes;
 
 pub use plan::{ChosenPush, Phase, Plan, SecondPush};
 
