@@ -70,7 +70,7 @@ pub struct ControlArgs {
     #[arg(long, value_name = "ALPHA,BETA", value_parser = pushlab_core::control::track::TrackConfig::parse)]
     pub track: Option<pushlab_core::control::track::TrackConfig>,
     /// Weigh the best pushes as the first of two, with the push each sets up (off: measured, it
-    /// moved goals between controllers more than it added; see the guide).
+    /// reached fewer goals learning online in both engines; see the guide).
     #[arg(long)]
     pub lookahead: bool,
     /// How θ learns as it pushes (the run's learner, as `pushlab eval` and `pushlab live` take it).

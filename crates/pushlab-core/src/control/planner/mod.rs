@@ -64,8 +64,8 @@ pub struct PlannerConfig {
     /// poses as given.
     pub track: Option<super::track::TrackConfig>,
     /// Whether the best pushes are weighed again as the first of two ([`lookahead`]).
-    /// Off: measured on held-out pairs it moved goals between controllers and engines more than
-    /// it added (the guide's "Two pushes planned together").
+    /// Off: on held-out pairs it cost learning online goals in both engines and the true θ seven
+    /// in MuJoCo (the guide's "Two pushes planned together").
     pub lookahead: bool,
     /// Lengths tried for the second push, along `reach_m` as the first's are.
     pub follow_lengths: usize,
