@@ -107,6 +107,22 @@ impl Sites {
         self.perimeter
     }
 
+    /// Where the `i`-th of `n` sites spread evenly round the pushable perimeter lies, metres
+    /// along it: the middle of its `n`-th (the planner's grid).
+    pub fn evenly(&self, i: usize, n: usize) -> f64 {
+        (i as f64 + 0.5) * self.perimeter / n as f64
+    }
+
+    /// Which of `n` sites spread evenly ([`Sites::evenly`]) has `along` in its `n`-th of the
+    /// perimeter (taken round it modulo its length).
+    pub fn evenly_nearest(&self, along: f64, n: usize) -> usize {
+        if n == 0 || self.perimeter <= 0.0 {
+            return 0;
+        }
+        let i = (along.rem_euclid(self.perimeter) / self.perimeter * n as f64).floor() as usize;
+        i.min(n - 1)
+    }
+
     /// The pusher's radius.
     pub fn pusher_radius(&self) -> f64 {
         self.pusher_radius

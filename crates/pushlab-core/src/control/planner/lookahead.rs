@@ -25,7 +25,6 @@ use crate::geometry::Pose2;
 /// of each of the grid's pushes, metres, in the object's frame.
 #[derive(Clone, Debug, Default)]
 pub struct GridWays {
-    sites: usize,
     pushes: usize,
     ways: Vec<f64>,
 }
@@ -39,11 +38,10 @@ impl GridWays {
         angles: usize,
         angle_at: impl Fn(usize) -> f64,
     ) -> Self {
-        let perimeter = sites_of.perimeter();
         let mut path: Vec<Point2<f64>> = Vec::with_capacity(64);
         let pushes = sites * angles;
         let mut ways = vec![f64::INFINITY; sites * pushes];
-        let grid_site = |i: usize| sites_of.site_at((i as f64 + 0.5) * perimeter / sites as f64);
+        let grid_site = |i: usize| sites_of.site_at(sites_of.evenly(i, sites));
         for i in 0..sites {
             let Some(from) = grid_site(i) else { continue };
             let from = sites_of.touching(&from);
@@ -57,20 +55,7 @@ impl GridWays {
                 }
             }
         }
-        Self {
-            sites,
-            pushes,
-            ways,
-        }
-    }
-
-    /// The grid site nearest the site `along` metres round a perimeter of `perimeter`.
-    pub fn nearest_site(&self, along: f64, perimeter: f64) -> usize {
-        if self.sites == 0 || perimeter <= 0.0 {
-            return 0;
-        }
-        let i = (along.rem_euclid(perimeter) / perimeter * self.sites as f64).floor() as usize;
-        i.min(self.sites - 1)
+        Self { pushes, ways }
     }
 
     /// The way from grid site `from` (touching) to the start of grid push `push`.
@@ -81,6 +66,10 @@ impl GridWays {
             .unwrap_or(f64::INFINITY)
     }
 }
+
+/// The push after the first and its length, metres, where a push was weighed as the first of
+/// two; `None`: stopping after the first is best.
+pub type Next = Option<(Then, f64)>;
 
 /// Which push goes on from the first: one of its own site's directions, or one of the grid's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,8 +87,8 @@ pub struct Onward {
     pub cost: f64,
     /// The planner's distance to the goal where it ends, metres.
     pub distance_m: f64,
-    /// The second push and its length, metres; `None`: stopping there is best.
-    pub then: Option<(Then, f64)>,
+    /// The second push.
+    pub then: Next,
 }
 
 /// What a second push is weighed by: its arcs and the weights of the planner's cost.
@@ -240,11 +229,7 @@ mod tests {
         let config = PlannerConfig::default();
         let angle_at = |k: usize| -0.5 + k as f64 / 6.0;
         let ways = GridWays::new(&sites, config.sites, 7, angle_at);
-        let grid_site = |i: usize| {
-            sites
-                .site_at((i as f64 + 0.5) * sites.perimeter() / config.sites as f64)
-                .unwrap()
-        };
+        let grid_site = |i: usize| sites.site_at(sites.evenly(i, config.sites)).unwrap();
         let mut path = Vec::new();
         for (i, j, k) in [(0, 0, 3), (0, 16, 0), (5, 30, 6), (31, 2, 1)] {
             let to = grid_site(j);
@@ -258,10 +243,11 @@ mod tests {
         // Half round the box is farther than its own face.
         assert!(ways.way(0, 16 * 7 + 3) > ways.way(0, 3) + 0.3);
         let perimeter = sites.perimeter();
-        assert_eq!(ways.nearest_site(0.0, perimeter), 0);
-        assert_eq!(ways.nearest_site(perimeter - 1e-9, perimeter), 31);
-        assert_eq!(ways.nearest_site(-0.01, perimeter), 31);
-        assert_eq!(ways.nearest_site(perimeter * 16.5 / 32.0, perimeter), 16);
+        assert_eq!(sites.evenly_nearest(0.0, 32), 0);
+        assert_eq!(sites.evenly_nearest(perimeter - 1e-9, 32), 31);
+        assert_eq!(sites.evenly_nearest(-0.01, 32), 31);
+        assert_eq!(sites.evenly_nearest(perimeter * 16.5 / 32.0, 32), 16);
+        assert_eq!(sites.evenly_nearest(sites.evenly(16, 32), 32), 16);
         assert_eq!(ways.way(32, 0), f64::INFINITY);
     }
 }

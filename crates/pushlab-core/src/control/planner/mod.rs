@@ -30,7 +30,7 @@ use super::sites::{APPROACH_M, Site, Sites, along_path};
 use crate::geometry::{Outline, Pose2};
 use crate::model::{OnlineModel, OnlineParams, SampleInput};
 use crate::rng::SplitMix64;
-use lookahead::{GridWays, Then};
+use lookahead::{GridWays, Next};
 
 /// How the planner searches (see the module documentation); the defaults are what the measured
 /// table in the guide used.
@@ -112,9 +112,6 @@ struct Candidate {
 // after the first step it touched (MuJoCo's pair 34, the weighted prediction: 92.9 s became
 // 76.9 s). What the lookahead needs beside it is kept apart.
 
-/// The push after the first, where a push was weighed as the first of two.
-type Next = Option<(Then, f64)>;
-
 /// What a candidate is weighed against, fixed for a step.
 struct Weighing<'a, P: ?Sized> {
     predict: &'a P,
@@ -175,8 +172,6 @@ pub struct Planner {
     /// The grid's predictions this step, for the second push ([`lookahead`]).
     grid_twists: Vec<Option<BodyTwist>>,
     here_twists: Vec<BodyTwist>,
-    /// The last push weighed's twist.
-    last_twist: BodyTwist,
     ways: GridWays,
 }
 
@@ -237,7 +232,6 @@ impl Planner {
             ways,
             grid_twists: Vec::with_capacity(config.sites * config.angles),
             here_twists: Vec::with_capacity(config.angles),
-            last_twist: BodyTwist::default(),
             goal,
             step_m,
             travel_per_prediction,
@@ -355,11 +349,13 @@ impl Planner {
         }
         let perimeter = self.sites.perimeter();
         for i in 0..c.sites {
-            let along = (i as f64 + 0.5) * perimeter / c.sites as f64;
+            let along = self.sites.evenly(i, c.sites);
             for k in 0..c.angles {
-                let cand = self.weigh(w, along, angle_at(k), false);
-                self.grid_twists.push(cand.map(|_| self.last_twist));
-                self.candidates.extend(cand);
+                let weighed = self.weigh_with_twist(w, along, angle_at(k), false);
+                if c.lookahead {
+                    self.grid_twists.push(weighed.map(|(_, twist)| twist));
+                }
+                self.candidates.extend(weighed.map(|(cand, _)| cand));
             }
         }
         if let Some(kept) = self.kept
@@ -459,10 +455,22 @@ impl Planner {
         angle: f64,
         here: bool,
     ) -> Option<Candidate> {
+        self.weigh_with_twist(w, along, angle, here)
+            .map(|(cand, _)| cand)
+    }
+
+    /// [`Planner::weigh`], with the prediction it was weighed by (the lookahead's second pushes
+    /// reuse the grid's).
+    fn weigh_with_twist<P: Predict + ?Sized>(
+        &mut self,
+        w: &Weighing<'_, P>,
+        along: f64,
+        angle: f64,
+        here: bool,
+    ) -> Option<(Candidate, BodyTwist)> {
         let site = self.sites.site_at(along)?;
         let direction = Sites::push_direction(&site, angle);
         let twist = self.twist_of(w, &site, direction);
-        self.last_twist = twist;
         self.plan.predictions += 1;
         let c = self.config;
         let mut best = (f64::INFINITY, 0.0, f64::INFINITY);
@@ -490,7 +498,7 @@ impl Planner {
         } else {
             NO_GAIN_COST + best.2
         };
-        best.0.is_finite().then_some(Candidate {
+        let cand = Candidate {
             along: site.along,
             angle,
             here,
@@ -498,7 +506,8 @@ impl Planner {
             length_m: best.1,
             distance_m: best.2,
             way_m,
-        })
+        };
+        best.0.is_finite().then_some((cand, twist))
     }
 
     /// The chosen push made into this step's target, with its arc and way for drawing.

@@ -2,8 +2,8 @@
 //! two, and the site of the second. Apart from the lookahead's pieces so that they need nothing
 //! of the planner's.
 
-use super::lookahead::{Follow, Then};
-use super::{Candidate, Next, Planner, Weighing};
+use super::lookahead::{Follow, Next, Then};
+use super::{Candidate, Planner, Weighing};
 use crate::control::predict::Predict;
 use crate::control::sites::{Site, Sites};
 
@@ -36,7 +36,7 @@ impl Planner {
             grid: &self.grid_twists,
             here: &self.here_twists,
             ways: &self.ways,
-            from: self.ways.nearest_site(first.along, self.sites.perimeter()),
+            from: self.sites.evenly_nearest(first.along, c.sites),
             reach_m: c.reach_m,
             lengths: c.follow_lengths,
             way_weight: c.way_weight,
@@ -73,8 +73,10 @@ impl Planner {
             Then::Here(k) => Some((*first, c.angle_at(k))),
             Then::Grid(push) => {
                 let (i, k) = (push / c.angles.max(1), push % c.angles.max(1));
-                let along = (i as f64 + 0.5) * self.sites.perimeter() / c.sites as f64;
-                Some((self.sites.site_at(along)?, c.angle_at(k)))
+                Some((
+                    self.sites.site_at(self.sites.evenly(i, c.sites))?,
+                    c.angle_at(k),
+                ))
             }
         }
     }
