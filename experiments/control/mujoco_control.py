@@ -12,7 +12,7 @@ pair; a CSV like the bench's.
 
 Usage: mujoco_control.py OUT.csv [--pairs 100] [--first 31] [--jobs 2] [--pushlab PATH]
                          [--with online,weighted] [--optimizer gd|gauss-newton] [--lookahead]
-                         [--time-limit 120] [--only 34,39]
+                         [--planner-seed K] [--model MODEL.json] [--time-limit 120] [--only 34,39]
        mujoco_control.py --table OUT.csv     (the summary of a CSV written, whole or cut short)
 
 Each run is written to OUT.csv as it ends, so a run cut short leaves the pairs it finished; the
@@ -109,17 +109,19 @@ def world(pair, name):
 MODEL = os.path.join(HERE, "..", "..", "assets", "default-model.json")
 
 
-def run(pushlab, pair, with_, optimizer="gd", limit_s=LIMIT_S, lookahead=False):
+def run(pushlab, pair, with_, optimizer="gd", limit_s=LIMIT_S, lookahead=False, planner_seed=0,
+        model_path=MODEL):
     """One pair with one controller: through `pushlab.Controller`, or `pushlab control --pipe`
-    where `pushlab` is the CLI's path."""
+    where `pushlab` is the CLI's path; `model_path` the model file it plans with."""
     model, data, _, setting, goal, com = world(pair, "mujoco-control")
     if pushlab is None:
         import pushlab as package
         # The goal as the pipe's --goal gives it (six decimals): both ways plan for one goal.
         planned = tuple(float(f"{g:.6f}") for g in goal)
-        controller = package.Controller(package.Model.load(MODEL), setting, planned,
+        controller = package.Controller(package.Model.load(model_path), setting, planned,
                                         theta=with_, rate=RATE_HZ, speed=SPEED,
-                                        optimizer=optimizer, lookahead=lookahead)
+                                        optimizer=optimizer, lookahead=lookahead,
+                                        planner_seed=planner_seed)
 
         def step(line):
             answer = controller.step(line["t"], tuple(line["pusher"]), tuple(line["object"]))
@@ -132,9 +134,9 @@ def run(pushlab, pair, with_, optimizer="gd", limit_s=LIMIT_S, lookahead=False):
             with open(path, "w") as f:
                 json.dump(setting, f)
             proc = subprocess.Popen(
-                [pushlab, "control", "--pipe", "--setting", path, "--theta", with_,
+                [pushlab, "control", "--pipe", "--setting", path, "--theta", with_, "--model", model_path,
                  "--optimizer", optimizer, "--goal", ",".join(f"{g:.6f}" for g in goal),
-                 *(["--lookahead"] if lookahead else [])],
+                 "--planner-seed", str(planner_seed), *(["--lookahead"] if lookahead else [])],
                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
 
             def step(line):
@@ -146,7 +148,11 @@ def run(pushlab, pair, with_, optimizer="gd", limit_s=LIMIT_S, lookahead=False):
             outcome = drive(step, model, data, goal, limit_s)
             proc.stdin.close()
             proc.wait()
-    return {"pair": pair, "plans_with": with_, "com_offset_m": math.hypot(*com), **outcome}
+    theta = outcome.pop("theta")
+    learned = {"theta_com_error_m": math.hypot(theta["com_offset"][0] - com[0],
+                                               theta["com_offset"][1] - com[1]),
+               "theta_h_m": theta["h"], "true_h_m": setting["h"]}
+    return {"pair": pair, "plans_with": with_, "com_offset_m": math.hypot(*com), **outcome, **learned}
 
 
 def drive(step, model, data, goal, limit_s=LIMIT_S):
@@ -156,11 +162,12 @@ def drive(step, model, data, goal, limit_s=LIMIT_S):
     body = model.body("object").id
     dt, sub = SPEC["timestep_s"], int(round(1 / RATE_HZ / SPEC["timestep_s"]))
     pusher = data.qpos[jp:jp + 2].copy()
-    path, reached, steps = 0.0, False, 0
+    path, reached, steps, theta = 0.0, False, 0, None
     while steps < limit_s * RATE_HZ:
         obj = [float(data.xpos[body][0]), float(data.xpos[body][1]), yaw_of(data.xquat[body])]
         line = {"t": steps / RATE_HZ, "pusher": [float(pusher[0]), float(pusher[1])], "object": obj}
         answer, done = step(line)
+        theta = answer["theta"]
         steps += 1
         if done:
             reached = True
@@ -182,11 +189,14 @@ def drive(step, model, data, goal, limit_s=LIMIT_S):
     yaw_err = (goal[2] - yaw + math.pi) % (2 * math.pi) - math.pi
     return {"reached": reached, "time_s": steps / RATE_HZ, "pusher_path_m": path,
             "final_position_m": math.hypot(goal[0] - x, goal[1] - y),
-            "final_yaw_deg": math.degrees(yaw_err)}
+            "final_yaw_deg": math.degrees(yaw_err), "theta": theta}
 
 
 FIELDS = ["pair", "plans_with", "com_offset_m", "reached", "time_s", "pusher_path_m",
           "final_position_m", "final_yaw_deg"]
+# Where θ ended (the last step's): its COM's distance from the hidden one, its h and the true h.
+# Not in the older CSVs.
+THETA_FIELDS = ["theta_com_error_m", "theta_h_m", "true_h_m"]
 
 
 def table(rows):
@@ -196,17 +206,20 @@ def table(rows):
             if {r["plans_with"] for r in rows if r["pair"] == p} == set(ran)}
     rows = [r for r in rows if r["pair"] in done]
     print(f"{len(done)} pairs")
+    # Where θ ended, when the rows say (CSVs written before THETA_FIELDS do not).
+    theta = all(r.get("theta_com_error_m") not in (None, "") for r in rows)
     print("| plans with | reached | median time (s) | median pusher path (m) | "
-          "median final error (mm, °) |")
-    print("|---|---|---|---|---|")
+          "median final error (mm, °) |" + (" median θ's COM from the truth (mm) |" if theta else ""))
+    print("|---|---|---|---|---|" + ("---|" if theta else ""))
     med = lambda v: float(np.median(v)) if v else float("nan")  # noqa: E731
     for name in ran:
         mine = [r for r in rows if r["plans_with"] == name]
         ok = [r for r in mine if str(r["reached"]).lower() == "true"]
+        com = f" {1e3 * med([float(r['theta_com_error_m']) for r in mine]):.1f} |" if theta else ""
         print(f"| {name} | {len(ok)}/{len(mine)} | {med([float(r['time_s']) for r in ok]):.1f} | "
               f"{med([float(r['pusher_path_m']) for r in ok]):.2f} | "
               f"{1e3 * med([float(r['final_position_m']) for r in mine]):.1f}, "
-              f"{med([abs(float(r['final_yaw_deg'])) for r in mine]):.2f} |")
+              f"{med([abs(float(r['final_yaw_deg'])) for r in mine]):.2f} |{com}")
 
 
 def main():
@@ -226,6 +239,11 @@ def main():
                         help="how θ learns as it pushes (pushlab control --optimizer)")
     parser.add_argument("--lookahead", action="store_true",
                         help="weigh the best pushes as the first of two (pushlab control --lookahead)")
+    parser.add_argument("--planner-seed", type=int, default=0,
+                        help="the planner's samples from stream K; the box and goal stay the pair's "
+                             "(pushlab control --planner-seed)")
+    parser.add_argument("--model", default=MODEL,
+                        help="the model file planned with (default: the app's, assets/default-model.json)")
     parser.add_argument("--time-limit", type=float, default=LIMIT_S,
                         help="seconds before a run is called failed (default: 120)")
     parser.add_argument("--only", help="only these pairs, comma-separated (instead of --first and --pairs)")
@@ -247,11 +265,12 @@ def main():
     rows = []
     with open(args.out, "w", newline="") as f, \
             concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
-        out = csv.DictWriter(f, fieldnames=FIELDS)
+        out = csv.DictWriter(f, fieldnames=FIELDS + THETA_FIELDS)
         out.writeheader()
         for row in pool.map(run, [args.pushlab] * len(jobs), *zip(*jobs),
                                 [args.optimizer] * len(jobs), [args.time_limit] * len(jobs),
-                                [args.lookahead] * len(jobs)):
+                                [args.lookahead] * len(jobs), [args.planner_seed] * len(jobs),
+                                [args.model] * len(jobs)):
             rows.append(row)
             out.writerow(row)
             f.flush()

@@ -271,10 +271,7 @@ fn run(model: &pushlab_core::model::CombinedModel, args: &Args, pair: u64, with:
         with,
         OnlineConfig::default(),
         Goal::at(goal),
-        PlannerConfig {
-            seed: pair.wrapping_add(args.planner_seed << 32),
-            ..args.planner
-        },
+        args.planner.drawing_from(pair, args.planner_seed),
     )
     .expect("the controller on the mystery");
     let mut step_us = Vec::new();

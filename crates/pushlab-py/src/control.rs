@@ -26,7 +26,8 @@ use crate::model::{Model, online_config};
 /// (0.5, 0.1 was chosen on noisy poses; it costs goals on clean ones); off by default.
 /// `optimizer`, `steps` and `lr` are how θ learns as it pushes (the CLI's `--optimizer`, `--steps`,
 /// `--lr`); `lookahead=True` weighs the best pushes as the first of two (`--lookahead`: measured
-/// and left off, see the guide).
+/// and left off, see the guide); `planner_seed=K` draws the planner's samples from another stream
+/// (`--planner-seed`).
 #[pyclass(module = "pushlab", name = "Controller")]
 pub struct Controller {
     control: PoseControl,
@@ -36,7 +37,7 @@ pub struct Controller {
 impl Controller {
     #[new]
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (model, setting, goal, *, theta="online", rate=10.0, speed=0.04, track=None, optimizer="gd", steps=5, lr=0.005, lookahead=false))]
+    #[pyo3(signature = (model, setting, goal, *, theta="online", rate=10.0, speed=0.04, track=None, optimizer="gd", steps=5, lr=0.005, lookahead=false, planner_seed=0))]
     fn new(
         model: &Model,
         setting: &Bound<'_, PyAny>,
@@ -49,6 +50,7 @@ impl Controller {
         steps: usize,
         lr: f64,
         lookahead: bool,
+        planner_seed: u64,
     ) -> PyResult<Self> {
         let online = online_config(optimizer, steps, lr)?;
         let setting: Setting = match setting.extract::<PathBuf>() {
@@ -85,7 +87,8 @@ impl Controller {
                 track,
                 lookahead,
                 ..PlannerConfig::default()
-            },
+            }
+            .drawing_from(0, planner_seed),
             Pacing {
                 pusher_speed: speed,
                 control_hz: rate,

@@ -93,7 +93,7 @@ def sandbox_poses(cli: Path):
             for s in steps if "pusher" in s]
 
 
-def test_the_learners_options_and_the_lookahead_give_the_clis_targets(cli: Path, tmp_path: Path):
+def test_the_learners_options_the_lookahead_and_the_planner_stream_give_the_clis_targets(cli: Path, tmp_path: Path):
     poses = sandbox_poses(cli)
     assert len(poses) == 80
     setting = tmp_path / "setting.json"
@@ -115,13 +115,17 @@ def test_the_learners_options_and_the_lookahead_give_the_clis_targets(cli: Path,
     plain = cli_steps()
     learner = cli_steps("--optimizer", "gauss-newton", "--steps", "3", "--lr", "0.01")
     lookahead = cli_steps("--lookahead")
+    stream = cli_steps("--planner-seed", "1")
     # Each option changes what the CLI does, so a keyword the package ignored would show.
     assert [s["theta"] for s in learner] != [s["theta"] for s in plain]
     assert [s["target"] for s in lookahead] != [s["target"] for s in plain]
+    assert [s["target"] for s in stream] != [s["target"] for s in plain]
     mine = ours(optimizer="gauss-newton", steps=3, lr=0.01)
     assert [(s["target"], s["theta"]) for s in mine] == [(s["target"], s["theta"]) for s in learner]
     mine = ours(lookahead=True)
     assert [s["target"] for s in mine] == [s["target"] for s in lookahead]
+    mine = ours(planner_seed=1)
+    assert [s["target"] for s in mine] == [s["target"] for s in stream]
 
 
 def test_bad_arguments_are_refused_by_name():

@@ -73,6 +73,11 @@ pub struct ControlArgs {
     /// reached fewer goals learning online in both engines; see the guide).
     #[arg(long)]
     pub lookahead: bool,
+    /// Draw the planner's samples from another stream (0: the one the guide's tables were
+    /// measured with); the object, the goal and every rule stay: how much of a result is the
+    /// planner's chance.
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub planner_seed: u64,
     /// How θ learns as it pushes (the run's learner, as `pushlab eval` and `pushlab live` take it).
     #[command(flatten)]
     pub online: OnlineArgs,
@@ -180,7 +185,8 @@ pub(super) fn pose_control(
             track: args.track,
             lookahead: args.lookahead,
             ..pushlab_core::control::PlannerConfig::default()
-        },
+        }
+        .drawing_from(0, args.planner_seed),
         pacing,
     )
     .map_err(|e| Failure::Usage(anyhow!("{}: {e}", path.display())))?;

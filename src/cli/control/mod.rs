@@ -64,11 +64,11 @@ pub fn run(args: &ControlArgs) -> Result<(), Failure> {
         args.online.config(),
         Goal::at(goal),
         PlannerConfig {
-            seed,
             track: args.track,
             lookahead: args.lookahead,
             ..PlannerConfig::default()
-        },
+        }
+        .drawing_from(seed, args.planner_seed),
     )
     .map_err(|e| anyhow!("{e}"))?;
     let bar = if args.json {

@@ -22,6 +22,11 @@ fn model() -> crate::model::CombinedModel {
 }
 
 fn control(seed: u64, with: PlanWith, goal: Pose2) -> SandboxControl {
+    control_drawing(seed, with, goal, 0)
+}
+
+/// The mystery of `seed` with the planner drawing from `stream` of that seed.
+fn control_drawing(seed: u64, with: PlanWith, goal: Pose2, stream: u64) -> SandboxControl {
     let mystery = Mystery::draw(seed, MysteryObject::Box).unwrap();
     SandboxControl::new(
         mystery,
@@ -30,10 +35,7 @@ fn control(seed: u64, with: PlanWith, goal: Pose2) -> SandboxControl {
         with,
         OnlineConfig::default(),
         Goal::at(goal),
-        PlannerConfig {
-            seed,
-            ..PlannerConfig::default()
-        },
+        PlannerConfig::default().drawing_from(seed, stream),
     )
     .unwrap()
 }
@@ -78,6 +80,26 @@ fn the_same_seed_is_the_same_run_and_targets_keep_the_pushers_speed() {
         assert!(moved <= step_m + 1e-9, "step {}: {moved} m", s.step);
     }
     assert!(a.iter().any(|s| s.phase == "moving") && a.iter().any(|s| s.phase == "pushing"));
+}
+
+#[test]
+fn another_planner_stream_is_another_run_of_the_same_pair_and_stream_zero_the_measured_one() {
+    let log = |stream| {
+        let mut run = control_drawing(3, PlanWith::Online, GOAL, stream);
+        (0..150).map(|_| run.step()).collect::<Vec<_>>()
+    };
+    let measured = PlannerConfig {
+        seed: 3,
+        ..PlannerConfig::default()
+    };
+    assert_eq!(PlannerConfig::default().drawing_from(3, 0), measured);
+    let (zero, one) = (log(0), log(1));
+    assert_eq!(
+        zero[0].object, one[0].object,
+        "the same object, where it starts"
+    );
+    let differ = zero.iter().zip(&one).filter(|(a, b)| a.target != b.target);
+    assert!(differ.count() > 10, "stream 1 planned as stream 0 did");
 }
 
 #[test]
