@@ -16,7 +16,7 @@ from the app (File → Connect to a live robot…, Drive): it writes the object'
 prints the goal to type in.
 
 Usage: mujoco_foxglove.py OUT.csv [--pairs 20] [--first 31] [--theta online] [--jobs 2]
-                          [--pushlab PATH]
+                          [--pushlab PATH] [--model MODEL.json]
        mujoco_foxglove.py --table OUT.csv
        mujoco_foxglove.py --serve PAIR [--port 8765] [--setting-out setting.json]
 """
@@ -117,7 +117,7 @@ def serve(pair, port, setting_out):
     print(f"{commands.received} target(s) received", flush=True)
 
 
-def run(pushlab, pair, with_):
+def run(pushlab, pair, with_, model_path=None):
     model, data, pusher, setting, goal, com = world(pair, "mujoco-foxglove")
     commands, server, (_context, channels) = robot_server(0)
     try:
@@ -129,6 +129,7 @@ def run(pushlab, pair, with_):
                 [pushlab, "control", f"ws://127.0.0.1:{server.port}", "--pusher", "/pusher",
                  "--object", "/object", "--command", "/pusher_target", "--frame", "table",
                  "--setting", path, "--theta", with_, "--arm", "--json",
+                 *(["--model", model_path] if model_path else []),
                  "--time-limit", str(LIMIT_S), "--goal", ",".join(f"{g:.6f}" for g in goal)],
                 stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
             lines = []
@@ -218,6 +219,7 @@ def main():
     parser.add_argument("--theta", default="online")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--pushlab", default=os.environ.get("PUSHLAB", "target/release/pushlab"))
+    parser.add_argument("--model", help="the model file planned with (default: the CLI's, the app's)")
     args = parser.parse_args()
     pairs = list(range(args.first, args.first + args.pairs))
     rows = []
@@ -225,7 +227,8 @@ def main():
             concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
         out = csv.DictWriter(f, fieldnames=FIELDS + ["sent", "received"])
         out.writeheader()
-        for row in pool.map(run, [args.pushlab] * len(pairs), pairs, [args.theta] * len(pairs)):
+        for row in pool.map(run, [args.pushlab] * len(pairs), pairs, [args.theta] * len(pairs),
+                            [args.model] * len(pairs)):
             rows.append(row)
             out.writerow(row)
             f.flush()
