@@ -2,8 +2,7 @@
 //! defaults are what the guide's measured tables used; the bench and `pushlab control` change
 //! them one flag at a time.
 
-/// How the planner searches (see the planner's module documentation); the defaults are what the measured
-/// table in the guide used.
+/// How the planner searches (the search itself: the planner's module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlannerConfig {
     /// Sites in the first grid, evenly round the pushable perimeter.
@@ -30,8 +29,8 @@ pub struct PlannerConfig {
     pub least_gain_m: f64,
     /// The seed of the planner's draws.
     pub seed: u64,
-    /// A filter on the poses it plans from, for tracking noise ([`crate::control::track`]); `None`: the
-    /// poses as given.
+    /// A filter on the poses it plans from, for tracking noise ([`crate::control::track`]);
+    /// `None`: the poses as given.
     pub track: Option<crate::control::track::TrackConfig>,
     /// Whether the best pushes are weighed again as the first of two ([`super::lookahead`]).
     /// Off: on held-out pairs it cost learning online goals in both engines and the true θ seven
